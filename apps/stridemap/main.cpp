@@ -1,0 +1,26 @@
+// stridemap command-line tool: terrain maps from active 2D range sensors.
+#include <cstdio>
+#include <exception>
+
+#include "commands.hpp"
+#include "stridemap/core/error.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"stridemap: terrain maps for walking robots from active 2D range sensors"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", "stridemap 0.1.0");
+  stridemap::cli::register_calibrate_range(app);
+  stridemap::cli::register_experiment(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const stridemap::InputError& e) {
+    std::fprintf(stderr, "stridemap: error: %s\n", e.what());
+    return 2;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "stridemap: internal error: %s\n", e.what());
+    return 3;
+  }
+  return 0;
+}

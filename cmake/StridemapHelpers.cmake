@@ -1,0 +1,31 @@
+# One library per layer of design.md section 2; sources are every .cpp of the
+# layer's folder so that adding a file never means editing a shared list.
+function(stridemap_add_layer name)
+  cmake_parse_arguments(ARG "" "" "PUBLIC_DEPS;PRIVATE_DEPS" ${ARGN})
+  file(GLOB sources CONFIGURE_DEPENDS ${PROJECT_SOURCE_DIR}/src/${name}/*.cpp)
+  if(NOT sources)
+    # A layer whose sources are still to come is header-only for now.
+    add_library(stridemap_${name} INTERFACE)
+    target_include_directories(stridemap_${name} INTERFACE
+      $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include> $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+    target_link_libraries(stridemap_${name} INTERFACE ${ARG_PUBLIC_DEPS})
+    set_target_properties(stridemap_${name} PROPERTIES EXPORT_NAME ${name})
+    add_library(stridemap::${name} ALIAS stridemap_${name})
+    return()
+  endif()
+  add_library(stridemap_${name} ${sources})
+  add_library(stridemap::${name} ALIAS stridemap_${name})
+  set_target_properties(stridemap_${name} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME stridemap_${name})
+  target_include_directories(stridemap_${name} PUBLIC
+    $<BUILD_INTERFACE:${PROJECT_SOURCE_DIR}/include>
+    $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  target_link_libraries(stridemap_${name} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
+  stridemap_set_warnings(stridemap_${name})
+endfunction()
+
+function(stridemap_set_warnings target)
+  target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow -Wconversion -Wno-sign-conversion)
+  if(STRIDEMAP_WARNINGS_AS_ERRORS)
+    target_compile_options(${target} PRIVATE -Werror)
+  endif()
+endfunction()

@@ -1,0 +1,107 @@
+#pragma once
+// The local, robot-centred terrain map (paper section 5.1): an N x N grid of
+// cells with an elevation layer, a certainty layer and a cell state.
+//
+// Cells are addressed by a global integer index (floor of the map-frame
+// coordinate divided by the cell size), so a cell keeps its index however the
+// window moves. The window covers N consecutive indices on each axis and is
+// stored as a circular buffer: a cell lives in slot (ix mod N, iy mod N).
+// Moving the window therefore never copies the grid; the slots of the cells
+// that leave are exactly the slots of the cells that enter, and are reset.
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace stridemap {
+
+enum class CellState : std::uint8_t {
+  unknown = 0,   ///< never plausibly measured (certainty 0, elevation NaN)
+  measured = 1,  ///< updated by at least one measurement (certainty > 0)
+  filled = 2,    ///< unknown, elevation estimated from neighbours (eq. 11)
+};
+
+struct GridOptions {
+  /// N: cells per side. The paper uses 100 x 100.
+  int cells_per_side = 100;
+  /// Edge length of a cell [m]: 10 mm for the URG on Messor, 5 mm for
+  /// structured light on Ragno (paper section 5.1).
+  double cell_size_m = 0.01;
+};
+
+struct CellIndex {
+  std::int64_t x = 0;
+  std::int64_t y = 0;
+  friend bool operator==(const CellIndex&, const CellIndex&) = default;
+};
+
+class ElevationMap {
+ public:
+  /// Throws InputError when the options are not a usable grid.
+  explicit ElevationMap(const GridOptions& options = {});
+
+  int cells_per_side() const { return n_; }
+  double cell_size_m() const { return cell_size_m_; }
+  /// Global index of the window's corner cell (smallest x and y).
+  CellIndex min_cell() const { return min_cell_; }
+
+  /// Global index of the cell that contains (x, y); no bounds check.
+  CellIndex cell_of(double x_m, double y_m) const;
+  bool contains(CellIndex cell) const;
+  /// Centre of a cell in the map frame.
+  Eigen::Vector2d cell_center(CellIndex cell) const;
+
+  /// Moves the window by whole cells so that (x, y) lies in its centre cell.
+  /// Returns the number of cells reset. Non-finite input leaves it in place
+  /// and returns 0.
+  std::size_t move_to(double x_m, double y_m);
+  /// Moves the window so that its corner cell becomes `min_cell`.
+  std::size_t move_corner_to(CellIndex min_cell);
+  /// Forgets everything (all cells unknown), keeping the window.
+  void clear();
+
+  /// Slot of a cell inside the window in the storage arrays.
+  std::size_t slot(CellIndex cell) const {
+    return static_cast<std::size_t>(wrap(cell.x) * n_ + wrap(cell.y));
+  }
+  /// Global index of the cell at local position (i, j) from the corner.
+  CellIndex cell_at_local(int i, int j) const { return {min_cell_.x + i, min_cell_.y + j}; }
+
+  float elevation(CellIndex cell) const { return elevation_[slot(cell)]; }
+  float certainty(CellIndex cell) const { return certainty_[slot(cell)]; }
+  CellState state(CellIndex cell) const { return static_cast<CellState>(state_[slot(cell)]); }
+
+  // Storage, indexed by slot(). For the update rule and filters; a slot
+  // holds unknown/NaN until a measurement arrives.
+  float* elevation_data() { return elevation_.data(); }
+  float* certainty_data() { return certainty_.data(); }
+  std::uint8_t* state_data() { return state_.data(); }
+  const float* elevation_data() const { return elevation_.data(); }
+  const float* certainty_data() const { return certainty_.data(); }
+  const std::uint8_t* state_data() const { return state_.data(); }
+
+  void reset_slot(std::size_t s);
+
+  /// Copies the layers into matrices in window order: row = local x index
+  /// (forward), column = local y index (left). Unknown elevations are NaN.
+  void export_layers(Eigen::MatrixXf* elevation, Eigen::MatrixXf* certainty,
+                     Eigen::Matrix<std::uint8_t, Eigen::Dynamic, Eigen::Dynamic>* state) const;
+
+ private:
+  std::int64_t wrap(std::int64_t v) const {
+    const std::int64_t m = v % n_;
+    return m < 0 ? m + n_ : m;
+  }
+  void reset_rows_leaving(std::int64_t old_min, std::int64_t new_min, bool along_x);
+
+  int n_;
+  double cell_size_m_;
+  CellIndex min_cell_{};
+  std::vector<float> elevation_;
+  std::vector<float> certainty_;
+  std::vector<std::uint8_t> state_;
+};
+
+}  // namespace stridemap

@@ -1,0 +1,78 @@
+#pragma once
+// The update rule of section 5.2: the predicted maximum elevation change
+// Delta z_max (eq. 6 with gamma of eq. 7 and the turning extension of
+// Fig. 10), then certainty (eq. 9) and elevation (eq. 10) of one cell.
+#include <cstdint>
+#include <numbers>
+
+#include "stridemap/core/grid_map.hpp"
+#include "stridemap/core/sensor_transform.hpp"
+
+namespace stridemap {
+
+inline constexpr double kDegToRad = std::numbers::pi / 180.0;
+
+struct UpdateOptions {
+  /// a of eq. (9): certainty gained by one plausible measurement. The
+  /// authors' implementation uses 3.
+  double certainty_increment = 3.0;
+  /// Certainty stops growing here, so that a long-observed cell can still be
+  /// corrected in finite time. The authors' implementation caps at 100.
+  double certainty_max = 100.0;
+  /// Delta phi_r: maximum error of the trunk pitch estimate (IMU) [rad].
+  double max_pitch_error_rad = 1.0 * kDegToRad;
+  /// Delta psi_r: maximum error of the trunk roll estimate (IMU) [rad].
+  double max_roll_error_rad = 1.0 * kDegToRad;
+  /// Delta alpha: maximum error of the sensor's mounting pitch [rad]; the
+  /// paper uses 1 deg.
+  double max_mount_pitch_error_rad = 1.0 * kDegToRad;
+  /// Add the horizontal travel caused by turning (Fig. 10) to d_(k,k+1).
+  bool use_turning_term = true;
+};
+
+/// The motion between the previous scan and this one, as eq. (6) needs it.
+struct ScanMotion {
+  double horizontal_travel_m = 0.0;  ///< sensor travel in the horizontal plane [m]
+  double yaw_change_rad = 0.0;       ///< theta of Fig. 10 [rad]
+};
+
+/// Fig. 10: the extra horizontal travel d = Delta x tan(theta) for a point at
+/// horizontal distance r ahead of a sensor d_s from the turning centre, with
+/// Delta x = (r + d_s) tan(theta/2) sgn(theta). Returned as a magnitude.
+double turning_travel_m(double point_distance_m, double sensor_turn_offset_m, double yaw_change_rad);
+
+/// Eq. (6): d tan(gamma) + |dz/dr| Dr + |dz/dpsi| Dpsi + |dz/dphi| Dphi +
+/// |dz/dalpha| Dalpha. All terms are worst-case magnitudes.
+double laser_max_elevation_change(const ElevationPartials& partials, double range_error_m,
+                                  double travel_m, double gamma_rad, const UpdateOptions& options);
+
+/// What eq. (9)/(10) did to one cell.
+enum class CellUpdate : std::uint8_t {
+  first = 0,        ///< the cell was unknown; it takes the measurement
+  plausible = 1,    ///< |h_m - h| <= |Delta z_max|: certainty raised
+  implausible = 2,  ///< outside the bound: certainty kept (elevation may still rise)
+};
+
+/// Eq. (9) then eq. (10) on one cell's storage. The elevation keeps the
+/// highest measurement (obstacle-conservative) whether or not it was
+/// plausible; an unknown or filled cell takes the measurement as it is.
+inline CellUpdate update_cell(float& elevation, float& certainty, std::uint8_t& state, float h_m,
+                              float dz_max, const UpdateOptions& options) {
+  if (state != static_cast<std::uint8_t>(CellState::measured)) {
+    elevation = h_m;
+    certainty = static_cast<float>(options.certainty_increment);
+    if (certainty > options.certainty_max) certainty = static_cast<float>(options.certainty_max);
+    state = static_cast<std::uint8_t>(CellState::measured);
+    return CellUpdate::first;
+  }
+  const float difference = h_m - elevation;
+  const bool plausible = (difference < 0 ? -difference : difference) <= (dz_max < 0 ? -dz_max : dz_max);
+  if (plausible) {
+    const float raised = certainty + static_cast<float>(options.certainty_increment);
+    certainty = raised > options.certainty_max ? static_cast<float>(options.certainty_max) : raised;
+  }
+  if (h_m > elevation) elevation = h_m;
+  return plausible ? CellUpdate::plausible : CellUpdate::implausible;
+}
+
+}  // namespace stridemap

@@ -1,0 +1,99 @@
+#pragma once
+// Integrates 2D scans (or points from any sensor) into an ElevationMap with
+// the update rule of section 5.2. This is the per-scan hot path: it
+// allocates nothing, and it rejects bad samples and poses one by one,
+// counting them, so that nothing non-finite ever reaches a map layer.
+#include <cstddef>
+#include <optional>
+#include <span>
+
+#include "stridemap/core/grid_map.hpp"
+#include "stridemap/core/map_update.hpp"
+#include "stridemap/core/planar_scan.hpp"
+#include "stridemap/core/pose.hpp"
+
+namespace stridemap {
+
+struct MapperOptions {
+  GridOptions grid;
+  UpdateOptions update;
+  /// Re-centre the window on the robot (by whole cells) before each scan.
+  /// Off for a fixed test bed such as the cart on the rail.
+  bool follow_robot = true;
+  /// Where the window centre sits relative to the trunk, along the heading
+  /// [m]. 0 keeps the map robot-centred as in the paper; a positive value
+  /// keeps more of the terrain ahead, where a tilted sensor looks.
+  double window_ahead_m = 0.0;
+};
+
+/// What happened to one scan's beams.
+struct ScanStats {
+  std::size_t beams = 0;
+  std::size_t integrated = 0;        ///< written into a cell (first, plausible or implausible)
+  std::size_t first = 0;             ///< hit a cell that was unknown
+  std::size_t plausible = 0;         ///< raised the certainty of a known cell
+  std::size_t implausible = 0;       ///< disagreed with the cell beyond Delta z_max
+  std::size_t invalid_range = 0;     ///< NaN, infinite or non-positive range (incl. sensor error codes)
+  std::size_t invalid_beam = 0;      ///< non-finite angle or range error, negative range error
+  std::size_t outside_map = 0;       ///< valid, but outside the window
+  bool pose_rejected = false;        ///< the pose had a non-finite field: nothing was used
+  std::size_t cells_reset_by_move = 0;
+};
+
+/// Running totals since construction (or reset_totals()).
+struct MapperTotals {
+  std::size_t scans = 0;
+  std::size_t scans_rejected_for_pose = 0;
+  std::size_t beams = 0;
+  std::size_t integrated = 0;
+  std::size_t invalid_range = 0;
+  std::size_t invalid_beam = 0;
+  std::size_t outside_map = 0;
+  std::size_t implausible = 0;
+};
+
+/// A measured point already in the map frame, for sensors whose model is not
+/// a range along a beam (structured light, eq. 8).
+struct MapPoint {
+  double x_m = 0.0;
+  double y_m = 0.0;
+  double elevation_m = 0.0;              ///< h_m of eq. (9)
+  double max_elevation_change_m = 0.0;   ///< Delta z_max of eq. (8) for this point
+};
+
+class TerrainMapper {
+ public:
+  /// Throws InputError for non-finite or negative options or mount.
+  TerrainMapper(const MapperOptions& options, const SensorMount& mount);
+
+  /// Integrates one scan taken at `pose` (the estimate, not ground truth).
+  ScanStats integrate(const PlanarScan& scan, const TrunkPose& pose);
+  /// Integrates points with their own Delta z_max; `pose` moves the window.
+  ScanStats integrate_points(std::span<const MapPoint> points, const TrunkPose& pose);
+
+  /// Motion since the previous accepted scan (zero before the first one).
+  ScanMotion motion_to(const TrunkPose& pose) const;
+
+  const ElevationMap& map() const { return map_; }
+  ElevationMap& map() { return map_; }
+  const MapperOptions& options() const { return options_; }
+  const SensorMount& mount() const { return mount_; }
+  const MapperTotals& totals() const { return totals_; }
+
+ private:
+  bool accept_pose(const TrunkPose& pose, ScanStats& stats);
+  void follow(const TrunkPose& pose, ScanStats& stats);
+  void apply(double x_m, double y_m, double h_m, double dz_max, ScanStats& stats);
+  void finish(const TrunkPose& pose, const ScanStats& stats);
+
+  MapperOptions options_;
+  SensorMount mount_;
+  ElevationMap map_;
+  MapperTotals totals_;
+  std::optional<TrunkPose> previous_pose_;
+};
+
+/// True when every field of the pose is finite.
+bool pose_is_finite(const TrunkPose& pose);
+
+}  // namespace stridemap

@@ -1,0 +1,50 @@
+#pragma once
+// Fill-in of unknown cells by a certainty-weighted median of known
+// neighbours (eq. 11). Only cells surrounded by enough evidence are filled,
+// so that large occlusions stay unknown (Fig. 23d): small holes inside a
+// continuous surface get a value, the shadow behind an obstacle does not.
+#include <cstddef>
+#include <vector>
+
+#include "stridemap/core/grid_map.hpp"
+
+namespace stridemap {
+
+struct FillOptions {
+  /// w: the window is (2w + 1) x (2w + 1) cells around the unknown cell.
+  int window_radius_cells = 2;
+  /// Fewest measured cells in the window for a fill (8 of 24 by default).
+  int min_known_neighbours = 8;
+  /// Measured neighbours must lie in at least this many of the four
+  /// quadrants around the cell, so that values are interpolated, never
+  /// extrapolated across the edge of an occlusion.
+  int min_quadrants = 3;
+  /// Weight factor of the 8 nearest neighbours relative to farther cells;
+  /// each neighbour's weight is its certainty times this factor (or 1).
+  double near_weight = 2.0;
+};
+
+class WeightedMedianFill {
+ public:
+  /// Throws InputError for a window radius outside 1..7, negative counts or
+  /// quadrants outside 1..4, or a non-positive weight.
+  explicit WeightedMedianFill(const FillOptions& options = {});
+
+  /// Re-estimates every filled cell and fills unknown cells from measured
+  /// ones. Filled cells keep certainty 0 and state `filled`; values computed
+  /// in this pass are not used as inputs to it. Returns the number of cells
+  /// in state `filled` afterwards.
+  std::size_t apply(ElevationMap& map);
+
+  const FillOptions& options() const { return options_; }
+
+ private:
+  struct Candidate {
+    float value;
+    float weight;
+  };
+  FillOptions options_;
+  std::vector<float> result_;  // per slot, NaN = leave unknown
+};
+
+}  // namespace stridemap

@@ -1,0 +1,43 @@
+#pragma once
+// 8-bit RGB images and their PNG files (libpng). Used for the rendered
+// elevation and certainty maps; read_png lets tests and tools inspect them.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace stridemap::io {
+
+struct RgbImage {
+  int width = 0;
+  int height = 0;
+  // Row-major, top row first, 3 bytes (R, G, B) per pixel: size 3 * width * height.
+  std::vector<std::uint8_t> rgb;
+
+  RgbImage() = default;
+  // A width x height image filled with one colour.
+  RgbImage(int image_width, int image_height, std::uint8_t red = 0, std::uint8_t green = 0,
+           std::uint8_t blue = 0);
+
+  // Byte offset of pixel (x, y) (x to the right, y down) in `rgb`.
+  std::size_t offset(int x, int y) const { return 3 * (static_cast<std::size_t>(y) * width + x); }
+};
+
+// Largest width or height accepted by write_png and read_png (libpng's own
+// default limit); also at most 2^28 pixels in total, so a corrupted header
+// cannot make read_png allocate gigabytes.
+inline constexpr int kMaxPngSide = 1000000;
+inline constexpr long long kMaxPngPixels = 1LL << 28;
+
+// Writes an 8-bit RGB PNG. The file appears at `path` only when complete: it
+// is written to a temporary file in the same folder and renamed at the end.
+// Throws InputError naming the path and the reason: bad dimensions or buffer
+// size, missing or read-only folder, write failure (e.g. disk full).
+void write_png(const std::string& path, const RgbImage& image);
+
+// Reads any 8- or 16-bit PNG (gray, gray+alpha, RGB, RGBA, palette,
+// interlaced or not) and converts it to 8-bit RGB; alpha is dropped, not
+// composited. Throws InputError naming the path and the reason: cannot open,
+// not a PNG, truncated or corrupted data, dimensions over the limits above.
+RgbImage read_png(const std::string& path);
+
+}  // namespace stridemap::io

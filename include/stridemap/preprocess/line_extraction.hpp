@@ -1,0 +1,88 @@
+#pragma once
+// Co-linear groups of a 2D scan by split-and-merge (algorithms.md section 3):
+// pre-segment at range breaks (the range-clustering test) and invalid beams,
+// split each cluster recursively at the point farthest from the chord between
+// its end points, merge neighbouring pieces whose union is still a line, and
+// keep the pieces long enough to be structure. The scan-sequence filter uses
+// it on scan k-1 to find edges across the scan.
+#include <cstddef>
+#include <vector>
+
+#include "stridemap/core/planar_scan.hpp"
+#include "stridemap/preprocess/range_sigma.hpp"
+
+namespace stridemap {
+
+struct LineExtractionOptions {
+  /// beta_max of the pre-segmentation break test (as in range clustering) [rad].
+  double max_incidence_angle_rad = 75.0 * 3.14159265358979323846 / 180.0;
+  /// Noise allowance of the break test in standard deviations.
+  double break_noise_sigmas = 3.0;
+  /// A piece is split when a point lies farther than
+  /// max(split_noise_sigmas * sigma_r, min_split_distance_m) from its chord.
+  double split_noise_sigmas = 3.0;
+  /// Lower limit of the split distance [m] (algorithms.md 3.3: 5 mm).
+  double min_split_distance_m = 0.005;
+  /// Segments with fewer points are dropped (algorithms.md 2.6: 8).
+  std::size_t min_points = 8;
+  /// Segments shorter than this are dropped [m] (about 3 map cells).
+  double min_length_m = 0.04;
+  /// Turns a beam's Delta r into sigma_r.
+  RangeSigmaModel sigma;
+  /// To decide whether a segment occludes what lies beyond an end, the first
+  /// valid beam within this many beams past the end is compared with it, so
+  /// that a few dropouts or removed points at an edge do not hide the jump.
+  std::size_t occlusion_search_beams = 3;
+
+  /// Throws InputError naming `owner` and the field when an option is out of range.
+  void validate(const char* owner) const;
+};
+
+/// One co-linear group of beams, fitted by total least squares in the sensor
+/// frame: points p with p . n = distance_m, n = (cos normal_angle, sin normal_angle).
+struct LineSegment {
+  std::size_t first_beam = 0;   ///< index of the first beam of the segment
+  std::size_t last_beam = 0;    ///< index of the last beam (inclusive)
+  std::size_t point_count = 0;  ///< valid beams in [first_beam, last_beam]
+  double normal_angle_rad = 0.0;
+  double distance_m = 0.0;      ///< distance of the line from the sensor (>= 0)
+  double length_m = 0.0;        ///< extent of the points along the line
+  double max_residual_m = 0.0;  ///< largest distance of a point from the line
+  double mid_x_m = 0.0;         ///< centroid of the points, sensor frame
+  double mid_y_m = 0.0;
+  /// The first valid beam before first_beam (within occlusion_search_beams)
+  /// breaks from the segment and is farther away: the segment occludes what
+  /// lies behind it at that end.
+  bool occludes_before = false;
+  bool occludes_after = false;  ///< the same after last_beam
+};
+
+/// Holds the scratch buffers; extract() allocates nothing once they have grown.
+class LineExtractor {
+ public:
+  explicit LineExtractor(const LineExtractionOptions& options = {});
+
+  const LineExtractionOptions& options() const { return options_; }
+
+  /// Segments of `scan` in beam order. Invalid beams (range not finite and
+  /// positive) never belong to a segment. The scan must be well formed
+  /// (check_scan_shape); it is not modified.
+  void extract(const PlanarScan& scan, std::vector<LineSegment>& segments);
+
+ private:
+  struct Piece {
+    std::size_t first = 0;
+    std::size_t last = 0;
+  };
+  void split_cluster(std::size_t first, std::size_t last, double split_distance_m);
+  void fit(std::size_t first, std::size_t last, LineSegment& line) const;
+  bool occludes(const PlanarScan& scan, std::size_t end_beam, bool forward) const;
+
+  LineExtractionOptions options_;
+  std::vector<double> x_m_;
+  std::vector<double> y_m_;
+  std::vector<Piece> stack_;
+  std::vector<Piece> pieces_;
+};
+
+}  // namespace stridemap

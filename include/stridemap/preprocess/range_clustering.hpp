@@ -1,0 +1,105 @@
+#pragma once
+// Range clustering (paper section 5.3, Fig. 12; algorithms.md 2.2): split a
+// scan wherever two consecutive ranges could not come from one surface seen at
+// an incidence angle up to beta_max, allowing for range noise, and drop the
+// clusters too small or too short to be real. Removes the isolated single
+// points and small groups that mixed pixels form at thin objects and at edges
+// nearly parallel to the beams.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "stridemap/core/planar_scan.hpp"
+#include "stridemap/preprocess/range_sigma.hpp"
+#include "stridemap/preprocess/scan_checks.hpp"
+
+namespace stridemap {
+
+/// Bounds on r_{i+1} / r_i for two consecutive beams on one plane.
+struct RangeRatioBand {
+  double lower_factor = 1.0;  ///< k_lo
+  double upper_factor = 1.0;  ///< k_hi (+inf when beta_max + step reaches 90 deg)
+};
+
+/// The band for an angular step between two beams (absolute value used).
+/// Intended rule: k_lo = cos b / cos(b - step), k_hi = cos b / cos(b + step)
+/// with b = beta_max. With `messorsim_swapped_bounds` the factors are computed
+/// as MessorSim does (angle 180 deg - beta_max in its formula), which swaps
+/// them: the accepted band then shrinks with range instead of growing.
+RangeRatioBand range_ratio_band(double angle_step_rad, double max_incidence_angle_rad,
+                                bool messorsim_swapped_bounds = false);
+
+/// range_ratio_band for a stream of steps; consecutive steps of a scan are
+/// nearly always equal, so the band is recomputed only when the step changes.
+class RangeRatioBandCache {
+ public:
+  RangeRatioBandCache(double max_incidence_angle_rad, bool messorsim_swapped_bounds)
+      : max_incidence_angle_rad_(max_incidence_angle_rad), swapped_(messorsim_swapped_bounds) {}
+  const RangeRatioBand& band(double angle_step_rad) {
+    const double step = angle_step_rad < 0.0 ? -angle_step_rad : angle_step_rad;
+    if (!(step == step_)) {
+      step_ = step;
+      band_ = range_ratio_band(step, max_incidence_angle_rad_, swapped_);
+    }
+    return band_;
+  }
+
+ private:
+  double max_incidence_angle_rad_;
+  bool swapped_;
+  double step_ = -1.0;
+  RangeRatioBand band_;
+};
+
+/// The clustering test: k_lo r - n sigma < r_next < k_hi r + n sigma.
+inline bool ranges_on_one_surface(double range_m, double next_range_m, double tolerance_m,
+                                  const RangeRatioBand& band) {
+  return next_range_m > band.lower_factor * range_m - tolerance_m &&
+         next_range_m < band.upper_factor * range_m + tolerance_m;
+}
+
+struct RangeClusteringOptions {
+  /// beta_max: the most oblique incidence (angle between beam and surface
+  /// normal) at which a surface still counts as one surface [rad]. 75 deg is
+  /// the value the authors' implementation intends (algorithms.md 2.2); it
+  /// equals Borges & Aldon's lambda = 15 deg.
+  double max_incidence_angle_rad = 75.0 * 3.14159265358979323846 / 180.0;
+  /// Range noise allowance in standard deviations (the "3 sigma" of the test).
+  double noise_sigmas = 3.0;
+  /// Turns a beam's Delta r into sigma_r.
+  RangeSigmaModel sigma;
+  /// Clusters with fewer valid points are removed (the authors remove <= 4).
+  std::size_t min_cluster_points = 5;
+  /// Clusters whose first and last points are closer than this are removed
+  /// too [m]; 0 disables the test.
+  double min_cluster_extent_m = 0.0;
+  /// Reproduce MessorSim's swapped bounds (for comparison only; see
+  /// range_ratio_band).
+  bool messorsim_swapped_bounds = false;
+
+  /// Throws InputError naming the field when an option is out of range.
+  void validate() const;
+};
+
+/// Stateless apart from scratch buffers; one object per thread.
+class RangeClusteringFilter {
+ public:
+  explicit RangeClusteringFilter(const RangeClusteringOptions& options = {});
+
+  const RangeClusteringOptions& options() const { return options_; }
+
+  /// Filters `scan` in place: beams of rejected clusters become NaN and get
+  /// removed[i] = 1 (the mask is resized to the scan; 0 elsewhere). Invalid
+  /// beams (NaN, inf, <= 0) end clusters. Throws InputError on a malformed scan.
+  ScanFilterStats apply(PlanarScan& scan, std::vector<std::uint8_t>& removed);
+
+  /// Cluster label of each beam from the last apply(): -1 for invalid beams,
+  /// otherwise 0, 1, 2, ... in scan order (removed clusters keep their label).
+  const std::vector<int>& cluster_labels() const { return labels_; }
+
+ private:
+  RangeClusteringOptions options_;
+  std::vector<int> labels_;
+};
+
+}  // namespace stridemap

@@ -1,0 +1,99 @@
+#pragma once
+// Run any of the scan filters, alone or as a chain, chosen by name, so that an
+// experiment or the CLI can compare them. The chain is a stream like the
+// scan-sequence filter: with scan-sequence in it, the output lags the input by
+// one scan; without it, push() returns each scan at once.
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "stridemap/core/planar_scan.hpp"
+#include "stridemap/preprocess/range_clustering.hpp"
+#include "stridemap/preprocess/scan_checks.hpp"
+#include "stridemap/preprocess/scan_sequence.hpp"
+#include "stridemap/preprocess/shadow_filter.hpp"
+#include "stridemap/preprocess/speckle_filter.hpp"
+
+namespace stridemap {
+
+enum class ScanFilterKind : std::uint8_t { range_clustering, scan_sequence, shadow, speckle };
+
+/// "range-clustering", "scan-sequence", "shadow", "speckle".
+std::string_view scan_filter_name(ScanFilterKind kind);
+
+/// One name of scan_filter_name(); throws InputError listing the valid names.
+ScanFilterKind parse_scan_filter_kind(std::string_view name);
+
+/// A comma-separated list of names in order of application, spaces allowed.
+/// "paper" stands for "range-clustering,scan-sequence" (the paper's
+/// combination); "none" alone gives an empty list (no filtering). Throws
+/// InputError on an unknown or repeated name or an empty list.
+std::vector<ScanFilterKind> parse_scan_filter_list(std::string_view names);
+/// The same for names given as separate words (each may hold commas).
+std::vector<ScanFilterKind> parse_scan_filter_list(const std::vector<std::string>& names);
+
+/// The list back as text, e.g. "range-clustering,scan-sequence" ("none" if empty).
+std::string scan_filter_list_name(const std::vector<ScanFilterKind>& kinds);
+
+struct ScanFilterChainOptions {
+  RangeClusteringOptions range_clustering;
+  ScanSequenceOptions scan_sequence;
+  ShadowFilterOptions shadow;
+  SpeckleFilterOptions speckle;
+};
+
+class ScanFilterChain {
+ public:
+  /// Stages apply in the order given. Throws InputError on a repeated kind or
+  /// invalid options.
+  explicit ScanFilterChain(std::vector<ScanFilterKind> stages, const ScanFilterChainOptions& options = {});
+
+  std::size_t stage_count() const { return stages_.size(); }
+  ScanFilterKind stage(std::size_t index) const { return stages_.at(index); }
+  /// 1 when scan-sequence is a stage, else 0.
+  std::size_t delay_scans() const { return has_scan_sequence_ ? 1 : 0; }
+
+  /// Takes the next scan; returns true with a filtered scan in `out` (the same
+  /// scan without scan-sequence, the previous one with it). Throws InputError
+  /// on a malformed scan, or a length change within a stream with scan-sequence.
+  bool push(const PlanarScan& scan, PlanarScan& out);
+  /// Ends the stream: returns the held scan if any (see ScanSequenceFilter).
+  bool flush(PlanarScan& out);
+  /// Drops any held scan.
+  void reset();
+
+  /// For the scan returned last: removed_by_stage(s)[i] = 1 when stage s
+  /// removed beam i (each removed beam is marked by exactly one stage).
+  const std::vector<std::uint8_t>& removed_by_stage(std::size_t stage) const;
+  /// For the scan returned last: what each stage did.
+  const ScanFilterStats& stats_of_stage(std::size_t stage) const;
+  /// For the scan returned last: 1 where any stage removed the beam.
+  const std::vector<std::uint8_t>& removed_by_any() const { return removed_any_; }
+
+ private:
+  static constexpr std::size_t max_stages = 4;
+  struct StageMasks {
+    std::array<std::vector<std::uint8_t>, max_stages> removed;
+    std::array<ScanFilterStats, max_stages> stats;
+  };
+  void run_stateless(std::size_t stage, PlanarScan& scan, StageMasks& masks);
+  void finish_output(PlanarScan& out);
+
+  std::vector<ScanFilterKind> stages_;
+  bool has_scan_sequence_ = false;
+  std::size_t scan_sequence_stage_ = 0;
+  RangeClusteringFilter range_clustering_;
+  ScanSequenceFilter scan_sequence_;
+  ShadowFilter shadow_;
+  SpeckleFilter speckle_;
+  PlanarScan work_;
+  StageMasks incoming_;  // stages before scan-sequence, for the scan just pushed
+  StageMasks held_;      // the same for the scan scan-sequence holds
+  StageMasks output_;    // for the scan returned last
+  std::vector<std::uint8_t> removed_any_;
+};
+
+}  // namespace stridemap

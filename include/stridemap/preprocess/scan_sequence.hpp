@@ -1,0 +1,119 @@
+#pragma once
+// Scan-sequence analysis (paper section 5.3, Fig. 14, eq. 12; algorithms.md
+// 2.6): when the downward-tilted scan plane crosses a sharp edge across the
+// scan (the top edge of a box ahead), the phase-shift sensor returns a large
+// group of mixed points that extends the real structure, too big for range
+// clustering. Three consecutive scans decide: edges found as co-linear groups
+// in scan k-1 define angular sectors; in each sector the spread of scan k along
+// the line of sight is compared with the spread of scan k+1, and if scan k is
+// much more scattered, all its points in the sector are dropped.
+//
+// The filter is a stream with ONE SCAN OF DELAY: scan k can only be judged
+// once scan k+1 has arrived, so push(scan k+1) returns scan k.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "stridemap/core/planar_scan.hpp"
+#include "stridemap/preprocess/line_extraction.hpp"
+#include "stridemap/preprocess/scan_checks.hpp"
+
+namespace stridemap {
+
+struct ScanSequenceOptions {
+  /// Co-linear groups in scan k-1 (split-and-merge); its sigma model is also
+  /// the one used for sigma_0 below.
+  LineExtractionOptions lines;
+  /// A segment looks like an edge across the scan when the angle between it
+  /// and the beam through its centroid is within 90 deg +- this [rad].
+  double max_edge_tilt_rad = 30.0 * 3.14159265358979323846 / 180.0;
+  /// Also require a range jump at one end of the segment with the segment in
+  /// front (it occludes something): without it a plain floor counts as an edge.
+  bool require_occluding_end = true;
+  /// Beams added on each side of the segment's index range to form the sector.
+  std::size_t sector_margin_beams = 5;
+  /// kappa: scan k is "much more scattered" when sigma_k > kappa * sigma_{k+1} + sigma_0.
+  double spread_ratio = 3.0;
+  /// sigma_0 = spread_floor_sigmas * sigma_r (mean sigma_r of the sector in
+  /// scan k+1); keeps the test quiet on flat sectors.
+  double spread_floor_sigmas = 2.0;
+  /// Both sectors need at least this many valid points for a decision.
+  std::size_t min_sector_points = 5;
+
+  /// Throws InputError naming the field when an option is out of range.
+  void validate() const;
+};
+
+/// A sector that the last judged scan was tested on (for inspection/plots).
+struct ScanSequenceSector {
+  std::size_t first_beam = 0;  ///< inclusive, margin included
+  std::size_t last_beam = 0;   ///< inclusive
+  std::size_t points_k = 0;    ///< valid points of scan k in the sector
+  std::size_t points_next = 0; ///< valid points of scan k+1 in the sector
+  double spread_k_m = 0.0;     ///< eq. 12 in scan k [m]
+  double spread_next_m = 0.0;  ///< eq. 12 in scan k+1 [m]
+  double threshold_m = 0.0;    ///< kappa * spread_next + sigma_0 [m]
+  bool removed = false;        ///< scan k's sector points were dropped
+};
+
+/// Streaming filter. Keeps copies of up to three scans (k-1, k, k+1) in
+/// buffers that are reused, so the per-scan path allocates nothing once they
+/// have grown.
+///
+/// - push(s): the first scan of a stream is only stored (returns false).
+///   Every later push returns the previous scan, filtered, in `out`.
+/// - The first scan of a stream has no scan k-1 and is returned unfiltered
+///   (only unusable ranges are set to NaN).
+/// - flush(out): returns the held last scan (true) or nothing (false). It has
+///   no scan k+1 to compare with, so it is returned unfiltered; the stream then
+///   ends and the next push starts a new one.
+/// - All scans of a stream must have the same beam count: a scan of another
+///   length throws InputError naming both lengths and the scan's index in the
+///   stream; the stream is left as it was (flush() or reset() to start over).
+/// - Empty and all-invalid scans pass through (nothing to judge).
+/// - `out` may be the same object as the pushed scan.
+class ScanSequenceFilter {
+ public:
+  explicit ScanSequenceFilter(const ScanSequenceOptions& options = {});
+
+  const ScanSequenceOptions& options() const { return options_; }
+
+  /// Takes scan k+1; returns true and writes scan k (filtered) to `out`, with
+  /// removed[i] = 1 for the beams this filter dropped, once there is a scan k.
+  bool push(const PlanarScan& next_scan, PlanarScan& out, std::vector<std::uint8_t>& removed);
+  bool push(const PlanarScan& next_scan, PlanarScan& out);
+
+  /// Ends the stream: returns the held scan (unfiltered) if there is one.
+  bool flush(PlanarScan& out, std::vector<std::uint8_t>& removed);
+  bool flush(PlanarScan& out);
+
+  /// Forgets all held scans (starts a new stream).
+  void reset();
+
+  /// Number of scans the output lags behind the input.
+  static constexpr std::size_t delay_scans = 1;
+
+  /// Statistics and sectors of the scan returned last.
+  const ScanFilterStats& last_stats() const { return last_stats_; }
+  const std::vector<ScanSequenceSector>& last_sectors() const { return sectors_; }
+
+ private:
+  void judge_held_scan(std::vector<std::uint8_t>& removed);
+  void emit_held_scan(PlanarScan& out, std::vector<std::uint8_t>& removed) const;
+
+  ScanSequenceOptions options_;
+  LineExtractor lines_;
+  PlanarScan previous_;  // k-1, as returned (filtered)
+  PlanarScan held_;      // k, waiting for k+1
+  PlanarScan incoming_;  // k+1
+  bool has_previous_ = false;
+  bool has_held_ = false;
+  std::size_t scans_in_stream_ = 0;
+  std::size_t held_invalid_input_ = 0;
+  ScanFilterStats last_stats_;
+  std::vector<LineSegment> segments_;
+  std::vector<ScanSequenceSector> sectors_;
+  std::vector<std::uint8_t> scratch_removed_;
+};
+
+}  // namespace stridemap

@@ -1,0 +1,117 @@
+#include "stridemap/core/grid_map.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "stridemap/core/error.hpp"
+
+namespace stridemap {
+namespace {
+
+constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+// Larger grids would not be a local map any more, and N^2 must fit memory.
+constexpr int kMaxCellsPerSide = 20000;
+
+}  // namespace
+
+ElevationMap::ElevationMap(const GridOptions& options)
+    : n_(options.cells_per_side), cell_size_m_(options.cell_size_m) {
+  if (n_ < 1 || n_ > kMaxCellsPerSide) {
+    throw InputError("map options: cells_per_side must be between 1 and " + std::to_string(kMaxCellsPerSide) +
+                     ", got " + std::to_string(n_));
+  }
+  if (!std::isfinite(cell_size_m_) || cell_size_m_ <= 0.0) {
+    throw InputError("map options: cell_size_m must be a positive number, got " + std::to_string(cell_size_m_));
+  }
+  const auto cells = static_cast<std::size_t>(n_) * static_cast<std::size_t>(n_);
+  elevation_.assign(cells, kNaN);
+  certainty_.assign(cells, 0.0f);
+  state_.assign(cells, static_cast<std::uint8_t>(CellState::unknown));
+  min_cell_ = {-n_ / 2, -n_ / 2};
+}
+
+CellIndex ElevationMap::cell_of(double x_m, double y_m) const {
+  return {static_cast<std::int64_t>(std::floor(x_m / cell_size_m_)),
+          static_cast<std::int64_t>(std::floor(y_m / cell_size_m_))};
+}
+
+bool ElevationMap::contains(CellIndex cell) const {
+  return cell.x >= min_cell_.x && cell.x < min_cell_.x + n_ && cell.y >= min_cell_.y &&
+         cell.y < min_cell_.y + n_;
+}
+
+Eigen::Vector2d ElevationMap::cell_center(CellIndex cell) const {
+  return {(static_cast<double>(cell.x) + 0.5) * cell_size_m_, (static_cast<double>(cell.y) + 0.5) * cell_size_m_};
+}
+
+void ElevationMap::reset_slot(std::size_t s) {
+  elevation_[s] = kNaN;
+  certainty_[s] = 0.0f;
+  state_[s] = static_cast<std::uint8_t>(CellState::unknown);
+}
+
+void ElevationMap::clear() {
+  std::fill(elevation_.begin(), elevation_.end(), kNaN);
+  std::fill(certainty_.begin(), certainty_.end(), 0.0f);
+  std::fill(state_.begin(), state_.end(), static_cast<std::uint8_t>(CellState::unknown));
+}
+
+std::size_t ElevationMap::move_to(double x_m, double y_m) {
+  if (!std::isfinite(x_m) || !std::isfinite(y_m)) return 0;
+  // Coordinates this far out cannot be indexed; a caller's pose bug, not a move.
+  const double limit = static_cast<double>(std::numeric_limits<std::int64_t>::max() / 4) * cell_size_m_;
+  if (std::abs(x_m) > limit || std::abs(y_m) > limit) return 0;
+  const CellIndex centre = cell_of(x_m, y_m);
+  return move_corner_to({centre.x - n_ / 2, centre.y - n_ / 2});
+}
+
+std::size_t ElevationMap::move_corner_to(CellIndex new_min) {
+  if (new_min == min_cell_) return 0;
+  const std::int64_t dx = new_min.x - min_cell_.x;
+  const std::int64_t dy = new_min.y - min_cell_.y;
+  if (std::abs(dx) >= n_ || std::abs(dy) >= n_) {
+    clear();
+    min_cell_ = new_min;
+    return static_cast<std::size_t>(n_) * static_cast<std::size_t>(n_);
+  }
+  std::size_t reset = 0;
+  // Rows (constant x) that leave along x: their slots become the new rows.
+  const std::int64_t first_x = dx > 0 ? min_cell_.x : new_min.x + n_;
+  for (std::int64_t k = 0; k < std::abs(dx); ++k) {
+    const std::int64_t row = wrap(first_x + k);
+    for (int j = 0; j < n_; ++j) reset_slot(static_cast<std::size_t>(row * n_ + j));
+    reset += static_cast<std::size_t>(n_);
+  }
+  // Columns that leave along y, skipping the rows already reset above.
+  const std::int64_t first_y = dy > 0 ? min_cell_.y : new_min.y + n_;
+  for (std::int64_t k = 0; k < std::abs(dy); ++k) {
+    const std::int64_t col = wrap(first_y + k);
+    for (std::int64_t i = new_min.x; i < new_min.x + n_; ++i) {
+      const bool row_was_reset = dx > 0 ? i >= min_cell_.x + n_ : i < min_cell_.x;
+      if (dx != 0 && row_was_reset) continue;
+      reset_slot(static_cast<std::size_t>(wrap(i) * n_ + col));
+      ++reset;
+    }
+  }
+  min_cell_ = new_min;
+  return reset;
+}
+
+void ElevationMap::export_layers(Eigen::MatrixXf* elevation, Eigen::MatrixXf* certainty,
+                                 Eigen::Matrix<std::uint8_t, Eigen::Dynamic, Eigen::Dynamic>* state) const {
+  if (elevation) elevation->resize(n_, n_);
+  if (certainty) certainty->resize(n_, n_);
+  if (state) state->resize(n_, n_);
+  for (int i = 0; i < n_; ++i) {
+    for (int j = 0; j < n_; ++j) {
+      const std::size_t s = slot(cell_at_local(i, j));
+      if (elevation) (*elevation)(i, j) = elevation_[s];
+      if (certainty) (*certainty)(i, j) = certainty_[s];
+      if (state) (*state)(i, j) = state_[s];
+    }
+  }
+}
+
+}  // namespace stridemap

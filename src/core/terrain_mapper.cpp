@@ -1,0 +1,175 @@
+#include "stridemap/core/terrain_mapper.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "stridemap/core/error.hpp"
+
+namespace stridemap {
+namespace {
+
+void require_finite_non_negative(double value, const char* name) {
+  if (!std::isfinite(value) || value < 0.0) {
+    throw InputError(std::string("mapper options: ") + name + " must be a finite number >= 0, got " +
+                     std::to_string(value));
+  }
+}
+
+double wrap_angle(double a) { return std::remainder(a, 2.0 * std::numbers::pi); }
+
+}  // namespace
+
+bool pose_is_finite(const TrunkPose& p) {
+  return std::isfinite(p.x_m) && std::isfinite(p.y_m) && std::isfinite(p.yaw_rad) && std::isfinite(p.pitch_rad) &&
+         std::isfinite(p.roll_rad) && std::isfinite(p.reference_elevation_m) && std::isfinite(p.height_change_m);
+}
+
+TerrainMapper::TerrainMapper(const MapperOptions& options, const SensorMount& mount)
+    : options_(options), mount_(mount), map_(options.grid) {
+  const UpdateOptions& u = options.update;
+  if (!std::isfinite(u.certainty_increment) || u.certainty_increment <= 0.0) {
+    throw InputError("mapper options: certainty_increment must be a positive number, got " +
+                     std::to_string(u.certainty_increment));
+  }
+  if (!std::isfinite(u.certainty_max) || u.certainty_max < u.certainty_increment) {
+    throw InputError("mapper options: certainty_max must be finite and >= certainty_increment, got " +
+                     std::to_string(u.certainty_max));
+  }
+  require_finite_non_negative(u.max_pitch_error_rad, "max_pitch_error_rad");
+  require_finite_non_negative(u.max_roll_error_rad, "max_roll_error_rad");
+  require_finite_non_negative(u.max_mount_pitch_error_rad, "max_mount_pitch_error_rad");
+  if (!std::isfinite(options.window_ahead_m)) {
+    throw InputError("mapper options: window_ahead_m must be finite");
+  }
+  if (!std::isfinite(mount.height_m) || !std::isfinite(mount.pitch_rad) || !std::isfinite(mount.forward_offset_m) ||
+      !std::isfinite(mount.lateral_offset_m)) {
+    throw InputError("sensor mount: every field must be finite");
+  }
+  if (std::abs(mount.pitch_rad) >= std::numbers::pi / 2) {
+    throw InputError("sensor mount: pitch_rad must lie strictly between -90 and 90 deg, got " +
+                     std::to_string(mount.pitch_rad) + " rad");
+  }
+}
+
+ScanMotion TerrainMapper::motion_to(const TrunkPose& pose) const {
+  if (!previous_pose_) return {};
+  const Eigen::Vector3d before = sensor_origin_in_map(*previous_pose_, mount_);
+  const Eigen::Vector3d now = sensor_origin_in_map(pose, mount_);
+  return {std::hypot(now.x() - before.x(), now.y() - before.y()), wrap_angle(pose.yaw_rad - previous_pose_->yaw_rad)};
+}
+
+bool TerrainMapper::accept_pose(const TrunkPose& pose, ScanStats& stats) {
+  if (pose_is_finite(pose)) return true;
+  stats.pose_rejected = true;
+  ++totals_.scans;
+  ++totals_.scans_rejected_for_pose;
+  totals_.beams += stats.beams;
+  return false;
+}
+
+void TerrainMapper::follow(const TrunkPose& pose, ScanStats& stats) {
+  if (!options_.follow_robot) return;
+  stats.cells_reset_by_move = map_.move_to(pose.x_m + options_.window_ahead_m * std::cos(pose.yaw_rad),
+                                           pose.y_m + options_.window_ahead_m * std::sin(pose.yaw_rad));
+}
+
+void TerrainMapper::apply(double x_m, double y_m, double h_m, double dz_max, ScanStats& stats) {
+  // Far beyond any terrain a walking robot sees; also keeps the cell index
+  // and the float layers free of overflow.
+  constexpr double kMaxCoordinate_m = 1.0e6;
+  if (!(std::abs(x_m) < kMaxCoordinate_m && std::abs(y_m) < kMaxCoordinate_m && std::abs(h_m) < kMaxCoordinate_m)) {
+    ++stats.outside_map;
+    return;
+  }
+  const CellIndex cell = map_.cell_of(x_m, y_m);
+  if (!map_.contains(cell)) {
+    ++stats.outside_map;
+    return;
+  }
+  const std::size_t s = map_.slot(cell);
+  const CellUpdate result = update_cell(map_.elevation_data()[s], map_.certainty_data()[s], map_.state_data()[s],
+                                        static_cast<float>(h_m), static_cast<float>(dz_max), options_.update);
+  ++stats.integrated;
+  switch (result) {
+    case CellUpdate::first: ++stats.first; break;
+    case CellUpdate::plausible: ++stats.plausible; break;
+    case CellUpdate::implausible: ++stats.implausible; break;
+  }
+}
+
+void TerrainMapper::finish(const TrunkPose& pose, const ScanStats& stats) {
+  previous_pose_ = pose;
+  ++totals_.scans;
+  totals_.beams += stats.beams;
+  totals_.integrated += stats.integrated;
+  totals_.invalid_range += stats.invalid_range;
+  totals_.invalid_beam += stats.invalid_beam;
+  totals_.outside_map += stats.outside_map;
+  totals_.implausible += stats.implausible;
+}
+
+ScanStats TerrainMapper::integrate(const PlanarScan& scan, const TrunkPose& pose) {
+  ScanStats stats;
+  stats.beams = scan.range_m.size();
+  if (scan.angle_rad.size() != scan.range_m.size() || scan.range_error_m.size() != scan.range_m.size()) {
+    throw InputError("scan at t=" + std::to_string(scan.time_s) + " s: angle_rad, range_m and range_error_m have " +
+                     std::to_string(scan.angle_rad.size()) + ", " + std::to_string(scan.range_m.size()) + " and " +
+                     std::to_string(scan.range_error_m.size()) + " entries; they must be equal");
+  }
+  if (!accept_pose(pose, stats)) return stats;
+  follow(pose, stats);
+
+  const ScanMotion motion = motion_to(pose);
+  const Eigen::Matrix3d rotation = sensor_to_map_rotation(pose, mount_);
+  const Eigen::Vector3d origin = sensor_origin_in_map(pose, mount_);
+  const double gamma = scan_plane_inclination_rad(pose.pitch_rad, pose.roll_rad, mount_.pitch_rad);
+  const double turn_offset = std::hypot(mount_.forward_offset_m, mount_.lateral_offset_m);
+  const bool turning = options_.update.use_turning_term && motion.yaw_change_rad != 0.0;
+
+  for (std::size_t i = 0; i < stats.beams; ++i) {
+    const double r = scan.range_m[i];
+    const double t = scan.angle_rad[i];
+    const double dr = scan.range_error_m[i];
+    if (!std::isfinite(r) || r <= 0.0) {
+      ++stats.invalid_range;
+      continue;
+    }
+    if (!std::isfinite(t) || !std::isfinite(dr) || dr < 0.0) {
+      ++stats.invalid_beam;
+      continue;
+    }
+    const Eigen::Vector3d in_sensor(r * std::cos(t), r * std::sin(t), 0.0);
+    const Eigen::Vector3d offset = rotation * in_sensor;
+    const Eigen::Vector3d p = origin + offset;
+    const ElevationPartials partials =
+        beam_elevation_partials(r, t, pose.pitch_rad, pose.roll_rad, mount_.pitch_rad);
+    double travel = motion.horizontal_travel_m;
+    if (turning) travel += turning_travel_m(std::hypot(offset.x(), offset.y()), turn_offset, motion.yaw_change_rad);
+    const double dz_max = laser_max_elevation_change(partials, dr, travel, gamma, options_.update);
+    apply(p.x(), p.y(), p.z(), dz_max, stats);
+  }
+  finish(pose, stats);
+  return stats;
+}
+
+ScanStats TerrainMapper::integrate_points(std::span<const MapPoint> points, const TrunkPose& pose) {
+  ScanStats stats;
+  stats.beams = points.size();
+  if (!accept_pose(pose, stats)) return stats;
+  follow(pose, stats);
+  for (const MapPoint& p : points) {
+    if (!std::isfinite(p.x_m) || !std::isfinite(p.y_m) || !std::isfinite(p.elevation_m)) {
+      ++stats.invalid_range;
+      continue;
+    }
+    if (!std::isfinite(p.max_elevation_change_m)) {
+      ++stats.invalid_beam;
+      continue;
+    }
+    apply(p.x_m, p.y_m, p.elevation_m, p.max_elevation_change_m, stats);
+  }
+  finish(pose, stats);
+  return stats;
+}
+
+}  // namespace stridemap

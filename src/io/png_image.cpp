@@ -1,0 +1,232 @@
+#include "stridemap/io/png_image.hpp"
+
+#include <png.h>
+
+#include <cerrno>
+#include <csetjmp>
+#include <cstdio>
+#include <system_error>
+
+#include "atomic_output_file.hpp"
+#include "stridemap/core/error.hpp"
+
+namespace stridemap::io {
+namespace {
+
+// libpng reports errors through a callback that must not return. Throwing a
+// C++ exception through libpng's C frames is not safe, so the callbacks
+// longjmp back to the setjmp in encode/decode_* below; those functions hold
+// only trivially destructible locals, and every resource lives in a guard
+// owned by their caller, so nothing leaks and no destructor is skipped.
+struct PngContext {
+  std::FILE* file = nullptr;
+  char message[256] = {};
+  int saved_errno = 0;
+  bool truncated = false;
+};
+
+void on_png_error(png_structp png, png_const_charp message) {
+  auto* context = static_cast<PngContext*>(png_get_error_ptr(png));
+  std::snprintf(context->message, sizeof context->message, "%s", message);
+  png_longjmp(png, 1);
+}
+
+// Warnings (an odd colour profile, an unknown chunk) leave the image usable.
+void on_png_warning(png_structp, png_const_charp) {}
+
+void write_to_file(png_structp png, png_bytep data, png_size_t length) {
+  auto* context = static_cast<PngContext*>(png_get_io_ptr(png));
+  if (std::fwrite(data, 1, length, context->file) != length) {
+    context->saved_errno = errno;
+    png_error(png, "write failed");
+  }
+}
+
+void flush_file(png_structp png) {
+  auto* context = static_cast<PngContext*>(png_get_io_ptr(png));
+  if (std::fflush(context->file) != 0) {
+    context->saved_errno = errno;
+    png_error(png, "write failed");
+  }
+}
+
+void read_from_file(png_structp png, png_bytep data, png_size_t length) {
+  auto* context = static_cast<PngContext*>(png_get_io_ptr(png));
+  if (std::fread(data, 1, length, context->file) != length) {
+    if (std::ferror(context->file) != 0) {
+      context->saved_errno = errno;
+      png_error(png, "read failed");
+    }
+    context->truncated = true;
+    png_error(png, "unexpected end of file");
+  }
+}
+
+struct WriteGuard {
+  png_structp png = nullptr;
+  png_infop info = nullptr;
+  ~WriteGuard() { png_destroy_write_struct(&png, &info); }
+};
+
+struct ReadGuard {
+  png_structp png = nullptr;
+  png_infop info = nullptr;
+  ~ReadGuard() { png_destroy_read_struct(&png, &info, nullptr); }
+};
+
+struct FileGuard {
+  std::FILE* file = nullptr;
+  ~FileGuard() {
+    if (file != nullptr) std::fclose(file);
+  }
+};
+
+bool encode(png_structp png, png_infop info, const RgbImage& image) {
+  if (setjmp(png_jmpbuf(png))) return false;
+  png_set_IHDR(png, info, static_cast<png_uint_32>(image.width), static_cast<png_uint_32>(image.height), 8,
+               PNG_COLOR_TYPE_RGB, PNG_INTERLACE_NONE, PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  png_write_info(png, info);
+  for (int y = 0; y < image.height; ++y) png_write_row(png, image.rgb.data() + image.offset(0, y));
+  png_write_end(png, nullptr);
+  return true;
+}
+
+// Reads the header and sets up the conversion of every PNG flavour to 8-bit RGB.
+bool decode_header(png_structp png, png_infop info, png_uint_32* width, png_uint_32* height) {
+  if (setjmp(png_jmpbuf(png))) return false;
+  png_read_info(png, info);
+  png_set_expand(png);  // palette -> RGB, gray below 8 bits -> 8 bits, tRNS -> alpha
+  png_set_strip_16(png);
+  png_set_strip_alpha(png);
+  png_set_gray_to_rgb(png);
+  png_set_interlace_handling(png);
+  png_read_update_info(png, info);
+  *width = png_get_image_width(png, info);
+  *height = png_get_image_height(png, info);
+  if (png_get_rowbytes(png, info) != 3 * static_cast<png_size_t>(*width)) {
+    png_error(png, "conversion to 8-bit RGB failed");
+  }
+  return true;
+}
+
+bool decode_pixels(png_structp png, png_bytepp rows) {
+  if (setjmp(png_jmpbuf(png))) return false;
+  png_read_image(png, rows);
+  // Reading up to IEND verifies that the file is complete and its CRCs hold.
+  png_read_end(png, nullptr);
+  return true;
+}
+
+std::string errno_text(int error_number) { return std::generic_category().message(error_number); }
+
+std::string decode_failure(const std::string& path, const PngContext& context) {
+  std::string reason;
+  if (context.saved_errno != 0) {
+    reason = "read failed (" + errno_text(context.saved_errno) + ")";
+  } else if (context.truncated) {
+    reason = "the file is truncated (it ends before the image is complete)";
+  } else {
+    reason = std::string("corrupted or unsupported PNG data (libpng: ") + context.message + ")";
+  }
+  return "cannot read PNG '" + path + "': " + reason;
+}
+
+}  // namespace
+
+RgbImage::RgbImage(int image_width, int image_height, std::uint8_t red, std::uint8_t green, std::uint8_t blue)
+    : width(image_width), height(image_height) {
+  if (image_width < 0 || image_height < 0) {
+    throw InputError("RgbImage: negative size " + std::to_string(image_width) + " x " +
+                     std::to_string(image_height));
+  }
+  rgb.resize(3 * static_cast<std::size_t>(image_width) * static_cast<std::size_t>(image_height));
+  for (std::size_t i = 0; i < rgb.size(); i += 3) {
+    rgb[i] = red;
+    rgb[i + 1] = green;
+    rgb[i + 2] = blue;
+  }
+}
+
+void write_png(const std::string& path, const RgbImage& image) {
+  const auto fail_early = [&](const std::string& reason) {
+    throw InputError("cannot write PNG '" + path + "': " + reason);
+  };
+  const std::string size_text = std::to_string(image.width) + " x " + std::to_string(image.height);
+  if (image.width <= 0 || image.height <= 0) fail_early("bad image dimensions " + size_text + " (must be positive)");
+  if (image.width > kMaxPngSide || image.height > kMaxPngSide ||
+      static_cast<long long>(image.width) * image.height > kMaxPngPixels) {
+    fail_early("image dimensions " + size_text + " exceed the limit");
+  }
+  const std::size_t expected = 3 * static_cast<std::size_t>(image.width) * static_cast<std::size_t>(image.height);
+  if (image.rgb.size() != expected) {
+    fail_early("pixel buffer holds " + std::to_string(image.rgb.size()) + " bytes, " + size_text + " RGB needs " +
+               std::to_string(expected));
+  }
+
+  detail::AtomicOutputFile out(path, "PNG");
+  PngContext context;
+  context.file = out.stream();
+  {
+    WriteGuard guard;
+    guard.png = png_create_write_struct(PNG_LIBPNG_VER_STRING, &context, on_png_error, on_png_warning);
+    if (guard.png == nullptr) out.fail("libpng could not be initialised");
+    guard.info = png_create_info_struct(guard.png);
+    if (guard.info == nullptr) out.fail("libpng could not be initialised");
+    png_set_write_fn(guard.png, &context, write_to_file, flush_file);
+    if (!encode(guard.png, guard.info, image)) {
+      out.fail(context.saved_errno != 0 ? "write failed (" + errno_text(context.saved_errno) + ")"
+                                        : std::string("libpng: ") + context.message);
+    }
+  }
+  out.commit();
+}
+
+RgbImage read_png(const std::string& path) {
+  FileGuard file{std::fopen(path.c_str(), "rb")};
+  if (file.file == nullptr) {
+    const int error_number = errno;
+    throw InputError("cannot read PNG '" + path + "': " +
+                     (error_number == ENOENT ? std::string("the file does not exist")
+                                             : "cannot open it (" + errno_text(error_number) + ")"));
+  }
+  png_byte signature[8] = {};
+  const std::size_t signature_size = std::fread(signature, 1, sizeof signature, file.file);
+  if (signature_size < sizeof signature && std::ferror(file.file) != 0) {
+    throw InputError("cannot read PNG '" + path + "': read failed (" + errno_text(errno) + ")");
+  }
+  if (signature_size < sizeof signature || png_sig_cmp(signature, 0, sizeof signature) != 0) {
+    throw InputError("cannot read PNG '" + path + "': not a PNG file (" +
+                     (signature_size < sizeof signature
+                          ? "only " + std::to_string(signature_size) + " bytes long"
+                          : std::string("the first 8 bytes are not the PNG signature")) +
+                     ")");
+  }
+
+  PngContext context;
+  context.file = file.file;
+  ReadGuard guard;
+  guard.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &context, on_png_error, on_png_warning);
+  if (guard.png != nullptr) guard.info = png_create_info_struct(guard.png);
+  if (guard.png == nullptr || guard.info == nullptr) {
+    throw InputError("cannot read PNG '" + path + "': libpng could not be initialised");
+  }
+  png_set_read_fn(guard.png, &context, read_from_file);
+  png_set_sig_bytes(guard.png, sizeof signature);
+  png_set_user_limits(guard.png, kMaxPngSide, kMaxPngSide);
+
+  png_uint_32 width = 0;
+  png_uint_32 height = 0;
+  if (!decode_header(guard.png, guard.info, &width, &height)) throw InputError(decode_failure(path, context));
+  if (static_cast<long long>(width) * height > kMaxPngPixels) {
+    throw InputError("cannot read PNG '" + path + "': image dimensions " + std::to_string(width) + " x " +
+                     std::to_string(height) + " exceed the limit of " + std::to_string(kMaxPngPixels) +
+                     " pixels");
+  }
+  RgbImage image(static_cast<int>(width), static_cast<int>(height));
+  std::vector<png_bytep> rows(height);
+  for (png_uint_32 y = 0; y < height; ++y) rows[y] = image.rgb.data() + image.offset(0, static_cast<int>(y));
+  if (!decode_pixels(guard.png, rows.data())) throw InputError(decode_failure(path, context));
+  return image;
+}
+
+}  // namespace stridemap::io

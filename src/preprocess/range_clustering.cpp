@@ -1,0 +1,101 @@
+#include "stridemap/preprocess/range_clustering.hpp"
+
+#include <cmath>
+#include <limits>
+
+#include "option_checks.hpp"
+
+namespace stridemap {
+namespace {
+
+constexpr double half_pi = 1.57079632679489661923;
+constexpr double pi = 3.14159265358979323846;
+constexpr const char* filter_name = "range clustering";
+
+}  // namespace
+
+RangeRatioBand range_ratio_band(double angle_step_rad, double max_incidence_angle_rad,
+                                bool messorsim_swapped_bounds) {
+  const double step = std::abs(angle_step_rad);
+  RangeRatioBand band;
+  if (messorsim_swapped_bounds) {
+    // MessorSim's formula with its angle of 180 deg - beta_max; cos of that
+    // angle is negative, which is what swaps the two factors.
+    const double theta = pi - max_incidence_angle_rad;
+    band.lower_factor = std::cos(theta + step) / std::cos(theta);
+    band.upper_factor = std::cos(theta - step) / std::cos(theta);
+    return band;
+  }
+  const double beta = max_incidence_angle_rad;
+  band.lower_factor = std::cos(beta) / std::cos(beta - step);
+  // Past 90 deg the next beam can run along the surface: no upper limit.
+  band.upper_factor = beta + step < half_pi ? std::cos(beta) / std::cos(beta + step)
+                                            : std::numeric_limits<double>::infinity();
+  return band;
+}
+
+void RangeClusteringOptions::validate() const {
+  const char* owner = "RangeClusteringOptions";
+  detail::require_angle_in_range(owner, "max_incidence_angle_rad", max_incidence_angle_rad, 0.0, false,
+                                 90.0, false);
+  detail::require_in_range(owner, "noise_sigmas", noise_sigmas, 0.0, true, 1e6, true);
+  detail::require_in_range(owner, "min_cluster_extent_m", min_cluster_extent_m, 0.0, true, 1e6, true, " m");
+  sigma.validate(owner);
+}
+
+RangeClusteringFilter::RangeClusteringFilter(const RangeClusteringOptions& options) : options_(options) {
+  options_.validate();
+}
+
+ScanFilterStats RangeClusteringFilter::apply(PlanarScan& scan, std::vector<std::uint8_t>& removed) {
+  ScanFilterStats stats = prepare_scan_for_filter(scan, removed, filter_name);
+  const std::size_t n = scan.size();
+  labels_.assign(n, -1);
+  const std::vector<double>& range = scan.range_m;
+  const std::vector<double>& angle = scan.angle_rad;
+  RangeRatioBandCache bands(options_.max_incidence_angle_rad, options_.messorsim_swapped_bounds);
+
+  const auto close_cluster = [&](std::size_t first, std::size_t last) {
+    const std::size_t points = last - first + 1;
+    bool reject = points < options_.min_cluster_points;
+    if (!reject && options_.min_cluster_extent_m > 0.0) {
+      const double r0 = range[first];
+      const double r1 = range[last];
+      const double chord_sq = r0 * r0 + r1 * r1 - 2.0 * r0 * r1 * std::cos(angle[last] - angle[first]);
+      reject = chord_sq < options_.min_cluster_extent_m * options_.min_cluster_extent_m;
+    }
+    if (reject) {
+      for (std::size_t i = first; i <= last; ++i) removed[i] = 1;
+    }
+  };
+
+  constexpr std::size_t none = static_cast<std::size_t>(-1);
+  std::size_t first = none;
+  int label = -1;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (std::isnan(range[i])) {
+      if (first != none) close_cluster(first, i - 1);
+      first = none;
+      continue;
+    }
+    if (first != none) {
+      const double tolerance =
+          options_.noise_sigmas * options_.sigma.sigma_m(range[i - 1], scan.range_error_m[i - 1]);
+      if (!ranges_on_one_surface(range[i - 1], range[i], tolerance, bands.band(angle[i] - angle[i - 1]))) {
+        close_cluster(first, i - 1);
+        first = none;
+      }
+    }
+    if (first == none) {
+      first = i;
+      ++label;
+    }
+    labels_[i] = label;
+  }
+  if (first != none) close_cluster(first, n - 1);
+
+  stats.removed = apply_removal_mask(scan, removed);
+  return stats;
+}
+
+}  // namespace stridemap

@@ -1,0 +1,174 @@
+#include "stridemap/sensors/urg04lx.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <numbers>
+#include <sstream>
+#include <string>
+
+#include "stridemap/core/error.hpp"
+
+namespace stridemap {
+namespace {
+
+[[noreturn]] void throw_parameter_error(const std::string& field, const std::string& what) {
+  throw InputError("URG parameters: " + field + " " + what);
+}
+
+void require_finite(const char* field, double value) {
+  if (!std::isfinite(value)) {
+    std::ostringstream message;
+    message << "must be finite, got " << value;
+    throw_parameter_error(field, message.str());
+  }
+}
+
+// The sensor reports DMIN/DMAX in whole millimetres; a parameter set written
+// in metres may carry representation error (0.020 * 1000 need not be exactly
+// 20), so the thresholds get a margin far below one raw unit.
+constexpr double threshold_margin_mm = 1e-6;
+
+}  // namespace
+
+void UrgParameters::validate() const {
+  auto describe = [](const char* relation, long long value, long long bound) {
+    std::ostringstream message;
+    message << "must be " << relation << " " << bound << ", got " << value;
+    return message.str();
+  };
+  if (steps_per_turn <= 0) {
+    throw_parameter_error("steps_per_turn", describe(">", steps_per_turn, 0));
+  }
+  if (first_step < 0) throw_parameter_error("first_step", describe(">=", first_step, 0));
+  if (front_step < first_step) {
+    throw_parameter_error("front_step", describe(">= first_step =", front_step, first_step));
+  }
+  if (last_step < front_step) {
+    throw_parameter_error("last_step", describe(">= front_step =", last_step, front_step));
+  }
+  if (last_step >= steps_per_turn) {
+    throw_parameter_error("last_step", describe("< steps_per_turn =", last_step, steps_per_turn));
+  }
+  require_finite("min_range_m", min_range_m);
+  require_finite("max_range_m", max_range_m);
+  require_finite("scan_period_s", scan_period_s);
+  if (!(min_range_m > 0.0)) {
+    std::ostringstream message;
+    message << "must be > 0, got " << min_range_m;
+    throw_parameter_error("min_range_m", message.str());
+  }
+  if (!(max_range_m > min_range_m)) {
+    std::ostringstream message;
+    message << "must be > min_range_m = " << min_range_m << ", got " << max_range_m;
+    throw_parameter_error("max_range_m", message.str());
+  }
+  if (!(scan_period_s > 0.0)) {
+    std::ostringstream message;
+    message << "must be > 0, got " << scan_period_s;
+    throw_parameter_error("scan_period_s", message.str());
+  }
+}
+
+double UrgParameters::step_angle_rad(double step) const {
+  return (step - static_cast<double>(front_step)) * (2.0 * std::numbers::pi) /
+         static_cast<double>(steps_per_turn);
+}
+
+UrgModel::UrgModel(const UrgParameters& parameters, const RangeCalibration& calibration)
+    : parameters_(parameters), calibration_(calibration) {
+  parameters_.validate();
+  for (std::size_t k = 0; k < calibration_.coefficients.size(); ++k) {
+    if (!std::isfinite(calibration_.coefficients[k])) {
+      std::ostringstream message;
+      message << "range calibration: coefficients[" << k << "] must be finite, got "
+              << calibration_.coefficients[k];
+      throw InputError(message.str());
+    }
+  }
+}
+
+UrgValueClass UrgModel::classify(std::uint32_t raw_mm) const {
+  const double value_mm = static_cast<double>(raw_mm);
+  if (value_mm < parameters_.min_range_m * 1000.0 - threshold_margin_mm) {
+    return UrgValueClass::error_code;
+  }
+  if (value_mm > parameters_.max_range_m * 1000.0 + threshold_margin_mm) {
+    return UrgValueClass::beyond_max_range;
+  }
+  return UrgValueClass::valid;
+}
+
+double UrgModel::spec_range_error_m(double range_m) {
+  // NaN falls through both comparisons and comes back as NaN: an unknown range
+  // has an unknown error, and callers must not get a plausible-looking bound.
+  if (range_m <= 1.0) return 0.010;
+  return 0.01 * range_m;
+}
+
+UrgConversionStats UrgModel::to_planar_scan(const UrgRawScan& raw, PlanarScan& out) const {
+  const long long count = static_cast<long long>(raw.values_mm.size());
+  if (raw.cluster < 1) {
+    std::ostringstream message;
+    message << "URG scan at t=" << raw.time_s << " s: cluster must be >= 1, got " << raw.cluster;
+    throw InputError(message.str());
+  }
+  if (raw.first_step < parameters_.first_step || raw.first_step > parameters_.last_step) {
+    std::ostringstream message;
+    message << "URG scan at t=" << raw.time_s << " s: first_step " << raw.first_step
+            << " lies outside the measurable steps " << parameters_.first_step << ".."
+            << parameters_.last_step;
+    throw InputError(message.str());
+  }
+  if (count > 0) {
+    // The sensor sends ceil(steps / cluster) values, so only the first step of
+    // the last cluster has to be measurable; the cluster may run past it.
+    const long long last_value_step =
+        static_cast<long long>(raw.first_step) + (count - 1) * static_cast<long long>(raw.cluster);
+    if (last_value_step > parameters_.last_step) {
+      std::ostringstream message;
+      message << "URG scan at t=" << raw.time_s << " s: " << count << " values with first_step "
+              << raw.first_step << " and cluster " << raw.cluster << " reach step "
+              << last_value_step << ", beyond last_step " << parameters_.last_step
+              << " (at most "
+              << (parameters_.last_step - raw.first_step) / raw.cluster + 1 << " values fit)";
+      throw InputError(message.str());
+    }
+  }
+
+  out.time_s = raw.time_s;
+  out.resize(raw.values_mm.size());
+  UrgConversionStats stats;
+  for (std::size_t i = 0; i < raw.values_mm.size(); ++i) {
+    const std::uint32_t value = raw.values_mm[i];
+    const double raw_range_m = static_cast<double>(value) * 0.001;
+    // A cluster's value is the minimum over its steps and the sensor does not
+    // say which step gave it; SCIP drivers place it at the cluster's first step.
+    const double step = static_cast<double>(raw.first_step) +
+                        static_cast<double>(i) * static_cast<double>(raw.cluster);
+    out.angle_rad[i] = parameters_.step_angle_rad(step);
+    switch (classify(value)) {
+      case UrgValueClass::valid: {
+        const double range_m = calibration_.corrected_m(raw_range_m);
+        out.range_m[i] = range_m;
+        out.range_error_m[i] = spec_range_error_m(range_m);
+        ++stats.valid;
+        continue;
+      }
+      case UrgValueClass::error_code:
+        ++stats.error_codes;
+        break;
+      case UrgValueClass::beyond_max_range:
+        ++stats.beyond_max_range;
+        break;
+    }
+    // Invalid beams keep a finite error (the bound at the raw value) so that a
+    // consumer summing or comparing errors never meets NaN there; the NaN range
+    // is what marks the beam as unusable.
+    out.range_m[i] = std::numeric_limits<double>::quiet_NaN();
+    out.range_error_m[i] = spec_range_error_m(raw_range_m);
+  }
+  return stats;
+}
+
+}  // namespace stridemap

@@ -1,0 +1,172 @@
+#include "stridemap/core/grid_map.hpp"
+
+#include <cmath>
+#include <map>
+#include <random>
+
+#include <gtest/gtest.h>
+
+#include "stridemap/core/error.hpp"
+
+namespace stridemap {
+namespace {
+
+// Writes a value derived from each cell's global index, so that after any
+// move a surviving cell can be checked for keeping exactly its own value.
+float tag(CellIndex c) { return static_cast<float>(c.x * 1000 + c.y); }
+
+void tag_all(ElevationMap& map) {
+  for (int i = 0; i < map.cells_per_side(); ++i) {
+    for (int j = 0; j < map.cells_per_side(); ++j) {
+      const CellIndex c = map.cell_at_local(i, j);
+      const std::size_t s = map.slot(c);
+      map.elevation_data()[s] = tag(c);
+      map.certainty_data()[s] = 1.0f;
+      map.state_data()[s] = static_cast<std::uint8_t>(CellState::measured);
+    }
+  }
+}
+
+// Every cell in both windows keeps its tag; every newly exposed cell is unknown.
+void expect_consistent_after_move(const ElevationMap& map, CellIndex old_min, int n) {
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const CellIndex c = map.cell_at_local(i, j);
+      const bool was_inside = c.x >= old_min.x && c.x < old_min.x + n && c.y >= old_min.y && c.y < old_min.y + n;
+      if (was_inside) {
+        ASSERT_EQ(map.state(c), CellState::measured) << c.x << "," << c.y;
+        ASSERT_EQ(map.elevation(c), tag(c));
+      } else {
+        ASSERT_EQ(map.state(c), CellState::unknown) << c.x << "," << c.y;
+        ASSERT_TRUE(std::isnan(map.elevation(c)));
+        ASSERT_EQ(map.certainty(c), 0.0f);
+      }
+    }
+  }
+}
+
+TEST(ElevationMap, StartsUnknownAndCentred) {
+  ElevationMap map;
+  EXPECT_EQ(map.cells_per_side(), 100);
+  EXPECT_DOUBLE_EQ(map.cell_size_m(), 0.01);
+  EXPECT_TRUE(map.contains(map.cell_of(0.0, 0.0)));
+  EXPECT_TRUE(map.contains(map.cell_of(-0.499, 0.499)));
+  EXPECT_FALSE(map.contains(map.cell_of(0.501, 0.0)));
+  EXPECT_EQ(map.state(map.cell_of(0.1, 0.1)), CellState::unknown);
+  EXPECT_TRUE(std::isnan(map.elevation(map.cell_of(0.1, 0.1))));
+}
+
+TEST(ElevationMap, CellOfUsesFloorForNegativeCoordinates) {
+  ElevationMap map;
+  EXPECT_EQ(map.cell_of(-0.001, 0.0), (CellIndex{-1, 0}));
+  EXPECT_EQ(map.cell_of(0.0199, -0.0201), (CellIndex{1, -3}));
+  const Eigen::Vector2d c = map.cell_center({-1, 2});
+  EXPECT_NEAR(c.x(), -0.005, 1e-12);
+  EXPECT_NEAR(c.y(), 0.025, 1e-12);
+}
+
+TEST(ElevationMap, MovesInEveryDirectionKeepingSurvivingCells) {
+  const int n = 12;
+  const std::vector<std::pair<int, int>> moves = {{1, 0},  {-1, 0}, {0, 1},  {0, -1}, {3, 2},  {-3, 5},
+                                                  {4, -7}, {-5, -5}, {11, 0}, {0, -11}, {11, 11}, {-11, 6}};
+  for (const auto& [dx, dy] : moves) {
+    ElevationMap map({n, 0.05});
+    tag_all(map);
+    const CellIndex old_min = map.min_cell();
+    const std::size_t reset = map.move_corner_to({old_min.x + dx, old_min.y + dy});
+    const std::size_t expected =
+        static_cast<std::size_t>(n * n - (n - std::abs(dx)) * (n - std::abs(dy)));
+    EXPECT_EQ(reset, expected) << dx << "," << dy;
+    expect_consistent_after_move(map, old_min, n);
+  }
+}
+
+TEST(ElevationMap, MoveLargerThanTheMapForgetsEverything) {
+  ElevationMap map({10, 0.01});
+  tag_all(map);
+  EXPECT_EQ(map.move_corner_to({map.min_cell().x + 10, map.min_cell().y}), 100u);
+  EXPECT_EQ(map.move_corner_to({map.min_cell().x - 1000, map.min_cell().y + 3}), 100u);
+  tag_all(map);
+  const CellIndex old_min = map.min_cell();
+  map.move_corner_to({old_min.x + 25, old_min.y - 40});
+  expect_consistent_after_move(map, old_min, 10);
+}
+
+TEST(ElevationMap, RandomWalkKeepsEveryCellConsistent) {
+  const int n = 9;
+  ElevationMap map({n, 0.02});
+  std::mt19937_64 rng(3);
+  std::uniform_int_distribution<int> step(-4, 4);
+  // Reference: what each global cell should hold, tracked independently.
+  std::map<std::pair<std::int64_t, std::int64_t>, float> truth;
+  for (int k = 0; k < 300; ++k) {
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < n; ++j) {
+        const CellIndex c = map.cell_at_local(i, j);
+        if ((i + j + k) % 7 == 0) {
+          const std::size_t s = map.slot(c);
+          map.elevation_data()[s] = static_cast<float>(k);
+          map.certainty_data()[s] = 1.0f;
+          map.state_data()[s] = static_cast<std::uint8_t>(CellState::measured);
+          truth[{c.x, c.y}] = static_cast<float>(k);
+        }
+      }
+    }
+    const CellIndex target{map.min_cell().x + step(rng), map.min_cell().y + step(rng)};
+    map.move_corner_to(target);
+    for (auto it = truth.begin(); it != truth.end();) {
+      if (!map.contains({it->first.first, it->first.second})) {
+        it = truth.erase(it);
+      } else {
+        ++it;
+      }
+    }
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < n; ++j) {
+        const CellIndex c = map.cell_at_local(i, j);
+        const auto found = truth.find({c.x, c.y});
+        if (found == truth.end()) {
+          ASSERT_EQ(map.state(c), CellState::unknown);
+        } else {
+          ASSERT_EQ(map.elevation(c), found->second);
+        }
+      }
+    }
+  }
+}
+
+TEST(ElevationMap, MoveToCentresTheRobotCell) {
+  ElevationMap map({100, 0.01});
+  map.move_to(1.234, -0.567);
+  const CellIndex robot = map.cell_of(1.234, -0.567);
+  EXPECT_EQ(robot.x - map.min_cell().x, 50);
+  EXPECT_EQ(robot.y - map.min_cell().y, 50);
+  EXPECT_EQ(map.move_to(std::nan(""), 0.0), 0u);
+  EXPECT_EQ(map.move_to(1e300, 0.0), 0u);
+  EXPECT_EQ(map.cell_of(1.234, -0.567), robot);
+}
+
+TEST(ElevationMap, ExportUsesWindowOrder) {
+  ElevationMap map({4, 0.1});
+  const CellIndex c = map.cell_at_local(1, 2);
+  map.elevation_data()[map.slot(c)] = 5.0f;
+  map.move_corner_to({map.min_cell().x + 1, map.min_cell().y});
+  Eigen::MatrixXf elevation;
+  map.export_layers(&elevation, nullptr, nullptr);
+  EXPECT_EQ(elevation(0, 2), 5.0f);
+}
+
+TEST(ElevationMap, RejectsUnusableOptions) {
+  EXPECT_THROW(ElevationMap({0, 0.01}), InputError);
+  EXPECT_THROW(ElevationMap({100, 0.0}), InputError);
+  EXPECT_THROW(ElevationMap({100, -0.01}), InputError);
+  EXPECT_THROW(ElevationMap({100, std::nan("")}), InputError);
+  try {
+    ElevationMap({100, -1.0});
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cell_size_m"), std::string::npos);
+  }
+}
+
+}  // namespace
+}  // namespace stridemap

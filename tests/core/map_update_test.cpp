@@ -1,0 +1,102 @@
+#include "stridemap/core/map_update.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include <gtest/gtest.h>
+
+namespace stridemap {
+namespace {
+
+constexpr auto kUnknown = static_cast<std::uint8_t>(CellState::unknown);
+constexpr auto kMeasured = static_cast<std::uint8_t>(CellState::measured);
+constexpr auto kFilled = static_cast<std::uint8_t>(CellState::filled);
+
+struct Cell {
+  float h = std::nanf("");
+  float c = 0.0f;
+  std::uint8_t state = kUnknown;
+  CellUpdate update(float h_m, float dz, const UpdateOptions& o = {}) { return stridemap::update_cell(h, c, state, h_m, dz, o); }
+};
+
+TEST(UpdateRule, UnknownCellTakesTheFirstMeasurement) {
+  Cell cell;
+  EXPECT_EQ(cell.update(0.12f, 0.01f), CellUpdate::first);
+  EXPECT_FLOAT_EQ(cell.h, 0.12f);
+  EXPECT_FLOAT_EQ(cell.c, 3.0f);
+  EXPECT_EQ(cell.state, kMeasured);
+}
+
+TEST(UpdateRule, FirstMeasurementMayBeLowerThanAFilledValue) {
+  // A filled cell has c = 0, so eq. (9)'s "or c = 0" applies and the
+  // measurement replaces the interpolated value even when it is lower.
+  Cell cell{0.2f, 0.0f, kFilled};
+  EXPECT_EQ(cell.update(0.05f, 0.01f), CellUpdate::first);
+  EXPECT_FLOAT_EQ(cell.h, 0.05f);
+  EXPECT_EQ(cell.state, kMeasured);
+}
+
+TEST(UpdateRule, PlausibleMeasurementsRaiseCertaintyAndKeepTheHighest) {
+  Cell cell{0.10f, 3.0f, kMeasured};
+  EXPECT_EQ(cell.update(0.105f, 0.01f), CellUpdate::plausible);
+  EXPECT_FLOAT_EQ(cell.c, 6.0f);
+  EXPECT_FLOAT_EQ(cell.h, 0.105f);
+  EXPECT_EQ(cell.update(0.095f, 0.01f), CellUpdate::plausible);  // lower but within the bound
+  EXPECT_FLOAT_EQ(cell.c, 9.0f);
+  EXPECT_FLOAT_EQ(cell.h, 0.105f);  // eq. (10): never lowered
+}
+
+TEST(UpdateRule, BoundIsInclusiveAndUsesItsMagnitude) {
+  Cell cell{0.0f, 3.0f, kMeasured};
+  EXPECT_EQ(cell.update(0.5f, -0.5f), CellUpdate::plausible);
+}
+
+TEST(UpdateRule, ImplausibleHighReadingRaisesElevationButNotCertainty) {
+  Cell cell{0.10f, 9.0f, kMeasured};
+  EXPECT_EQ(cell.update(0.30f, 0.01f), CellUpdate::implausible);
+  EXPECT_FLOAT_EQ(cell.h, 0.30f);
+  EXPECT_FLOAT_EQ(cell.c, 9.0f);
+}
+
+TEST(UpdateRule, ImplausibleLowReadingChangesNothing) {
+  Cell cell{0.10f, 9.0f, kMeasured};
+  EXPECT_EQ(cell.update(-0.20f, 0.01f), CellUpdate::implausible);
+  EXPECT_FLOAT_EQ(cell.h, 0.10f);
+  EXPECT_FLOAT_EQ(cell.c, 9.0f);
+}
+
+TEST(UpdateRule, CertaintyStopsAtTheCeiling) {
+  UpdateOptions options;
+  options.certainty_increment = 4.0;
+  options.certainty_max = 10.0;
+  Cell cell;
+  for (int k = 0; k < 10; ++k) cell.update(0.0f, 0.01f, options);
+  EXPECT_FLOAT_EQ(cell.c, 10.0f);
+}
+
+TEST(MaxElevationChange, SumsTheTermsOfEquationSix) {
+  UpdateOptions options;
+  options.max_pitch_error_rad = 0.01;
+  options.max_roll_error_rad = 0.02;
+  options.max_mount_pitch_error_rad = 0.03;
+  ElevationPartials p;
+  p.d_range = -0.5;
+  p.d_pitch_m_per_rad = 0.4;
+  p.d_roll_m_per_rad = -0.2;
+  p.d_alpha_m_per_rad = -0.3;
+  const double gamma = 0.6;
+  const double expected = 0.01 * std::tan(gamma) + 0.5 * 0.01 + 0.4 * 0.01 + 0.2 * 0.02 + 0.3 * 0.03;
+  EXPECT_NEAR(laser_max_elevation_change(p, 0.01, 0.01, gamma, options), expected, 1e-15);
+  EXPECT_NEAR(laser_max_elevation_change(p, 0.01, 0.0, gamma, options), expected - 0.01 * std::tan(gamma), 1e-15);
+}
+
+TEST(MaxElevationChange, TurningTravelFollowsFigureTen) {
+  const double theta = 0.1;
+  EXPECT_NEAR(turning_travel_m(0.4, 0.1, theta), 0.5 * std::tan(theta / 2) * std::tan(theta), 1e-15);
+  EXPECT_NEAR(turning_travel_m(0.4, 0.1, -theta), turning_travel_m(0.4, 0.1, theta), 1e-15);
+  EXPECT_EQ(turning_travel_m(0.4, 0.1, 0.0), 0.0);
+  EXPECT_TRUE(std::isinf(turning_travel_m(0.4, 0.1, 2.0)));
+}
+
+}  // namespace
+}  // namespace stridemap

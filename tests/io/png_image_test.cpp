@@ -1,0 +1,296 @@
+#include "stridemap/io/png_image.hpp"
+
+#include <gtest/gtest.h>
+#include <sys/resource.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <csignal>
+#include <cstdint>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "stridemap/core/error.hpp"
+
+namespace stridemap::io {
+namespace {
+
+namespace fs = std::filesystem;
+using Bytes = std::vector<std::uint8_t>;
+
+// A fresh folder per test, removed afterwards.
+class PngImageTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    folder_ = fs::temp_directory_path() /
+              ("stridemap_png_test_" + std::to_string(::getpid()) + "_" +
+               ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(folder_);
+    fs::create_directories(folder_);
+  }
+  void TearDown() override {
+    fs::permissions(folder_, fs::perms::owner_all, fs::perm_options::add);
+    fs::remove_all(folder_);
+  }
+  std::string path(const std::string& name) const { return (folder_ / name).string(); }
+  std::vector<std::string> folder_entries() const {
+    std::vector<std::string> names;
+    for (const auto& entry : fs::directory_iterator(folder_)) names.push_back(entry.path().filename().string());
+    return names;
+  }
+  fs::path folder_;
+};
+
+RgbImage noise_image(int width, int height, std::uint64_t seed) {
+  RgbImage image(width, height);
+  std::mt19937_64 generator(seed);
+  for (auto& byte : image.rgb) byte = static_cast<std::uint8_t>(generator() & 0xFFU);
+  return image;
+}
+
+Bytes read_bytes(const std::string& file) {
+  std::ifstream in(file, std::ios::binary);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void write_bytes(const std::string& file, const Bytes& bytes) {
+  std::ofstream out(file, std::ios::binary);
+  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+}
+
+template <typename Function>
+void expect_input_error(Function&& function, const std::vector<std::string>& fragments) {
+  try {
+    function();
+    ADD_FAILURE() << "no InputError thrown";
+  } catch (const InputError& error) {
+    const std::string message = error.what();
+    for (const auto& fragment : fragments) {
+      EXPECT_NE(message.find(fragment), std::string::npos) << "'" << fragment << "' missing from: " << message;
+    }
+  }
+}
+
+// A minimal PNG encoder written from the specification (zlib "stored"
+// blocks, no compression), so that read_png is checked against files that
+// libpng did not write, in colour types write_png never produces.
+std::uint32_t crc32(const Bytes& data, std::size_t begin, std::size_t end) {
+  std::uint32_t crc = 0xFFFFFFFFU;
+  for (std::size_t i = begin; i < end; ++i) {
+    crc ^= data[i];
+    for (int bit = 0; bit < 8; ++bit) crc = (crc >> 1) ^ (0xEDB88320U & (0U - (crc & 1U)));
+  }
+  return crc ^ 0xFFFFFFFFU;
+}
+
+void put_u32(Bytes& out, std::uint32_t value) {
+  for (int shift = 24; shift >= 0; shift -= 8) out.push_back(static_cast<std::uint8_t>(value >> shift));
+}
+
+void put_chunk(Bytes& out, const char* type, const Bytes& data) {
+  put_u32(out, static_cast<std::uint32_t>(data.size()));
+  const std::size_t start = out.size();
+  out.insert(out.end(), type, type + 4);
+  out.insert(out.end(), data.begin(), data.end());
+  put_u32(out, crc32(out, start, out.size()));
+}
+
+// `scanlines` holds each row's bytes without the filter byte.
+Bytes handmade_png(std::uint32_t width, std::uint32_t height, std::uint8_t bit_depth, std::uint8_t colour_type,
+                   const std::vector<Bytes>& scanlines, const Bytes& palette = {}, const Bytes& transparency = {}) {
+  Bytes raw;
+  for (const auto& row : scanlines) {
+    raw.push_back(0);  // filter type None
+    raw.insert(raw.end(), row.begin(), row.end());
+  }
+  Bytes zlib = {0x78, 0x01};
+  for (std::size_t offset = 0; offset < raw.size(); offset += 65535) {
+    const std::size_t length = std::min<std::size_t>(65535, raw.size() - offset);
+    zlib.push_back(offset + length == raw.size() ? 1 : 0);
+    zlib.push_back(static_cast<std::uint8_t>(length & 0xFF));
+    zlib.push_back(static_cast<std::uint8_t>(length >> 8));
+    zlib.push_back(static_cast<std::uint8_t>(~length & 0xFF));
+    zlib.push_back(static_cast<std::uint8_t>((~length >> 8) & 0xFF));
+    zlib.insert(zlib.end(), raw.begin() + static_cast<std::ptrdiff_t>(offset),
+                raw.begin() + static_cast<std::ptrdiff_t>(offset + length));
+  }
+  std::uint32_t a = 1;
+  std::uint32_t b = 0;
+  for (std::uint8_t byte : raw) {
+    a = (a + byte) % 65521U;
+    b = (b + a) % 65521U;
+  }
+  put_u32(zlib, (b << 16) | a);
+
+  Bytes png = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, '\n'};
+  Bytes header;
+  put_u32(header, width);
+  put_u32(header, height);
+  header.insert(header.end(), {bit_depth, colour_type, 0, 0, 0});
+  put_chunk(png, "IHDR", header);
+  if (!palette.empty()) put_chunk(png, "PLTE", palette);
+  if (!transparency.empty()) put_chunk(png, "tRNS", transparency);
+  put_chunk(png, "IDAT", zlib);
+  put_chunk(png, "IEND", {});
+  return png;
+}
+
+void expect_pixel(const RgbImage& image, int x, int y, std::uint8_t r, std::uint8_t g, std::uint8_t b) {
+  const auto at = image.offset(x, y);
+  EXPECT_EQ(image.rgb[at], r) << "x " << x << " y " << y;
+  EXPECT_EQ(image.rgb[at + 1], g) << "x " << x << " y " << y;
+  EXPECT_EQ(image.rgb[at + 2], b) << "x " << x << " y " << y;
+}
+
+TEST_F(PngImageTest, RoundTripKeepsEveryPixel) {
+  const RgbImage image = noise_image(37, 23, 7);
+  write_png(path("noise.png"), image);
+  const RgbImage back = read_png(path("noise.png"));
+  EXPECT_EQ(back.width, 37);
+  EXPECT_EQ(back.height, 23);
+  EXPECT_EQ(back.rgb, image.rgb);
+  EXPECT_EQ(folder_entries(), std::vector<std::string>{"noise.png"}) << "temporary file left behind";
+}
+
+TEST_F(PngImageTest, OverwritesAnExistingFile) {
+  write_png(path("a.png"), RgbImage(4, 4, 10, 20, 30));
+  write_png(path("a.png"), RgbImage(2, 3, 200, 100, 0));
+  const RgbImage back = read_png(path("a.png"));
+  EXPECT_EQ(back.width, 2);
+  EXPECT_EQ(back.height, 3);
+  expect_pixel(back, 1, 2, 200, 100, 0);
+}
+
+TEST_F(PngImageTest, ReadsGrayPaletteAlphaAndSixteenBitFiles) {
+  write_bytes(path("gray.png"), handmade_png(2, 1, 8, 0, {{0, 200}}));
+  RgbImage image = read_png(path("gray.png"));
+  expect_pixel(image, 0, 0, 0, 0, 0);
+  expect_pixel(image, 1, 0, 200, 200, 200);
+
+  // 1-bit gray: 8 pixels in one byte, 1 = white.
+  write_bytes(path("gray1.png"), handmade_png(8, 1, 1, 0, {{0b10000001}}));
+  image = read_png(path("gray1.png"));
+  expect_pixel(image, 0, 0, 255, 255, 255);
+  expect_pixel(image, 1, 0, 0, 0, 0);
+  expect_pixel(image, 7, 0, 255, 255, 255);
+
+  // Palette with a transparent entry: colour kept, alpha dropped.
+  write_bytes(path("palette.png"), handmade_png(3, 1, 8, 3, {{2, 0, 1}}, {255, 0, 0, 0, 255, 0, 0, 0, 255}, {0}));
+  image = read_png(path("palette.png"));
+  expect_pixel(image, 0, 0, 0, 0, 255);
+  expect_pixel(image, 1, 0, 255, 0, 0);
+  expect_pixel(image, 2, 0, 0, 255, 0);
+
+  write_bytes(path("rgba.png"), handmade_png(1, 2, 8, 6, {{10, 20, 30, 0}, {40, 50, 60, 255}}));
+  image = read_png(path("rgba.png"));
+  expect_pixel(image, 0, 0, 10, 20, 30);
+  expect_pixel(image, 0, 1, 40, 50, 60);
+
+  write_bytes(path("gray_alpha.png"), handmade_png(1, 1, 8, 4, {{77, 128}}));
+  expect_pixel(read_png(path("gray_alpha.png")), 0, 0, 77, 77, 77);
+
+  // 16-bit RGB keeps the high byte.
+  write_bytes(path("rgb16.png"), handmade_png(1, 1, 16, 2, {{0x12, 0x34, 0xAB, 0xCD, 0xFF, 0x00}}));
+  expect_pixel(read_png(path("rgb16.png")), 0, 0, 0x12, 0xAB, 0xFF);
+}
+
+TEST_F(PngImageTest, RejectsBadImagesBeforeCreatingAFile) {
+  expect_input_error([&] { write_png(path("empty.png"), RgbImage{}); },
+                     {"empty.png", "bad image dimensions 0 x 0"});
+  RgbImage short_buffer(4, 4);
+  short_buffer.rgb.resize(10);
+  expect_input_error([&] { write_png(path("short.png"), short_buffer); }, {"short.png", "10 bytes", "needs 48"});
+  EXPECT_TRUE(folder_entries().empty());
+}
+
+TEST_F(PngImageTest, WriteIntoMissingFolderNamesIt) {
+  const std::string target = path("no/such/folder/map.png");
+  expect_input_error([&] { write_png(target, RgbImage(2, 2)); }, {target, "does not exist"});
+}
+
+TEST_F(PngImageTest, WriteBelowAFileSaysItIsNotAFolder) {
+  write_bytes(path("plain.txt"), {'x'});
+  expect_input_error([&] { write_png(path("plain.txt/map.png"), RgbImage(2, 2)); }, {"plain.txt", "not a folder"});
+}
+
+TEST_F(PngImageTest, WriteIntoReadOnlyFolder) {
+  const fs::path locked = folder_ / "locked";
+  fs::create_directories(locked);
+  fs::permissions(locked, fs::perms::owner_read | fs::perms::owner_exec, fs::perm_options::replace);
+  if (::access(locked.c_str(), W_OK) == 0) {
+    GTEST_SKIP() << "running with privileges that can write into a read-only folder (e.g. root)";
+  }
+  expect_input_error([&] { write_png((locked / "map.png").string(), RgbImage(2, 2)); }, {"locked", "not writable"});
+}
+
+// A file-size limit makes the kernel refuse writes the way a full disk does.
+TEST_F(PngImageTest, FailedWriteLeavesNoHalfFileAndKeepsTheOldOne) {
+  const std::string target = path("map.png");
+  write_png(target, RgbImage(3, 3, 1, 2, 3));
+  const Bytes before = read_bytes(target);
+
+  rlimit old_limit{};
+  ASSERT_EQ(::getrlimit(RLIMIT_FSIZE, &old_limit), 0);
+  const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+  rlimit small = old_limit;
+  small.rlim_cur = 4096;
+  ASSERT_EQ(::setrlimit(RLIMIT_FSIZE, &small), 0);
+  bool threw = false;
+  std::string message;
+  try {
+    write_png(target, noise_image(300, 300, 3));  // noise does not compress: ~270 kB
+  } catch (const InputError& error) {
+    threw = true;
+    message = error.what();
+  }
+  ::setrlimit(RLIMIT_FSIZE, &old_limit);
+  std::signal(SIGXFSZ, old_handler);
+
+  ASSERT_TRUE(threw);
+  EXPECT_NE(message.find(target), std::string::npos) << message;
+  EXPECT_NE(message.find("write failed"), std::string::npos) << message;
+  EXPECT_EQ(read_bytes(target), before);
+  EXPECT_EQ(folder_entries(), std::vector<std::string>{"map.png"}) << "temporary file left behind";
+}
+
+TEST_F(PngImageTest, ReadErrorsNameTheFileAndTheProblem) {
+  expect_input_error([&] { read_png(path("missing.png")); }, {"missing.png", "does not exist"});
+
+  write_bytes(path("text.png"), {'h', 'e', 'l', 'l', 'o', ' ', 'w', 'o', 'r', 'l', 'd'});
+  expect_input_error([&] { read_png(path("text.png")); }, {"text.png", "not a PNG"});
+  write_bytes(path("tiny.png"), {0x89, 'P'});
+  expect_input_error([&] { read_png(path("tiny.png")); }, {"tiny.png", "not a PNG", "only 2 bytes"});
+  expect_input_error([&] { read_png(folder_.string()); }, {folder_.string(), "read failed"});
+}
+
+TEST_F(PngImageTest, TruncatedFileIsReportedNotCrashed) {
+  write_png(path("full.png"), noise_image(64, 64, 11));
+  const Bytes full = read_bytes(path("full.png"));
+  for (const std::size_t keep : {std::size_t{20}, std::size_t{40}, full.size() / 2, full.size() - 5}) {
+    write_bytes(path("cut.png"), Bytes(full.begin(), full.begin() + static_cast<std::ptrdiff_t>(keep)));
+    expect_input_error([&] { read_png(path("cut.png")); }, {"cut.png", "truncated"});
+  }
+}
+
+TEST_F(PngImageTest, CorruptedDataIsReported) {
+  write_png(path("good.png"), noise_image(16, 16, 5));
+  Bytes bytes = read_bytes(path("good.png"));
+  bytes[bytes.size() / 2] ^= 0x5A;  // inside IDAT: its CRC no longer matches
+  write_bytes(path("bad.png"), bytes);
+  expect_input_error([&] { read_png(path("bad.png")); }, {"bad.png", "corrupted"});
+}
+
+TEST_F(PngImageTest, BadHeaderDimensionsAreReported) {
+  write_bytes(path("zero.png"), handmade_png(0, 1, 8, 0, {{}}));
+  expect_input_error([&] { read_png(path("zero.png")); }, {"zero.png", "corrupted"});
+  // A header claiming 10^10 pixels must not make the reader allocate them.
+  write_bytes(path("huge.png"), handmade_png(100000, 100000, 8, 0, {{0}}));
+  expect_input_error([&] { read_png(path("huge.png")); }, {"huge.png", "100000 x 100000", "exceed the limit"});
+}
+
+}  // namespace
+}  // namespace stridemap::io
