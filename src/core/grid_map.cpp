@@ -17,7 +17,7 @@ constexpr int kMaxCellsPerSide = 20000;
 }  // namespace
 
 ElevationMap::ElevationMap(const GridOptions& options)
-    : n_(options.cells_per_side), cell_size_m_(options.cell_size_m) {
+    : n_(options.cells_per_side), cell_size_m_(options.cell_size_m), inverse_cell_size_(1.0 / options.cell_size_m) {
   if (n_ < 1 || n_ > kMaxCellsPerSide) {
     throw InputError("map options: cells_per_side must be between 1 and " + std::to_string(kMaxCellsPerSide) +
                      ", got " + std::to_string(n_));
@@ -29,7 +29,7 @@ ElevationMap::ElevationMap(const GridOptions& options)
   elevation_.assign(cells, kNaN);
   certainty_.assign(cells, 0.0f);
   state_.assign(cells, static_cast<std::uint8_t>(CellState::unknown));
-  min_cell_ = {-n_ / 2, -n_ / 2};
+  set_min_cell({-n_ / 2, -n_ / 2});
 }
 
 CellIndex ElevationMap::cell_of(double x_m, double y_m) const {
@@ -73,7 +73,7 @@ std::size_t ElevationMap::move_corner_to(CellIndex new_min) {
   const std::int64_t dy = new_min.y - min_cell_.y;
   if (std::abs(dx) >= n_ || std::abs(dy) >= n_) {
     clear();
-    min_cell_ = new_min;
+    set_min_cell(new_min);
     return static_cast<std::size_t>(n_) * static_cast<std::size_t>(n_);
   }
   std::size_t reset = 0;
@@ -95,7 +95,7 @@ std::size_t ElevationMap::move_corner_to(CellIndex new_min) {
       ++reset;
     }
   }
-  min_cell_ = new_min;
+  set_min_cell(new_min);
   return reset;
 }
 

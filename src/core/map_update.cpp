@@ -16,10 +16,7 @@ double turning_travel_m(double point_distance_m, double sensor_turn_offset_m, do
 
 double laser_max_elevation_change(const ElevationPartials& partials, double range_error_m,
                                   double travel_m, double gamma_rad, const UpdateOptions& options) {
-  return std::abs(travel_m * std::tan(gamma_rad)) + std::abs(partials.d_range * range_error_m) +
-         std::abs(partials.d_roll_m_per_rad * options.max_roll_error_rad) +
-         std::abs(partials.d_pitch_m_per_rad * options.max_pitch_error_rad) +
-         std::abs(partials.d_alpha_m_per_rad * options.max_mount_pitch_error_rad);
+  return std::abs(travel_m * std::tan(gamma_rad)) + elevation_error_bound_m(partials, range_error_m, options);
 }
 
 }  // namespace stridemap

@@ -1,6 +1,8 @@
 #include "stridemap/core/terrain_mapper.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "stridemap/core/error.hpp"
@@ -81,12 +83,11 @@ void TerrainMapper::apply(double x_m, double y_m, double h_m, double dz_max, Sca
     ++stats.outside_map;
     return;
   }
-  const CellIndex cell = map_.cell_of(x_m, y_m);
-  if (!map_.contains(cell)) {
+  std::size_t s = 0;
+  if (!map_.slot_at(x_m, y_m, s)) {
     ++stats.outside_map;
     return;
   }
-  const std::size_t s = map_.slot(cell);
   const CellUpdate result = update_cell(map_.elevation_data()[s], map_.certainty_data()[s], map_.state_data()[s],
                                         static_cast<float>(h_m), static_cast<float>(dz_max), options_.update);
   ++stats.integrated;
@@ -108,6 +109,21 @@ void TerrainMapper::finish(const TrunkPose& pose, const ScanStats& stats) {
   totals_.implausible += stats.implausible;
 }
 
+void TerrainMapper::refresh_beam_directions(const std::vector<double>& angles) {
+  // A sensor's beam angles rarely change between scans; their sines and
+  // cosines are the costliest part of a point, so keep them.
+  if (angles.size() == cached_angles_.size() && std::equal(angles.begin(), angles.end(), cached_angles_.begin())) {
+    return;
+  }
+  cached_angles_.assign(angles.begin(), angles.end());
+  cos_angle_.resize(angles.size());
+  sin_angle_.resize(angles.size());
+  for (std::size_t i = 0; i < angles.size(); ++i) {
+    cos_angle_[i] = std::cos(angles[i]);
+    sin_angle_[i] = std::sin(angles[i]);
+  }
+}
+
 ScanStats TerrainMapper::integrate(const PlanarScan& scan, const TrunkPose& pose) {
   ScanStats stats;
   stats.beams = scan.range_m.size();
@@ -118,35 +134,47 @@ ScanStats TerrainMapper::integrate(const PlanarScan& scan, const TrunkPose& pose
   }
   if (!accept_pose(pose, stats)) return stats;
   follow(pose, stats);
+  refresh_beam_directions(scan.angle_rad);
 
   const ScanMotion motion = motion_to(pose);
   const Eigen::Matrix3d rotation = sensor_to_map_rotation(pose, mount_);
   const Eigen::Vector3d origin = sensor_origin_in_map(pose, mount_);
+  const Eigen::Vector3d forward = rotation.col(0);  // map direction of a beam at t = 0
+  const Eigen::Vector3d left = rotation.col(1);     // ... and at t = 90 deg
+  // The partial derivatives are linear in (cos t, sin t) with coefficients
+  // fixed for the scan: evaluate beam_elevation_partials at t = 0 and 90 deg.
+  const ElevationPartials at_front = beam_elevation_partials(1.0, 0.0, pose.pitch_rad, pose.roll_rad, mount_.pitch_rad);
+  const ElevationPartials at_left =
+      beam_elevation_partials(1.0, std::numbers::pi / 2, pose.pitch_rad, pose.roll_rad, mount_.pitch_rad);
+  const UpdateOptions& u = options_.update;
   const double gamma = scan_plane_inclination_rad(pose.pitch_rad, pose.roll_rad, mount_.pitch_rad);
+  const double travel_term = std::abs(motion.horizontal_travel_m * std::tan(gamma));
   const double turn_offset = std::hypot(mount_.forward_offset_m, mount_.lateral_offset_m);
-  const bool turning = options_.update.use_turning_term && motion.yaw_change_rad != 0.0;
+  // Fig. 10's travel is (distance + d_s) times a factor of the yaw change.
+  const double turn_factor = u.use_turning_term ? turning_travel_m(1.0, 0.0, motion.yaw_change_rad) : 0.0;
+  const double turn_term_per_m = std::isfinite(turn_factor) ? std::abs(std::tan(gamma)) * turn_factor : std::numeric_limits<double>::infinity();
 
   for (std::size_t i = 0; i < stats.beams; ++i) {
     const double r = scan.range_m[i];
-    const double t = scan.angle_rad[i];
     const double dr = scan.range_error_m[i];
     if (!std::isfinite(r) || r <= 0.0) {
       ++stats.invalid_range;
       continue;
     }
-    if (!std::isfinite(t) || !std::isfinite(dr) || dr < 0.0) {
+    if (!std::isfinite(scan.angle_rad[i]) || !std::isfinite(dr) || dr < 0.0) {
       ++stats.invalid_beam;
       continue;
     }
-    const Eigen::Vector3d in_sensor(r * std::cos(t), r * std::sin(t), 0.0);
-    const Eigen::Vector3d offset = rotation * in_sensor;
-    const Eigen::Vector3d p = origin + offset;
-    const ElevationPartials partials =
-        beam_elevation_partials(r, t, pose.pitch_rad, pose.roll_rad, mount_.pitch_rad);
-    double travel = motion.horizontal_travel_m;
-    if (turning) travel += turning_travel_m(std::hypot(offset.x(), offset.y()), turn_offset, motion.yaw_change_rad);
-    const double dz_max = laser_max_elevation_change(partials, dr, travel, gamma, options_.update);
-    apply(p.x(), p.y(), p.z(), dz_max, stats);
+    const double ct = cos_angle_[i], st = sin_angle_[i];
+    const Eigen::Vector3d offset = r * (ct * forward + st * left);
+    ElevationPartials partials;
+    partials.d_range = ct * at_front.d_range + st * at_left.d_range;
+    partials.d_pitch_m_per_rad = r * (ct * at_front.d_pitch_m_per_rad + st * at_left.d_pitch_m_per_rad);
+    partials.d_roll_m_per_rad = r * (ct * at_front.d_roll_m_per_rad + st * at_left.d_roll_m_per_rad);
+    partials.d_alpha_m_per_rad = r * (ct * at_front.d_alpha_m_per_rad + st * at_left.d_alpha_m_per_rad);
+    double dz_max = travel_term + elevation_error_bound_m(partials, dr, u);
+    if (turn_term_per_m != 0.0) dz_max += turn_term_per_m * (std::hypot(offset.x(), offset.y()) + turn_offset);
+    apply(origin.x() + offset.x(), origin.y() + offset.y(), origin.z() + offset.z(), dz_max, stats);
   }
   finish(pose, stats);
   return stats;

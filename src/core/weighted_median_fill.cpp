@@ -52,10 +52,23 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
   const float* certainty = map.certainty_data();
   const std::uint8_t* state = map.state_data();
 
+  // Slot = row_offset[i] + column_offset[j]: the modulo of the circular
+  // buffer once per row and column instead of once per neighbour.
+  row_offset_.resize(static_cast<std::size_t>(n));
+  column_offset_.resize(static_cast<std::size_t>(n));
+  for (int k = 0; k < n; ++k) {
+    const std::size_t corner = map.slot(map.cell_at_local(k, k));
+    row_offset_[static_cast<std::size_t>(k)] = corner / static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+    column_offset_[static_cast<std::size_t>(k)] = corner % static_cast<std::size_t>(n);
+  }
+  const auto slot_of = [&](int i, int j) {
+    return row_offset_[static_cast<std::size_t>(i)] + column_offset_[static_cast<std::size_t>(j)];
+  };
+
   std::array<Candidate, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1)> candidates{};
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {
-      const std::size_t s = map.slot(map.cell_at_local(i, j));
+      const std::size_t s = slot_of(i, j);
       if (state[s] == measured) continue;
       std::size_t count = 0;
       unsigned quadrants = 0;
@@ -66,7 +79,7 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
         for (int dj = -w; dj <= w; ++dj) {
           const int jj = j + dj;
           if ((di == 0 && dj == 0) || jj < 0 || jj >= n) continue;
-          const std::size_t t = map.slot(map.cell_at_local(ii, jj));
+          const std::size_t t = slot_of(ii, jj);
           if (state[t] != measured) continue;
           const bool near = std::max(std::abs(di), std::abs(dj)) == 1;
           const float weight = certainty[t] * static_cast<float>(near ? options_.near_weight : 1.0);

@@ -63,9 +63,9 @@ class CsvReader {
     throw InputError("grid CSV '" + path_ + "' line " + std::to_string(line_number) + ": " + reason);
   }
 
-  // Fills `metadata` from a "# stridemap grid; key=value; ..." line; other
+  // Takes the metadata from a "# stridemap grid; key=value; ..." line; other
   // comments are ignored. Unknown keys are skipped for forward compatibility.
-  void parse_header(std::string_view line, std::size_t line_number, GridCsvOptions* metadata) {
+  void parse_header(std::string_view line, std::size_t line_number) {
     if (line.substr(0, kHeaderTag.size()) != kHeaderTag) return;
     line.remove_prefix(kHeaderTag.size());
     while (!line.empty()) {
@@ -79,12 +79,11 @@ class CsvReader {
       const std::string_view value = trim(item.substr(equals + 1));
       if (key == "rows") header_rows_ = parse_count(value, key, line_number);
       if (key == "cols") header_cols_ = parse_count(value, key, line_number);
-      if (metadata == nullptr) continue;
-      if (key == "layer") metadata->layer_name = value;
-      if (key == "units") metadata->units = value;
-      if (key == "cell_size_m") metadata->cell_size_m = parse_real(value, key, line_number);
-      if (key == "origin_x_m") metadata->origin_x_m = parse_real(value, key, line_number);
-      if (key == "origin_y_m") metadata->origin_y_m = parse_real(value, key, line_number);
+      if (key == "layer") metadata_.layer_name = value;
+      if (key == "units") metadata_.units = value;
+      if (key == "cell_size_m") metadata_.cell_size_m = parse_real(value, key, line_number);
+      if (key == "origin_x_m") metadata_.origin_x_m = parse_real(value, key, line_number);
+      if (key == "origin_y_m") metadata_.origin_y_m = parse_real(value, key, line_number);
     }
   }
 
@@ -130,6 +129,7 @@ class CsvReader {
   }
 
   std::size_t rows() const { return rows_; }
+  const GridCsvOptions& metadata() const { return metadata_; }
 
  private:
   float parse_field(std::string_view field, std::size_t index, std::size_t line_number) const {
@@ -171,6 +171,7 @@ class CsvReader {
   std::size_t first_row_line_ = 0;
   std::optional<std::size_t> header_rows_;
   std::optional<std::size_t> header_cols_;
+  GridCsvOptions metadata_;
 };
 
 }  // namespace
@@ -218,7 +219,6 @@ Eigen::MatrixXf read_grid_csv(const std::string& path, GridCsvOptions* metadata)
                      (error_number == ENOENT ? std::string("the file does not exist")
                                              : "cannot open it (" + std::generic_category().message(error_number) + ")"));
   }
-  if (metadata != nullptr) *metadata = GridCsvOptions{};
   CsvReader reader(path);
   std::string line;
   std::size_t line_number = 0;
@@ -232,14 +232,16 @@ Eigen::MatrixXf read_grid_csv(const std::string& path, GridCsvOptions* metadata)
       continue;
     }
     if (text.front() == '#') {
-      reader.parse_header(text, line_number, metadata);
+      reader.parse_header(text, line_number);
       continue;
     }
     if (blank_line != 0) reader.fail(blank_line, "blank line between data rows");
     reader.parse_row(text, line_number);
   }
   if (file.bad()) throw InputError("cannot read grid CSV '" + path + "': read failed");
-  return reader.finish(line_number);
+  Eigen::MatrixXf grid = reader.finish(line_number);
+  if (metadata != nullptr) *metadata = reader.metadata();
+  return grid;
 }
 
 }  // namespace stridemap::io

@@ -25,8 +25,8 @@ constexpr Rgb kUnknownLight{238, 238, 238};
 constexpr Rgb kUnknownDark{206, 206, 206};
 
 constexpr int kFont = cv::FONT_HERSHEY_SIMPLEX;
-constexpr double kTextScale = 0.45;
-constexpr double kTitleScale = 0.65;
+constexpr double kTextScale = 0.5;
+constexpr double kTitleScale = 0.7;
 constexpr int kMargin = 16;
 constexpr int kLegendGap = 30;
 constexpr int kBarWidth = 22;
@@ -116,7 +116,7 @@ std::string format_number(double value, int decimals) {
 
 std::string format_length(double metres) {
   char text[64];
-  if (metres < 1.0) {
+  if (metres < 0.1) {
     std::snprintf(text, sizeof text, "%g mm", std::round(metres * 1e4) / 10.0);
   } else {
     std::snprintf(text, sizeof text, "%g m", metres);

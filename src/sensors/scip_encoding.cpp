@@ -6,8 +6,6 @@
 
 namespace stridemap::scip {
 
-namespace {
-
 std::string describe_byte(char c) {
   static constexpr char kHex[] = "0123456789abcdef";
   const auto byte = static_cast<unsigned char>(c);
@@ -21,6 +19,8 @@ std::string describe_byte(char c) {
   }
   return text;
 }
+
+namespace {
 
 void require_width(int chars, int lowest) {
   if (chars < lowest || chars > 4) {

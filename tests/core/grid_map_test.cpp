@@ -146,6 +146,26 @@ TEST(ElevationMap, MoveToCentresTheRobotCell) {
   EXPECT_EQ(map.cell_of(1.234, -0.567), robot);
 }
 
+TEST(ElevationMap, FastSlotLookupAgreesWithCellIndexing) {
+  ElevationMap map({37, 0.013});
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> xy(-2.0, 2.0);
+  std::uniform_int_distribution<int> step(-50, 50);
+  for (int k = 0; k < 50; ++k) {
+    map.move_corner_to({step(rng), step(rng)});
+    for (int p = 0; p < 200; ++p) {
+      const double x = xy(rng), y = xy(rng);
+      std::size_t slot = 0;
+      const bool inside = map.slot_at(x, y, slot);
+      ASSERT_EQ(inside, map.contains(map.cell_of(x, y)));
+      if (inside) ASSERT_EQ(slot, map.slot(map.cell_of(x, y)));
+    }
+  }
+  std::size_t slot = 0;
+  EXPECT_FALSE(map.slot_at(std::nan(""), 0.0, slot));
+  EXPECT_FALSE(map.slot_at(0.0, 1e300, slot));
+}
+
 TEST(ElevationMap, ExportUsesWindowOrder) {
   ElevationMap map({4, 0.1});
   const CellIndex c = map.cell_at_local(1, 2);

@@ -93,5 +93,22 @@ TEST(SensorTransform, AnalyticPartialsMatchFiniteDifferences) {
   }
 }
 
+TEST(SensorTransform, PartialsAreLinearInTheBeamDirection) {
+  // The mapper evaluates the partials once per scan at t = 0 and 90 deg and
+  // combines them per beam; that is exact because z is linear in
+  // (r cos t, r sin t).
+  const double pitch = 0.07, roll = -0.05, alpha = 0.6;
+  const ElevationPartials f = beam_elevation_partials(1.0, 0.0, pitch, roll, alpha);
+  const ElevationPartials l = beam_elevation_partials(1.0, std::numbers::pi / 2, pitch, roll, alpha);
+  for (double t : {-2.0, -0.5, 0.3, 1.9}) {
+    const double r = 0.7, ct = std::cos(t), st = std::sin(t);
+    const ElevationPartials p = beam_elevation_partials(r, t, pitch, roll, alpha);
+    EXPECT_NEAR(p.d_range, ct * f.d_range + st * l.d_range, 1e-12);
+    EXPECT_NEAR(p.d_pitch_m_per_rad, r * (ct * f.d_pitch_m_per_rad + st * l.d_pitch_m_per_rad), 1e-12);
+    EXPECT_NEAR(p.d_roll_m_per_rad, r * (ct * f.d_roll_m_per_rad + st * l.d_roll_m_per_rad), 1e-12);
+    EXPECT_NEAR(p.d_alpha_m_per_rad, r * (ct * f.d_alpha_m_per_rad + st * l.d_alpha_m_per_rad), 1e-12);
+  }
+}
+
 }  // namespace
 }  // namespace stridemap

@@ -8,6 +8,7 @@
 // stored as a circular buffer: a cell lives in slot (ix mod N, iy mod N).
 // Moving the window therefore never copies the grid; the slots of the cells
 // that leave are exactly the slots of the cells that enter, and are reset.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <optional>
@@ -66,6 +67,19 @@ class ElevationMap {
   std::size_t slot(CellIndex cell) const {
     return static_cast<std::size_t>(wrap(cell.x) * n_ + wrap(cell.y));
   }
+  /// Slot of the cell holding (x, y), false when it lies outside the
+  /// window. The per-point fast path: no division, no modulo.
+  bool slot_at(double x_m, double y_m, std::size_t& slot_out) const {
+    const double fi = std::floor(x_m * inverse_cell_size_) - static_cast<double>(min_cell_.x);
+    const double fj = std::floor(y_m * inverse_cell_size_) - static_cast<double>(min_cell_.y);
+    if (!(fi >= 0.0 && fi < n_ && fj >= 0.0 && fj < n_)) return false;
+    int i = static_cast<int>(fi) + min_slot_x_;
+    int j = static_cast<int>(fj) + min_slot_y_;
+    if (i >= n_) i -= n_;
+    if (j >= n_) j -= n_;
+    slot_out = static_cast<std::size_t>(i) * static_cast<std::size_t>(n_) + static_cast<std::size_t>(j);
+    return true;
+  }
   /// Global index of the cell at local position (i, j) from the corner.
   CellIndex cell_at_local(int i, int j) const { return {min_cell_.x + i, min_cell_.y + j}; }
 
@@ -96,9 +110,17 @@ class ElevationMap {
   }
   void reset_rows_leaving(std::int64_t old_min, std::int64_t new_min, bool along_x);
 
+  void set_min_cell(CellIndex c) {
+    min_cell_ = c;
+    min_slot_x_ = static_cast<int>(wrap(c.x));
+    min_slot_y_ = static_cast<int>(wrap(c.y));
+  }
+
   int n_;
   double cell_size_m_;
+  double inverse_cell_size_;
   CellIndex min_cell_{};
+  int min_slot_x_ = 0, min_slot_y_ = 0;  // wrap(min_cell_), kept for slot_at
   std::vector<float> elevation_;
   std::vector<float> certainty_;
   std::vector<std::uint8_t> state_;

@@ -41,6 +41,14 @@ struct ScanMotion {
 /// Delta x = (r + d_s) tan(theta/2) sgn(theta). Returned as a magnitude.
 double turning_travel_m(double point_distance_m, double sensor_turn_offset_m, double yaw_change_rad);
 
+/// The error part of eq. (6): |dz/dr| Dr + |dz/dpsi| Dpsi + |dz/dphi| Dphi +
+/// |dz/dalpha| Dalpha, worst-case magnitudes added up.
+inline double elevation_error_bound_m(const ElevationPartials& p, double range_error_m, const UpdateOptions& o) {
+  const auto mag = [](double v) { return v < 0 ? -v : v; };
+  return mag(p.d_range * range_error_m) + mag(p.d_roll_m_per_rad) * o.max_roll_error_rad +
+         mag(p.d_pitch_m_per_rad) * o.max_pitch_error_rad + mag(p.d_alpha_m_per_rad) * o.max_mount_pitch_error_rad;
+}
+
 /// Eq. (6): d tan(gamma) + |dz/dr| Dr + |dz/dpsi| Dpsi + |dz/dphi| Dphi +
 /// |dz/dalpha| Dalpha. All terms are worst-case magnitudes.
 double laser_max_elevation_change(const ElevationPartials& partials, double range_error_m,

@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <optional>
 #include <span>
+#include <vector>
 
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/core/map_update.hpp"
@@ -85,12 +86,14 @@ class TerrainMapper {
   void follow(const TrunkPose& pose, ScanStats& stats);
   void apply(double x_m, double y_m, double h_m, double dz_max, ScanStats& stats);
   void finish(const TrunkPose& pose, const ScanStats& stats);
+  void refresh_beam_directions(const std::vector<double>& angles);
 
   MapperOptions options_;
   SensorMount mount_;
   ElevationMap map_;
   MapperTotals totals_;
   std::optional<TrunkPose> previous_pose_;
+  std::vector<double> cached_angles_, cos_angle_, sin_angle_;
 };
 
 /// True when every field of the pose is finite.

@@ -45,6 +45,7 @@ class WeightedMedianFill {
   };
   FillOptions options_;
   std::vector<float> result_;  // per slot, NaN = leave unknown
+  std::vector<std::size_t> row_offset_, column_offset_;
 };
 
 }  // namespace stridemap

@@ -93,6 +93,8 @@ class ScanFilterChain {
   StageMasks incoming_;  // stages before scan-sequence, for the scan just pushed
   StageMasks held_;      // the same for the scan scan-sequence holds
   StageMasks output_;    // for the scan returned last
+  std::vector<std::uint8_t> sequence_removed_;
+  std::vector<std::uint8_t> normalize_mask_;
   std::vector<std::uint8_t> removed_any_;
 };
 

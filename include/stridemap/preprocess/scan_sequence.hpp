@@ -30,8 +30,16 @@ struct ScanSequenceOptions {
   /// Also require a range jump at one end of the segment with the segment in
   /// front (it occludes something): without it a plain floor counts as an edge.
   bool require_occluding_end = true;
-  /// Beams added on each side of the segment's index range to form the sector.
+  /// Beams added on each side of the segment's index range to form the
+  /// sector whose points are removed (algorithms.md 2.6: 5), so that mixed
+  /// points trailing just past the structure's ends go too.
   std::size_t sector_margin_beams = 5;
+  /// Beams added on each side of the segment's index range for the spreads of
+  /// eq. 12. 0 by default: with a margin, a clean scan k+1 whose sector reaches
+  /// past the structure's ends picks up the range jump to the background, its
+  /// spread then measures that jump instead of the structure, and the test
+  /// goes blind exactly at box edges.
+  std::size_t spread_margin_beams = 0;
   /// kappa: scan k is "much more scattered" when sigma_k > kappa * sigma_{k+1} + sigma_0.
   double spread_ratio = 3.0;
   /// sigma_0 = spread_floor_sigmas * sigma_r (mean sigma_r of the sector in
@@ -46,8 +54,10 @@ struct ScanSequenceOptions {
 
 /// A sector that the last judged scan was tested on (for inspection/plots).
 struct ScanSequenceSector {
-  std::size_t first_beam = 0;  ///< inclusive, margin included
-  std::size_t last_beam = 0;   ///< inclusive
+  std::size_t first_beam = 0;         ///< removal sector, inclusive (sector_margin_beams included)
+  std::size_t last_beam = 0;          ///< inclusive
+  std::size_t spread_first_beam = 0;  ///< beams of the spreads (spread_margin_beams included)
+  std::size_t spread_last_beam = 0;   ///< inclusive
   std::size_t points_k = 0;    ///< valid points of scan k in the sector
   std::size_t points_next = 0; ///< valid points of scan k+1 in the sector
   double spread_k_m = 0.0;     ///< eq. 12 in scan k [m]
@@ -99,7 +109,7 @@ class ScanSequenceFilter {
 
  private:
   void judge_held_scan(std::vector<std::uint8_t>& removed);
-  void emit_held_scan(PlanarScan& out, std::vector<std::uint8_t>& removed) const;
+  void emit_held_scan(PlanarScan& out, const std::vector<std::uint8_t>& removed);
 
   ScanSequenceOptions options_;
   LineExtractor lines_;
@@ -113,7 +123,8 @@ class ScanSequenceFilter {
   ScanFilterStats last_stats_;
   std::vector<LineSegment> segments_;
   std::vector<ScanSequenceSector> sectors_;
-  std::vector<std::uint8_t> scratch_removed_;
+  std::vector<std::uint8_t> scratch_removed_;  // mask of the push/flush overloads without one
+  std::vector<std::uint8_t> normalize_mask_;   // unused output of prepare_scan_for_filter
 };
 
 }  // namespace stridemap

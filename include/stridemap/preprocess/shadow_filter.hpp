@@ -45,6 +45,11 @@ class ShadowFilter {
   ShadowFilterOptions options_;
   double tan_min_angle_ = 0.0;
   double tan_supplement_max_angle_ = 0.0;  // tan(180 deg - max_angle)
+  // sin/cos of the last angle difference seen at each offset j - i: scans
+  // have (nearly) constant steps, so this saves the trigonometry per pair.
+  std::vector<double> cached_delta_rad_;
+  std::vector<double> cached_abs_sin_;
+  std::vector<double> cached_cos_;
 };
 
 }  // namespace stridemap

@@ -58,6 +58,8 @@ class SpeckleFilter {
 
   SpeckleFilterOptions options_;
   std::vector<std::uint8_t> keep_;
+  std::vector<double> cached_delta_rad_;  // per offset j - i, radius mode
+  std::vector<double> cached_cos_;
 };
 
 }  // namespace stridemap

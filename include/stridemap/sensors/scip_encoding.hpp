@@ -21,6 +21,9 @@ constexpr bool is_data_char(char c) {
   return byte >= kFirstDataChar && byte <= kLastDataChar;
 }
 
+/// A byte for messages: "0x41 'A'" (printable) or "0x0d".
+std::string describe_byte(char c);
+
 /// Checksum character of a line payload: ((sum of bytes) & 0x3F) + 0x30.
 char checksum(std::string_view payload);
 

@@ -66,7 +66,11 @@ struct UrgSimOptions {
   /// b(A) per decade of amplitude below noise_reference_amplitude [m];
   /// positive: weaker echoes read farther. 0 = off.
   double amplitude_bias_m_per_decade = 0.0;
-  bool quantize_to_mm = true;  ///< round to whole millimetres as the sensor does
+  /// true: round to the nearest millimetre, as the sensor does. false: the
+  /// raw values are still whole millimetres (the wire format), but rounded
+  /// stochastically (floor(r_mm + U[0, 1))), which is unbiased on average,
+  /// for studies that must not see the quantisation steps.
+  bool quantize_to_mm = true;
   bool enable_noise = true;
   bool enable_systematic_error = true;
   bool enable_dropouts = true;

@@ -1,0 +1,61 @@
+// `stridemap experiment <name>`: the paper's experiments, one command each.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "commands.hpp"
+#include "stridemap/core/error.hpp"
+#include "stridemap/experiments/cart_rail.hpp"
+#include "stridemap/experiments/cart_rail_report.hpp"
+#include "stridemap/io/scene_yaml.hpp"
+
+namespace stridemap::cli {
+namespace {
+
+struct CartRailArgs {
+  std::string sensor = "urg";
+  std::string scene_path;
+  std::string out_dir;
+  std::uint64_t seed = 1;
+  double cell_size_m = 0.01;
+  int cells_per_side = 0;
+};
+
+void run_cart_rail_command(const CartRailArgs& args) {
+  if (args.sensor != "urg") {
+    throw InputError("--sensor: '" + args.sensor + "' is not available for cart-rail; supported: urg");
+  }
+  const Scene scene = load_scene_yaml(args.scene_path);
+  CartRailOptions options;
+  options.seed = args.seed;
+  options.cell_size_m = args.cell_size_m;
+  options.cells_per_side = args.cells_per_side;
+  const CartRailResult result = run_cart_rail(scene, options);
+  const CartRailRunInfo info{args.sensor, args.scene_path};
+  const std::string dir = (std::filesystem::path(args.out_dir) / ("cart-rail-" + args.sensor)).string();
+  write_cart_rail_outputs(result, options, info, dir);
+  std::fputs(cart_rail_table(result, info).c_str(), stdout);
+  std::printf("outputs: %s\n", dir.c_str());
+}
+
+}  // namespace
+
+void register_experiment(CLI::App& app) {
+  CLI::App* experiment = app.add_subcommand("experiment", "Reproduce an experiment of the paper (simulated)");
+  experiment->require_subcommand(1);
+
+  auto args = std::make_shared<CartRailArgs>();
+  CLI::App* cart_rail = experiment->add_subcommand(
+      "cart-rail", "Sensor on a cart moved along a rail over a scene (Figs. 16-20, Table 1)");
+  cart_rail->add_option("--sensor", args->sensor, "Sensor model: urg")->capture_default_str();
+  cart_rail->add_option("--scene", args->scene_path, "Scene file (YAML, see docs/scenes.md)")->required();
+  cart_rail->add_option("--out", args->out_dir, "Output folder; results go to OUT/cart-rail-<sensor>/")->required();
+  cart_rail->add_option("--seed", args->seed, "Seed of the simulation")->capture_default_str();
+  cart_rail->add_option("--cell-size-m", args->cell_size_m, "Map cell size [m]")->capture_default_str();
+  cart_rail->add_option("--cells", args->cells_per_side, "Cells per map side (0: fit the swept area)")
+      ->capture_default_str();
+  cart_rail->callback([args] { run_cart_rail_command(*args); });
+}
+
+}  // namespace stridemap::cli

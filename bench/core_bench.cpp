@@ -1,0 +1,101 @@
+// Map update and fill-in throughput on one core (docs/performance.md).
+#include <cmath>
+#include <random>
+
+#include <benchmark/benchmark.h>
+
+#include "stridemap/core/terrain_mapper.hpp"
+#include "stridemap/core/weighted_median_fill.hpp"
+
+namespace {
+
+using namespace stridemap;
+
+// A URG-04LX-sized scan (682 beams over 240 deg) of a floor with a low step,
+// as the paper's mount sees it; beams that point up get no return (NaN).
+PlanarScan urg_like_scan(const SensorMount& mount) {
+  PlanarScan scan;
+  scan.resize(682);
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const double t = (static_cast<double>(i) + 44.0 - 384.0) * 2.0 * M_PI / 1024.0;
+    const double down = std::cos(t) * std::sin(mount.pitch_rad);
+    scan.angle_rad[i] = t;
+    scan.range_m[i] = down > 0.1 ? mount.height_m / down * (i % 50 < 10 ? 0.8 : 1.0) : NAN;
+    scan.range_error_m[i] = 0.01;
+  }
+  return scan;
+}
+
+void BM_IntegrateScan(benchmark::State& state) {
+  SensorMount mount;
+  MapperOptions options;
+  options.window_ahead_m = 0.3;
+  TerrainMapper mapper(options, mount);
+  const PlanarScan scan = urg_like_scan(mount);
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> tilt(0.0, 0.02);
+  TrunkPose pose;
+  std::size_t valid = 0;
+  for (double r : scan.range_m) valid += std::isfinite(r) ? 1 : 0;
+  for (auto _ : state) {
+    pose.x_m += 0.003;  // a slow walk: the window moves every few scans
+    pose.yaw_rad += 0.002;
+    pose.pitch_rad = tilt(rng);
+    pose.roll_rad = tilt(rng);
+    benchmark::DoNotOptimize(mapper.integrate(scan, pose));
+  }
+  state.counters["points_per_s"] =
+      benchmark::Counter(static_cast<double>(valid * state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["scans_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_IntegrateScan);
+
+void BM_IntegratePoints(benchmark::State& state) {
+  MapperOptions options;
+  options.follow_robot = false;
+  TerrainMapper mapper(options, SensorMount{});
+  std::vector<MapPoint> points(4096);
+  std::mt19937_64 rng(2);
+  std::uniform_real_distribution<double> xy(-0.5, 0.5);
+  for (MapPoint& p : points) p = {xy(rng), xy(rng), 0.01 * xy(rng), 0.01};
+  for (auto _ : state) benchmark::DoNotOptimize(mapper.integrate_points(points, TrunkPose{}));
+  state.counters["points_per_s"] =
+      benchmark::Counter(static_cast<double>(points.size() * state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_IntegratePoints);
+
+void BM_WeightedMedianFill(benchmark::State& state) {
+  const int n = static_cast<int>(state.range(0));
+  ElevationMap map({n, 0.01});
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  // 70 % of cells measured, the rest unknown in scattered holes.
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      if (u(rng) < 0.3) continue;
+      const std::size_t s = map.slot(map.cell_at_local(i, j));
+      map.elevation_data()[s] = static_cast<float>(0.05 * u(rng));
+      map.certainty_data()[s] = 3.0f;
+      map.state_data()[s] = static_cast<std::uint8_t>(CellState::measured);
+    }
+  }
+  WeightedMedianFill fill;
+  for (auto _ : state) benchmark::DoNotOptimize(fill.apply(map));
+  state.counters["cells_per_s"] =
+      benchmark::Counter(static_cast<double>(n) * n * static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_WeightedMedianFill)->Arg(100)->Arg(200);
+
+void BM_MoveWindowOneCell(benchmark::State& state) {
+  ElevationMap map({100, 0.01});
+  std::int64_t k = 0;
+  for (auto _ : state) {
+    ++k;
+    benchmark::DoNotOptimize(map.move_corner_to({map.min_cell().x + 1, map.min_cell().y + (k % 2)}));
+  }
+}
+BENCHMARK(BM_MoveWindowOneCell);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,206 @@
+#include "stridemap/experiments/cart_rail_report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <system_error>
+
+#include <nlohmann/json.hpp>
+
+#include "stridemap/core/error.hpp"
+#include "stridemap/io/grid_csv.hpp"
+#include "stridemap/io/grid_render.hpp"
+#include "stridemap/io/png_image.hpp"
+
+namespace stridemap {
+namespace {
+
+using nlohmann::json;
+
+json dimensions_json(const ObjectDimensions& d) {
+  return {{"length", d.length_m}, {"width", d.width_m}, {"height", d.height_m}};
+}
+
+// JSON has no NaN; an object the map did not show gets nulls.
+json error_pct_json(const ObjectMeasurement& m) {
+  if (!m.found) return {{"length", nullptr}, {"width", nullptr}, {"height", nullptr}};
+  return {{"length", relative_error_pct(m.measured.length_m, m.truth.length_m)},
+          {"width", relative_error_pct(m.measured.width_m, m.truth.width_m)},
+          {"height", relative_error_pct(m.measured.height_m, m.truth.height_m)}};
+}
+
+void write_text_file(const std::filesystem::path& path, const std::string& text) {
+  const std::filesystem::path partial = path.string() + ".partial";
+  {
+    std::ofstream out(partial, std::ios::binary | std::ios::trunc);
+    if (!out) throw InputError(path.string() + ": cannot open for writing");
+    out << text;
+    out.flush();
+    if (!out) throw InputError(path.string() + ": write failed (disk full?)");
+  }
+  std::error_code ec;
+  std::filesystem::rename(partial, path, ec);
+  if (ec) throw InputError(path.string() + ": cannot rename the finished file into place: " + ec.message());
+}
+
+io::CellMask filled_mask(const MapSnapshot& s) {
+  io::CellMask mask(s.state.rows(), s.state.cols());
+  for (Eigen::Index i = 0; i < s.state.rows(); ++i)
+    for (Eigen::Index j = 0; j < s.state.cols(); ++j)
+      mask(i, j) = static_cast<CellState>(s.state(i, j)) == CellState::filled;
+  return mask;
+}
+
+}  // namespace
+
+std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOptions& options,
+                                   const CartRailRunInfo& info) {
+  json objects = json::array();
+  for (const ObjectMeasurement& m : r.objects) {
+    objects.push_back({{"name", m.name},
+                       {"kind", m.kind},
+                       {"found", m.found},
+                       {"cells", m.cells},
+                       {"truth_m", dimensions_json(m.truth)},
+                       {"measured_m", m.found ? dimensions_json(m.measured) : json(nullptr)},
+                       {"error_pct", error_pct_json(m)}});
+  }
+  const MapScore& s = r.score;
+  json summary = {
+      {"experiment", "cart-rail"},
+      {"sensor", info.sensor},
+      {"seed", options.seed},
+      {"source", "simulation"},
+      {"scene", info.scene_path},
+      {"map",
+       {{"rms_error_m", s.rms_error_m},
+        {"max_error_m", s.max_error_m},
+        {"coverage", s.coverage},
+        {"artifact_cells", s.artifact_cells},
+        {"artifact_threshold_m", s.artifact_threshold_m},
+        {"mean_error_m", s.mean_error_m},
+        {"rms_error_measured_m", s.rms_error_measured_m},
+        {"rms_error_filled_m", s.rms_error_filled_m},
+        {"known_cells", s.known_cells},
+        {"measured_cells", s.measured_cells},
+        {"filled_cells", s.filled_cells},
+        {"swept_area_cells", s.scored_area_cells},
+        {"cell_size_m", r.snapshot.cell_size_m},
+        {"cells_per_side", r.snapshot.elevation_m.rows()}}},
+      {"rail",
+       {{"start_x_m", r.rail.start_x_m},
+        {"end_x_m", r.rail.end_x_m},
+        {"y_m", r.rail.y_m},
+        {"step_m", r.rail.step_m},
+        {"scans", r.scans}}},
+      {"mount", {{"height_m", options.mount.height_m}, {"pitch_rad", options.mount.pitch_rad}}},
+      {"beams",
+       {{"valid", r.sensor_totals.valid},
+        {"error_codes", r.sensor_totals.error_codes},
+        {"beyond_max_range", r.sensor_totals.beyond_max_range},
+        {"integrated", r.mapper_totals.integrated},
+        {"implausible", r.mapper_totals.implausible},
+        {"outside_map", r.mapper_totals.outside_map}}},
+      {"objects", objects}};
+  return summary.dump(2) + "\n";
+}
+
+std::string cart_rail_table(const CartRailResult& r, const CartRailRunInfo& info) {
+  std::string out;
+  char line[256];
+  std::snprintf(line, sizeof line, "cart-rail, sensor %s (simulated), %zu scans, %.0f mm cells\n",
+                info.sensor.c_str(), r.scans, r.snapshot.cell_size_m * 1000);
+  out += line;
+  const MapScore& s = r.score;
+  std::snprintf(line, sizeof line,
+                "map: RMS error %.1f mm, max %.1f mm, coverage %.1f %%, artifact cells %zu (> %.0f mm), "
+                "measured %zu, filled %zu\n",
+                s.rms_error_m * 1000, s.max_error_m * 1000, s.coverage * 100, s.artifact_cells,
+                s.artifact_threshold_m * 1000, s.measured_cells, s.filled_cells);
+  out += line;
+  out += "object        dim      truth [mm]  map [mm]  error [%]\n";
+  for (const ObjectMeasurement& m : r.objects) {
+    const double truth[] = {m.truth.length_m, m.truth.width_m, m.truth.height_m};
+    const double measured[] = {m.measured.length_m, m.measured.width_m, m.measured.height_m};
+    const char* names[] = {"length", "width", "height"};
+    for (int k = 0; k < 3; ++k) {
+      if (m.found) {
+        std::snprintf(line, sizeof line, "%-13s %-8s %10.1f %9.1f %10.1f\n", k == 0 ? m.name.c_str() : "", names[k],
+                      truth[k] * 1000, measured[k] * 1000, relative_error_pct(measured[k], truth[k]));
+      } else {
+        std::snprintf(line, sizeof line, "%-13s %-8s %10.1f %9s %10s\n", k == 0 ? m.name.c_str() : "", names[k],
+                      truth[k] * 1000, "-", "not found");
+      }
+      out += line;
+    }
+  }
+  return out;
+}
+
+void write_cart_rail_outputs(const CartRailResult& r, const CartRailOptions& options, const CartRailRunInfo& info,
+                             const std::string& directory) {
+  const std::filesystem::path dir(directory);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw InputError(dir.string() + ": cannot create the output folder: " + ec.message());
+
+  const MapSnapshot& s = r.snapshot;
+  const io::CellMask filled = filled_mask(s);
+  const double origin_x = (static_cast<double>(s.min_cell.x) + 0.5) * s.cell_size_m;
+  const double origin_y = (static_cast<double>(s.min_cell.y) + 0.5) * s.cell_size_m;
+
+  // One colour scale for elevation and truth, so the two pictures compare.
+  const float lo = std::min(0.0f, s.truth_m.minCoeff());
+  const float hi = std::max(s.truth_m.maxCoeff(), lo + 0.01f);
+  io::GridRenderOptions elevation_style;
+  elevation_style.units = "m";
+  elevation_style.cell_size_m = s.cell_size_m;
+  elevation_style.min_value = lo;
+  elevation_style.max_value = hi;
+
+  elevation_style.title = "Elevation (" + info.sensor + ", simulated)";
+  io::write_png((dir / "elevation.png").string(), io::render_grid(s.elevation_m, filled, elevation_style).image);
+  elevation_style.title = "Ground truth: highest point per cell";
+  io::write_png((dir / "truth.png").string(), io::render_grid(s.truth_m, elevation_style).image);
+
+  io::GridRenderOptions certainty_style;
+  certainty_style.title = "Certainty";
+  certainty_style.cell_size_m = s.cell_size_m;
+  certainty_style.min_value = 0.0;
+  certainty_style.max_value = options.update.certainty_max;
+  Eigen::MatrixXf certainty = s.certainty;
+  for (Eigen::Index i = 0; i < certainty.rows(); ++i)
+    for (Eigen::Index j = 0; j < certainty.cols(); ++j)
+      if (static_cast<CellState>(s.state(i, j)) == CellState::unknown) certainty(i, j) = NAN;
+  io::write_png((dir / "certainty.png").string(), io::render_grid(certainty, certainty_style).image);
+
+  const Eigen::MatrixXf error = s.elevation_m - s.truth_m;
+  io::GridRenderOptions error_style;
+  error_style.title = "Elevation error (map - truth)";
+  error_style.units = "m";
+  error_style.cell_size_m = s.cell_size_m;
+  error_style.min_value = -0.05;
+  error_style.max_value = 0.05;
+  error_style.colour_scale = io::ColourScale::turbo;
+  io::write_png((dir / "error.png").string(), io::render_grid(error, filled, error_style).image);
+
+  const auto csv = [&](const char* name, const Eigen::MatrixXf& values, const char* units) {
+    io::GridCsvOptions o;
+    o.layer_name = name;
+    o.units = units;
+    o.cell_size_m = s.cell_size_m;
+    o.origin_x_m = origin_x;
+    o.origin_y_m = origin_y;
+    io::write_grid_csv((dir / (std::string(name) + ".csv")).string(), values, o);
+  };
+  csv("elevation", s.elevation_m, "m");
+  csv("certainty", s.certainty, "");
+  csv("state", s.state.cast<float>(), "");
+  csv("truth", s.truth_m, "m");
+  csv("swept_area", r.swept_area.cast<float>(), "");
+
+  write_text_file(dir / "summary.json", cart_rail_summary_json(r, options, info));
+}
+
+}  // namespace stridemap

@@ -1,0 +1,64 @@
+#include "stridemap/experiments/map_evaluation.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace stridemap {
+
+MapSnapshot snapshot_with_truth(const ElevationMap& map, const Scene& scene) {
+  MapSnapshot snapshot;
+  map.export_layers(&snapshot.elevation_m, &snapshot.certainty, &snapshot.state);
+  snapshot.min_cell = map.min_cell();
+  snapshot.cell_size_m = map.cell_size_m();
+  const int n = map.cells_per_side();
+  snapshot.truth_m.resize(n, n);
+  const double s = map.cell_size_m();
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const CellIndex c = map.cell_at_local(i, j);
+      const double x0 = static_cast<double>(c.x) * s;
+      const double y0 = static_cast<double>(c.y) * s;
+      snapshot.truth_m(i, j) = static_cast<float>(scene.max_height_in_rect(x0, y0, x0 + s, y0 + s));
+    }
+  }
+  return snapshot;
+}
+
+MapScore score_map(const MapSnapshot& snapshot, const CellMask& area, const MapScoreOptions& options) {
+  MapScore score;
+  score.artifact_threshold_m = options.artifact_threshold_m;
+  double sum_sq = 0.0, sum = 0.0, sum_sq_measured = 0.0, sum_sq_filled = 0.0;
+  for (Eigen::Index i = 0; i < snapshot.elevation_m.rows(); ++i) {
+    for (Eigen::Index j = 0; j < snapshot.elevation_m.cols(); ++j) {
+      if (!area(i, j)) continue;
+      ++score.scored_area_cells;
+      const auto state = static_cast<CellState>(snapshot.state(i, j));
+      if (state == CellState::unknown) continue;
+      const double error = static_cast<double>(snapshot.elevation_m(i, j)) - snapshot.truth_m(i, j);
+      ++score.known_cells;
+      sum += error;
+      sum_sq += error * error;
+      if (state == CellState::measured) {
+        ++score.measured_cells;
+        sum_sq_measured += error * error;
+      } else {
+        ++score.filled_cells;
+        sum_sq_filled += error * error;
+      }
+      score.max_error_m = std::max(score.max_error_m, std::abs(error));
+      if (std::abs(error) > options.artifact_threshold_m) ++score.artifact_cells;
+    }
+  }
+  const auto rms = [](double total, std::size_t count) {
+    return count ? std::sqrt(total / static_cast<double>(count)) : 0.0;
+  };
+  score.rms_error_m = rms(sum_sq, score.known_cells);
+  score.rms_error_measured_m = rms(sum_sq_measured, score.measured_cells);
+  score.rms_error_filled_m = rms(sum_sq_filled, score.filled_cells);
+  score.mean_error_m = score.known_cells ? sum / static_cast<double>(score.known_cells) : 0.0;
+  score.coverage =
+      score.scored_area_cells ? static_cast<double>(score.known_cells) / static_cast<double>(score.scored_area_cells) : 0.0;
+  return score;
+}
+
+}  // namespace stridemap

@@ -1,0 +1,208 @@
+#include "stridemap/preprocess/line_extraction.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "option_checks.hpp"
+#include "stridemap/preprocess/range_clustering.hpp"
+#include "stridemap/preprocess/scan_checks.hpp"
+
+namespace stridemap {
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+constexpr std::size_t none = static_cast<std::size_t>(-1);
+
+}  // namespace
+
+void LineExtractionOptions::validate(const char* owner) const {
+  detail::require_angle_in_range(owner, "lines.max_incidence_angle_rad", max_incidence_angle_rad, 0.0, false,
+                                 90.0, false);
+  detail::require_in_range(owner, "lines.break_noise_sigmas", break_noise_sigmas, 0.0, true, 1e6, true);
+  detail::require_in_range(owner, "lines.split_noise_sigmas", split_noise_sigmas, 0.0, true, 1e6, true);
+  detail::require_in_range(owner, "lines.min_split_distance_m", min_split_distance_m, 0.0, false, 1e6, true,
+                           " m");
+  detail::require_at_least(owner, "lines.min_points", min_points, 2);
+  detail::require_in_range(owner, "lines.min_length_m", min_length_m, 0.0, true, 1e6, true, " m");
+  sigma.validate(owner);
+}
+
+LineExtractor::LineExtractor(const LineExtractionOptions& options) : options_(options) {
+  options_.validate("LineExtractionOptions");
+}
+
+void LineExtractor::extract(const PlanarScan& scan, std::vector<LineSegment>& segments) {
+  segments.clear();
+  const std::size_t n = scan.size();
+  const std::vector<double>& range = scan.range_m;
+  x_m_.resize(n);
+  y_m_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    x_m_[i] = range[i] * std::cos(scan.angle_rad[i]);
+    y_m_[i] = range[i] * std::sin(scan.angle_rad[i]);
+  }
+  RangeRatioBandCache bands(options_.max_incidence_angle_rad, false);
+
+  const auto process_cluster = [&](std::size_t first, std::size_t last) {
+    if (last - first + 1 < options_.min_points) return;
+    double max_sigma = 0.0;
+    for (std::size_t i = first; i <= last; ++i) {
+      max_sigma = std::max(max_sigma, options_.sigma.sigma_m(range[i], scan.range_error_m[i]));
+    }
+    const double split_distance =
+        std::max(options_.split_noise_sigmas * max_sigma, options_.min_split_distance_m);
+    pieces_.clear();
+    split_cluster(first, last, split_distance);
+
+    LineSegment merged;
+    LineSegment candidate;
+    Piece current = pieces_.front();
+    fit(current.first, current.last, merged);
+    const auto emit = [&](const Piece& piece, LineSegment& line) {
+      if (line.point_count < options_.min_points || line.length_m < options_.min_length_m) return;
+      line.occludes_before = piece.first == first && occludes(scan, first, false);
+      line.occludes_after = piece.last == last && occludes(scan, last, true);
+      segments.push_back(line);
+    };
+    for (std::size_t p = 1; p < pieces_.size(); ++p) {
+      fit(current.first, pieces_[p].last, candidate);
+      if (candidate.max_residual_m <= split_distance) {
+        current.last = pieces_[p].last;
+        merged = candidate;
+      } else {
+        emit(current, merged);
+        current = pieces_[p];
+        fit(current.first, current.last, merged);
+      }
+    }
+    emit(current, merged);
+  };
+
+  std::size_t first = none;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!is_usable_range(range[i])) {
+      if (first != none) process_cluster(first, i - 1);
+      first = none;
+      continue;
+    }
+    if (first != none) {
+      const double tolerance =
+          options_.break_noise_sigmas * options_.sigma.sigma_m(range[i - 1], scan.range_error_m[i - 1]);
+      if (!ranges_on_one_surface(range[i - 1], range[i], tolerance,
+                                 bands.band(scan.angle_rad[i] - scan.angle_rad[i - 1]))) {
+        process_cluster(first, i - 1);
+        first = none;
+      }
+    }
+    if (first == none) first = i;
+  }
+  if (first != none) process_cluster(first, n - 1);
+}
+
+void LineExtractor::split_cluster(std::size_t first, std::size_t last, double split_distance_m) {
+  // Iterative end-point fit with an explicit stack; the right part is pushed
+  // first so that pieces come out in beam order. The split point belongs to
+  // both parts: it is the corner they share.
+  stack_.clear();
+  stack_.push_back({first, last});
+  while (!stack_.empty()) {
+    const Piece piece = stack_.back();
+    stack_.pop_back();
+    if (piece.last - piece.first >= 2) {
+      const double ax = x_m_[piece.first];
+      const double ay = y_m_[piece.first];
+      const double dx = x_m_[piece.last] - ax;
+      const double dy = y_m_[piece.last] - ay;
+      const double chord = std::hypot(dx, dy);
+      std::size_t farthest = none;
+      double farthest_distance = split_distance_m;
+      for (std::size_t i = piece.first + 1; i < piece.last; ++i) {
+        const double px = x_m_[i] - ax;
+        const double py = y_m_[i] - ay;
+        // Degenerate chord (end points coincide): distance from the end point.
+        const double distance = chord > 1e-12 ? std::abs(px * dy - py * dx) / chord : std::hypot(px, py);
+        if (distance > farthest_distance) {
+          farthest_distance = distance;
+          farthest = i;
+        }
+      }
+      if (farthest != none) {
+        stack_.push_back({farthest, piece.last});
+        stack_.push_back({piece.first, farthest});
+        continue;
+      }
+    }
+    pieces_.push_back(piece);
+  }
+}
+
+void LineExtractor::fit(std::size_t first, std::size_t last, LineSegment& line) const {
+  const std::size_t count = last - first + 1;
+  double mean_x = 0.0;
+  double mean_y = 0.0;
+  for (std::size_t i = first; i <= last; ++i) {
+    mean_x += x_m_[i];
+    mean_y += y_m_[i];
+  }
+  mean_x /= static_cast<double>(count);
+  mean_y /= static_cast<double>(count);
+  double sxx = 0.0;
+  double syy = 0.0;
+  double sxy = 0.0;
+  for (std::size_t i = first; i <= last; ++i) {
+    const double dx = x_m_[i] - mean_x;
+    const double dy = y_m_[i] - mean_y;
+    sxx += dx * dx;
+    syy += dy * dy;
+    sxy += dx * dy;
+  }
+  // Total least squares in polar form (algorithms.md 3.2 step 4).
+  double alpha = 0.5 * std::atan2(-2.0 * sxy, syy - sxx);
+  double rho = mean_x * std::cos(alpha) + mean_y * std::sin(alpha);
+  if (rho < 0.0) {
+    rho = -rho;
+    alpha += pi;
+  }
+  const double nx = std::cos(alpha);
+  const double ny = std::sin(alpha);
+  double max_residual = 0.0;
+  double along_min = std::numeric_limits<double>::infinity();
+  double along_max = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = first; i <= last; ++i) {
+    max_residual = std::max(max_residual, std::abs(x_m_[i] * nx + y_m_[i] * ny - rho));
+    const double along = -x_m_[i] * ny + y_m_[i] * nx;
+    along_min = std::min(along_min, along);
+    along_max = std::max(along_max, along);
+  }
+  line.first_beam = first;
+  line.last_beam = last;
+  line.point_count = count;
+  line.normal_angle_rad = alpha;
+  line.distance_m = rho;
+  line.length_m = along_max - along_min;
+  line.max_residual_m = max_residual;
+  line.mid_x_m = mean_x;
+  line.mid_y_m = mean_y;
+  line.occludes_before = false;
+  line.occludes_after = false;
+}
+
+bool LineExtractor::occludes(const PlanarScan& scan, std::size_t end_beam, bool forward) const {
+  const std::size_t n = scan.size();
+  const double end_range = scan.range_m[end_beam];
+  for (std::size_t step = 1; step <= options_.occlusion_search_beams; ++step) {
+    if (forward ? end_beam + step >= n : step > end_beam) return false;
+    const std::size_t j = forward ? end_beam + step : end_beam - step;
+    const double beyond = scan.range_m[j];
+    if (!is_usable_range(beyond)) continue;
+    const double tolerance =
+        options_.break_noise_sigmas * options_.sigma.sigma_m(end_range, scan.range_error_m[end_beam]);
+    const RangeRatioBand band =
+        range_ratio_band(scan.angle_rad[j] - scan.angle_rad[end_beam], options_.max_incidence_angle_rad);
+    return beyond > end_range && !ranges_on_one_surface(end_range, beyond, tolerance, band);
+  }
+  return false;
+}
+
+}  // namespace stridemap

@@ -1,0 +1,186 @@
+#include "stridemap/preprocess/scan_sequence.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <utility>
+
+#include "option_checks.hpp"
+#include "stridemap/core/error.hpp"
+
+namespace stridemap {
+namespace {
+
+constexpr const char* filter_name = "scan-sequence filter";
+
+void copy_scan(const PlanarScan& from, PlanarScan& to) {
+  if (&from == &to) return;
+  to.time_s = from.time_s;
+  to.angle_rad.assign(from.angle_rad.begin(), from.angle_rad.end());
+  to.range_m.assign(from.range_m.begin(), from.range_m.end());
+  to.range_error_m.assign(from.range_error_m.begin(), from.range_error_m.end());
+}
+
+struct Spread {
+  std::size_t points = 0;
+  double spread_m = 0.0;      // eq. 12: population standard deviation
+  double mean_sigma_m = 0.0;  // mean sigma_r of the points
+};
+
+/// Eq. 12 over the valid beams [first, last] of `scan`, on the coordinate
+/// along the line of sight (unit vector los_x, los_y).
+Spread line_of_sight_spread(const PlanarScan& scan, std::size_t first, std::size_t last, double los_x,
+                            double los_y, const RangeSigmaModel& sigma) {
+  Spread result;
+  double sum = 0.0;
+  for (std::size_t i = first; i <= last; ++i) {
+    const double r = scan.range_m[i];
+    if (!is_usable_range(r)) continue;
+    sum += r * (std::cos(scan.angle_rad[i]) * los_x + std::sin(scan.angle_rad[i]) * los_y);
+    result.mean_sigma_m += sigma.sigma_m(r, scan.range_error_m[i]);
+    ++result.points;
+  }
+  if (result.points == 0) return result;
+  const double count = static_cast<double>(result.points);
+  const double mean = sum / count;
+  double squares = 0.0;
+  for (std::size_t i = first; i <= last; ++i) {
+    const double r = scan.range_m[i];
+    if (!is_usable_range(r)) continue;
+    const double deviation = r * (std::cos(scan.angle_rad[i]) * los_x + std::sin(scan.angle_rad[i]) * los_y) - mean;
+    squares += deviation * deviation;
+  }
+  result.spread_m = std::sqrt(squares / count);
+  result.mean_sigma_m /= count;
+  return result;
+}
+
+}  // namespace
+
+void ScanSequenceOptions::validate() const {
+  const char* owner = "ScanSequenceOptions";
+  lines.validate(owner);
+  detail::require_angle_in_range(owner, "max_edge_tilt_rad", max_edge_tilt_rad, 0.0, true, 90.0, true);
+  detail::require_in_range(owner, "spread_ratio", spread_ratio, 0.0, true, 1e6, true);
+  detail::require_in_range(owner, "spread_floor_sigmas", spread_floor_sigmas, 0.0, true, 1e6, true);
+  detail::require_at_least(owner, "min_sector_points", min_sector_points, 2);
+}
+
+ScanSequenceFilter::ScanSequenceFilter(const ScanSequenceOptions& options)
+    : options_(options), lines_((options.validate(), options.lines)) {}
+
+bool ScanSequenceFilter::push(const PlanarScan& next_scan, PlanarScan& out) {
+  return push(next_scan, out, scratch_removed_);
+}
+
+bool ScanSequenceFilter::flush(PlanarScan& out) { return flush(out, scratch_removed_); }
+
+bool ScanSequenceFilter::push(const PlanarScan& next_scan, PlanarScan& out, std::vector<std::uint8_t>& removed) {
+  const std::size_t index = scans_in_stream_;
+  check_scan_shape(next_scan, filter_name, index);
+  if (has_held_ && next_scan.size() != held_.size()) {
+    throw InputError(std::string(filter_name) + ": scan " + std::to_string(index) + " of the stream has " +
+                     std::to_string(next_scan.size()) + " beams, but the scans before it have " +
+                     std::to_string(held_.size()) +
+                     "; all scans of one stream must have the same beam count (flush() or reset() starts a "
+                     "new stream)");
+  }
+  copy_scan(next_scan, incoming_);
+  const std::size_t incoming_invalid =
+      prepare_scan_for_filter(incoming_, normalize_mask_, filter_name, index).invalid_input;
+  ++scans_in_stream_;
+  if (!has_held_) {
+    std::swap(held_, incoming_);
+    held_invalid_input_ = incoming_invalid;
+    has_held_ = true;
+    return false;
+  }
+  judge_held_scan(removed);
+  emit_held_scan(out, removed);
+  // The judged scan, mixed points removed, is the k-1 of the next decision.
+  std::swap(previous_, held_);
+  has_previous_ = true;
+  std::swap(held_, incoming_);
+  held_invalid_input_ = incoming_invalid;
+  return true;
+}
+
+bool ScanSequenceFilter::flush(PlanarScan& out, std::vector<std::uint8_t>& removed) {
+  sectors_.clear();
+  if (!has_held_) {
+    reset();
+    return false;
+  }
+  // No scan k+1: nothing to compare with, so the scan is returned as it is.
+  removed.assign(held_.size(), 0);
+  emit_held_scan(out, removed);
+  reset();
+  return true;
+}
+
+void ScanSequenceFilter::reset() {
+  has_previous_ = false;
+  has_held_ = false;
+  scans_in_stream_ = 0;
+  held_invalid_input_ = 0;
+}
+
+void ScanSequenceFilter::judge_held_scan(std::vector<std::uint8_t>& removed) {
+  const std::size_t n = held_.size();
+  removed.assign(n, 0);
+  sectors_.clear();
+  if (!has_previous_ || n == 0) return;
+
+  lines_.extract(previous_, segments_);
+  const double max_cos_to_beam = std::sin(options_.max_edge_tilt_rad);
+  const RangeSigmaModel& sigma = options_.lines.sigma;
+  for (const LineSegment& segment : segments_) {
+    const double centroid_range = std::hypot(segment.mid_x_m, segment.mid_y_m);
+    if (centroid_range <= 0.0) continue;
+    const double los_x = segment.mid_x_m / centroid_range;
+    const double los_y = segment.mid_y_m / centroid_range;
+    // Line direction is the normal turned by 90 deg; an edge across the scan is
+    // nearly perpendicular to the line of sight.
+    const double along_x = -std::sin(segment.normal_angle_rad);
+    const double along_y = std::cos(segment.normal_angle_rad);
+    if (std::abs(along_x * los_x + along_y * los_y) > max_cos_to_beam) continue;
+    if (options_.require_occluding_end && !segment.occludes_before && !segment.occludes_after) continue;
+
+    ScanSequenceSector sector;
+    const auto widen = [&](std::size_t margin, std::size_t& first, std::size_t& last) {
+      first = segment.first_beam >= margin ? segment.first_beam - margin : 0;
+      last = std::min(n - 1, segment.last_beam + margin);
+    };
+    widen(options_.sector_margin_beams, sector.first_beam, sector.last_beam);
+    widen(options_.spread_margin_beams, sector.spread_first_beam, sector.spread_last_beam);
+    const Spread now =
+        line_of_sight_spread(held_, sector.spread_first_beam, sector.spread_last_beam, los_x, los_y, sigma);
+    const Spread next =
+        line_of_sight_spread(incoming_, sector.spread_first_beam, sector.spread_last_beam, los_x, los_y, sigma);
+    sector.points_k = now.points;
+    sector.points_next = next.points;
+    sector.spread_k_m = now.spread_m;
+    sector.spread_next_m = next.spread_m;
+    sector.threshold_m =
+        options_.spread_ratio * next.spread_m + options_.spread_floor_sigmas * next.mean_sigma_m;
+    sector.removed = now.points >= options_.min_sector_points &&
+                     next.points >= options_.min_sector_points && now.spread_m > sector.threshold_m;
+    if (sector.removed) {
+      for (std::size_t i = sector.first_beam; i <= sector.last_beam; ++i) {
+        if (is_usable_range(held_.range_m[i])) removed[i] = 1;
+      }
+    }
+    sectors_.push_back(sector);
+  }
+  apply_removal_mask(held_, removed);
+}
+
+void ScanSequenceFilter::emit_held_scan(PlanarScan& out, const std::vector<std::uint8_t>& removed) {
+  copy_scan(held_, out);
+  ScanFilterStats& stats = last_stats_;
+  stats.beams = held_.size();
+  stats.invalid_input = held_invalid_input_;
+  stats.removed = static_cast<std::size_t>(std::count(removed.begin(), removed.end(), std::uint8_t{1}));
+}
+
+}  // namespace stridemap

@@ -1,0 +1,95 @@
+// Runs the built `stridemap experiment cart-rail` as a user would.
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Run {
+  int exit_code;
+  std::string output;
+};
+
+Run run(const std::string& args) {
+  const std::string command = std::string(STRIDEMAP_CLI_PATH) + " " + args + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  std::string output;
+  std::array<char, 4096> buffer{};
+  while (pipe && fgets(buffer.data(), buffer.size(), pipe)) output += buffer.data();
+  const int status = pipe ? pclose(pipe) : -1;
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, output};
+}
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("stridemap_cli_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+TEST(CartRailCommand, WritesMapsTablesAndSummary) {
+  const fs::path out = fresh_dir("cart_rail");
+  const std::string scene = std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/cart_rail_boxes.yaml";
+  const Run r = run("experiment cart-rail --sensor urg --scene " + scene + " --out " + out.string() + " --seed 3");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("RMS error"), std::string::npos) << r.output;
+  const fs::path dir = out / "cart-rail-urg";
+  for (const char* file : {"elevation.png", "certainty.png", "error.png", "truth.png", "elevation.csv",
+                           "certainty.csv", "state.csv", "truth.csv", "summary.json"}) {
+    EXPECT_TRUE(fs::exists(dir / file)) << file;
+  }
+  std::ifstream in(dir / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  EXPECT_EQ(summary["experiment"], "cart-rail");
+  EXPECT_EQ(summary["sensor"], "urg");
+  EXPECT_EQ(summary["seed"], 3);
+  for (const char* key : {"rms_error_m", "max_error_m", "coverage", "artifact_cells", "artifact_threshold_m"}) {
+    EXPECT_TRUE(summary["map"].contains(key)) << key;
+  }
+  ASSERT_TRUE(summary["objects"].is_array());
+  ASSERT_FALSE(summary["objects"].empty());
+  for (const auto& object : summary["objects"]) {
+    for (const char* part : {"truth_m", "measured_m", "error_pct"}) {
+      for (const char* dim : {"length", "width", "height"}) EXPECT_TRUE(object[part].contains(dim)) << part << dim;
+    }
+    EXPECT_TRUE(object["kind"] == "box" || object["kind"] == "cylinder");
+  }
+  fs::remove_all(out);
+}
+
+TEST(CartRailCommand, BadSceneFileIsReportedWithFileAndLine) {
+  const fs::path dir = fresh_dir("bad_scene");
+  const fs::path scene = dir / "bad.yaml";
+  std::ofstream(scene) << "terrain:\n  kind: flat\nboxes:\n  - name: a\n    center_x_m: 1.0\n    center_y_m: 0.0\n"
+                          "    length_m: -0.2\n    width_m: 0.1\n    height_m: 0.1\n";
+  const Run r = run("experiment cart-rail --scene " + scene.string() + " --out " + (dir / "out").string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("bad.yaml"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("length_m"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find(":7"), std::string::npos) << r.output;  // the line of the bad field
+  fs::remove_all(dir);
+}
+
+TEST(CartRailCommand, MissingSceneAndUnknownSensorAreClearErrors) {
+  const fs::path dir = fresh_dir("missing");
+  Run r = run("experiment cart-rail --scene " + (dir / "nope.yaml").string() + " --out " + dir.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("nope.yaml"), std::string::npos) << r.output;
+  r = run("experiment cart-rail --sensor kinect --scene x.yaml --out " + dir.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("kinect"), std::string::npos) << r.output;
+  fs::remove_all(dir);
+}
+
+}  // namespace
