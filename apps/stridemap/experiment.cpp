@@ -20,7 +20,14 @@ struct CartRailArgs {
   std::uint64_t seed = 1;
   double cell_size_m = 0.01;
   int cells_per_side = 0;
+  std::string elevation_rule = "paper";
 };
+
+ElevationRule parse_elevation_rule(const std::string& name) {
+  if (name == "paper") return ElevationRule::paper_highest;
+  if (name == "gated") return ElevationRule::gated_highest;
+  throw InputError("--elevation-rule: '" + name + "' is not a rule; use paper (eq. 10) or gated");
+}
 
 void run_cart_rail_command(const CartRailArgs& args) {
   if (args.sensor != "urg") {
@@ -31,6 +38,7 @@ void run_cart_rail_command(const CartRailArgs& args) {
   options.seed = args.seed;
   options.cell_size_m = args.cell_size_m;
   options.cells_per_side = args.cells_per_side;
+  options.update.elevation_rule = parse_elevation_rule(args.elevation_rule);
   const CartRailResult result = run_cart_rail(scene, options);
   const CartRailRunInfo info{args.sensor, args.scene_path};
   const std::string dir = (std::filesystem::path(args.out_dir) / ("cart-rail-" + args.sensor)).string();
@@ -54,6 +62,10 @@ void register_experiment(CLI::App& app) {
   cart_rail->add_option("--seed", args->seed, "Seed of the simulation")->capture_default_str();
   cart_rail->add_option("--cell-size-m", args->cell_size_m, "Map cell size [m]")->capture_default_str();
   cart_rail->add_option("--cells", args->cells_per_side, "Cells per map side (0: fit the swept area)")
+      ->capture_default_str();
+  cart_rail->add_option("--elevation-rule", args->elevation_rule,
+                        "paper: eq. (10), the highest reading wins; gated: a reading outside the plausibility "
+                        "bound needs repeated support (docs/mapping.md)")
       ->capture_default_str();
   cart_rail->callback([args] { run_cart_rail_command(*args); });
 }

@@ -29,6 +29,8 @@ ElevationMap::ElevationMap(const GridOptions& options)
   elevation_.assign(cells, kNaN);
   certainty_.assign(cells, 0.0f);
   state_.assign(cells, static_cast<std::uint8_t>(CellState::unknown));
+  contradictions_.assign(cells, 0);
+  pending_elevation_.assign(cells, kNaN);
   set_min_cell({-n_ / 2, -n_ / 2});
 }
 
@@ -50,12 +52,16 @@ void ElevationMap::reset_slot(std::size_t s) {
   elevation_[s] = kNaN;
   certainty_[s] = 0.0f;
   state_[s] = static_cast<std::uint8_t>(CellState::unknown);
+  contradictions_[s] = 0;
+  pending_elevation_[s] = kNaN;
 }
 
 void ElevationMap::clear() {
   std::fill(elevation_.begin(), elevation_.end(), kNaN);
   std::fill(certainty_.begin(), certainty_.end(), 0.0f);
   std::fill(state_.begin(), state_.end(), static_cast<std::uint8_t>(CellState::unknown));
+  std::fill(contradictions_.begin(), contradictions_.end(), std::uint8_t{0});
+  std::fill(pending_elevation_.begin(), pending_elevation_.end(), kNaN);
 }
 
 std::size_t ElevationMap::move_to(double x_m, double y_m) {

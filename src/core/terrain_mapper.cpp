@@ -37,6 +37,10 @@ TerrainMapper::TerrainMapper(const MapperOptions& options, const SensorMount& mo
     throw InputError("mapper options: certainty_max must be finite and >= certainty_increment, got " +
                      std::to_string(u.certainty_max));
   }
+  if (u.replace_after_contradictions < 1 || u.replace_after_contradictions > 255) {
+    throw InputError("mapper options: replace_after_contradictions must be between 1 and 255, got " +
+                     std::to_string(u.replace_after_contradictions));
+  }
   require_finite_non_negative(u.max_pitch_error_rad, "max_pitch_error_rad");
   require_finite_non_negative(u.max_roll_error_rad, "max_roll_error_rad");
   require_finite_non_negative(u.max_mount_pitch_error_rad, "max_mount_pitch_error_rad");
@@ -88,13 +92,15 @@ void TerrainMapper::apply(double x_m, double y_m, double h_m, double dz_max, Sca
     ++stats.outside_map;
     return;
   }
-  const CellUpdate result = update_cell(map_.elevation_data()[s], map_.certainty_data()[s], map_.state_data()[s],
+  const CellUpdate result = update_cell({map_.elevation_data()[s], map_.certainty_data()[s], map_.state_data()[s],
+                                         map_.pending_elevation_data()[s], map_.contradiction_data()[s]},
                                         static_cast<float>(h_m), static_cast<float>(dz_max), options_.update);
   ++stats.integrated;
   switch (result) {
     case CellUpdate::first: ++stats.first; break;
     case CellUpdate::plausible: ++stats.plausible; break;
     case CellUpdate::implausible: ++stats.implausible; break;
+    case CellUpdate::replaced: ++stats.replaced; break;
   }
 }
 

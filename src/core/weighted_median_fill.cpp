@@ -37,6 +37,9 @@ WeightedMedianFill::WeightedMedianFill(const FillOptions& options) : options_(op
     throw InputError("fill options: min_quadrants must be between 1 and 4, got " +
                      std::to_string(options.min_quadrants));
   }
+  if (!std::isfinite(options.max_quartile_spread_m)) {
+    throw InputError("fill options: max_quartile_spread_m must be finite (<= 0 disables it)");
+  }
   if (!std::isfinite(options.near_weight) || options.near_weight <= 0.0) {
     throw InputError("fill options: near_weight must be a positive number, got " +
                      std::to_string(options.near_weight));
@@ -94,16 +97,21 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
       }
       std::sort(candidates.begin(), candidates.begin() + static_cast<std::ptrdiff_t>(count),
                 [](const Candidate& a, const Candidate& b) { return a.value < b.value; });
-      // Weighted median: the smallest value at which the cumulative weight
-      // reaches half of the total.
-      float cumulative = 0.0f;
-      for (std::size_t k = 0; k < count; ++k) {
-        cumulative += candidates[k].weight;
-        if (cumulative >= 0.5f * total_weight) {
-          result_[s] = candidates[k].value;
-          break;
+      // Weighted quantile q: the smallest value at which the cumulative
+      // weight reaches q of the total.
+      const auto quantile = [&](float q) {
+        float cumulative = 0.0f;
+        for (std::size_t k = 0; k < count; ++k) {
+          cumulative += candidates[k].weight;
+          if (cumulative >= q * total_weight) return candidates[k].value;
         }
+        return candidates[count - 1].value;
+      };
+      if (options_.max_quartile_spread_m > 0.0 &&
+          quantile(0.75f) - quantile(0.25f) > static_cast<float>(options_.max_quartile_spread_m)) {
+        continue;
       }
+      result_[s] = quantile(0.5f);
     }
   }
 

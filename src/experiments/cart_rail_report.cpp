@@ -95,6 +95,8 @@ std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOption
         {"step_m", r.rail.step_m},
         {"scans", r.scans}}},
       {"mount", {{"height_m", options.mount.height_m}, {"pitch_rad", options.mount.pitch_rad}}},
+      {"elevation_rule",
+       options.update.elevation_rule == ElevationRule::paper_highest ? "paper" : "gated"},
       {"beams",
        {{"valid", r.sensor_totals.valid},
         {"error_codes", r.sensor_totals.error_codes},

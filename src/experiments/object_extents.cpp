@@ -35,6 +35,30 @@ bool inside(const Footprint& f, double x, double y, double margin) {
   return std::abs(p.x()) <= f.half_x + margin && std::abs(p.y()) <= f.half_y + margin;
 }
 
+// Extent of a box along one of its axes from the region's profile: the
+// rows (bins one cell wide) holding at least half as many cells as the
+// fullest row are the object; a row of a few stray cells along an edge is
+// not. For a max-height map the spread of the kept bins' centres is an
+// unbiased estimate of the true extent.
+double profile_extent(const std::vector<Eigen::Vector2d>& cells, int axis, double s) {
+  double lo = std::numeric_limits<double>::infinity();
+  for (const Eigen::Vector2d& c : cells) lo = std::min(lo, c[axis]);
+  std::vector<int> counts;
+  for (const Eigen::Vector2d& c : cells) {
+    const auto bin = static_cast<std::size_t>(std::lround((c[axis] - lo) / s));
+    if (bin >= counts.size()) counts.resize(bin + 1, 0);
+    ++counts[bin];
+  }
+  const int fullest = *std::max_element(counts.begin(), counts.end());
+  std::size_t first = counts.size(), last = 0;
+  for (std::size_t b = 0; b < counts.size(); ++b) {
+    if (2 * counts[b] < fullest) continue;
+    first = std::min(first, b);
+    last = std::max(last, b);
+  }
+  return static_cast<double>(last - first) * s;
+}
+
 ObjectMeasurement measure_one(const MapSnapshot& m, const Footprint& f,
                               const ObjectMeasureOptions& options) {
   ObjectMeasurement out;
@@ -66,7 +90,7 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Footprint& f,
   // set the threshold.
   std::sort(search_heights.begin(), search_heights.end());
   const double top_m = search_heights[static_cast<std::size_t>(0.95 * static_cast<double>(search_heights.size() - 1))];
-  const double threshold = 0.5 * (ground_m + top_m);
+  const double threshold = ground_m + options.height_fraction * (top_m - ground_m);
 
   // Seed: the qualifying cell nearest the object's centre.
   Eigen::Index seed_i = -1, seed_j = -1;
@@ -92,17 +116,13 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Footprint& f,
   CellMask visited = CellMask::Zero(n, n);
   std::deque<std::pair<Eigen::Index, Eigen::Index>> queue{{seed_i, seed_j}};
   visited(seed_i, seed_j) = 1;
-  double min_u = std::numeric_limits<double>::infinity(), max_u = -min_u, min_v = min_u, max_v = -min_u;
+  std::vector<Eigen::Vector2d> cells;  // centres in the object's axes
   std::vector<double> tops;
   while (!queue.empty()) {
     const auto [i, j] = queue.front();
     queue.pop_front();
-    ++out.cells;
-    const Eigen::Vector2d p = in_object_axes(f, centre_of(i, j).x(), centre_of(i, j).y());
-    min_u = std::min(min_u, p.x());
-    max_u = std::max(max_u, p.x());
-    min_v = std::min(min_v, p.y());
-    max_v = std::max(max_v, p.y());
+    const Eigen::Vector2d c = centre_of(i, j);
+    cells.push_back(in_object_axes(f, c.x(), c.y()));
     if (static_cast<CellState>(m.state(i, j)) == CellState::measured) tops.push_back(m.elevation_m(i, j));
     for (const auto& [di, dj] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
       const Eigen::Index a = i + di, b = j + dj;
@@ -112,8 +132,19 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Footprint& f,
     }
   }
   out.found = true;
-  out.measured.length_m = max_u - min_u;
-  out.measured.width_m = max_v - min_v;
+  out.cells = cells.size();
+  if (f.round) {
+    // A grid of cells of side s touching a disk of radius R covers on
+    // average pi R^2 + 4 R s + s^2 (the area of the disk grown by a cell);
+    // solving for R uses every cell, so a stray cell moves it by s^2 only.
+    const double area = static_cast<double>(cells.size()) * s * s;
+    const double pi = 3.14159265358979323846;
+    const double radius = (-4.0 * s + std::sqrt(16.0 * s * s - 4.0 * pi * (s * s - area))) / (2.0 * pi);
+    out.measured.length_m = out.measured.width_m = 2.0 * radius;
+  } else {
+    out.measured.length_m = profile_extent(cells, 0, s);
+    out.measured.width_m = profile_extent(cells, 1, s);
+  }
   out.measured.height_m = (tops.empty() ? threshold : median(tops)) - ground_m;
   return out;
 }

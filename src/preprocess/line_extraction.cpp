@@ -38,9 +38,18 @@ void LineExtractor::extract(const PlanarScan& scan, std::vector<LineSegment>& se
   const std::vector<double>& range = scan.range_m;
   x_m_.resize(n);
   y_m_.resize(n);
+  // Reserve the worst case up front so that a scan with more structure than
+  // the ones before it does not allocate: pieces share at most their end
+  // points, so a scan holds fewer than n pieces and n / (min_points - 1) + 1
+  // segments.
+  const std::size_t max_segments = n / (options_.min_points - 1) + 1;
+  if (segments.capacity() < max_segments) segments.reserve(max_segments);
+  if (pieces_.capacity() < n) pieces_.reserve(n);
+  if (stack_.capacity() < n + 1) stack_.reserve(n + 1);
+  directions_.update(scan.angle_rad);
   for (std::size_t i = 0; i < n; ++i) {
-    x_m_[i] = range[i] * std::cos(scan.angle_rad[i]);
-    y_m_[i] = range[i] * std::sin(scan.angle_rad[i]);
+    x_m_[i] = range[i] * directions_.cos()[i];
+    y_m_[i] = range[i] * directions_.sin()[i];
   }
   RangeRatioBandCache bands(options_.max_incidence_angle_rad, false);
 
@@ -61,8 +70,8 @@ void LineExtractor::extract(const PlanarScan& scan, std::vector<LineSegment>& se
     fit(current.first, current.last, merged);
     const auto emit = [&](const Piece& piece, LineSegment& line) {
       if (line.point_count < options_.min_points || line.length_m < options_.min_length_m) return;
-      line.occludes_before = piece.first == first && occludes(scan, first, false);
-      line.occludes_after = piece.last == last && occludes(scan, last, true);
+      line.occludes_before = piece.first == first && occludes(scan, first, false, line, split_distance);
+      line.occludes_after = piece.last == last && occludes(scan, last, true, line, split_distance);
       segments.push_back(line);
     };
     for (std::size_t p = 1; p < pieces_.size(); ++p) {
@@ -188,7 +197,8 @@ void LineExtractor::fit(std::size_t first, std::size_t last, LineSegment& line) 
   line.occludes_after = false;
 }
 
-bool LineExtractor::occludes(const PlanarScan& scan, std::size_t end_beam, bool forward) const {
+bool LineExtractor::occludes(const PlanarScan& scan, std::size_t end_beam, bool forward, const LineSegment& line,
+                             double split_distance_m) const {
   const std::size_t n = scan.size();
   const double end_range = scan.range_m[end_beam];
   for (std::size_t step = 1; step <= options_.occlusion_search_beams; ++step) {
@@ -200,7 +210,11 @@ bool LineExtractor::occludes(const PlanarScan& scan, std::size_t end_beam, bool 
         options_.break_noise_sigmas * options_.sigma.sigma_m(end_range, scan.range_error_m[end_beam]);
     const RangeRatioBand band =
         range_ratio_band(scan.angle_rad[j] - scan.angle_rad[end_beam], options_.max_incidence_angle_rad);
-    return beyond > end_range && !ranges_on_one_surface(end_range, beyond, tolerance, band);
+    if (beyond <= end_range || ranges_on_one_surface(end_range, beyond, tolerance, band)) return false;
+    const double off_line = std::abs(beyond * (directions_.cos()[j] * std::cos(line.normal_angle_rad) +
+                                               directions_.sin()[j] * std::sin(line.normal_angle_rad)) -
+                                     line.distance_m);
+    return off_line > split_distance_m;
   }
   return false;
 }

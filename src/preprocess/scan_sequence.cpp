@@ -29,14 +29,16 @@ struct Spread {
 
 /// Eq. 12 over the valid beams [first, last] of `scan`, on the coordinate
 /// along the line of sight (unit vector los_x, los_y).
-Spread line_of_sight_spread(const PlanarScan& scan, std::size_t first, std::size_t last, double los_x,
-                            double los_y, const RangeSigmaModel& sigma) {
+Spread line_of_sight_spread(const PlanarScan& scan, const BeamDirections& directions, std::size_t first,
+                            std::size_t last, double los_x, double los_y, const RangeSigmaModel& sigma) {
   Spread result;
+  const std::vector<double>& cosines = directions.cos();
+  const std::vector<double>& sines = directions.sin();
   double sum = 0.0;
   for (std::size_t i = first; i <= last; ++i) {
     const double r = scan.range_m[i];
     if (!is_usable_range(r)) continue;
-    sum += r * (std::cos(scan.angle_rad[i]) * los_x + std::sin(scan.angle_rad[i]) * los_y);
+    sum += r * (cosines[i] * los_x + sines[i] * los_y);
     result.mean_sigma_m += sigma.sigma_m(r, scan.range_error_m[i]);
     ++result.points;
   }
@@ -47,7 +49,7 @@ Spread line_of_sight_spread(const PlanarScan& scan, std::size_t first, std::size
   for (std::size_t i = first; i <= last; ++i) {
     const double r = scan.range_m[i];
     if (!is_usable_range(r)) continue;
-    const double deviation = r * (std::cos(scan.angle_rad[i]) * los_x + std::sin(scan.angle_rad[i]) * los_y) - mean;
+    const double deviation = r * (cosines[i] * los_x + sines[i] * los_y) - mean;
     squares += deviation * deviation;
   }
   result.spread_m = std::sqrt(squares / count);
@@ -132,19 +134,27 @@ void ScanSequenceFilter::judge_held_scan(std::vector<std::uint8_t>& removed) {
   if (!has_previous_ || n == 0) return;
 
   lines_.extract(previous_, segments_);
+  if (sectors_.capacity() < segments_.capacity()) sectors_.reserve(segments_.capacity());
+  directions_k_.update(held_.angle_rad);
+  directions_next_.update(incoming_.angle_rad);
+  const BeamDirections& directions_previous = lines_.directions();
   const double max_cos_to_beam = std::sin(options_.max_edge_tilt_rad);
   const RangeSigmaModel& sigma = options_.lines.sigma;
   for (const LineSegment& segment : segments_) {
+    if (options_.require_occluding_end && !segment.occludes_before && !segment.occludes_after) continue;
+    // Line direction is the normal turned by 90 deg; an edge across the scan is
+    // nearly perpendicular to the beams that see it.
+    const double along_x = -std::sin(segment.normal_angle_rad);
+    const double along_y = std::cos(segment.normal_angle_rad);
+    const auto crosses_beam = [&](std::size_t beam) {
+      return std::abs(along_x * directions_previous.cos()[beam] + along_y * directions_previous.sin()[beam]) <=
+             max_cos_to_beam;
+    };
+    if (!crosses_beam(segment.first_beam) || !crosses_beam(segment.last_beam)) continue;
     const double centroid_range = std::hypot(segment.mid_x_m, segment.mid_y_m);
     if (centroid_range <= 0.0) continue;
     const double los_x = segment.mid_x_m / centroid_range;
     const double los_y = segment.mid_y_m / centroid_range;
-    // Line direction is the normal turned by 90 deg; an edge across the scan is
-    // nearly perpendicular to the line of sight.
-    const double along_x = -std::sin(segment.normal_angle_rad);
-    const double along_y = std::cos(segment.normal_angle_rad);
-    if (std::abs(along_x * los_x + along_y * los_y) > max_cos_to_beam) continue;
-    if (options_.require_occluding_end && !segment.occludes_before && !segment.occludes_after) continue;
 
     ScanSequenceSector sector;
     const auto widen = [&](std::size_t margin, std::size_t& first, std::size_t& last) {
@@ -153,10 +163,10 @@ void ScanSequenceFilter::judge_held_scan(std::vector<std::uint8_t>& removed) {
     };
     widen(options_.sector_margin_beams, sector.first_beam, sector.last_beam);
     widen(options_.spread_margin_beams, sector.spread_first_beam, sector.spread_last_beam);
-    const Spread now =
-        line_of_sight_spread(held_, sector.spread_first_beam, sector.spread_last_beam, los_x, los_y, sigma);
-    const Spread next =
-        line_of_sight_spread(incoming_, sector.spread_first_beam, sector.spread_last_beam, los_x, los_y, sigma);
+    const Spread now = line_of_sight_spread(held_, directions_k_, sector.spread_first_beam,
+                                            sector.spread_last_beam, los_x, los_y, sigma);
+    const Spread next = line_of_sight_spread(incoming_, directions_next_, sector.spread_first_beam,
+                                             sector.spread_last_beam, los_x, los_y, sigma);
     sector.points_k = now.points;
     sector.points_next = next.points;
     sector.spread_k_m = now.spread_m;

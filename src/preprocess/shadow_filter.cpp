@@ -48,7 +48,8 @@ ScanFilterStats ShadowFilter::apply(PlanarScan& scan, std::vector<std::uint8_t>&
       if (j == i || std::isnan(r_j)) continue;
       const std::size_t slot = j + window - i;
       const double delta = scan.angle_rad[j] - scan.angle_rad[i];
-      if (!(delta == cached_delta_rad_[slot])) {
+      // Steps repeat up to rounding; 1e-9 rad changes sin/cos by at most 1e-9.
+      if (!(std::abs(delta - cached_delta_rad_[slot]) <= 1e-9)) {
         cached_delta_rad_[slot] = delta;
         cached_abs_sin_[slot] = std::abs(std::sin(delta));
         cached_cos_[slot] = std::cos(delta);

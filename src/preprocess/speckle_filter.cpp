@@ -52,8 +52,8 @@ void SpeckleFilter::mark_distance_runs(const PlanarScan& scan) {
       // NaN fails the comparison, so an invalid beam breaks the run.
       run = std::abs(range[start + m] - first) <= options_.max_range_difference_m;
     }
-    if (run) std::fill(keep_.begin() + static_cast<std::ptrdiff_t>(start),
-                       keep_.begin() + static_cast<std::ptrdiff_t>(start + window), std::uint8_t{1});
+    if (!run) continue;
+    for (std::size_t m = 0; m < window; ++m) keep_[start + m] = 1;
   }
 }
 
@@ -73,7 +73,8 @@ void SpeckleFilter::mark_radius_inliers(const PlanarScan& scan) {
       if (j == i || std::isnan(r_j)) continue;
       const std::size_t slot = j + window - i;
       const double delta = scan.angle_rad[j] - scan.angle_rad[i];
-      if (!(delta == cached_delta_rad_[slot])) {
+      // Steps repeat up to rounding; 1e-9 rad changes sin/cos by at most 1e-9.
+      if (!(std::abs(delta - cached_delta_rad_[slot]) <= 1e-9)) {
         cached_delta_rad_[slot] = delta;
         cached_cos_[slot] = std::cos(delta);
       }

@@ -62,6 +62,7 @@ void Decoder::reset() {
   read_pos_ = 0;
   partial_line_.clear();
   discarding_line_ = false;
+  long_line_held_ = 0;
   state_ = State::idle;
   drop_bytes_ = 0;
   has_held_ = false;
@@ -120,24 +121,31 @@ void Decoder::begin_long_line() {
   const std::size_t line_offset = consumed_ - held;
   const std::string message = "no LF within " + std::to_string(options_.max_line_bytes) +
                               " bytes on a line starting at stream offset " + std::to_string(line_offset);
-  if (state_ == State::dropping) {
-    add_dropped(held);
-  } else if (state_ == State::idle) {
-    fail(ErrorKind::line_too_long, message, line_offset, held);
-  } else {
-    fail(ErrorKind::line_too_long, line_name(frame_lines_ + 1) + ": " + message, line_offset, held);
+  if (state_ == State::idle) {
+    fail(ErrorKind::line_too_long, message, line_offset, 0);
+  } else if (state_ != State::dropping) {
+    fail(ErrorKind::line_too_long, line_name(frame_lines_ + 1) + ": " + message, line_offset, 0);
   }
+  // The bytes already held are counted like the rest of the line, so that
+  // the dropped runs are cut at the same places whatever the chunking.
+  long_line_held_ = held;
   partial_line_.clear();
   discarding_line_ = true;
 }
 
 void Decoder::consume_long_line() {
+  const std::size_t room = options_.max_frame_bytes - std::min(drop_bytes_, options_.max_frame_bytes - 1);
+  if (long_line_held_ > 0) {
+    const std::size_t take = std::min(long_line_held_, room);
+    long_line_held_ -= take;
+    add_dropped(take);
+    return;
+  }
   const char* begin = input_.data() + read_pos_;
   const std::size_t available = input_.size() - read_pos_;
   const auto* lf = static_cast<const char*>(std::memchr(begin, '\n', available));
-  std::size_t take = lf != nullptr ? static_cast<std::size_t>(lf - begin) + 1 : available;
   // Never more than one emission per step: stop at the dropped-run limit.
-  take = std::min(take, options_.max_frame_bytes - std::min(drop_bytes_, options_.max_frame_bytes - 1));
+  const std::size_t take = std::min(lf != nullptr ? static_cast<std::size_t>(lf - begin) + 1 : available, room);
   const bool line_ended = begin[take - 1] == '\n';
   read_pos_ += take;
   consumed_ += take;

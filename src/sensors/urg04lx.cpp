@@ -100,8 +100,8 @@ UrgValueClass UrgModel::classify(std::uint32_t raw_mm) const {
 }
 
 double UrgModel::spec_range_error_m(double range_m) {
-  // NaN falls through both comparisons and comes back as NaN: an unknown range
-  // has an unknown error, and callers must not get a plausible-looking bound.
+  // NaN falls through the comparison and comes back as NaN: a bound for an
+  // unknown range would be made up.
   if (range_m <= 1.0) return 0.010;
   return 0.01 * range_m;
 }

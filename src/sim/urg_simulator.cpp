@@ -122,7 +122,15 @@ void UrgSimulator::scan(const TrunkPose& pose, const SensorMount& mount, double 
 
     std::uint32_t value = urg_code_no_return;
     BeamLabel label = BeamLabel::dropped;
-    if (echo.has_return && options_.enable_dropouts && echo.amplitude < options_.dropout_amplitude_threshold) {
+    if (echo.sensor_error_code) {
+      if (*echo.sensor_error_code >= 20) {
+        throw InputError("URG simulator: the beam model returned error code " +
+                         std::to_string(*echo.sensor_error_code) + " for beam " + std::to_string(i) +
+                         "; codes are below 20");
+      }
+      value = *echo.sensor_error_code;
+    } else if (echo.has_return && options_.enable_dropouts &&
+               echo.amplitude < options_.dropout_amplitude_threshold) {
       value = urg_code_weak_return;
     } else if (echo.has_return) {
       double range_m = echo.range_m + systematic_error_m(echo.range_m) + amplitude_bias_m(echo.amplitude);

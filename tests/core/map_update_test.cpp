@@ -16,8 +16,18 @@ struct Cell {
   float h = std::nanf("");
   float c = 0.0f;
   std::uint8_t state = kUnknown;
-  CellUpdate update(float h_m, float dz, const UpdateOptions& o = {}) { return stridemap::update_cell(h, c, state, h_m, dz, o); }
+  float pending = std::nanf("");
+  std::uint8_t contradictions = 0;
+  CellUpdate update(float h_m, float dz, const UpdateOptions& o = {}) {
+    return stridemap::update_cell({h, c, state, pending, contradictions}, h_m, dz, o);
+  }
 };
+
+UpdateOptions gated() {
+  UpdateOptions o;
+  o.elevation_rule = ElevationRule::gated_highest;
+  return o;
+}
 
 TEST(UpdateRule, UnknownCellTakesTheFirstMeasurement) {
   Cell cell;
@@ -72,6 +82,46 @@ TEST(UpdateRule, CertaintyStopsAtTheCeiling) {
   Cell cell;
   for (int k = 0; k < 10; ++k) cell.update(0.0f, 0.01f, options);
   EXPECT_FLOAT_EQ(cell.c, 10.0f);
+}
+
+TEST(GatedRule, ASingleStrayHighReadingDoesNotRaiseAnAgreedCell) {
+  Cell cell{0.0f, 9.0f, kMeasured};
+  EXPECT_EQ(cell.update(0.10f, 0.01f, gated()), CellUpdate::implausible);
+  EXPECT_FLOAT_EQ(cell.h, 0.0f);
+  EXPECT_EQ(cell.update(0.002f, 0.01f, gated()), CellUpdate::plausible);  // agreement clears the count
+  EXPECT_EQ(cell.contradictions, 0);
+  EXPECT_EQ(cell.update(0.10f, 0.01f, gated()), CellUpdate::implausible);
+  EXPECT_EQ(cell.update(0.10f, 0.01f, gated()), CellUpdate::implausible);
+  EXPECT_FLOAT_EQ(cell.h, 0.002f);
+}
+
+TEST(GatedRule, RepeatedContradictionsReplaceTheCellWithTheirHighest) {
+  Cell cell{0.0f, 30.0f, kMeasured};
+  EXPECT_EQ(cell.update(0.09f, 0.01f, gated()), CellUpdate::implausible);
+  EXPECT_EQ(cell.update(0.11f, 0.01f, gated()), CellUpdate::implausible);
+  EXPECT_EQ(cell.update(0.10f, 0.01f, gated()), CellUpdate::replaced);
+  EXPECT_FLOAT_EQ(cell.h, 0.11f);
+  EXPECT_FLOAT_EQ(cell.c, 3.0f);
+  EXPECT_EQ(cell.contradictions, 0);
+}
+
+TEST(GatedRule, ALoneHighFirstReadingIsCorrectedByLowerOnes) {
+  // A stray point that arrived first is outvoted by the surface under it.
+  Cell cell;
+  cell.update(0.10f, 0.01f, gated());
+  cell.update(0.0f, 0.01f, gated());
+  cell.update(0.0f, 0.01f, gated());
+  EXPECT_EQ(cell.update(0.001f, 0.01f, gated()), CellUpdate::replaced);
+  EXPECT_FLOAT_EQ(cell.h, 0.001f);
+}
+
+TEST(GatedRule, PlausibleReadingsBehaveAsInThePaper) {
+  Cell paper{0.10f, 3.0f, kMeasured}, gate{0.10f, 3.0f, kMeasured};
+  for (float h : {0.105f, 0.095f, 0.112f, 0.108f}) {
+    EXPECT_EQ(paper.update(h, 0.01f), gate.update(h, 0.01f, gated()));
+  }
+  EXPECT_FLOAT_EQ(paper.h, gate.h);
+  EXPECT_FLOAT_EQ(paper.c, gate.c);
 }
 
 TEST(MaxElevationChange, SumsTheTermsOfEquationSix) {

@@ -75,6 +75,20 @@ TEST(WeightedMedianFill, DoesNotExtrapolateBeyondAnEdge) {
   for (int j = 0; j < 20; ++j) EXPECT_EQ(state_at(map, 10, j), CellState::unknown) << j;
 }
 
+TEST(WeightedMedianFill, LeavesCellsOnAStepUnknown) {
+  // Half the neighbours on a box top, half on the floor: no honest value.
+  ElevationMap map({9, 0.01});
+  for (int i = 0; i < 9; ++i)
+    for (int j = 0; j < 9; ++j) measure(map, i, j, j < 4 ? 0.1f : 0.0f);
+  map.reset_slot(map.slot(map.cell_at_local(4, 4)));
+  WeightedMedianFill fill;
+  EXPECT_EQ(fill.apply(map), 0u);
+  EXPECT_EQ(state_at(map, 4, 4), CellState::unknown);
+  FillOptions no_step_test;
+  no_step_test.max_quartile_spread_m = 0.0;
+  EXPECT_EQ(WeightedMedianFill(no_step_test).apply(map), 1u);
+}
+
 TEST(WeightedMedianFill, RecomputesFilledCellsFromNewData) {
   ElevationMap map({10, 0.01});
   for (int i = 0; i < 10; ++i)
@@ -96,10 +110,11 @@ TEST(WeightedMedianFill, RecomputesFilledCellsFromNewData) {
 }
 
 TEST(WeightedMedianFill, RejectsBadOptions) {
-  EXPECT_THROW(WeightedMedianFill({0, 8, 3, 2.0}), InputError);
-  EXPECT_THROW(WeightedMedianFill({2, 0, 3, 2.0}), InputError);
-  EXPECT_THROW(WeightedMedianFill({2, 8, 5, 2.0}), InputError);
-  EXPECT_THROW(WeightedMedianFill({2, 8, 3, -1.0}), InputError);
+  EXPECT_THROW(WeightedMedianFill({0, 8, 3, 2.0, 0.03}), InputError);
+  EXPECT_THROW(WeightedMedianFill({2, 0, 3, 2.0, 0.03}), InputError);
+  EXPECT_THROW(WeightedMedianFill({2, 8, 5, 2.0, 0.03}), InputError);
+  EXPECT_THROW(WeightedMedianFill({2, 8, 3, -1.0, 0.03}), InputError);
+  EXPECT_THROW(WeightedMedianFill({2, 8, 3, 2.0, std::nan("")}), InputError);
 }
 
 }  // namespace

@@ -86,6 +86,26 @@ TEST(LineExtraction, OcclusionIsSeenAcrossAFewRemovedBeams) {
   EXPECT_TRUE(segments[1].occludes_after);
 }
 
+TEST(LineExtraction, GrazingContinuationIsNoOcclusion) {
+  // A floor line seen out to 85 deg incidence: the break test ends the
+  // cluster near beta_max = 75 deg, but the beams beyond continue the same
+  // line, so the segment does not occlude anything there.
+  PlanarScan scan = test::centred_scan(483);  // about +-85 deg
+  test::put_on_line_x(scan, 0, 482, 0.45);
+  LineExtractor extractor;
+  std::vector<LineSegment> segments;
+  extractor.extract(scan, segments);
+  ASSERT_FALSE(segments.empty());
+  const LineSegment* middle = nullptr;
+  for (const LineSegment& segment : segments) {
+    if (segment.first_beam < 241 && segment.last_beam > 241) middle = &segment;
+  }
+  ASSERT_NE(middle, nullptr);
+  EXPECT_GT(middle->first_beam, 10u);  // the cluster did end before the scan's ends
+  EXPECT_FALSE(middle->occludes_before);
+  EXPECT_FALSE(middle->occludes_after);
+}
+
 TEST(LineExtraction, ShortGroupsAreNoSegments) {
   PlanarScan scan = test::centred_scan(40);
   test::put_on_line_x(scan, 10, 16, 0.5);  // 7 points, fewer than min_points

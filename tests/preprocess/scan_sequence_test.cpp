@@ -110,6 +110,28 @@ TEST(ScanSequence, AFloorWithoutOccludingEndIsNoEdge) {
   EXPECT_EQ(test::count_marked(removed), 0u);
 }
 
+TEST(ScanSequence, EdgeTiltIsJudgedAtBothEndsOfTheSegment) {
+  // Without the occlusion requirement, a floor line is an edge candidate only
+  // while the beams at both of its ends meet it within 90 +- 30 deg.
+  ScanSequenceOptions options;
+  options.require_occluding_end = false;
+  const auto run = [&](std::size_t floor_beams) {
+    PlanarScan floor = test::centred_scan(floor_beams);
+    test::put_on_line_x(floor, 0, floor_beams - 1, ground_x);
+    PlanarScan scattered = floor;
+    const std::size_t middle = floor_beams / 2;
+    test::put_wavy_veil(scattered, middle - 10, middle + 10, ground_x, ground_x + 0.1, 0.0);
+    ScanSequenceFilter filter(options);
+    PlanarScan out;
+    filter.push(floor, out);
+    filter.push(scattered, out);
+    filter.push(floor, out);
+    return filter.last_stats().removed;
+  };
+  EXPECT_EQ(run(341), 0u);  // +-60 deg: ends seen at 60 deg from perpendicular
+  EXPECT_EQ(run(111), 111u);  // +-19 deg: the whole floor is the sector, removed
+}
+
 TEST(ScanSequence, OneScanOfDelayAndFlushReturnsTheLastScan) {
   ScanSequenceFilter filter;
   PlanarScan out;

@@ -202,7 +202,7 @@ TEST(ScipDecoder, BlankLinesBetweenFramesAreIgnored) {
   const auto events = decode_all("\n\n\nBM\n00P\n\n\n\nQT\n00P\n\n\n");
   ASSERT_EQ(events.size(), 2u);
   EXPECT_EQ(events[0].stream_offset, 3u);
-  EXPECT_EQ(events[1].stream_offset, 12u);
+  EXPECT_EQ(events[1].stream_offset, 13u);
 }
 
 // A stream mixing every kind of reply with malformed frames in between.

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <vector>
 
@@ -215,6 +216,66 @@ TEST(UrgSimulator, NoiseGrowsAsTheReturnWeakens) {
   noise_statistics(0.05, mean, sigma);
   EXPECT_NEAR(mean, 0.0, 0.0008);
   EXPECT_NEAR(sigma, expected, 0.1 * expected);
+}
+
+// A beam model that records what it is asked and answers with a fixed echo,
+// labelling every third beam mixed.
+class ScriptedBeamModel final : public BeamModel {
+ public:
+  explicit ScriptedBeamModel(BeamEcho echo, std::vector<BeamRequest>* requests)
+      : echo_(echo), requests_(requests) {}
+  BeamEcho trace(const SceneRayCaster&, const BeamRequest& beam, std::mt19937_64&) override {
+    requests_->push_back(beam);
+    BeamEcho echo = echo_;
+    if (requests_->size() % 3 == 0) echo.label = BeamLabel::mixed;
+    return echo;
+  }
+
+ private:
+  BeamEcho echo_;
+  std::vector<BeamRequest>* requests_;
+};
+
+TEST(UrgSimulator, AnotherBeamModelPlugsIn) {
+  std::vector<BeamRequest> requests;
+  BeamEcho echo;
+  echo.has_return = true;
+  echo.range_m = 1.2344;
+  echo.amplitude = 0.5;
+  UrgSimulator sim(floor_scene(), UrgParameters{}, ideal_options(), 1,
+                   std::make_unique<ScriptedBeamModel>(echo, &requests));
+  UrgRawScan scan;
+  std::vector<BeamLabel> labels;
+  TrunkPose pose;
+  pose.yaw_rad = 0.3;
+  sim.scan(pose, SensorMount{}, 0.0, scan, &labels);
+  ASSERT_EQ(requests.size(), 682u);
+  for (std::size_t i = 0; i < requests.size(); ++i) {
+    const BeamRequest& beam = requests[i];
+    EXPECT_NEAR(beam.direction.norm(), 1.0, 1e-12);
+    EXPECT_NEAR(beam.direction.dot(beam.sweep_axis), 0.0, 1e-12);
+    EXPECT_TRUE(beam.direction.cross(beam.sweep_axis).isApprox(beam.plane_normal, 1e-12));
+    EXPECT_NEAR(beam.origin_m.z(), 0.26, 1e-12);
+    EXPECT_NEAR(beam.step_angle_rad, 2.0 * std::numbers::pi / 1024.0, 1e-15);
+    EXPECT_GE(beam.max_range_m, 5.6);
+    if (i + 1 < requests.size()) {  // the sweep axis points towards the next beam
+      EXPECT_GT((requests[i + 1].direction - beam.direction).dot(beam.sweep_axis), 0.0);
+    }
+    EXPECT_EQ(scan.values_mm[i], 1234u);
+    EXPECT_EQ(labels[i], (i + 1) % 3 == 0 ? BeamLabel::mixed : BeamLabel::clean);
+  }
+  // A code decided by the model passes through, labelled dropped.
+  requests.clear();
+  echo.sensor_error_code = 8;
+  UrgSimulator coded(floor_scene(), UrgParameters{}, ideal_options(), 1,
+                     std::make_unique<ScriptedBeamModel>(echo, &requests));
+  coded.scan(pose, SensorMount{}, 0.0, scan, &labels);
+  EXPECT_EQ(scan.values_mm[0], 8u);
+  EXPECT_EQ(labels[0], BeamLabel::dropped);
+  echo.sensor_error_code = 25;
+  UrgSimulator wrong(floor_scene(), UrgParameters{}, ideal_options(), 1,
+                     std::make_unique<ScriptedBeamModel>(echo, &requests));
+  EXPECT_THROW(wrong.scan(pose, SensorMount{}, 0.0, scan, &labels), InputError);
 }
 
 TEST(UrgSimulator, RejectsBadInput) {

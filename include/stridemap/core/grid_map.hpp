@@ -96,6 +96,11 @@ class ElevationMap {
   const float* certainty_data() const { return certainty_.data(); }
   const std::uint8_t* state_data() const { return state_.data(); }
 
+  /// Bookkeeping of the gated elevation rule (map_update.hpp): readings that
+  /// contradicted the cell since its last plausible one, and their maximum.
+  std::uint8_t* contradiction_data() { return contradictions_.data(); }
+  float* pending_elevation_data() { return pending_elevation_.data(); }
+
   void reset_slot(std::size_t s);
 
   /// Copies the layers into matrices in window order: row = local x index
@@ -124,6 +129,8 @@ class ElevationMap {
   std::vector<float> elevation_;
   std::vector<float> certainty_;
   std::vector<std::uint8_t> state_;
+  std::vector<std::uint8_t> contradictions_;
+  std::vector<float> pending_elevation_;
 };
 
 }  // namespace stridemap

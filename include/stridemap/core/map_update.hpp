@@ -12,6 +12,21 @@ namespace stridemap {
 
 inline constexpr double kDegToRad = std::numbers::pi / 180.0;
 
+/// What a reading that disagrees with a known cell does to its elevation.
+enum class ElevationRule : std::uint8_t {
+  /// Eq. (10) as printed: the highest reading always wins, plausible or not.
+  paper_highest,
+  /// A reading outside Delta z_max changes nothing at once; after
+  /// `replace_after_contradictions` such readings with no plausible one in
+  /// between, the cell takes the highest of them and restarts its certainty.
+  /// A single stray point (range noise pushing a point off an edge into the
+  /// next cell, a spike) then cannot raise a cell that many readings agree
+  /// on, while a real change still wins within a few scans. Readings within
+  /// the bound keep eq. (9)/(10) unchanged, so a face climbed by the tilted
+  /// scan plane (d tan gamma per scan) rises as before.
+  gated_highest,
+};
+
 struct UpdateOptions {
   /// a of eq. (9): certainty gained by one plausible measurement. The
   /// authors' implementation uses 3.
@@ -28,6 +43,11 @@ struct UpdateOptions {
   double max_mount_pitch_error_rad = 1.0 * kDegToRad;
   /// Add the horizontal travel caused by turning (Fig. 10) to d_(k,k+1).
   bool use_turning_term = true;
+  /// Eq. (10) as printed by default; see ElevationRule.
+  ElevationRule elevation_rule = ElevationRule::paper_highest;
+  /// For gated_highest: contradicting readings in a row that replace the
+  /// cell (1..255).
+  int replace_after_contradictions = 3;
 };
 
 /// The motion between the previous scan and this one, as eq. (6) needs it.
@@ -58,29 +78,51 @@ double laser_max_elevation_change(const ElevationPartials& partials, double rang
 enum class CellUpdate : std::uint8_t {
   first = 0,        ///< the cell was unknown; it takes the measurement
   plausible = 1,    ///< |h_m - h| <= |Delta z_max|: certainty raised
-  implausible = 2,  ///< outside the bound: certainty kept (elevation may still rise)
+  implausible = 2,  ///< outside the bound: certainty kept
+  replaced = 3,     ///< gated rule: enough contradictions replaced the cell
 };
 
-/// Eq. (9) then eq. (10) on one cell's storage. The elevation keeps the
-/// highest measurement (obstacle-conservative) whether or not it was
-/// plausible; an unknown or filled cell takes the measurement as it is.
-inline CellUpdate update_cell(float& elevation, float& certainty, std::uint8_t& state, float h_m,
-                              float dz_max, const UpdateOptions& options) {
-  if (state != static_cast<std::uint8_t>(CellState::measured)) {
-    elevation = h_m;
-    certainty = static_cast<float>(options.certainty_increment);
-    if (certainty > options.certainty_max) certainty = static_cast<float>(options.certainty_max);
-    state = static_cast<std::uint8_t>(CellState::measured);
+/// One cell's storage, as ElevationMap lays it out.
+struct CellRef {
+  float& elevation;
+  float& certainty;
+  std::uint8_t& state;
+  float& pending_elevation;
+  std::uint8_t& contradictions;
+};
+
+/// Eq. (9) then eq. (10) (or the gated rule) on one cell. An unknown or
+/// filled cell takes the measurement as it is.
+inline CellUpdate update_cell(CellRef cell, float h_m, float dz_max, const UpdateOptions& options) {
+  const auto a = static_cast<float>(options.certainty_increment);
+  const auto ceiling = static_cast<float>(options.certainty_max);
+  if (cell.state != static_cast<std::uint8_t>(CellState::measured)) {
+    cell.elevation = h_m;
+    cell.certainty = a < ceiling ? a : ceiling;
+    cell.state = static_cast<std::uint8_t>(CellState::measured);
+    cell.contradictions = 0;
     return CellUpdate::first;
   }
-  const float difference = h_m - elevation;
+  const float difference = h_m - cell.elevation;
   const bool plausible = (difference < 0 ? -difference : difference) <= (dz_max < 0 ? -dz_max : dz_max);
   if (plausible) {
-    const float raised = certainty + static_cast<float>(options.certainty_increment);
-    certainty = raised > options.certainty_max ? static_cast<float>(options.certainty_max) : raised;
+    const float raised = cell.certainty + a;
+    cell.certainty = raised > ceiling ? ceiling : raised;
+    if (h_m > cell.elevation) cell.elevation = h_m;
+    cell.contradictions = 0;
+    return CellUpdate::plausible;
   }
-  if (h_m > elevation) elevation = h_m;
-  return plausible ? CellUpdate::plausible : CellUpdate::implausible;
+  if (options.elevation_rule == ElevationRule::paper_highest) {
+    if (h_m > cell.elevation) cell.elevation = h_m;
+    return CellUpdate::implausible;
+  }
+  cell.pending_elevation = cell.contradictions == 0 || h_m > cell.pending_elevation ? h_m : cell.pending_elevation;
+  ++cell.contradictions;
+  if (cell.contradictions < options.replace_after_contradictions) return CellUpdate::implausible;
+  cell.elevation = cell.pending_elevation;
+  cell.certainty = a < ceiling ? a : ceiling;
+  cell.contradictions = 0;
+  return CellUpdate::replaced;
 }
 
 }  // namespace stridemap

@@ -34,6 +34,7 @@ struct ScanStats {
   std::size_t first = 0;             ///< hit a cell that was unknown
   std::size_t plausible = 0;         ///< raised the certainty of a known cell
   std::size_t implausible = 0;       ///< disagreed with the cell beyond Delta z_max
+  std::size_t replaced = 0;          ///< gated rule: replaced a cell after repeated contradictions
   std::size_t invalid_range = 0;     ///< NaN, infinite or non-positive range (incl. sensor error codes)
   std::size_t invalid_beam = 0;      ///< non-finite angle or range error, negative range error
   std::size_t outside_map = 0;       ///< valid, but outside the window

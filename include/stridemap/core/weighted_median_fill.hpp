@@ -22,12 +22,18 @@ struct FillOptions {
   /// Weight factor of the 8 nearest neighbours relative to farther cells;
   /// each neighbour's weight is its certainty times this factor (or 1).
   double near_weight = 2.0;
+  /// A cell whose known neighbours disagree by more than this between their
+  /// weighted quartiles sits on a step (the edge of an obstacle and the
+  /// shadow behind it): the median would pick a side at random, so the cell
+  /// stays unknown [m]. Non-positive disables the test. Default: 3 cm,
+  /// between the URG's noise and a step a foot must not be placed on.
+  double max_quartile_spread_m = 0.03;
 };
 
 class WeightedMedianFill {
  public:
   /// Throws InputError for a window radius outside 1..7, negative counts or
-  /// quadrants outside 1..4, or a non-positive weight.
+  /// quadrants outside 1..4, a non-positive weight or a non-finite spread.
   explicit WeightedMedianFill(const FillOptions& options = {});
 
   /// Re-estimates every filled cell and fills unknown cells from measured

@@ -31,6 +31,9 @@ struct ObjectMeasureOptions {
   /// Width of the ring around the search area whose median elevation is the
   /// local ground [m].
   double ground_ring_m = 0.05;
+  /// A cell belongs to the object when it rises above the local ground by
+  /// at least this fraction of the object's height in the map.
+  double height_fraction = 0.5;
 };
 
 /// For each object: the connected region of known cells higher than half

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "stridemap/core/planar_scan.hpp"
+#include "stridemap/preprocess/beam_directions.hpp"
 #include "stridemap/preprocess/range_sigma.hpp"
 
 namespace stridemap {
@@ -51,8 +52,10 @@ struct LineSegment {
   double mid_x_m = 0.0;         ///< centroid of the points, sensor frame
   double mid_y_m = 0.0;
   /// The first valid beam before first_beam (within occlusion_search_beams)
-  /// breaks from the segment and is farther away: the segment occludes what
-  /// lies behind it at that end.
+  /// breaks from the segment, is farther away and lies off the segment's line
+  /// (by more than the split distance): the segment occludes what lies behind
+  /// it at that end. A surface that merely continues at grazing incidence is
+  /// no occlusion.
   bool occludes_before = false;
   bool occludes_after = false;  ///< the same after last_beam
 };
@@ -69,6 +72,9 @@ class LineExtractor {
   /// (check_scan_shape); it is not modified.
   void extract(const PlanarScan& scan, std::vector<LineSegment>& segments);
 
+  /// cos/sin of the angles of the scan given to extract() last.
+  const BeamDirections& directions() const { return directions_; }
+
  private:
   struct Piece {
     std::size_t first = 0;
@@ -76,9 +82,11 @@ class LineExtractor {
   };
   void split_cluster(std::size_t first, std::size_t last, double split_distance_m);
   void fit(std::size_t first, std::size_t last, LineSegment& line) const;
-  bool occludes(const PlanarScan& scan, std::size_t end_beam, bool forward) const;
+  bool occludes(const PlanarScan& scan, std::size_t end_beam, bool forward, const LineSegment& line,
+                double split_distance_m) const;
 
   LineExtractionOptions options_;
+  BeamDirections directions_;
   std::vector<double> x_m_;
   std::vector<double> y_m_;
   std::vector<Piece> stack_;

@@ -5,6 +5,7 @@
 // clusters too small or too short to be real. Removes the isolated single
 // points and small groups that mixed pixels form at thin objects and at edges
 // nearly parallel to the beams.
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -30,14 +31,17 @@ RangeRatioBand range_ratio_band(double angle_step_rad, double max_incidence_angl
                                 bool messorsim_swapped_bounds = false);
 
 /// range_ratio_band for a stream of steps; consecutive steps of a scan are
-/// nearly always equal, so the band is recomputed only when the step changes.
+/// equal up to rounding, so the band is recomputed only when the step changes
+/// by more than angle_tolerance_rad (its effect on the band is of that order).
 class RangeRatioBandCache {
  public:
   RangeRatioBandCache(double max_incidence_angle_rad, bool messorsim_swapped_bounds)
       : max_incidence_angle_rad_(max_incidence_angle_rad), swapped_(messorsim_swapped_bounds) {}
+  static constexpr double angle_tolerance_rad = 1e-9;
+
   const RangeRatioBand& band(double angle_step_rad) {
     const double step = angle_step_rad < 0.0 ? -angle_step_rad : angle_step_rad;
-    if (!(step == step_)) {
+    if (!(std::abs(step - step_) <= angle_tolerance_rad)) {
       step_ = step;
       band_ = range_ratio_band(step, max_incidence_angle_rad_, swapped_);
     }

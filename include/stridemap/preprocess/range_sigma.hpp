@@ -2,6 +2,8 @@
 // How the filters turn a beam into a range standard deviation sigma_r. The
 // scan carries each beam's maximum error Delta r (eq. 6); the filters need a
 // standard deviation, so the relation between the two is an explicit option.
+#include <cmath>
+
 namespace stridemap {
 
 struct RangeSigmaModel {
@@ -16,10 +18,18 @@ struct RangeSigmaModel {
   bool always_use_urg_spec = false;
 
   /// sigma_r [m] of a valid beam.
-  double sigma_m(double range_m, double range_error_m) const;
+  double sigma_m(double range_m, double range_error_m) const {
+    if (always_use_urg_spec || !(std::isfinite(range_error_m) && range_error_m > 0.0)) {
+      return sigma_per_range_error * urg_spec_range_error_m(range_m);
+    }
+    return sigma_per_range_error * range_error_m;
+  }
 
   /// Throws InputError naming `owner` and the field when an option is unusable.
   void validate(const char* owner) const;
+
+ private:
+  static double urg_spec_range_error_m(double range_m);  // UrgModel::spec_range_error_m
 };
 
 }  // namespace stridemap

@@ -24,8 +24,9 @@ struct ScanSequenceOptions {
   /// Co-linear groups in scan k-1 (split-and-merge); its sigma model is also
   /// the one used for sigma_0 below.
   LineExtractionOptions lines;
-  /// A segment looks like an edge across the scan when the angle between it
-  /// and the beam through its centroid is within 90 deg +- this [rad].
+  /// A segment looks like an edge across the scan when it meets the beams
+  /// through both of its end points at 90 deg +- this [rad] (so a long floor
+  /// line reaching grazing angles at its ends does not qualify).
   double max_edge_tilt_rad = 30.0 * 3.14159265358979323846 / 180.0;
   /// Also require a range jump at one end of the segment with the segment in
   /// front (it occludes something): without it a plain floor counts as an edge.
@@ -113,6 +114,8 @@ class ScanSequenceFilter {
 
   ScanSequenceOptions options_;
   LineExtractor lines_;
+  BeamDirections directions_k_;     // of held_
+  BeamDirections directions_next_;  // of incoming_
   PlanarScan previous_;  // k-1, as returned (filtered)
   PlanarScan held_;      // k, waiting for k+1
   PlanarScan incoming_;  // k+1

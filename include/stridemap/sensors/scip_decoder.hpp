@@ -139,6 +139,7 @@ class Decoder {
   std::size_t consumed_ = 0;  ///< stream offset of input_[read_pos_]
   std::string partial_line_;  ///< bytes of a line whose LF has not arrived
   bool discarding_line_ = false;
+  std::size_t long_line_held_ = 0;  ///< bytes of an over-long line not yet counted as dropped
 
   State state_ = State::idle;
   EchoTrust trust_ = EchoTrust::strict;

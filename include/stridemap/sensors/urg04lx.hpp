@@ -63,9 +63,10 @@ class UrgModel {
   static double spec_range_error_m(double range_m);
 
   /// Converts raw values to ranges in metres (calibrated), beam angles and
-  /// Delta r. Invalid values become NaN. Reuses out's storage. Throws
-  /// InputError if the raw scan's first step, cluster or length do not fit
-  /// the parameters (names the field and the numbers).
+  /// Delta r. Invalid values become NaN; their range_error_m holds the spec
+  /// bound at the raw value, so it is finite for every beam. Reuses out's
+  /// storage. Throws InputError if the raw scan's first step, cluster or
+  /// length do not fit the parameters (names the field and the numbers).
   UrgConversionStats to_planar_scan(const UrgRawScan& raw, PlanarScan& out) const;
 
  private:

@@ -7,6 +7,7 @@
 // surfaces it touched. UrgSimulator applies systematic error, noise,
 // dropouts and quantisation to whatever echo the model returns.
 #include <cstdint>
+#include <optional>
 #include <random>
 
 #include <Eigen/Core>
@@ -45,6 +46,11 @@ struct BeamEcho {
   double amplitude = 0.0;
   /// clean or mixed; the simulator turns error codes into dropped.
   BeamLabel label = BeamLabel::clean;
+  /// Set when the model decides that the sensor itself rejects the beam
+  /// (e.g. code 8, "intensity difference of two waves", when the two
+  /// modulation frequencies disagree): sent as the raw value unchanged, and
+  /// the beam is labelled dropped. Must be below 20 (a code, not a range).
+  std::optional<std::uint32_t> sensor_error_code;
 };
 
 /// Lambertian return of a surface: reflectance * cos(incidence) / range^2,

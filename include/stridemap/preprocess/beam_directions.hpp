@@ -1,0 +1,32 @@
+#pragma once
+// cos and sin of a scan's beam angles, recomputed only when the angles change.
+// Scans of one sensor repeat the same angles, so the filters that need
+// Cartesian points pay for the trigonometry once per stream, not per scan.
+#include <cmath>
+#include <vector>
+
+namespace stridemap {
+
+class BeamDirections {
+ public:
+  /// Makes cos()/sin() match `angle_rad`; an O(n) comparison when unchanged.
+  void update(const std::vector<double>& angle_rad) {
+    if (angle_rad == angle_rad_) return;
+    angle_rad_.assign(angle_rad.begin(), angle_rad.end());
+    cos_.resize(angle_rad.size());
+    sin_.resize(angle_rad.size());
+    for (std::size_t i = 0; i < angle_rad.size(); ++i) {
+      cos_[i] = std::cos(angle_rad[i]);
+      sin_[i] = std::sin(angle_rad[i]);
+    }
+  }
+  const std::vector<double>& cos() const { return cos_; }
+  const std::vector<double>& sin() const { return sin_; }
+
+ private:
+  std::vector<double> angle_rad_;
+  std::vector<double> cos_;
+  std::vector<double> sin_;
+};
+
+}  // namespace stridemap
