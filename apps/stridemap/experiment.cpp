@@ -21,6 +21,7 @@ struct CartRailArgs {
   double cell_size_m = 0.01;
   int cells_per_side = 0;
   std::string elevation_rule = "paper";
+  std::string filters = "none";
 };
 
 ElevationRule parse_elevation_rule(const std::string& name) {
@@ -39,6 +40,7 @@ void run_cart_rail_command(const CartRailArgs& args) {
   options.cell_size_m = args.cell_size_m;
   options.cells_per_side = args.cells_per_side;
   options.update.elevation_rule = parse_elevation_rule(args.elevation_rule);
+  options.filters = parse_scan_filter_list(args.filters);
   const CartRailResult result = run_cart_rail(scene, options);
   const CartRailRunInfo info{args.sensor, args.scene_path};
   const std::string dir = (std::filesystem::path(args.out_dir) / ("cart-rail-" + args.sensor)).string();
@@ -66,6 +68,10 @@ void register_experiment(CLI::App& app) {
   cart_rail->add_option("--elevation-rule", args->elevation_rule,
                         "paper: eq. (10), the highest reading wins; gated: a reading outside the plausibility "
                         "bound needs repeated support (docs/mapping.md)")
+      ->capture_default_str();
+  cart_rail->add_option("--filters", args->filters,
+                        "Scan filters in order, comma separated: range-clustering, scan-sequence, shadow, "
+                        "speckle; paper = range-clustering,scan-sequence; none")
       ->capture_default_str();
   cart_rail->callback([args] { run_cart_rail_command(*args); });
 }

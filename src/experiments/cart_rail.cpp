@@ -1,6 +1,7 @@
 #include "stridemap/experiments/cart_rail.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -91,17 +92,37 @@ CartRailResult run_cart_rail(const Scene& scene, const CartRailOptions& options)
 
   UrgModel sensor(options.urg, options.calibration);
   UrgSimulator simulator(scene, options.urg, options.sim, options.seed);
+  ScanFilterChain filters(options.filters, options.filter_options);
   UrgRawScan raw;
-  PlanarScan scan;
+  PlanarScan scan, filtered;
+  // The chain may hand back the previous scan: keep the labels of the last
+  // two scans, indexed by scan number, to score the one that comes out.
+  std::array<std::vector<BeamLabel>, 2> labels;
+  std::size_t scans_out = 0;
+  const auto integrate_output = [&] {
+    const std::vector<BeamLabel>& truth = labels[scans_out % 2];
+    const std::vector<std::uint8_t>& removed = filters.removed_by_any();
+    for (std::size_t i = 0; i < truth.size(); ++i) {
+      const bool was_removed = i < removed.size() && removed[i];
+      switch (truth[i]) {
+        case BeamLabel::clean: ++result.beams.clean; result.beams.clean_removed += was_removed; break;
+        case BeamLabel::mixed: ++result.beams.mixed; result.beams.mixed_removed += was_removed; break;
+        case BeamLabel::dropped: ++result.beams.dropped; break;
+      }
+    }
+    mapper.integrate(filtered, poses[scans_out]);
+    ++scans_out;
+  };
   for (std::size_t k = 0; k < poses.size(); ++k) {
     const double time_s = static_cast<double>(k) * options.urg.scan_period_s;
-    simulator.scan(poses[k], options.mount, time_s, raw);
+    simulator.scan(poses[k], options.mount, time_s, raw, &labels[k % 2]);
     const UrgConversionStats converted = sensor.to_planar_scan(raw, scan);
     result.sensor_totals.valid += converted.valid;
     result.sensor_totals.error_codes += converted.error_codes;
     result.sensor_totals.beyond_max_range += converted.beyond_max_range;
-    mapper.integrate(scan, poses[k]);
+    if (filters.push(scan, filtered)) integrate_output();
   }
+  if (filters.flush(filtered)) integrate_output();
   result.scans = poses.size();
   result.mapper_totals = mapper.totals();
   if (options.fill_in) result.filled_cells = WeightedMedianFill(options.fill).apply(mapper.map());

@@ -104,6 +104,16 @@ std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOption
         {"integrated", r.mapper_totals.integrated},
         {"implausible", r.mapper_totals.implausible},
         {"outside_map", r.mapper_totals.outside_map}}},
+      {"filters", scan_filter_list_name(options.filters)},
+      {"beam_labels",
+       {{"clean", r.beams.clean},
+        {"mixed", r.beams.mixed},
+        {"dropped", r.beams.dropped},
+        {"clean_removed", r.beams.clean_removed},
+        {"mixed_removed", r.beams.mixed_removed},
+        {"mixed_recall", r.beams.mixed_recall()},
+        {"clean_drop_rate", r.beams.clean_drop_rate()},
+        {"f1", r.beams.f1()}}},
       {"objects", objects}};
   return summary.dump(2) + "\n";
 }
@@ -120,6 +130,9 @@ std::string cart_rail_table(const CartRailResult& r, const CartRailRunInfo& info
                 "measured %zu, filled %zu\n",
                 s.rms_error_m * 1000, s.max_error_m * 1000, s.coverage * 100, s.artifact_cells,
                 s.artifact_threshold_m * 1000, s.measured_cells, s.filled_cells);
+  out += line;
+  std::snprintf(line, sizeof line, "beams: %zu clean, %zu mixed, %zu error codes; filters removed %zu mixed, %zu clean\n",
+                r.beams.clean, r.beams.mixed, r.beams.dropped, r.beams.mixed_removed, r.beams.clean_removed);
   out += line;
   out += "object        dim      truth [mm]  map [mm]  error [%]\n";
   for (const ObjectMeasurement& m : r.objects) {

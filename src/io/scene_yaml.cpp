@@ -220,7 +220,10 @@ class SceneReader {
     options.wavelength_m = number(fields, node, path, "wavelength_m");
     options.resolution_m = number(fields, node, path, "resolution_m", options.resolution_m);
     const std::uint64_t octaves = whole_number(fields, node, path, "octaves", static_cast<std::uint64_t>(options.octaves));
-    options.octaves = octaves > 64 ? 64 : static_cast<int>(octaves);
+    if (octaves < 1 || octaves > 8) {
+      fail_at(join(path, "octaves"), "expected a whole number from 1 to 8, got " + std::to_string(octaves));
+    }
+    options.octaves = static_cast<int>(octaves);
     const std::uint64_t seed = whole_number(fields, node, path, "seed");
     if (auto problem = options.first_problem()) fail_at(join(path, problem->field_path), problem->message);
     return make_procedural_height_field(options, seed);
@@ -275,13 +278,17 @@ class SceneReader {
 }  // namespace
 
 Scene parse_scene_yaml(const std::string& text, const std::string& source_name) {
-  YAML::Node root;
+  std::vector<YAML::Node> documents;
   try {
-    root = YAML::Load(text);
+    documents = YAML::LoadAll(text);
   } catch (const YAML::Exception& error) {
     throw InputError(source_name + ":" + std::to_string(std::max(1, error.mark.line + 1)) + ": not valid YAML: " + error.msg);
   }
-  return SceneReader(source_name).read(root);
+  if (documents.size() > 1) {
+    throw InputError(source_name + ":" + std::to_string(std::max(1, documents[1].Mark().line + 1)) +
+                     ": expected one YAML document, found " + std::to_string(documents.size()));
+  }
+  return SceneReader(source_name).read(documents.empty() ? YAML::Node() : documents.front());
 }
 
 Scene load_scene_yaml(const std::string& path) {

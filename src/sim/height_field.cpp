@@ -115,6 +115,7 @@ Eigen::Vector3d wall_normal(int axis, const Eigen::Vector3d& dir) {
 }  // namespace
 
 double HeightField::height_at(double x_m, double y_m) const {
+  if (!std::isfinite(x_m) || !std::isfinite(y_m)) return std::numeric_limits<double>::quiet_NaN();
   if (is_flat() || !in_extent(x_m, y_m)) return base_elevation_m;
   const CellPosition cell = locate(*this, x_m, y_m);
   return patch_height(patch_of(*this, cell.i, cell.j), cell.u, cell.v);
@@ -132,6 +133,9 @@ double HeightField::max_sample_height_m() const {
 }
 
 double HeightField::max_height_in_rect(double x0, double y0, double x1, double y1) const {
+  if (!std::isfinite(x0) || !std::isfinite(y0) || !std::isfinite(x1) || !std::isfinite(y1)) {
+    return std::numeric_limits<double>::quiet_NaN();
+  }
   if (x0 > x1) std::swap(x0, x1);
   if (y0 > y1) std::swap(y0, y1);
   if (is_flat()) return base_elevation_m;

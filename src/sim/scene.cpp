@@ -124,6 +124,7 @@ std::optional<RayHit> Scene::cast_ray(const Eigen::Vector3d& origin, const Eigen
 
 double Scene::surface_height_at(double x_m, double y_m) const {
   double height = terrain.height_at(x_m, y_m);
+  if (std::isnan(height)) return height;
   for (const BoxObject& box : boxes) {
     if (footprint_contains(box, x_m, y_m)) height = std::max(height, box.top_m());
   }
@@ -137,6 +138,7 @@ double Scene::max_height_in_rect(double min_x_m, double min_y_m, double max_x_m,
   const Rect2 rect{std::min(min_x_m, max_x_m), std::min(min_y_m, max_y_m), std::max(min_x_m, max_x_m),
                    std::max(min_y_m, max_y_m)};
   double height = terrain.max_height_in_rect(rect.min_x_m, rect.min_y_m, rect.max_x_m, rect.max_y_m);
+  if (std::isnan(height)) return height;
   for (const BoxObject& box : boxes) {
     if (footprint_overlaps(box, rect)) height = std::max(height, box.top_m());
   }

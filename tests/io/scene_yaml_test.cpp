@@ -151,6 +151,8 @@ TEST(SceneYaml, TyposAndRepeatsAreErrors) {
   EXPECT_EQ(error_of(with_line(2, "  kind: hilly")), "test.yaml:2: terrain.kind: expected flat or procedural, got \"hilly\"");
   EXPECT_EQ(error_of(with_line(2, "  kind: flat\n  seed: 3")), "test.yaml:3: terrain.seed: only allowed with kind: procedural");
   EXPECT_EQ(error_of(with_line(2, "")), "test.yaml:2: terrain.kind: required field is missing (flat or procedural)");
+  EXPECT_EQ(error_of("terrain: {kind: flat}\n---\nterrain: {kind: flat}\n"),
+            "test.yaml:3: expected one YAML document, found 2");
   const std::string broken = error_of("terrain: {kind: flat\nboxes: []\n");
   EXPECT_EQ(broken.rfind("test.yaml:", 0), 0u) << broken;
   EXPECT_NE(broken.find("not valid YAML"), std::string::npos) << broken;
@@ -188,6 +190,8 @@ TEST(SceneYaml, ProceduralTerrain) {
             "test.yaml:4: terrain.seed: expected a whole number >= 0, got \"-3\"");
   EXPECT_EQ(error_of(procedural_with("seed: 12", "seed: 1.5")),
             "test.yaml:4: terrain.seed: expected a whole number >= 0, got \"1.5\"");
+  EXPECT_EQ(error_of(procedural_with("  seed: 12\n", "  seed: 12\n  octaves: 9\n")),
+            "test.yaml:5: terrain.octaves: expected a whole number from 1 to 8, got 9");
   EXPECT_EQ(error_of(procedural_with("amplitude_m: 0.03", "amplitude_m: -0.03")),
             "test.yaml:5: terrain.amplitude_m: expected a number >= 0, got -0.03");
   EXPECT_EQ(error_of(procedural_with("max_x_m: 1", "max_x_m: -1")),

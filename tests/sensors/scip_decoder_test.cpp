@@ -272,5 +272,21 @@ TEST(ScipDecoder, EventStorageIsReused) {
   EXPECT_EQ(decoder.pending_bytes(), 0u);
 }
 
+TEST(ScipDecoder, ResetForgetsAPartialFrame) {
+  std::string frame;
+  append_distance_reply(parse_command("GD0044072501"), 9, ramp_values(682, 4), frame);
+  Decoder decoder;
+  Event event;
+  decoder.feed(std::string_view(frame).substr(0, 1000));
+  EXPECT_FALSE(decoder.next(event));
+  decoder.reset();  // e.g. the device was unplugged mid-frame
+  decoder.feed(frame);
+  ASSERT_TRUE(decoder.next(event));
+  ASSERT_EQ(event.kind, EventKind::distance) << event.error.message;
+  EXPECT_EQ(event.stream_offset, 1000u);
+  EXPECT_EQ(event.distance.values, ramp_values(682, 4));
+  EXPECT_FALSE(decoder.next(event));
+}
+
 }  // namespace
 }  // namespace stridemap::scip

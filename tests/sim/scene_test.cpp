@@ -114,6 +114,9 @@ TEST(SceneGroundTruth, SurfaceHeightAndCellMaximum) {
   // Near the cylinder's rim diagonally: bounding boxes overlap, the circle does not.
   EXPECT_NEAR(scene.max_height_in_rect(1.54, 0.04, 1.55, 0.05), -0.01, 1e-12);
   EXPECT_NEAR(scene.max_height_in_rect(1.53, 0.03, 1.54, 0.04), 0.2, 1e-12);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_TRUE(std::isnan(scene.max_height_in_rect(nan, 0.0, 1.0, 1.0)));
+  EXPECT_TRUE(std::isnan(scene.surface_height_at(1.0, nan)));
 }
 
 TEST(SceneValidate, NamesTheObjectAndField) {

@@ -1,15 +1,35 @@
 #include "stridemap/sim/urg_simulator.hpp"
 
+#include <atomic>
 #include <cmath>
+#include <cstdlib>
+#include <new>
 #include <limits>
 #include <memory>
 #include <numbers>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include "stridemap/core/error.hpp"
+#include "stridemap/core/sensor_transform.hpp"
 #include "stridemap/sensors/range_calibration.hpp"
+
+// Counts heap allocations, to show that a scan allocates nothing once its
+// buffers have grown. Replacing the global operator new only counts; every
+// allocation of this test program still goes to malloc.
+namespace {
+std::atomic<std::size_t> heap_allocations{0};
+}  // namespace
+
+void* operator new(std::size_t size) {
+  ++heap_allocations;
+  if (void* memory = std::malloc(size == 0 ? 1 : size)) return memory;
+  throw std::bad_alloc();
+}
+void operator delete(void* memory) noexcept { std::free(memory); }
+void operator delete(void* memory, std::size_t) noexcept { std::free(memory); }
 
 namespace stridemap {
 namespace {
@@ -65,6 +85,50 @@ TEST(UrgSimulator, BeamGeometryFollowsTheParameters) {
     returns += expected != urg_code_no_return;
   }
   EXPECT_GT(returns, 400);
+}
+
+TEST(UrgSimulator, TheSensorModelPutsIdealReadingsBackOnTheSurfaces) {
+  // Simulator and sensor model must agree on beam angles and frames: with
+  // the errors off, every reading converted by UrgModel and eq. (5) lands on
+  // the surface the simulator saw, up to the 1 mm rounding.
+  Scene scene = floor_scene();
+  BoxObject box;
+  box.name = "box";
+  box.center_x_m = 0.9;
+  box.center_y_m = 0.15;
+  box.length_m = 0.2;
+  box.width_m = 0.3;
+  box.height_m = 0.1;
+  box.yaw_rad = 0.4;
+  scene.boxes.push_back(box);
+  UrgSimulator sim(scene, UrgParameters{}, ideal_options(), 1);
+  const UrgModel model;
+  TrunkPose pose;
+  pose.x_m = 0.55;
+  pose.y_m = -0.05;
+  pose.yaw_rad = 0.2;
+  pose.pitch_rad = 0.05;
+  pose.roll_rad = -0.04;
+  const SensorMount mount;
+  UrgRawScan raw;
+  PlanarScan scan;
+  sim.scan(pose, mount, 0.0, raw);
+  model.to_planar_scan(raw, scan);
+  const Eigen::Vector3d origin = sensor_origin_in_map(pose, mount);
+  int on_box = 0, checked = 0;
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    if (!std::isfinite(scan.range_m[i])) continue;
+    const Eigen::Vector3d in_sensor(scan.range_m[i] * std::cos(scan.angle_rad[i]),
+                                    scan.range_m[i] * std::sin(scan.angle_rad[i]), 0.0);
+    const Eigen::Vector3d point = sensor_point_to_map(in_sensor, pose, mount);
+    const auto hit = scene.cast_ray(origin, (point - origin).normalized(), 10.0);
+    ASSERT_TRUE(hit) << "beam " << i;
+    EXPECT_NEAR(hit->range_m, scan.range_m[i], 0.0005 + 1e-9) << "beam " << i;
+    on_box += hit->object_index == 0;
+    ++checked;
+  }
+  EXPECT_GT(checked, 400);
+  EXPECT_GT(on_box, 20);
 }
 
 TEST(UrgSimulator, ABoxInFrontShortensTheBeam) {
@@ -276,6 +340,30 @@ TEST(UrgSimulator, AnotherBeamModelPlugsIn) {
   UrgSimulator wrong(floor_scene(), UrgParameters{}, ideal_options(), 1,
                      std::make_unique<ScriptedBeamModel>(echo, &requests));
   EXPECT_THROW(wrong.scan(pose, SensorMount{}, 0.0, scan, &labels), InputError);
+}
+
+TEST(UrgSimulator, AScanAllocatesNothingOnceBuffersHaveGrown) {
+  Scene scene = floor_scene();
+  ProceduralTerrainOptions rocky;
+  rocky.amplitude_m = 0.05;
+  scene.terrain = make_procedural_height_field(rocky, 3);
+  BoxObject box;
+  box.name = "box";
+  box.center_x_m = 0.5;
+  box.length_m = box.width_m = box.height_m = 0.1;
+  scene.boxes.push_back(box);
+  UrgSimulator sim(scene, UrgParameters{}, UrgSimOptions{}, 1);
+  UrgRawScan scan;
+  std::vector<BeamLabel> labels;
+  TrunkPose pose;
+  sim.scan(pose, SensorMount{}, 0.0, scan, &labels);
+  const std::size_t before = heap_allocations.load();
+  for (int k = 0; k < 10; ++k) {
+    pose.x_m += 0.01;
+    sim.scan(pose, SensorMount{}, 0.1 * k, scan, &labels);
+  }
+  EXPECT_EQ(heap_allocations.load() - before, 0u);
+  EXPECT_GT(before, 0u);  // the counter does count
 }
 
 TEST(UrgSimulator, RejectsBadInput) {

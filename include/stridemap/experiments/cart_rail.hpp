@@ -13,6 +13,7 @@
 #include "stridemap/core/weighted_median_fill.hpp"
 #include "stridemap/experiments/map_evaluation.hpp"
 #include "stridemap/experiments/object_extents.hpp"
+#include "stridemap/preprocess/scan_filter_chain.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
 #include "stridemap/sim/cart_rail.hpp"
 #include "stridemap/sim/scene.hpp"
@@ -43,6 +44,34 @@ struct CartRailOptions {
   double swept_max_range_m = 0.9;
   MapScoreOptions score{};
   ObjectMeasureOptions objects{};
+  /// Scan filters applied between the sensor model and the mapper, in
+  /// order (none by default; "paper" = range clustering + scan sequence).
+  std::vector<ScanFilterKind> filters{};
+  ScanFilterChainOptions filter_options{};
+};
+
+/// How the filters treated the simulator's beams, against its labels (the
+/// filters never see the labels).
+struct BeamTally {
+  std::size_t clean = 0;           ///< beams labelled clean
+  std::size_t mixed = 0;           ///< beams labelled mixed
+  std::size_t dropped = 0;         ///< error codes from the sensor
+  std::size_t clean_removed = 0;   ///< clean beams a filter removed
+  std::size_t mixed_removed = 0;   ///< mixed beams a filter removed
+
+  double mixed_recall() const { return mixed ? static_cast<double>(mixed_removed) / static_cast<double>(mixed) : 0.0; }
+  double clean_drop_rate() const {
+    return clean ? static_cast<double>(clean_removed) / static_cast<double>(clean) : 0.0;
+  }
+  /// Of the beams removed, the share that was mixed.
+  double precision() const {
+    const std::size_t removed = clean_removed + mixed_removed;
+    return removed ? static_cast<double>(mixed_removed) / static_cast<double>(removed) : 0.0;
+  }
+  double f1() const {
+    const double p = precision(), r = mixed_recall();
+    return p + r > 0.0 ? 2.0 * p * r / (p + r) : 0.0;
+  }
 };
 
 struct CartRailResult {
@@ -55,6 +84,7 @@ struct CartRailResult {
   CellMask swept_area;
   MapScore score;
   std::vector<ObjectMeasurement> objects;
+  BeamTally beams;
 };
 
 /// Runs the experiment; deterministic for a seed. Throws InputError for a

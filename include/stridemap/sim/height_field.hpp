@@ -45,7 +45,8 @@ struct HeightField {
   bool in_extent(double x_m, double y_m) const {
     return x_m >= min_x_m && x_m <= max_x_m && y_m >= min_y_m && y_m <= max_y_m;
   }
-  /// Terrain height at a point (bilinear inside the extent).
+  /// Terrain height at a point (bilinear inside the extent); NaN for a
+  /// non-finite point.
   double height_at(double x_m, double y_m) const;
   /// Upward unit normal of the terrain at a point.
   Eigen::Vector3d normal_at(double x_m, double y_m) const;
@@ -56,7 +57,7 @@ struct HeightField {
   /// over a rectangle lies at a corner of the rectangle clipped to a cell:
   /// the sample vertices inside, the rectangle's boundary where it crosses
   /// grid lines, and the rectangle's corners. Where the rectangle leaves the
-  /// extent, base_elevation_m counts too.
+  /// extent, base_elevation_m counts too. NaN for a non-finite corner.
   double max_height_in_rect(double min_x_m, double min_y_m, double max_x_m, double max_y_m) const;
 
   /// First point where the ray meets the terrain within max_range_m, with

@@ -39,7 +39,8 @@ class Scene {
   double surface_height_at(double x_m, double y_m) const;
   /// Ground truth of a map cell: the highest terrain or object point inside
   /// the closed rectangle. Objects count when their footprint shares an area
-  /// with the rectangle (see footprint_overlaps), terrain exactly.
+  /// with the rectangle (see footprint_overlaps), terrain exactly. NaN when
+  /// a coordinate is not finite.
   double max_height_in_rect(double min_x_m, double min_y_m, double max_x_m, double max_y_m) const;
 
   /// The first problem found, in the order terrain, boxes, cylinders,
