@@ -16,12 +16,12 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct Run {
+struct CommandResult {
   int exit_code;
   std::string output;
 };
 
-Run run(const std::string& args) {
+CommandResult run_cli(const std::string& args) {
   const std::string command = std::string(STRIDEMAP_CLI_PATH) + " " + args + " 2>&1";
   FILE* pipe = popen(command.c_str(), "r");
   std::string output;
@@ -41,7 +41,7 @@ fs::path fresh_dir(const std::string& name) {
 TEST(CartRailCommand, WritesMapsTablesAndSummary) {
   const fs::path out = fresh_dir("cart_rail");
   const std::string scene = std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/cart_rail_boxes.yaml";
-  const Run r = run("experiment cart-rail --sensor urg --scene " + scene + " --out " + out.string() + " --seed 3");
+  const CommandResult r = run_cli("experiment cart-rail --sensor urg --scene " + scene + " --out " + out.string() + " --seed 3");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("RMS error"), std::string::npos) << r.output;
   const fs::path dir = out / "cart-rail-urg";
@@ -73,7 +73,7 @@ TEST(CartRailCommand, BadSceneFileIsReportedWithFileAndLine) {
   const fs::path scene = dir / "bad.yaml";
   std::ofstream(scene) << "terrain:\n  kind: flat\nboxes:\n  - name: a\n    center_x_m: 1.0\n    center_y_m: 0.0\n"
                           "    length_m: -0.2\n    width_m: 0.1\n    height_m: 0.1\n";
-  const Run r = run("experiment cart-rail --scene " + scene.string() + " --out " + (dir / "out").string());
+  const CommandResult r = run_cli("experiment cart-rail --scene " + scene.string() + " --out " + (dir / "out").string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("bad.yaml"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("length_m"), std::string::npos) << r.output;
@@ -83,10 +83,10 @@ TEST(CartRailCommand, BadSceneFileIsReportedWithFileAndLine) {
 
 TEST(CartRailCommand, MissingSceneAndUnknownSensorAreClearErrors) {
   const fs::path dir = fresh_dir("missing");
-  Run r = run("experiment cart-rail --scene " + (dir / "nope.yaml").string() + " --out " + dir.string());
+  CommandResult r = run_cli("experiment cart-rail --scene " + (dir / "nope.yaml").string() + " --out " + dir.string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("nope.yaml"), std::string::npos) << r.output;
-  r = run("experiment cart-rail --sensor kinect --scene x.yaml --out " + dir.string());
+  r = run_cli("experiment cart-rail --sensor kinect --scene x.yaml --out " + dir.string());
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("kinect"), std::string::npos) << r.output;
   fs::remove_all(dir);
