@@ -1,7 +1,8 @@
 // Runs the built `stridemap calibrate-range` as a user would and checks its
 // exit code and output.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
+
+#include "cli/cli_runner.hpp"
 
 #include <array>
 #include <chrono>
@@ -18,40 +19,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandResult {
-  int exit_code = -1;
-  std::string output;  ///< stdout and stderr together
-};
-
-std::string quoted(const std::string& text) {
-  std::string result = "'";
-  for (char c : text) {
-    if (c == '\'') {
-      result += "'\\''";
-    } else {
-      result += c;
-    }
-  }
-  return result + "'";
-}
-
-CommandResult run_cli(const std::string& arguments) {
-  const std::string command = quoted(STRIDEMAP_CLI_PATH) + " " + arguments + " 2>&1";
-  CommandResult result;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) {
-    ADD_FAILURE() << "popen failed for " << command;
-    return result;
-  }
-  std::array<char, 4096> buffer{};
-  std::size_t got = 0;
-  while ((got = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) {
-    result.output.append(buffer.data(), got);
-  }
-  const int status = pclose(pipe);
-  if (WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
-  return result;
-}
+using stridemap::test::CommandResult;
+using stridemap::test::run_cli;
+const auto quoted = stridemap::test::shell_quoted;
 
 class CalibrateRangeCli : public ::testing::Test {
  protected:
