@@ -8,6 +8,7 @@
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
 #include "stridemap/experiments/cart_rail_report.hpp"
+#include "stridemap/io/mapper_config.hpp"
 #include "stridemap/io/scene_yaml.hpp"
 
 namespace stridemap::cli {
@@ -22,6 +23,8 @@ struct CartRailArgs {
   int cells_per_side = 0;
   std::string elevation_rule = "paper";
   std::string filters = "none";
+  std::string config_path;
+  bool cell_size_given = false, rule_given = false;
 };
 
 ElevationRule parse_elevation_rule(const std::string& name) {
@@ -36,10 +39,21 @@ void run_cart_rail_command(const CartRailArgs& args) {
   }
   const Scene scene = load_scene_yaml(args.scene_path);
   CartRailOptions options;
+  if (!args.config_path.empty()) {
+    // The rail keeps its fixed window; the rest of the robot's settings apply.
+    const MapperConfig config = load_mapper_config(args.config_path);
+    options.mount = config.mount;
+    options.update = config.mapper.update;
+    options.fill = config.fill;
+    options.calibration = config.calibration;
+    options.cell_size_m = config.mapper.grid.cell_size_m;
+  }
   options.seed = args.seed;
-  options.cell_size_m = args.cell_size_m;
+  if (args.cell_size_given || args.config_path.empty()) options.cell_size_m = args.cell_size_m;
   options.cells_per_side = args.cells_per_side;
-  options.update.elevation_rule = parse_elevation_rule(args.elevation_rule);
+  if (args.rule_given || args.config_path.empty()) {
+    options.update.elevation_rule = parse_elevation_rule(args.elevation_rule);
+  }
   options.filters = parse_scan_filter_list(args.filters);
   const CartRailResult result = run_cart_rail(scene, options);
   const CartRailRunInfo info{args.sensor, args.scene_path};
@@ -62,10 +76,13 @@ void register_experiment(CLI::App& app) {
   cart_rail->add_option("--scene", args->scene_path, "Scene file (YAML, see docs/scenes.md)")->required();
   cart_rail->add_option("--out", args->out_dir, "Output folder; results go to OUT/cart-rail-<sensor>/")->required();
   cart_rail->add_option("--seed", args->seed, "Seed of the simulation")->capture_default_str();
-  cart_rail->add_option("--cell-size-m", args->cell_size_m, "Map cell size [m]")->capture_default_str();
+  cart_rail->add_option("--config", args->config_path,
+                        "Mapper configuration (YAML, docs/config.md): mount, update rule, fill, calibration, cell size");
+  CLI::Option* cell_size = cart_rail->add_option("--cell-size-m", args->cell_size_m, "Map cell size [m]")
+      ->capture_default_str();
   cart_rail->add_option("--cells", args->cells_per_side, "Cells per map side (0: fit the swept area)")
       ->capture_default_str();
-  cart_rail->add_option("--elevation-rule", args->elevation_rule,
+  CLI::Option* rule = cart_rail->add_option("--elevation-rule", args->elevation_rule,
                         "paper: eq. (10), the highest reading wins; gated: a reading outside the plausibility "
                         "bound needs repeated support (docs/mapping.md)")
       ->capture_default_str();
@@ -73,7 +90,11 @@ void register_experiment(CLI::App& app) {
                         "Scan filters in order, comma separated: range-clustering, scan-sequence, shadow, "
                         "speckle; paper = range-clustering,scan-sequence; none")
       ->capture_default_str();
-  cart_rail->callback([args] { run_cart_rail_command(*args); });
+  cart_rail->callback([args, cell_size, rule] {
+    args->cell_size_given = cell_size->count() > 0;
+    args->rule_given = rule->count() > 0;
+    run_cart_rail_command(*args);
+  });
 }
 
 }  // namespace stridemap::cli

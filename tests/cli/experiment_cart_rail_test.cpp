@@ -82,4 +82,23 @@ TEST(CartRailCommand, MissingSceneAndUnknownSensorAreClearErrors) {
   fs::remove_all(dir);
 }
 
+TEST(CartRailCommand, ConfigFileSetsTheMapperAndItsErrorsAreReported) {
+  const fs::path dir = fresh_dir("config");
+  const std::string scene = std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/cart_rail_boxes.yaml";
+  const fs::path config = dir / "robot.yaml";
+  std::ofstream(config) << "map:\n  cell_size_m: 0.015\nupdate:\n  elevation_rule: gated\n";
+  CommandResult r = run_cli("experiment cart-rail --scene " + scene + " --config " + config.string() + " --out " +
+                            (dir / "out").string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("15 mm cells"), std::string::npos) << r.output;
+  std::ifstream in(dir / "out" / "cart-rail-urg" / "summary.json");
+  EXPECT_EQ(nlohmann::json::parse(in)["elevation_rule"], "gated");
+
+  std::ofstream(config) << "map:\n  cell_size_m: 0.015\nupdate:\n  certainty_incremnt: 3\n";
+  r = run_cli("experiment cart-rail --scene " + scene + " --config " + config.string() + " --out " + dir.string());
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("robot.yaml:4: update.certainty_incremnt: unknown field"), std::string::npos) << r.output;
+  fs::remove_all(dir);
+}
+
 }  // namespace

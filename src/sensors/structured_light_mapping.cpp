@@ -1,0 +1,134 @@
+#include "stridemap/sensors/structured_light_mapping.hpp"
+
+#include <cmath>
+
+#include <Eigen/Geometry>
+
+#include "stridemap/core/sensor_transform.hpp"
+
+namespace stridemap {
+namespace {
+
+// Stands in for "any change is plausible" (a yaw jump beyond a quarter turn
+// between frames makes Fig. 10's term infinite). Finite, so that
+// integrate_points does not count the point as invalid, and far beyond any
+// elevation a map holds.
+constexpr double kUnboundedElevationChange_m = 1.0e6;
+
+// The third row of T = Ry(pitch) Rx(roll) Ry(alpha) and its derivatives,
+// multiplied out by hand (core/sensor_transform.cpp has the same row).
+struct ElevationRows {
+  Eigen::RowVector3d row, d_pitch, d_roll, d_alpha;
+
+  ElevationRows(double pitch_rad, double roll_rad, double alpha_rad) {
+    const double sp = std::sin(pitch_rad), cp = std::cos(pitch_rad);
+    const double sr = std::sin(roll_rad), cr = std::cos(roll_rad);
+    const double sa = std::sin(alpha_rad), ca = std::cos(alpha_rad);
+    row = {-sp * ca - cp * cr * sa, cp * sr, -sp * sa + cp * cr * ca};
+    d_pitch = {-cp * ca + sp * cr * sa, -sp * sr, -cp * sa - sp * cr * ca};
+    d_roll = {cp * sr * sa, cp * cr, -cp * sr * ca};
+    d_alpha = {sp * sa - cp * cr * ca, 0.0, -sp * ca - cp * cr * sa};
+  }
+};
+
+StructuredLightElevationPartials partials_from_rows(const CameraPointPartials& p, const ElevationRows& rows) {
+  const Eigen::Vector3d s = camera_to_sensor_frame(p.point);
+  StructuredLightElevationPartials out;
+  out.z_m = rows.row * s;
+  out.d_baseline = rows.row * camera_to_sensor_frame(p.d_baseline);
+  out.d_sheet_angle_m_per_rad = rows.row * camera_to_sensor_frame(p.d_sheet_angle);
+  out.d_half_fov_vertical_m_per_rad = rows.row * camera_to_sensor_frame(p.d_half_fov_vertical);
+  out.d_row_m_per_px = rows.row * camera_to_sensor_frame(p.d_row);
+  out.d_pitch_m_per_rad = rows.d_pitch * s;
+  out.d_roll_m_per_rad = rows.d_roll * s;
+  out.d_alpha_m_per_rad = rows.d_alpha * s;
+  return out;
+}
+
+bool motion_is_finite(const ScanMotion& motion) {
+  return std::isfinite(motion.horizontal_travel_m) && std::isfinite(motion.yaw_change_rad);
+}
+
+}  // namespace
+
+StructuredLightElevationPartials structured_light_elevation_partials(const CameraPointPartials& point,
+                                                                     double pitch_rad, double roll_rad,
+                                                                     double alpha_rad) {
+  return partials_from_rows(point, ElevationRows(pitch_rad, roll_rad, alpha_rad));
+}
+
+double sheet_inclination_rad(double sheet_angle_rad, double pitch_rad, double roll_rad, double alpha_rad) {
+  // The sheet y_c = z_c cot(beta) - b has the camera-frame normal
+  // (0, sin beta, -cos beta), which is (cos beta, 0, sin beta) in the sensor
+  // frame after flipping it to point up.
+  const Eigen::Vector3d normal_in_sensor(std::cos(sheet_angle_rad), 0.0, std::sin(sheet_angle_rad));
+  const Eigen::Vector3d normal = tilt_rotation(pitch_rad, roll_rad, alpha_rad) * normal_in_sensor;
+  return std::atan2(normal.x(), normal.z());
+}
+
+double structured_light_elevation_error_bound_m(const StructuredLightElevationPartials& p,
+                                                const StructuredLightParameters& parameters,
+                                                const UpdateOptions& options) {
+  return std::abs(p.d_baseline) * parameters.baseline_error_m +
+         std::abs(p.d_sheet_angle_m_per_rad) * parameters.sheet_angle_error_rad +
+         std::abs(p.d_half_fov_vertical_m_per_rad) * parameters.half_fov_vertical_error_rad +
+         std::abs(p.d_row_m_per_px) * parameters.row_error_px +
+         std::abs(p.d_roll_m_per_rad) * options.max_roll_error_rad +
+         std::abs(p.d_pitch_m_per_rad) * options.max_pitch_error_rad +
+         std::abs(p.d_alpha_m_per_rad) * options.max_mount_pitch_error_rad;
+}
+
+double structured_light_max_elevation_change(const StructuredLightElevationPartials& partials,
+                                             const StructuredLightParameters& parameters, double travel_m,
+                                             double gamma_rad, const UpdateOptions& options) {
+  return std::abs(travel_m * std::tan(gamma_rad)) +
+         structured_light_elevation_error_bound_m(partials, parameters, options);
+}
+
+StripeConversionStats stripe_to_map_points(const StructuredLightModel& model, std::span<const StripePixel> pixels,
+                                           const TrunkPose& pose, const ScanMotion& motion,
+                                           const UpdateOptions& options, std::vector<MapPoint>& points) {
+  StripeConversionStats stats;
+  stats.pixels = pixels.size();
+  points.clear();
+  if (!pose_is_finite(pose) || !motion_is_finite(motion)) {
+    stats.pose_rejected = true;
+    return stats;
+  }
+  const StructuredLightParameters& parameters = model.parameters();
+  const SensorMount& mount = parameters.mount;
+  const Eigen::Matrix3d rotation = sensor_to_map_rotation(pose, mount);
+  const Eigen::Vector3d origin = sensor_origin_in_map(pose, mount);
+  const ElevationRows rows(pose.pitch_rad, pose.roll_rad, mount.pitch_rad);
+
+  const double gamma = sheet_inclination_rad(parameters.sheet_angle_rad, pose.pitch_rad, pose.roll_rad,
+                                             mount.pitch_rad);
+  const double tan_gamma = std::abs(std::tan(gamma));
+  const double travel_term = std::abs(motion.horizontal_travel_m) * tan_gamma;
+  // Fig. 10's travel is (distance + d_s) times a factor of the yaw change,
+  // as in TerrainMapper::integrate.
+  const double turn_factor = options.use_turning_term ? turning_travel_m(1.0, 0.0, motion.yaw_change_rad) : 0.0;
+  const double turn_offset = std::hypot(mount.forward_offset_m, mount.lateral_offset_m);
+
+  CameraPointPartials camera;
+  for (const StripePixel& pixel : pixels) {
+    switch (model.back_project(pixel.u_px, pixel.v_px, camera)) {
+      case StripePointStatus::valid: break;
+      case StripePointStatus::not_finite: ++stats.not_finite; continue;
+      case StripePointStatus::outside_image: ++stats.outside_image; continue;
+      case StripePointStatus::no_intersection: ++stats.no_intersection; continue;
+    }
+    const Eigen::Vector3d offset = rotation * camera_to_sensor_frame(camera.point);
+    const StructuredLightElevationPartials partials = partials_from_rows(camera, rows);
+    double dz_max = travel_term + structured_light_elevation_error_bound_m(partials, parameters, options);
+    if (turn_factor != 0.0) {
+      dz_max += tan_gamma * turn_factor * (std::hypot(offset.x(), offset.y()) + turn_offset);
+    }
+    if (!(dz_max < kUnboundedElevationChange_m)) dz_max = kUnboundedElevationChange_m;
+    points.push_back({origin.x() + offset.x(), origin.y() + offset.y(), origin.z() + offset.z(), dz_max});
+    ++stats.converted;
+  }
+  return stats;
+}
+
+}  // namespace stridemap
