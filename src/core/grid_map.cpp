@@ -35,8 +35,9 @@ ElevationMap::ElevationMap(const GridOptions& options)
 }
 
 CellIndex ElevationMap::cell_of(double x_m, double y_m) const {
-  return {static_cast<std::int64_t>(std::floor(x_m / cell_size_m_)),
-          static_cast<std::int64_t>(std::floor(y_m / cell_size_m_))};
+  // The same arithmetic as slot_at(), so both agree on boundary points.
+  return {static_cast<std::int64_t>(std::floor(x_m * inverse_cell_size_)),
+          static_cast<std::int64_t>(std::floor(y_m * inverse_cell_size_))};
 }
 
 bool ElevationMap::contains(CellIndex cell) const {

@@ -179,7 +179,10 @@ ScanStats TerrainMapper::integrate(const PlanarScan& scan, const TrunkPose& pose
     partials.d_roll_m_per_rad = r * (ct * at_front.d_roll_m_per_rad + st * at_left.d_roll_m_per_rad);
     partials.d_alpha_m_per_rad = r * (ct * at_front.d_alpha_m_per_rad + st * at_left.d_alpha_m_per_rad);
     double dz_max = travel_term + elevation_error_bound_m(partials, dr, u);
-    if (turn_term_per_m != 0.0) dz_max += turn_term_per_m * (std::hypot(offset.x(), offset.y()) + turn_offset);
+    if (turn_term_per_m != 0.0) {
+      // Plain sqrt: hypot's overflow care costs more than the rest of a point.
+      dz_max += turn_term_per_m * (std::sqrt(offset.x() * offset.x() + offset.y() * offset.y()) + turn_offset);
+    }
     apply(origin.x() + offset.x(), origin.y() + offset.y(), origin.z() + offset.z(), dz_max, stats);
   }
   finish(pose, stats);

@@ -39,9 +39,10 @@ std::optional<Problem> image_side(int value, const char* field) {
                             std::to_string(value)};
 }
 
-std::optional<Problem> error_bound(double value, const char* unit, const char* field) {
+// `scale` converts the value into the unit shown (degrees for angles).
+std::optional<Problem> error_bound(double value, double scale, const char* unit, const char* field) {
   if (std::isfinite(value) && value >= 0.0) return std::nullopt;
-  return Problem{field, std::string("must be a number >= 0 (") + unit + "), got " + number_text(value)};
+  return Problem{field, "must be a number >= 0, got " + number_text(value * scale) + " " + unit};
 }
 
 }  // namespace
@@ -62,11 +63,11 @@ std::optional<Problem> StructuredLightParameters::first_problem() const {
       std::isfinite(mount.lateral_offset_m)
           ? std::nullopt
           : std::optional<Problem>(Problem{"mount.lateral_offset_m", "must be a finite number of metres"}),
-      error_bound(baseline_error_m, "m", "baseline_error_m"),
-      error_bound(sheet_angle_error_rad, "rad", "sheet_angle_error_rad"),
-      error_bound(half_fov_vertical_error_rad, "rad", "half_fov_vertical_error_rad"),
-      error_bound(row_error_px, "px", "row_error_px"),
-      error_bound(column_error_px, "px", "column_error_px"),
+      error_bound(baseline_error_m, 1.0, "m", "baseline_error_m"),
+      error_bound(sheet_angle_error_rad, kRadToDeg, "deg", "sheet_angle_error_rad"),
+      error_bound(half_fov_vertical_error_rad, kRadToDeg, "deg", "half_fov_vertical_error_rad"),
+      error_bound(row_error_px, 1.0, "px", "row_error_px"),
+      error_bound(column_error_px, 1.0, "px", "column_error_px"),
   };
   for (const auto& check : checks) {
     if (check) return check;

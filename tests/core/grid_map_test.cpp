@@ -161,6 +161,14 @@ TEST(ElevationMap, FastSlotLookupAgreesWithCellIndexing) {
       if (inside) ASSERT_EQ(slot, map.slot(map.cell_of(x, y)));
     }
   }
+  // Points exactly on cell boundaries, both signs.
+  for (int k = -300; k <= 300; ++k) {
+    const double x = k * 0.013, y = -k * 0.013;
+    std::size_t slot = 0;
+    const bool inside = map.slot_at(x, y, slot);
+    ASSERT_EQ(inside, map.contains(map.cell_of(x, y))) << k;
+    if (inside) ASSERT_EQ(slot, map.slot(map.cell_of(x, y))) << k;
+  }
   std::size_t slot = 0;
   EXPECT_FALSE(map.slot_at(std::nan(""), 0.0, slot));
   EXPECT_FALSE(map.slot_at(0.0, 1e300, slot));

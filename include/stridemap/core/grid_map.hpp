@@ -70,11 +70,15 @@ class ElevationMap {
   /// Slot of the cell holding (x, y), false when it lies outside the
   /// window. The per-point fast path: no division, no modulo.
   bool slot_at(double x_m, double y_m, std::size_t& slot_out) const {
-    const double fi = std::floor(x_m * inverse_cell_size_) - static_cast<double>(min_cell_.x);
-    const double fj = std::floor(y_m * inverse_cell_size_) - static_cast<double>(min_cell_.y);
-    if (!(fi >= 0.0 && fi < n_ && fj >= 0.0 && fj < n_)) return false;
-    int i = static_cast<int>(fi) + min_slot_x_;
-    int j = static_cast<int>(fj) + min_slot_y_;
+    const double fx = x_m * inverse_cell_size_;
+    const double fy = y_m * inverse_cell_size_;
+    const auto lo_x = static_cast<double>(min_cell_.x), lo_y = static_cast<double>(min_cell_.y);
+    if (!(fx >= lo_x && fx < lo_x + n_ && fy >= lo_y && fy < lo_y + n_)) return false;
+    // Truncation plus a correction is floor() without a libm call; the
+    // range check above keeps the conversion defined.
+    const auto tx = static_cast<std::int64_t>(fx), ty = static_cast<std::int64_t>(fy);
+    int i = static_cast<int>(tx - (fx < static_cast<double>(tx)) - min_cell_.x) + min_slot_x_;
+    int j = static_cast<int>(ty - (fy < static_cast<double>(ty)) - min_cell_.y) + min_slot_y_;
     if (i >= n_) i -= n_;
     if (j >= n_) j -= n_;
     slot_out = static_cast<std::size_t>(i) * static_cast<std::size_t>(n_) + static_cast<std::size_t>(j);
