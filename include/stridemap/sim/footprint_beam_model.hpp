@@ -81,10 +81,13 @@ struct FootprintBeamOptions {
   /// steps), so the footprint is elongated by r * 6.1 mrad along the scan.
   int smear_instants = 3;
   /// Fine modulation frequency [Hz]: sets the range resolution and the
-  /// fine unambiguous range c / (2 f) = 3.0 m. Not published (the URG uses
-  /// two frequencies, per the paper citing Hokuyo); 50 MHz is a typical
-  /// value for phase-shift rangefinders of this class.
-  double fine_frequency_hz = 50e6;
+  /// fine unambiguous range c / (2 f) = 3.41 m. Not published (the paper,
+  /// citing Hokuyo, says only that there are two frequencies). Estimated
+  /// from real URG-04LX logs (shared/data/urg04lx_breezyslam): isolated
+  /// points at depth jumps that read 3.06-3.45 m beyond the near surface are
+  /// fine-phase wrap-arounds, which bounds c / (2 f) from below near 3.4 m;
+  /// 50 MHz (3.0 m) would not reach them (docs/mixed_pixels.md).
+  double fine_frequency_hz = 44e6;
   /// Coarse modulation frequency [Hz]: its unambiguous range c / (2 f) =
   /// 22.0 m must exceed every range the sensor can see; 6.8 MHz is chosen
   /// because the URG's error code 0 reads "object possibly at 22 m", the
