@@ -6,7 +6,7 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 SCENE ?= scenes/cart_rail_boxes.yaml
 OUT ?= out
 
-.PHONY: run test deps configure build bench clean
+.PHONY: run test test-sanitize deps configure build bench clean
 
 run: build
 	$(BUILD_DIR)/bin/stridemap experiment cart-rail --sensor urg --scene $(SCENE) --out $(OUT) --seed 1
@@ -22,6 +22,19 @@ configure: deps
 
 build: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS)
+
+# The whole suite again under AddressSanitizer + UndefinedBehaviorSanitizer
+# (clang); any report fails the run. The install test is left out: it builds
+# an unsanitized consumer against the sanitized libraries.
+SAN_DIR ?= build-sanitize
+SAN_FLAGS = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+test-sanitize: deps
+	CC=clang CXX=clang++ cmake -S . -B $(SAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DSTRIDEMAP_BUILD_BENCHMARKS=OFF -DCMAKE_CXX_FLAGS="$(SAN_FLAGS)" \
+	  -DCMAKE_EXE_LINKER_FLAGS="$(SAN_FLAGS)"
+	cmake --build $(SAN_DIR) -j $(JOBS)
+	cd $(SAN_DIR) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+	  ctest --output-on-failure -j $(JOBS) -E install_and_find_package
 
 bench: build
 	@bash tools/run-benchmarks.sh $(BUILD_DIR)

@@ -24,8 +24,23 @@ struct CartRailArgs {
   std::string elevation_rule = "paper";
   std::string filters = "none";
   std::string config_path;
-  bool cell_size_given = false, rule_given = false;
+  std::string mixed_pixels = "off";
+  std::string map_filter = "fill";
+  bool cell_size_given = false, rule_given = false, filters_given = false;
 };
+
+bool parse_on_off(const std::string& option, const std::string& value) {
+  if (value == "on") return true;
+  if (value == "off") return false;
+  throw InputError(option + ": expected on or off, got '" + value + "'");
+}
+
+MapFilter parse_map_filter(const std::string& name) {
+  if (name == "fill") return MapFilter::fill;
+  if (name == "cas") return MapFilter::cas;
+  if (name == "none") return MapFilter::none;
+  throw InputError("--map-filter: '" + name + "' is not a map filter; use fill (eq. 11), cas or none");
+}
 
 ElevationRule parse_elevation_rule(const std::string& name) {
   if (name == "paper") return ElevationRule::paper_highest;
@@ -54,7 +69,10 @@ void run_cart_rail_command(const CartRailArgs& args) {
   if (args.rule_given || args.config_path.empty()) {
     options.update.elevation_rule = parse_elevation_rule(args.elevation_rule);
   }
-  options.filters = parse_scan_filter_list(args.filters);
+  options.mixed_pixels = parse_on_off("--mixed-pixels", args.mixed_pixels);
+  options.map_filter = parse_map_filter(args.map_filter);
+  // With mixed pixels the paper pre-processes every scan (section 5.3).
+  options.filters = parse_scan_filter_list(args.filters_given || !options.mixed_pixels ? args.filters : "paper");
   const CartRailResult result = run_cart_rail(scene, options);
   const CartRailRunInfo info{args.sensor, args.scene_path};
   const std::string dir = (std::filesystem::path(args.out_dir) / ("cart-rail-" + args.sensor)).string();
@@ -86,12 +104,19 @@ void register_experiment(CLI::App& app) {
                         "paper: eq. (10), the highest reading wins; gated: a reading outside the plausibility "
                         "bound needs repeated support (docs/mapping.md)")
       ->capture_default_str();
-  cart_rail->add_option("--filters", args->filters,
-                        "Scan filters in order, comma separated: range-clustering, scan-sequence, shadow, "
-                        "speckle; paper = range-clustering,scan-sequence; none")
+  cart_rail->add_option("--mixed-pixels", args->mixed_pixels,
+                        "on: simulate the beam footprint and phase-shift ranging, so edges give mixed pixels")
       ->capture_default_str();
-  cart_rail->callback([args, cell_size, rule] {
+  cart_rail->add_option("--map-filter", args->map_filter, "On the finished map: fill (eq. 11), cas, none")
+      ->capture_default_str();
+  CLI::Option* filters = cart_rail->add_option("--filters", args->filters,
+                        "Scan filters in order, comma separated: range-clustering, scan-sequence, shadow, "
+                        "speckle; paper = range-clustering,scan-sequence; none. Default: none, or paper "
+                        "with --mixed-pixels on")
+      ->capture_default_str();
+  cart_rail->callback([args, cell_size, rule, filters] {
     args->cell_size_given = cell_size->count() > 0;
+    args->filters_given = filters->count() > 0;
     args->rule_given = rule->count() > 0;
     run_cart_rail_command(*args);
   });

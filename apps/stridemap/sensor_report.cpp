@@ -90,16 +90,24 @@ void print_ground(const StructuredLightModel& model) {
   std::printf("  farthest ground point: %.1f mm (the stripe's ends; slant range %.1f mm)\n",
               r.farthest_distance_m * kMm, r.farthest_slant_range_m * kMm);
   std::printf("  stripe width on the ground: %.1f mm\n", r.stripe_width_m * kMm);
-  std::printf("  elevation per image row there: %.3f mm/px; eq. (8) bound: %.2f mm from b, beta, tau_c, v "
-              "+ %.2f mm from 1 deg pitch, roll and alpha errors\n",
-              r.elevation_per_row_m_per_px * kMm, r.sensor_error_bound_m * kMm, r.pose_error_bound_m * kMm);
+  const StructuredLightElevationPartials& d = r.centre_partials;
+  std::printf("  elevation per image row there: %.3f mm/px\n", r.elevation_per_row_m_per_px * kMm);
+  std::printf("  eq. (8) error terms there: b %.2f + beta %.2f + tau_c %.2f + v %.2f = %.2f mm; "
+              "pitch, roll, alpha (1 deg each) %.2f mm\n",
+              std::abs(d.d_baseline) * p.baseline_error_m * kMm,
+              std::abs(d.d_sheet_angle_m_per_rad) * p.sheet_angle_error_rad * kMm,
+              std::abs(d.d_half_fov_vertical_m_per_rad) * p.half_fov_vertical_error_rad * kMm,
+              std::abs(d.d_row_m_per_px) * p.row_error_px * kMm, r.sensor_error_bound_m * kMm,
+              r.pose_error_bound_m * kMm);
   if (r.horizon_row_px <= 0.0) {
     std::printf("  every image row looks down at the ground\n");
   } else {
     std::printf("  image rows below v = %.1f look down at the ground\n", r.horizon_row_px);
   }
-  std::printf("  the stripe stays in the image for trunk pitch %+.2f to %+.2f deg (positive nose down)\n",
-              r.min_trunk_pitch_rad * kDeg, r.max_trunk_pitch_rad * kDeg);
+  const char* searched = " (still in view where the search stopped)";
+  std::printf("  the stripe stays in the image for trunk pitch (positive nose down) %+.2f deg%s to %+.2f deg%s\n",
+              r.min_trunk_pitch_rad * kDeg, r.min_pitch_is_search_limit ? searched : "",
+              r.max_trunk_pitch_rad * kDeg, r.max_pitch_is_search_limit ? searched : "");
   std::printf("Measurable along the sheet (level trunk):\n");
   std::printf("  near end (top row):     %.1f mm ahead, %+.1f mm above the ground, field %.1f mm wide\n",
               r.near_end.forward_m * kMm, r.near_end.height_above_ground_m * kMm, r.near_end.lateral_field_m * kMm);
@@ -141,10 +149,10 @@ void write_maps(const StructuredLightModel& model, const SensorReportOptions& op
   std::snprintf(source, sizeof source, "Delta u = %.2g px, Delta v = %.2g px%s", p.column_error_px, p.row_error_px,
                 options.maps.include_parameter_errors ? " + calibration errors" : "");
   std::printf("\nSpatial uncertainty maps (x_c across, z_c up the page; %s):\n", source);
-  write_map(options.uncertainty_dir, "x_uncertainty", std::string("x_c uncertainty (") + source + ")",
-            maps.x_uncertainty_m, maps);
-  write_map(options.uncertainty_dir, "z_uncertainty", std::string("z_c uncertainty (") + source + ")",
-            maps.z_uncertainty_m, maps);
+  // render_grid's compass reads "x forward, y left": here up the page is
+  // z_c and left is x_c, which the titles say.
+  write_map(options.uncertainty_dir, "x_uncertainty", "x_c uncertainty (z_c up, x_c left)", maps.x_uncertainty_m, maps);
+  write_map(options.uncertainty_dir, "z_uncertainty", "z_c uncertainty (z_c up, x_c left)", maps.z_uncertainty_m, maps);
 }
 
 void run(const SensorReportOptions& options) {

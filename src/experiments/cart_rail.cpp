@@ -4,6 +4,7 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <memory>
 
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/sensor_transform.hpp"
@@ -91,7 +92,13 @@ CartRailResult run_cart_rail(const Scene& scene, const CartRailOptions& options)
   mapper.map().move_to(centre.x(), centre.y());
 
   UrgModel sensor(options.urg, options.calibration);
-  UrgSimulator simulator(scene, options.urg, options.sim, options.seed);
+  std::unique_ptr<BeamModel> beam_model;
+  if (options.mixed_pixels) {
+    beam_model = std::make_unique<FootprintBeamModel>(options.footprint);
+  } else {
+    beam_model = std::make_unique<SingleRayBeamModel>();
+  }
+  UrgSimulator simulator(scene, options.urg, options.sim, options.seed, std::move(beam_model));
   ScanFilterChain filters(options.filters, options.filter_options);
   UrgRawScan raw;
   PlanarScan scan, filtered;
@@ -125,7 +132,16 @@ CartRailResult run_cart_rail(const Scene& scene, const CartRailOptions& options)
   if (filters.flush(filtered)) integrate_output();
   result.scans = poses.size();
   result.mapper_totals = mapper.totals();
-  if (options.fill_in) result.filled_cells = WeightedMedianFill(options.fill).apply(mapper.map());
+  switch (options.map_filter) {
+    case MapFilter::none: break;
+    case MapFilter::fill: result.filled_cells = WeightedMedianFill(options.fill).apply(mapper.map()); break;
+    case MapFilter::cas: {
+      const CasResult cas = CasFilter(options.cas).apply(mapper.map());
+      result.filled_cells = cas.filled;
+      result.cas_removed_cells = cas.removed;
+      break;
+    }
+  }
 
   result.snapshot = snapshot_with_truth(mapper.map(), scene);
   result.swept_area =

@@ -6,7 +6,6 @@
 
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/sensor_transform.hpp"
-#include "stridemap/sensors/structured_light_mapping.hpp"
 
 namespace stridemap {
 namespace {
@@ -52,15 +51,19 @@ bool stripe_in_view(const StructuredLightModel& model, double total_tilt_rad) {
 }
 
 // The trunk pitch, searched from 0 in the direction `sign`, at which the
-// flat-ground stripe leaves the image (or the search limit).
-double pitch_limit(const StructuredLightModel& model, double sign) {
+// flat-ground stripe leaves the image (or the search limit, flagged).
+double pitch_limit(const StructuredLightModel& model, double sign, bool& at_search_limit) {
   const double alpha = model.parameters().mount.pitch_rad;
   const double limit = sign * kMaxTotalTilt_rad - alpha;
   double inside = 0.0;
+  at_search_limit = false;
   for (;;) {
     double next = inside + sign * kPitchSearchStep_rad;
     if (sign * next >= sign * limit) {
-      if (stripe_in_view(model, alpha + limit)) return limit;
+      if (stripe_in_view(model, alpha + limit)) {
+        at_search_limit = true;
+        return limit;
+      }
       next = limit;
     }
     if (!stripe_in_view(model, alpha + next)) {
@@ -145,6 +148,7 @@ GroundStripeReport ground_stripe_report(const StructuredLightModel& model, const
   report.farthest_slant_range_m = edge.norm();
 
   const StructuredLightElevationPartials partials = structured_light_elevation_partials(centre, 0.0, 0.0, alpha);
+  report.centre_partials = partials;
   report.elevation_per_row_m_per_px = std::abs(partials.d_row_m_per_px);
   StructuredLightElevationPartials sensor_only = partials;
   sensor_only.d_pitch_m_per_rad = sensor_only.d_roll_m_per_rad = sensor_only.d_alpha_m_per_rad = 0.0;
@@ -160,8 +164,8 @@ GroundStripeReport ground_stripe_report(const StructuredLightModel& model, const
   report.near_end = mounted_end(model, view.top_row);
   if (view.bottom_row) report.far_end = mounted_end(model, *view.bottom_row);
 
-  report.min_trunk_pitch_rad = pitch_limit(model, -1.0);
-  report.max_trunk_pitch_rad = pitch_limit(model, +1.0);
+  report.min_trunk_pitch_rad = pitch_limit(model, -1.0, report.min_pitch_is_search_limit);
+  report.max_trunk_pitch_rad = pitch_limit(model, +1.0, report.max_pitch_is_search_limit);
   return report;
 }
 

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "stridemap/core/cas_filter.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/core/weighted_median_fill.hpp"
 #include "stridemap/experiments/map_evaluation.hpp"
@@ -16,13 +17,28 @@
 #include "stridemap/preprocess/scan_filter_chain.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
 #include "stridemap/sim/cart_rail.hpp"
+#include "stridemap/sim/footprint_beam_model.hpp"
 #include "stridemap/sim/scene.hpp"
 #include "stridemap/sim/urg_simulator.hpp"
 
 namespace stridemap {
 
+/// What runs on the finished map before it is scored.
+enum class MapFilter : std::uint8_t {
+  none,             ///< the map as the update rule left it
+  fill,             ///< weighted-median fill-in (eq. 11), the paper's choice for the URG
+  cas,              ///< the CAS filter, then the fill (the paper's choice for structured light)
+};
+
 struct CartRailOptions {
   std::uint64_t seed = 1;
+  /// Simulate the beam's footprint and the phase-shift ranging, so that
+  /// edges give mixed pixels (sim/footprint_beam_model.hpp); off: one ray
+  /// per beam, no mixed pixels.
+  bool mixed_pixels = false;
+  FootprintBeamOptions footprint{};
+  MapFilter map_filter = MapFilter::fill;
+  CasOptions cas{};
   /// The paper's Messor mount: 0.26 m high, pitched 35 deg down (Fig. 8c).
   SensorMount mount{};
   double cell_size_m = 0.01;
@@ -30,7 +46,7 @@ struct CartRailOptions {
   /// area.
   int cells_per_side = 0;
   UpdateOptions update{};
-  bool fill_in = true;
+  /// Used by MapFilter::fill (and CAS's own fill takes cas.fill).
   FillOptions fill{};
   UrgParameters urg{};
   /// Per-unit range calibration applied by the sensor model (none by default).
@@ -80,6 +96,7 @@ struct CartRailResult {
   MapperTotals mapper_totals;
   UrgConversionStats sensor_totals;
   std::size_t filled_cells = 0;
+  std::size_t cas_removed_cells = 0;
   MapSnapshot snapshot;
   CellMask swept_area;
   MapScore score;

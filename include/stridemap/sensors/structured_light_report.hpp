@@ -12,6 +12,7 @@
 
 #include "stridemap/core/map_update.hpp"
 #include "stridemap/sensors/structured_light.hpp"
+#include "stridemap/sensors/structured_light_mapping.hpp"
 
 namespace stridemap {
 
@@ -62,6 +63,8 @@ struct GroundStripeReport {
   double farthest_slant_range_m = 0.0;
   /// |dz_m / dv| at the stripe's centre: elevation per image row [m/px].
   double elevation_per_row_m_per_px = 0.0;
+  /// Elevation partials at the stripe's centre (the terms of eq. 8).
+  StructuredLightElevationPartials centre_partials;
   /// Eq. (8)'s calibration and pixel terms (b, beta, tau_c, v) at the centre.
   double sensor_error_bound_m = 0.0;
   /// Eq. (8)'s pose terms (trunk pitch, roll, alpha) at the centre, with the
@@ -79,6 +82,10 @@ struct GroundStripeReport {
   /// within total tilts of +-89.9 deg.
   double min_trunk_pitch_rad = 0.0;
   double max_trunk_pitch_rad = 0.0;
+  /// The stripe was still in view where the search stopped (total tilt
+  /// -89.9 or +89.9 deg): the range extends at least that far.
+  bool min_pitch_is_search_limit = false;
+  bool max_pitch_is_search_limit = false;
 };
 
 /// Throws InputError "structured light mount: this geometry cannot see the
