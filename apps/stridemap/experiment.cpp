@@ -8,6 +8,7 @@
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
 #include "stridemap/experiments/cart_rail_report.hpp"
+#include "stridemap/experiments/mixed_pixels.hpp"
 #include "stridemap/io/mapper_config.hpp"
 #include "stridemap/io/scene_yaml.hpp"
 
@@ -81,6 +82,24 @@ void run_cart_rail_command(const CartRailArgs& args) {
   std::printf("outputs: %s\n", dir.c_str());
 }
 
+struct MixedPixelsArgs {
+  std::string scene_path;
+  std::string out_dir;
+  std::uint64_t seed = 1;
+};
+
+void run_mixed_pixels_command(const MixedPixelsArgs& args) {
+  const Scene scene = load_scene_yaml(args.scene_path);
+  CartRailOptions options;
+  options.seed = args.seed;
+  const MixedPixelsResult result = run_mixed_pixels(scene, options);
+  const std::string stem = std::filesystem::path(args.scene_path).stem().string();
+  const std::string dir = (std::filesystem::path(args.out_dir) / "mixed-pixels" / stem).string();
+  write_mixed_pixels_outputs(result, options, args.scene_path, dir);
+  std::fputs(mixed_pixels_table(result).c_str(), stdout);
+  std::printf("outputs: %s\n", dir.c_str());
+}
+
 }  // namespace
 
 void register_experiment(CLI::App& app) {
@@ -114,6 +133,14 @@ void register_experiment(CLI::App& app) {
                         "speckle; paper = range-clustering,scan-sequence; none. Default: none, or paper "
                         "with --mixed-pixels on")
       ->capture_default_str();
+  auto mp = std::make_shared<MixedPixelsArgs>();
+  CLI::App* mixed = experiment->add_subcommand(
+      "mixed-pixels", "Mixed pixels from the footprint physics against each filter (Figs. 12-15, 18)");
+  mixed->add_option("--scene", mp->scene_path, "Scene file (YAML, see docs/scenes.md)")->required();
+  mixed->add_option("--out", mp->out_dir, "Output folder; results go to OUT/mixed-pixels/<scene>/")->required();
+  mixed->add_option("--seed", mp->seed, "Seed of the simulation")->capture_default_str();
+  mixed->callback([mp] { run_mixed_pixels_command(*mp); });
+
   cart_rail->callback([args, cell_size, rule, filters] {
     args->cell_size_given = cell_size->count() > 0;
     args->filters_given = filters->count() > 0;
