@@ -12,6 +12,10 @@ constexpr double kRadToDeg = 180.0 / std::numbers::pi;
 constexpr double kRightAngle = std::numbers::pi / 2.0;
 // Far beyond any camera; keeps 2 v / R_ver exact and the products finite.
 constexpr int kMaxImageSide_px = 1000000;
+// A denominator this small relative to its terms is zero up to rounding
+// (tan and cot of 45 deg are not exactly 1): the ray runs along the sheet,
+// and a "point" 1e12 baselines away would be rounding noise.
+constexpr double kParallelTolerance = 1e-12;
 
 std::string number_text(double value) {
   char text[48];
@@ -119,6 +123,10 @@ StructuredLightModel::StructuredLightModel(const StructuredLightParameters& para
   height_ = parameters_.image_height_px;
 }
 
+bool StructuredLightModel::meets_sheet(double denominator) const {
+  return denominator > kParallelTolerance * (tan_tau_ + cot_beta_);
+}
+
 bool StructuredLightModel::in_image(double u_px, double v_px) const {
   return u_px >= 0.0 && u_px <= width_ && v_px >= 0.0 && v_px <= height_;
 }
@@ -136,7 +144,7 @@ StripePointStatus StructuredLightModel::back_project(double u_px, double v_px, E
   const double denominator = row_factor * tan_tau_ + cot_beta_;
   // A zero or negative denominator: the ray climbs no faster than the sheet
   // (parallel) or meets its extension behind the camera.
-  if (!(denominator > 0.0)) return StripePointStatus::no_intersection;
+  if (!meets_sheet(denominator)) return StripePointStatus::no_intersection;
   const double z = parameters_.baseline_m / denominator;
   point = {z * column_factor * tan_gamma_, z * cot_beta_ - parameters_.baseline_m, z};
   return StripePointStatus::valid;
@@ -148,7 +156,7 @@ StripePointStatus StructuredLightModel::back_project(double u_px, double v_px, C
   const double row_factor = 1.0 - 2.0 * v_px / height_;
   const double column_factor = 1.0 - 2.0 * u_px / width_;
   const double denominator = row_factor * tan_tau_ + cot_beta_;
-  if (!(denominator > 0.0)) return StripePointStatus::no_intersection;
+  if (!meets_sheet(denominator)) return StripePointStatus::no_intersection;
 
   // z = b / D with D = n_v tan(tau) + cot(beta); every parameter but b and
   // gamma acts through D, so dz/dp = -(z / D) dD/dp.
@@ -190,7 +198,7 @@ double StructuredLightModel::distance_from_sheet_m(const Eigen::Vector3d& camera
 std::optional<double> StructuredLightModel::sheet_depth_at_row_m(double v_px) const {
   if (!std::isfinite(v_px)) return std::nullopt;
   const double denominator = (1.0 - 2.0 * v_px / height_) * tan_tau_ + cot_beta_;
-  if (!(denominator > 0.0)) return std::nullopt;
+  if (!meets_sheet(denominator)) return std::nullopt;
   return parameters_.baseline_m / denominator;
 }
 

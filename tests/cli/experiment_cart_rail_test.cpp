@@ -101,4 +101,38 @@ TEST(CartRailCommand, ConfigFileSetsTheMapperAndItsErrorsAreReported) {
   fs::remove_all(dir);
 }
 
+TEST(MixedPixelsCommand, WritesTheComparison) {
+  const fs::path dir = fresh_dir("mixed");
+  const fs::path scene = dir / "short.yaml";
+  std::ofstream(scene) << "terrain: {kind: flat}\nboxes:\n  - {name: box, center_x_m: 0.6, center_y_m: 0.0, "
+                          "length_m: 0.2, width_m: 0.15, height_m: 0.1}\n"
+                          "cart_rail: {start_x_m: 0.1, end_x_m: 0.4, y_m: 0.0, step_m: 0.01}\n";
+  const CommandResult r = run_cli("experiment mixed-pixels --scene " + scene.string() + " --out " + dir.string());
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("range-clustering"), std::string::npos) << r.output;
+  const fs::path out = dir / "mixed-pixels" / "short";
+  for (const char* file : {"summary.json", "elevation_unfiltered.png", "elevation_paper_filters.png", "elevation_cas.png"}) {
+    EXPECT_TRUE(fs::exists(out / file)) << file;
+  }
+  std::ifstream in(out / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  EXPECT_EQ(summary["experiment"], "mixed-pixels");
+  ASSERT_TRUE(summary["cases"].is_array());
+  for (const auto& c : summary["cases"]) {
+    EXPECT_TRUE(c["beams"].contains("mixed_recall"));
+    EXPECT_TRUE(c["map"].contains("artifact_cells"));
+  }
+  fs::remove_all(dir);
+}
+
+TEST(CartRailCommand, BadOnOffAndMapFilterValuesAreErrors) {
+  const std::string scene = std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/cart_rail_boxes.yaml";
+  CommandResult r = run_cli("experiment cart-rail --scene " + scene + " --out /tmp --mixed-pixels maybe");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--mixed-pixels"), std::string::npos) << r.output;
+  r = run_cli("experiment cart-rail --scene " + scene + " --out /tmp --map-filter blur");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("blur"), std::string::npos) << r.output;
+}
+
 }  // namespace

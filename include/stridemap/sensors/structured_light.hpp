@@ -17,8 +17,9 @@
 //   (y_c = -b, z_c = 0). beta is the angle between that baseline and the
 //   sheet, so the sheet y_c = z_c cot(beta) - b descends 90 deg - beta below
 //   the optical axis and crosses it at z_c = b tan(beta).
-// - A pixel whose ray is parallel to the sheet or meets it behind the camera
-//   has no point: the model reports it (StripePointStatus), never NaN.
+// - A pixel whose ray is parallel to the sheet (eq. 1's denominator zero, up
+//   to a relative 1e-12 of rounding) or meets it behind the camera has no
+//   point: the model reports it (StripePointStatus), never NaN.
 #include <cstdint>
 #include <numbers>
 #include <optional>
@@ -150,6 +151,9 @@ class StructuredLightModel {
 
  private:
   StripePointStatus check_pixel(double u_px, double v_px) const;
+  /// Eq. (1)'s denominator D = n_v tan(tau_c) + cot(beta) is positive and
+  /// not zero up to rounding.
+  bool meets_sheet(double denominator) const;
 
   StructuredLightParameters parameters_;
   double tan_tau_ = 0.0, tan_gamma_ = 0.0, cot_beta_ = 0.0;

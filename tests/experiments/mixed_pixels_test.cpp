@@ -1,0 +1,51 @@
+#include "stridemap/experiments/mixed_pixels.hpp"
+
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "stridemap/io/scene_yaml.hpp"
+
+namespace stridemap {
+namespace {
+
+// A shorter rail over the large box keeps the test quick.
+Scene short_scene() {
+  Scene scene = load_scene_yaml(std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/cart_rail_boxes.yaml");
+  scene.cart_rail = CartRailPath{0.15, 0.65, 0.0, 0.01, 0.0};
+  return scene;
+}
+
+TEST(MixedPixelsExperiment, MixedPixelsAppearAndThePaperChainRemovesSome) {
+  const MixedPixelsResult r = run_mixed_pixels(short_scene(), CartRailOptions{});
+  ASSERT_EQ(r.rows.size(), default_mixed_pixels_cases().size());
+  const MixedPixelsRow& reference = r.rows[0];
+  const MixedPixelsRow& none = r.rows[1];
+  EXPECT_EQ(reference.beams.mixed, 0u);  // one ray per beam cannot mix
+  EXPECT_GT(none.beams.mixed, 20u);
+  EXPECT_GT(none.score.artifact_cells, reference.score.artifact_cells);
+  EXPECT_EQ(none.beams.mixed_removed + none.beams.clean_removed, 0u);
+  for (const MixedPixelsRow& row : r.rows) {
+    if (row.config.name.rfind("paper", 0) != 0) continue;
+    EXPECT_GT(row.beams.mixed_recall(), 0.3);
+    EXPECT_LT(row.score.artifact_cells, none.score.artifact_cells);
+    EXPECT_LT(row.beams.clean_drop_rate(), 0.06);
+  }
+  EXPECT_GT(r.paper.snapshot.elevation_m.size(), 0);
+  EXPECT_GT(r.unfiltered.snapshot.elevation_m.size(), 0);
+}
+
+TEST(MixedPixelsExperiment, FilterRemovalsAreCountedAgainstTheLabels) {
+  CartRailOptions options;
+  options.mixed_pixels = true;
+  options.filters = {ScanFilterKind::shadow};
+  const CartRailResult r = run_cart_rail(short_scene(), options);
+  EXPECT_GT(r.beams.mixed_removed + r.beams.clean_removed, 0u);
+  EXPECT_LE(r.beams.mixed_removed, r.beams.mixed);
+  EXPECT_LE(r.beams.clean_removed, r.beams.clean);
+  EXPECT_GE(r.beams.f1(), 0.0);
+  EXPECT_LE(r.beams.f1(), 1.0);
+}
+
+}  // namespace
+}  // namespace stridemap
