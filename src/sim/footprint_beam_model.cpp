@@ -119,6 +119,13 @@ FootprintBeamModel::FootprintBeamModel(const FootprintBeamOptions& options) : op
   }
   for (double& s : fine_share_) s /= fine_total;
   for (double& s : coarse_share_) s /= coarse_total;
+  // The reported beam angle belongs to the fine wave, which fixes the range:
+  // a sensor whose angles are calibrated on a flat target centres them on
+  // that wave's measurement. With sequential timing the fine wave sees the
+  // early part of the step, so the instants sit ahead of the beam angle
+  // by the fine wave's centre of time.
+  fine_time_centre_ = 0.0;
+  for (int k = 0; k < n; ++k) fine_time_centre_ += fine_share_[static_cast<std::size_t>(k)] * (k + 0.5) / n;
   hit_ranges_m_.reserve(pattern_.size() * static_cast<std::size_t>(n));
 }
 
@@ -134,7 +141,7 @@ BeamEcho FootprintBeamModel::trace(const SceneRayCaster& scene, const BeamReques
   const int instants = options_.smear_instants;
 
   for (int k = 0; k < instants; ++k) {
-    const double offset_rad = ((k + 0.5) / instants - 0.5) * beam.step_angle_rad;
+    const double offset_rad = ((k + 0.5) / instants - fine_time_centre_) * beam.step_angle_rad;
     const double c = std::cos(offset_rad), s = std::sin(offset_rad);
     const Eigen::Vector3d axis = c * beam.direction + s * beam.sweep_axis;
     const Eigen::Vector3d sweep = c * beam.sweep_axis - s * beam.direction;

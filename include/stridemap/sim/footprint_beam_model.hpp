@@ -76,9 +76,14 @@ struct FootprintBeamOptions {
   double footprint_outer_radius = 1.0;
   /// Instants at which the footprint is sampled while the mirror turns by
   /// one step (BeamRequest::step_angle_rad along BeamRequest::sweep_axis),
-  /// spread evenly over the step and centred on the beam's own angle. The
-  /// mirror turns through a step in about 98 us (100 ms per turn, 1024
-  /// steps), so the footprint is elongated by r * 6.1 mrad along the scan.
+  /// spread evenly over the step. The mirror turns through a step in about
+  /// 98 us (100 ms per turn, 1024 steps), so the footprint is elongated by
+  /// r * 6.1 mrad along the scan. The instants are placed so that the fine
+  /// wave's measurement is centred on the beam's angle (with sequential
+  /// timing it covers the first half of the step, so the step runs from a
+  /// quarter step before the beam angle to three quarters after it): a
+  /// sensor calibrated on flat targets reports the angle at which its range
+  /// was measured.
   int smear_instants = 3;
   /// Fine modulation frequency [Hz]: sets the range resolution and the
   /// fine unambiguous range c / (2 f) = 3.41 m. Not published (the paper,
@@ -102,10 +107,13 @@ struct FootprintBeamOptions {
   /// two waves"): the coarse phase no longer describes the same target as
   /// the fine one. A wave that received nothing counts as an infinite
   /// factor. Must be > 1; infinity disables the check (a wave without light
-  /// then reads phase 0). Only sequential timing makes the waves differ
-  /// much; 4 is a guess that keeps code 8 to a small share of the beams at
-  /// edges, as in real logs (scip.md A.11: 263 of 515 592 values).
-  double max_two_wave_amplitude_ratio = 4.0;
+  /// then reads phase 0). The firmware's rule is not published. Real logs
+  /// show code 8 at about 4 of 11 500 depth jumps of a horizontal scan
+  /// (shared/data/urg04lx_breezyslam); with sequential timing a factor of 30
+  /// gives a similar rate in a simulated room, a factor of 4 a hundred times
+  /// more (docs/mixed_pixels.md). In practice it rejects beams where one
+  /// wave saw (almost) nothing: a thin object against open space.
+  double max_two_wave_amplitude_ratio = 30.0;
   /// A beam is labelled mixed when its range (before the sensor's noise and
   /// systematic error) is farther than this from the range of EVERY surface
   /// point its sub-rays touched [m]. 15 mm: above the sensor's 10 mm
@@ -171,6 +179,9 @@ class FootprintBeamModel final : public BeamModel {
   /// Per smear instant: its share of each wave's measurement (each column
   /// sums to 1 over the instants).
   std::vector<double> fine_share_, coarse_share_;
+  /// Time within the step, as a fraction, at the fine wave's centre: the
+  /// smear instants are placed so that this time is the beam's own angle.
+  double fine_time_centre_ = 0.5;
   /// Scratch: range of every sub-ray hit of the current beam; sized once.
   std::vector<double> hit_ranges_m_;
   FootprintDiagnostics last_;
