@@ -199,7 +199,9 @@ ScanStats TerrainMapper::integrate_points(std::span<const MapPoint> points, cons
       ++stats.invalid_range;
       continue;
     }
-    if (!std::isfinite(p.max_elevation_change_m)) {
+    // An infinite bound is meaningful ("anything is plausible", as after a
+    // yaw jump on the scan path); only NaN is not.
+    if (std::isnan(p.max_elevation_change_m)) {
       ++stats.invalid_beam;
       continue;
     }

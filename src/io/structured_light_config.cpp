@@ -50,7 +50,8 @@ class Section {
         fail(key, field_path(name), "unknown field (expected one of: " + expected + ")");
       }
       if (const auto previous = entries_.find(name); previous != entries_.end()) {
-        fail(key, field_path(name), "appears twice (first on line " + std::to_string(line_of(previous->second.key)) + ")");
+        fail(key, field_path(name),
+             "appears twice (first on line " + std::to_string(line_of(previous->second.key)) + ")");
       }
       entries_.emplace(name, Entry{key, item.second});
     }
@@ -173,7 +174,8 @@ StructuredLightConfig read_config(const YAML::Node& root, const std::string& sou
   }
 
   if (top.has("mount")) {
-    const Section mount(source, root["mount"], "mount", {"pitch_deg", "height_m", "forward_offset_m", "lateral_offset_m"});
+    const Section mount(source, root["mount"], "mount",
+                        {"pitch_deg", "height_m", "forward_offset_m", "lateral_offset_m"});
     config.has_mount = true;
     p.mount.pitch_rad = mount.number("pitch_deg") * kDegToRadian;
     note("mount.pitch_rad", mount, "pitch_deg");

@@ -119,6 +119,10 @@ StructuredLightModel::StructuredLightModel(const StructuredLightParameters& para
   sin_beta_ = std::sin(parameters_.sheet_angle_rad);
   cos_beta_ = std::cos(parameters_.sheet_angle_rad);
   cot_beta_ = cos_beta_ / sin_beta_;
+  // Derivatives of the trigonometric terms, for the partials.
+  dcot_dbeta_ = -1.0 / (sin_beta_ * sin_beta_);
+  dtan_dtau_ = 1.0 + tan_tau_ * tan_tau_;
+  dtan_dgamma_ = 1.0 + tan_gamma_ * tan_gamma_;
   width_ = parameters_.image_width_px;
   height_ = parameters_.image_height_px;
 }
@@ -162,12 +166,10 @@ StripePointStatus StructuredLightModel::back_project(double u_px, double v_px, C
   // gamma acts through D, so dz/dp = -(z / D) dD/dp.
   const double z = b / denominator;
   const double dz_dD = -z / denominator;
-  const double cos_tau = std::cos(parameters_.half_fov_vertical_rad);
-  const double cos_gamma = std::cos(parameters_.half_fov_horizontal_rad);
-  const double dcot_dbeta = -1.0 / (sin_beta_ * sin_beta_);
+  const double dcot_dbeta = dcot_dbeta_;
   const double z_b = 1.0 / denominator;
   const double z_beta = dz_dD * dcot_dbeta;
-  const double z_tau = dz_dD * row_factor / (cos_tau * cos_tau);
+  const double z_tau = dz_dD * row_factor * dtan_dtau_;
   const double z_v = dz_dD * (-2.0 * tan_tau_ / height_);
 
   // y = z cot(beta) - b (the sheet's equation), x = z n_u tan(gamma).
@@ -176,7 +178,7 @@ StripePointStatus StructuredLightModel::back_project(double u_px, double v_px, C
   out.d_baseline = {z_b * lateral, z_b * cot_beta_ - 1.0, z_b};
   out.d_sheet_angle = {z_beta * lateral, z_beta * cot_beta_ + z * dcot_dbeta, z_beta};
   out.d_half_fov_vertical = {z_tau * lateral, z_tau * cot_beta_, z_tau};
-  out.d_half_fov_horizontal = {z * column_factor / (cos_gamma * cos_gamma), 0.0, 0.0};
+  out.d_half_fov_horizontal = {z * column_factor * dtan_dgamma_, 0.0, 0.0};
   out.d_row = {z_v * lateral, z_v * cot_beta_, z_v};
   out.d_column = {z * (-2.0 / width_) * tan_gamma_, 0.0, 0.0};
   return StripePointStatus::valid;

@@ -118,7 +118,7 @@ GroundStripeReport ground_stripe_report(const StructuredLightModel& model, const
                                    (alpha + std::numbers::pi / 2 - p.sheet_angle_rad) * kRadToDeg));
   }
   if (location->row_px > rows) {
-    throw InputError(cannot + text("the laser stripe on flat ground lies %.1f m ahead of the camera (z_c) but would "
+    throw InputError(cannot + text("the laser stripe on flat ground lies %.3f m ahead of the camera (z_c) but would "
                                    "be seen at image row %.1f, below the image (rows 0 to %.0f); tilt the sensor "
                                    "further down (larger alpha) or make the sheet shallower (larger beta)",
                                    location->depth_m, location->row_px, rows));

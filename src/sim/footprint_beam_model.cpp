@@ -59,6 +59,7 @@ void FootprintBeamOptions::validate() const {
     throw InputError("footprint beam model options: max_two_wave_amplitude_ratio: expected a number above 1, got " +
                      scene_rules::format_number(max_two_wave_amplitude_ratio));
   }
+  check_option("detection_amplitude", scene_rules::non_negative(detection_amplitude));
   check_option("mixed_tolerance_m", scene_rules::positive(mixed_tolerance_m));
 }
 
@@ -120,10 +121,10 @@ FootprintBeamModel::FootprintBeamModel(const FootprintBeamOptions& options) : op
   for (double& s : fine_share_) s /= fine_total;
   for (double& s : coarse_share_) s /= coarse_total;
   // The reported beam angle belongs to the fine wave, which fixes the range:
-  // a sensor whose angles are calibrated on a flat target centres them on
+  // a sensor whose angles are calibrated on flat targets centres them on
   // that wave's measurement. With sequential timing the fine wave sees the
-  // early part of the step, so the instants sit ahead of the beam angle
-  // by the fine wave's centre of time.
+  // first half of the step, so the step starts about a quarter step before
+  // the beam angle.
   fine_time_centre_ = 0.0;
   for (int k = 0; k < n; ++k) fine_time_centre_ += fine_share_[static_cast<std::size_t>(k)] * (k + 0.5) / n;
   hit_ranges_m_.reserve(pattern_.size() * static_cast<std::size_t>(n));
@@ -184,7 +185,7 @@ BeamEcho FootprintBeamModel::trace(const SceneRayCaster& scene, const BeamReques
   const double weaker = std::min(fine.amplitude, coarse.amplitude);
   // Written as a product so that a wave without light (weaker = 0) trips
   // any finite limit and an infinite limit never trips.
-  if (stronger > options_.max_two_wave_amplitude_ratio * weaker) {
+  if (stronger >= options_.detection_amplitude && stronger > options_.max_two_wave_amplitude_ratio * weaker) {
     echo.sensor_error_code = urg_code_two_wave_difference;
     echo.label = BeamLabel::dropped;
     return echo;

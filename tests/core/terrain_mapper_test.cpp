@@ -134,16 +134,16 @@ TEST(TerrainMapper, MotionFeedsTheBoundAndTheWindowFollows) {
 TEST(TerrainMapper, PointsPathAppliesTheirOwnBound) {
   TerrainMapper mapper(fixed_window(), SensorMount{});
   const MapPoint points[] = {{0.3, 0.0, 0.10, 0.01}, {0.3, 0.0, 0.105, 0.01}, {0.3, 0.0, 0.5, 0.01},
-                             {kNaN, 0.0, 0.1, 0.01}, {0.3, 0.0, 0.1, kInf}};
+                             {kNaN, 0.0, 0.1, 0.01}, {0.3, 0.0, 0.1, kNaN}, {0.3, 0.0, 0.0, kInf}};
   const ScanStats stats = mapper.integrate_points(points, TrunkPose{});
   EXPECT_EQ(stats.first, 1u);
-  EXPECT_EQ(stats.plausible, 1u);
+  EXPECT_EQ(stats.plausible, 2u);  // the infinite bound accepts anything
   EXPECT_EQ(stats.implausible, 1u);
   EXPECT_EQ(stats.invalid_range, 1u);
   EXPECT_EQ(stats.invalid_beam, 1u);
   const CellIndex c = mapper.map().cell_of(0.3, 0.0);
   EXPECT_FLOAT_EQ(mapper.map().elevation(c), 0.5f);
-  EXPECT_FLOAT_EQ(mapper.map().certainty(c), 6.0f);
+  EXPECT_FLOAT_EQ(mapper.map().certainty(c), 9.0f);
 }
 
 TEST(TerrainMapper, RejectsBadOptionsAndMounts) {

@@ -31,7 +31,9 @@ TEST(StructuredLightMapping, ElevationPartialsMatchFiniteDifferences) {
   pose.roll_rad = -4.0 * kDeg;
   pose.yaw_rad = 0.7;
   const StructuredLightModel model(base);
-  for (const auto& [u, v] : {std::pair{100.0, 400.0}, {320.0, 240.0}, {600.0, 30.0}}) {
+  for (const auto& pixel : {std::pair{100.0, 400.0}, {320.0, 240.0}, {600.0, 30.0}}) {
+    // Plain copies: clang 14 cannot capture structured bindings in lambdas.
+    const double u = pixel.first, v = pixel.second;
     CameraPointPartials camera;
     ASSERT_EQ(model.back_project(u, v, camera), StripePointStatus::valid);
     const StructuredLightElevationPartials d =

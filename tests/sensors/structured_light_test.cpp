@@ -157,8 +157,9 @@ TEST(StructuredLightModel, RoundTripSheetPointToPixelAndBack) {
 }
 
 // Central difference of the back-projected point when one parameter moves.
-Eigen::Vector3d numeric_derivative(const StructuredLightParameters& base, double u, double v,
-                                   const std::function<void(StructuredLightParameters&, double&, double&, double)>& move,
+using Move = std::function<void(StructuredLightParameters&, double&, double&, double)>;
+
+Eigen::Vector3d numeric_derivative(const StructuredLightParameters& base, double u, double v, const Move& move,
                                    double step) {
   StructuredLightParameters plus = base, minus = base;
   double u_plus = u, v_plus = v, u_minus = u, v_minus = v;
@@ -171,7 +172,6 @@ Eigen::Vector3d numeric_derivative(const StructuredLightParameters& base, double
 }
 
 TEST(StructuredLightModel, DerivativesMatchFiniteDifferences) {
-  using Move = std::function<void(StructuredLightParameters&, double&, double&, double)>;
   const Move baseline = [](StructuredLightParameters& p, double&, double&, double h) { p.baseline_m += h; };
   const Move sheet = [](StructuredLightParameters& p, double&, double&, double h) { p.sheet_angle_rad += h; };
   const Move tau = [](StructuredLightParameters& p, double&, double&, double h) { p.half_fov_vertical_rad += h; };
@@ -181,7 +181,9 @@ TEST(StructuredLightModel, DerivativesMatchFiniteDifferences) {
 
   for (const StructuredLightParameters& parameters : {fig3_parameters(), StructuredLightParameters{}}) {
     const StructuredLightModel model(parameters);
-    for (const auto& [u, v] : {std::pair{17.0, 33.0}, {320.0, 240.0}, {601.5, 410.25}, {250.0, 5.0}}) {
+    for (const auto& pixel : {std::pair{17.0, 33.0}, {320.0, 240.0}, {601.5, 410.25}, {250.0, 5.0}}) {
+      // Plain copies: clang 14 cannot capture structured bindings in lambdas.
+      const double u = pixel.first, v = pixel.second;
       CameraPointPartials d;
       ASSERT_EQ(model.back_project(u, v, d), StripePointStatus::valid);
       Eigen::Vector3d plain;

@@ -158,6 +158,7 @@ class StructuredLightModel {
   StructuredLightParameters parameters_;
   double tan_tau_ = 0.0, tan_gamma_ = 0.0, cot_beta_ = 0.0;
   double sin_beta_ = 0.0, cos_beta_ = 0.0;
+  double dcot_dbeta_ = 0.0, dtan_dtau_ = 0.0, dtan_dgamma_ = 0.0;
   double width_ = 0.0, height_ = 0.0;
 };
 

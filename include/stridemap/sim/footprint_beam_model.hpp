@@ -31,8 +31,8 @@
 
 namespace stridemap {
 
-/// Speed of light in vacuum [m/s] (the ~0.03 % slower light in air is
-/// below the sensor's 1 mm resolution at its ranges).
+/// Speed of light in vacuum [m/s]; the sensor's range calibration absorbs
+/// the 0.03 % by which light is slower in air.
 inline constexpr double speed_of_light_m_per_s = 299'792'458.0;
 
 /// Error code the URG-04LX sends for "intensity difference of two waves"
@@ -80,19 +80,20 @@ struct FootprintBeamOptions {
   /// 98 us (100 ms per turn, 1024 steps), so the footprint is elongated by
   /// r * 6.1 mrad along the scan. The instants are placed so that the fine
   /// wave's measurement is centred on the beam's angle (with sequential
-  /// timing it covers the first half of the step, so the step runs from a
-  /// quarter step before the beam angle to three quarters after it): a
+  /// timing it covers the first half of the step, so the step runs from
+  /// about a quarter step before the beam angle to three quarters after): a
   /// sensor calibrated on flat targets reports the angle at which its range
   /// was measured.
   int smear_instants = 3;
   /// Fine modulation frequency [Hz]: sets the range resolution and the
-  /// fine unambiguous range c / (2 f) = 3.41 m. Not published (the paper,
-  /// citing Hokuyo, says only that there are two frequencies). Estimated
-  /// from real URG-04LX logs (shared/data/urg04lx_breezyslam): isolated
-  /// points at depth jumps that read 3.06-3.45 m beyond the near surface are
-  /// fine-phase wrap-arounds, which bounds c / (2 f) from below near 3.4 m;
-  /// 50 MHz (3.0 m) would not reach them (docs/mixed_pixels.md).
-  double fine_frequency_hz = 44e6;
+  /// fine unambiguous range c / (2 f) = 3.0 m. Not published (the paper,
+  /// citing Hokuyo, says only that there are two frequencies); 50 MHz is
+  /// typical for phase-shift rangefinders of this class, and real URG-04LX
+  /// logs agree: the 17 isolated points that read 2.2-2.9 m behind a depth
+  /// jump of 0.3-1 m (shared/data/urg04lx_breezyslam) fit a mixture read
+  /// one fine period too far only for a period between 2.90 and 3.06 m,
+  /// i.e. 49-51.7 MHz (docs/mixed_pixels.md).
+  double fine_frequency_hz = 50e6;
   /// Coarse modulation frequency [Hz]: its unambiguous range c / (2 f) =
   /// 22.0 m must exceed every range the sensor can see; 6.8 MHz is chosen
   /// because the URG's error code 0 reads "object possibly at 22 m", the
@@ -110,17 +111,26 @@ struct FootprintBeamOptions {
   /// then reads phase 0). The firmware's rule is not published. Real logs
   /// show code 8 at about 4 of 11 500 depth jumps of a horizontal scan
   /// (shared/data/urg04lx_breezyslam); with sequential timing a factor of 30
-  /// gives a similar rate in a simulated room, a factor of 4 a hundred times
+  /// gives a similar rate in a simulated room, a factor of 4 forty times
   /// more (docs/mixed_pixels.md). In practice it rejects beams where one
   /// wave saw (almost) nothing: a thin object against open space.
   double max_two_wave_amplitude_ratio = 30.0;
+  /// Weakest wave amplitude the receiver detects (BeamEcho::amplitude
+  /// units). The two waves are compared only when the stronger one reaches
+  /// it; a beam whose waves are both weaker is a weak return, which
+  /// UrgSimulator turns into code 1 by its own dropout threshold. 0.02 is
+  /// that threshold's default (UrgSimOptions::dropout_amplitude_threshold);
+  /// keep the two equal. Without this rule, a surface that leaves the
+  /// traced range (BeamRequest::max_range_m) during one step would give
+  /// code 8 instead of the code 1 its faint echo deserves.
+  double detection_amplitude = 0.02;
   /// A beam is labelled mixed when its range (before the sensor's noise and
   /// systematic error) is farther than this from the range of EVERY surface
   /// point its sub-rays touched [m]. 15 mm: above the sensor's 10 mm
   /// accuracy below 1 m, so that a mixed label means an error the filters
-  /// could in principle see, and far above the spread of ranges inside a
-  /// footprint on one surface, which the labelling tolerates anyway
-  /// because every hit counts as touched.
+  /// could in principle see. A footprint on one slanted surface spans a
+  /// band of ranges; since every hit counts, a reading inside that band is
+  /// clean whatever the tolerance.
   double mixed_tolerance_m = 0.015;
 
   /// Throws InputError "footprint beam model options: <field>: <problem>".
