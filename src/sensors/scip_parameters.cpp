@@ -1,5 +1,6 @@
 #include "stridemap/sensors/scip_parameters.hpp"
 
+#include <charconv>
 #include <string>
 
 #include "stridemap/core/error.hpp"
@@ -18,17 +19,11 @@ const std::string& require_field(const std::vector<InfoField>& fields, std::stri
 }
 
 int require_integer(const std::vector<InfoField>& fields, std::string_view key) {
-  constexpr std::size_t kMaxDigits = 9;  // stays within int
   const std::string& text = require_field(fields, key, "PP");
-  bool ok = !text.empty() && text.size() <= kMaxDigits;
+  // from_chars reports overflow instead of wrapping; a sign is not allowed.
   int value = 0;
-  for (const char c : text) {
-    if (c < '0' || c > '9') {
-      ok = false;
-      break;
-    }
-    value = value * 10 + (c - '0');
-  }
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  const bool ok = !text.empty() && text.front() != '-' && error == std::errc() && end == text.data() + text.size();
   if (!ok) {
     throw InputError("SCIP PP reply: field " + std::string(key) + " value '" + text +
                      "' is not a non-negative decimal integer");
