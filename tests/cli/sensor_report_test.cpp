@@ -12,6 +12,7 @@
 #include <random>
 #include <string>
 
+#include "cli/cli_runner.hpp"
 #include "stridemap/io/grid_csv.hpp"
 #include "stridemap/io/png_image.hpp"
 
@@ -19,32 +20,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-struct CommandResult {
-  int exit_code = -1;
-  std::string output;  ///< stdout and stderr together
-};
-
-std::string quoted(const std::string& text) {
-  std::string result = "'";
-  for (char c : text) result += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return result + "'";
-}
-
-CommandResult run_cli(const std::string& arguments) {
-  const std::string command = quoted(STRIDEMAP_CLI_PATH) + " " + arguments + " 2>&1";
-  CommandResult result;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) {
-    ADD_FAILURE() << "popen failed for " << command;
-    return result;
-  }
-  std::array<char, 4096> buffer{};
-  std::size_t got = 0;
-  while ((got = std::fread(buffer.data(), 1, buffer.size(), pipe)) > 0) result.output.append(buffer.data(), got);
-  const int status = pclose(pipe);
-  if (WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
-  return result;
-}
+using stridemap::test::CommandResult;
+using stridemap::test::run_cli;
+const auto quoted = stridemap::test::shell_quoted;
 
 std::string source_file(const std::string& relative) { return std::string(STRIDEMAP_SOURCE_DIR) + "/" + relative; }
 
