@@ -1,93 +1,46 @@
 #include "stridemap/io/structured_light_config.hpp"
 
 #include <algorithm>
-#include <cerrno>
 #include <charconv>
 #include <cmath>
-#include <cstring>
-#include <fstream>
 #include <map>
 #include <numbers>
 #include <optional>
-#include <sstream>
 #include <vector>
 
 #include <yaml-cpp/yaml.h>
 
 #include "stridemap/core/error.hpp"
+#include "strict_yaml.hpp"
 
 namespace stridemap {
 namespace {
 
+using namespace io_detail;
+
 constexpr double kDegToRadian = std::numbers::pi / 180.0;
 
-std::string describe(const YAML::Node& node) {
-  if (node.IsNull()) return "nothing";
-  if (node.IsSequence()) return "a list";
-  if (node.IsMap()) return "a map";
-  return "\"" + node.Scalar() + "\"";
-}
-
-int line_of(const YAML::Node& node) { return std::max(1, node.Mark().line + 1); }
-
-struct Entry {
-  YAML::Node key, value;
-};
-
-// One mapping of the file, its keys checked against the allowed names.
+// A section of the file: its fields checked against the allowed names by the
+// shared strict reader, with the lookups this file needs.
 class Section {
  public:
-  Section(const std::string& source, const YAML::Node& node, std::string path, std::vector<std::string> allowed)
-      : source_(source), node_(node), path_(std::move(path)) {
-    if (!node.IsMap()) fail(node, path_, "expected a map of fields, got " + describe(node));
-    for (const auto& item : node) {
-      const YAML::Node& key = item.first;
-      if (!key.IsScalar()) fail(key, path_, "expected field names, got " + describe(key));
-      const std::string name = key.Scalar();
-      if (std::find(allowed.begin(), allowed.end(), name) == allowed.end()) {
-        std::string expected;
-        for (const auto& candidate : allowed) expected += (expected.empty() ? "" : ", ") + candidate;
-        fail(key, field_path(name), "unknown field (expected one of: " + expected + ")");
-      }
-      if (const auto previous = entries_.find(name); previous != entries_.end()) {
-        fail(key, field_path(name),
-             "appears twice (first on line " + std::to_string(line_of(previous->second.key)) + ")");
-      }
-      entries_.emplace(name, Entry{key, item.second});
-    }
-  }
+  Section(StrictYamlReader& reader, const YAML::Node& node, std::string path, std::initializer_list<const char*> allowed)
+      : reader_(reader), node_(node), path_(std::move(path)), fields_(reader.read_map(node, path_, allowed)) {}
 
-  bool has(const std::string& name) const { return entries_.count(name) != 0; }
+  bool has(const std::string& name) const { return fields_.count(name) != 0; }
   const YAML::Node& node() const { return node_; }
-  std::string field_path(const std::string& name) const { return path_.empty() ? name : path_ + "." + name; }
+  std::string field_path(const std::string& name) const { return join(path_, name); }
   int line(const std::string& name) const {
-    const auto it = entries_.find(name);
-    if (it == entries_.end()) return line_of(node_);
-    return line_of(it->second.value.IsNull() ? it->second.key : it->second.value);
+    const auto it = fields_.find(name);
+    if (it == fields_.end()) return std::max(1, line_of(node_));
+    return std::max(1, line_of(it->second.value.IsNull() ? it->second.key : it->second.value));
   }
-
-  /// The number under `name`; its default when absent, or an error when
-  /// there is no default.
-  double number(const std::string& name, std::optional<double> default_value = std::nullopt) const {
-    const auto it = entries_.find(name);
-    if (it == entries_.end()) {
-      if (default_value) return *default_value;
-      fail(node_, field_path(name), "required field is missing");
-    }
-    const YAML::Node& value = it->second.value;
-    const YAML::Node& where = value.IsNull() ? it->second.key : value;
-    if (!value.IsScalar()) fail(where, field_path(name), "expected a number, got " + describe(value));
-    if (value.Tag() == "!") fail(value, field_path(name), "expected a number, got the quoted text " + describe(value));
-    try {
-      return value.as<double>();
-    } catch (const YAML::Exception&) {
-      fail(value, field_path(name), "expected a number, got " + describe(value));
-    }
+  double number(const char* name, std::optional<double> default_value = std::nullopt) const {
+    return reader_.number(fields_, node_, path_, name, default_value);
   }
-
   int whole_number(const std::string& name) const {
-    const auto it = entries_.find(name);
-    if (it == entries_.end()) fail(node_, field_path(name), "required field is missing");
+    const auto it = fields_.find(name);
+    if (it == fields_.end()) fail(node_, field_path(name), "required field is missing");
     const YAML::Node& value = it->second.value;
     if (value.IsScalar() && value.Tag() != "!") {
       const std::string& text = value.Scalar();
@@ -100,16 +53,15 @@ class Section {
     fail(value.IsNull() ? it->second.key : value, field_path(name),
          "expected a whole number of pixels, got " + describe(value));
   }
-
   [[noreturn]] void fail(const YAML::Node& where, const std::string& path, const std::string& what) const {
-    throw InputError(source_ + ":" + std::to_string(line_of(where)) + ": " + path + ": " + what);
+    reader_.fail(where, path, what);
   }
 
  private:
-  const std::string& source_;
+  StrictYamlReader& reader_;
   YAML::Node node_;
   std::string path_;
-  std::map<std::string, Entry> entries_;
+  Fields fields_;
 };
 
 [[noreturn]] void fail_at(const std::string& source, int line, const std::string& path, const std::string& what) {
@@ -121,7 +73,8 @@ StructuredLightConfig read_config(const YAML::Node& root, const std::string& sou
     throw InputError(source + ":1: expected a structured-light configuration (a map with structured_light, mount, "
                               "errors), got " + describe(root));
   }
-  const Section top(source, root, "", {"structured_light", "mount", "errors"});
+  StrictYamlReader reader(source);
+  const Section top(reader, root, "", {"structured_light", "mount", "errors"});
   if (!top.has("structured_light")) top.fail(root, "structured_light", "required section is missing");
 
   StructuredLightConfig config;
@@ -132,7 +85,7 @@ StructuredLightConfig read_config(const YAML::Node& root, const std::string& sou
     origin[field] = {section.field_path(name), section.line(name)};
   };
 
-  const Section sensor(source, root["structured_light"], "structured_light",
+  const Section sensor(reader, root["structured_light"], "structured_light",
                        {"baseline_m", "sheet_angle_deg", "image_width_px", "image_height_px", "half_fov_vertical_deg",
                         "half_fov_horizontal_deg", "focal_length_px"});
   p.baseline_m = sensor.number("baseline_m");
@@ -174,7 +127,7 @@ StructuredLightConfig read_config(const YAML::Node& root, const std::string& sou
   }
 
   if (top.has("mount")) {
-    const Section mount(source, root["mount"], "mount",
+    const Section mount(reader, root["mount"], "mount",
                         {"pitch_deg", "height_m", "forward_offset_m", "lateral_offset_m"});
     config.has_mount = true;
     p.mount.pitch_rad = mount.number("pitch_deg") * kDegToRadian;
@@ -188,7 +141,7 @@ StructuredLightConfig read_config(const YAML::Node& root, const std::string& sou
   }
 
   if (top.has("errors")) {
-    const Section errors(source, root["errors"], "errors",
+    const Section errors(reader, root["errors"], "errors",
                          {"baseline_m", "sheet_angle_deg", "half_fov_vertical_deg", "row_px", "column_px"});
     p.baseline_error_m = errors.number("baseline_m", p.baseline_error_m);
     note("baseline_error_m", errors, "baseline_m");
@@ -214,24 +167,11 @@ StructuredLightConfig read_config(const YAML::Node& root, const std::string& sou
 }  // namespace
 
 StructuredLightConfig parse_structured_light_config(const std::string& text, const std::string& source_name) {
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::ParserException& e) {
-    throw InputError(source_name + ":" + std::to_string(e.mark.line + 1) + ": YAML syntax error: " + e.msg);
-  }
-  return read_config(root, source_name);
+  return read_config(load_single_document(text, source_name), source_name);
 }
 
 StructuredLightConfig load_structured_light_config(const std::string& path) {
-  std::ifstream file(path, std::ios::binary);
-  if (!file) {
-    throw InputError(path + ": cannot read structured-light config: " + std::strerror(errno));
-  }
-  std::ostringstream text;
-  text << file.rdbuf();
-  if (file.bad()) throw InputError(path + ": cannot read structured-light config: read error");
-  return parse_structured_light_config(text.str(), path);
+  return parse_structured_light_config(read_text_file(path, "structured-light config"), path);
 }
 
 }  // namespace stridemap
