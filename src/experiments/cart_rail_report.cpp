@@ -3,7 +3,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <system_error>
 
 #include <nlohmann/json.hpp>
@@ -12,6 +11,7 @@
 #include "stridemap/io/grid_csv.hpp"
 #include "stridemap/io/grid_render.hpp"
 #include "stridemap/io/png_image.hpp"
+#include "stridemap/io/text_file.hpp"
 
 namespace stridemap {
 namespace {
@@ -28,20 +28,6 @@ json error_pct_json(const ObjectMeasurement& m) {
   return {{"length", relative_error_pct(m.measured.length_m, m.truth.length_m)},
           {"width", relative_error_pct(m.measured.width_m, m.truth.width_m)},
           {"height", relative_error_pct(m.measured.height_m, m.truth.height_m)}};
-}
-
-void write_text_file(const std::filesystem::path& path, const std::string& text) {
-  const std::filesystem::path partial = path.string() + ".partial";
-  {
-    std::ofstream out(partial, std::ios::binary | std::ios::trunc);
-    if (!out) throw InputError(path.string() + ": cannot open for writing");
-    out << text;
-    out.flush();
-    if (!out) throw InputError(path.string() + ": write failed (disk full?)");
-  }
-  std::error_code ec;
-  std::filesystem::rename(partial, path, ec);
-  if (ec) throw InputError(path.string() + ": cannot rename the finished file into place: " + ec.message());
 }
 
 io::CellMask filled_mask(const MapSnapshot& s) {
@@ -218,7 +204,7 @@ void write_cart_rail_outputs(const CartRailResult& r, const CartRailOptions& opt
   csv("truth", s.truth_m, "m");
   csv("swept_area", r.swept_area.cast<float>(), "");
 
-  write_text_file(dir / "summary.json", cart_rail_summary_json(r, options, info));
+  io::write_text_file((dir / "summary.json").string(), cart_rail_summary_json(r, options, info), "summary");
 }
 
 }  // namespace stridemap

@@ -10,6 +10,7 @@
 #include "stridemap/experiments/cart_rail_report.hpp"
 #include "stridemap/io/grid_render.hpp"
 #include "stridemap/io/png_image.hpp"
+#include "stridemap/io/text_file.hpp"
 
 namespace stridemap {
 
@@ -134,11 +135,7 @@ void write_mixed_pixels_outputs(const MixedPixelsResult& r, const CartRailOption
   picture(r.unfiltered, "elevation_unfiltered.png", "Mixed pixels, no filtering (simulated)");
   picture(r.paper, "elevation_paper_filters.png", "Range clustering + scan sequence (simulated)");
   picture(r.cas, "elevation_cas.png", "CAS filter on the map (simulated)");
-  const std::string json = mixed_pixels_summary_json(r, base, scene_path);
-  std::FILE* f = std::fopen((dir / "summary.json").string().c_str(), "wb");
-  if (!f) throw InputError((dir / "summary.json").string() + ": cannot open for writing");
-  const bool ok = std::fwrite(json.data(), 1, json.size(), f) == json.size();
-  if (std::fclose(f) != 0 || !ok) throw InputError((dir / "summary.json").string() + ": write failed (disk full?)");
+  io::write_text_file((dir / "summary.json").string(), mixed_pixels_summary_json(r, base, scene_path), "summary");
 }
 
 }  // namespace stridemap
