@@ -2,6 +2,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <numbers>
 #include <string>
 
 #include "commands.hpp"
@@ -86,12 +87,22 @@ struct MixedPixelsArgs {
   std::string scene_path;
   std::string out_dir;
   std::uint64_t seed = 1;
+  double texture_log_sigma = FootprintBeamOptions{}.texture.log_sigma;
+  std::size_t cluster_min_points = RangeClusteringOptions{}.min_cluster_points;
+  double cluster_max_incidence_deg = RangeClusteringOptions{}.max_incidence_angle_rad * 180.0 / std::numbers::pi;
+  bool square_objects = false;
 };
 
 void run_mixed_pixels_command(const MixedPixelsArgs& args) {
-  const Scene scene = load_scene_yaml(args.scene_path);
+  Scene scene = load_scene_yaml(args.scene_path);
+  // The idealised placement the experiments compare with (docs/experiments.md).
+  if (args.square_objects)
+    for (BoxObject& box : scene.boxes) box.yaw_rad = 0.0;
   CartRailOptions options;
   options.seed = args.seed;
+  options.footprint.texture.log_sigma = args.texture_log_sigma;
+  options.filter_options.range_clustering.min_cluster_points = args.cluster_min_points;
+  options.filter_options.range_clustering.max_incidence_angle_rad = args.cluster_max_incidence_deg * std::numbers::pi / 180.0;
   const MixedPixelsResult result = run_mixed_pixels(scene, options);
   const std::string stem = std::filesystem::path(args.scene_path).stem().string();
   const std::string dir = (std::filesystem::path(args.out_dir) / "mixed-pixels" / stem).string();
@@ -139,6 +150,17 @@ void register_experiment(CLI::App& app) {
   mixed->add_option("--scene", mp->scene_path, "Scene file (YAML, see docs/scenes.md)")->required();
   mixed->add_option("--out", mp->out_dir, "Output folder; results go to OUT/mixed-pixels/<scene>/")->required();
   mixed->add_option("--seed", mp->seed, "Seed of the simulation")->capture_default_str();
+  mixed->add_option("--texture-log-sigma", mp->texture_log_sigma,
+                    "Surface texture of the footprint model: std. dev. of the log gain (0: off)")
+      ->capture_default_str();
+  mixed->add_option("--cluster-min-points", mp->cluster_min_points,
+                    "Range clustering: clusters with fewer points are removed")
+      ->capture_default_str();
+  mixed->add_option("--cluster-max-incidence-deg", mp->cluster_max_incidence_deg,
+                    "Range clustering: the most oblique incidence of one surface [deg]")
+      ->capture_default_str();
+  mixed->add_flag("--square-objects", mp->square_objects,
+                  "Turn every box square to the rail (yaw 0), the idealised placement");
   mixed->callback([mp] { run_mixed_pixels_command(*mp); });
 
   cart_rail->callback([args, cell_size, rule, filters] {

@@ -12,6 +12,13 @@
 namespace stridemap {
 namespace {
 
+// The ideal filter of CartRailOptions::drop_labelled_mixed: one label per beam.
+void drop_labelled_mixed_beams(const std::vector<BeamLabel>& labels, PlanarScan& scan) {
+  for (std::size_t i = 0; i < labels.size() && i < scan.range_m.size(); ++i) {
+    if (labels[i] == BeamLabel::mixed) scan.range_m[i] = std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
 // Where each beam of one pose meets the floor plane, NaN when it does not
 // within the range limit.
 std::vector<Eigen::Vector2d> floor_hits(const TrunkPose& pose, const SensorMount& mount, const UrgParameters& urg,
@@ -110,7 +117,8 @@ CartRailResult run_cart_rail(const Scene& scene, const CartRailOptions& options)
     const std::vector<BeamLabel>& truth = labels[scans_out % 2];
     const std::vector<std::uint8_t>& removed = filters.removed_by_any();
     for (std::size_t i = 0; i < truth.size(); ++i) {
-      const bool was_removed = i < removed.size() && removed[i];
+      const bool was_removed = (i < removed.size() && removed[i]) ||
+                               (options.drop_labelled_mixed && truth[i] == BeamLabel::mixed);
       switch (truth[i]) {
         case BeamLabel::clean: ++result.beams.clean; result.beams.clean_removed += was_removed; break;
         case BeamLabel::mixed: ++result.beams.mixed; result.beams.mixed_removed += was_removed; break;
@@ -124,6 +132,7 @@ CartRailResult run_cart_rail(const Scene& scene, const CartRailOptions& options)
     const double time_s = static_cast<double>(k) * options.urg.scan_period_s;
     simulator.scan(poses[k], options.mount, time_s, raw, &labels[k % 2]);
     const UrgConversionStats converted = sensor.to_planar_scan(raw, scan);
+    if (options.drop_labelled_mixed) drop_labelled_mixed_beams(labels[k % 2], scan);
     result.sensor_totals.valid += converted.valid;
     result.sensor_totals.error_codes += converted.error_codes;
     result.sensor_totals.beyond_max_range += converted.beyond_max_range;

@@ -28,9 +28,9 @@ struct Spread {
 };
 
 /// Eq. 12 over the valid beams [first, last] of `scan`, on the coordinate
-/// along the line of sight (unit vector los_x, los_y).
-Spread line_of_sight_spread(const PlanarScan& scan, const BeamDirections& directions, std::size_t first,
-                            std::size_t last, double los_x, double los_y, const RangeSigmaModel& sigma) {
+/// along the unit vector (axis_x, axis_y) of the scan plane.
+Spread spread_along(const PlanarScan& scan, const BeamDirections& directions, std::size_t first, std::size_t last,
+                    double axis_x, double axis_y, const RangeSigmaModel& sigma) {
   Spread result;
   const std::vector<double>& cosines = directions.cos();
   const std::vector<double>& sines = directions.sin();
@@ -38,7 +38,7 @@ Spread line_of_sight_spread(const PlanarScan& scan, const BeamDirections& direct
   for (std::size_t i = first; i <= last; ++i) {
     const double r = scan.range_m[i];
     if (!is_usable_range(r)) continue;
-    sum += r * (cosines[i] * los_x + sines[i] * los_y);
+    sum += r * (cosines[i] * axis_x + sines[i] * axis_y);
     result.mean_sigma_m += sigma.sigma_m(r, scan.range_error_m[i]);
     ++result.points;
   }
@@ -49,7 +49,7 @@ Spread line_of_sight_spread(const PlanarScan& scan, const BeamDirections& direct
   for (std::size_t i = first; i <= last; ++i) {
     const double r = scan.range_m[i];
     if (!is_usable_range(r)) continue;
-    const double deviation = r * (cosines[i] * los_x + sines[i] * los_y) - mean;
+    const double deviation = r * (cosines[i] * axis_x + sines[i] * axis_y) - mean;
     squares += deviation * deviation;
   }
   result.spread_m = std::sqrt(squares / count);
@@ -66,6 +66,10 @@ void ScanSequenceOptions::validate() const {
   detail::require_in_range(owner, "spread_ratio", spread_ratio, 0.0, true, 1e6, true);
   detail::require_in_range(owner, "spread_floor_sigmas", spread_floor_sigmas, 0.0, true, 1e6, true);
   detail::require_at_least(owner, "min_sector_points", min_sector_points, 2);
+  if (spread_axis != SpreadAxis::edge_normal && spread_axis != SpreadAxis::sensor_forward &&
+      spread_axis != SpreadAxis::line_of_sight) {
+    throw InputError(std::string(owner) + ": spread_axis: not one of edge_normal, sensor_forward, line_of_sight");
+  }
 }
 
 ScanSequenceFilter::ScanSequenceFilter(const ScanSequenceOptions& options)
@@ -151,10 +155,16 @@ void ScanSequenceFilter::judge_held_scan(std::vector<std::uint8_t>& removed) {
              max_cos_to_beam;
     };
     if (!crosses_beam(segment.first_beam) || !crosses_beam(segment.last_beam)) continue;
-    const double centroid_range = std::hypot(segment.mid_x_m, segment.mid_y_m);
-    if (centroid_range <= 0.0) continue;
-    const double los_x = segment.mid_x_m / centroid_range;
-    const double los_y = segment.mid_y_m / centroid_range;
+    double axis_x = 1.0, axis_y = 0.0;  // SpreadAxis::sensor_forward
+    if (options_.spread_axis == SpreadAxis::edge_normal) {
+      axis_x = std::cos(segment.normal_angle_rad);
+      axis_y = std::sin(segment.normal_angle_rad);
+    } else if (options_.spread_axis == SpreadAxis::line_of_sight) {
+      const double centroid_range = std::hypot(segment.mid_x_m, segment.mid_y_m);
+      if (centroid_range <= 0.0) continue;
+      axis_x = segment.mid_x_m / centroid_range;
+      axis_y = segment.mid_y_m / centroid_range;
+    }
 
     ScanSequenceSector sector;
     const auto widen = [&](std::size_t margin, std::size_t& first, std::size_t& last) {
@@ -163,10 +173,10 @@ void ScanSequenceFilter::judge_held_scan(std::vector<std::uint8_t>& removed) {
     };
     widen(options_.sector_margin_beams, sector.first_beam, sector.last_beam);
     widen(options_.spread_margin_beams, sector.spread_first_beam, sector.spread_last_beam);
-    const Spread now = line_of_sight_spread(held_, directions_k_, sector.spread_first_beam,
-                                            sector.spread_last_beam, los_x, los_y, sigma);
-    const Spread next = line_of_sight_spread(incoming_, directions_next_, sector.spread_first_beam,
-                                             sector.spread_last_beam, los_x, los_y, sigma);
+    const Spread now = spread_along(held_, directions_k_, sector.spread_first_beam, sector.spread_last_beam,
+                                    axis_x, axis_y, sigma);
+    const Spread next = spread_along(incoming_, directions_next_, sector.spread_first_beam,
+                                     sector.spread_last_beam, axis_x, axis_y, sigma);
     sector.points_k = now.points;
     sector.points_next = next.points;
     sector.spread_k_m = now.spread_m;

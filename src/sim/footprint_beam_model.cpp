@@ -61,6 +61,7 @@ void FootprintBeamOptions::validate() const {
   }
   check_option("detection_amplitude", scene_rules::non_negative(detection_amplitude));
   check_option("mixed_tolerance_m", scene_rules::positive(mixed_tolerance_m));
+  texture.validate();
 }
 
 std::complex<double> echo_phasor(double range_m, double amplitude, double frequency_hz) {
@@ -87,8 +88,8 @@ double unwrap_fine_with_coarse(double fine_range_m, double coarse_range_m, doubl
   return fine_range_m + std::round((coarse_range_m - fine_range_m) / period_m) * period_m;
 }
 
-FootprintBeamModel::FootprintBeamModel(const FootprintBeamOptions& options) : options_(options) {
-  options_.validate();
+FootprintBeamModel::FootprintBeamModel(const FootprintBeamOptions& options)
+    : options_((options.validate(), options)), texture_(options.texture) {
   const int rings = options_.footprint_rings;
   const auto ring_radius = [&](int k) {
     return rings == 0 ? 0.0 : options_.footprint_outer_radius * k / rings;
@@ -160,7 +161,8 @@ BeamEcho FootprintBeamModel::trace(const SceneRayCaster& scene, const BeamReques
       const std::optional<RayHit> hit = scene.cast(start, direction, beam.max_range_m);
       if (!hit) continue;
       const double amplitude =
-          sub.power_share * lambertian_amplitude(hit->reflectance, -hit->normal.dot(direction), hit->range_m);
+          sub.power_share * texture_.gain(hit->point_m, hit->object_index) *
+          lambertian_amplitude(hit->reflectance, -hit->normal.dot(direction), hit->range_m);
       if (!(amplitude > 0.0)) continue;  // the back of a surface returns nothing
       hit_ranges_m_.push_back(hit->range_m);
       if (fine_share > 0.0) fine_sum += echo_phasor(hit->range_m, fine_share * amplitude, options_.fine_frequency_hz);

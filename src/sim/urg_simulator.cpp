@@ -8,18 +8,10 @@
 
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/sensor_transform.hpp"
+#include "stridemap/sim/hash_mix.hpp"
 
 namespace stridemap {
 namespace {
-
-// Bijective 64-bit mixer (splitmix64's finaliser): neighbouring scan
-// indices give unrelated generator seeds.
-std::uint64_t mix64(std::uint64_t x) {
-  x += 0x9E3779B97F4A7C15ULL;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBULL;
-  return x ^ (x >> 31);
-}
 
 // Amplitudes below this are treated as this, so that a zero echo (possible
 // only with dropouts disabled) gives a large but finite noise.

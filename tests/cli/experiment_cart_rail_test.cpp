@@ -118,11 +118,25 @@ TEST(MixedPixelsCommand, WritesTheComparison) {
   const nlohmann::json summary = nlohmann::json::parse(in);
   EXPECT_EQ(summary["experiment"], "mixed-pixels");
   ASSERT_TRUE(summary["cases"].is_array());
+  bool has_ideal = false;
   for (const auto& c : summary["cases"]) {
     EXPECT_TRUE(c["beams"].contains("mixed_recall"));
     EXPECT_TRUE(c["map"].contains("artifact_cells"));
+    EXPECT_TRUE(c["map"].contains("mixed_artifact_reduction_pct"));
+    has_ideal = has_ideal || c["drops_labelled_mixed"] == true;
   }
+  EXPECT_TRUE(has_ideal);
   fs::remove_all(dir);
+}
+
+TEST(MixedPixelsCommand, ModelAndFilterOptionsAreCheckedBeforeAnyWork) {
+  const std::string scene = std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/cart_rail_boxes.yaml";
+  CommandResult r = run_cli("experiment mixed-pixels --scene " + scene + " --out /tmp --texture-log-sigma -1");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("log_sigma: expected a number >= 0, got -1"), std::string::npos) << r.output;
+  r = run_cli("experiment mixed-pixels --scene " + scene + " --out /tmp --cluster-max-incidence-deg 95");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("max_incidence_angle_rad"), std::string::npos) << r.output;
 }
 
 TEST(CartRailCommand, BadOnOffAndMapFilterValuesAreErrors) {

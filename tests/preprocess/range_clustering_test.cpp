@@ -76,27 +76,40 @@ TEST_F(RangeClusteringWall, RemovesAnIsolatedPointInFront) {
 }
 
 TEST_F(RangeClusteringWall, RemovesASmallGroupBehind) {
-  for (std::size_t i = 30; i <= 33; ++i) scan.range_m[i] += 0.08;
+  for (std::size_t i = 30; i <= 31; ++i) scan.range_m[i] += 0.08;
   const ScanFilterStats stats = filter.apply(scan, removed);
+  EXPECT_EQ(stats.removed, 2u);
+  for (std::size_t i = 30; i <= 31; ++i) EXPECT_EQ(removed[i], 1) << i;
+  EXPECT_EQ(test::count_marked(removed), 2u);
+}
+
+TEST_F(RangeClusteringWall, KeepsAGroupOfMinClusterPoints) {
+  for (std::size_t i = 80; i <= 82; ++i) scan.range_m[i] += 0.08;
+  EXPECT_EQ(filter.apply(scan, removed).removed, 0u);
+}
+
+TEST_F(RangeClusteringWall, TheAuthorsSizeRemovesGroupsOfFour) {
+  // MessorSim deletes clusters of up to 4 points (min_cluster_points = 5).
+  RangeClusteringOptions options;
+  options.min_cluster_points = 5;
+  RangeClusteringFilter authors(options);
+  for (std::size_t i = 30; i <= 33; ++i) scan.range_m[i] += 0.08;
+  for (std::size_t i = 80; i <= 84; ++i) scan.range_m[i] += 0.08;
+  const ScanFilterStats stats = authors.apply(scan, removed);
   EXPECT_EQ(stats.removed, 4u);
   for (std::size_t i = 30; i <= 33; ++i) EXPECT_EQ(removed[i], 1) << i;
   EXPECT_EQ(test::count_marked(removed), 4u);
 }
 
-TEST_F(RangeClusteringWall, KeepsAGroupOfMinClusterPoints) {
-  for (std::size_t i = 80; i <= 84; ++i) scan.range_m[i] += 0.08;
-  EXPECT_EQ(filter.apply(scan, removed).removed, 0u);
-}
-
 TEST_F(RangeClusteringWall, InvalidBeamsEndClusters) {
   scan.range_m[10] = nan;
-  scan.range_m[14] = -1.0;  // negative: treated as no return
+  scan.range_m[13] = -1.0;  // negative: treated as no return
   const ScanFilterStats stats = filter.apply(scan, removed);
   EXPECT_EQ(stats.invalid_input, 2u);
-  EXPECT_EQ(stats.removed, 3u);
-  for (std::size_t i = 11; i <= 13; ++i) EXPECT_EQ(removed[i], 1) << i;
+  EXPECT_EQ(stats.removed, 2u);
+  for (std::size_t i = 11; i <= 12; ++i) EXPECT_EQ(removed[i], 1) << i;
   EXPECT_EQ(filter.cluster_labels()[10], -1);
-  EXPECT_TRUE(std::isnan(scan.range_m[14]));
+  EXPECT_TRUE(std::isnan(scan.range_m[13]));
 }
 
 TEST_F(RangeClusteringWall, NoisyWallStaysOneSurface) {

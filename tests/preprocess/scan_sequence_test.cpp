@@ -112,7 +112,7 @@ TEST(ScanSequence, AFloorWithoutOccludingEndIsNoEdge) {
 
 TEST(ScanSequence, EdgeTiltIsJudgedAtBothEndsOfTheSegment) {
   // Without the occlusion requirement, a floor line is an edge candidate only
-  // while the beams at both of its ends meet it within 90 +- 30 deg.
+  // while the beams at both of its ends meet it within 90 +- 60 deg.
   ScanSequenceOptions options;
   options.require_occluding_end = false;
   const auto run = [&](std::size_t floor_beams) {
@@ -128,8 +128,8 @@ TEST(ScanSequence, EdgeTiltIsJudgedAtBothEndsOfTheSegment) {
     filter.push(floor, out);
     return filter.last_stats().removed;
   };
-  EXPECT_EQ(run(341), 0u);  // +-60 deg: ends seen at 60 deg from perpendicular
-  EXPECT_EQ(run(111), 111u);  // +-19 deg: the whole floor is the sector, removed
+  EXPECT_EQ(run(401), 0u);  // +-70 deg: ends seen at 70 deg from perpendicular
+  EXPECT_EQ(run(331), 331u);  // +-58 deg: the whole floor is the sector, removed
 }
 
 TEST(ScanSequence, OneScanOfDelayAndFlushReturnsTheLastScan) {
@@ -225,6 +225,62 @@ TEST(ScanSequence, RejectsNegativeSpreadRatio) {
   options.spread_ratio = -1.0;
   const std::string message = test::input_error_message([&] { ScanSequenceFilter filter(options); });
   EXPECT_NE(message.find("ScanSequenceOptions: spread_ratio"), std::string::npos) << message;
+}
+
+}  // namespace
+}  // namespace stridemap
+
+namespace stridemap {
+namespace {
+
+// A box off to the left: beams whose hit on the line x = x_m lies within
+// y in [0.15, 0.35] m get range_at(i, beam's y on that line), the others see
+// the ground line.
+template <typename RangeAt>
+PlanarScan side_box_scan(std::size_t n, double x_m, RangeAt range_at) {
+  PlanarScan scan = test::centred_scan(n);
+  test::put_on_line_x(scan, 0, n - 1, ground_x);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = scan.angle_rad[i];
+    if (std::cos(t) <= 0.0) continue;
+    const double y = x_m * std::tan(t);
+    if (y >= 0.15 && y <= 0.35) scan.range_m[i] = range_at(i, t);
+  }
+  return scan;
+}
+
+TEST(ScanSequence, TheSpreadAlongTheEdgeNormalSeesMixedPointsOffTheBoresight) {
+  // Scan k-1 sees the box's face at 25-38 deg to the left; scan k a scattered
+  // row of mixed points behind the edge (+-20 mm along x); scan k+1 the clean
+  // top. Along the line of sight both rows spread by about 30 mm (their
+  // length times the sine of the bearing), so that axis cannot tell them
+  // apart; along the edge's normal the clean row has no spread.
+  const std::size_t n = 401;
+  const PlanarScan before =
+      side_box_scan(n, face_x, [](std::size_t, double t) { return face_x / std::cos(t); });
+  const PlanarScan mixed = side_box_scan(n, face_x, [](std::size_t i, double t) {
+    return (0.50 + 0.02 * std::sin(1.7 * static_cast<double>(i))) / std::cos(t);
+  });
+  const PlanarScan after = side_box_scan(n, face_x, [](std::size_t, double t) { return top_x / std::cos(t); });
+  const auto removed_with = [&](SpreadAxis axis) {
+    ScanSequenceOptions options;
+    options.spread_axis = axis;
+    ScanSequenceFilter filter(options);
+    PlanarScan out;
+    filter.push(before, out);
+    filter.push(mixed, out);
+    EXPECT_TRUE(filter.push(after, out));
+    return filter.last_stats().removed;
+  };
+  EXPECT_GT(removed_with(SpreadAxis::edge_normal), 30u);
+  EXPECT_EQ(removed_with(SpreadAxis::line_of_sight), 0u);
+}
+
+TEST(ScanSequence, RejectsAnUnknownSpreadAxis) {
+  ScanSequenceOptions options;
+  options.spread_axis = static_cast<SpreadAxis>(7);
+  const std::string message = test::input_error_message([&] { ScanSequenceFilter{options}; });
+  EXPECT_NE(message.find("spread_axis"), std::string::npos) << message;
 }
 
 }  // namespace

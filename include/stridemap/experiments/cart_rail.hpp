@@ -64,6 +64,12 @@ struct CartRailOptions {
   /// order (none by default; "paper" = range clustering + scan sequence).
   std::vector<ScanFilterKind> filters{};
   ScanFilterChainOptions filter_options{};
+  /// For reference only: drop exactly the beams the simulator labels mixed,
+  /// before the filters (an ideal filter that sees the ground truth). What
+  /// its map still gets wrong no beam filter can mend (range noise and
+  /// eq. 10's highest-value rule at faces), so it is the yardstick for how
+  /// many of the mixed-pixel artifacts a real filter removes.
+  bool drop_labelled_mixed = false;
 };
 
 /// How the filters treated the simulator's beams, against its labels (the

@@ -15,11 +15,14 @@ struct MixedPixelsCase {
   bool mixed_pixels = true;
   std::vector<ScanFilterKind> filters;
   MapFilter map_filter = MapFilter::fill;
+  /// The ideal filter (CartRailOptions::drop_labelled_mixed): reference only.
+  bool drop_labelled_mixed = false;
 };
 
 /// The cases the experiment compares: no filtering, each filter alone, the
-/// paper's combination, the CAS filter on the map, and a reference run
-/// without mixed pixels.
+/// paper's combination, the CAS filter on the map, and two references: a run
+/// without mixed pixels and the ideal filter that drops exactly the beams
+/// labelled mixed.
 std::vector<MixedPixelsCase> default_mixed_pixels_cases();
 
 struct MixedPixelsRow {
@@ -39,6 +42,12 @@ struct MixedPixelsResult {
 /// Runs every case with `base` (seed, mount, map...) on the scene.
 MixedPixelsResult run_mixed_pixels(const Scene& scene, const CartRailOptions& base,
                                    const std::vector<MixedPixelsCase>& cases = default_mixed_pixels_cases());
+
+/// Share of the mixed-pixel artifacts a case removes: artifact cells of
+/// "none" minus the case's, over "none" minus the ideal filter's (the cells
+/// the ideal filter leaves wrong are not the mixed pixels' doing). 0 when
+/// either reference is missing or the ideal filter removes nothing.
+double mixed_artifact_reduction(const MixedPixelsResult& result, const MixedPixelsRow& row);
 
 std::string mixed_pixels_table(const MixedPixelsResult& result);
 std::string mixed_pixels_summary_json(const MixedPixelsResult& result, const CartRailOptions& base,

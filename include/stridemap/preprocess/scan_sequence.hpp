@@ -20,14 +20,36 @@
 
 namespace stridemap {
 
+/// The axis of the scan plane along which eq. 12 measures the spread.
+enum class SpreadAxis : std::uint8_t {
+  /// Normal of the edge line found in scan k-1. The scan plane meets every
+  /// horizontal surface in lines parallel to that edge, so a clean scan k+1
+  /// (the floor behind, or the top again) has almost no spread along it
+  /// whatever the edge's bearing, while mixed points strewn between the
+  /// edge and the background do.
+  edge_normal,
+  /// The sensor's forward axis: eq. 12 as printed (the paper's y_s, which
+  /// points forward in its Fig. 14). The same as edge_normal for an edge
+  /// square to the boresight; off to the side, an edge seen obliquely
+  /// spreads along it even when clean.
+  sensor_forward,
+  /// The line of sight through the segment's centroid: a clean line across
+  /// a sector off the boresight spreads along it by its length times the
+  /// sine of its bearing.
+  line_of_sight,
+};
+
 struct ScanSequenceOptions {
   /// Co-linear groups in scan k-1 (split-and-merge); its sigma model is also
   /// the one used for sigma_0 below.
   LineExtractionOptions lines;
   /// A segment looks like an edge across the scan when it meets the beams
   /// through both of its end points at 90 deg +- this [rad] (so a long floor
-  /// line reaching grazing angles at its ends does not qualify).
-  double max_edge_tilt_rad = 30.0 * 3.14159265358979323846 / 180.0;
+  /// line reaching grazing angles at its ends does not qualify). 60 deg: a
+  /// step 0.4 m wide seen 0.35 m away in the scan plane meets the beams at
+  /// its ends 33 deg off square, and the occluding-end test below already
+  /// keeps plain floor out (algorithms.md 2.6 proposed 30 deg).
+  double max_edge_tilt_rad = 60.0 * 3.14159265358979323846 / 180.0;
   /// Also require a range jump at one end of the segment with the segment in
   /// front (it occludes something): without it a plain floor counts as an edge.
   bool require_occluding_end = true;
@@ -41,6 +63,8 @@ struct ScanSequenceOptions {
   /// spread then measures that jump instead of the structure, and the test
   /// goes blind exactly at box edges.
   std::size_t spread_margin_beams = 0;
+  /// Axis of eq. 12's spread.
+  SpreadAxis spread_axis = SpreadAxis::edge_normal;
   /// kappa: scan k is "much more scattered" when sigma_k > kappa * sigma_{k+1} + sigma_0.
   double spread_ratio = 3.0;
   /// sigma_0 = spread_floor_sigmas * sigma_r (mean sigma_r of the sector in

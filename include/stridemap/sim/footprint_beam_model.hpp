@@ -28,6 +28,7 @@
 #include <Eigen/Core>
 
 #include "stridemap/sim/beam_model.hpp"
+#include "stridemap/sim/surface_texture.hpp"
 
 namespace stridemap {
 
@@ -132,6 +133,13 @@ struct FootprintBeamOptions {
   /// band of ranges; since every hit counts, a reading inside that band is
   /// clean whatever the tolerance.
   double mixed_tolerance_m = 0.015;
+  /// Reflectance texture of the surfaces within the footprint: each sub-ray
+  /// hit's echo is multiplied by the texture's gain at the hit point. On one
+  /// surface it changes only the echo's strength; on a footprint split
+  /// between two surfaces it moves the mixing proportion from beam to beam,
+  /// so mixed readings along an edge scatter between the surfaces (the
+  /// scatter of the paper's Fig. 14b). log_sigma = 0 turns it off.
+  SurfaceTextureOptions texture{};
 
   /// Throws InputError "footprint beam model options: <field>: <problem>".
   void validate() const;
@@ -194,6 +202,7 @@ class FootprintBeamModel final : public BeamModel {
   double fine_time_centre_ = 0.5;
   /// Scratch: range of every sub-ray hit of the current beam; sized once.
   std::vector<double> hit_ranges_m_;
+  SurfaceTexture texture_;
   FootprintDiagnostics last_;
 };
 

@@ -1,0 +1,50 @@
+#include "stridemap/sim/surface_texture.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "stridemap/core/error.hpp"
+#include "stridemap/sim/hash_mix.hpp"
+#include "stridemap/sim/scene_problem.hpp"
+
+namespace stridemap {
+namespace {
+
+void check_option(const char* field, const std::optional<std::string>& problem) {
+  if (problem) throw InputError(std::string("surface texture options: ") + field + ": " + *problem);
+}
+
+// Uniform in (0, 1) from the top 53 bits; never 0, so its logarithm is finite.
+double unit_interval(std::uint64_t bits) { return (static_cast<double>(bits >> 11) + 0.5) * 0x1.0p-53; }
+
+}  // namespace
+
+void SurfaceTextureOptions::validate() const {
+  check_option("log_sigma", scene_rules::non_negative(log_sigma));
+  check_option("grain_m", scene_rules::positive(grain_m));
+}
+
+SurfaceTexture::SurfaceTexture(const SurfaceTextureOptions& options) : options_(options) {
+  options_.validate();
+  inverse_grain_ = 1.0 / options_.grain_m;
+}
+
+double SurfaceTexture::gain(const Eigen::Vector3d& point_m, int object_index) const {
+  if (options_.log_sigma == 0.0) return 1.0;
+  std::uint64_t h = mix64(options_.salt ^ static_cast<std::uint64_t>(static_cast<std::int64_t>(object_index)));
+  for (int axis = 0; axis < 3; ++axis) {
+    // Clamped so that a far-off point cannot overflow the conversion.
+    const double index = std::clamp(std::floor(point_m[axis] * inverse_grain_), -1e15, 1e15);
+    const auto cube = static_cast<std::int64_t>(index);
+    h = mix64(h ^ static_cast<std::uint64_t>(cube));
+  }
+  // Box-Muller on two independent draws from the hash.
+  const double u1 = unit_interval(h), u2 = unit_interval(mix64(h));
+  const double z = std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
+  const double sigma = options_.log_sigma;
+  return std::exp(sigma * z - 0.5 * sigma * sigma);
+}
+
+}  // namespace stridemap
