@@ -171,6 +171,21 @@ void StripeDetector::detect(const RgbImage& image, StripeDetection& out) {
   }
 }
 
+RgbImage read_stripe_image(const std::string& path, int expected_width, int expected_height) {
+  PngSourceFormat format;
+  RgbImage image = read_png(path, format);
+  if (!format.has_colour) {
+    throw InputError(path + ": a " + format.colour_type + " PNG has no colour; the stripe detector needs the camera's " +
+                     "colour image (it looks for the laser's red excess)");
+  }
+  if (image.width != expected_width || image.height != expected_height) {
+    throw InputError(path + ": the image is " + std::to_string(image.width) + " x " + std::to_string(image.height) +
+                     " pixels, the configuration describes a " + std::to_string(expected_width) + " x " +
+                     std::to_string(expected_height) + " image region (image_width_px, image_height_px)");
+  }
+  return image;
+}
+
 RgbImage stripe_overlay(const RgbImage& image, const StripeDetection& detection) {
   check_image(image);
   if (detection.width != image.width || detection.height != image.height ||

@@ -24,6 +24,7 @@
 // its centre at (i + 0.5, k + 0.5).
 #include <cstddef>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "stridemap/io/png_image.hpp"
@@ -98,6 +99,12 @@ class StripeDetector {
   struct Buffers;
   std::unique_ptr<Buffers> buffers_;
 };
+
+/// Reads a camera image for the detector. Throws InputError naming the file
+/// when it cannot be read (see read_png), holds no colour (a grey PNG: the
+/// stripe is found by its red excess), or is not expected_width x
+/// expected_height pixels (the image region the configuration describes).
+RgbImage read_stripe_image(const std::string& path, int expected_width, int expected_height);
 
 /// A copy of the image with the detected stripe drawn on it: green dots
 /// (yellow below confidence 0.5), a magenta tick at the bottom edge of each
