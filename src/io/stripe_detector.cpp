@@ -151,11 +151,18 @@ void StripeDetector::detect(const RgbImage& image, StripeDetection& out) {
       ++out.rejected_tall_runs;
       continue;
     }
-    double weight_sum = 0.0, weighted_row = 0.0;
+    // Red above the local background, not the red excess: where the laser
+    // saturates the green channel too, the excess drops to zero in the
+    // stripe's core while the red channel stays at its plateau.
     const int top = std::max(0, best->top - o.centroid_margin_px);
     const int bottom = std::min(height - 1, best->bottom + o.centroid_margin_px);
+    int background = 255;
+    for (int y = std::max(0, top - 2); y <= std::min(height - 1, bottom + 2); ++y) {
+      background = std::min<int>(background, image.rgb[image.offset(x, y)]);
+    }
+    double weight_sum = 0.0, weighted_row = 0.0;
     for (int y = top; y <= bottom; ++y) {
-      const double w = std::max<int>(0, b.excess.at<std::int16_t>(y, x));
+      const double w = std::max(0, image.rgb[image.offset(x, y)] - background);
       weight_sum += w;
       weighted_row += w * (y + 0.5);
     }

@@ -17,8 +17,11 @@
 //    erodes a steep stripe, which is why it is off by default);
 // 3. per column, the runs of candidate rows; the run with the largest summed
 //    red excess is the stripe, unless it is taller than max_stripe_height_px
-//    (a red object, not a line); its row is the red-excess-weighted centroid
-//    over the run and centroid_margin_px rows either side.
+//    (a red object, not a line); its row is the centroid of the red channel
+//    above its local minimum over the run and centroid_margin_px rows either
+//    side (the red channel, not the excess: a strong stripe saturates green
+//    too and leaves a core without red excess, which the vertical closing
+//    joins and the red plateau centres).
 //
 // Coordinates follow structured_light.hpp: the pixel (column i, row k) has
 // its centre at (i + 0.5, k + 0.5).
@@ -40,8 +43,9 @@ struct StripeDetectorOptions {
   int min_red_dn = 50;
   /// Side of the square of the opening [px], odd; 1 (default) turns it off.
   int opening_size_px = 1;
-  /// Height of the vertical closing line [px]; 1 turns the closing off.
-  int closing_height_px = 3;
+  /// Height of the vertical closing line [px]; 1 turns the closing off. 7
+  /// joins the two halves of a stripe whose saturated core has no red excess.
+  int closing_height_px = 7;
   /// Connected candidate regions smaller than this are dropped [px].
   int min_component_px = 12;
   /// A run of candidate rows taller than this is not a stripe [px].
