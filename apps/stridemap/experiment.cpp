@@ -3,11 +3,13 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "commands.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
 #include "stridemap/experiments/cart_rail_report.hpp"
+#include "stridemap/experiments/lighting.hpp"
 #include "stridemap/experiments/mixed_pixels.hpp"
 #include "stridemap/io/mapper_config.hpp"
 #include "stridemap/io/scene_yaml.hpp"
@@ -52,6 +54,12 @@ ElevationRule parse_elevation_rule(const std::string& name) {
   if (name == "paper") return ElevationRule::paper_highest;
   if (name == "gated") return ElevationRule::gated_highest;
   throw InputError("--elevation-rule: '" + name + "' is not a rule; use paper (eq. 10) or gated");
+}
+
+std::string lux_name(double lux) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g lux", lux);
+  return text;
 }
 
 StripePipeline parse_pipeline(const std::string& name) {
@@ -140,6 +148,36 @@ void run_mixed_pixels_command(const MixedPixelsArgs& args) {
   std::printf("outputs: %s\n", dir.c_str());
 }
 
+struct LightingArgs {
+  std::string scene_path = "scenes/cart_rail_boxes.yaml";
+  std::string out_dir;
+  std::string sensor_config_path;
+  std::vector<double> levels_lux;
+  std::uint64_t seed = 1;
+};
+
+void run_lighting_command(const LightingArgs& args) {
+  if (!std::filesystem::exists(args.scene_path)) {
+    throw InputError(args.scene_path + ": the scene file does not exist (run from the source folder, or pass --scene)");
+  }
+  const Scene scene = load_scene_yaml(args.scene_path);
+  LightingOptions options;
+  CartRailArgs sl_args;
+  sl_args.sensor_config_path = args.sensor_config_path;
+  apply_structured_light_args(sl_args, options.structured_light);
+  options.structured_light.seed = args.seed;
+  options.urg.seed = args.seed;
+  if (!args.levels_lux.empty()) {
+    options.levels.clear();
+    for (double lux : args.levels_lux) options.levels.push_back({lux_name(lux), lux});
+  }
+  const LightingResult result = run_lighting(scene, options);
+  const std::string dir = (std::filesystem::path(args.out_dir) / "lighting").string();
+  write_lighting_outputs(result, options, args.scene_path, dir);
+  std::fputs(lighting_table(result).c_str(), stdout);
+  std::printf("outputs: %s\n", dir.c_str());
+}
+
 }  // namespace
 
 void register_experiment(CLI::App& app) {
@@ -190,6 +228,19 @@ void register_experiment(CLI::App& app) {
   mixed->add_option("--out", mp->out_dir, "Output folder; results go to OUT/mixed-pixels/<scene>/")->required();
   mixed->add_option("--seed", mp->seed, "Seed of the simulation")->capture_default_str();
   mixed->callback([mp] { run_mixed_pixels_command(*mp); });
+
+  auto la = std::make_shared<LightingArgs>();
+  CLI::App* lighting = experiment->add_subcommand(
+      "lighting", "Structured-light stripe detection and map error from dim lab to daylight, URG beside it (Fig. 21)");
+  lighting->add_option("--out", la->out_dir, "Output folder; results go to OUT/lighting/")->required();
+  lighting->add_option("--scene", la->scene_path, "Scene file (YAML, see docs/scenes.md)")->capture_default_str();
+  lighting->add_option("--sensor-config", la->sensor_config_path,
+                       "Structured-light configuration (YAML); default Ragno's");
+  lighting->add_option("--levels", la->levels_lux,
+                       "Ambient illuminances [lux], comma separated; default 50,300,1000,3000,10000,30000,100000")
+      ->delimiter(',');
+  lighting->add_option("--seed", la->seed, "Seed of the simulation")->capture_default_str();
+  lighting->callback([la] { run_lighting_command(*la); });
 
   cart_rail->callback([args, cell_size, rule, filters, mixed_pixels, map_filter] {
     args->cell_size_given = cell_size->count() > 0;
