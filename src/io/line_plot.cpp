@@ -18,7 +18,13 @@ const cv::Scalar kInk(30, 30, 30), kGrid(225, 225, 225);
 
 std::string tick_text(double value) {
   char text[32];
-  if (std::abs(value) >= 1e4 || (std::abs(value) < 1e-2 && value != 0.0)) {
+  // Thousands and millions as "20k" and "1M": short enough that the ticks of
+  // a log axis spanning decades do not run into each other.
+  if (std::abs(value) >= 1e6 && std::abs(value) < 1e9) {
+    std::snprintf(text, sizeof text, "%gM", value / 1e6);
+  } else if (std::abs(value) >= 1e4 && std::abs(value) < 1e6) {
+    std::snprintf(text, sizeof text, "%gk", value / 1e3);
+  } else if (std::abs(value) >= 1e9 || (std::abs(value) < 1e-2 && value != 0.0)) {
     std::snprintf(text, sizeof text, "%.0e", value);
   } else {
     std::snprintf(text, sizeof text, "%g", value);
