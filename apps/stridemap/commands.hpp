@@ -8,5 +8,8 @@ namespace stridemap::cli {
 void register_calibrate_range(CLI::App& app);
 void register_experiment(CLI::App& app);
 void register_sensor_report(CLI::App& app);
+void register_emulate_urg(CLI::App& app);  // emulate_urg.cpp
+void register_record(CLI::App& app);       // record.cpp
+void register_live(CLI::App& app);         // live.cpp: live and map
 
 }  // namespace stridemap::cli
