@@ -3,7 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
-#include <sstream>
+#include <charconv>
+#include <string>
 
 #include "stridemap/core/error.hpp"
 
@@ -11,6 +12,13 @@ namespace stridemap {
 namespace {
 
 double lerp(double a, double b, double t) { return a + t * (b - a); }
+
+// The shortest text that reads back to the same double: what the file said.
+std::string shortest(double value) {
+  char text[32];
+  const auto [end, error] = std::to_chars(text, text + sizeof text, value);
+  return std::string(text, error == std::errc() ? end : text);
+}
 
 // b - a wrapped into [-pi, pi).
 double angle_difference(double a, double b) {
@@ -47,11 +55,8 @@ void PoseTrack::append(const TimedPose& p) {
     if (!std::isfinite(f)) throw InputError("pose fields must be finite numbers");
   }
   if (!poses_.empty() && !(p.time_s > poses_.back().time_s)) {
-    std::ostringstream message;
-    message.precision(17);
-    message << "pose time " << p.time_s << " s is not later than the previous pose's " << poses_.back().time_s
-            << " s (poses must come in increasing time order)";
-    throw InputError(message.str());
+    throw InputError("pose time " + shortest(p.time_s) + " s is not later than the previous pose's " +
+                     shortest(poses_.back().time_s) + " s (poses must come in increasing time order)");
   }
   poses_.push_back(p);
 }

@@ -179,6 +179,7 @@ void UrgDriver::begin_start() {
   state_ = UrgDriverState::starting;
   probes_sent_ = 0;
   last_decode_error_.clear();
+  bytes_at_start_ = stats_.bytes_received;
   decoder_.reset();
   stream_->discard_input();
   // A bare LF ends whatever half command the sensor may hold (as the
@@ -230,7 +231,12 @@ void UrgDriver::on_reply_timeout() {
                                                                                            : stream_command_.text) +
                         " within " + format_s(options_.reply_timeout_s);
   if (step_ == Step::probe) message += " (" + std::to_string(probes_sent_) + " tries): is it a URG, and powered?";
-  if (!last_decode_error_.empty()) message += "; it sent bytes that are not SCIP 2.0: " + last_decode_error_;
+  const std::uint64_t received = stats_.bytes_received - bytes_at_start_;
+  if (!last_decode_error_.empty()) {
+    message += "; it sent bytes that are not SCIP 2.0: " + last_decode_error_;
+  } else if (received > 0) {
+    message += "; it sent " + std::to_string(received) + " bytes, none of them a SCIP 2.0 reply";
+  }
   report(UrgFault::no_reply, message);
   close_device();
   next_open_time_ = now() + options_.reconnect_interval_s;

@@ -178,6 +178,7 @@ class UrgDriver {
   double next_open_time_ = 0.0;
   std::string last_open_error_;
   std::string last_decode_error_;
+  std::uint64_t bytes_at_start_ = 0;
 
   scip::Decoder decoder_;
   scip::Event event_;
