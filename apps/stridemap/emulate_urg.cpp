@@ -162,6 +162,10 @@ void register_emulate_urg(CLI::App& app) {
   cmd->add_option("--trace", args->server.trace_path, "Write what happened to every frame to this file");
   cmd->add_option("--poses-out", args->server.poses_path, "Write the true pose of every scan (pose format)");
   cmd->add_option("--poses-clock", args->poses_clock, "Clock of --poses-out: host or sensor")->capture_default_str();
+  cmd->add_option("--poses-rate-hz", args->server.poses_rate_hz,
+                  "Poses per second in --poses-out, each written when its time comes (0: one per scan, at its "
+                  "step 0)")
+      ->capture_default_str();
   cmd->add_option("--max-frames", args->server.max_frames, "Stop after this many scan frames (0: no limit)")
       ->capture_default_str();
   cmd->add_option("--duration-s", args->server.max_duration_s, "Stop after this many seconds (0: no limit)")

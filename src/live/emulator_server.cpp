@@ -144,6 +144,9 @@ void EmulatorServerOptions::validate() const {
   probability("--corrupt-probability", corrupt_probability);
   probability("--drop-probability", drop_probability);
   if (!(std::isfinite(max_duration_s) && max_duration_s >= 0.0)) throw InputError("--duration-s must be >= 0");
+  if (!(std::isfinite(poses_rate_hz) && poses_rate_hz >= 0.0 && poses_rate_hz <= 1000.0)) {
+    throw InputError("--poses-rate-hz must be in [0, 1000]");
+  }
 }
 
 EmulatorServerStats run_emulator_server(UrgEmulator& emulator, const MotionSource* motion,
@@ -183,10 +186,26 @@ EmulatorServerStats run_emulator_server(UrgEmulator& emulator, const MotionSourc
   std::uniform_real_distribution<double> unit(0.0, 1.0);
   std::size_t next_fault = 0;
   std::string pending;
+  const auto write_pose = [&](std::int64_t at_ms) {
+    if (!poses.open() || motion == nullptr) return;
+    TimedPose p;
+    p.pose = motion->pose_at(static_cast<double>(at_ms) * 1e-3);
+    p.time_s = options.pose_clock == PoseClock::host
+                   ? host_epoch_s + static_cast<double>(at_ms) * 1e-3
+                   : sensor_time_seconds(static_cast<std::uint64_t>(emulator.unwrapped_sensor_time_ms(at_ms)));
+    poses.line(io::format_pose_line(p));
+  };
+  const double pose_period_ms = options.poses_rate_hz > 0.0 ? 1000.0 / options.poses_rate_hz : 0.0;
+  std::int64_t poses_written = 0;
   char buffer[1024];
 
   while (!stop.load()) {
     std::int64_t now = elapsed_ms();
+    // The estimator's poses, whatever the sensor does (it runs on the robot, not in the URG).
+    for (; pose_period_ms > 0.0 && static_cast<double>(poses_written) * pose_period_ms <= static_cast<double>(now);
+         ++poses_written) {
+      write_pose(static_cast<std::int64_t>(std::llround(static_cast<double>(poses_written) * pose_period_ms)));
+    }
     if (options.max_duration_s > 0.0 && static_cast<double>(now) >= options.max_duration_s * 1000.0) break;
     if (options.max_frames > 0 && stats.frames >= options.max_frames && pending.empty()) break;
     if (mode == Mode::unplugged) {
@@ -234,15 +253,7 @@ EmulatorServerStats run_emulator_server(UrgEmulator& emulator, const MotionSourc
         continue;
       }
       ++stats.frames;
-      if (poses.open() && motion != nullptr) {
-        TimedPose p;
-        p.pose = motion->pose_at(static_cast<double>(out.scan_start_ms) * 1e-3);
-        p.time_s = options.pose_clock == PoseClock::host
-                       ? host_epoch_s + static_cast<double>(out.scan_start_ms) * 1e-3
-                       : sensor_time_seconds(static_cast<std::uint64_t>(
-                             emulator.unwrapped_sensor_time_ms(out.scan_start_ms)));
-        poses.line(io::format_pose_line(p));
-      }
+      if (pose_period_ms == 0.0) write_pose(out.scan_start_ms);
       bool corrupt = options.corrupt_probability > 0.0 && unit(rng) < options.corrupt_probability;
       bool drop = options.drop_probability > 0.0 && unit(rng) < options.drop_probability;
       std::string fate;

@@ -54,6 +54,10 @@ struct EmulatorServerOptions {
   /// Empty: none. The true pose of every scan frame, in the pose format.
   std::string poses_path;
   PoseClock pose_clock = PoseClock::host;
+  /// Poses per second, as a pose estimator publishes them, each written when
+  /// its time has come; 0: one pose per scan frame, at the scan's step 0
+  /// (exact poses for the scans, for tests that compare maps).
+  double poses_rate_hz = 0.0;
   /// Stop after this many frames (0: no limit) or seconds (0: no limit).
   std::uint64_t max_frames = 0;
   double max_duration_s = 0.0;
