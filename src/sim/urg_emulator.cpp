@@ -117,9 +117,16 @@ void UrgEmulator::reply(std::string_view echo, std::string_view status, std::int
   scip::append_status_reply(echo, status, out.bytes);
 }
 
-void UrgEmulator::answer(std::string_view line, std::int64_t now_ms) {
+void UrgEmulator::answer(std::string_view received, std::int64_t now_ms) {
+  // Bytes outside printable ASCII cannot be echoed raw (a reply line must
+  // stay a valid line): they come back as '?', and the command is unknown.
+  std::string line(received);
+  for (char& c : line) {
+    if (c < 0x20 || c > 0x7E) c = '?';
+  }
+  const bool printable = line == received;
   scip::Command command;
-  const bool known = scip::parse_command(line, command);
+  const bool known = printable && scip::parse_command(line, command);
   if (!scip2_) {
     // SCIP 1.1 mode: only the switch is implemented; a 1.1 unit answers
     // SCIP 2.0 commands with a one-character error status.
@@ -132,13 +139,8 @@ void UrgEmulator::answer(std::string_view line, std::int64_t now_ms) {
     }
     return;
   }
-  // Bytes outside printable ASCII: echoed as '?', as they cannot be echoed raw.
   if (!known) {
-    std::string echo(line);
-    for (char& c : echo) {
-      if (c < 0x20 || c > 0x7E) c = '?';
-    }
-    reply(echo, "0E", now_ms);
+    reply(line, "0E", now_ms);
     return;
   }
   if (!command.well_formed) {

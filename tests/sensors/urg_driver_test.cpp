@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -317,6 +318,39 @@ TEST_F(DriverFixture, HardwareErrorStatusInTheStreamIsReported) {
   const Events events = run(driver, 1.5);
   ASSERT_TRUE(events.has_fault(UrgFault::sensor_error)) << events.fault_list();
   EXPECT_NE(events.fault_list().find("hardware trouble"), std::string::npos) << events.fault_list();
+}
+
+TEST_F(DriverFixture, RandomGarbageOnTheWireNeverLosesAScanSilently) {
+  make_device();
+  std::mt19937_64 rng(3);
+  std::size_t damaged = 0;
+  device_->on_output = [&](EmulatorOutput& out) {
+    if (!out.is_scan) return;
+    switch (rng() % 6) {
+      case 0:  // noise between frames (a loose connector, say)
+        for (int i = static_cast<int>(rng() % 40); i > 0; --i) out.bytes.insert(out.bytes.begin(), static_cast<char>(rng()));
+        break;
+      case 1:  // a random byte of the frame changed
+        out.bytes[rng() % out.bytes.size()] = static_cast<char>(rng());
+        ++damaged;
+        break;
+      case 2:  // a piece of the frame lost
+        out.bytes.erase(rng() % out.bytes.size(), 1 + rng() % 200);
+        ++damaged;
+        break;
+      default: break;
+    }
+  };
+  UrgDriver driver(test::emulated_opener(*device_), options());
+  const Events events = run(driver, 30.0);
+  EXPECT_GT(events.scans.size(), 150u) << events.fault_list();
+  EXPECT_GT(damaged, 50u);
+  EXPECT_TRUE(events.has_fault(UrgFault::corrupt_data));
+  expect_accounted(events, 100);
+  // No scan arrives with values other than those the sensor measured.
+  for (const UrgScan& s : events.scans) {
+    for (const std::uint32_t v : s.raw.values_mm) ASSERT_EQ(v, 1000 + s.sensor_time_ms / 100 % 1000);
+  }
 }
 
 TEST(UrgDriverOptions, InvalidOptionsAreRefusedByName) {

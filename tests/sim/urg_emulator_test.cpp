@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -215,6 +216,77 @@ TEST(MotionSource, CartRailMovesOneStepPerScanAndStopsAtTheEnd) {
   TrunkPose bad;
   bad.x_m = std::nan("");
   EXPECT_THROW(StaticMotion{bad}, InputError);
+}
+
+}  // namespace
+}  // namespace stridemap
+
+namespace stridemap {
+namespace {
+
+// Whatever commands a host sends (valid or with bad parameters), in
+// whatever pieces, the emulator answers with frames that decode cleanly: a
+// sensor never sends malformed SCIP. (Replies to lines that are no command
+// at all are echoed as they came, and a decoder calls those unknown or
+// garbage by design: they are fed in the next test, for robustness only.)
+TEST(UrgEmulatorRandomInput, EveryReplyToRandomCommandsDecodesCleanly) {
+  class Flat final : public UrgScanSource {
+   public:
+    void scan(std::uint64_t, double, std::vector<std::uint32_t>& v) override { v.assign(682, 1500); }
+  } source;
+  std::mt19937_64 rng(11);
+  const std::vector<std::string> commands = {"MD0044072501000", "GD0044072501", "BM", "QT", "RS", "VV", "PP", "II",
+                                             "TM0", "TM1", "TM2", "SCIP2.0", "MS0000076899103", "MD0044072501000;t1",
+                                             "GD00x4072501", "CR05", "SS115200", "HS1", "DB01"};
+  for (const UrgVariant variant : {UrgVariant::classic, UrgVariant::ug01}) {
+    UrgEmulatorOptions o;
+    o.variant = variant;
+    o.timestamp_start_ms = (1u << 24) - 5000;
+    UrgEmulator e(o, source);
+    scip::Decoder decoder;
+    scip::Event event;
+    std::int64_t now = 0;
+    std::size_t replies = 0;
+    std::string host;
+    for (int k = 0; k < 3000; ++k) {
+      host += commands[rng() % commands.size()];
+      host += rng() % 5 == 0 ? "\r\n" : "\n";
+      // Sent in random pieces, at random times.
+      while (host.size() > 40 || (!host.empty() && rng() % 2 == 0)) {
+        const std::size_t n = 1 + rng() % host.size();
+        now += static_cast<std::int64_t>(rng() % 30);
+        e.advance(now);
+        e.receive(host.substr(0, n), now);
+        host.erase(0, n);
+      }
+      for (const EmulatorOutput& out : e.output()) decoder.feed(out.bytes);
+      e.output().clear();
+      while (decoder.next(event)) {
+        ASSERT_NE(event.kind, scip::EventKind::error) << event.error.message;
+        ++replies;
+      }
+    }
+    EXPECT_GT(replies, 1000u);
+  }
+}
+
+TEST(UrgEmulatorRandomInput, RandomBytesNeitherCrashNorBreakTheOutput) {
+  class Flat final : public UrgScanSource {
+   public:
+    void scan(std::uint64_t, double, std::vector<std::uint32_t>& v) override { v.assign(682, 1500); }
+  } source;
+  std::mt19937_64 rng(12);
+  UrgEmulator e({}, source);
+  e.receive("SCIP2.0\nMD0044072501000\n", 0);
+  for (int k = 0; k < 20000; ++k) {
+    std::string bytes;
+    for (int i = static_cast<int>(rng() % 8); i > 0; --i) bytes += static_cast<char>(rng() % 256);
+    e.advance(k);
+    e.receive(bytes, k);
+  }
+  for (const EmulatorOutput& out : e.output()) {
+    for (const char c : out.bytes) ASSERT_TRUE(c == '\n' || (c >= 0x20 && c <= 0x7E)) << "unprintable byte sent";
+  }
 }
 
 }  // namespace

@@ -88,7 +88,7 @@ class UrgEmulator {
     int remaining = 0;  ///< scans still to send; 0 with unlimited
     bool unlimited = true;
   };
-  void answer(std::string_view line, std::int64_t now_ms);
+  void answer(std::string_view received, std::int64_t now_ms);
   void answer_scip2(const scip::Command& command, std::string_view line, std::int64_t now_ms);
   void answer_distance(const scip::Command& command, std::string_view line, std::int64_t now_ms);
   void reply(std::string_view echo, std::string_view status, std::int64_t now_ms);
