@@ -138,59 +138,77 @@ void run_live(const LiveArgs& args) {
       receive_times.pop_front();
     }
   };
-  while (!stop_requested()) {
-    const double now = monotonic_seconds();
-    if (args.device.duration_s > 0.0 && now - start >= args.device.duration_s) break;
-    if (args.device.max_scans > 0 && driver->stats().scans >= args.device.max_scans && mapper.waiting() == 0) break;
-    if (now >= next_save) {
-      write_map_outputs(mapper, sensor, info, nullptr, args.mapping.out_dir);
-      next_save = now + args.save_every_s;
-    }
-    if (now >= next_status) {
-      const UrgDriverStats& d = driver->stats();
-      const io::MapLayers layers = io::export_map_layers(mapper.mapper().map());
-      std::fprintf(stderr, "%slive: %.1f scans/s, %llu scans, %llu lost, %llu faults, %zu mapped, %zu waiting for poses, coverage %.1f %%%s",
-                   tty ? "\r" : "", static_cast<double>(d.scans) / std::max(1e-9, now - start),
-                   static_cast<unsigned long long>(d.scans), static_cast<unsigned long long>(d.scans_lost),
-                   static_cast<unsigned long long>(d.faults), mapper.stats().integrated, mapper.waiting(),
-                   100.0 * io::map_coverage(layers), tty ? "\x1b[K" : "\n");
-      next_status = now + args.status_every_s;
-    }
-    poses.poll(track);
-    const std::size_t integrated_before = mapper.stats().integrated;
-    if (driver->next(event, 0.05)) {
-      switch (event.kind) {
-        case UrgDriverEvent::Kind::scan: {
-          if (log) log->write_scan(event.scan);
-          UrgRawScan raw = event.scan.raw;
-          raw.time_s = scan_time(event.scan, args.mapping.clock);
-          mapper.add(raw, now);
-          receive_times.push_back(event.scan.host_receive_time_s);
-          poses.poll(track);
-          break;
-        }
-        case UrgDriverEvent::Kind::fault:
-          if (tty) std::fputc('\n', stderr);
-          print_fault(event);
-          if (log) log->write_fault(host_seconds(), event.fault, event.count, event.message);
-          break;
-        case UrgDriverEvent::Kind::connected:
-          if (log) log->write_sensor(host_seconds(), driver->version(), driver->parameters());
-          if (!(driver->parameters() == sensor)) {
-            throw InputError(args.device.device + ": another sensor answered after the reconnection (" +
-                             driver->parameters().model + "); restart live mapping for it");
-          }
-          break;
+  const auto print_status = [&](double now) {
+    const UrgDriverStats& d = driver->stats();
+    const io::MapLayers layers = io::export_map_layers(mapper.mapper().map());
+    std::fprintf(stderr,
+                 "%slive: %.1f scans/s, %llu scans, %llu lost, %llu faults, %zu mapped, %zu waiting for poses, "
+                 "coverage %.1f %%%s",
+                 tty ? "\r" : "", static_cast<double>(d.scans) / std::max(1e-9, now - start),
+                 static_cast<unsigned long long>(d.scans), static_cast<unsigned long long>(d.scans_lost),
+                 static_cast<unsigned long long>(d.faults), mapper.stats().integrated, mapper.waiting(),
+                 100.0 * io::map_coverage(layers), tty ? "\x1b[K" : "\n");
+  };
+  // A bad pose line or another sensor ends live mapping with an error, but
+  // only after the map so far is saved.
+  std::string fatal;
+  while (!stop_requested() && fatal.empty()) {
+    try {
+      const double now = monotonic_seconds();
+      if (args.device.duration_s > 0.0 && now - start >= args.device.duration_s) break;
+      if (args.device.max_scans > 0 && driver->stats().scans >= args.device.max_scans && mapper.waiting() == 0) break;
+      if (now >= next_save) {
+        write_map_outputs(mapper, sensor, info, nullptr, args.mapping.out_dir);
+        next_save = now + args.save_every_s;
       }
+      if (now >= next_status) {
+        print_status(now);
+        next_status = now + args.status_every_s;
+      }
+      poses.poll(track);
+      const std::size_t integrated_before = mapper.stats().integrated;
+      if (driver->next(event, 0.05)) {
+        switch (event.kind) {
+          case UrgDriverEvent::Kind::scan: {
+            if (log) log->write_scan(event.scan);
+            UrgRawScan raw = event.scan.raw;
+            raw.time_s = scan_time(event.scan, args.mapping.clock);
+            mapper.add(raw, now);
+            receive_times.push_back(event.scan.host_receive_time_s);
+            poses.poll(track);
+            break;
+          }
+          case UrgDriverEvent::Kind::fault:
+            if (tty) std::fputc('\n', stderr);
+            print_fault(event);
+            if (log) log->write_fault(host_seconds(), event.fault, event.count, event.message);
+            break;
+          case UrgDriverEvent::Kind::connected:
+            if (log) log->write_sensor(host_seconds(), driver->version(), driver->parameters());
+            if (!(driver->parameters() == sensor)) {
+              throw InputError(args.device.device + ": another sensor answered after the reconnection (" +
+                               driver->parameters().model + "); restart live mapping for it");
+            }
+            break;
+        }
+      }
+      mapper.process(track, false);
+      mapper.expire(now - args.pose_wait_s);
+      account(integrated_before);
+    } catch (const InputError& e) {
+      fatal = e.what();
     }
-    mapper.process(track, false);
-    mapper.expire(now - args.pose_wait_s);
-    account(integrated_before);
   }
   if (tty) std::fputc('\n', stderr);
   driver->stop();
   // The end: poses are complete now, as they are for a replay of the same data.
-  poses.poll(track);
+  if (fatal.empty()) {
+    try {
+      poses.poll(track);
+    } catch (const InputError& e) {
+      fatal = e.what();
+    }
+  }
   const std::size_t integrated_before = mapper.stats().integrated;
   mapper.process(track, true);
   account(integrated_before);
@@ -203,6 +221,7 @@ void run_live(const LiveArgs& args) {
               mapper.stats().integrated, mapper.stats().scans, static_cast<unsigned long long>(run.driver.scans_lost),
               100.0 * io::map_coverage(layers), run.duration_s > 0 ? 100.0 * run.cpu_s / run.duration_s : 0.0,
               run.latency_mean_s * 1000.0, run.latency_max_s * 1000.0, args.mapping.out_dir.c_str());
+  if (!fatal.empty()) throw InputError(fatal + " (the map so far is saved)");
 }
 
 // ---------------------------------------------------------------- map

@@ -47,10 +47,15 @@ class BackgroundProcess {
 
   /// Reads output until it contains `text` (true) or `timeout_s` passes.
   bool wait_for_output(const std::string& text, double timeout_s) {
+    return wait_until([&](const std::string& out) { return out.find(text) != std::string::npos; }, timeout_s);
+  }
+  /// Reads output until `done(output)` holds (true) or `timeout_s` passes.
+  template <typename Predicate>
+  bool wait_until(Predicate done, double timeout_s) {
     const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout_s);
-    while (output_.find(text) == std::string::npos) {
+    while (!done(output_)) {
       const auto left = std::chrono::duration_cast<std::chrono::milliseconds>(end - std::chrono::steady_clock::now());
-      if (left.count() <= 0 || !read_some(static_cast<int>(left.count()))) return output_.find(text) != std::string::npos;
+      if (left.count() <= 0 || !read_some(static_cast<int>(left.count()))) return done(output_);
     }
     return true;
   }

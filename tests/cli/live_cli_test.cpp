@@ -4,6 +4,11 @@
 // files and logs give clear errors.
 #include <gtest/gtest.h>
 
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <chrono>
 #include <csignal>
 #include <filesystem>
 #include <fstream>
@@ -92,6 +97,40 @@ TEST(LiveCli, InterruptSavesTheMapAndExitsCleanly) {
   EXPECT_NE(live.output().find("scans mapped of"), std::string::npos) << live.output();
   EXPECT_TRUE(std::filesystem::exists(dir / "out/elevation.png"));
   EXPECT_NE(dir.read("out/summary.json").find("\"command\": \"live\""), std::string::npos);
+}
+
+TEST(LiveCli, BadPoseArrivingLiveStopsWithItsLineAndKeepsTheMap) {
+  test::TestFolder dir;
+  auto emulator = start_emulator(dir, "--scene " + shell_quoted(kScene) + " --x-m 0.3");
+  const std::string fifo = dir / "poses.fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  BackgroundProcess live(cli() + " live --device " + shell_quoted(dir / "urg") + " --poses " + shell_quoted(fifo) +
+                         " --out " + shell_quoted(dir / "out") + " --max-pose-gap-s 100000 --status-every-s 0.1" +
+                         " --connect-timeout-s 10");
+  ASSERT_TRUE(live.wait_for_output("connected", 15.0)) << live.output();  // its reader has the pipe open
+  const int writer = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);
+  ASSERT_GE(writer, 0);
+  const double now = static_cast<double>(std::chrono::duration_cast<std::chrono::milliseconds>(
+                         std::chrono::system_clock::now().time_since_epoch()).count()) / 1000.0;
+  const std::string good = std::to_string(now - 10) + " 0.3 0 0 0 0\n" + std::to_string(now + 1000) + " 0.3 0 0 0 0\n";
+  ASSERT_EQ(::write(writer, good.data(), good.size()), static_cast<ssize_t>(good.size()));
+  // A status line with scans in the map: "..., 12 mapped, ...".
+  const auto mapped_some = [](const std::string& out) {
+    for (std::size_t at = out.find(" mapped,"); at != std::string::npos; at = out.find(" mapped,", at + 1)) {
+      std::size_t digits = at;
+      while (digits > 0 && out[digits - 1] >= '0' && out[digits - 1] <= '9') --digits;
+      if (digits < at && std::stoul(out.substr(digits, at - digits)) > 0) return true;
+    }
+    return false;
+  };
+  ASSERT_TRUE(live.wait_until(mapped_some, 15.0)) << live.output();
+  const std::string bad = std::to_string(now) + " 0.3 0 0 0 0\n";  // earlier than the last one
+  ASSERT_EQ(::write(writer, bad.data(), bad.size()), static_cast<ssize_t>(bad.size()));
+  EXPECT_EQ(live.wait(15.0), 2) << live.output();
+  ::close(writer);
+  EXPECT_NE(live.output().find("poses.fifo:3: pose time"), std::string::npos) << live.output();
+  EXPECT_NE(live.output().find("(the map so far is saved)"), std::string::npos) << live.output();
+  EXPECT_TRUE(std::filesystem::exists(dir / "out/elevation.png"));
 }
 
 TEST(LiveCli, MissingDeviceOrOneThatIsNoSerialPortIsAClearError) {
