@@ -152,6 +152,8 @@ void run_live(const LiveArgs& args) {
   // A bad pose line or another sensor ends live mapping with an error, but
   // only after the map so far is saved.
   std::string fatal;
+  constexpr std::size_t kMaxPoses = 200000;  // over half an hour at 100 Hz
+  bool warned_clock = false;
   while (!stop_requested() && fatal.empty()) {
     try {
       const double now = monotonic_seconds();
@@ -195,6 +197,16 @@ void run_live(const LiveArgs& args) {
       mapper.process(track, false);
       mapper.expire(now - args.pose_wait_s);
       account(integrated_before);
+      if (track.size() > kMaxPoses) {
+        // Poses far ahead of every scan: the clocks do not match. Keep memory bounded and say so once.
+        if (!warned_clock) {
+          std::fprintf(stderr, "stridemap: warning: %zu poses and no scan within their times; do the poses use "
+                               "the clock given with --clock (%s)?\n",
+                       track.size(), args.mapping.clock.c_str());
+          warned_clock = true;
+        }
+        track.drop_before(track.last_time_s() - 60.0);
+      }
     } catch (const InputError& e) {
       fatal = e.what();
     }

@@ -33,11 +33,15 @@ std::size_t ScanMapper::process(PoseTrack& poses, bool poses_complete) {
         poses.drop_before(raw.time_s);
         break;
       case PoseLookup::before_first: ++stats_.before_first_pose; break;
-      case PoseLookup::gap_too_large: ++stats_.pose_gap; break;
+      case PoseLookup::gap_too_large:
+        ++stats_.pose_gap;
+        poses.drop_before(raw.time_s);
+        break;
       case PoseLookup::empty:
       case PoseLookup::after_last:
         if (!poses_complete) return integrated;
         ++stats_.after_last_pose;
+        poses.drop_before(raw.time_s);
         break;
     }
     queue_.pop_front();
