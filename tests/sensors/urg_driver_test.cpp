@@ -305,6 +305,17 @@ TEST_F(DriverFixture, StaleStreamFromAnEarlierSessionIsStoppedFirst) {
   expect_accounted(events, 100);
 }
 
+TEST_F(DriverFixture, SensorLeftInTimeAdjustModeIsTakenOutOfIt) {
+  make_device(UrgVariant::ug01);
+  device_->emulator.receive("TM0\n", 0);  // another program was synchronising clocks
+  device_->emulator.output().clear();
+  UrgDriver driver(test::emulated_opener(*device_), options());
+  const Events events = run(driver, 1.5);
+  EXPECT_EQ(events.connects, 1);
+  EXPECT_TRUE(events.faults.empty()) << events.fault_list();
+  EXPECT_FALSE(events.scans.empty());
+}
+
 TEST_F(DriverFixture, HardwareErrorStatusInTheStreamIsReported) {
   make_device();
   int frame = 0;
