@@ -73,7 +73,6 @@ void run_emulate(EmulateArgs& args) {
   }
   UrgEmulatorOptions options;
   options.variant = args.variant == "ug01" ? UrgVariant::ug01 : UrgVariant::classic;
-  if (options.variant == UrgVariant::ug01) options.parameters.model = "URG-04LX-UG01(Simple-URG)(Hokuyo Automatic Co.,Ltd.)";
   options.parameters.motor_speed_rpm = args.rate_hz * 60;
   options.timestamp_start_ms = args.timestamp_start_ms;
   options.validate();

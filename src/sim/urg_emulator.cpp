@@ -62,6 +62,9 @@ UrgEmulator::UrgEmulator(const UrgEmulatorOptions& options, UrgScanSource& sourc
   period_ms_ = 60000 / options_.parameters.motor_speed_rpm;
   scip::VersionInfo& v = options_.version;
   const bool ug01 = options_.variant == UrgVariant::ug01;
+  if (ug01 && options_.parameters.model == scip::ScipParameters{}.model) {
+    options_.parameters.model = "URG-04LX-UG01(Simple-URG)(Hokuyo Automatic Co.,Ltd.)";  // as a real UG01's PP
+  }
   if (v.vendor.empty()) v.vendor = "Hokuyo Automatic Co.,Ltd.";
   if (v.product.empty()) v.product = ug01 ? "SOKUIKI Sensor URG-04LX-UG01(Simple-URG)" : "SOKUIKI Sensor URG-04LX";
   if (v.firmware.empty()) v.firmware = ug01 ? "3.4.03(17/Dec./2012)" : "3.3.00(emulated)";

@@ -133,6 +133,22 @@ TEST(LiveCli, BadPoseArrivingLiveStopsWithItsLineAndKeepsTheMap) {
   EXPECT_TRUE(std::filesystem::exists(dir / "out/elevation.png"));
 }
 
+TEST(LiveCli, LiveMappingSurvivesTheSensorVanishingAndComingBack) {
+  test::TestFolder dir;
+  auto emulator = start_emulator(dir, "--scene " + shell_quoted(kScene) + " --motion cart-rail --poses-out " +
+                                          shell_quoted(dir / "poses.txt") + " --poses-rate-hz 200" +
+                                          " --fault disconnect@30:0.5 --fault corrupt@80");
+  const auto live = run_cli("live --device " + shell_quoted(dir / "urg") + " --poses " + shell_quoted(dir / "poses.txt") +
+                            " --out " + shell_quoted(dir / "out") + " --max-scans 100 --connect-timeout-s 10");
+  ASSERT_EQ(live.exit_code, 0) << live.output;
+  EXPECT_NE(live.output.find("stridemap: link_lost: "), std::string::npos) << live.output;
+  EXPECT_NE(live.output.find("stridemap: sensor_reset: "), std::string::npos) << live.output;
+  EXPECT_NE(live.output.find("stridemap: corrupt_data: "), std::string::npos) << live.output;
+  const std::string summary = dir.read("out/summary.json");
+  EXPECT_NE(summary.find("\"connects\": 2"), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"corrupt_frames\": 1"), std::string::npos) << summary;
+}
+
 TEST(LiveCli, MissingDeviceOrOneThatIsNoSerialPortIsAClearError) {
   test::TestFolder dir;
   dir.write("poses.txt", "0 0 0 0 0 0\n");

@@ -29,7 +29,7 @@ enum class UrgVariant : std::uint8_t {
 
 struct UrgEmulatorOptions {
   UrgVariant variant = UrgVariant::classic;
-  /// PP reply. SCAN sets the scan period: 60000 / SCAN must be a whole number
+  /// PP reply (a UG01 reports its own MODL unless another is set). SCAN sets the scan period: 60000 / SCAN must be a whole number
   /// of milliseconds (600 rpm: 100 ms). A faster SCAN runs the emulator
   /// faster than a real unit, for tests.
   scip::ScipParameters parameters{};
