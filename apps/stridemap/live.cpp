@@ -158,7 +158,8 @@ void run_live(const LiveArgs& args) {
     try {
       const double now = monotonic_seconds();
       if (args.device.duration_s > 0.0 && now - start >= args.device.duration_s) break;
-      if (args.device.max_scans > 0 && driver->stats().scans >= args.device.max_scans && mapper.waiting() == 0) break;
+      // Counted as handed out, not as the driver queues them.
+      if (args.device.max_scans > 0 && mapper.stats().scans >= args.device.max_scans && mapper.waiting() == 0) break;
       if (now >= next_save) {
         write_map_outputs(mapper, sensor, info, nullptr, args.mapping.out_dir);
         next_save = now + args.save_every_s;
