@@ -122,10 +122,14 @@ void UrgDriver::handle_start_reply(const scip::Event& event) {
         refuse(UrgFault::command_failed, "BM answered with " + status_text(reply));
       }
       return;
-    case Step::start_stream:
+    case Step::start_stream: {
       if (!scip::is_stream_command(type)) return;
-      if (event.kind != scip::EventKind::status_reply || reply.status != "00") {
-        if (event.kind == scip::EventKind::distance) return;  // a frame of an older stream
+      // A data frame of our stream before its acknowledgement means the ack
+      // was lost on the way: the stream runs, so take it (frames of an older
+      // stream came before the QT reply and are behind us).
+      const bool data_first = event.kind == scip::EventKind::distance && scip::echo_matches(stream_command_, reply.echo);
+      if (!data_first && (event.kind != scip::EventKind::status_reply || reply.status != "00")) {
+        if (event.kind == scip::EventKind::distance) return;  // another command's frame
         refuse(UrgFault::command_failed, stream_command_.text + " answered with " + status_text(reply));
         return;
       }
@@ -141,7 +145,9 @@ void UrgDriver::handle_start_reply(const scip::Event& event) {
                     std::to_string(std::max(1, stream_command_.cluster)) + ", " +
                     std::to_string(parameters_.motor_speed_rpm) + " rpm";
       }
+      if (data_first) deliver_scan(event);
       return;
+    }
   }
 }
 

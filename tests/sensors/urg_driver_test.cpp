@@ -305,6 +305,19 @@ TEST_F(DriverFixture, StaleStreamFromAnEarlierSessionIsStoppedFirst) {
   expect_accounted(events, 100);
 }
 
+TEST_F(DriverFixture, LostStreamAcknowledgementDoesNotStopTheStart) {
+  make_device();
+  device_->on_output = [](EmulatorOutput& out) {
+    if (out.bytes.rfind("MD0044072501000\n00P", 0) == 0) out.bytes[17] = 'X';  // the ack arrives damaged
+  };
+  UrgDriver driver(test::emulated_opener(*device_), options());
+  const Events events = run(driver, 1.5);
+  EXPECT_EQ(events.connects, 1);
+  ASSERT_GE(events.scans.size(), 10u) << events.fault_list();
+  EXPECT_EQ(events.scans.front().sensor_time_ms, 0u);  // the first scan of the stream is not lost either
+  EXPECT_EQ(driver.stats().connects, 1u);
+}
+
 TEST_F(DriverFixture, SensorLeftInTimeAdjustModeIsTakenOutOfIt) {
   make_device(UrgVariant::ug01);
   device_->emulator.receive("TM0\n", 0);  // another program was synchronising clocks
