@@ -46,6 +46,8 @@ void install_stop_signals() {
   action.sa_flags = 0;  // no SA_RESTART: a blocking poll returns at once
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
+  // A pose pipe whose reader went away must give a write error, not kill us.
+  std::signal(SIGPIPE, SIG_IGN);
 }
 
 bool stop_requested() { return g_stop.load(); }
