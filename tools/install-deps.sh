@@ -3,7 +3,7 @@
 set -euo pipefail
 packages=(
   build-essential cmake pkg-config
-  libeigen3-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libpng-dev
+  libeigen3-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libpng-dev zlib1g-dev
   libopencv-imgproc-dev
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev

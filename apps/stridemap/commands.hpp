@@ -11,5 +11,8 @@ void register_detect_stripe(CLI::App& app);
 void register_experiment(CLI::App& app);
 void register_sensor_report(CLI::App& app);
 void register_simulate_stripe_image(CLI::App& app);
+void register_emulate_urg(CLI::App& app);  // emulate_urg.cpp
+void register_record(CLI::App& app);       // record.cpp
+void register_live(CLI::App& app);         // live.cpp: live and map
 
 }  // namespace stridemap::cli

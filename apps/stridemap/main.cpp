@@ -15,6 +15,9 @@ int main(int argc, char** argv) {
   stridemap::cli::register_experiment(app);
   stridemap::cli::register_sensor_report(app);
   stridemap::cli::register_simulate_stripe_image(app);
+  stridemap::cli::register_emulate_urg(app);
+  stridemap::cli::register_record(app);
+  stridemap::cli::register_live(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -10,6 +10,7 @@
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/grid_csv.hpp"
 #include "stridemap/io/grid_render.hpp"
+#include "stridemap/io/map_outputs.hpp"
 #include "stridemap/io/png_image.hpp"
 #include "stridemap/io/text_file.hpp"
 
@@ -187,35 +188,26 @@ void write_cart_rail_outputs(const CartRailResult& r, const CartRailOptions& opt
   if (ec) throw InputError(dir.string() + ": cannot create the output folder: " + ec.message());
 
   const MapSnapshot& s = r.snapshot;
-  const io::CellMask filled = filled_mask(s);
-  const double origin_x = (static_cast<double>(s.min_cell.x) + 0.5) * s.cell_size_m;
-  const double origin_y = (static_cast<double>(s.min_cell.y) + 0.5) * s.cell_size_m;
-
   // One colour scale for elevation and truth, so the two pictures compare.
   const float lo = std::min(0.0f, s.truth_m.minCoeff());
   const float hi = std::max(s.truth_m.maxCoeff(), lo + 0.01f);
+  io::MapLayers layers{s.elevation_m, s.certainty, s.state, s.min_cell, s.cell_size_m};
+  io::MapOutputOptions map_style;
+  map_style.elevation_title = "Elevation (" + info.sensor + ", simulated)";
+  map_style.elevation_min_m = lo;
+  map_style.elevation_max_m = hi;
+  map_style.certainty_max = options.update.certainty_max;
+  io::write_map_layers(layers, directory, map_style);
+
   io::GridRenderOptions elevation_style;
   elevation_style.units = "m";
   elevation_style.cell_size_m = s.cell_size_m;
   elevation_style.min_value = lo;
   elevation_style.max_value = hi;
-
-  elevation_style.title = "Elevation (" + info.sensor + ", simulated)";
-  io::write_png((dir / "elevation.png").string(), io::render_grid(s.elevation_m, filled, elevation_style).image);
   elevation_style.title = "Ground truth: highest point per cell";
   io::write_png((dir / "truth.png").string(), io::render_grid(s.truth_m, elevation_style).image);
 
-  io::GridRenderOptions certainty_style;
-  certainty_style.title = "Certainty";
-  certainty_style.cell_size_m = s.cell_size_m;
-  certainty_style.min_value = 0.0;
-  certainty_style.max_value = options.update.certainty_max;
-  Eigen::MatrixXf certainty = s.certainty;
-  for (Eigen::Index i = 0; i < certainty.rows(); ++i)
-    for (Eigen::Index j = 0; j < certainty.cols(); ++j)
-      if (static_cast<CellState>(s.state(i, j)) == CellState::unknown) certainty(i, j) = NAN;
-  io::write_png((dir / "certainty.png").string(), io::render_grid(certainty, certainty_style).image);
-
+  const io::CellMask filled = filled_mask(s);
   const Eigen::MatrixXf error = s.elevation_m - s.truth_m;
   io::GridRenderOptions error_style;
   error_style.title = "Elevation error (map - truth)";
@@ -226,6 +218,8 @@ void write_cart_rail_outputs(const CartRailResult& r, const CartRailOptions& opt
   error_style.colour_scale = io::ColourScale::turbo;
   io::write_png((dir / "error.png").string(), io::render_grid(error, filled, error_style).image);
 
+  const double origin_x = (static_cast<double>(s.min_cell.x) + 0.5) * s.cell_size_m;
+  const double origin_y = (static_cast<double>(s.min_cell.y) + 0.5) * s.cell_size_m;
   const auto csv = [&](const char* name, const Eigen::MatrixXf& values, const char* units) {
     io::GridCsvOptions o;
     o.layer_name = name;
@@ -235,9 +229,6 @@ void write_cart_rail_outputs(const CartRailResult& r, const CartRailOptions& opt
     o.origin_y_m = origin_y;
     io::write_grid_csv((dir / (std::string(name) + ".csv")).string(), values, o);
   };
-  csv("elevation", s.elevation_m, "m");
-  csv("certainty", s.certainty, "");
-  csv("state", s.state.cast<float>(), "");
   csv("truth", s.truth_m, "m");
   csv("swept_area", r.swept_area.cast<float>(), "");
 

@@ -1,6 +1,7 @@
 #include "stridemap/sensors/scip_parameters.hpp"
 
 #include <charconv>
+#include <cstdio>
 #include <string>
 
 #include "stridemap/core/error.hpp"
@@ -61,6 +62,28 @@ VersionInfo parse_version(const std::vector<InfoField>& fields) {
   return version;
 }
 
+StatusInfo parse_status_info(const std::vector<InfoField>& fields) {
+  StatusInfo status;
+  status.model = require_field(fields, "MODL", "II");
+  const std::string& laser = require_field(fields, "LASR", "II");
+  if (laser != "ON" && laser != "OFF") {
+    throw InputError("SCIP II reply: field LASR value '" + laser + "' is neither ON nor OFF");
+  }
+  status.laser_on = laser == "ON";
+  status.motor_speed = require_field(fields, "SCSP", "II");
+  status.measurement_mode = require_field(fields, "MESM", "II");
+  status.bit_rate = require_field(fields, "SBPS", "II");
+  const std::string& time = require_field(fields, "TIME", "II");
+  std::uint32_t time_ms = 0;
+  const auto [end, error] = std::from_chars(time.data(), time.data() + time.size(), time_ms, 16);
+  if (time.empty() || time.size() > 6 || error != std::errc() || end != time.data() + time.size()) {
+    throw InputError("SCIP II reply: field TIME value '" + time + "' is not 1-6 hexadecimal digits");
+  }
+  status.time_ms = time_ms;
+  status.state = require_field(fields, "STAT", "II");
+  return status;
+}
+
 UrgParameters to_urg_parameters(const ScipParameters& p) {
   if (p.steps_per_turn <= 0) inconsistent("ARES", p.steps_per_turn, "must be positive");
   if (p.motor_speed_rpm <= 0) inconsistent("SCAN", p.motor_speed_rpm, "must be positive");
@@ -102,6 +125,14 @@ std::vector<InfoField> to_info_fields(const ScipParameters& p) {
 
 std::vector<InfoField> to_info_fields(const VersionInfo& v) {
   return {{"VEND", v.vendor}, {"PROD", v.product}, {"FIRM", v.firmware}, {"PROT", v.protocol}, {"SERI", v.serial}};
+}
+
+std::vector<InfoField> to_info_fields(const StatusInfo& s) {
+  char time[8];
+  std::snprintf(time, sizeof time, "%06X", static_cast<unsigned>(s.time_ms & 0xFFFFFFu));
+  return {{"MODL", s.model},         {"LASR", s.laser_on ? "ON" : "OFF"}, {"SCSP", s.motor_speed},
+          {"MESM", s.measurement_mode}, {"SBPS", s.bit_rate},             {"TIME", time},
+          {"STAT", s.state}};
 }
 
 }  // namespace stridemap::scip

@@ -167,5 +167,34 @@ TEST(ScipScan, ClusteredReplyToRawScan) {
             std::string::npos);
 }
 
+TEST(ScipStatusInfo, SpecExampleLinesDecodeAndParse) {
+  // LASR, MESM, TIME and STAT are the spec's II example lines with their
+  // printed checksums (7, :, f, 8); the other lines fill the reply out.
+  const std::string reply =
+      "II\n00P\nMODL:URG-04LX(Hokuyo Automatic Co.,Ltd.);N\nLASR:OFF;7\nSCSP:Initial(600[rpm]);[\n"
+      "MESM:IDLE;:\nSBPS:USB;L\nTIME:002AA9;f\nSTAT:Sensor works well.;8\n\n";
+  const auto events = decode_all(reply);
+  ASSERT_EQ(events.size(), 1u);
+  ASSERT_EQ(events[0].kind, EventKind::info) << events[0].error.message;
+  const StatusInfo info = parse_status_info(events[0].info);
+  EXPECT_FALSE(info.laser_on);
+  EXPECT_EQ(info.time_ms, 0x2AA9u);
+  EXPECT_EQ(info.measurement_mode, "IDLE");
+  EXPECT_EQ(info.state, "Sensor works well.");
+  EXPECT_EQ(parse_status_info(to_info_fields(info)), info);
+}
+
+TEST(ScipStatusInfo, BadFieldsAreNamed) {
+  std::vector<InfoField> fields = to_info_fields(StatusInfo{});
+  fields[1].value = "MAYBE";
+  EXPECT_NE(message_of([&] { parse_status_info(fields); }).find("LASR value 'MAYBE'"), std::string::npos);
+  fields = to_info_fields(StatusInfo{});
+  fields[5].value = "12G";
+  EXPECT_NE(message_of([&] { parse_status_info(fields); }).find("TIME value '12G'"), std::string::npos);
+  fields = to_info_fields(StatusInfo{});
+  fields.pop_back();
+  EXPECT_NE(message_of([&] { parse_status_info(fields); }).find("field STAT is missing"), std::string::npos);
+}
+
 }  // namespace
 }  // namespace stridemap::scip

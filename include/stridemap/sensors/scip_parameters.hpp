@@ -1,9 +1,11 @@
 #pragma once
 // The sensor's own description of itself: the PP reply (model, distance
 // limits, step range, front step, resolution, motor speed) and the VV reply
-// (vendor, product, firmware, protocol, serial number), parsed from the
+// (vendor, product, firmware, protocol, serial number) and the II reply
+// (laser, motor, mode, bit rate, time, state), parsed from the
 // decoder's KEY:value fields, converted to the sensor model's UrgParameters,
 // and turned back into fields for an emulator's replies.
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -37,6 +39,19 @@ struct VersionInfo {
   bool operator==(const VersionInfo&) const = default;
 };
 
+/// II reply: the sensor's state. Defaults are what a URG-04LX reports idle.
+struct StatusInfo {
+  std::string model = "URG-04LX(Hokuyo Automatic Co.,Ltd.)";  ///< MODL
+  bool laser_on = false;                ///< LASR: "ON" / "OFF"
+  std::string motor_speed = "Stable 600[rpm]";  ///< SCSP, free text
+  std::string measurement_mode = "IDLE";         ///< MESM, free text ("IDLE", "Measuring"...)
+  std::string bit_rate = "115200";               ///< SBPS, free text
+  std::uint32_t time_ms = 0;            ///< TIME: the 24-bit millisecond counter, sent as 6 hex digits
+  std::string state = "Sensor works well.";  ///< STAT, free text
+
+  bool operator==(const StatusInfo&) const = default;
+};
+
 /// Reads MODL, DMIN, DMAX, ARES, AMIN, AMAX, AFRT and SCAN (other keys are
 /// ignored). Throws InputError naming the field when one is missing or not a
 /// non-negative decimal integer.
@@ -44,6 +59,11 @@ ScipParameters parse_parameters(const std::vector<InfoField>& fields);
 
 /// Reads VEND, PROD, FIRM, PROT and SERI; throws InputError naming a missing field.
 VersionInfo parse_version(const std::vector<InfoField>& fields);
+
+/// Reads MODL, LASR, SCSP, MESM, SBPS, TIME and STAT; throws InputError
+/// naming a missing field, a LASR other than ON/OFF, or a TIME that is not
+/// 1-6 hexadecimal digits.
+StatusInfo parse_status_info(const std::vector<InfoField>& fields);
 
 /// Geometry and limits for the sensor model: steps AMIN..AMAX, front AFRT,
 /// ARES steps per turn, DMIN/DMAX in metres, scan period 60 / SCAN seconds.
@@ -56,5 +76,8 @@ UrgParameters to_urg_parameters(const ScipParameters& parameters);
 std::vector<InfoField> to_info_fields(const ScipParameters& parameters);
 /// Fields in the order VEND PROD FIRM PROT SERI.
 std::vector<InfoField> to_info_fields(const VersionInfo& version);
+/// Fields in the order MODL LASR SCSP MESM SBPS TIME STAT (TIME as 6
+/// upper-case hex digits, as in the spec's example "002AA9").
+std::vector<InfoField> to_info_fields(const StatusInfo& status);
 
 }  // namespace stridemap::scip

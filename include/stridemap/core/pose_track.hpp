@@ -1,0 +1,60 @@
+#pragma once
+// Timestamped trunk poses (from an estimator: IMU, leg odometry, a camera)
+// and the pose at a scan's time between two of them. Positions, pitch,
+// roll and the height terms are interpolated linearly, yaw along the
+// shorter way round. A pose is never made up beyond the samples: a time
+// before the first or after the last pose, or between two poses farther
+// apart than max_gap_s, has no pose.
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+
+#include "stridemap/core/pose.hpp"
+
+namespace stridemap {
+
+struct TimedPose {
+  double time_s = 0.0;
+  TrunkPose pose;
+};
+
+enum class PoseLookup : std::uint8_t {
+  ok,             ///< interpolated (or exactly a sample)
+  empty,          ///< no poses yet
+  before_first,   ///< earlier than the first pose
+  after_last,     ///< later than the last pose (it may still come)
+  gap_too_large,  ///< the two poses around the time are more than max_gap_s apart
+};
+
+class PoseTrack {
+ public:
+  /// Throws InputError unless max_gap_s is positive (infinity allowed).
+  explicit PoseTrack(double max_gap_s = 1.0);
+
+  /// Appends a pose. Throws InputError (without a place: callers add the
+  /// file and line) when a field is not finite or the time is not later
+  /// than the last pose's.
+  void append(const TimedPose& pose);
+  /// The pose at `time_s`; `out` is set only for PoseLookup::ok. At a
+  /// sample's time the sample itself is returned, bit for bit.
+  PoseLookup interpolate(double time_s, TrunkPose& out) const;
+  /// Forgets poses no longer needed for times >= time_s (keeps the last
+  /// one at or before it).
+  void drop_before(double time_s);
+
+  bool empty() const { return poses_.empty(); }
+  std::size_t size() const { return poses_.size(); }
+  double first_time_s() const { return poses_.front().time_s; }
+  double last_time_s() const { return poses_.back().time_s; }
+  double max_gap_s() const { return max_gap_s_; }
+
+ private:
+  double max_gap_s_;
+  std::deque<TimedPose> poses_;
+};
+
+/// Linear interpolation between two poses at fraction a in [0, 1] (yaw the
+/// shorter way round); a = 0 gives `from` exactly.
+TrunkPose interpolate_pose(const TrunkPose& from, const TrunkPose& to, double a);
+
+}  // namespace stridemap

@@ -1,0 +1,63 @@
+#pragma once
+// Timestamped poses as text, one per line (docs/live.md, "Pose format"):
+//
+//   # time_s x_m y_m yaw_rad pitch_rad roll_rad [reference_elevation_m [height_change_m]]
+//   1733065200.100 0.250 0.000 0.0000 0.0000 0.0000
+//
+// Fields are separated by spaces or tabs; blank lines and lines starting
+// with '#' are skipped; times increase strictly. Read as a whole file
+// (replay) or incrementally from a file or named pipe that another process
+// is writing (live mapping).
+#include <cstddef>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "stridemap/core/pose_track.hpp"
+
+namespace stridemap::io {
+
+/// Parses one line. Returns false for a blank or comment line. Throws
+/// InputError "<source>:<line>: <what>" for a wrong field count or a field
+/// that is not a finite number.
+bool parse_pose_line(std::string_view line, const std::string& source, std::size_t line_number, TimedPose& out);
+/// One line (no LF), numbers in the shortest form that reads back exactly.
+std::string format_pose_line(const TimedPose& pose);
+/// The header comment naming the columns (with its LF).
+std::string pose_file_header();
+
+/// Every pose of a file, in order. Throws InputError naming the file and
+/// line for a missing file, a bad line, a time not after the previous one,
+/// or a file with no pose.
+std::vector<TimedPose> read_pose_file(const std::string& path);
+
+/// Reads a pose file or named pipe as it grows, without blocking: poll()
+/// appends the complete lines that have arrived to a PoseTrack. A partial
+/// last line waits for its LF. Opening a named pipe does not wait for a
+/// writer; a writer that closes and a new one that opens are both fine.
+class PoseStreamReader {
+ public:
+  /// Throws InputError naming the path when it cannot be opened, or is a
+  /// folder or a device.
+  explicit PoseStreamReader(const std::string& path);
+  ~PoseStreamReader();
+  PoseStreamReader(const PoseStreamReader&) = delete;
+  PoseStreamReader& operator=(const PoseStreamReader&) = delete;
+
+  /// Appends the poses read now; returns how many. Throws InputError
+  /// "<path>:<line>: ..." for a bad line or a time out of order.
+  std::size_t poll(PoseTrack& track);
+  /// The file descriptor, for a caller that wants to poll() it.
+  int fd() const { return fd_; }
+  std::size_t lines_read() const { return line_number_; }
+  bool is_pipe() const { return is_pipe_; }
+
+ private:
+  std::string path_;
+  int fd_ = -1;
+  bool is_pipe_ = false;
+  std::string partial_;
+  std::size_t line_number_ = 0;
+};
+
+}  // namespace stridemap::io

@@ -1,0 +1,75 @@
+#pragma once
+// Recorded URG scans with their timestamps and the sensor's own description
+// (VV, PP), as text: one record per line, each line closed by a CRC-32 so
+// that damage anywhere is found, and a reader that keeps every record
+// before the first damaged or truncated line. The format is in
+// docs/live.md ("Scan log format"), with the reasons for text.
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <string>
+#include <vector>
+
+#include "stridemap/sensors/scip_parameters.hpp"
+#include "stridemap/sensors/urg_driver.hpp"
+
+namespace stridemap::io {
+
+inline constexpr int kScanLogVersion = 1;
+
+struct LoggedFault {
+  double host_time_s = 0.0;
+  std::string kind;  ///< fault_name() of the driver's fault
+  std::uint64_t count = 0;
+  std::string message;
+};
+
+struct ScanLog {
+  std::string device;                 ///< as recorded
+  scip::VersionInfo version;
+  scip::ScipParameters parameters;
+  std::vector<UrgScan> scans;         ///< in recording order; raw.time_s = host_time_s
+  std::vector<LoggedFault> faults;
+  std::size_t connects = 0;
+  /// Empty when the whole file was read; else "<file>:<line>: <what>" for the
+  /// first damaged line, where reading stopped.
+  std::string damage;
+  std::size_t lines = 0;               ///< lines read before the damage
+};
+
+/// Reads a log. Throws InputError naming the file for a file that cannot be
+/// opened or is not a scan log (first line), or whose first damaged line
+/// comes before the sensor's parameters; later damage is reported in
+/// ScanLog::damage with everything before it kept.
+ScanLog read_scan_log(const std::string& path);
+
+/// Writes a log as it is recorded: each record is written and flushed as a
+/// whole line, so a killed recorder leaves at most one partial last line.
+class ScanLogWriter {
+ public:
+  /// Creates (truncates) `path`. Throws InputError naming it on failure.
+  ScanLogWriter(const std::string& path, const std::string& device);
+  ~ScanLogWriter();
+  ScanLogWriter(const ScanLogWriter&) = delete;
+  ScanLogWriter& operator=(const ScanLogWriter&) = delete;
+
+  /// The sensor's VV and PP replies; written at every (re)connection.
+  void write_sensor(double host_time_s, const scip::VersionInfo& version, const scip::ScipParameters& parameters);
+  void write_scan(const UrgScan& scan);
+  void write_fault(double host_time_s, UrgFault fault, std::uint64_t count, const std::string& message);
+  /// Throws InputError when a write failed (disk full...).
+  void flush();
+  const std::string& path() const { return path_; }
+
+ private:
+  void write_line(std::string& body);
+  std::string path_;
+  std::FILE* file_ = nullptr;
+  bool failed_ = false;
+  std::string line_;
+};
+
+/// The CRC-32 (zlib's) of a line body, as 8 lower-case hex digits.
+std::string scan_log_crc(const std::string& body);
+
+}  // namespace stridemap::io

@@ -1,0 +1,86 @@
+#pragma once
+// Mapping from a stream of raw URG scans and a stream of timestamped poses,
+// as `stridemap live` does on-line and `stridemap map` does from a log: the
+// same class and the same decisions, so both give the same map from the
+// same data. A scan waits until the poses around its time have arrived;
+// it is then converted with the sensor's own parameters (PP), filtered
+// (optional), and integrated at the interpolated pose. A scan that can
+// never get a pose (before the first pose, in a gap, after the last pose
+// once the poses are complete) is skipped and counted.
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <vector>
+
+#include "stridemap/core/pose_track.hpp"
+#include "stridemap/core/terrain_mapper.hpp"
+#include "stridemap/io/map_outputs.hpp"
+#include "stridemap/io/mapper_config.hpp"
+#include "stridemap/preprocess/scan_filter_chain.hpp"
+#include "stridemap/sensors/urg04lx.hpp"
+
+namespace stridemap {
+
+struct ScanMapperOptions {
+  MapperConfig config{};
+  /// Scan filters between the sensor model and the mapper (none by default;
+  /// with scan-sequence the map lags one scan until finish()).
+  std::vector<ScanFilterKind> filters{};
+  ScanFilterChainOptions filter_options{};
+};
+
+struct ScanMapperStats {
+  std::size_t scans = 0;               ///< offered with add()
+  std::size_t integrated = 0;          ///< reached the mapper
+  std::size_t before_first_pose = 0;   ///< skipped: earlier than every pose
+  std::size_t after_last_pose = 0;     ///< skipped: later than every pose, and no more poses came
+  std::size_t pose_gap = 0;            ///< skipped: the poses around it are too far apart
+  std::size_t rejected = 0;            ///< skipped: steps or length do not fit the sensor's parameters
+  UrgConversionStats beams;
+};
+
+class ScanMapper {
+ public:
+  /// `sensor` from the sensor's PP reply (UrgDriver::urg_parameters, or a
+  /// log's parameters). Throws InputError for invalid options.
+  ScanMapper(const ScanMapperOptions& options, const UrgParameters& sensor);
+
+  /// Queues a scan; raw.time_s must be on the poses' clock. `arrival_s` is
+  /// when it arrived (any clock; only expire() compares it).
+  void add(const UrgRawScan& raw, double arrival_s = 0.0);
+  /// Integrates the waiting scans, oldest first, while their pose is known;
+  /// with `poses_complete` a scan after the last pose is skipped instead of
+  /// waiting. Returns the scans integrated. Drops poses no longer needed.
+  std::size_t process(PoseTrack& poses, bool poses_complete);
+  /// Skips the waiting scans that arrived at or before `before_s` (live
+  /// mapping: the poses for them are overdue). Returns how many.
+  std::size_t expire(double before_s);
+  /// Ends the stream: the scan held by scan-sequence is integrated.
+  void finish();
+
+  std::size_t waiting() const { return queue_.size(); }
+  const ScanMapperStats& stats() const { return stats_; }
+  const TerrainMapper& mapper() const { return mapper_; }
+  const ScanMapperOptions& options() const { return options_; }
+  /// The map with the fill-in (eq. 11) applied to a copy: the map being
+  /// built is not changed, so saving it often changes nothing.
+  io::MapLayers filled_layers() const;
+
+ private:
+  struct Waiting {
+    UrgRawScan raw;
+    double arrival_s = 0.0;
+  };
+  void integrate(const UrgRawScan& raw, const TrunkPose& pose);
+
+  ScanMapperOptions options_;
+  UrgModel sensor_;
+  TerrainMapper mapper_;
+  ScanFilterChain filters_;
+  std::deque<Waiting> queue_;
+  PlanarScan scan_, filtered_;
+  TrunkPose held_pose_{};  // pose of the scan the filter chain holds
+  ScanMapperStats stats_;
+};
+
+}  // namespace stridemap

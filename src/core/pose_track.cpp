@@ -1,0 +1,85 @@
+#include "stridemap/core/pose_track.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <charconv>
+#include <string>
+
+#include "stridemap/core/error.hpp"
+
+namespace stridemap {
+namespace {
+
+double lerp(double a, double b, double t) { return a + t * (b - a); }
+
+// The shortest text that reads back to the same double: what the file said.
+std::string shortest(double value) {
+  char text[32];
+  const auto [end, error] = std::to_chars(text, text + sizeof text, value);
+  return std::string(text, error == std::errc() ? end : text);
+}
+
+// b - a wrapped into [-pi, pi).
+double angle_difference(double a, double b) {
+  const double two_pi = 2.0 * std::numbers::pi;
+  double d = std::fmod(b - a + std::numbers::pi, two_pi);
+  if (d < 0.0) d += two_pi;
+  return d - std::numbers::pi;
+}
+
+}  // namespace
+
+TrunkPose interpolate_pose(const TrunkPose& from, const TrunkPose& to, double a) {
+  if (a == 0.0) return from;
+  TrunkPose p;
+  p.x_m = lerp(from.x_m, to.x_m, a);
+  p.y_m = lerp(from.y_m, to.y_m, a);
+  p.yaw_rad = from.yaw_rad + a * angle_difference(from.yaw_rad, to.yaw_rad);
+  p.pitch_rad = lerp(from.pitch_rad, to.pitch_rad, a);
+  p.roll_rad = lerp(from.roll_rad, to.roll_rad, a);
+  p.reference_elevation_m = lerp(from.reference_elevation_m, to.reference_elevation_m, a);
+  p.height_change_m = lerp(from.height_change_m, to.height_change_m, a);
+  return p;
+}
+
+PoseTrack::PoseTrack(double max_gap_s) : max_gap_s_(max_gap_s) {
+  if (!(max_gap_s > 0.0)) throw InputError("pose track: max_gap_s must be positive");
+}
+
+void PoseTrack::append(const TimedPose& p) {
+  const double fields[] = {p.time_s,          p.pose.x_m,      p.pose.y_m,
+                           p.pose.yaw_rad,    p.pose.pitch_rad, p.pose.roll_rad,
+                           p.pose.reference_elevation_m, p.pose.height_change_m};
+  for (const double f : fields) {
+    if (!std::isfinite(f)) throw InputError("pose fields must be finite numbers");
+  }
+  if (!poses_.empty() && !(p.time_s > poses_.back().time_s)) {
+    throw InputError("pose time " + shortest(p.time_s) + " s is not later than the previous pose's " +
+                     shortest(poses_.back().time_s) + " s (poses must come in increasing time order)");
+  }
+  poses_.push_back(p);
+}
+
+PoseLookup PoseTrack::interpolate(double time_s, TrunkPose& out) const {
+  if (poses_.empty()) return PoseLookup::empty;
+  if (!(time_s >= poses_.front().time_s)) return PoseLookup::before_first;
+  if (time_s > poses_.back().time_s) return PoseLookup::after_last;
+  // First pose later than time_s; the one before it is at or before time_s.
+  const auto later = std::upper_bound(poses_.begin(), poses_.end(), time_s,
+                                      [](double t, const TimedPose& p) { return t < p.time_s; });
+  const TimedPose& before = *(later - 1);
+  if (before.time_s == time_s) {
+    out = before.pose;
+    return PoseLookup::ok;
+  }
+  if (later->time_s - before.time_s > max_gap_s_) return PoseLookup::gap_too_large;
+  out = interpolate_pose(before.pose, later->pose, (time_s - before.time_s) / (later->time_s - before.time_s));
+  return PoseLookup::ok;
+}
+
+void PoseTrack::drop_before(double time_s) {
+  while (poses_.size() >= 2 && poses_[1].time_s <= time_s) poses_.pop_front();
+}
+
+}  // namespace stridemap

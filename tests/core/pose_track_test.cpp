@@ -1,0 +1,91 @@
+// Poses at scan times: exact at the samples, linear between them, yaw the
+// short way round, nothing made up outside the samples or across gaps.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <numbers>
+
+#include "stridemap/core/error.hpp"
+#include "stridemap/core/pose_track.hpp"
+
+namespace stridemap {
+namespace {
+
+TimedPose at(double t, double x, double yaw = 0.0) {
+  TimedPose p;
+  p.time_s = t;
+  p.pose.x_m = x;
+  p.pose.y_m = -x;
+  p.pose.yaw_rad = yaw;
+  p.pose.pitch_rad = 0.1 * x;
+  p.pose.height_change_m = 0.01 * x;
+  return p;
+}
+
+TEST(PoseTrack, SamplesComeBackBitForBitAndMidpointsInterpolate) {
+  PoseTrack track;
+  track.append(at(0.1, 0.3));
+  track.append(at(0.2, 0.7));
+  track.append(at(0.3, 1.1));
+  TrunkPose p;
+  ASSERT_EQ(track.interpolate(0.2, p), PoseLookup::ok);
+  EXPECT_EQ(p.x_m, 0.7);
+  ASSERT_EQ(track.interpolate(0.3, p), PoseLookup::ok);
+  EXPECT_EQ(p.x_m, 1.1);  // the last sample too, not 0.7 + 1 * (1.1 - 0.7)
+  ASSERT_EQ(track.interpolate(0.25, p), PoseLookup::ok);
+  EXPECT_NEAR(p.x_m, 0.9, 1e-12);
+  EXPECT_NEAR(p.y_m, -0.9, 1e-12);
+  EXPECT_NEAR(p.pitch_rad, 0.09, 1e-12);
+  EXPECT_NEAR(p.height_change_m, 0.009, 1e-12);
+}
+
+TEST(PoseTrack, YawTakesTheShortWayAcrossPi) {
+  PoseTrack track;
+  track.append(at(0.0, 0.0, std::numbers::pi - 0.1));
+  track.append(at(1.0, 0.0, -std::numbers::pi + 0.1));
+  TrunkPose p;
+  ASSERT_EQ(track.interpolate(0.5, p), PoseLookup::ok);
+  EXPECT_NEAR(std::cos(p.yaw_rad), -1.0, 1e-12);  // through pi, not through 0
+}
+
+TEST(PoseTrack, NoPoseOutsideTheSamplesOrAcrossAGap) {
+  PoseTrack track(0.5);
+  TrunkPose p;
+  EXPECT_EQ(track.interpolate(1.0, p), PoseLookup::empty);
+  track.append(at(1.0, 0.0));
+  track.append(at(1.2, 0.1));
+  track.append(at(2.0, 0.2));
+  EXPECT_EQ(track.interpolate(0.9, p), PoseLookup::before_first);
+  EXPECT_EQ(track.interpolate(2.1, p), PoseLookup::after_last);
+  EXPECT_EQ(track.interpolate(1.5, p), PoseLookup::gap_too_large);
+  EXPECT_EQ(track.interpolate(1.1, p), PoseLookup::ok);
+}
+
+TEST(PoseTrack, OutOfOrderOrNonFinitePosesAreRefused) {
+  PoseTrack track;
+  track.append(at(1.0, 0.0));
+  EXPECT_THROW(track.append(at(1.0, 0.1)), InputError);
+  EXPECT_THROW(track.append(at(0.5, 0.1)), InputError);
+  TimedPose bad = at(2.0, 0.0);
+  bad.pose.roll_rad = std::numeric_limits<double>::infinity();
+  EXPECT_THROW(track.append(bad), InputError);
+  EXPECT_THROW(PoseTrack(0.0), InputError);
+  try {
+    track.append(at(0.5, 0.1));
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("not later than the previous pose's 1 s"), std::string::npos) << e.what();
+  }
+}
+
+TEST(PoseTrack, DropBeforeKeepsWhatLaterTimesNeed) {
+  PoseTrack track;
+  for (int i = 0; i < 10; ++i) track.append(at(0.1 * i, i));
+  track.drop_before(0.45);
+  EXPECT_EQ(track.size(), 6u);  // 0.4 .. 0.9
+  TrunkPose p;
+  EXPECT_EQ(track.interpolate(0.45, p), PoseLookup::ok);
+}
+
+}  // namespace
+}  // namespace stridemap

@@ -1,0 +1,104 @@
+// Pose files and named pipes: what a line may hold, what is refused (with
+// file and line), and reading a pipe while another process writes it.
+#include <gtest/gtest.h>
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <string>
+
+#include "live/test_folder.hpp"
+#include "stridemap/core/error.hpp"
+#include "stridemap/io/pose_stream.hpp"
+
+namespace stridemap::io {
+namespace {
+
+std::string error_of(const std::string& path) {
+  try {
+    read_pose_file(path);
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(PoseStream, FileWithCommentsOptionalColumnsAndExactNumbers) {
+  test::TestFolder dir;
+  const std::string path = dir.write("poses.txt",
+                                     "# time x y yaw pitch roll\n"
+                                     "\n"
+                                     "1733065200.1 0.25 0 0.5 0.01 -0.02\n"
+                                     "1733065200.2\t0.26 0 0.5 0.01 -0.02 0.003 -0.004\r\n");
+  const auto poses = read_pose_file(path);
+  ASSERT_EQ(poses.size(), 2u);
+  EXPECT_EQ(poses[0].time_s, 1733065200.1);
+  EXPECT_EQ(poses[0].pose.yaw_rad, 0.5);
+  EXPECT_EQ(poses[1].pose.reference_elevation_m, 0.003);
+  EXPECT_EQ(poses[1].pose.height_change_m, -0.004);
+  // Writing and reading back gives the same numbers bit for bit.
+  TimedPose back;
+  ASSERT_TRUE(parse_pose_line(format_pose_line(poses[1]), "x", 1, back));
+  EXPECT_EQ(back.time_s, poses[1].time_s);
+  EXPECT_EQ(back.pose.height_change_m, poses[1].pose.height_change_m);
+}
+
+TEST(PoseStream, BadLinesAreNamedWithFileAndLine) {
+  test::TestFolder dir;
+  EXPECT_EQ(error_of(dir.write("a.txt", "1 2 3\n")),
+            dir / "a.txt" + ":1: 3 fields; expected at least 6: time_s x_m y_m yaw_rad pitch_rad roll_rad "
+                            "[reference_elevation_m [height_change_m]]");
+  EXPECT_EQ(error_of(dir.write("b.txt", "# c\n1 2 3 4 5 six\n")), dir / "b.txt" + ":2: field 6 'six' is not a finite number");
+  EXPECT_EQ(error_of(dir.write("c.txt", "1 0 0 0 0 nan\n")), dir / "c.txt" + ":1: field 6 'nan' is not a finite number");
+  EXPECT_NE(error_of(dir.write("d.txt", "1 0 0 0 0 0 0 0 9\n")).find(":1: more than 8 fields"), std::string::npos);
+  EXPECT_EQ(error_of(dir.write("e.txt", "# nothing\n")), dir / "e.txt" +
+                ": no pose in the file (expected lines of time_s x_m y_m yaw_rad pitch_rad roll_rad "
+                "[reference_elevation_m [height_change_m]])");
+  EXPECT_NE(error_of(dir / "missing.txt").find("cannot open the pose file"), std::string::npos);
+}
+
+TEST(PoseStream, OutOfOrderTimesAreRefusedWithTheLine) {
+  test::TestFolder dir;
+  const std::string message = error_of(dir.write("o.txt", "1.0 0 0 0 0 0\n1.1 0 0 0 0 0\n1.05 0 0 0 0 0\n"));
+  EXPECT_NE(message.find("o.txt:3: pose time 1.05 s is not later than the previous pose's 1.1 s"), std::string::npos)
+      << message;
+}
+
+TEST(PoseStream, NamedPipeIsReadAsItIsWrittenWithoutBlocking) {
+  test::TestFolder dir;
+  const std::string fifo = dir / "poses.fifo";
+  ASSERT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
+  PoseStreamReader reader(fifo);  // must not wait for a writer
+  EXPECT_TRUE(reader.is_pipe());
+  PoseTrack track;
+  EXPECT_EQ(reader.poll(track), 0u);
+  const int writer = ::open(fifo.c_str(), O_WRONLY | O_NONBLOCK);
+  ASSERT_GE(writer, 0);
+  const std::string first = "1.0 0 0 0 0 0\n1.1 0.01 0 0 0 0\n1.2 0.0";
+  ASSERT_EQ(::write(writer, first.data(), first.size()), static_cast<ssize_t>(first.size()));
+  EXPECT_EQ(reader.poll(track), 2u);  // the half line waits for its end
+  const std::string rest = "2 0 0 0 0\n";
+  ASSERT_EQ(::write(writer, rest.data(), rest.size()), static_cast<ssize_t>(rest.size()));
+  EXPECT_EQ(reader.poll(track), 1u);
+  EXPECT_EQ(track.last_time_s(), 1.2);
+  const std::string backwards = "1.15 0 0 0 0 0\n";
+  ASSERT_EQ(::write(writer, backwards.data(), backwards.size()), static_cast<ssize_t>(backwards.size()));
+  try {
+    reader.poll(track);
+    ADD_FAILURE() << "out-of-order pose accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("poses.fifo:4: pose time 1.15 s is not later"), std::string::npos) << e.what();
+  }
+  ::close(writer);
+  EXPECT_EQ(reader.poll(track), 0u);  // the writer went away: no error, nothing new
+}
+
+TEST(PoseStream, SourceThatIsNeitherFileNorPipeIsRefused) {
+  test::TestFolder dir;
+  EXPECT_THROW(PoseStreamReader(dir.path().string()), InputError);
+  EXPECT_THROW(PoseStreamReader(dir / "missing"), InputError);
+}
+
+}  // namespace
+}  // namespace stridemap::io

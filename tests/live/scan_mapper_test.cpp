@@ -1,0 +1,96 @@
+// The decisions live mapping and replay share: which scans wait for their
+// poses, which are skipped and why, and that saving does not change the map.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "stridemap/live/scan_mapper.hpp"
+
+namespace stridemap {
+namespace {
+
+UrgRawScan flat_scan(double time_s) {
+  UrgRawScan raw;
+  raw.time_s = time_s;
+  raw.values_mm.assign(682, 450);  // the ground ahead of the Messor mount
+  return raw;
+}
+
+TimedPose pose_at(double t, double x) {
+  TimedPose p;
+  p.time_s = t;
+  p.pose.x_m = x;
+  return p;
+}
+
+TEST(ScanMapper, ScansWaitForTheirPosesAndAreSkippedOnlyForAReason) {
+  ScanMapper mapper({}, UrgParameters{});
+  PoseTrack poses(0.5);
+  poses.append(pose_at(1.0, 0.0));
+  mapper.add(flat_scan(0.9));   // before every pose
+  mapper.add(flat_scan(1.05));  // needs a later pose
+  EXPECT_EQ(mapper.process(poses, false), 0u);
+  EXPECT_EQ(mapper.stats().before_first_pose, 1u);
+  EXPECT_EQ(mapper.waiting(), 1u);
+  poses.append(pose_at(1.1, 0.01));
+  mapper.add(flat_scan(1.1));
+  EXPECT_EQ(mapper.process(poses, false), 2u);
+  poses.append(pose_at(2.0, 0.1));  // 0.9 s after the previous: a gap
+  mapper.add(flat_scan(1.5));
+  mapper.add(flat_scan(2.5));
+  EXPECT_EQ(mapper.process(poses, false), 0u);
+  EXPECT_EQ(mapper.stats().pose_gap, 1u);
+  EXPECT_EQ(mapper.waiting(), 1u);  // 2.5 s may still get its pose
+  EXPECT_EQ(mapper.expire(5.0), 1u);  // ... but live mapping gives up on it
+  EXPECT_EQ(mapper.stats().after_last_pose, 1u);
+  mapper.add(flat_scan(3.0));
+  EXPECT_EQ(mapper.process(poses, true), 0u);  // replay: no more poses will come
+  EXPECT_EQ(mapper.stats().after_last_pose, 2u);
+  EXPECT_EQ(mapper.stats().integrated, 2u);
+  EXPECT_EQ(mapper.stats().scans, 6u);
+  EXPECT_GT(mapper.mapper().totals().integrated, 0u);
+}
+
+TEST(ScanMapper, ScansThatDoNotFitTheSensorAreRejectedAndCounted) {
+  ScanMapper mapper({}, UrgParameters{});
+  PoseTrack poses;
+  poses.append(pose_at(0.0, 0.0));
+  poses.append(pose_at(1.0, 0.0));
+  UrgRawScan raw = flat_scan(0.5);
+  raw.values_mm.resize(700);  // past AMAX
+  mapper.add(raw);
+  mapper.process(poses, true);
+  EXPECT_EQ(mapper.stats().rejected, 1u);
+  EXPECT_EQ(mapper.stats().integrated, 0u);
+}
+
+TEST(ScanMapper, ScanSequenceLagsOneScanUntilFinish) {
+  ScanMapperOptions options;
+  options.filters = parse_scan_filter_list("paper");
+  ScanMapper mapper(options, UrgParameters{});
+  PoseTrack poses;
+  for (int k = 0; k <= 5; ++k) poses.append(pose_at(0.1 * k, 0.01 * k));
+  for (int k = 0; k < 5; ++k) mapper.add(flat_scan(0.1 * k));
+  mapper.process(poses, true);
+  EXPECT_EQ(mapper.stats().integrated, 4u);
+  mapper.finish();
+  EXPECT_EQ(mapper.stats().integrated, 5u);
+}
+
+TEST(ScanMapper, SavingFillsACopyAndLeavesTheMapAsItWas) {
+  ScanMapper mapper({}, UrgParameters{});
+  PoseTrack poses;
+  for (int k = 0; k <= 20; ++k) poses.append(pose_at(0.1 * k, 0.01 * k));
+  for (int k = 0; k < 20; ++k) mapper.add(flat_scan(0.1 * k));
+  mapper.process(poses, true);
+  const io::MapLayers before = io::export_map_layers(mapper.mapper().map());
+  const io::MapLayers filled = mapper.filled_layers();
+  const io::MapLayers after = io::export_map_layers(mapper.mapper().map());
+  EXPECT_EQ(before.state, after.state);
+  EXPECT_EQ(std::memcmp(before.elevation_m.data(), after.elevation_m.data(), sizeof(float) * before.elevation_m.size()),
+            0);
+  EXPECT_GE(io::map_coverage(filled), io::map_coverage(before));
+}
+
+}  // namespace
+}  // namespace stridemap
