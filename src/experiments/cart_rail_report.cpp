@@ -7,6 +7,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "stripe_tally_json.hpp"
+
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/grid_csv.hpp"
 #include "stridemap/io/grid_render.hpp"
@@ -43,24 +45,18 @@ json structured_light_json(const CartRailResult& r, const CartRailOptions& optio
   const StructuredLightRailOptions& sl = options.structured_light;
   const StructuredLightParameters& p = sl.parameters;
   const StripeTally& t = r.stripe;
-  return {{"pipeline", sl.pipeline == StripePipeline::image ? "image" : "geometric"},
-          {"ambient_lux", sl.image.ambient.illuminance_lux},
-          {"baseline_m", p.baseline_m},
-          {"sheet_angle_rad", p.sheet_angle_rad},
-          {"image_width_px", p.image_width_px},
-          {"image_height_px", p.image_height_px},
-          {"frames", t.frames},
-          {"columns", t.columns},
-          {"truth_visible_columns", t.truth_visible},
-          {"detected_columns", t.detected},
-          {"correct_columns", t.correct},
-          {"false_detections", t.false_detections},
-          {"detection_rate", t.detection_rate()},
-          {"false_rate", t.false_rate()},
-          {"row_error_rms_px", t.row_error_rms_px},
-          {"row_tolerance_px", sl.row_tolerance_px},
-          {"map_points", t.map_points},
-          {"pixels_without_point", r.stripe_conversion.pixels - r.stripe_conversion.converted}};
+  json out = {{"pipeline", sl.pipeline == StripePipeline::image ? "image" : "geometric"},
+              {"ambient_lux", sl.image.ambient.illuminance_lux},
+              {"baseline_m", p.baseline_m},
+              {"sheet_angle_rad", p.sheet_angle_rad},
+              {"image_width_px", p.image_width_px},
+              {"image_height_px", p.image_height_px},
+              {"frames", t.frames},
+              {"columns", t.columns},
+              {"row_tolerance_px", sl.row_tolerance_px},
+              {"pixels_without_point", r.stripe_conversion.pixels - r.stripe_conversion.converted}};
+  detail::add_stripe_tally(out, t);
+  return out;
 }
 
 }  // namespace

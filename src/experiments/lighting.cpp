@@ -5,8 +5,11 @@
 #include <filesystem>
 #include <memory>
 #include <system_error>
+#include <utility>
 
 #include <nlohmann/json.hpp>
+
+#include "stripe_tally_json.hpp"
 
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/sensor_transform.hpp"
@@ -161,20 +164,14 @@ void write_lighting_outputs(const LightingResult& r, const LightingOptions& opti
     const std::string stem = "image_" + lux_text(lux) + "lx";
     io::write_png((dir / (stem + ".png")).string(), row.example);
     io::write_png((dir / (stem + "_overlay.png")).string(), row.example_overlay);
-    levels.push_back({{"name", row.level.name},
-                      {"lux", lux},
-                      {"truth_visible_columns", t.truth_visible},
-                      {"detected_columns", t.detected},
-                      {"correct_columns", t.correct},
-                      {"false_detections", t.false_detections},
-                      {"detection_rate", t.detection_rate()},
-                      {"false_rate", t.false_rate()},
-                      {"row_error_rms_px", t.row_error_rms_px},
-                      {"map_points", t.map_points},
-                      {"map_rms_error_m", row.score.rms_error_m},
-                      {"map_coverage", row.score.coverage},
-                      {"map_artifact_cells", row.score.artifact_cells},
-                      {"example_image", stem + ".png"}});
+    nlohmann::json level = {{"name", row.level.name},
+                            {"lux", lux},
+                            {"map_rms_error_m", row.score.rms_error_m},
+                            {"map_coverage", row.score.coverage},
+                            {"map_artifact_cells", row.score.artifact_cells},
+                            {"example_image", stem + ".png"}};
+    detail::add_stripe_tally(level, t);
+    levels.push_back(std::move(level));
   }
   io::write_text_file((dir / "lighting.csv").string(), csv, "lighting table");
 

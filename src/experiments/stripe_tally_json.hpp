@@ -1,0 +1,21 @@
+#pragma once
+// The stripe tally as the summaries write it: one wording for the cart-rail
+// and lighting summaries (docs/outputs.md).
+#include <nlohmann/json.hpp>
+
+#include "stridemap/experiments/cart_rail.hpp"
+
+namespace stridemap::detail {
+
+inline void add_stripe_tally(nlohmann::json& out, const StripeTally& t) {
+  out["truth_visible_columns"] = t.truth_visible;
+  out["detected_columns"] = t.detected;
+  out["correct_columns"] = t.correct;
+  out["false_detections"] = t.false_detections;
+  out["detection_rate"] = t.detection_rate();
+  out["false_rate"] = t.false_rate();
+  out["row_error_rms_px"] = t.row_error_rms_px;
+  out["map_points"] = t.map_points;
+}
+
+}  // namespace stridemap::detail
