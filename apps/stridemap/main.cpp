@@ -11,6 +11,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "stridemap 0.1.0");
   stridemap::cli::register_calibrate_range(app);
   stridemap::cli::register_experiment(app);
+  stridemap::cli::register_walk_experiments(app);
   stridemap::cli::register_sensor_report(app);
   try {
     app.parse(argc, argv);
