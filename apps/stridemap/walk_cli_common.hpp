@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "stridemap/core/error.hpp"
+#include "stridemap/experiments/mount_analysis.hpp"
 #include "stridemap/experiments/rocky_walk.hpp"
 
 namespace stridemap::cli {
@@ -53,6 +54,7 @@ inline std::vector<double> parse_number_list(const std::string& option, const st
 
 /// The structured-light sensor for the walk experiments.
 WalkSensorFactory structured_light_walk_sensor_factory(std::uint64_t seed);
+MountSensorFactory structured_light_mount_sensor_factory(std::uint64_t seed);
 
 void register_mount_analysis(CLI::App* experiment);
 

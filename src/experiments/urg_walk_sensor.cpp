@@ -31,10 +31,13 @@ void check_mount_sees_ground(const WalkSensor& sensor, double max_range_m, const
   }
   std::vector<Eigen::Vector2d> trace;
   sensor.floor_trace(TrunkPose{}, 0.0, max_range_m, trace);
+  // Ahead of the sensor: a wide scanner pitched up still meets the floor
+  // behind the robot, which maps nothing the feet are going to.
+  const double sensor_x = m.forward_offset_m;
   for (const Eigen::Vector2d& p : trace) {
-    if (p.allFinite()) return;
+    if (p.allFinite() && p.x() > sensor_x) return;
   }
-  throw InputError(what + "no ray meets the ground within " + std::to_string(max_range_m) + " m (height " +
+  throw InputError(what + "no ray meets the ground ahead within " + std::to_string(max_range_m) + " m (height " +
                    std::to_string(m.height_m) + " m, pitch " + std::to_string(m.pitch_rad * 180.0 / std::numbers::pi) +
                    " deg): it cannot see the ground");
 }

@@ -87,7 +87,10 @@ WalkRun::WalkRun(const Scene& scene, const WalkPath& path, WalkSensor& sensor, c
 }
 
 void WalkRun::trace_swept(const TrunkPose& truth) {
-  sensor_.floor_trace(truth, truth.reference_elevation_m, options_.swept_max_range_m, trace_);
+  const double floor_m = options_.swept_floor == WalkOptions::SweptFloor::robot_ground
+                             ? truth.reference_elevation_m
+                             : motion_.scene().terrain.base_elevation_m;
+  sensor_.floor_trace(truth, floor_m, options_.swept_max_range_m, trace_);
   const ElevationMap& local = mapper_.map();
   const ElevationMap& mosaic = *mosaic_;
   const double step = local.cell_size_m() / 4.0;
@@ -190,18 +193,29 @@ WalkResult WalkRun::finish() {
     }
   };
   const Scene& scene = motion_.scene();
+  const auto snapshot = [&](const ElevationMap& map) {
+    if (options_.score_against_truth) return snapshot_with_truth(map, scene);
+    MapSnapshot s;
+    map.export_layers(&s.elevation_m, &s.certainty, &s.state);
+    s.truth_m = Eigen::MatrixXf::Constant(s.elevation_m.rows(), s.elevation_m.cols(), NAN);
+    s.min_cell = map.min_cell();
+    s.cell_size_m = map.cell_size_m();
+    return s;
+  };
   filter(mapper_.map(), !mosaic_);
-  r.local = snapshot_with_truth(mapper_.map(), scene);
+  // A fixed window is the mosaic already: no second snapshot of it.
+  if (options_.mapper.follow_robot || !mosaic_) r.local = snapshot(mapper_.map());
   if (!mosaic_) return r;
 
   filter(*mosaic_, true);
-  r.mosaic = snapshot_with_truth(*mosaic_, scene);
+  r.mosaic = snapshot(*mosaic_);
   r.mosaic_swept = swept_;
-  r.mosaic_score = score_map(r.mosaic, swept_, options_.score);
+  if (options_.score_against_truth) r.mosaic_score = score_map(r.mosaic, swept_, options_.score);
   for (Eigen::Index i = 0; i < swept_.rows(); ++i)
     for (Eigen::Index j = 0; j < swept_.cols(); ++j)
       r.unknown_swept_cells += swept_(i, j) && static_cast<CellState>(r.mosaic.state(i, j)) == CellState::unknown;
 
+  if (!options_.mapper.follow_robot) return r;
   const ElevationMap& local = mapper_.map();
   const int n = local.cells_per_side();
   r.local_swept = CellMask::Zero(n, n);
@@ -211,7 +225,7 @@ WalkResult WalkRun::finish() {
       if (mosaic_->contains(c)) r.local_swept(i, j) = swept_(c.x - mosaic_->min_cell().x, c.y - mosaic_->min_cell().y);
     }
   }
-  r.local_score = score_map(r.local, r.local_swept, options_.score);
+  if (options_.score_against_truth) r.local_score = score_map(r.local, r.local_swept, options_.score);
   return r;
 }
 

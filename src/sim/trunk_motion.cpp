@@ -104,7 +104,8 @@ TrunkState TrunkMotion::at(double time_s) const {
   state.segment = k;
   state.distance_m = point.distance_m;
   state.turned_rad = point.turned_rad;
-  const SupportPlane plane = support_plane(point.x_m, point.y_m, point.yaw_rad);
+  const SupportPlane plane = gait_.follow_terrain ? support_plane(point.x_m, point.y_m, point.yaw_rad)
+                                                  : SupportPlane{scene_.terrain.base_elevation_m, 0.0, 0.0};
   // Cycle phase in turns; the bob and the pitch run at twice the cycle
   // rate (once per step), the roll once per cycle (once per tripod pair).
   const double cycle = 2.0 * std::numbers::pi * t / gait_.gait_cycle_s;

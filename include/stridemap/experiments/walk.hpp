@@ -49,6 +49,15 @@ struct WalkOptions {
   /// inside the local map at that moment [m]. 0.9 m ends the URG's
   /// favourable interval (section 4.2), as in the cart-rail experiment.
   double swept_max_range_m = 0.9;
+  /// Height of that floor: the robot's ground (the support plane under its
+  /// feet, true), or the scene terrain's base elevation (for step fields,
+  /// whose floor is flat while the robot climbs the blocks).
+  enum class SweptFloor : std::uint8_t { robot_ground, scene_base };
+  SweptFloor swept_floor = SweptFloor::robot_ground;
+  /// Compute the ground truth of every cell and score the maps (off: the
+  /// snapshots carry NaN truth and the scores stay empty; for analyses that
+  /// only need which cells were seen).
+  bool score_against_truth = true;
   MapScoreOptions score{};
 };
 

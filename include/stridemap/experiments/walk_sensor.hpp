@@ -60,7 +60,8 @@ class WalkSensor {
 /// Throws InputError "sensor mount <name>: ..." when the mount cannot see
 /// the ground: the sensor at or below the terrain it stands on (height <= 0),
 /// pitched past vertical (|alpha| >= 90 deg), or with no ray meeting a flat
-/// floor within max_range_m from the nominal pose. Run before any work.
+/// floor ahead of the sensor within max_range_m from the nominal pose. Run
+/// before any work.
 void check_mount_sees_ground(const WalkSensor& sensor, double max_range_m, const std::string& mount_name);
 
 }  // namespace stridemap

@@ -55,6 +55,11 @@ struct GaitOptions {
   /// Share of the support plane's slope the trunk takes as pitch and roll,
   /// in [0, 1]. 0.5: the legs level the trunk half way.
   double terrain_attitude_gain = 0.5;
+  /// Off: the trunk glides at its height above the terrain's base
+  /// elevation whatever is under the feet (no support plane, no slope), as
+  /// for the sensor-mount comparison, where the mount's height is meant
+  /// above the floor of the step field.
+  bool follow_terrain = true;
   /// Feet relative to the trunk reference point, forward / left [m]: front
   /// and rear pairs at +-foot_forward_m, +-foot_lateral_m; the middle pair
   /// at 0, +-middle_foot_lateral_m. Defaults: a trunk of Messor's size.
