@@ -6,8 +6,11 @@
 namespace stridemap::cli {
 
 void register_calibrate_range(CLI::App& app);
+void register_calibrate_structured_light(CLI::App& app);
+void register_detect_stripe(CLI::App& app);
 void register_experiment(CLI::App& app);
 void register_sensor_report(CLI::App& app);
+void register_simulate_stripe_image(CLI::App& app);
 void register_walk_experiments(CLI::App& app);  // after register_experiment
 
 }  // namespace stridemap::cli

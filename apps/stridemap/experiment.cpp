@@ -3,15 +3,18 @@
 #include <filesystem>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "cli_parsing.hpp"
 #include "commands.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
 #include "stridemap/experiments/cart_rail_report.hpp"
+#include "stridemap/experiments/lighting.hpp"
 #include "stridemap/experiments/mixed_pixels.hpp"
 #include "stridemap/io/mapper_config.hpp"
 #include "stridemap/io/scene_yaml.hpp"
+#include "stridemap/io/structured_light_config.hpp"
 
 namespace stridemap::cli {
 namespace {
@@ -28,12 +31,52 @@ struct CartRailArgs {
   std::string config_path;
   std::string mixed_pixels = "off";
   std::string map_filter = "fill";
-  bool cell_size_given = false, rule_given = false, filters_given = false;
+  std::string sensor_config_path;
+  std::string pipeline = "image";
+  double lux = 300.0;
+  bool cell_size_given = false, rule_given = false, filters_given = false, map_filter_given = false;
+  bool mixed_pixels_given = false;
 };
 
+std::string lux_name(double lux) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g lux", lux);
+  return text;
+}
+
+StripePipeline parse_pipeline(const std::string& name) {
+  if (name == "image") return StripePipeline::image;
+  if (name == "geometric") return StripePipeline::geometric;
+  throw InputError("--pipeline: '" + name + "' is not a pipeline; use image (render, detect, map) or geometric");
+}
+
+// Structured light: Ragno's sensor unless --sensor-config names another;
+// 5 mm cells and the CAS filter by default (paper section 5.2, 5.3).
+void apply_structured_light_args(const CartRailArgs& args, CartRailOptions& options) {
+  options.sensor = CartRailSensor::structured_light;
+  if (!args.sensor_config_path.empty()) {
+    const StructuredLightConfig config = load_structured_light_config(args.sensor_config_path);
+    if (!config.has_mount) {
+      throw InputError(args.sensor_config_path + ": the cart-rail run needs the sensor's mount section "
+                       "(mount.pitch_deg, mount.height_m)");
+    }
+    options.structured_light.parameters = config.parameters;
+  }
+  options.structured_light.pipeline = parse_pipeline(args.pipeline);
+  options.structured_light.image.ambient.illuminance_lux = args.lux;
+  if (!args.cell_size_given) options.cell_size_m = 0.005;
+  if (!args.map_filter_given) options.map_filter = MapFilter::cas;
+  if (args.mixed_pixels_given || args.filters_given) {
+    throw InputError("--mixed-pixels and --filters apply to the URG only, not to --sensor structured-light");
+  }
+}
+
 void run_cart_rail_command(const CartRailArgs& args) {
-  if (args.sensor != "urg") {
-    throw InputError("--sensor: '" + args.sensor + "' is not available for cart-rail; supported: urg");
+  if (args.sensor != "urg" && args.sensor != "structured-light") {
+    throw InputError("--sensor: '" + args.sensor + "' is not available for cart-rail; supported: urg, structured-light");
+  }
+  if (args.sensor == "urg" && (!args.sensor_config_path.empty() || args.pipeline != "image" || args.lux != 300.0)) {
+    throw InputError("--sensor-config, --pipeline and --lux apply to --sensor structured-light only");
   }
   const Scene scene = load_scene_yaml(args.scene_path);
   CartRailOptions options;
@@ -56,9 +99,14 @@ void run_cart_rail_command(const CartRailArgs& args) {
   options.map_filter = parse_map_filter(args.map_filter);
   // With mixed pixels the paper pre-processes every scan (section 5.3).
   options.filters = parse_scan_filter_list(args.filters_given || !options.mixed_pixels ? args.filters : "paper");
+  std::string name = args.sensor;
+  if (args.sensor == "structured-light") {
+    apply_structured_light_args(args, options);
+    if (options.structured_light.pipeline == StripePipeline::geometric) name += "-geometric";
+  }
   const CartRailResult result = run_cart_rail(scene, options);
-  const CartRailRunInfo info{args.sensor, args.scene_path};
-  const std::string dir = (std::filesystem::path(args.out_dir) / ("cart-rail-" + args.sensor)).string();
+  const CartRailRunInfo info{name, args.scene_path};
+  const std::string dir = (std::filesystem::path(args.out_dir) / ("cart-rail-" + name)).string();
   write_cart_rail_outputs(result, options, info, dir);
   std::fputs(cart_rail_table(result, info).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
@@ -82,6 +130,36 @@ void run_mixed_pixels_command(const MixedPixelsArgs& args) {
   std::printf("outputs: %s\n", dir.c_str());
 }
 
+struct LightingArgs {
+  std::string scene_path = "scenes/cart_rail_boxes.yaml";
+  std::string out_dir;
+  std::string sensor_config_path;
+  std::vector<double> levels_lux;
+  std::uint64_t seed = 1;
+};
+
+void run_lighting_command(const LightingArgs& args) {
+  if (!std::filesystem::exists(args.scene_path)) {
+    throw InputError(args.scene_path + ": the scene file does not exist (run from the source folder, or pass --scene)");
+  }
+  const Scene scene = load_scene_yaml(args.scene_path);
+  LightingOptions options;
+  CartRailArgs sl_args;
+  sl_args.sensor_config_path = args.sensor_config_path;
+  apply_structured_light_args(sl_args, options.structured_light);
+  options.structured_light.seed = args.seed;
+  options.urg.seed = args.seed;
+  if (!args.levels_lux.empty()) {
+    options.levels.clear();
+    for (double lux : args.levels_lux) options.levels.push_back({lux_name(lux), lux});
+  }
+  const LightingResult result = run_lighting(scene, options);
+  const std::string dir = (std::filesystem::path(args.out_dir) / "lighting").string();
+  write_lighting_outputs(result, options, args.scene_path, dir);
+  std::fputs(lighting_table(result).c_str(), stdout);
+  std::printf("outputs: %s\n", dir.c_str());
+}
+
 }  // namespace
 
 void register_experiment(CLI::App& app) {
@@ -91,13 +169,21 @@ void register_experiment(CLI::App& app) {
   auto args = std::make_shared<CartRailArgs>();
   CLI::App* cart_rail = experiment->add_subcommand(
       "cart-rail", "Sensor on a cart moved along a rail over a scene (Figs. 16-20, Table 1)");
-  cart_rail->add_option("--sensor", args->sensor, "Sensor model: urg")->capture_default_str();
+  cart_rail->add_option("--sensor", args->sensor, "Sensor model: urg or structured-light")->capture_default_str();
+  cart_rail->add_option("--sensor-config", args->sensor_config_path,
+                        "Structured light: sensor configuration (YAML, docs/structured_light.md); default Ragno's");
+  cart_rail->add_option("--pipeline", args->pipeline,
+                        "Structured light: image (render the camera image, detect the stripe) or geometric (the "
+                        "simulator's true stripe)")
+      ->capture_default_str();
+  cart_rail->add_option("--lux", args->lux, "Structured light: ambient illuminance [lux]")->capture_default_str();
   cart_rail->add_option("--scene", args->scene_path, "Scene file (YAML, see docs/scenes.md)")->required();
   cart_rail->add_option("--out", args->out_dir, "Output folder; results go to OUT/cart-rail-<sensor>/")->required();
   cart_rail->add_option("--seed", args->seed, "Seed of the simulation")->capture_default_str();
   cart_rail->add_option("--config", args->config_path,
                         "Mapper configuration (YAML, docs/config.md): mount, update rule, fill, calibration, cell size");
-  CLI::Option* cell_size = cart_rail->add_option("--cell-size-m", args->cell_size_m, "Map cell size [m]")
+  CLI::Option* cell_size = cart_rail->add_option("--cell-size-m", args->cell_size_m,
+                                                 "Map cell size [m] (structured light: 0.005 unless given)")
       ->capture_default_str();
   cart_rail->add_option("--cells", args->cells_per_side, "Cells per map side (0: fit the swept area)")
       ->capture_default_str();
@@ -105,10 +191,12 @@ void register_experiment(CLI::App& app) {
                         "paper: eq. (10), the highest reading wins; gated: a reading outside the plausibility "
                         "bound needs repeated support (docs/mapping.md)")
       ->capture_default_str();
-  cart_rail->add_option("--mixed-pixels", args->mixed_pixels,
+  CLI::Option* mixed_pixels = cart_rail->add_option("--mixed-pixels", args->mixed_pixels,
                         "on: simulate the beam footprint and phase-shift ranging, so edges give mixed pixels")
       ->capture_default_str();
-  cart_rail->add_option("--map-filter", args->map_filter, "On the finished map: fill (eq. 11), cas, none")
+  CLI::Option* map_filter = cart_rail->add_option("--map-filter", args->map_filter,
+                                                  "On the finished map: fill (eq. 11), cas, none (structured light: "
+                                                  "cas unless given)")
       ->capture_default_str();
   CLI::Option* filters = cart_rail->add_option("--filters", args->filters,
                         "Scan filters in order, comma separated: range-clustering, scan-sequence, shadow, "
@@ -123,8 +211,23 @@ void register_experiment(CLI::App& app) {
   mixed->add_option("--seed", mp->seed, "Seed of the simulation")->capture_default_str();
   mixed->callback([mp] { run_mixed_pixels_command(*mp); });
 
-  cart_rail->callback([args, cell_size, rule, filters] {
+  auto la = std::make_shared<LightingArgs>();
+  CLI::App* lighting = experiment->add_subcommand(
+      "lighting", "Structured-light stripe detection and map error from dim lab to daylight, URG beside it (Fig. 21)");
+  lighting->add_option("--out", la->out_dir, "Output folder; results go to OUT/lighting/")->required();
+  lighting->add_option("--scene", la->scene_path, "Scene file (YAML, see docs/scenes.md)")->capture_default_str();
+  lighting->add_option("--sensor-config", la->sensor_config_path,
+                       "Structured-light configuration (YAML); default Ragno's");
+  lighting->add_option("--levels", la->levels_lux,
+                       "Ambient illuminances [lux], comma separated; default 50,300,1000,3000,10000,30000,100000")
+      ->delimiter(',');
+  lighting->add_option("--seed", la->seed, "Seed of the simulation")->capture_default_str();
+  lighting->callback([la] { run_lighting_command(*la); });
+
+  cart_rail->callback([args, cell_size, rule, filters, mixed_pixels, map_filter] {
     args->cell_size_given = cell_size->count() > 0;
+    args->map_filter_given = map_filter->count() > 0;
+    args->mixed_pixels_given = mixed_pixels->count() > 0;
     args->filters_given = filters->count() > 0;
     args->rule_given = rule->count() > 0;
     run_cart_rail_command(*args);

@@ -10,9 +10,12 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   app.set_version_flag("--version", "stridemap 0.1.0");
   stridemap::cli::register_calibrate_range(app);
+  stridemap::cli::register_calibrate_structured_light(app);
+  stridemap::cli::register_detect_stripe(app);
   stridemap::cli::register_experiment(app);
   stridemap::cli::register_walk_experiments(app);
   stridemap::cli::register_sensor_report(app);
+  stridemap::cli::register_simulate_stripe_image(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

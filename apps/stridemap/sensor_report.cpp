@@ -134,6 +134,8 @@ void write_map(const std::string& directory, const std::string& name, const std:
   render.units = "mm";
   render.cell_size_m = maps.cell_size_m;
   render.unknown_label = "not seen";
+  render.up_axis_label = "z_c depth";
+  render.left_axis_label = "x_c left";
   const Eigen::MatrixXf values_mm = values_m * static_cast<float>(kMm);
   io::write_png(base + ".png", io::render_grid(values_mm, render).image);
   std::printf("wrote %s.csv and %s.png\n", base.c_str(), base.c_str());
@@ -149,10 +151,8 @@ void write_maps(const StructuredLightModel& model, const SensorReportOptions& op
   std::snprintf(source, sizeof source, "Delta u = %.2g px, Delta v = %.2g px%s", p.column_error_px, p.row_error_px,
                 options.maps.include_parameter_errors ? " + calibration errors" : "");
   std::printf("\nSpatial uncertainty maps (x_c across, z_c up the page; %s):\n", source);
-  // render_grid's compass reads "x forward, y left": here up the page is
-  // z_c and left is x_c, which the titles say.
-  write_map(options.uncertainty_dir, "x_uncertainty", "x_c uncertainty (z_c up, x_c left)", maps.x_uncertainty_m, maps);
-  write_map(options.uncertainty_dir, "z_uncertainty", "z_c uncertainty (z_c up, x_c left)", maps.z_uncertainty_m, maps);
+  write_map(options.uncertainty_dir, "x_uncertainty", "x_c uncertainty", maps.x_uncertainty_m, maps);
+  write_map(options.uncertainty_dir, "z_uncertainty", "z_c uncertainty", maps.z_uncertainty_m, maps);
 }
 
 void run(const SensorReportOptions& options) {

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <array>
+#include <functional>
 #include <cmath>
 #include <limits>
 #include <memory>
 
+#include "cart_rail_internal.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/sensor_transform.hpp"
 
@@ -33,15 +35,12 @@ std::vector<Eigen::Vector2d> floor_hits(const TrunkPose& pose, const SensorMount
 
 }  // namespace
 
-CellMask swept_floor_area(const ElevationMap& map, const std::vector<TrunkPose>& poses, const SensorMount& mount,
-                          const UrgParameters& urg, double floor_elevation_m, double max_range_m) {
+CellMask swept_area_between(const ElevationMap& map, const std::vector<Eigen::Vector2d>& first,
+                            const std::vector<Eigen::Vector2d>& last) {
   const int n = map.cells_per_side();
   CellMask area = CellMask::Zero(n, n);
-  if (poses.empty()) return area;
-  const auto first = floor_hits(poses.front(), mount, urg, floor_elevation_m, max_range_m);
-  const auto last = floor_hits(poses.back(), mount, urg, floor_elevation_m, max_range_m);
   const double step = map.cell_size_m() / 4.0;
-  for (std::size_t b = 0; b < first.size(); ++b) {
+  for (std::size_t b = 0; b < first.size() && b < last.size(); ++b) {
     if (!first[b].allFinite() || !last[b].allFinite()) continue;
     const Eigen::Vector2d delta = last[b] - first[b];
     const int samples = 1 + static_cast<int>(std::ceil(delta.norm() / step));
@@ -54,6 +53,52 @@ CellMask swept_floor_area(const ElevationMap& map, const std::vector<TrunkPose>&
   return area;
 }
 
+CellMask swept_floor_area(const ElevationMap& map, const std::vector<TrunkPose>& poses, const SensorMount& mount,
+                          const UrgParameters& urg, double floor_elevation_m, double max_range_m) {
+  if (poses.empty()) return CellMask::Zero(map.cells_per_side(), map.cells_per_side());
+  return swept_area_between(map, floor_hits(poses.front(), mount, urg, floor_elevation_m, max_range_m),
+                            floor_hits(poses.back(), mount, urg, floor_elevation_m, max_range_m));
+}
+
+namespace detail {
+
+TerrainMapper make_rail_mapper(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, const CartRailOptions& options,
+                               const SensorMount& mount) {
+  // A fixed window around everything the sensor can sweep, so the whole
+  // scene stays in the map (the test bed, unlike the robot, need not forget).
+  MapperOptions mapper_options;
+  mapper_options.follow_robot = false;
+  mapper_options.update = options.update;
+  const double margin_m = 0.1;
+  const int needed = static_cast<int>(std::ceil(((hi - lo).maxCoeff() + 2 * margin_m) / options.cell_size_m));
+  mapper_options.grid = {options.cells_per_side > 0 ? options.cells_per_side : needed, options.cell_size_m};
+  TerrainMapper mapper(mapper_options, mount);
+  const Eigen::Vector2d centre = 0.5 * (lo + hi);
+  mapper.map().move_to(centre.x(), centre.y());
+  return mapper;
+}
+
+void finish_rail_map(const Scene& scene, const CartRailOptions& options, TerrainMapper& mapper,
+                     const std::function<CellMask(const ElevationMap&)>& swept_area, CartRailResult& result) {
+  result.mapper_totals = mapper.totals();
+  switch (options.map_filter) {
+    case MapFilter::none: break;
+    case MapFilter::fill: result.filled_cells = WeightedMedianFill(options.fill).apply(mapper.map()); break;
+    case MapFilter::cas: {
+      const CasResult cas = CasFilter(options.cas).apply(mapper.map());
+      result.filled_cells = cas.filled;
+      result.cas_removed_cells = cas.removed;
+      break;
+    }
+  }
+  result.snapshot = snapshot_with_truth(mapper.map(), scene);
+  result.swept_area = swept_area(mapper.map());
+  result.score = score_map(result.snapshot, result.swept_area, options.score);
+  result.objects = measure_objects(result.snapshot, scene, options.objects);
+}
+
+}  // namespace detail
+
 CartRailResult run_cart_rail(const Scene& scene, const CartRailOptions& options) {
   scene.validate();
   options.urg.validate();
@@ -64,9 +109,11 @@ CartRailResult run_cart_rail(const Scene& scene, const CartRailOptions& options)
     throw InputError("cart rail: the rail must hold at least two scan positions (start_x_m " +
                      std::to_string(result.rail.start_x_m) + ", end_x_m " + std::to_string(result.rail.end_x_m) + ")");
   }
+  if (options.sensor == CartRailSensor::structured_light) {
+    detail::run_structured_light_rail(scene, options, poses, result);
+    return result;
+  }
 
-  // A fixed window around everything the beams can sweep, so the whole
-  // scene stays in the map (the test bed, unlike the robot, need not forget).
   const double floor_m = scene.terrain.base_elevation_m;
   Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
   Eigen::Vector2d hi = -lo;
@@ -81,15 +128,7 @@ CartRailResult run_cart_rail(const Scene& scene, const CartRailOptions& options)
     throw InputError("cart rail: with this mount no beam meets the floor within " +
                      std::to_string(options.swept_max_range_m) + " m");
   }
-  MapperOptions mapper_options;
-  mapper_options.follow_robot = false;
-  mapper_options.update = options.update;
-  const double margin_m = 0.1;
-  const int needed = static_cast<int>(std::ceil(((hi - lo).maxCoeff() + 2 * margin_m) / options.cell_size_m));
-  mapper_options.grid = {options.cells_per_side > 0 ? options.cells_per_side : needed, options.cell_size_m};
-  TerrainMapper mapper(mapper_options, options.mount);
-  const Eigen::Vector2d centre = 0.5 * (lo + hi);
-  mapper.map().move_to(centre.x(), centre.y());
+  TerrainMapper mapper = detail::make_rail_mapper(lo, hi, options, options.mount);
 
   UrgModel sensor(options.urg, options.calibration);
   std::unique_ptr<BeamModel> beam_model;
@@ -131,23 +170,9 @@ CartRailResult run_cart_rail(const Scene& scene, const CartRailOptions& options)
   }
   if (filters.flush(filtered)) integrate_output();
   result.scans = poses.size();
-  result.mapper_totals = mapper.totals();
-  switch (options.map_filter) {
-    case MapFilter::none: break;
-    case MapFilter::fill: result.filled_cells = WeightedMedianFill(options.fill).apply(mapper.map()); break;
-    case MapFilter::cas: {
-      const CasResult cas = CasFilter(options.cas).apply(mapper.map());
-      result.filled_cells = cas.filled;
-      result.cas_removed_cells = cas.removed;
-      break;
-    }
-  }
-
-  result.snapshot = snapshot_with_truth(mapper.map(), scene);
-  result.swept_area =
-      swept_floor_area(mapper.map(), poses, options.mount, options.urg, floor_m, options.swept_max_range_m);
-  result.score = score_map(result.snapshot, result.swept_area, options.score);
-  result.objects = measure_objects(result.snapshot, scene, options.objects);
+  detail::finish_rail_map(scene, options, mapper, [&](const ElevationMap& map) {
+    return swept_floor_area(map, poses, options.mount, options.urg, floor_m, options.swept_max_range_m);
+  }, result);
   return result;
 }
 

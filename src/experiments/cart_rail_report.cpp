@@ -38,6 +38,30 @@ io::CellMask filled_mask(const MapSnapshot& s) {
   return mask;
 }
 
+json structured_light_json(const CartRailResult& r, const CartRailOptions& options) {
+  const StructuredLightRailOptions& sl = options.structured_light;
+  const StructuredLightParameters& p = sl.parameters;
+  const StripeTally& t = r.stripe;
+  return {{"pipeline", sl.pipeline == StripePipeline::image ? "image" : "geometric"},
+          {"ambient_lux", sl.image.ambient.illuminance_lux},
+          {"baseline_m", p.baseline_m},
+          {"sheet_angle_rad", p.sheet_angle_rad},
+          {"image_width_px", p.image_width_px},
+          {"image_height_px", p.image_height_px},
+          {"frames", t.frames},
+          {"columns", t.columns},
+          {"truth_visible_columns", t.truth_visible},
+          {"detected_columns", t.detected},
+          {"correct_columns", t.correct},
+          {"false_detections", t.false_detections},
+          {"detection_rate", t.detection_rate()},
+          {"false_rate", t.false_rate()},
+          {"row_error_rms_px", t.row_error_rms_px},
+          {"row_tolerance_px", sl.row_tolerance_px},
+          {"map_points", t.map_points},
+          {"pixels_without_point", r.stripe_conversion.pixels - r.stripe_conversion.converted}};
+}
+
 }  // namespace
 
 std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOptions& options,
@@ -53,6 +77,8 @@ std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOption
                        {"error_pct", error_pct_json(m)}});
   }
   const MapScore& s = r.score;
+  const SensorMount& mount =
+      options.sensor == CartRailSensor::structured_light ? options.structured_light.parameters.mount : options.mount;
   json summary = {
       {"experiment", "cart-rail"},
       {"sensor", info.sensor},
@@ -80,7 +106,7 @@ std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOption
         {"y_m", r.rail.y_m},
         {"step_m", r.rail.step_m},
         {"scans", r.scans}}},
-      {"mount", {{"height_m", options.mount.height_m}, {"pitch_rad", options.mount.pitch_rad}}},
+      {"mount", {{"height_m", mount.height_m}, {"pitch_rad", mount.pitch_rad}}},
       {"elevation_rule",
        options.update.elevation_rule == ElevationRule::paper_highest ? "paper" : "gated"},
       {"beams",
@@ -104,6 +130,7 @@ std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOption
         {"clean_drop_rate", r.beams.clean_drop_rate()},
         {"f1", r.beams.f1()}}},
       {"objects", objects}};
+  if (options.sensor == CartRailSensor::structured_light) summary["structured_light"] = structured_light_json(r, options);
   return summary.dump(2) + "\n";
 }
 
@@ -120,8 +147,18 @@ std::string cart_rail_table(const CartRailResult& r, const CartRailRunInfo& info
                 s.rms_error_m * 1000, s.max_error_m * 1000, s.coverage * 100, s.artifact_cells,
                 s.artifact_threshold_m * 1000, s.measured_cells, s.filled_cells);
   out += line;
-  std::snprintf(line, sizeof line, "beams: %zu clean, %zu mixed, %zu error codes; filters removed %zu mixed, %zu clean\n",
-                r.beams.clean, r.beams.mixed, r.beams.dropped, r.beams.mixed_removed, r.beams.clean_removed);
+  if (r.stripe.frames > 0) {
+    const StripeTally& t = r.stripe;
+    std::snprintf(line, sizeof line,
+                  "stripe: %zu frames; %.1f %% of the %zu visible columns detected within tolerance, %zu false "
+                  "detections (%.2f %%), row error RMS %.2f px; %zu map points\n",
+                  t.frames, 100.0 * t.detection_rate(), t.truth_visible, t.false_detections, 100.0 * t.false_rate(),
+                  t.row_error_rms_px, t.map_points);
+  } else {
+    std::snprintf(line, sizeof line,
+                  "beams: %zu clean, %zu mixed, %zu error codes; filters removed %zu mixed, %zu clean\n", r.beams.clean,
+                  r.beams.mixed, r.beams.dropped, r.beams.mixed_removed, r.beams.clean_removed);
+  }
   out += line;
   out += "object        dim      truth [mm]  map [mm]  error [%]\n";
   for (const ObjectMeasurement& m : r.objects) {

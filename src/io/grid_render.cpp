@@ -229,8 +229,8 @@ RenderedGrid render(const Eigen::MatrixXf& values, const CellMask* filled, const
   int tick_label_w = 0;
   for (double tick : ticks) tick_label_w = std::max(tick_label_w, text_size(format_number(tick, decimals), kTextScale).width);
   const std::string cell_text = options.cell_size_m ? "cell " + format_length(*options.cell_size_m) : "";
-  const std::string x_axis = "x forward";
-  const std::string y_axis = "y left";
+  const std::string& x_axis = options.up_axis_label;
+  const std::string& y_axis = options.left_axis_label;
   int legend_w = kBarWidth + kTickLength + 6 + tick_label_w;
   legend_w = std::max(legend_w, text_size(options.units, kTextScale).width);
   legend_w = std::max(legend_w, kSwatch + 8 + text_size(options.unknown_label, kTextScale).width);

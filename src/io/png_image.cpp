@@ -92,9 +92,12 @@ bool encode(png_structp png, png_infop info, const RgbImage& image) {
 }
 
 // Reads the header and sets up the conversion of every PNG flavour to 8-bit RGB.
-bool decode_header(png_structp png, png_infop info, png_uint_32* width, png_uint_32* height) {
+bool decode_header(png_structp png, png_infop info, png_uint_32* width, png_uint_32* height, png_byte* colour_type,
+                   png_byte* bit_depth) {
   if (setjmp(png_jmpbuf(png))) return false;
   png_read_info(png, info);
+  *colour_type = png_get_color_type(png, info);
+  *bit_depth = png_get_bit_depth(png, info);
   png_set_expand(png);  // palette -> RGB, gray below 8 bits -> 8 bits, tRNS -> alpha
   png_set_strip_16(png);
   png_set_strip_alpha(png);
@@ -182,6 +185,11 @@ void write_png(const std::string& path, const RgbImage& image) {
 }
 
 RgbImage read_png(const std::string& path) {
+  PngSourceFormat ignored;
+  return read_png(path, ignored);
+}
+
+RgbImage read_png(const std::string& path, PngSourceFormat& source) {
   FileGuard file{std::fopen(path.c_str(), "rb")};
   if (file.file == nullptr) {
     const int error_number = errno;
@@ -216,7 +224,20 @@ RgbImage read_png(const std::string& path) {
 
   png_uint_32 width = 0;
   png_uint_32 height = 0;
-  if (!decode_header(guard.png, guard.info, &width, &height)) throw InputError(decode_failure(path, context));
+  png_byte colour_type = 0;
+  png_byte bit_depth = 0;
+  if (!decode_header(guard.png, guard.info, &width, &height, &colour_type, &bit_depth)) {
+    throw InputError(decode_failure(path, context));
+  }
+  source.bit_depth = bit_depth;
+  source.has_colour = (colour_type & PNG_COLOR_MASK_COLOR) != 0;
+  switch (colour_type) {
+    case PNG_COLOR_TYPE_GRAY: source.colour_type = "grey"; break;
+    case PNG_COLOR_TYPE_GRAY_ALPHA: source.colour_type = "grey+alpha"; break;
+    case PNG_COLOR_TYPE_PALETTE: source.colour_type = "palette"; break;
+    case PNG_COLOR_TYPE_RGB_ALPHA: source.colour_type = "RGBA"; break;
+    default: source.colour_type = "RGB"; break;
+  }
   if (static_cast<long long>(width) * height > kMaxPngPixels) {
     throw InputError("cannot read PNG '" + path + "': image dimensions " + std::to_string(width) + " x " +
                      std::to_string(height) + " exceed the limit of " + std::to_string(kMaxPngPixels) +

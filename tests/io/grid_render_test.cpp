@@ -231,3 +231,22 @@ TEST(GridRender, BadInputIsRejected) {
 
 }  // namespace
 }  // namespace stridemap::io
+
+namespace stridemap::io {
+namespace {
+
+TEST(GridRenderAxisLabels, CompassLabelsAreOptions) {
+  const Eigen::MatrixXf values = Eigen::MatrixXf::Constant(20, 20, 1.0f);
+  GridRenderOptions maps;
+  GridRenderOptions camera;
+  camera.up_axis_label = "z_c depth";
+  camera.left_axis_label = "x_c left, a much longer axis label";
+  const RenderedGrid a = render_grid(values, maps);
+  const RenderedGrid b = render_grid(values, camera);
+  // The longer label widens the legend: the text is drawn, not the default.
+  EXPECT_GT(b.image.width, a.image.width);
+  EXPECT_EQ(b.image.height, a.image.height);
+}
+
+}  // namespace
+}  // namespace stridemap::io

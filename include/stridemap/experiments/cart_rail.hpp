@@ -1,8 +1,9 @@
 #pragma once
-// The cart-on-a-rail experiment (paper section 6.1, Figs. 16b, 18-20,
-// Table 1): the URG-04LX rides a straight rail over a scene, one scan every
-// step, with a perfect pose; the map it builds is scored against the
-// scene's ground truth and the objects are measured from it.
+// The cart-on-a-rail experiment (paper section 6.1, Figs. 16, 17-20,
+// Table 1): the URG-04LX or the structured-light sensor rides a straight
+// rail over a scene, one scan (or camera frame) every step, with a perfect
+// pose; the map it builds is scored against the scene's ground truth and the
+// objects are measured from it.
 //
 // Results are from the simulator (sim/), not from a real sensor.
 #include <cstdint>
@@ -14,11 +15,13 @@
 #include "stridemap/core/weighted_median_fill.hpp"
 #include "stridemap/experiments/map_evaluation.hpp"
 #include "stridemap/experiments/object_extents.hpp"
+#include "stridemap/io/stripe_detector.hpp"
 #include "stridemap/preprocess/scan_filter_chain.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
 #include "stridemap/sim/cart_rail.hpp"
 #include "stridemap/sim/footprint_beam_model.hpp"
 #include "stridemap/sim/scene.hpp"
+#include "stridemap/sim/structured_light_image.hpp"
 #include "stridemap/sim/urg_simulator.hpp"
 
 namespace stridemap {
@@ -30,16 +33,64 @@ enum class MapFilter : std::uint8_t {
   cas,              ///< the CAS filter, then the fill (the paper's choice for structured light)
 };
 
+enum class CartRailSensor : std::uint8_t { urg, structured_light };
+
+/// How a structured-light frame becomes stripe pixels.
+enum class StripePipeline : std::uint8_t {
+  image,      ///< render the camera image, detect the stripe in it (the full path)
+  geometric,  ///< the simulator's true stripe (plus its row noise option): no image
+};
+
+struct StructuredLightRailOptions {
+  /// Ragno's sensor (the defaults of StructuredLightParameters, as in
+  /// configs/ragno_structured_light.yaml); its mount is used, not
+  /// CartRailOptions::mount.
+  StructuredLightParameters parameters{};
+  StripePipeline pipeline = StripePipeline::image;
+  StructuredLightSimOptions geometry{};
+  StripeImageOptions image{};
+  io::StripeDetectorOptions detector{};
+  /// Detections below this confidence are not mapped.
+  double min_confidence = 0.0;
+  /// A detection within this many rows of the true stripe is correct [px];
+  /// farther, or where the truth has no visible stripe, it is false.
+  double row_tolerance_px = 2.0;
+};
+
+/// The detector against the simulator's truth, over all frames.
+struct StripeTally {
+  std::size_t frames = 0;
+  std::size_t columns = 0;          ///< frames x image width
+  std::size_t truth_visible = 0;    ///< columns where the camera sees the lit stripe
+  std::size_t detected = 0;         ///< columns with a (mapped) detection
+  std::size_t correct = 0;          ///< visible and detected within the row tolerance
+  std::size_t false_detections = 0; ///< detected where not visible, or beyond the tolerance
+  double row_error_rms_px = 0.0;    ///< over correct detections
+  std::size_t map_points = 0;       ///< stripe pixels that became map points
+
+  double detection_rate() const {
+    return truth_visible ? static_cast<double>(correct) / static_cast<double>(truth_visible) : 0.0;
+  }
+  double false_rate() const {
+    return detected ? static_cast<double>(false_detections) / static_cast<double>(detected) : 0.0;
+  }
+};
+
 struct CartRailOptions {
   std::uint64_t seed = 1;
+  CartRailSensor sensor = CartRailSensor::urg;
+  /// Used when sensor is structured_light.
+  StructuredLightRailOptions structured_light{};
   /// Simulate the beam's footprint and the phase-shift ranging, so that
   /// edges give mixed pixels (sim/footprint_beam_model.hpp); off: one ray
   /// per beam, no mixed pixels.
   bool mixed_pixels = false;
   FootprintBeamOptions footprint{};
+  /// fill for the URG; the paper uses cas for structured light (set by the
+  /// CLI with --sensor structured-light).
   MapFilter map_filter = MapFilter::fill;
   CasOptions cas{};
-  /// The paper's Messor mount: 0.26 m high, pitched 35 deg down (Fig. 8c).
+  /// The URG's mount: the paper's Messor mount: 0.26 m high, pitched 35 deg down (Fig. 8c).
   SensorMount mount{};
   double cell_size_m = 0.01;
   /// Cells per side of the (fixed) map window; 0 sizes it to hold the swept
@@ -102,6 +153,9 @@ struct CartRailResult {
   MapScore score;
   std::vector<ObjectMeasurement> objects;
   BeamTally beams;
+  /// Structured light only.
+  StripeTally stripe;
+  StripeConversionStats stripe_conversion;
 };
 
 /// Runs the experiment; deterministic for a seed. Throws InputError for a
@@ -113,5 +167,16 @@ CartRailResult run_cart_rail(const Scene& scene, const CartRailOptions& options)
 /// moves along a segment parallel to the rail.
 CellMask swept_floor_area(const ElevationMap& map, const std::vector<TrunkPose>& poses, const SensorMount& mount,
                           const UrgParameters& urg, double floor_elevation_m, double max_range_m);
+
+/// Cells that the stripe's points sweep on an empty floor between the first
+/// and the last pose: first[i] moves to last[i] parallel to the rail (NaN
+/// entries are skipped).
+CellMask swept_area_between(const ElevationMap& map, const std::vector<Eigen::Vector2d>& first,
+                            const std::vector<Eigen::Vector2d>& last);
+
+/// Where the structured-light stripe lies on an empty floor at
+/// floor_elevation_m from `pose`, per image column (NaN where it is not seen).
+std::vector<Eigen::Vector2d> stripe_floor_points(const StructuredLightParameters& parameters, const TrunkPose& pose,
+                                                 double floor_elevation_m);
 
 }  // namespace stridemap

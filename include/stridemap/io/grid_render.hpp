@@ -44,6 +44,11 @@ struct GridRenderOptions {
   // drawn under the grid.
   std::optional<double> cell_size_m;
   ColourScale colour_scale = ColourScale::viridis;
+  // Labels of the compass arrows: up the page (rows, +X) and to the left
+  // (columns, +Y). Grids that are not maps name their own axes, e.g. the
+  // structured-light uncertainty maps' "z_c depth" and "x_c left".
+  std::string up_axis_label = "x forward";
+  std::string left_axis_label = "y left";
   // Legend labels of the two cell markings.
   std::string unknown_label = "unknown";
   std::string filled_label = "filled (estimated)";

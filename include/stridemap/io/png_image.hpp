@@ -40,4 +40,15 @@ void write_png(const std::string& path, const RgbImage& image);
 // not a PNG, truncated or corrupted data, dimensions over the limits above.
 RgbImage read_png(const std::string& path);
 
+// What the file held before read_png converted it to 8-bit RGB, for tools
+// that need colour (the stripe detector thresholds the red excess).
+struct PngSourceFormat {
+  bool has_colour = false;  // RGB(A) or palette; false for grey(+alpha)
+  int bit_depth = 8;        // per channel (or per palette index) in the file
+  std::string colour_type;  // "grey", "grey+alpha", "RGB", "RGBA" or "palette"
+};
+
+// As above, and reports the file's own format in `source`.
+RgbImage read_png(const std::string& path, PngSourceFormat& source);
+
 }  // namespace stridemap::io

@@ -1,0 +1,150 @@
+// The cart-rail run with the structured-light sensor: per pose a camera
+// frame, either rendered and searched by the detector (the full path) or
+// taken from the geometric simulator's truth, then eq. (1), (5) and (8) and
+// the same update rule as the laser.
+#include <cmath>
+#include <limits>
+#include <optional>
+
+#include "cart_rail_internal.hpp"
+#include "stridemap/core/error.hpp"
+#include "stridemap/sensors/structured_light_report.hpp"
+
+namespace stridemap {
+namespace {
+
+void add(StripeConversionStats& total, const StripeConversionStats& frame) {
+  total.pixels += frame.pixels;
+  total.converted += frame.converted;
+  total.not_finite += frame.not_finite;
+  total.outside_image += frame.outside_image;
+  total.no_intersection += frame.no_intersection;
+  total.pose_rejected = total.pose_rejected || frame.pose_rejected;
+}
+
+// Scores one frame's detections against the truth; returns the sum of the
+// squared row errors of the correct ones.
+double tally_frame(const io::StripeDetection& detection, const StructuredLightFrameTruth& truth,
+                   const StructuredLightRailOptions& options, StripeTally& tally) {
+  double sum_sq = 0.0;
+  for (std::size_t i = 0; i < truth.columns.size(); ++i) {
+    const StripeColumnTruth& t = truth.columns[i];
+    const bool visible = t.label == StripeColumnLabel::visible;
+    tally.truth_visible += visible;
+    if (i >= detection.columns.size()) continue;
+    const io::StripeColumnDetection& d = detection.columns[i];
+    if (!d.found || d.confidence < options.min_confidence) continue;
+    ++tally.detected;
+    const double error = d.v_px - t.v_px;
+    if (visible && std::abs(error) <= options.row_tolerance_px) {
+      ++tally.correct;
+      sum_sq += error * error;
+    } else {
+      ++tally.false_detections;
+    }
+  }
+  return sum_sq;
+}
+
+double tally_geometric(const StructuredLightFrameTruth& truth, const StructuredLightRailOptions& options,
+                       StripeTally& tally) {
+  double sum_sq = 0.0;
+  std::size_t next = 0;
+  for (const StripeColumnTruth& t : truth.columns) {
+    if (t.label != StripeColumnLabel::visible) continue;
+    ++tally.truth_visible;
+    ++tally.detected;
+    const double error = truth.stripe[next++].v_px - t.v_px;
+    if (std::abs(error) <= options.row_tolerance_px) {
+      ++tally.correct;
+      sum_sq += error * error;
+    } else {
+      ++tally.false_detections;
+    }
+  }
+  return sum_sq;
+}
+
+}  // namespace
+
+std::vector<Eigen::Vector2d> stripe_floor_points(const StructuredLightParameters& parameters, const TrunkPose& pose,
+                                                 double floor_elevation_m) {
+  Scene floor;
+  floor.terrain.base_elevation_m = floor_elevation_m;
+  StructuredLightSimulator simulator(floor, parameters);
+  StructuredLightFrameTruth frame;
+  simulator.simulate(pose, frame);
+  std::vector<Eigen::Vector2d> points(frame.columns.size(),
+                                      Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN()));
+  for (std::size_t i = 0; i < frame.columns.size(); ++i) {
+    if (frame.columns[i].label == StripeColumnLabel::visible) points[i] = frame.columns[i].point_m.head<2>();
+  }
+  return points;
+}
+
+namespace detail {
+
+void run_structured_light_rail(const Scene& scene, const CartRailOptions& options,
+                               const std::vector<TrunkPose>& poses, CartRailResult& result) {
+  const StructuredLightRailOptions& sl = options.structured_light;
+  if (!(sl.row_tolerance_px > 0.0) || !(sl.min_confidence >= 0.0 && sl.min_confidence <= 1.0)) {
+    throw InputError("cart rail: structured light: row_tolerance_px must be > 0 and min_confidence in [0, 1]");
+  }
+  const StructuredLightModel model(sl.parameters);
+  ground_stripe_report(model);  // a clear error when this mount cannot see the ground
+  const double floor_m = scene.terrain.base_elevation_m;
+  const std::vector<Eigen::Vector2d> first = stripe_floor_points(sl.parameters, poses.front(), floor_m);
+  const std::vector<Eigen::Vector2d> last = stripe_floor_points(sl.parameters, poses.back(), floor_m);
+  Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity());
+  Eigen::Vector2d hi = -lo;
+  for (const auto* points : {&first, &last}) {
+    for (const Eigen::Vector2d& p : *points) {
+      if (!p.allFinite()) continue;
+      lo = lo.cwiseMin(p);
+      hi = hi.cwiseMax(p);
+    }
+  }
+  if (!lo.allFinite()) throw InputError("cart rail: the structured-light stripe does not meet the floor in the image");
+  TerrainMapper mapper = make_rail_mapper(lo, hi, options, sl.parameters.mount);
+
+  std::optional<StructuredLightImageRenderer> renderer;
+  std::optional<StructuredLightSimulator> simulator;
+  if (sl.pipeline == StripePipeline::image) {
+    renderer.emplace(scene, sl.parameters, sl.image, sl.geometry, options.seed);
+  } else {
+    simulator.emplace(scene, sl.parameters, sl.geometry, options.seed);
+  }
+  io::StripeDetector detector(sl.detector);
+  io::RgbImage image(sl.parameters.image_width_px, sl.parameters.image_height_px);
+  io::StripeDetection detection;
+  StructuredLightFrameTruth truth;
+  std::vector<StripePixel> pixels;
+  std::vector<MapPoint> points;
+  double sum_sq = 0.0;
+  for (const TrunkPose& pose : poses) {
+    if (renderer) {
+      renderer->render(pose, image.rgb, &truth);
+      detector.detect(image, detection);
+      detection.pixels(pixels, sl.min_confidence);
+      sum_sq += tally_frame(detection, truth, sl, result.stripe);
+    } else {
+      simulator->simulate(pose, truth);
+      pixels = truth.stripe;
+      sum_sq += tally_geometric(truth, sl, result.stripe);
+    }
+    ++result.stripe.frames;
+    result.stripe.columns += truth.columns.size();
+    add(result.stripe_conversion,
+        stripe_to_map_points(model, pixels, pose, mapper.motion_to(pose), options.update, points));
+    mapper.integrate_points(points, pose);
+  }
+  result.stripe.map_points = result.stripe_conversion.converted;
+  result.stripe.row_error_rms_px =
+      result.stripe.correct ? std::sqrt(sum_sq / static_cast<double>(result.stripe.correct)) : 0.0;
+  result.scans = poses.size();
+  finish_rail_map(scene, options, mapper, [&](const ElevationMap& map) { return swept_area_between(map, first, last); },
+                  result);
+}
+
+}  // namespace detail
+}  // namespace stridemap
