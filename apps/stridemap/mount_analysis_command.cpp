@@ -5,11 +5,13 @@
 #include <filesystem>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "stridemap/experiments/mount_analysis.hpp"
 #include "stridemap/experiments/mount_analysis_report.hpp"
+#include "stridemap/experiments/structured_light_walk_sensor.hpp"
 #include "stridemap/experiments/urg_walk_sensor.hpp"
 #include "walk_cli_common.hpp"
 
@@ -21,8 +23,8 @@ struct MountAnalysisArgs {
   std::string out_dir;
   std::uint64_t seed = 1;
   int fields = 2;
-  std::string heights_cm = "12:36:4";
-  std::string pitches_deg = "10:60:5";
+  std::optional<std::string> heights_cm;
+  std::optional<std::string> pitches_deg;
 };
 
 /// "a:b:step" (a, a + step, ... up to b) or "a,b,c"; every value >= 0.
@@ -46,11 +48,23 @@ std::vector<double> parse_grid(const std::string& option, const std::string& tex
 
 void run_mount_analysis_command(const MountAnalysisArgs& args) {
   const SensorChoice sensor = parse_sensor_choice(args.sensor);
+  const bool urg = sensor == SensorChoice::urg;
   MountAnalysisOptions options;
   options.seed = args.seed;
   options.fields = args.fields;
-  for (double cm : parse_grid("--heights-cm", args.heights_cm)) options.sweep_heights_m.push_back(cm / 100.0);
-  for (double deg : parse_grid("--pitches-deg", args.pitches_deg)) options.sweep_pitches_rad.push_back(deg * std::numbers::pi / 180.0);
+  if (!urg) {
+    // Ragno, the paper's structured-light robot, is smaller than Messor:
+    // 5 mm cells (section 5.1), a narrower strip of feet and a shorter
+    // stride ahead (docs/experiments.md).
+    options.cell_size_m = 0.005;
+    options.corridor_half_width_m = 0.15;
+    options.score.min_stripe_width_m = 0.3;
+    options.score.min_look_ahead_m = 0.15;
+  }
+  const std::string heights = args.heights_cm.value_or(urg ? "12:36:4" : "10:30:4");
+  const std::string pitches = args.pitches_deg.value_or(urg ? "10:60:5" : "0:40:5");
+  for (double cm : parse_grid("--heights-cm", heights)) options.sweep_heights_m.push_back(cm / 100.0);
+  for (double deg : parse_grid("--pitches-deg", pitches)) options.sweep_pitches_rad.push_back(deg * std::numbers::pi / 180.0);
   options.validate();
 
   MountAnalysisResult result;
@@ -78,12 +92,25 @@ void run_mount_analysis_command(const MountAnalysisArgs& args) {
 
 }  // namespace
 
-WalkSensorFactory structured_light_walk_sensor_factory(std::uint64_t) {
-  throw InputError("--sensor structured-light: the structured-light simulator (issue 4) is not in this build yet; use urg");
+WalkSensorFactory structured_light_walk_sensor_factory(std::uint64_t seed, const std::string& pipeline) {
+  StructuredLightWalkSensorOptions base;
+  if (pipeline == "image") {
+    base.pipeline = StripePipeline::image;
+  } else if (pipeline != "geometric") {
+    throw InputError("--pipeline: '" + pipeline + "' is not a pipeline; use geometric or image");
+  }
+  return [base, seed](const Scene& scene, const UpdateOptions& update) -> std::unique_ptr<WalkSensor> {
+    return std::make_unique<StructuredLightWalkSensor>(scene, base, update, seed);
+  };
 }
 
-MountSensorFactory structured_light_mount_sensor_factory(std::uint64_t) {
-  throw InputError("--sensor structured-light: the structured-light simulator (issue 4) is not in this build yet; use urg");
+MountSensorFactory structured_light_mount_sensor_factory(std::uint64_t seed) {
+  return [seed](const Scene& scene, const NamedMount& mount, const UpdateOptions& update) -> std::unique_ptr<WalkSensor> {
+    StructuredLightWalkSensorOptions o;
+    o.parameters.mount = mount.mount;
+    if (mount.sheet_angle_rad) o.parameters.sheet_angle_rad = *mount.sheet_angle_rad;
+    return std::make_unique<StructuredLightWalkSensor>(scene, o, update, seed);
+  };
 }
 
 void register_mount_analysis(CLI::App* experiment) {
@@ -94,9 +121,10 @@ void register_mount_analysis(CLI::App* experiment) {
   cmd->add_option("--out", args->out_dir, "Output folder; results go to OUT/mount-analysis-<sensor>/")->required();
   cmd->add_option("--seed", args->seed, "Seed of the step fields and the simulation")->capture_default_str();
   cmd->add_option("--fields", args->fields, "Random step fields walked per mount")->capture_default_str();
-  cmd->add_option("--heights-cm", args->heights_cm, "Sweep heights: start:stop:step or a list [cm]")->capture_default_str();
-  cmd->add_option("--pitches-deg", args->pitches_deg, "Sweep pitches: start:stop:step or a list [deg]")
-      ->capture_default_str();
+  cmd->add_option("--heights-cm", args->heights_cm,
+                  "Sweep heights: start:stop:step or a list [cm]; default 12:36:4 (urg), 10:30:4 (structured-light)");
+  cmd->add_option("--pitches-deg", args->pitches_deg,
+                  "Sweep pitches: start:stop:step or a list [deg]; default 10:60:5 (urg), 0:40:5 (structured-light)");
   cmd->callback([args] { run_mount_analysis_command(*args); });
 }
 

@@ -53,7 +53,8 @@ inline std::vector<double> parse_number_list(const std::string& option, const st
 }
 
 /// The structured-light sensor for the walk experiments.
-WalkSensorFactory structured_light_walk_sensor_factory(std::uint64_t seed);
+/// `pipeline`: "geometric" or "image" (InputError otherwise).
+WalkSensorFactory structured_light_walk_sensor_factory(std::uint64_t seed, const std::string& pipeline);
 MountSensorFactory structured_light_mount_sensor_factory(std::uint64_t seed);
 
 void register_mount_analysis(CLI::App* experiment);

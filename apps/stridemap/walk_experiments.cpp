@@ -32,11 +32,12 @@ struct RockyWalkArgs {
   std::string sweep = "0,0.5,1,2,4";
   std::string reference = "map";
   std::string mixed_pixels = "off";
+  std::string pipeline = "geometric";
   std::string filters;
-  std::string map_filter = "fill";
+  std::optional<std::string> map_filter;
   std::string elevation_rule = "paper";
-  double cell_size_m = 0.01;
-  int cells_per_side = 100;
+  std::optional<double> cell_size_m;
+  std::optional<int> cells_per_side;
 };
 
 void run_rocky_walk_command(const RockyWalkArgs& args) {
@@ -54,12 +55,19 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   if (args.imu_pitch_bias_deg) options.walk.pose_errors.imu_pitch_bias_rad = *args.imu_pitch_bias_deg * deg;
   if (args.imu_roll_bias_deg) options.walk.pose_errors.imu_roll_bias_rad = *args.imu_roll_bias_deg * deg;
   options.walk.pose_errors = options.walk.pose_errors.scaled(checked_non_negative("--pose-error-scale", args.pose_error_scale));
-  options.walk.map_filter = parse_map_filter(args.map_filter);
+  // The paper's settings per sensor (sections 5.1, 5.3): the URG with 10 mm
+  // cells and the fill-in, structured light with 5 mm cells and the CAS
+  // filter; 200 cells keep the stripe, 0.2-0.3 m ahead, inside the window.
+  const bool urg = sensor == SensorChoice::urg;
+  options.walk.map_filter = parse_map_filter(args.map_filter.value_or(urg ? "fill" : "cas"));
   options.walk.mapper.update.elevation_rule = parse_elevation_rule(args.elevation_rule);
-  options.walk.mapper.grid = {args.cells_per_side, args.cell_size_m};
+  options.walk.mapper.grid = {args.cells_per_side.value_or(urg ? 100 : 200), args.cell_size_m.value_or(urg ? 0.01 : 0.005)};
   ElevationMap(options.walk.mapper.grid);  // throws for an unusable grid
   options.validate();
   const bool mixed = parse_on_off("--mixed-pixels", args.mixed_pixels);
+  if (!urg && (mixed || !args.filters.empty())) {
+    throw InputError("--mixed-pixels and --filters apply to the URG only, not to --sensor structured-light");
+  }
   // With mixed pixels the paper pre-processes every scan (section 5.3).
   const std::string filter_names = args.filters.empty() ? (mixed ? "paper" : "none") : args.filters;
   const std::vector<ScanFilterKind> filters = parse_scan_filter_list(filter_names);
@@ -77,15 +85,15 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   }
 
   WalkSensorFactory factory;
-  if (sensor == SensorChoice::urg) {
-    UrgWalkSensorOptions urg;
-    urg.mixed_pixels = mixed;
-    urg.filters = filters;
-    factory = [urg, seed = args.seed](const Scene& s, const UpdateOptions& update) -> std::unique_ptr<WalkSensor> {
-      return std::make_unique<UrgWalkSensor>(s, urg, update, seed);
+  if (urg) {
+    UrgWalkSensorOptions urg_options;
+    urg_options.mixed_pixels = mixed;
+    urg_options.filters = filters;
+    factory = [urg_options, seed = args.seed](const Scene& s, const UpdateOptions& update) -> std::unique_ptr<WalkSensor> {
+      return std::make_unique<UrgWalkSensor>(s, urg_options, update, seed);
     };
   } else {
-    factory = structured_light_walk_sensor_factory(args.seed);
+    factory = structured_light_walk_sensor_factory(args.seed, args.pipeline);
   }
   const RockyWalkResult result = run_rocky_walk(scene, path, factory, options);
   const std::string dir = (std::filesystem::path(args.out_dir) / ("rocky-walk-" + result.sensor)).string();
@@ -119,10 +127,13 @@ void register_walk_experiments(CLI::App& app) {
   rocky->add_option("--mixed-pixels", rw->mixed_pixels, "on: footprint beam model with mixed pixels at edges")
       ->capture_default_str();
   rocky->add_option("--filters", rw->filters, "Scan filters (as for cart-rail); default none, or paper with mixed pixels");
-  rocky->add_option("--map-filter", rw->map_filter, "fill (eq. 11), cas or none")->capture_default_str();
+  rocky->add_option("--map-filter", rw->map_filter, "fill (eq. 11), cas or none; default fill (urg), cas (structured-light)");
+  rocky->add_option("--pipeline", rw->pipeline,
+                    "Structured light: geometric (true stripe + 0.3 px row noise) or image (render and detect)")
+      ->capture_default_str();
   rocky->add_option("--elevation-rule", rw->elevation_rule, "paper (eq. 10) or gated")->capture_default_str();
-  rocky->add_option("--cell-size-m", rw->cell_size_m, "Map cell size [m]")->capture_default_str();
-  rocky->add_option("--cells", rw->cells_per_side, "Cells per side of the local map")->capture_default_str();
+  rocky->add_option("--cell-size-m", rw->cell_size_m, "Map cell size [m]; default 0.01 (urg), 0.005 (structured-light)");
+  rocky->add_option("--cells", rw->cells_per_side, "Cells per side of the local map; default 100 (urg), 200 (structured-light)");
   rocky->callback([rw] { run_rocky_walk_command(*rw); });
 
   register_mount_analysis(experiment);

@@ -115,9 +115,9 @@ std::vector<NamedMount> paper_urg_mounts() {
 }
 
 std::vector<NamedMount> paper_structured_light_mounts() {
-  return {{"fig5a", SensorMount{0.174, 0.0, 0.0, 0.0}, 55.0 * kDeg},
-          {"fig5b", SensorMount{0.174, 0.0, 0.0, 0.0}, 45.0 * kDeg},
-          {"fig5c", SensorMount{0.174, 10.0 * kDeg, 0.0, 0.0}, 55.0 * kDeg}};
+  return {{"fig5a", SensorMount{0.174, 0.0, 0.0, 0.0}, 60.0 * kDeg},
+          {"fig5b", SensorMount{0.174, 0.0, 0.0, 0.0}, 50.0 * kDeg},
+          {"fig5c", SensorMount{0.174, 10.0 * kDeg, 0.0, 0.0}, 60.0 * kDeg}};
 }
 
 void MountAnalysisOptions::validate() const {

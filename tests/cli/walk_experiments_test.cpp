@@ -50,6 +50,23 @@ TEST(RockyWalkCommand, WritesMapsViewsSummaryAndTable) {
   fs::remove_all(out);
 }
 
+TEST(RockyWalkCommand, StructuredLightVariantUsesFineCellsAndCas) {
+  const fs::path out = fresh_dir("rocky_walk_sl");
+  const CommandResult r = run_cli("experiment rocky-walk --sensor structured-light --scene " + shell_quoted(kScene) +
+                                  " --out " + shell_quoted(out.string()) + " --sweep none");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("5 mm cells"), std::string::npos) << r.output;
+  std::ifstream in(out / "rocky-walk-structured-light" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  EXPECT_EQ(summary["sensor"], "structured-light");
+  EXPECT_EQ(summary["cells_per_side"], 200);
+  const CommandResult bad = run_cli("experiment rocky-walk --sensor structured-light --mixed-pixels on --out " +
+                                    shell_quoted(out.string()));
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("apply to the URG only"), std::string::npos) << bad.output;
+  fs::remove_all(out);
+}
+
 TEST(RockyWalkCommand, BadInputIsAClearErrorBeforeAnyWork) {
   const fs::path dir = fresh_dir("rocky_bad");
   const std::string out = " --out " + shell_quoted((dir / "out").string());

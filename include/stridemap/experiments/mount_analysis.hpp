@@ -45,10 +45,13 @@ struct NamedMount {
 /// Fig. 7: "fig7a" 16 cm / 15 deg, "fig7b" 26 cm / 20 deg, "fig7c" 26 cm /
 /// 35 deg (the one Messor got).
 std::vector<NamedMount> paper_urg_mounts();
-/// Fig. 5 as we read it (the paper gives only the changes): "fig5a" the
-/// base, beta = 55 deg, alpha = 0; "fig5b" beta reduced by 10 deg to 45;
-/// "fig5c" the base tilted by alpha = 10 deg. Camera 0.174 m high, Ragno's
-/// optics otherwise (sensors/structured_light.hpp).
+/// Fig. 5 as we read it (the paper gives only the changes, not the base):
+/// "fig5a" the base, beta = 60 deg, alpha = 0; "fig5b" beta reduced by
+/// 10 deg to 50; "fig5c" the base tilted by alpha = 10 deg. Camera 0.174 m
+/// high, Ragno's optics otherwise (sensors/structured_light.hpp). A base of
+/// 55 deg, which would make Ragno's final 45 deg / 10 deg the two changes
+/// together, leaves fig5b's stripe on flat ground below the image (row 506
+/// of 480) at this height, so it cannot be the paper's base here.
 std::vector<NamedMount> paper_structured_light_mounts();
 
 /// How the score ranks mounts. A mount whose stripe is narrower than
