@@ -53,14 +53,16 @@ PoseEstimator::PoseEstimator(const PoseErrorOptions& options, const GaitOptions&
 }
 
 double PoseEstimator::foot_elevation(const ElevationMap& map, double x_m, double y_m, double fallback) const {
-  // A foot covers a few centimetres; the median of the known cells around
-  // it keeps one stray cell of the max-height rule (eq. 10) from lifting
-  // the whole robot.
+  // A foot covers a few centimetres; the median of the known cells under it
+  // keeps one stray cell of the max-height rule (eq. 10) from lifting the
+  // whole robot.
   const CellIndex centre = map.cell_of(x_m, y_m);
-  std::array<float, 9> known{};
+  const int reach = std::clamp(static_cast<int>(std::lround(kFootRadius_m / map.cell_size_m())), 1, kMaxFootReach);
+  std::array<float, (2 * kMaxFootReach + 1) * (2 * kMaxFootReach + 1)> known{};
   int count = 0;
-  for (int dx = -1; dx <= 1; ++dx) {
-    for (int dy = -1; dy <= 1; ++dy) {
+  for (int dx = -reach; dx <= reach; ++dx) {
+    for (int dy = -reach; dy <= reach; ++dy) {
+      if (dx * dx + dy * dy > reach * reach) continue;
       const CellIndex c{centre.x + dx, centre.y + dy};
       if (!map.contains(c) || map.state(c) == CellState::unknown) continue;
       known[static_cast<std::size_t>(count++)] = map.elevation(c);
@@ -74,7 +76,7 @@ double PoseEstimator::foot_elevation(const ElevationMap& map, double x_m, double
 TrunkPose PoseEstimator::estimate(const TrunkState& truth, const ElevationMap& map) {
   const TrunkPose& t = truth.pose;
   if (!started_) {
-    foot_height_m_.fill(t.reference_elevation_m);
+    reference_m_ = t.reference_elevation_m;
     started_ = true;
   }
   TrunkPose e = t;
@@ -88,17 +90,21 @@ TrunkPose PoseEstimator::estimate(const TrunkState& truth, const ElevationMap& m
 
   feet_from_map_ = 0;
   if (options_.reference == ReferenceElevationSource::map) {
+    // The feet the map knows now give the ground; a foot on unknown cells
+    // has no say (an old reading of it may be the top of a rock it has left).
+    // With fewer than three known feet the ground is not determined and the
+    // last h_ref stays (at the first scan: the true ground the robot starts
+    // on, which defines the map's zero).
     const auto feet = foot_positions(gait_, e.x_m, e.y_m, e.yaw_rad);
     double sum = 0.0;
-    for (std::size_t k = 0; k < feet.size(); ++k) {
-      const double h = foot_elevation(map, feet[k].x(), feet[k].y(), std::numeric_limits<double>::quiet_NaN());
-      if (std::isfinite(h)) {
-        foot_height_m_[k] = h;
-        ++feet_from_map_;
-      }
-      sum += foot_height_m_[k];
+    for (const Eigen::Vector2d& foot : feet) {
+      const double h = foot_elevation(map, foot.x(), foot.y(), std::numeric_limits<double>::quiet_NaN());
+      if (!std::isfinite(h)) continue;
+      sum += h;
+      ++feet_from_map_;
     }
-    e.reference_elevation_m = sum / static_cast<double>(feet.size());
+    if (feet_from_map_ >= 3) reference_m_ = sum / feet_from_map_;
+    e.reference_elevation_m = reference_m_;
   }
   return e;
 }

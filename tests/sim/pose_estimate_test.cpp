@@ -110,25 +110,36 @@ TEST(PoseEstimate, ReferenceElevationIsReadFromTheMapAtTheFeet) {
   TrunkState t = truth_at(0.0, 0.004);
   t.pose.yaw_rad = 0.0;
   t.pose.y_m = 0.0;
-  // Nothing known yet: each foot keeps the true ground of the first scan.
+  // Nothing known yet: h_ref stays the true ground of the first scan.
   EXPECT_NEAR(estimator.estimate(t, map).reference_elevation_m, 0.004, 1e-12);
   EXPECT_EQ(estimator.feet_read_from_map(), 0);
-  // The map knows the cells under the three left feet at 0.05 m.
-  for (const Eigen::Vector2d& f : foot_positions(gait, 0.0, 0.0, 0.0)) {
-    if (f.y() < 0) continue;
+  const auto set_foot = [&](const Eigen::Vector2d& f, float h) {
     for (int dx = -1; dx <= 1; ++dx) {
       for (int dy = -1; dy <= 1; ++dy) {
-        const CellIndex c = map.cell_of(f.x() + 0.01 * dx, f.y() + 0.01 * dy);
-        const std::size_t s = map.slot(c);
-        map.elevation_data()[s] = 0.05f;
+        const std::size_t s = map.slot(map.cell_of(f.x() + 0.01 * dx, f.y() + 0.01 * dy));
+        map.elevation_data()[s] = h;
         map.certainty_data()[s] = 3.0f;
         map.state_data()[s] = static_cast<std::uint8_t>(CellState::measured);
       }
     }
-  }
-  const TrunkPose e = estimator.estimate(t, map);
-  EXPECT_EQ(estimator.feet_read_from_map(), 3);
-  EXPECT_NEAR(e.reference_elevation_m, (3 * 0.05 + 3 * 0.004) / 6, 1e-6);
+  };
+  const auto feet = foot_positions(gait, 0.0, 0.0, 0.0);  // left front, middle, rear, then right
+  // Two known feet do not determine the ground: h_ref stays.
+  set_foot(feet[0], 0.05f);
+  set_foot(feet[1], 0.05f);
+  EXPECT_NEAR(estimator.estimate(t, map).reference_elevation_m, 0.004, 1e-12);
+  EXPECT_EQ(estimator.feet_read_from_map(), 2);
+  // Three and more: their mean, the unknown feet having no say.
+  set_foot(feet[2], 0.05f);
+  EXPECT_NEAR(estimator.estimate(t, map).reference_elevation_m, 0.05, 1e-6);
+  set_foot(feet[3], 0.02f);
+  set_foot(feet[4], 0.02f);
+  set_foot(feet[5], 0.02f);
+  EXPECT_NEAR(estimator.estimate(t, map).reference_elevation_m, 0.035, 1e-6);
+  EXPECT_EQ(estimator.feet_read_from_map(), 6);
+  // One stray high cell under a foot does not move it (the median).
+  map.elevation_data()[map.slot(map.cell_of(feet[5].x(), feet[5].y()))] = 0.5f;
+  EXPECT_NEAR(estimator.estimate(t, map).reference_elevation_m, 0.035, 1e-6);
 }
 
 TEST(PoseEstimate, BadOptionsNameTheField) {

@@ -76,7 +76,8 @@ class PoseEstimator {
   /// sequence of calls give the same estimates. Allocates nothing.
   TrunkPose estimate(const TrunkState& truth, const ElevationMap& map);
 
-  /// Feet whose h_ref came from the map in the last call (0 to 6).
+  /// Feet whose height the map gave in the last call (0 to 6); with fewer
+  /// than 3 the previous h_ref was kept.
   int feet_read_from_map() const { return feet_from_map_; }
   const PoseErrorOptions& options() const { return options_; }
 
@@ -87,10 +88,12 @@ class PoseEstimator {
   GaitOptions gait_;
   std::mt19937_64 rng_;
   std::normal_distribution<double> gaussian_{0.0, 1.0};
-  /// Each foot's last height from the map; the true ground under the robot
-  /// at the first scan until the map knows the cell (the map's zero is the
-  /// ground the robot starts on).
-  std::array<double, 6> foot_height_m_{};
+  /// A foot's sole: the known cells within this radius give its height.
+  static constexpr double kFootRadius_m = 0.02;
+  static constexpr int kMaxFootReach = 8;  ///< cells; bounds the scratch array
+  /// The last h_ref (the true ground at the first scan: the map's zero is
+  /// the ground the robot starts on).
+  double reference_m_ = 0.0;
   bool started_ = false;
   int feet_from_map_ = 0;
 };
