@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "stridemap/core/error.hpp"
+#include "stridemap/io/stripe_detector.hpp"
 
 namespace stridemap::io {
 namespace {
@@ -163,6 +164,33 @@ TEST_F(PngImageTest, OverwritesAnExistingFile) {
   EXPECT_EQ(back.width, 2);
   EXPECT_EQ(back.height, 3);
   expect_pixel(back, 1, 2, 200, 100, 0);
+}
+
+TEST_F(PngImageTest, ReportsTheFilesColourTypeAndTheStripeReaderNeedsColour) {
+  write_bytes(path("gray.png"), handmade_png(2, 1, 8, 0, {{0, 200}}));
+  PngSourceFormat format;
+  read_png(path("gray.png"), format);
+  EXPECT_FALSE(format.has_colour);
+  EXPECT_EQ(format.colour_type, "grey");
+  try {
+    read_stripe_image(path("gray.png"), 2, 1);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("gray.png: a grey PNG has no colour"), std::string::npos) << e.what();
+  }
+  write_bytes(path("palette.png"), handmade_png(3, 1, 8, 3, {{2, 0, 1}}, {255, 0, 0, 0, 255, 0, 0, 0, 255}));
+  read_png(path("palette.png"), format);
+  EXPECT_TRUE(format.has_colour);
+  EXPECT_EQ(format.colour_type, "palette");
+  EXPECT_EQ(read_stripe_image(path("palette.png"), 3, 1).width, 3);
+  try {
+    read_stripe_image(path("palette.png"), 640, 480);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("the image is 3 x 1 pixels, the configuration describes a 640 x 480"),
+              std::string::npos)
+        << e.what();
+  }
 }
 
 TEST_F(PngImageTest, ReadsGrayPaletteAlphaAndSixteenBitFiles) {

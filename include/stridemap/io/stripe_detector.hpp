@@ -91,8 +91,9 @@ class StripeDetector {
   StripeDetector(StripeDetector&&) noexcept;
   StripeDetector& operator=(StripeDetector&&) noexcept;
 
-  /// Detects the stripe; reuses `out` and internal buffers, so a stream of
-  /// same-sized frames allocates nothing after the first. Throws InputError
+  /// Detects the stripe; reuses `out` and its own image buffers across
+  /// same-sized frames (OpenCV's morphology may still allocate scratch
+  /// memory inside). Throws InputError
   /// for an empty image or one whose buffer does not hold width x height
   /// RGB pixels.
   void detect(const RgbImage& image, StripeDetection& out);
