@@ -14,5 +14,6 @@ void register_simulate_stripe_image(CLI::App& app);
 void register_emulate_urg(CLI::App& app);  // emulate_urg.cpp
 void register_record(CLI::App& app);       // record.cpp
 void register_live(CLI::App& app);         // live.cpp: live and map
+void register_walk_experiments(CLI::App& app);  // after register_experiment
 
 }  // namespace stridemap::cli

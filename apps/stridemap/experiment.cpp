@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_parsing.hpp"
 #include "commands.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
@@ -37,25 +38,6 @@ struct CartRailArgs {
   bool cell_size_given = false, rule_given = false, filters_given = false, map_filter_given = false;
   bool mixed_pixels_given = false;
 };
-
-bool parse_on_off(const std::string& option, const std::string& value) {
-  if (value == "on") return true;
-  if (value == "off") return false;
-  throw InputError(option + ": expected on or off, got '" + value + "'");
-}
-
-MapFilter parse_map_filter(const std::string& name) {
-  if (name == "fill") return MapFilter::fill;
-  if (name == "cas") return MapFilter::cas;
-  if (name == "none") return MapFilter::none;
-  throw InputError("--map-filter: '" + name + "' is not a map filter; use fill (eq. 11), cas or none");
-}
-
-ElevationRule parse_elevation_rule(const std::string& name) {
-  if (name == "paper") return ElevationRule::paper_highest;
-  if (name == "gated") return ElevationRule::gated_highest;
-  throw InputError("--elevation-rule: '" + name + "' is not a rule; use paper (eq. 10) or gated");
-}
 
 std::string lux_name(double lux) {
   char text[32];

@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
   stridemap::cli::register_calibrate_structured_light(app);
   stridemap::cli::register_detect_stripe(app);
   stridemap::cli::register_experiment(app);
+  stridemap::cli::register_walk_experiments(app);
   stridemap::cli::register_sensor_report(app);
   stridemap::cli::register_simulate_stripe_image(app);
   stridemap::cli::register_emulate_urg(app);

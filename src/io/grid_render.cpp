@@ -332,6 +332,10 @@ RenderedGrid render(const Eigen::MatrixXf& values, const CellMask* filled, const
   }
 
   // Axes glyph: origin at the corner, +X up, +Y left, as in the grid.
+  if (!options.draw_axes) {
+    out.image = canvas.to_image();
+    return out;
+  }
   y += 16;
   const int x_label_w = text_size(x_axis, kTextScale).width;
   const int origin_x = legend_left + text_size(y_axis, kTextScale).width / 2 + kArrowPx;

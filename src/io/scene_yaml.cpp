@@ -17,6 +17,7 @@
 
 #include "stridemap/core/error.hpp"
 #include "strict_yaml.hpp"
+#include "walk_path_reader.hpp"
 
 namespace stridemap {
 namespace {
@@ -32,9 +33,9 @@ class SceneReader : public StrictYamlReader {
 
   Scene read(const YAML::Node& root) {
     if (!root.IsMap()) {
-      fail(root, "", "expected a scene (a map with terrain, boxes, cylinders, cart_rail), got " + describe(root));
+      fail(root, "", "expected a scene (a map with terrain, boxes, cylinders, cart_rail, walk_path), got " + describe(root));
     }
-    const auto fields = read_map(root, "", {"terrain", "boxes", "cylinders", "cart_rail"});
+    const auto fields = read_map(root, "", {"terrain", "boxes", "cylinders", "cart_rail", "walk_path"});
     Scene scene;
     const auto terrain = fields.find("terrain");
     if (terrain == fields.end()) fail(root, "terrain", "required section is missing");
@@ -50,6 +51,9 @@ class SceneReader : public StrictYamlReader {
       });
     }
     if (const auto it = fields.find("cart_rail"); it != fields.end()) scene.cart_rail = read_rail(it->second.value);
+    if (const auto it = fields.find("walk_path"); it != fields.end()) {
+      scene.walk_path = read_walk_path(*this, it->second.value, "walk_path");
+    }
     if (auto problem = scene.first_problem()) fail_at(problem->field_path, problem->message);
     return scene;
   }
@@ -75,7 +79,8 @@ class SceneReader : public StrictYamlReader {
     const std::string kind = kind_node.IsScalar() ? kind_node.Scalar() : "";
     if (kind == "flat") {
       const auto fields = read_map(node, path, {"kind", "extent", "base_elevation_m", "reflectance"},
-                                   {"seed", "amplitude_m", "wavelength_m", "resolution_m", "octaves"},
+                                   {"seed", "amplitude_m", "wavelength_m", "resolution_m", "octaves", "rocks",
+                                    "rocks_area"},
                                    "only allowed with kind: procedural");
       HeightField terrain;
       read_extent(fields, path, terrain.min_x_m, terrain.min_y_m, terrain.max_x_m, terrain.max_y_m);
@@ -85,7 +90,8 @@ class SceneReader : public StrictYamlReader {
     }
     if (kind != "procedural") fail(kind_node, "terrain.kind", "expected flat or procedural, got " + describe(kind_node));
     const auto fields = read_map(node, path, {"kind", "extent", "base_elevation_m", "reflectance", "seed",
-                                              "amplitude_m", "wavelength_m", "resolution_m", "octaves"});
+                                              "amplitude_m", "wavelength_m", "resolution_m", "octaves", "rocks",
+                                              "rocks_area"});
     ProceduralTerrainOptions options;
     read_extent(fields, path, options.min_x_m, options.min_y_m, options.max_x_m, options.max_y_m);
     options.base_elevation_m = number(fields, node, path, "base_elevation_m", 0.0);
@@ -99,8 +105,32 @@ class SceneReader : public StrictYamlReader {
     }
     options.octaves = static_cast<int>(octaves);
     const std::uint64_t seed = whole_number(fields, node, path, "seed");
+    read_rocks(fields, path, options.rocks);
     if (auto problem = options.first_problem()) fail_at(join(path, problem->field_path), problem->message);
     return make_procedural_height_field(options, seed);
+  }
+
+  void read_rocks(const Fields& fields, const std::string& path, RockFieldOptions& rocks) {
+    if (const Field* list = find(fields, "rocks")) {
+      for_each_item(list->value, join(path, "rocks"), [&](const YAML::Node& item, const std::string& at) {
+        const auto sub = read_map(item, at, {"count", "min_radius_m", "max_radius_m", "min_height_m", "max_height_m"});
+        RockClass c;
+        const std::uint64_t count = whole_number(sub, item, at, "count");
+        if (count > 100'000) fail_at(join(at, "count"), "expected at most 100000 rocks, got " + std::to_string(count));
+        c.count = static_cast<int>(count);
+        c.min_radius_m = number(sub, item, at, "min_radius_m");
+        c.max_radius_m = number(sub, item, at, "max_radius_m");
+        c.min_height_m = number(sub, item, at, "min_height_m");
+        c.max_height_m = number(sub, item, at, "max_height_m");
+        rocks.classes.push_back(c);
+      });
+    }
+    if (const Field* area = find(fields, "rocks_area")) {
+      const std::string at = join(path, "rocks_area");
+      const auto sub = read_map(area->value, at, {"min_x_m", "min_y_m", "max_x_m", "max_y_m"});
+      rocks.area = std::array<double, 4>{number(sub, area->value, at, "min_x_m"), number(sub, area->value, at, "min_y_m"),
+                                         number(sub, area->value, at, "max_x_m"), number(sub, area->value, at, "max_y_m")};
+    }
   }
 
   BoxObject read_box(const YAML::Node& node, const std::string& path) {

@@ -76,7 +76,7 @@ std::optional<SceneProblem> ProceduralTerrainOptions::first_problem() const {
   }
   if (auto message = finite(base_elevation_m)) return problem("base_elevation_m", *message);
   if (auto message = scene_rules::reflectance(reflectance)) return problem("reflectance", *message);
-  return std::nullopt;
+  return rock_field_problem(rocks);
 }
 
 HeightField make_procedural_height_field(const ProceduralTerrainOptions& options, std::uint64_t seed) {
@@ -123,6 +123,7 @@ HeightField make_procedural_height_field(const ProceduralTerrainOptions& options
           static_cast<float>(options.base_elevation_m + options.amplitude_m * noise / weight_sum);
     }
   }
+  add_rocks(options.rocks, seed, field);
   return field;
 }
 

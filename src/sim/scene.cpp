@@ -171,6 +171,9 @@ std::optional<SceneProblem> Scene::first_problem() const {
   if (cart_rail) {
     if (auto problem = rail_problem(*cart_rail)) return problem;
   }
+  if (walk_path) {
+    if (auto problem = walk_path_extent_problem(*walk_path, terrain)) return problem;
+  }
   // Objects are reported by name, so a name must say which one.
   std::map<std::string, std::string> first_use;
   const auto check_name = [&](const std::string& name, const std::string& path) -> std::optional<SceneProblem> {

@@ -138,14 +138,14 @@ TEST(SceneYaml, WrongTypesAndMissingFields) {
   EXPECT_EQ(error_of("terrain: {kind: flat}\ncylinders: [7]\n"),
             "test.yaml:2: cylinders[0]: expected a map of fields, got \"7\"");
   EXPECT_EQ(error_of("boxes: []\n"), "test.yaml:1: terrain: required section is missing");
-  EXPECT_EQ(error_of(""), "test.yaml:1: expected a scene (a map with terrain, boxes, cylinders, cart_rail), got nothing");
-  EXPECT_EQ(error_of("- 1\n- 2\n"), "test.yaml:1: expected a scene (a map with terrain, boxes, cylinders, cart_rail), got a list");
+  EXPECT_EQ(error_of(""), "test.yaml:1: expected a scene (a map with terrain, boxes, cylinders, cart_rail, walk_path), got nothing");
+  EXPECT_EQ(error_of("- 1\n- 2\n"), "test.yaml:1: expected a scene (a map with terrain, boxes, cylinders, cart_rail, walk_path), got a list");
 }
 
 TEST(SceneYaml, TyposAndRepeatsAreErrors) {
   EXPECT_EQ(error_of(with_line(8, "    lenght_m: 0.2")).substr(0, 47), "test.yaml:8: boxes[0].lenght_m: unknown field (");
   EXPECT_EQ(error_of(with_line(1, "terain:")),
-            "test.yaml:1: terain: unknown field (expected one of: terrain, boxes, cylinders, cart_rail)");
+            "test.yaml:1: terain: unknown field (expected one of: terrain, boxes, cylinders, cart_rail, walk_path)");
   EXPECT_EQ(error_of(with_line(9, "    width_m: 0.1\n    width_m: 0.2")),
             "test.yaml:10: boxes[0].width_m: appears twice (first on line 9)");
   EXPECT_EQ(error_of(with_line(2, "  kind: hilly")), "test.yaml:2: terrain.kind: expected flat or procedural, got \"hilly\"");

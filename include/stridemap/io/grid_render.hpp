@@ -52,6 +52,8 @@ struct GridRenderOptions {
   // Legend labels of the two cell markings.
   std::string unknown_label = "unknown";
   std::string filled_label = "filled (estimated)";
+  // The map-frame axes glyph in the legend; off for grids that are not maps.
+  bool draw_axes = true;
 };
 
 // Where the grid lies in the rendered image, for tools that draw on top.

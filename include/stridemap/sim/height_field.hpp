@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 
+#include "stridemap/sim/rocks.hpp"
 #include "stridemap/sim/scene_problem.hpp"
 
 namespace stridemap {
@@ -74,8 +75,8 @@ struct HeightField {
 
 /// Options of the procedural terrain: smooth value noise (random values on a
 /// square lattice, quintic-smoothstep interpolation) summed over octaves of
-/// halving wavelength and halving weight. Heights stay within
-/// base_elevation_m +/- amplitude_m.
+/// halving wavelength and halving weight. The ground stays within
+/// base_elevation_m +/- amplitude_m; rocks (if any) rise above it.
 struct ProceduralTerrainOptions {
   double min_x_m = -1, min_y_m = -1, max_x_m = 3, max_y_m = 1;  ///< extent [m]
   double resolution_m = 0.01;  ///< sample spacing [m]
@@ -84,6 +85,10 @@ struct ProceduralTerrainOptions {
   int octaves = 3;             ///< number of octaves, 1..8
   double base_elevation_m = 0.0;
   double reflectance = 0.5;    ///< diffuse reflectance at 785 nm, (0, 1]
+  /// Boulders on the ground (sim/rocks.hpp); none by default. Their
+  /// placement draws from its own generator, so adding rocks leaves the
+  /// ground of a seed as it was.
+  RockFieldOptions rocks{};
 
   /// First unusable option (field_path is the option's name), if any.
   std::optional<SceneProblem> first_problem() const;

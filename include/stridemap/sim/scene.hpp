@@ -11,6 +11,7 @@
 #include "stridemap/sim/height_field.hpp"
 #include "stridemap/sim/primitives.hpp"
 #include "stridemap/sim/scene_problem.hpp"
+#include "stridemap/sim/walk_path.hpp"
 
 namespace stridemap {
 
@@ -28,6 +29,9 @@ class Scene {
   std::vector<CylinderObject> cylinders;
   /// From the scene file's optional `cart_rail:` section.
   std::optional<CartRailPath> cart_rail;
+  /// From the optional `walk_path:` section: the route of a walking robot
+  /// (sim/walk_path.hpp); it must stay inside the terrain's extent.
+  std::optional<WalkPath> walk_path;
 
   /// Nearest hit of terrain, boxes and cylinders within max_range_m.
   /// object_index: -1 terrain, 0..boxes.size()-1 boxes, then cylinders.
@@ -44,7 +48,7 @@ class Scene {
   double max_height_in_rect(double min_x_m, double min_y_m, double max_x_m, double max_y_m) const;
 
   /// The first problem found, in the order terrain, boxes, cylinders,
-  /// cart_rail, duplicate names; nothing when the scene is usable.
+  /// cart_rail, walk_path, duplicate names; nothing when the scene is usable.
   std::optional<SceneProblem> first_problem() const;
   /// Throws InputError "scene: <field path> (<object name>): <problem>".
   void validate() const;

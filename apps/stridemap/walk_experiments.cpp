@@ -1,0 +1,142 @@
+// `stridemap experiment rocky-walk` and `mount-analysis`: the walking robot
+// (paper sections 4.2, 5.1, 5.2, 6.2), simulated.
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <numbers>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "stridemap/core/error.hpp"
+#include "stridemap/experiments/rocky_walk.hpp"
+#include "stridemap/experiments/rocky_walk_report.hpp"
+#include "stridemap/experiments/urg_walk_sensor.hpp"
+#include "stridemap/io/scene_yaml.hpp"
+#include "stridemap/io/walk_path_yaml.hpp"
+#include "cli_parsing.hpp"
+#include "walk_cli_common.hpp"
+
+namespace stridemap::cli {
+namespace {
+
+struct RockyWalkArgs {
+  std::string sensor = "urg";
+  std::string scene_path = "scenes/rocky_mockup.yaml";
+  std::string path_file;
+  std::string out_dir;
+  std::uint64_t seed = 1;
+  double pose_error_scale = 1.0;
+  std::optional<double> imu_pitch_bias_deg, imu_roll_bias_deg;
+  std::string sweep = "0,0.5,1,2,4";
+  std::string reference = "map";
+  std::string mixed_pixels = "off";
+  std::string pipeline = "geometric";
+  std::string filters;
+  std::optional<std::string> map_filter;
+  std::string elevation_rule = "paper";
+  std::optional<double> cell_size_m;
+  std::optional<int> cells_per_side;
+};
+
+void run_rocky_walk_command(const RockyWalkArgs& args) {
+  // Everything the user typed is checked before the scene is even read.
+  const SensorChoice sensor = parse_sensor_choice(args.sensor);
+  RockyWalkOptions options;
+  options.walk.seed = args.seed;
+  options.pose_error_scales = parse_number_list("--sweep", args.sweep);
+  if (args.reference == "truth") {
+    options.walk.pose_errors.reference = ReferenceElevationSource::truth;
+  } else if (args.reference != "map") {
+    throw InputError("--reference: expected map or truth, got '" + args.reference + "'");
+  }
+  constexpr double deg = std::numbers::pi / 180.0;
+  if (args.imu_pitch_bias_deg) options.walk.pose_errors.imu_pitch_bias_rad = *args.imu_pitch_bias_deg * deg;
+  if (args.imu_roll_bias_deg) options.walk.pose_errors.imu_roll_bias_rad = *args.imu_roll_bias_deg * deg;
+  options.walk.pose_errors = options.walk.pose_errors.scaled(checked_non_negative("--pose-error-scale", args.pose_error_scale));
+  // The paper's settings per sensor (sections 5.1, 5.3): the URG with 10 mm
+  // cells and the fill-in, structured light with 5 mm cells and the CAS
+  // filter; 200 cells keep the stripe, 0.2-0.3 m ahead, inside the window.
+  const bool urg = sensor == SensorChoice::urg;
+  options.walk.map_filter = parse_map_filter(args.map_filter.value_or(urg ? "fill" : "cas"));
+  options.walk.mapper.update.elevation_rule = parse_elevation_rule(args.elevation_rule);
+  options.walk.mapper.grid = {args.cells_per_side.value_or(urg ? 100 : 200), args.cell_size_m.value_or(urg ? 0.01 : 0.005)};
+  ElevationMap(options.walk.mapper.grid);  // throws for an unusable grid
+  options.validate();
+  const bool mixed = parse_on_off("--mixed-pixels", args.mixed_pixels);
+  if (!urg && (mixed || !args.filters.empty())) {
+    throw InputError("--mixed-pixels and --filters apply to the URG only, not to --sensor structured-light");
+  }
+  // With mixed pixels the paper pre-processes every scan (section 5.3).
+  const std::string filter_names = args.filters.empty() ? (mixed ? "paper" : "none") : args.filters;
+  const std::vector<ScanFilterKind> filters = parse_scan_filter_list(filter_names);
+
+  const Scene scene = load_scene_yaml(args.scene_path);
+  WalkPath path;
+  RockyWalkRunInfo info{args.scene_path, args.path_file};
+  if (!args.path_file.empty()) {
+    path = load_walk_path_yaml(args.path_file, &scene.terrain);
+  } else if (scene.walk_path) {
+    path = *scene.walk_path;
+    info.path_source = args.scene_path + ":walk_path";
+  } else {
+    throw InputError(args.scene_path + ": the scene has no walk_path section; give a path file with --path");
+  }
+
+  WalkSensorFactory factory;
+  if (urg) {
+    UrgWalkSensorOptions urg_options;
+    urg_options.mixed_pixels = mixed;
+    urg_options.filters = filters;
+    factory = [urg_options, seed = args.seed](const Scene& s, const UpdateOptions& update) -> std::unique_ptr<WalkSensor> {
+      return std::make_unique<UrgWalkSensor>(s, urg_options, update, seed);
+    };
+  } else {
+    factory = structured_light_walk_sensor_factory(args.seed, args.pipeline);
+  }
+  const RockyWalkResult result = run_rocky_walk(scene, path, factory, options);
+  const std::string dir = (std::filesystem::path(args.out_dir) / ("rocky-walk-" + result.sensor)).string();
+  write_rocky_walk_outputs(result, options, info, dir);
+  std::fputs(rocky_walk_table(result).c_str(), stdout);
+  std::printf("outputs: %s\n", dir.c_str());
+}
+
+}  // namespace
+
+void register_walk_experiments(CLI::App& app) {
+  CLI::App* experiment = app.get_subcommand("experiment");
+
+  auto rw = std::make_shared<RockyWalkArgs>();
+  CLI::App* rocky = experiment->add_subcommand(
+      "rocky-walk", "A walking robot maps the rocky mock-up with an imperfect pose (Figs. 22-24), simulated");
+  rocky->add_option("--sensor", rw->sensor, "Sensor: urg or structured-light")->capture_default_str();
+  rocky->add_option("--scene", rw->scene_path, "Scene file (YAML, docs/scenes.md)")->capture_default_str();
+  rocky->add_option("--path", rw->path_file, "Path file (YAML, docs/walking.md); default: the scene's walk_path");
+  rocky->add_option("--out", rw->out_dir, "Output folder; results go to OUT/rocky-walk-<sensor>/")->required();
+  rocky->add_option("--seed", rw->seed, "Seed of the simulation")->capture_default_str();
+  rocky->add_option("--pose-error-scale", rw->pose_error_scale,
+                    "Factor on every pose error of the main walk (docs/walking.md has the defaults)")
+      ->capture_default_str();
+  rocky->add_option("--imu-pitch-bias-deg", rw->imu_pitch_bias_deg, "IMU pitch bias [deg] (default -0.3)");
+  rocky->add_option("--imu-roll-bias-deg", rw->imu_roll_bias_deg, "IMU roll bias [deg] (default 0.3)");
+  rocky->add_option("--sweep", rw->sweep, "Pose-error factors of the sweep, comma separated; none for no sweep")
+      ->capture_default_str();
+  rocky->add_option("--reference", rw->reference, "h_ref from the map (section 5.2) or from the truth")
+      ->capture_default_str();
+  rocky->add_option("--mixed-pixels", rw->mixed_pixels, "on: footprint beam model with mixed pixels at edges")
+      ->capture_default_str();
+  rocky->add_option("--filters", rw->filters, "Scan filters (as for cart-rail); default none, or paper with mixed pixels");
+  rocky->add_option("--map-filter", rw->map_filter, "fill (eq. 11), cas or none; default fill (urg), cas (structured-light)");
+  rocky->add_option("--pipeline", rw->pipeline,
+                    "Structured light: geometric (true stripe + 0.3 px row noise) or image (render and detect)")
+      ->capture_default_str();
+  rocky->add_option("--elevation-rule", rw->elevation_rule, "paper (eq. 10) or gated")->capture_default_str();
+  rocky->add_option("--cell-size-m", rw->cell_size_m, "Map cell size [m]; default 0.01 (urg), 0.005 (structured-light)");
+  rocky->add_option("--cells", rw->cells_per_side, "Cells per side of the local map; default 100 (urg), 200 (structured-light)");
+  rocky->callback([rw] { run_rocky_walk_command(*rw); });
+
+  register_mount_analysis(experiment);
+}
+
+}  // namespace stridemap::cli

@@ -1,0 +1,88 @@
+#pragma once
+// The URG-04LX on a walking robot (WalkSensor): the simulator scans from the
+// true pose, the sensor model turns raw values into a PlanarScan, the
+// chosen scan filters run, and the mapper integrates with the estimate.
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "stridemap/core/map_update.hpp"
+#include "stridemap/experiments/walk_sensor.hpp"
+#include "stridemap/preprocess/scan_filter_chain.hpp"
+#include "stridemap/sensors/urg04lx.hpp"
+#include "stridemap/sim/footprint_beam_model.hpp"
+#include "stridemap/sim/scene.hpp"
+#include "stridemap/sim/urg_simulator.hpp"
+
+namespace stridemap {
+
+struct UrgWalkSensorOptions {
+  /// Default: the paper's Messor mount, 0.26 m, 35 deg (Fig. 8c).
+  SensorMount mount{};
+  UrgParameters urg{};
+  RangeCalibration calibration{};
+  UrgSimOptions sim{};
+  /// Footprint beam model (mixed pixels at edges); off: one ray per beam.
+  bool mixed_pixels = false;
+  FootprintBeamOptions footprint{};
+  /// Scan filters between the sensor model and the mapper (none by default).
+  std::vector<ScanFilterKind> filters{};
+  ScanFilterChainOptions filter_options{};
+};
+
+class UrgWalkSensor final : public WalkSensor {
+ public:
+  /// Copies the scene. `update` gives the error bounds of the predicted
+  /// height uncertainty (last_points()); use the mapper's. Throws
+  /// InputError for unusable options.
+  UrgWalkSensor(const Scene& scene, const UrgWalkSensorOptions& options, const UpdateOptions& update,
+                std::uint64_t seed);
+
+  std::string name() const override { return "urg"; }
+  const SensorMount& mount() const override { return options_.mount; }
+  double frame_period_s() const override { return options_.urg.scan_period_s; }
+  ScanStats measure(const TrunkPose& truth, const TrunkPose& estimate, double time_s, TerrainMapper& mapper) override;
+  ScanStats flush(TerrainMapper& mapper) override;
+  void set_collect_points(bool collect) override { collect_ = collect; }
+  const std::vector<ObservedPoint>& last_points() const override { return points_; }
+  void floor_trace(const TrunkPose& pose, double floor_elevation_m, double max_range_m,
+                   std::vector<Eigen::Vector2d>& out) const override;
+
+  const UrgConversionStats& sensor_totals() const { return sensor_totals_; }
+
+ private:
+  ScanStats integrate(const PlanarScan& scan, const TrunkPose& estimate, TerrainMapper& mapper);
+
+  UrgWalkSensorOptions options_;
+  UpdateOptions update_;
+  UrgModel model_;
+  UrgSimulator simulator_;
+  ScanFilterChain filters_;
+  UrgRawScan raw_;
+  PlanarScan scan_, filtered_;
+  TrunkPose held_estimate_{};  ///< estimate of the scan the filter chain holds
+  bool holding_ = false;
+  bool collect_ = false;
+  std::vector<ObservedPoint> points_;
+  std::vector<double> cos_beam_, sin_beam_;
+  UrgConversionStats sensor_totals_;
+};
+
+/// The share of ranges to horizontal surfaces from lowest_m to highest_m
+/// relative to the ground under the robot (section 4.2: -0.10 to +0.15 m,
+/// what Messor climbs) that fall in [min_range_m, max_range_m] (0.2-0.9 m,
+/// where the URG's errors are lowest, Fig. 6). Over `levels` evenly spaced
+/// surface heights and every beam that meets the surface ahead of the
+/// sensor within `corridor_half_width_m` of the robot's centre line (the
+/// strip its feet use), from the nominal pose. 0 when no beam meets any of
+/// the surfaces.
+struct RangeIntervalOptions {
+  double lowest_m = -0.10, highest_m = 0.15;
+  int levels = 26;  ///< every 1 cm
+  double min_range_m = 0.2, max_range_m = 0.9;
+  double corridor_half_width_m = 0.30;
+};
+double urg_share_in_range_interval(const SensorMount& mount, const UrgParameters& urg,
+                                   const RangeIntervalOptions& options = {});
+
+}  // namespace stridemap

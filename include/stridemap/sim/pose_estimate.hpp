@@ -1,0 +1,101 @@
+#pragma once
+// The pose the mapper is given while the robot walks: an estimate, never the
+// truth (paper sections 5.2, 6.2). As on Messor in the rocky-mockup run:
+//
+// - pitch and roll from the IMU: truth + a constant bias + white noise;
+// - horizontal position and yaw from an external (ceiling) camera: truth +
+//   white noise;
+// - the sensor height d_z from leg kinematics: the trunk's true height
+//   above its feet + white noise (as height_change_m);
+// - the reference elevation h_ref read from the map already built, at the
+//   feet: eq. (9)'s h_m = z_m + d_z + h_ref.
+//
+// The simulator scans with the true pose; only the mapper sees this one.
+// Every error is an option with a documented default; scaled() gives the
+// sweeps of the rocky-walk experiment.
+#include <array>
+#include <cstdint>
+#include <numbers>
+#include <random>
+
+#include "stridemap/core/grid_map.hpp"
+#include "stridemap/core/pose.hpp"
+#include "stridemap/sim/trunk_motion.hpp"
+
+namespace stridemap {
+
+/// Where h_ref comes from.
+enum class ReferenceElevationSource : std::uint8_t {
+  map,    ///< the map at the estimated feet (section 5.2); the default
+  truth,  ///< the true ground under the feet: a walk with a perfect h_ref
+};
+
+struct PoseErrorOptions {
+  /// IMU pitch: standard deviation of the white noise per scan, and a bias
+  /// held for the whole walk [rad]. Defaults keep |bias| + 3 sigma (0.9 deg)
+  /// within the 1 deg that the mapper's UpdateOptions assume as the
+  /// maximum pitch/roll error in eq. (6). The bias is negative (the IMU
+  /// reads the nose higher than it is, which lifts the points ahead): the
+  /// sign is arbitrary, and this one does not hide the upward drift of an
+  /// h_ref read from the map, which the opposite sign would partly cancel
+  /// (docs/experiments.md shows both).
+  double imu_pitch_noise_sigma_rad = 0.2 * std::numbers::pi / 180.0;
+  double imu_pitch_bias_rad = -0.3 * std::numbers::pi / 180.0;
+  /// IMU roll, likewise [rad]; the bias lifts the left side.
+  double imu_roll_noise_sigma_rad = 0.2 * std::numbers::pi / 180.0;
+  double imu_roll_bias_rad = 0.3 * std::numbers::pi / 180.0;
+  /// Camera: standard deviation of x and y (each) [m]. 3 mm: about one
+  /// pixel of a VGA ceiling camera that sees the 2 x 2 m mock-up.
+  double camera_position_noise_sigma_m = 0.003;
+  /// Camera: standard deviation of the yaw [rad]; 0.3 deg, the angle a
+  /// one-pixel error subtends across a landmark of 0.2 m.
+  double camera_yaw_noise_sigma_rad = 0.3 * std::numbers::pi / 180.0;
+  /// Leg kinematics: standard deviation of the trunk height above the feet
+  /// [m]; 2 mm from joint-encoder resolution over the leg's length.
+  double leg_height_noise_sigma_m = 0.002;
+  ReferenceElevationSource reference = ReferenceElevationSource::map;
+
+  /// Every noise sigma and bias times `factor` (>= 0); the reference source
+  /// is kept.
+  PoseErrorOptions scaled(double factor) const;
+  /// No error at all: every sigma and bias 0 and h_ref from the truth.
+  static PoseErrorOptions none();
+  /// Throws InputError "pose error options: <field>: <problem>" for a
+  /// negative or non-finite sigma or a non-finite bias.
+  void validate() const;
+};
+
+class PoseEstimator {
+ public:
+  /// Validates the options (and the gait, whose feet h_ref is read at).
+  PoseEstimator(const PoseErrorOptions& options, const GaitOptions& gait, std::uint64_t seed);
+
+  /// The estimate for a scan taken in `truth`. `map` is the map built so
+  /// far (read for h_ref when the source is `map`). The noise comes from
+  /// one generator seeded at construction, so the same seed and the same
+  /// sequence of calls give the same estimates. Allocates nothing.
+  TrunkPose estimate(const TrunkState& truth, const ElevationMap& map);
+
+  /// Feet whose height the map gave in the last call (0 to 6); with fewer
+  /// than 3 the previous h_ref was kept.
+  int feet_read_from_map() const { return feet_from_map_; }
+  const PoseErrorOptions& options() const { return options_; }
+
+ private:
+  double foot_elevation(const ElevationMap& map, double x_m, double y_m, double fallback) const;
+
+  PoseErrorOptions options_;
+  GaitOptions gait_;
+  std::mt19937_64 rng_;
+  std::normal_distribution<double> gaussian_{0.0, 1.0};
+  /// A foot's sole: the known cells within this radius give its height.
+  static constexpr double kFootRadius_m = 0.02;
+  static constexpr int kMaxFootReach = 8;  ///< cells; bounds the scratch array
+  /// The last h_ref (the true ground at the first scan: the map's zero is
+  /// the ground the robot starts on).
+  double reference_m_ = 0.0;
+  bool started_ = false;
+  int feet_from_map_ = 0;
+};
+
+}  // namespace stridemap

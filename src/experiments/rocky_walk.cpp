@@ -1,0 +1,59 @@
+#include "stridemap/experiments/rocky_walk.hpp"
+
+#include <cmath>
+#include <cstdio>
+
+#include "stridemap/core/error.hpp"
+
+namespace stridemap {
+
+void RockyWalkOptions::validate() const {
+  for (std::size_t k = 0; k < pose_error_scales.size(); ++k) {
+    const double s = pose_error_scales[k];
+    if (!(std::isfinite(s) && s >= 0.0)) {
+      throw InputError("rocky walk: pose error scale [" + std::to_string(k) + "] must be a number >= 0, got " +
+                       std::to_string(s));
+    }
+  }
+  walk.pose_errors.validate();
+  walk.gait.validate();
+}
+
+RockyWalkResult run_rocky_walk(const Scene& scene, const WalkPath& path, const WalkSensorFactory& make_sensor,
+                               const RockyWalkOptions& options) {
+  options.validate();
+  RockyWalkResult result;
+  const auto walk_with = [&](const PoseErrorOptions& errors) {
+    WalkOptions walk = options.walk;
+    walk.pose_errors = errors;
+    std::unique_ptr<WalkSensor> sensor = make_sensor(scene, walk.mapper.update);
+    return run_walk(scene, path, *sensor, walk);
+  };
+  // The main walk first: it also checks the scene, path and mount before
+  // the sweep spends any time.
+  {
+    std::unique_ptr<WalkSensor> sensor = make_sensor(scene, options.walk.mapper.update);
+    result.sensor = sensor->name();
+    result.main = run_walk(scene, path, *sensor, options.walk);
+  }
+  const auto row_of = [](std::string label, double scale, bool truth, const WalkResult& w) {
+    return PoseSweepRow{std::move(label), scale, truth, w.pose_errors, w.mosaic_score, w.unknown_swept_cells};
+  };
+  for (const ReferenceElevationSource reference : options.sweep_references) {
+    const bool truth = reference == ReferenceElevationSource::truth;
+    for (const double scale : options.pose_error_scales) {
+      char label[32];
+      std::snprintf(label, sizeof label, "x%g", scale);
+      PoseErrorOptions errors = options.walk.pose_errors.scaled(scale);
+      errors.reference = reference;
+      if (scale == 1.0 && reference == options.walk.pose_errors.reference) {
+        result.sweep.push_back(row_of(label, scale, truth, result.main));
+      } else {
+        result.sweep.push_back(row_of(label, scale, truth, walk_with(errors)));
+      }
+    }
+  }
+  return result;
+}
+
+}  // namespace stridemap

@@ -1,0 +1,255 @@
+#include "stridemap/experiments/rocky_walk_report.hpp"
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <numbers>
+#include <system_error>
+
+#include <nlohmann/json.hpp>
+
+#include "stridemap/core/error.hpp"
+#include "stridemap/io/grid_csv.hpp"
+#include "stridemap/io/grid_overlay.hpp"
+#include "stridemap/io/grid_render.hpp"
+#include "stridemap/io/png_image.hpp"
+#include "stridemap/io/terrain_view.hpp"
+#include "stridemap/io/text_file.hpp"
+
+namespace stridemap {
+namespace {
+
+using nlohmann::json;
+constexpr double kDeg = 180.0 / std::numbers::pi;
+
+json score_json(const MapScore& s, std::size_t unknown_swept) {
+  return {{"rms_error_m", s.rms_error_m},
+          {"max_error_m", s.max_error_m},
+          {"mean_error_m", s.mean_error_m},
+          {"artifact_cells", s.artifact_cells},
+          {"artifact_threshold_m", s.artifact_threshold_m},
+          {"coverage", s.coverage},
+          {"unknown_swept_cells", unknown_swept},
+          {"known_cells", s.known_cells},
+          {"measured_cells", s.measured_cells},
+          {"filled_cells", s.filled_cells},
+          {"rms_error_measured_m", s.rms_error_measured_m},
+          {"rms_error_filled_m", s.rms_error_filled_m},
+          {"swept_area_cells", s.scored_area_cells}};
+}
+
+json pose_json(const PoseErrorStats& p) {
+  return {{"x_m", p.x_m},           {"y_m", p.y_m},
+          {"yaw_deg", p.yaw_rad * kDeg}, {"pitch_deg", p.pitch_rad * kDeg},
+          {"roll_deg", p.roll_rad * kDeg}, {"sensor_height_m", p.sensor_height_m},
+          {"mean_sensor_height_m", p.mean_sensor_height_m}};
+}
+
+io::CellMask state_mask(const MapSnapshot& s, CellState state) {
+  io::CellMask mask(s.state.rows(), s.state.cols());
+  for (Eigen::Index i = 0; i < s.state.rows(); ++i)
+    for (Eigen::Index j = 0; j < s.state.cols(); ++j) mask(i, j) = static_cast<CellState>(s.state(i, j)) == state;
+  return mask;
+}
+
+struct Origin {
+  double x_m, y_m;
+};
+Origin origin_of(const MapSnapshot& s) {
+  return {(static_cast<double>(s.min_cell.x) + 0.5) * s.cell_size_m, (static_cast<double>(s.min_cell.y) + 0.5) * s.cell_size_m};
+}
+
+// elevation, certainty, error and truth pictures of one snapshot, with the
+// track drawn on the elevation and error maps.
+void write_map_pictures(const std::filesystem::path& dir, const std::string& prefix, const std::string& what,
+                        const MapSnapshot& s, const CellMask& swept, const std::vector<Eigen::Vector2d>& track,
+                        const RockyWalkResult& r, double certainty_max) {
+  const io::CellMask filled = state_mask(s, CellState::filled);
+  const Origin o = origin_of(s);
+  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+  for (Eigen::Index i = 0; i < s.truth_m.rows(); ++i)
+    for (Eigen::Index j = 0; j < s.truth_m.cols(); ++j)
+      if (swept(i, j)) lo = std::min(lo, s.truth_m(i, j)), hi = std::max(hi, s.truth_m(i, j));
+  if (!(lo < hi)) lo = s.truth_m.minCoeff(), hi = std::max(s.truth_m.maxCoeff(), lo + 0.01f);
+
+  io::GridRenderOptions style;
+  style.units = "m";
+  style.cell_size_m = s.cell_size_m;
+  style.min_value = lo;
+  style.max_value = hi;
+  const auto save = [&](const char* name, io::RenderedGrid rendered, bool with_track) {
+    if (with_track) io::draw_path(rendered, track, o.x_m, o.y_m, s.cell_size_m);
+    io::write_png((dir / (prefix + name)).string(), rendered.image);
+  };
+  style.title = "Elevation, " + what + " (" + r.sensor + ", simulated)";
+  save("elevation.png", io::render_grid(s.elevation_m, filled, style), true);
+  style.title = "Ground truth: highest point per cell";
+  save("truth.png", io::render_grid(s.truth_m, style), true);
+
+  io::GridRenderOptions certainty_style;
+  certainty_style.title = "Certainty, " + what;
+  certainty_style.cell_size_m = s.cell_size_m;
+  certainty_style.min_value = 0.0;
+  certainty_style.max_value = certainty_max;
+  Eigen::MatrixXf certainty = s.certainty;
+  for (Eigen::Index i = 0; i < certainty.rows(); ++i)
+    for (Eigen::Index j = 0; j < certainty.cols(); ++j)
+      if (static_cast<CellState>(s.state(i, j)) == CellState::unknown) certainty(i, j) = NAN;
+  save("certainty.png", io::render_grid(certainty, certainty_style), false);
+
+  // Errors only where the walk is scored (the swept area).
+  Eigen::MatrixXf error = s.elevation_m - s.truth_m;
+  for (Eigen::Index i = 0; i < error.rows(); ++i)
+    for (Eigen::Index j = 0; j < error.cols(); ++j)
+      if (!swept(i, j)) error(i, j) = NAN;
+  io::GridRenderOptions error_style;
+  error_style.title = "Elevation error (map - truth), swept area, " + what;
+  error_style.units = "m";
+  error_style.cell_size_m = s.cell_size_m;
+  error_style.min_value = -0.05;
+  error_style.max_value = 0.05;
+  error_style.colour_scale = io::ColourScale::turbo;
+  save("error.png", io::render_grid(error, filled, error_style), true);
+}
+
+}  // namespace
+
+std::string rocky_walk_summary_json(const RockyWalkResult& r, const RockyWalkOptions& options,
+                                    const RockyWalkRunInfo& info) {
+  const PoseErrorOptions& e = options.walk.pose_errors;
+  const WalkResult& w = r.main;
+  json sweep = json::array();
+  for (const PoseSweepRow& row : r.sweep) {
+    json entry = score_json(row.score, row.unknown_swept_cells);
+    entry["label"] = row.label;
+    entry["scale"] = row.scale;
+    entry["reference"] = row.reference_from_truth ? "truth" : "map";
+    entry["pose_rms"] = pose_json(row.pose);
+    sweep.push_back(entry);
+  }
+  json summary = {
+      {"experiment", "rocky-walk"},
+      {"sensor", r.sensor},
+      {"source", "simulation"},
+      {"seed", options.walk.seed},
+      {"scene", info.scene_path},
+      {"path", info.path_source},
+      {"walk",
+       {{"scans", w.scans},
+        {"duration_s", w.duration_s},
+        {"distance_m", w.distance_m},
+        {"turned_deg", w.turned_rad * kDeg},
+        {"scans_with_yaw_change", w.scans_with_yaw_change}}},
+      {"pose_error_options",
+       {{"imu_pitch_noise_sigma_deg", e.imu_pitch_noise_sigma_rad * kDeg},
+        {"imu_pitch_bias_deg", e.imu_pitch_bias_rad * kDeg},
+        {"imu_roll_noise_sigma_deg", e.imu_roll_noise_sigma_rad * kDeg},
+        {"imu_roll_bias_deg", e.imu_roll_bias_rad * kDeg},
+        {"camera_position_noise_sigma_m", e.camera_position_noise_sigma_m},
+        {"camera_yaw_noise_sigma_deg", e.camera_yaw_noise_sigma_rad * kDeg},
+        {"leg_height_noise_sigma_m", e.leg_height_noise_sigma_m},
+        {"reference", e.reference == ReferenceElevationSource::map ? "map" : "truth"}}},
+      {"pose_rms", pose_json(w.pose_errors)},
+      {"map", score_json(w.mosaic_score, w.unknown_swept_cells)},
+      {"local_map", score_json(w.local_score, 0)},
+      {"cell_size_m", w.local.cell_size_m},
+      {"map_filter", options.walk.map_filter == MapFilter::fill  ? "fill"
+                     : options.walk.map_filter == MapFilter::cas ? "cas"
+                                                                 : "none"},
+      {"elevation_rule", options.walk.mapper.update.elevation_rule == ElevationRule::paper_highest ? "paper" : "gated"},
+      {"cells_per_side", w.local.elevation_m.rows()},
+      {"beams",
+       {{"integrated", w.mapper_totals.integrated},
+        {"implausible", w.mapper_totals.implausible},
+        {"outside_map", w.mapper_totals.outside_map},
+        {"invalid_range", w.mapper_totals.invalid_range}}},
+      {"pose_error_sweep", sweep}};
+  summary["local_map"].erase("unknown_swept_cells");
+  return summary.dump(2) + "\n";
+}
+
+std::string rocky_walk_table(const RockyWalkResult& r) {
+  std::string out;
+  char line[320];
+  const WalkResult& w = r.main;
+  std::snprintf(line, sizeof line,
+                "rocky-walk, sensor %s (simulated): %zu scans, %.2f m walked, %.0f deg turned, %.0f mm cells\n",
+                r.sensor.c_str(), w.scans, w.distance_m, w.turned_rad * kDeg, w.local.cell_size_m * 1000);
+  out += line;
+  const MapScore& s = w.mosaic_score;
+  std::snprintf(line, sizeof line,
+                "whole walk: RMS error %.1f mm, max %.1f mm, artifact cells %zu (> %.0f mm), coverage %.1f %%, "
+                "unknown cells behind obstacles %zu (of %zu swept)\n",
+                s.rms_error_m * 1000, s.max_error_m * 1000, s.artifact_cells, s.artifact_threshold_m * 1000,
+                s.coverage * 100, w.unknown_swept_cells, s.scored_area_cells);
+  out += line;
+  const MapScore& l = w.local_score;
+  std::snprintf(line, sizeof line, "final local map: RMS error %.1f mm, max %.1f mm, artifact cells %zu, coverage %.1f %%\n",
+                l.rms_error_m * 1000, l.max_error_m * 1000, l.artifact_cells, l.coverage * 100);
+  out += line;
+  const PoseErrorStats& p = w.pose_errors;
+  std::snprintf(line, sizeof line,
+                "pose estimate RMS error: x %.1f mm, y %.1f mm, yaw %.2f deg, pitch %.2f deg, roll %.2f deg, "
+                "sensor height %.1f mm (mean %+.1f mm)\n",
+                p.x_m * 1000, p.y_m * 1000, p.yaw_rad * kDeg, p.pitch_rad * kDeg, p.roll_rad * kDeg,
+                p.sensor_height_m * 1000, p.mean_sensor_height_m * 1000);
+  out += line;
+  out += "pose errors  h_ref    pitch RMS  height RMS  map RMS   max    artifacts  coverage  unknown behind\n";
+  out += "                        [deg]      [mm]        [mm]      [mm]              [%]       obstacles\n";
+  for (const PoseSweepRow& row : r.sweep) {
+    std::snprintf(line, sizeof line, "%-12s %-7s %9.2f %11.1f %9.1f %7.1f %10zu %9.1f %10zu\n", row.label.c_str(),
+                  row.reference_from_truth ? "truth" : "map", row.pose.pitch_rad * kDeg, row.pose.sensor_height_m * 1000,
+                  row.score.rms_error_m * 1000, row.score.max_error_m * 1000, row.score.artifact_cells,
+                  row.score.coverage * 100, row.unknown_swept_cells);
+    out += line;
+  }
+  return out;
+}
+
+void write_rocky_walk_outputs(const RockyWalkResult& r, const RockyWalkOptions& options, const RockyWalkRunInfo& info,
+                              const std::string& directory) {
+  const std::filesystem::path dir(directory);
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw InputError(dir.string() + ": cannot create the output folder: " + ec.message());
+  const WalkResult& w = r.main;
+  const double certainty_max = options.walk.mapper.update.certainty_max;
+  write_map_pictures(dir, "", "whole walk", w.mosaic, w.mosaic_swept, w.trajectory, r, certainty_max);
+  write_map_pictures(dir, "local_", "final local map", w.local, w.local_swept, w.trajectory, r, certainty_max);
+
+  io::TerrainViewOptions view;
+  view.title = "Elevation map of the walk, 3D (" + r.sensor + ", simulated; heights x2)";
+  const io::CellMask filled = state_mask(w.mosaic, CellState::filled);
+  // Only the swept area: the mosaic's border holds stray far-range cells.
+  Eigen::MatrixXf shown = w.mosaic.elevation_m, truth = w.mosaic.truth_m;
+  for (Eigen::Index i = 0; i < shown.rows(); ++i)
+    for (Eigen::Index j = 0; j < shown.cols(); ++j)
+      if (!w.mosaic_swept(i, j)) shown(i, j) = NAN, truth(i, j) = NAN;
+  float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+  for (Eigen::Index i = 0; i < truth.rows(); ++i)
+    for (Eigen::Index j = 0; j < truth.cols(); ++j)
+      if (std::isfinite(truth(i, j))) lo = std::min(lo, truth(i, j)), hi = std::max(hi, truth(i, j));
+  if (lo < hi) view.min_value = lo, view.max_value = hi;
+  io::write_png((dir / "view3d.png").string(), io::render_terrain_view(shown, filled, w.mosaic.cell_size_m, view));
+  view.title = "Ground truth over the same cells, 3D (heights x2)";
+  io::write_png((dir / "truth_view3d.png").string(), io::render_terrain_view(truth, io::CellMask(), w.mosaic.cell_size_m, view));
+
+  const Origin o = origin_of(w.mosaic);
+  const auto csv = [&](const char* name, const Eigen::MatrixXf& values, const char* units) {
+    io::GridCsvOptions c;
+    c.layer_name = name;
+    c.units = units;
+    c.cell_size_m = w.mosaic.cell_size_m;
+    c.origin_x_m = o.x_m;
+    c.origin_y_m = o.y_m;
+    io::write_grid_csv((dir / (std::string(name) + ".csv")).string(), values, c);
+  };
+  csv("elevation", w.mosaic.elevation_m, "m");
+  csv("certainty", w.mosaic.certainty, "");
+  csv("state", w.mosaic.state.cast<float>(), "");
+  csv("truth", w.mosaic.truth_m, "m");
+  csv("swept_area", w.mosaic_swept.cast<float>(), "");
+  io::write_text_file((dir / "summary.json").string(), rocky_walk_summary_json(r, options, info), "summary");
+}
+
+}  // namespace stridemap

@@ -1,0 +1,128 @@
+// Runs the built `stridemap experiment rocky-walk` and `mount-analysis` as a
+// user would.
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "cli/cli_runner.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using stridemap::test::CommandResult;
+using stridemap::test::run_cli;
+using stridemap::test::shell_quoted;
+
+fs::path fresh_dir(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("stridemap_cli_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  return dir;
+}
+
+const std::string kScene = std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/rocky_mockup.yaml";
+
+TEST(RockyWalkCommand, WritesMapsViewsSummaryAndTable) {
+  const fs::path out = fresh_dir("rocky_walk");
+  const CommandResult r =
+      run_cli("experiment rocky-walk --sensor urg --scene " + shell_quoted(kScene) + " --out " + shell_quoted(out.string()) +
+              " --sweep 0,2 --seed 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("whole walk: RMS error"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("unknown cells behind obstacles"), std::string::npos) << r.output;
+  const fs::path dir = out / "rocky-walk-urg";
+  for (const char* file : {"elevation.png", "certainty.png", "error.png", "truth.png", "local_elevation.png",
+                           "local_certainty.png", "local_error.png", "view3d.png", "truth_view3d.png", "elevation.csv",
+                           "swept_area.csv", "summary.json"}) {
+    EXPECT_TRUE(fs::exists(dir / file)) << file;
+  }
+  std::ifstream in(dir / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  EXPECT_EQ(summary["experiment"], "rocky-walk");
+  EXPECT_EQ(summary["seed"], 2);
+  EXPECT_EQ(summary["pose_error_sweep"].size(), 4u);  // 2 levels x 2 h_ref sources
+  EXPECT_GT(summary["walk"]["scans"].get<int>(), 400);
+  fs::remove_all(out);
+}
+
+TEST(RockyWalkCommand, StructuredLightVariantUsesFineCellsAndCas) {
+  const fs::path out = fresh_dir("rocky_walk_sl");
+  const CommandResult r = run_cli("experiment rocky-walk --sensor structured-light --scene " + shell_quoted(kScene) +
+                                  " --out " + shell_quoted(out.string()) + " --sweep none");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  EXPECT_NE(r.output.find("5 mm cells"), std::string::npos) << r.output;
+  std::ifstream in(out / "rocky-walk-structured-light" / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  EXPECT_EQ(summary["sensor"], "structured-light");
+  EXPECT_EQ(summary["cells_per_side"], 200);
+  const CommandResult bad = run_cli("experiment rocky-walk --sensor structured-light --mixed-pixels on --out " +
+                                    shell_quoted(out.string()));
+  EXPECT_EQ(bad.exit_code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("apply to the URG only"), std::string::npos) << bad.output;
+  fs::remove_all(out);
+}
+
+TEST(RockyWalkCommand, BadInputIsAClearErrorBeforeAnyWork) {
+  const fs::path dir = fresh_dir("rocky_bad");
+  const std::string out = " --out " + shell_quoted((dir / "out").string());
+  CommandResult r = run_cli("experiment rocky-walk --sweep 1,-2" + out);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--sweep"), std::string::npos) << r.output;
+  r = run_cli("experiment rocky-walk --pose-error-scale -1" + out);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  r = run_cli("experiment rocky-walk --sensor lidar" + out);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("urg or structured-light"), std::string::npos) << r.output;
+
+  const fs::path path = dir / "path.yaml";
+  std::ofstream(path) << "walk_path:\n  start: {x_m: 0.3, y_m: 0.0}\n  segments:\n    - straight_m: 1.0\n"
+                         "    - straight_m: 5.0\n";
+  r = run_cli("experiment rocky-walk --scene " + shell_quoted(kScene) + " --path " + shell_quoted(path.string()) + out);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("path.yaml:5: walk_path.segments[1]: the path leaves the scene's terrain extent"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));  // nothing was written
+  fs::remove_all(dir);
+}
+
+TEST(MountAnalysisCommand, WritesHeatMapsAndNamesTheBestMount) {
+  const fs::path out = fresh_dir("mount_analysis");
+  const CommandResult r = run_cli("experiment mount-analysis --sensor urg --out " + shell_quoted(out.string()) +
+                                  " --fields 1 --heights-cm 20:30:10 --pitches-deg 30,40");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  for (const char* name : {"fig7a", "fig7b", "fig7c", "best of the sweep"}) {
+    EXPECT_NE(r.output.find(name), std::string::npos) << name << "\n" << r.output;
+  }
+  const fs::path dir = out / "mount-analysis-urg";
+  for (const char* file : {"unobserved.png", "uncertainty.png", "stripe_width.png", "look_ahead.png",
+                           "range_share.png", "score.png", "mounts.csv", "summary.json"}) {
+    EXPECT_TRUE(fs::exists(dir / file)) << file;
+  }
+  std::ifstream in(dir / "summary.json");
+  const nlohmann::json summary = nlohmann::json::parse(in);
+  EXPECT_EQ(summary["sweep"].size(), 4u);
+  EXPECT_EQ(summary["named"].size(), 3u);
+  EXPECT_TRUE(summary["best"].contains("score"));
+  fs::remove_all(out);
+}
+
+TEST(MountAnalysisCommand, AnEmptySweepGridIsAClearError) {
+  const fs::path dir = fresh_dir("mount_bad");
+  CommandResult r = run_cli("experiment mount-analysis --out " + shell_quoted(dir.string()) + " --heights-cm 30:20:2");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("the sweep grid is empty"), std::string::npos) << r.output;
+  r = run_cli("experiment mount-analysis --out " + shell_quoted(dir.string()) + " --pitches-deg 10:x:5");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  r = run_cli("experiment mount-analysis --out " + shell_quoted(dir.string()) + " --pitches-deg 10:20:0");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("step must be positive"), std::string::npos) << r.output;
+  fs::remove_all(dir);
+}
+
+}  // namespace

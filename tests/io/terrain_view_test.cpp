@@ -1,0 +1,88 @@
+#include "stridemap/io/terrain_view.hpp"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+#include "stridemap/core/error.hpp"
+#include "stridemap/io/grid_overlay.hpp"
+#include "stridemap/io/heat_map.hpp"
+
+namespace stridemap::io {
+namespace {
+
+std::size_t non_white(const RgbImage& image) {
+  std::size_t count = 0;
+  for (std::size_t k = 0; k + 2 < image.rgb.size(); k += 3) {
+    count += !(image.rgb[k] == 255 && image.rgb[k + 1] == 255 && image.rgb[k + 2] == 255);
+  }
+  return count;
+}
+
+Eigen::MatrixXf bump(int n) {
+  Eigen::MatrixXf h(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j) h(i, j) = static_cast<float>(0.05 * std::exp(-((i - n / 2) * (i - n / 2) + (j - n / 2) * (j - n / 2)) / 50.0));
+  return h;
+}
+
+TEST(TerrainView, DrawsTheKnownCellsAndLeavesHolesForUnknownOnes) {
+  TerrainViewOptions o;
+  o.width_px = 320;
+  o.height_px = 240;
+  const Eigen::MatrixXf h = bump(40);
+  const RgbImage full = render_terrain_view(h, CellMask(), 0.01, o);
+  ASSERT_EQ(full.width, 320);
+  ASSERT_EQ(full.height, 240);
+  const std::size_t drawn = non_white(full);
+  EXPECT_GT(drawn, 320u * 240u / 10u);  // the surface fills a good part of the picture
+  Eigen::MatrixXf holed = h;
+  holed.block(10, 10, 20, 20).setConstant(NAN);
+  EXPECT_LT(non_white(render_terrain_view(holed, CellMask(), 0.01, o)), drawn);
+  const Eigen::MatrixXf unknown = Eigen::MatrixXf::Constant(10, 10, NAN);
+  EXPECT_EQ(non_white(render_terrain_view(unknown, CellMask(), 0.01, o)), 0u);
+}
+
+TEST(TerrainView, BadOptionsAreErrors) {
+  const Eigen::MatrixXf h = bump(10);
+  TerrainViewOptions o;
+  o.elevation_deg = 0.0;
+  EXPECT_THROW(render_terrain_view(h, CellMask(), 0.01, o), InputError);
+  EXPECT_THROW(render_terrain_view(h, CellMask(), -0.01, TerrainViewOptions{}), InputError);
+  EXPECT_THROW(render_terrain_view(Eigen::MatrixXf(1, 1), CellMask(), 0.01, TerrainViewOptions{}), InputError);
+  EXPECT_THROW(render_terrain_view(h, CellMask::Zero(3, 3), 0.01, TerrainViewOptions{}), InputError);
+}
+
+TEST(HeatMap, LabelsEveryRowAndColumnAndChecksTheirCount) {
+  Eigen::MatrixXf values(2, 3);
+  values << 0, 1, 2, 3, NAN, 5;
+  HeatMapOptions o;
+  o.x_ticks = {"10", "20", "30"};
+  o.y_ticks = {"5", "15"};
+  o.x_label = "height";
+  o.y_label = "pitch";
+  o.highlight = std::make_pair(1, 2);
+  const RgbImage image = render_heat_map(values, o);
+  EXPECT_GT(image.width, 3 * o.pixels_per_cell);
+  EXPECT_GT(non_white(image), 6u * 30u * 30u);
+  o.y_ticks.pop_back();
+  EXPECT_THROW(render_heat_map(values, o), InputError);
+  EXPECT_THROW(render_heat_map(Eigen::MatrixXf(0, 0), HeatMapOptions{}), InputError);
+}
+
+TEST(GridOverlay, DrawsAPathInsideTheGrid) {
+  const Eigen::MatrixXf values = Eigen::MatrixXf::Zero(50, 50);
+  GridRenderOptions style;
+  style.min_value = 0.0;
+  style.max_value = 1.0;
+  RenderedGrid rendered = render_grid(values, style);
+  const RgbImage before = rendered.image;
+  draw_path(rendered, {{0.05, 0.05}, {0.4, 0.3}}, 0.0, 0.0, 0.01);
+  std::size_t changed = 0;
+  for (std::size_t k = 0; k < before.rgb.size(); ++k) changed += before.rgb[k] != rendered.image.rgb[k];
+  EXPECT_GT(changed, 100u);
+  EXPECT_THROW(draw_path(rendered, {}, 0.0, 0.0, 0.0), InputError);
+}
+
+}  // namespace
+}  // namespace stridemap::io

@@ -1,0 +1,165 @@
+#include "stridemap/sim/pose_estimate.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "stridemap/core/error.hpp"
+
+namespace stridemap {
+namespace {
+
+constexpr double kDeg = std::numbers::pi / 180.0;
+
+TrunkState truth_at(double x, double ground = 0.0) {
+  TrunkState t;
+  t.pose.x_m = x;
+  t.pose.y_m = -0.2;
+  t.pose.yaw_rad = 0.3;
+  t.pose.pitch_rad = 0.02;
+  t.pose.roll_rad = -0.01;
+  t.pose.reference_elevation_m = ground;
+  t.pose.height_change_m = 0.003;
+  return t;
+}
+
+struct Moments {
+  double mean = 0, sigma = 0;
+};
+Moments moments(const std::vector<double>& v) {
+  Moments m;
+  for (double x : v) m.mean += x;
+  m.mean /= static_cast<double>(v.size());
+  for (double x : v) m.sigma += (x - m.mean) * (x - m.mean);
+  m.sigma = std::sqrt(m.sigma / static_cast<double>(v.size() - 1));
+  return m;
+}
+
+// Every channel's error has the bias and the sigma its options say: the
+// sample mean within 4 standard errors, the sample sigma within 4 %.
+TEST(PoseEstimate, ErrorStatisticsMatchTheOptions) {
+  PoseErrorOptions o;
+  o.imu_pitch_noise_sigma_rad = 0.4 * kDeg;
+  o.imu_pitch_bias_rad = -0.25 * kDeg;
+  o.imu_roll_noise_sigma_rad = 0.15 * kDeg;
+  o.imu_roll_bias_rad = 0.5 * kDeg;
+  o.camera_position_noise_sigma_m = 0.004;
+  o.camera_yaw_noise_sigma_rad = 0.6 * kDeg;
+  o.leg_height_noise_sigma_m = 0.0025;
+  o.reference = ReferenceElevationSource::truth;
+  PoseEstimator estimator(o, GaitOptions{}, 7);
+  const ElevationMap map;
+  constexpr int n = 20000;
+  std::vector<double> pitch, roll, x, y, yaw, height, reference;
+  for (int k = 0; k < n; ++k) {
+    const TrunkState t = truth_at(0.001 * k, 0.01 * std::sin(k));
+    const TrunkPose e = estimator.estimate(t, map);
+    pitch.push_back(e.pitch_rad - t.pose.pitch_rad);
+    roll.push_back(e.roll_rad - t.pose.roll_rad);
+    x.push_back(e.x_m - t.pose.x_m);
+    y.push_back(e.y_m - t.pose.y_m);
+    yaw.push_back(e.yaw_rad - t.pose.yaw_rad);
+    height.push_back(e.height_change_m - t.pose.height_change_m);
+    reference.push_back(e.reference_elevation_m - t.pose.reference_elevation_m);
+  }
+  const auto check = [&](const std::vector<double>& errors, double bias, double sigma, const char* name) {
+    const Moments m = moments(errors);
+    EXPECT_NEAR(m.mean, bias, 4.0 * sigma / std::sqrt(double(n))) << name;
+    EXPECT_NEAR(m.sigma, sigma, 0.04 * sigma) << name;
+  };
+  check(pitch, o.imu_pitch_bias_rad, o.imu_pitch_noise_sigma_rad, "pitch");
+  check(roll, o.imu_roll_bias_rad, o.imu_roll_noise_sigma_rad, "roll");
+  check(x, 0.0, o.camera_position_noise_sigma_m, "x");
+  check(y, 0.0, o.camera_position_noise_sigma_m, "y");
+  check(yaw, 0.0, o.camera_yaw_noise_sigma_rad, "yaw");
+  check(height, 0.0, o.leg_height_noise_sigma_m, "leg height");
+  for (double r : reference) ASSERT_EQ(r, 0.0);  // h_ref from the truth
+  // x and y draw independently.
+  double cross = 0;
+  for (int k = 0; k < n; ++k) cross += x[k] * y[k];
+  EXPECT_NEAR(cross / n / (o.camera_position_noise_sigma_m * o.camera_position_noise_sigma_m), 0.0, 0.05);
+}
+
+TEST(PoseEstimate, NoErrorGivesTheTruthAndTheSameSeedTheSameEstimates) {
+  PoseEstimator perfect(PoseErrorOptions::none(), GaitOptions{}, 3);
+  const ElevationMap map;
+  const TrunkState t = truth_at(0.4, 0.02);
+  const TrunkPose e = perfect.estimate(t, map);
+  EXPECT_EQ(e.x_m, t.pose.x_m);
+  EXPECT_EQ(e.pitch_rad, t.pose.pitch_rad);
+  EXPECT_EQ(e.reference_elevation_m, t.pose.reference_elevation_m);
+  EXPECT_EQ(e.height_change_m, t.pose.height_change_m);
+
+  PoseEstimator a(PoseErrorOptions{}, GaitOptions{}, 11), b(PoseErrorOptions{}, GaitOptions{}, 11);
+  for (int k = 0; k < 5; ++k) {
+    const TrunkPose ea = a.estimate(truth_at(0.01 * k), map), eb = b.estimate(truth_at(0.01 * k), map);
+    EXPECT_EQ(ea.x_m, eb.x_m);
+    EXPECT_EQ(ea.roll_rad, eb.roll_rad);
+  }
+}
+
+TEST(PoseEstimate, ReferenceElevationIsReadFromTheMapAtTheFeet) {
+  PoseErrorOptions o = PoseErrorOptions{}.scaled(0.0);
+  o.reference = ReferenceElevationSource::map;
+  const GaitOptions gait;
+  PoseEstimator estimator(o, gait, 1);
+  ElevationMap map(GridOptions{100, 0.01});
+  map.move_to(0.0, 0.0);
+  TrunkState t = truth_at(0.0, 0.004);
+  t.pose.yaw_rad = 0.0;
+  t.pose.y_m = 0.0;
+  // Nothing known yet: h_ref stays the true ground of the first scan.
+  EXPECT_NEAR(estimator.estimate(t, map).reference_elevation_m, 0.004, 1e-12);
+  EXPECT_EQ(estimator.feet_read_from_map(), 0);
+  const auto set_foot = [&](const Eigen::Vector2d& f, float h) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        const std::size_t s = map.slot(map.cell_of(f.x() + 0.01 * dx, f.y() + 0.01 * dy));
+        map.elevation_data()[s] = h;
+        map.certainty_data()[s] = 3.0f;
+        map.state_data()[s] = static_cast<std::uint8_t>(CellState::measured);
+      }
+    }
+  };
+  const auto feet = foot_positions(gait, 0.0, 0.0, 0.0);  // left front, middle, rear, then right
+  // Two known feet do not determine the ground: h_ref stays.
+  set_foot(feet[0], 0.05f);
+  set_foot(feet[1], 0.05f);
+  EXPECT_NEAR(estimator.estimate(t, map).reference_elevation_m, 0.004, 1e-12);
+  EXPECT_EQ(estimator.feet_read_from_map(), 2);
+  // Three and more: their mean, the unknown feet having no say.
+  set_foot(feet[2], 0.05f);
+  EXPECT_NEAR(estimator.estimate(t, map).reference_elevation_m, 0.05, 1e-6);
+  set_foot(feet[3], 0.02f);
+  set_foot(feet[4], 0.02f);
+  set_foot(feet[5], 0.02f);
+  EXPECT_NEAR(estimator.estimate(t, map).reference_elevation_m, 0.035, 1e-6);
+  EXPECT_EQ(estimator.feet_read_from_map(), 6);
+  // One stray high cell under a foot does not move it (the median).
+  map.elevation_data()[map.slot(map.cell_of(feet[5].x(), feet[5].y()))] = 0.5f;
+  EXPECT_NEAR(estimator.estimate(t, map).reference_elevation_m, 0.035, 1e-6);
+}
+
+TEST(PoseEstimate, BadOptionsNameTheField) {
+  PoseErrorOptions o;
+  o.camera_yaw_noise_sigma_rad = -0.01;
+  try {
+    PoseEstimator(o, GaitOptions{}, 1);
+    FAIL() << "a negative sigma was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("camera_yaw_noise_sigma_rad"), std::string::npos) << e.what();
+  }
+  o = PoseErrorOptions{};
+  o.imu_roll_bias_rad = INFINITY;
+  EXPECT_THROW(o.validate(), InputError);
+  EXPECT_THROW(PoseErrorOptions{}.scaled(-1.0), InputError);
+  const PoseErrorOptions doubled = PoseErrorOptions{}.scaled(2.0);
+  EXPECT_DOUBLE_EQ(doubled.leg_height_noise_sigma_m, 2 * PoseErrorOptions{}.leg_height_noise_sigma_m);
+  EXPECT_DOUBLE_EQ(doubled.imu_pitch_bias_rad, 2 * PoseErrorOptions{}.imu_pitch_bias_rad);
+  EXPECT_EQ(doubled.reference, ReferenceElevationSource::map);
+}
+
+}  // namespace
+}  // namespace stridemap
