@@ -16,6 +16,7 @@
 #include "stridemap/io/scene_yaml.hpp"
 #include "stridemap/live/emulator_server.hpp"
 #include "stridemap/sim/footprint_beam_model.hpp"
+#include "stridemap/sim/walk_motion.hpp"
 #include "urg_device.hpp"
 
 namespace stridemap::cli {
@@ -53,7 +54,11 @@ std::unique_ptr<MotionSource> make_motion(const EmulateArgs& args, const Scene* 
     const CartRailPath rail = scene && scene->cart_rail ? *scene->cart_rail : CartRailOptions{}.default_rail;
     return std::make_unique<CartRailMotion>(rail, period_s);
   }
-  throw InputError("--motion: '" + args.motion + "' is not available; use static or cart-rail");
+  if (args.motion == "walk") {
+    if (!scene) throw InputError("--motion walk: needs --scene with a walk_path section");
+    return std::make_unique<WalkMotion>(*scene);
+  }
+  throw InputError("--motion: '" + args.motion + "' is not available; use static, cart-rail or walk");
 }
 
 void run_emulate(EmulateArgs& args) {
@@ -132,7 +137,9 @@ void register_emulate_urg(CLI::App& app) {
                                                     "faults on request (docs/emulator.md)");
   cmd->add_option("--scene", args->scene_path, "Scene to measure (YAML, docs/scenes.md)");
   cmd->add_option("--replay", args->replay_path, "Replay recorded scans instead: a scan log or a BreezySLAM log");
-  cmd->add_option("--motion", args->motion, "static or cart-rail (the scene's rail, as experiment cart-rail)")
+  cmd->add_option("--motion", args->motion,
+                  "static, cart-rail (the scene's rail, as experiment cart-rail) or walk (the scene's walk_path, "
+                  "as experiment rocky-walk)")
       ->capture_default_str();
   cmd->add_option("--x-m", args->x_m, "static: trunk position x [m]")->capture_default_str();
   cmd->add_option("--y-m", args->y_m, "static: trunk position y [m]")->capture_default_str();

@@ -234,8 +234,11 @@ TEST(LiveCli, EmulatorOptionsAreChecked) {
   result = run_cli(base + "--scene " + shell_quoted(kScene) + " --rate-hz 7");
   EXPECT_NE(result.output.find("--rate-hz 7 does not give a whole number of milliseconds"), std::string::npos)
       << result.output;
+  result = run_cli(base + "--scene " + shell_quoted(kScene) + " --motion fly");
+  EXPECT_NE(result.output.find("--motion: 'fly' is not available"), std::string::npos) << result.output;
   result = run_cli(base + "--scene " + shell_quoted(kScene) + " --motion walk");
-  EXPECT_NE(result.output.find("--motion: 'walk' is not available"), std::string::npos) << result.output;
+  EXPECT_EQ(result.exit_code, 2);
+  EXPECT_NE(result.output.find("the scene has no walk_path section"), std::string::npos) << result.output;
   result = run_cli(base);
   EXPECT_NE(result.output.find("give either --scene"), std::string::npos) << result.output;
   result = run_cli(base + "--replay " + shell_quoted(dir.write("junk.dat", "1 2 3\n")));
