@@ -46,11 +46,7 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   RockyWalkOptions options;
   options.walk.seed = args.seed;
   options.pose_error_scales = parse_number_list("--sweep", args.sweep);
-  if (args.reference == "truth") {
-    options.walk.pose_errors.reference = ReferenceElevationSource::truth;
-  } else if (args.reference != "map") {
-    throw InputError("--reference: expected map or truth, got '" + args.reference + "'");
-  }
+  options.walk.pose_errors.reference = parse_reference_source("--reference", args.reference);
   constexpr double deg = std::numbers::pi / 180.0;
   if (args.imu_pitch_bias_deg) options.walk.pose_errors.imu_pitch_bias_rad = *args.imu_pitch_bias_deg * deg;
   if (args.imu_roll_bias_deg) options.walk.pose_errors.imu_roll_bias_rad = *args.imu_roll_bias_deg * deg;
@@ -122,7 +118,9 @@ void register_walk_experiments(CLI::App& app) {
   rocky->add_option("--imu-roll-bias-deg", rw->imu_roll_bias_deg, "IMU roll bias [deg] (default 0.3)");
   rocky->add_option("--sweep", rw->sweep, "Pose-error factors of the sweep, comma separated; none for no sweep")
       ->capture_default_str();
-  rocky->add_option("--reference", rw->reference, "h_ref from the map (section 5.2) or from the truth")
+  rocky->add_option("--reference", rw->reference,
+                    "h_ref from the map (section 5.2: the elevation layer), map-mean (the cells' means of accepted "
+                    "readings) or truth")
       ->capture_default_str();
   rocky->add_option("--mixed-pixels", rw->mixed_pixels, "on: footprint beam model with mixed pixels at edges")
       ->capture_default_str();

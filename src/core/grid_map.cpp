@@ -31,6 +31,8 @@ ElevationMap::ElevationMap(const GridOptions& options)
   state_.assign(cells, static_cast<std::uint8_t>(CellState::unknown));
   contradictions_.assign(cells, 0);
   pending_elevation_.assign(cells, kNaN);
+  mean_elevation_.assign(cells, kNaN);
+  mean_count_.assign(cells, 0);
   set_min_cell({-n_ / 2, -n_ / 2});
 }
 
@@ -55,6 +57,8 @@ void ElevationMap::reset_slot(std::size_t s) {
   state_[s] = static_cast<std::uint8_t>(CellState::unknown);
   contradictions_[s] = 0;
   pending_elevation_[s] = kNaN;
+  mean_elevation_[s] = kNaN;
+  mean_count_[s] = 0;
 }
 
 void ElevationMap::clear() {
@@ -63,6 +67,8 @@ void ElevationMap::clear() {
   std::fill(state_.begin(), state_.end(), static_cast<std::uint8_t>(CellState::unknown));
   std::fill(contradictions_.begin(), contradictions_.end(), std::uint8_t{0});
   std::fill(pending_elevation_.begin(), pending_elevation_.end(), kNaN);
+  std::fill(mean_elevation_.begin(), mean_elevation_.end(), kNaN);
+  std::fill(mean_count_.begin(), mean_count_.end(), std::uint16_t{0});
 }
 
 std::size_t ElevationMap::move_to(double x_m, double y_m) {

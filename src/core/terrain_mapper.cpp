@@ -93,7 +93,8 @@ void TerrainMapper::apply(double x_m, double y_m, double h_m, double dz_max, Sca
     return;
   }
   const CellUpdate result = update_cell({map_.elevation_data()[s], map_.certainty_data()[s], map_.state_data()[s],
-                                         map_.pending_elevation_data()[s], map_.contradiction_data()[s]},
+                                         map_.pending_elevation_data()[s], map_.contradiction_data()[s],
+                                         map_.mean_elevation_data()[s], map_.mean_count_data()[s]},
                                         static_cast<float>(h_m), static_cast<float>(dz_max), options_.update);
   ++stats.integrated;
   switch (result) {

@@ -36,20 +36,19 @@ RockyWalkResult run_rocky_walk(const Scene& scene, const WalkPath& path, const W
     result.sensor = sensor->name();
     result.main = run_walk(scene, path, *sensor, options.walk);
   }
-  const auto row_of = [](std::string label, double scale, bool truth, const WalkResult& w) {
-    return PoseSweepRow{std::move(label), scale, truth, w.pose_errors, w.mosaic_score, w.unknown_swept_cells};
+  const auto row_of = [](std::string label, double scale, ReferenceElevationSource source, const WalkResult& w) {
+    return PoseSweepRow{std::move(label), scale, source, w.pose_errors, w.mosaic_score, w.unknown_swept_cells};
   };
   for (const ReferenceElevationSource reference : options.sweep_references) {
-    const bool truth = reference == ReferenceElevationSource::truth;
     for (const double scale : options.pose_error_scales) {
       char label[32];
       std::snprintf(label, sizeof label, "x%g", scale);
       PoseErrorOptions errors = options.walk.pose_errors.scaled(scale);
       errors.reference = reference;
       if (scale == 1.0 && reference == options.walk.pose_errors.reference) {
-        result.sweep.push_back(row_of(label, scale, truth, result.main));
+        result.sweep.push_back(row_of(label, scale, reference, result.main));
       } else {
-        result.sweep.push_back(row_of(label, scale, truth, walk_with(errors)));
+        result.sweep.push_back(row_of(label, scale, reference, walk_with(errors)));
       }
     }
   }

@@ -123,7 +123,7 @@ std::string rocky_walk_summary_json(const RockyWalkResult& r, const RockyWalkOpt
     json entry = score_json(row.score, row.unknown_swept_cells);
     entry["label"] = row.label;
     entry["scale"] = row.scale;
-    entry["reference"] = row.reference_from_truth ? "truth" : "map";
+    entry["reference"] = reference_source_name(row.reference);
     entry["pose_rms"] = pose_json(row.pose);
     sweep.push_back(entry);
   }
@@ -148,7 +148,7 @@ std::string rocky_walk_summary_json(const RockyWalkResult& r, const RockyWalkOpt
         {"camera_position_noise_sigma_m", e.camera_position_noise_sigma_m},
         {"camera_yaw_noise_sigma_deg", e.camera_yaw_noise_sigma_rad * kDeg},
         {"leg_height_noise_sigma_m", e.leg_height_noise_sigma_m},
-        {"reference", e.reference == ReferenceElevationSource::map ? "map" : "truth"}}},
+        {"reference", reference_source_name(e.reference)}}},
       {"pose_rms", pose_json(w.pose_errors)},
       {"map", score_json(w.mosaic_score, w.unknown_swept_cells)},
       {"local_map", score_json(w.local_score, 0)},
@@ -194,11 +194,11 @@ std::string rocky_walk_table(const RockyWalkResult& r) {
                 p.x_m * 1000, p.y_m * 1000, p.yaw_rad * kDeg, p.pitch_rad * kDeg, p.roll_rad * kDeg,
                 p.sensor_height_m * 1000, p.mean_sensor_height_m * 1000);
   out += line;
-  out += "pose errors  h_ref    pitch RMS  height RMS  map RMS   max    artifacts  coverage  unknown behind\n";
-  out += "                        [deg]      [mm]        [mm]      [mm]              [%]       obstacles\n";
+  out += "pose errors  h_ref     pitch RMS  height RMS  map RMS   max    artifacts  coverage  unknown behind\n";
+  out += "                         [deg]      [mm]        [mm]      [mm]              [%]       obstacles\n";
   for (const PoseSweepRow& row : r.sweep) {
-    std::snprintf(line, sizeof line, "%-12s %-7s %9.2f %11.1f %9.1f %7.1f %10zu %9.1f %10zu\n", row.label.c_str(),
-                  row.reference_from_truth ? "truth" : "map", row.pose.pitch_rad * kDeg, row.pose.sensor_height_m * 1000,
+    std::snprintf(line, sizeof line, "%-12s %-8s %9.2f %11.1f %9.1f %7.1f %10zu %9.1f %10zu\n", row.label.c_str(),
+                  reference_source_name(row.reference), row.pose.pitch_rad * kDeg, row.pose.sensor_height_m * 1000,
                   row.score.rms_error_m * 1000, row.score.max_error_m * 1000, row.score.artifact_cells,
                   row.score.coverage * 100, row.unknown_swept_cells);
     out += line;

@@ -52,6 +52,23 @@ PoseEstimator::PoseEstimator(const PoseErrorOptions& options, const GaitOptions&
   gait_.validate();
 }
 
+const char* reference_source_name(ReferenceElevationSource source) {
+  switch (source) {
+    case ReferenceElevationSource::map: return "map";
+    case ReferenceElevationSource::map_mean: return "map-mean";
+    case ReferenceElevationSource::truth: return "truth";
+  }
+  return "unknown";
+}
+
+ReferenceElevationSource parse_reference_source(const std::string& option, const std::string& name) {
+  for (const ReferenceElevationSource s :
+       {ReferenceElevationSource::map, ReferenceElevationSource::map_mean, ReferenceElevationSource::truth}) {
+    if (name == reference_source_name(s)) return s;
+  }
+  throw InputError(option + ": expected map, map-mean or truth, got '" + name + "'");
+}
+
 double PoseEstimator::foot_elevation(const ElevationMap& map, double x_m, double y_m, double fallback) const {
   // A foot covers a few centimetres; the median of the known cells under it
   // keeps one stray cell of the max-height rule (eq. 10) from lifting the
@@ -65,7 +82,10 @@ double PoseEstimator::foot_elevation(const ElevationMap& map, double x_m, double
       if (dx * dx + dy * dy > reach * reach) continue;
       const CellIndex c{centre.x + dx, centre.y + dy};
       if (!map.contains(c) || map.state(c) == CellState::unknown) continue;
-      known[static_cast<std::size_t>(count++)] = map.elevation(c);
+      // A filled cell has no readings of its own, only its estimate.
+      const bool mean = options_.reference == ReferenceElevationSource::map_mean &&
+                        map.state(c) == CellState::measured;
+      known[static_cast<std::size_t>(count++)] = mean ? map.mean_elevation(c) : map.elevation(c);
     }
   }
   if (count == 0) return fallback;
@@ -89,7 +109,7 @@ TrunkPose PoseEstimator::estimate(const TrunkState& truth, const ElevationMap& m
   e.height_change_m = t.height_change_m + noise(options_.leg_height_noise_sigma_m);
 
   feet_from_map_ = 0;
-  if (options_.reference == ReferenceElevationSource::map) {
+  if (options_.reference != ReferenceElevationSource::truth) {
     // The feet the map knows now give the ground; a foot on unknown cells
     // has no say (an old reading of it may be the top of a rock it has left).
     // With fewer than three known feet the ground is not determined and the

@@ -45,7 +45,7 @@ TEST(RockyWalkCommand, WritesMapsViewsSummaryAndTable) {
   const nlohmann::json summary = nlohmann::json::parse(in);
   EXPECT_EQ(summary["experiment"], "rocky-walk");
   EXPECT_EQ(summary["seed"], 2);
-  EXPECT_EQ(summary["pose_error_sweep"].size(), 4u);  // 2 levels x 2 h_ref sources
+  EXPECT_EQ(summary["pose_error_sweep"].size(), 6u);  // 2 levels x 3 h_ref sources
   EXPECT_GT(summary["walk"]["scans"].get<int>(), 400);
   fs::remove_all(out);
 }
@@ -78,6 +78,9 @@ TEST(RockyWalkCommand, BadInputIsAClearErrorBeforeAnyWork) {
   r = run_cli("experiment rocky-walk --sensor lidar" + out);
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("urg or structured-light"), std::string::npos) << r.output;
+  r = run_cli("experiment rocky-walk --reference feet" + out);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--reference: expected map, map-mean or truth, got 'feet'"), std::string::npos) << r.output;
 
   const fs::path path = dir / "path.yaml";
   std::ofstream(path) << "walk_path:\n  start: {x_m: 0.3, y_m: 0.0}\n  segments:\n    - straight_m: 1.0\n"

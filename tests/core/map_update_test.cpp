@@ -18,8 +18,10 @@ struct Cell {
   std::uint8_t state = kUnknown;
   float pending = std::nanf("");
   std::uint8_t contradictions = 0;
+  float mean = std::nanf("");
+  std::uint16_t mean_count = 0;
   CellUpdate update(float h_m, float dz, const UpdateOptions& o = {}) {
-    return stridemap::update_cell({h, c, state, pending, contradictions}, h_m, dz, o);
+    return stridemap::update_cell({h, c, state, pending, contradictions, mean, mean_count}, h_m, dz, o);
   }
 };
 
@@ -73,6 +75,30 @@ TEST(UpdateRule, ImplausibleLowReadingChangesNothing) {
   EXPECT_EQ(cell.update(-0.20f, 0.01f), CellUpdate::implausible);
   EXPECT_FLOAT_EQ(cell.h, 0.10f);
   EXPECT_FLOAT_EQ(cell.c, 9.0f);
+}
+
+TEST(UpdateRule, TheMeanHoldsTheAcceptedReadingsOnly) {
+  Cell cell;
+  cell.update(0.100f, 0.01f);
+  cell.update(0.106f, 0.01f);  // plausible: counted, and the highest
+  cell.update(0.097f, 0.01f);  // plausible: counted
+  EXPECT_FLOAT_EQ(cell.h, 0.106f);
+  EXPECT_NEAR(cell.mean, (0.100f + 0.106f + 0.097f) / 3.0f, 1e-6f);
+  EXPECT_EQ(cell.mean_count, 3);
+  cell.update(0.300f, 0.01f);  // implausible: raises h (eq. 10) but not the mean
+  cell.update(0.010f, 0.01f);  // implausible low: nothing
+  EXPECT_FLOAT_EQ(cell.h, 0.300f);
+  EXPECT_NEAR(cell.mean, (0.100f + 0.106f + 0.097f) / 3.0f, 1e-6f);
+  EXPECT_EQ(cell.mean_count, 3);
+}
+
+TEST(UpdateRule, TheMeanCountSaturatesWithoutLosingTheMean) {
+  Cell cell;
+  cell.update(0.05f, 0.01f);
+  cell.mean_count = 0xFFFE;
+  for (int i = 0; i < 10; ++i) cell.update(0.05f, 0.01f);
+  EXPECT_EQ(cell.mean_count, 0xFFFF);
+  EXPECT_FLOAT_EQ(cell.mean, 0.05f);
 }
 
 TEST(UpdateRule, CertaintyStopsAtTheCeiling) {

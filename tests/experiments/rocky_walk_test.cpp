@@ -32,10 +32,10 @@ TEST(RockyWalk, TheMockUpIsMappedAndTheErrorGrowsWithThePoseError) {
   EXPECT_GT(w.scans_with_yaw_change, w.scans / 2);  // the camera's yaw noise and the turns
   EXPECT_GT(w.mosaic_score.coverage, 0.9);
   EXPECT_GT(w.unknown_swept_cells, 0u);  // shadows behind the rocks stay unknown
-  ASSERT_EQ(r.sweep.size(), 6u);         // 3 levels x (h_ref truth, h_ref map)
+  ASSERT_EQ(r.sweep.size(), 9u);         // 3 levels x (h_ref truth, map, map-mean)
   // h_ref from the truth: the map's error grows with the IMU, camera and
   // leg errors, from the rail-like floor at zero error.
-  EXPECT_TRUE(r.sweep[0].reference_from_truth);
+  EXPECT_EQ(r.sweep[0].reference, ReferenceElevationSource::truth);
   EXPECT_LT(r.sweep[0].score.rms_error_m, 0.006);
   EXPECT_LT(r.sweep[0].score.rms_error_m, r.sweep[1].score.rms_error_m);
   EXPECT_LT(r.sweep[1].score.rms_error_m, r.sweep[2].score.rms_error_m);
@@ -43,16 +43,24 @@ TEST(RockyWalk, TheMockUpIsMappedAndTheErrorGrowsWithThePoseError) {
   // h_ref from the map drifts up: the max-height rule's bias is fed back
   // through every step (docs/experiments.md); worse than the truth rows.
   for (int k = 0; k < 3; ++k) {
-    EXPECT_FALSE(r.sweep[3 + k].reference_from_truth);
+    EXPECT_EQ(r.sweep[3 + k].reference, ReferenceElevationSource::map);
     EXPECT_GT(r.sweep[3 + k].pose.mean_sensor_height_m, 0.0);
     EXPECT_GT(r.sweep[3 + k].score.rms_error_m, r.sweep[k].score.rms_error_m);
   }
+  // From the cells' means the noise no longer feeds back: with no pose error
+  // h_ref stays within a few millimetres, and at every level it drifts less.
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_EQ(r.sweep[6 + k].reference, ReferenceElevationSource::map_mean);
+    EXPECT_LT(r.sweep[6 + k].pose.sensor_height_m, r.sweep[3 + k].pose.sensor_height_m);
+    EXPECT_LT(r.sweep[6 + k].score.rms_error_m, r.sweep[3 + k].score.rms_error_m);
+  }
+  EXPECT_LT(r.sweep[6].pose.sensor_height_m, 0.005);
   // The main walk is the x1 map row, reused.
   EXPECT_EQ(r.sweep[4].score.rms_error_m, w.mosaic_score.rms_error_m);
 
   const nlohmann::json summary = nlohmann::json::parse(rocky_walk_summary_json(r, options, {"scene", "path"}));
   EXPECT_EQ(summary["source"], "simulation");
-  EXPECT_EQ(summary["pose_error_sweep"].size(), 6u);
+  EXPECT_EQ(summary["pose_error_sweep"].size(), 9u);
   for (const char* key : {"rms_error_m", "max_error_m", "artifact_cells", "coverage", "unknown_swept_cells"}) {
     EXPECT_TRUE(summary["map"].contains(key)) << key;
   }

@@ -88,6 +88,12 @@ class ElevationMap {
   CellIndex cell_at_local(int i, int j) const { return {min_cell_.x + i, min_cell_.y + j}; }
 
   float elevation(CellIndex cell) const { return elevation_[slot(cell)]; }
+  /// Mean of the readings eq. (9) accepted in the cell (NaN when unknown).
+  /// Eq. (10) keeps the highest reading, which is what an obstacle-averse
+  /// planner wants but lies above the surface by the noise (about one
+  /// standard deviation after a few hits); this mean does not, which is what
+  /// the robot's own height reference needs (sim/pose_estimate.hpp).
+  float mean_elevation(CellIndex cell) const { return mean_elevation_[slot(cell)]; }
   float certainty(CellIndex cell) const { return certainty_[slot(cell)]; }
   CellState state(CellIndex cell) const { return static_cast<CellState>(state_[slot(cell)]); }
 
@@ -104,6 +110,10 @@ class ElevationMap {
   /// contradicted the cell since its last plausible one, and their maximum.
   std::uint8_t* contradiction_data() { return contradictions_.data(); }
   float* pending_elevation_data() { return pending_elevation_.data(); }
+  /// The running mean of accepted readings and how many it holds.
+  float* mean_elevation_data() { return mean_elevation_.data(); }
+  std::uint16_t* mean_count_data() { return mean_count_.data(); }
+  const float* mean_elevation_data() const { return mean_elevation_.data(); }
 
   void reset_slot(std::size_t s);
 
@@ -135,6 +145,8 @@ class ElevationMap {
   std::vector<std::uint8_t> state_;
   std::vector<std::uint8_t> contradictions_;
   std::vector<float> pending_elevation_;
+  std::vector<float> mean_elevation_;
+  std::vector<std::uint16_t> mean_count_;
 };
 
 }  // namespace stridemap

@@ -89,7 +89,17 @@ struct CellRef {
   std::uint8_t& state;
   float& pending_elevation;
   std::uint8_t& contradictions;
+  float& mean_elevation;
+  std::uint16_t& mean_count;
 };
+
+/// Adds an accepted reading to the cell's running mean (ElevationMap::
+/// mean_elevation); the count saturates, after which the mean keeps moving
+/// with weight 1/65535.
+inline void add_to_mean(CellRef cell, float h_m) {
+  if (cell.mean_count < 0xFFFF) ++cell.mean_count;
+  cell.mean_elevation += (h_m - cell.mean_elevation) / static_cast<float>(cell.mean_count);
+}
 
 /// Eq. (9) then eq. (10) (or the gated rule) on one cell. An unknown or
 /// filled cell takes the measurement as it is.
@@ -101,6 +111,8 @@ inline CellUpdate update_cell(CellRef cell, float h_m, float dz_max, const Updat
     cell.certainty = a < ceiling ? a : ceiling;
     cell.state = static_cast<std::uint8_t>(CellState::measured);
     cell.contradictions = 0;
+    cell.mean_elevation = h_m;
+    cell.mean_count = 1;
     return CellUpdate::first;
   }
   const float difference = h_m - cell.elevation;
@@ -110,6 +122,7 @@ inline CellUpdate update_cell(CellRef cell, float h_m, float dz_max, const Updat
     cell.certainty = raised > ceiling ? ceiling : raised;
     if (h_m > cell.elevation) cell.elevation = h_m;
     cell.contradictions = 0;
+    add_to_mean(cell, h_m);
     return CellUpdate::plausible;
   }
   if (options.elevation_rule == ElevationRule::paper_highest) {
@@ -122,6 +135,8 @@ inline CellUpdate update_cell(CellRef cell, float h_m, float dz_max, const Updat
   cell.elevation = cell.pending_elevation;
   cell.certainty = a < ceiling ? a : ceiling;
   cell.contradictions = 0;
+  cell.mean_elevation = cell.pending_elevation;
+  cell.mean_count = 1;
   return CellUpdate::replaced;
 }
 

@@ -29,9 +29,10 @@ struct RockyWalkOptions {
   std::vector<double> pose_error_scales{0.0, 0.5, 1.0, 2.0, 4.0};
   /// Each level is walked with h_ref from each of these sources: with
   /// `truth` the rows show what the IMU, camera and leg errors alone do; with
-  /// `map` they add the paper's h_ref read from the map (section 5.2).
-  std::vector<ReferenceElevationSource> sweep_references{ReferenceElevationSource::truth,
-                                                         ReferenceElevationSource::map};
+  /// `map` they add the paper's h_ref read from the map (section 5.2); with
+  /// `map_mean` the same from the cells' means.
+  std::vector<ReferenceElevationSource> sweep_references{
+      ReferenceElevationSource::truth, ReferenceElevationSource::map, ReferenceElevationSource::map_mean};
 
   /// Throws InputError for a negative or non-finite scale.
   void validate() const;
@@ -40,7 +41,7 @@ struct RockyWalkOptions {
 struct PoseSweepRow {
   std::string label;     ///< "x0.5", ...
   double scale = 0.0;    ///< factor on walk.pose_errors
-  bool reference_from_truth = false;
+  ReferenceElevationSource reference = ReferenceElevationSource::map;
   PoseErrorStats pose;
   MapScore score;        ///< of the mosaic over the swept area
   std::size_t unknown_swept_cells = 0;

@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <numbers>
 #include <random>
+#include <string>
 
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/core/pose.hpp"
@@ -26,9 +27,23 @@ namespace stridemap {
 
 /// Where h_ref comes from.
 enum class ReferenceElevationSource : std::uint8_t {
-  map,    ///< the map at the estimated feet (section 5.2); the default
+  /// The map at the estimated feet (section 5.2), its elevation layer:
+  /// eq. (10)'s highest reading. The default. That reading lies above the
+  /// surface by the range noise, and the robot standing on it carries the
+  /// bias into everything it measures next: h_ref creeps up as it walks.
+  map,
+  /// The map at the estimated feet, each cell's mean of the readings eq. (9)
+  /// accepted (ElevationMap::mean_elevation): no bias from the noise, so only
+  /// the pose errors feed back. Ours, measured against `map`.
+  map_mean,
   truth,  ///< the true ground under the feet: a walk with a perfect h_ref
 };
+
+/// "map", "map-mean", "truth".
+const char* reference_source_name(ReferenceElevationSource source);
+/// The inverse of reference_source_name; throws InputError naming `option`
+/// and the accepted names.
+ReferenceElevationSource parse_reference_source(const std::string& option, const std::string& name);
 
 struct PoseErrorOptions {
   /// IMU pitch: standard deviation of the white noise per scan, and a bias
