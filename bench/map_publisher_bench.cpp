@@ -53,7 +53,7 @@ void BM_TakeLatestSnapshot(benchmark::State& state) {
   MapPublisher publisher(options.grid);
   publisher.publish(mapper);
   for (auto _ : state) {
-    const SnapshotHandle snapshot = publisher.latest();
+    const PublishedMapHandle snapshot = publisher.latest();
     benchmark::DoNotOptimize(snapshot.get());
   }
 }

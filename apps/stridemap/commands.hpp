@@ -8,5 +8,6 @@ namespace stridemap::cli {
 void register_calibrate_range(CLI::App& app);
 void register_experiment(CLI::App& app);
 void register_sensor_report(CLI::App& app);
+void register_soak(CLI::App& app);
 
 }  // namespace stridemap::cli

@@ -12,6 +12,7 @@ int main(int argc, char** argv) {
   stridemap::cli::register_calibrate_range(app);
   stridemap::cli::register_experiment(app);
   stridemap::cli::register_sensor_report(app);
+  stridemap::cli::register_soak(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -8,12 +8,12 @@
 
 namespace stridemap {
 
-SnapshotHandle::SnapshotHandle(SnapshotHandle&& other) noexcept
+PublishedMapHandle::PublishedMapHandle(PublishedMapHandle&& other) noexcept
     : publisher_(std::exchange(other.publisher_, nullptr)),
       buffer_(other.buffer_),
       snapshot_(std::exchange(other.snapshot_, nullptr)) {}
 
-SnapshotHandle& SnapshotHandle::operator=(SnapshotHandle&& other) noexcept {
+PublishedMapHandle& PublishedMapHandle::operator=(PublishedMapHandle&& other) noexcept {
   if (this != &other) {
     reset();
     publisher_ = std::exchange(other.publisher_, nullptr);
@@ -23,7 +23,7 @@ SnapshotHandle& SnapshotHandle::operator=(SnapshotHandle&& other) noexcept {
   return *this;
 }
 
-void SnapshotHandle::reset() {
+void PublishedMapHandle::reset() {
   if (publisher_ != nullptr) publisher_->release(buffer_);
   publisher_ = nullptr;
   snapshot_ = nullptr;
@@ -36,7 +36,7 @@ MapPublisher::MapPublisher(const GridOptions& grid, std::size_t buffers) {
   const ElevationMap prototype(grid);  // throws InputError for an unusable grid
   buffers_.reserve(buffers);
   for (std::size_t i = 0; i < buffers; ++i) {
-    buffers_.push_back(std::make_unique<Buffer>(Buffer{MapSnapshot{prototype}, 0}));
+    buffers_.push_back(std::make_unique<Buffer>(Buffer{PublishedMap{prototype}, 0}));
   }
 }
 
@@ -44,7 +44,7 @@ MapPublisher::MapPublisher(const GridOptions& grid, std::size_t buffers) {
 // is the caller's bug, and their handles would dangle either way.
 MapPublisher::~MapPublisher() = default;
 
-MapSnapshot* MapPublisher::begin_publish() {
+PublishedMap* MapPublisher::begin_publish() {
   if (writing_ != kNone) return &buffers_[writing_]->snapshot;
   const std::lock_guard<std::mutex> lock(mutex_);
   for (std::size_t i = 0; i < buffers_.size(); ++i) {
@@ -74,7 +74,7 @@ bool MapPublisher::publish(const TerrainMapper& mapper) {
     throw InputError("map publisher: the map has " + std::to_string(map.cells_per_side()) +
                      " cells per side, the publisher's buffers " + std::to_string(shape.cells_per_side()));
   }
-  MapSnapshot* snapshot = begin_publish();
+  PublishedMap* snapshot = begin_publish();
   if (snapshot == nullptr) return false;
   snapshot->map = map;  // same sizes: the vectors copy in place
   snapshot->scans = mapper.totals().scans;
@@ -84,12 +84,12 @@ bool MapPublisher::publish(const TerrainMapper& mapper) {
   return true;
 }
 
-SnapshotHandle MapPublisher::latest() const {
+PublishedMapHandle MapPublisher::latest() const {
   const std::lock_guard<std::mutex> lock(mutex_);
   if (latest_ == kNone) return {};
   Buffer& buffer = *buffers_[latest_];
   ++buffer.readers;
-  return SnapshotHandle(this, latest_, &buffer.snapshot);
+  return PublishedMapHandle(this, latest_, &buffer.snapshot);
 }
 
 void MapPublisher::release(std::size_t buffer) const {

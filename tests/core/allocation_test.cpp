@@ -82,7 +82,7 @@ TEST(MapperAllocation, PublishingSnapshotsAllocatesNothing) {
     pose.x_m += 0.01;
     scan.time_s += 0.1;
     mapper.integrate(scan, pose);
-    MapSnapshot* snapshot = publisher.begin_publish();
+    PublishedMap* snapshot = publisher.begin_publish();
     ASSERT_NE(snapshot, nullptr);
     snapshot->map = mapper.map();
     fill.apply(snapshot->map);
@@ -95,7 +95,7 @@ TEST(MapperAllocation, PublishingSnapshotsAllocatesNothing) {
   counting = true;
   for (int k = 0; k < 50; ++k) {
     step();
-    const SnapshotHandle held = publisher.latest();
+    const PublishedMapHandle held = publisher.latest();
   }
   counting = false;
   EXPECT_EQ(allocations.load(), 0u);

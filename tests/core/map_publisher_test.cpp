@@ -39,7 +39,7 @@ void stamp(ElevationMap& map, std::uint64_t value) {
   }
 }
 
-bool stamped_consistently(const MapSnapshot& snapshot, std::uint64_t value) {
+bool stamped_consistently(const PublishedMap& snapshot, std::uint64_t value) {
   const ElevationMap& map = snapshot.map;
   const std::size_t cells = static_cast<std::size_t>(map.cells_per_side()) * map.cells_per_side();
   for (std::size_t s = 0; s < cells; ++s) {
@@ -60,7 +60,7 @@ TEST(MapPublisher, LatestIsEmptyUntilTheFirstPublishThenCopiesTheMapper) {
   pose.yaw_rad = 0.01;
   mapper.integrate(ground_scan(mount, 2.5), pose);
   ASSERT_TRUE(publisher.publish(mapper));
-  const SnapshotHandle snapshot = publisher.latest();
+  const PublishedMapHandle snapshot = publisher.latest();
   ASSERT_TRUE(snapshot);
   EXPECT_EQ(snapshot->sequence, 1u);
   EXPECT_EQ(snapshot->scans, 1u);
@@ -74,13 +74,13 @@ TEST(MapPublisher, LatestIsEmptyUntilTheFirstPublishThenCopiesTheMapper) {
 
 TEST(MapPublisher, AHeldSnapshotNeverChanges) {
   ElevationMap source(GridOptions{20, 0.01});
-  MapSnapshot* buffer = nullptr;
+  PublishedMap* buffer = nullptr;
   MapPublisher publisher(GridOptions{20, 0.01});
   stamp(source, 1);
   buffer = publisher.begin_publish();
   buffer->map = source;
   publisher.commit_publish();
-  const SnapshotHandle held = publisher.latest();
+  const PublishedMapHandle held = publisher.latest();
   for (std::uint64_t k = 2; k < 50; ++k) {
     stamp(source, k);
     buffer = publisher.begin_publish();
@@ -103,7 +103,7 @@ TEST(MapPublisher, PublishWithoutAFreeBufferIsSkippedAndCounted) {
   MapPublisher publisher(options.grid, 2);
   mapper.integrate(ground_scan(mount, 0.1), TrunkPose{});
   ASSERT_TRUE(publisher.publish(mapper));
-  SnapshotHandle first = publisher.latest();
+  PublishedMapHandle first = publisher.latest();
   ASSERT_TRUE(publisher.publish(mapper));   // the other buffer
   EXPECT_FALSE(publisher.publish(mapper));  // one latest, one held: none free
   EXPECT_EQ(publisher.skipped(), 1u);
@@ -111,8 +111,8 @@ TEST(MapPublisher, PublishWithoutAFreeBufferIsSkippedAndCounted) {
   first.reset();
   EXPECT_TRUE(publisher.publish(mapper));
   EXPECT_EQ(publisher.latest()->sequence, 3u);
-  SnapshotHandle moved = publisher.latest();
-  SnapshotHandle target = std::move(moved);
+  PublishedMapHandle moved = publisher.latest();
+  PublishedMapHandle target = std::move(moved);
   EXPECT_FALSE(moved);
   EXPECT_EQ(target->sequence, 3u);
 }
@@ -138,7 +138,7 @@ TEST(MapPublisherThreads, ReadersNeverSeeATornSnapshot) {
     readers.emplace_back([&] {
       std::uint64_t last = 0;
       while (!done.load()) {
-        const SnapshotHandle snapshot = publisher.latest();
+        const PublishedMapHandle snapshot = publisher.latest();
         if (!snapshot) continue;
         if (snapshot->sequence < last || !stamped_consistently(*snapshot, snapshot->sequence)) ++torn;
         last = snapshot->sequence;
@@ -151,7 +151,7 @@ TEST(MapPublisherThreads, ReadersNeverSeeATornSnapshot) {
   // may start late).
   for (std::uint64_t k = 1; k <= kPublishes || reads.load() < 3000; ++k) {
     stamp(source, k);
-    MapSnapshot* buffer = publisher.begin_publish();
+    PublishedMap* buffer = publisher.begin_publish();
     ASSERT_NE(buffer, nullptr);
     buffer->map = source;
     publisher.commit_publish();  // sets sequence k
@@ -175,7 +175,7 @@ TEST(MapPublisherThreads, PlannerReadsWhileTheMapperWalks) {
   std::atomic<int> reads{0};
   std::thread planner([&] {
     while (!done.load()) {
-      const SnapshotHandle snapshot = publisher.latest();
+      const PublishedMapHandle snapshot = publisher.latest();
       if (!snapshot) continue;
       ++reads;
       const ElevationMap& map = snapshot->map;

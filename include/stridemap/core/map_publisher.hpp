@@ -32,7 +32,7 @@ namespace stridemap {
 class TerrainMapper;
 
 /// The map as it was after one scan, with where and when that scan was.
-struct MapSnapshot {
+struct PublishedMap {
   ElevationMap map;
   /// 1 for the first snapshot published, then +1 per publish.
   std::uint64_t sequence = 0;
@@ -48,30 +48,30 @@ class MapPublisher;
 /// A reader's hold on one snapshot: the writer does not reuse its buffer
 /// until the handle is destroyed or reset. Movable, not copyable; empty
 /// (false) before the first publish.
-class SnapshotHandle {
+class PublishedMapHandle {
  public:
-  SnapshotHandle() = default;
-  SnapshotHandle(SnapshotHandle&& other) noexcept;
-  SnapshotHandle& operator=(SnapshotHandle&& other) noexcept;
-  SnapshotHandle(const SnapshotHandle&) = delete;
-  SnapshotHandle& operator=(const SnapshotHandle&) = delete;
-  ~SnapshotHandle() { reset(); }
+  PublishedMapHandle() = default;
+  PublishedMapHandle(PublishedMapHandle&& other) noexcept;
+  PublishedMapHandle& operator=(PublishedMapHandle&& other) noexcept;
+  PublishedMapHandle(const PublishedMapHandle&) = delete;
+  PublishedMapHandle& operator=(const PublishedMapHandle&) = delete;
+  ~PublishedMapHandle() { reset(); }
 
   explicit operator bool() const { return snapshot_ != nullptr; }
-  const MapSnapshot& operator*() const { return *snapshot_; }
-  const MapSnapshot* operator->() const { return snapshot_; }
-  const MapSnapshot* get() const { return snapshot_; }
+  const PublishedMap& operator*() const { return *snapshot_; }
+  const PublishedMap* operator->() const { return snapshot_; }
+  const PublishedMap* get() const { return snapshot_; }
   /// Lets the buffer go (the handle becomes empty).
   void reset();
 
  private:
   friend class MapPublisher;
-  SnapshotHandle(const MapPublisher* publisher, std::size_t buffer, const MapSnapshot* snapshot)
+  PublishedMapHandle(const MapPublisher* publisher, std::size_t buffer, const PublishedMap* snapshot)
       : publisher_(publisher), buffer_(buffer), snapshot_(snapshot) {}
 
   const MapPublisher* publisher_ = nullptr;
   std::size_t buffer_ = 0;
-  const MapSnapshot* snapshot_ = nullptr;
+  const PublishedMap* snapshot_ = nullptr;
 };
 
 class MapPublisher {
@@ -95,14 +95,14 @@ class MapPublisher {
   /// unfilled): begin_publish() returns a free buffer to write (nullptr,
   /// counted as skipped, when there is none), commit_publish() publishes it.
   /// The buffer still holds an older snapshot: overwrite every member.
-  MapSnapshot* begin_publish();
+  PublishedMap* begin_publish();
   void commit_publish();
 
   // Reader side (any thread).
 
   /// The latest snapshot, held until the handle goes (empty before the
   /// first publish). Takes the lock for a few instructions.
-  SnapshotHandle latest() const;
+  PublishedMapHandle latest() const;
 
   /// Snapshots published / publishes skipped for want of a free buffer.
   std::uint64_t published() const;
@@ -110,9 +110,9 @@ class MapPublisher {
   std::size_t buffer_count() const { return buffers_.size(); }
 
  private:
-  friend class SnapshotHandle;
+  friend class PublishedMapHandle;
   struct Buffer {
-    MapSnapshot snapshot;
+    PublishedMap snapshot;
     std::size_t readers = 0;  // guarded by mutex_
   };
   void release(std::size_t buffer) const;

@@ -2,6 +2,7 @@
 // 8-bit RGB images and their PNG files (libpng). Used for the rendered
 // elevation and certainty maps; read_png lets tests and tools inspect them.
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -39,5 +40,9 @@ void write_png(const std::string& path, const RgbImage& image);
 // composited. Throws InputError naming the path and the reason: cannot open,
 // not a PNG, truncated or corrupted data, dimensions over the limits above.
 RgbImage read_png(const std::string& path);
+
+// Same, from the bytes of a PNG file in memory; source_name stands for the
+// file in messages.
+RgbImage read_png(std::span<const std::uint8_t> bytes, const std::string& source_name);
 
 }  // namespace stridemap::io
