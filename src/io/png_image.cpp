@@ -124,6 +124,19 @@ bool decode_header(png_structp png, png_infop info, png_uint_32* width, png_uint
   return true;
 }
 
+// Non-interlaced images row by row into a buffer that grows with the data,
+// so that a few bytes claiming a huge image cannot make us allocate and
+// clear hundreds of megabytes before the data runs out.
+bool decode_rows(png_structp png, std::vector<std::uint8_t>& rgb, png_uint_32 height, std::size_t row_bytes) {
+  if (setjmp(png_jmpbuf(png))) return false;
+  for (png_uint_32 y = 0; y < height; ++y) {
+    rgb.resize(rgb.size() + row_bytes);
+    png_read_row(png, rgb.data() + rgb.size() - row_bytes, nullptr);
+  }
+  png_read_end(png, nullptr);
+  return true;
+}
+
 bool decode_pixels(png_structp png, png_bytepp rows) {
   if (setjmp(png_jmpbuf(png))) return false;
   png_read_image(png, rows);
@@ -166,6 +179,16 @@ RgbImage decode_png(PngContext& context, png_rw_ptr read, const std::string& pat
                      std::to_string(height) + " exceed the limit of " + std::to_string(kMaxPngPixels) +
                      " pixels");
   }
+  if (png_get_interlace_type(guard.png, guard.info) == PNG_INTERLACE_NONE) {
+    RgbImage image;
+    image.width = static_cast<int>(width);
+    image.height = static_cast<int>(height);
+    if (!decode_rows(guard.png, image.rgb, height, 3 * static_cast<std::size_t>(width))) {
+      throw InputError(decode_failure(path, context));
+    }
+    return image;
+  }
+  // Interlaced passes revisit every row: the whole image is needed at once.
   RgbImage image(static_cast<int>(width), static_cast<int>(height));
   std::vector<png_bytep> rows(height);
   for (png_uint_32 y = 0; y < height; ++y) rows[y] = image.rgb.data() + image.offset(0, static_cast<int>(y));
