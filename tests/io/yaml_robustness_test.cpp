@@ -59,5 +59,16 @@ TEST(YamlRobustness, EmptyAndCommentOnlyFilesStayEmpty) {
   EXPECT_NE(errors_of("")[0], "no error");
 }
 
+// Found by the scene_yaml fuzzer: 2 x 2 samples, but the noise lattice
+// covering them at a 0.25 m wavelength wanted 4 GB.
+TEST(YamlRobustness, CoarseProceduralResolutionCannotAskForAHugeNoiseLattice) {
+  const std::string text =
+      "terrain:\n  kind: procedural\n  extent: {min_x_m: 0, min_y_m: -0.5, max_x_m: 8, max_y_m: 55}\n"
+      "  seed: 12\n  amplitude_m: 0.03\n  wavelength_m: 0.25\n  resolution_m: 5605\n";
+  EXPECT_EQ(errors_of(text)[0].rfind("in.yaml:6: terrain.wavelength_m: needs ", 0), 0u) << errors_of(text)[0];
+  EXPECT_NE(errors_of(text)[0].find("noise lattice values over the sampled grid, more than the limit of 50000000"),
+            std::string::npos);
+}
+
 }  // namespace
 }  // namespace stridemap
