@@ -107,16 +107,15 @@ class SoakRun {
     TrunkPose truth, estimate;
     motion_.pose_at(k, truth, estimate);
     track_path(truth);
-    if (due(k, options_.faults.nan_pose_every)) {
-      estimate.roll_rad = kNaN;
-      ++result_.injected_nan_poses;
-    }
+    if (due(k, options_.faults.nan_pose_every)) estimate.roll_rad = kNaN;
     estimates_[k % estimates_.size()] = estimate;
     simulator_.scan(truth, options_.mount, static_cast<double>(k) * options_.urg.scan_period_s, raw_);
     urg_.to_planar_scan(raw_, measured_);
     if (!chain_.push(measured_, filtered_)) return;  // the scan-sequence filter holds the first scan
     const std::uint64_t index = k - chain_.delay_scans();
     const TrunkPose& pose = estimates_[index % estimates_.size()];
+    // Counted when handed over: the filters may still hold the last scan.
+    if (!pose_is_finite(pose)) ++result_.injected_nan_poses;
     const bool accepted = integrate(filtered_, pose);
     // Faults only on scans that went in, so that each is counted once, by
     // the rule meant to catch it.
@@ -124,12 +123,12 @@ class SoakRun {
       integrate(filtered_, pose);
       ++result_.injected_duplicates;
     }
-    if (accepted && have_previous_ && due(k, options_.faults.out_of_order_every)) {
+    if (accepted && previous_accepted_ && due(k, options_.faults.out_of_order_every)) {
       integrate(previous_, estimates_[(index - 1) % estimates_.size()]);
       ++result_.injected_out_of_order;
     }
     previous_ = filtered_;  // same sizes: copies in place
-    have_previous_ = true;
+    previous_accepted_ = accepted;
     if (due(k, options_.check_every)) check(mapper_.map());
     if (due(k, options_.publish_every)) publish();
   }
@@ -201,7 +200,7 @@ class SoakRun {
   ScanFilterChain chain_;
   UrgRawScan raw_;
   PlanarScan measured_, filtered_, previous_;
-  bool have_previous_ = false;
+  bool previous_accepted_ = false;  // the previous scan went in (so its pose is finite)
   std::array<TrunkPose, 4> estimates_{};  // by scan index: the filters delay a scan by at most one
   std::size_t measured_cells_ = 0;
   bool have_truth_ = false;

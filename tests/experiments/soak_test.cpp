@@ -137,6 +137,20 @@ TEST(Soak, AnyMotionPlugsIn) {
   EXPECT_EQ(r.reader_snapshots, 0u);
 }
 
+// Faults on neighbouring scans (a repeat of a scan whose pose was NaN, a
+// NaN pose on a repeated scan) must each be counted once, by their rule.
+TEST(Soak, FaultsOnNeighbouringScansAreEachCountedOnce) {
+  const CircuitMotion motion(soak_scene(), CircuitOptions{});
+  SoakOptions options = short_soak(4);
+  options.scans = 300;
+  options.reader_thread = false;
+  options.faults = {5, 7, 6};
+  const SoakResult r = run_soak(soak_scene(), motion, options);
+  EXPECT_TRUE(r.failures().empty()) << r.failures().front();
+  EXPECT_EQ(r.injected_nan_poses, 59u);  // the 60th, on the last scan, is still held by the scan-sequence filter
+  EXPECT_GT(r.injected_out_of_order, 20u);
+}
+
 TEST(Soak, FailuresAreReportedNotHidden) {
   SoakResult r;
   r.scans_to_mapper = 10;

@@ -123,7 +123,7 @@ struct SoakResult {
   std::uint64_t scans_to_mapper = 0;  ///< including the injected repeats
   MapperTotals totals{};
   std::uint64_t beams_of_rejected_scans = 0;
-  std::uint64_t injected_nan_poses = 0;
+  std::uint64_t injected_nan_poses = 0;     ///< NaN pose estimates handed to the mapper
   std::uint64_t injected_duplicates = 0;
   std::uint64_t injected_out_of_order = 0;
   std::uint64_t integrity_checks = 0;
