@@ -1,7 +1,7 @@
 // The SCIP 2.0 stream decoder on arbitrary bytes, fed whole and in chunks
 // chosen by the input: the events must not depend on the chunking nor
-// overlap, and every distance reply must go through the URG
-// model and the mapper without anything but InputError.
+// overlap, and every distance reply must go through the URG model, every
+// scan filter and the mapper without anything but InputError.
 #include <algorithm>
 #include <string>
 #include <vector>
@@ -9,6 +9,7 @@
 #include "fuzz_target.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
+#include "stridemap/preprocess/scan_filter_chain.hpp"
 #include "stridemap/sensors/scip_decoder.hpp"
 #include "stridemap/sensors/scip_scan.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
@@ -95,18 +96,23 @@ STRIDEMAP_FUZZ_TARGET(scip_decoder) {
   mapper_options.grid.cells_per_side = 20;
   TerrainMapper mapper(mapper_options, SensorMount{});
   UrgRawScan raw;
-  PlanarScan scan;
+  PlanarScan scan, filtered;
   TimestampUnwrapper clock;
+  ScanFilterChain chain(parse_scan_filter_list("range-clustering,scan-sequence,shadow,speckle"));
   for (const Event& event : distance) {
     try {
       const double time_s = static_cast<double>(clock.unwrap(event.distance.timestamp_ms)) * 1e-3;
       to_urg_raw_scan(event, time_s, raw);
       urg.to_planar_scan(raw, scan);
-      const ScanStats stats = mapper.integrate(scan, TrunkPose{});
+      if (!chain.push(scan, filtered)) continue;
+      const ScanStats stats = mapper.integrate(filtered, TrunkPose{});
       fuzz::check(stats.integrated + stats.invalid_range + stats.invalid_beam + stats.outside_map == stats.beams ||
                       stats.time_rejected,
                   "a beam of a decoded scan was neither used nor counted");
     } catch (const InputError&) {
+      // E.g. a scan of another length (another cluster count) ends the
+      // filters' stream: start a new one, as a driver would.
+      chain.reset();
     }
   }
 }
