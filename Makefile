@@ -6,7 +6,7 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 SCENE ?= scenes/rocky_mockup.yaml
 OUT ?= out
 
-.PHONY: run test test-sanitize deps configure build bench clean
+.PHONY: run test test-sanitize test-tsan fuzz soak deps configure build bench clean
 
 # The main job: the walking robot on the rocky mock-up with the URG-04LX
 # (mixed pixels simulated, the paper's scan filters), with its pose-error
@@ -38,6 +38,36 @@ test-sanitize: deps
 	cmake --build $(SAN_DIR) -j $(JOBS)
 	cd $(SAN_DIR) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --output-on-failure -j $(JOBS) -E install_and_find_package
+
+# Reliability (docs/reliability.md). The whole suite under ThreadSanitizer
+# (clang); any report fails the run. The thread tests are MapPublisherThreads.*.
+TSAN_DIR ?= build-tsan
+TSAN_FLAGS = -fsanitize=thread -fno-omit-frame-pointer
+test-tsan: deps
+	CC=clang CXX=clang++ cmake -S . -B $(TSAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DSTRIDEMAP_BUILD_BENCHMARKS=OFF -DCMAKE_CXX_FLAGS="$(TSAN_FLAGS)" \
+	  -DCMAKE_EXE_LINKER_FLAGS="$(TSAN_FLAGS)"
+	cmake --build $(TSAN_DIR) -j $(JOBS)
+	cd $(TSAN_DIR) && TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1 \
+	  ctest --output-on-failure -j $(JOBS) -E install_and_find_package
+
+# Every libFuzzer target of fuzz/ for FUZZ_SECONDS each (clang, ASan + UBSan);
+# a crash fails the run and leaves its input in $(FUZZ_DIR)/fuzz-artifacts/.
+FUZZ_DIR ?= build-fuzz
+FUZZ_SECONDS ?= 30
+FUZZ_TARGETS ?=
+fuzz: deps
+	CC=clang CXX=clang++ cmake -S . -B $(FUZZ_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DSTRIDEMAP_BUILD_FUZZERS=ON -DSTRIDEMAP_BUILD_TESTS=OFF -DSTRIDEMAP_BUILD_BENCHMARKS=OFF
+	cmake --build $(FUZZ_DIR) -j $(JOBS) --target stridemap_fuzzers
+	bash fuzz/run.sh $(FUZZ_DIR) $(FUZZ_SECONDS) $(FUZZ_TARGETS)
+
+# The full soak: SOAK_SCANS simulated scans over a path far larger than the
+# map, run twice with the same seed; fails on growing memory, an invalid
+# cell, a lost scan or results that differ between the runs.
+SOAK_SCANS ?= 100000
+soak: build
+	$(BUILD_DIR)/bin/stridemap soak --scans $(SOAK_SCANS) --seed 1 --repeat 2 --out $(OUT)
 
 bench: build
 	@bash tools/run-benchmarks.sh $(BUILD_DIR)

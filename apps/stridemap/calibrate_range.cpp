@@ -4,7 +4,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -12,6 +11,7 @@
 #include "commands.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/calibration_csv.hpp"
+#include "stridemap/io/text_file.hpp"
 #include "stridemap/sensors/range_calibration.hpp"
 
 namespace stridemap::cli {
@@ -67,10 +67,7 @@ void write_json(const std::string& path, const std::string& source, const RangeP
       {"rms_residual_m", fit.rms_residual_m},
       {"max_abs_residual_m", fit.max_abs_residual_m},
       {"pairs", rows}};
-  std::ofstream file(path);
-  file << document.dump(2) << '\n';
-  file.close();
-  if (!file) throw InputError(path + ": cannot write the calibration JSON");
+  io::write_text_file(path, document.dump(2) + "\n", "calibration JSON");
 }
 
 void run(const CalibrateRangeOptions& options) {

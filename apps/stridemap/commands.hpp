@@ -15,5 +15,6 @@ void register_emulate_urg(CLI::App& app);  // emulate_urg.cpp
 void register_record(CLI::App& app);       // record.cpp
 void register_live(CLI::App& app);         // live.cpp: live and map
 void register_walk_experiments(CLI::App& app);  // after register_experiment
+void register_soak(CLI::App& app);
 
 }  // namespace stridemap::cli

@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   stridemap::cli::register_emulate_urg(app);
   stridemap::cli::register_record(app);
   stridemap::cli::register_live(app);
+  stridemap::cli::register_soak(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

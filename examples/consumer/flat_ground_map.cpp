@@ -20,6 +20,7 @@ int main() {
   for (int k = 0; k < 40; ++k) {
     stridemap::TrunkPose pose;
     pose.x_m = 0.01 * k;  // walking forward 10 mm per scan
+    raw.time_s = 0.1 * k;  // the URG-04LX scans at 10 Hz; the mapper rejects scans that are not newer
     raw.values_mm.clear();
     for (int step = urg.parameters().first_step; step <= urg.parameters().last_step; ++step) {
       const double t = urg.parameters().step_angle_rad(step);

@@ -64,11 +64,18 @@ ScanMotion TerrainMapper::motion_to(const TrunkPose& pose) const {
   return {std::hypot(now.x() - before.x(), now.y() - before.y()), wrap_angle(pose.yaw_rad - previous_pose_->yaw_rad)};
 }
 
-bool TerrainMapper::accept_pose(const TrunkPose& pose, ScanStats& stats) {
-  if (pose_is_finite(pose)) return true;
-  stats.pose_rejected = true;
+bool TerrainMapper::accept(const TrunkPose& pose, std::optional<double> time_s, ScanStats& stats) {
+  if (!pose_is_finite(pose)) {
+    stats.pose_rejected = true;
+    ++totals_.scans_rejected_for_pose;
+  } else if (options_.reject_stale_scans && time_s &&
+             (!std::isfinite(*time_s) || (previous_time_s_ && !(*time_s > *previous_time_s_)))) {
+    stats.time_rejected = true;
+    ++totals_.scans_rejected_for_time;
+  } else {
+    return true;
+  }
   ++totals_.scans;
-  ++totals_.scans_rejected_for_pose;
   totals_.beams += stats.beams;
   return false;
 }
@@ -105,8 +112,9 @@ void TerrainMapper::apply(double x_m, double y_m, double h_m, double dz_max, Sca
   }
 }
 
-void TerrainMapper::finish(const TrunkPose& pose, const ScanStats& stats) {
+void TerrainMapper::finish(const TrunkPose& pose, std::optional<double> time_s, const ScanStats& stats) {
   previous_pose_ = pose;
+  if (time_s) previous_time_s_ = *time_s;
   ++totals_.scans;
   totals_.beams += stats.beams;
   totals_.integrated += stats.integrated;
@@ -139,7 +147,7 @@ ScanStats TerrainMapper::integrate(const PlanarScan& scan, const TrunkPose& pose
                      std::to_string(scan.angle_rad.size()) + ", " + std::to_string(scan.range_m.size()) + " and " +
                      std::to_string(scan.range_error_m.size()) + " entries; they must be equal");
   }
-  if (!accept_pose(pose, stats)) return stats;
+  if (!accept(pose, scan.time_s, stats)) return stats;
   follow(pose, stats);
   refresh_beam_directions(scan.angle_rad);
 
@@ -186,14 +194,15 @@ ScanStats TerrainMapper::integrate(const PlanarScan& scan, const TrunkPose& pose
     }
     apply(origin.x() + offset.x(), origin.y() + offset.y(), origin.z() + offset.z(), dz_max, stats);
   }
-  finish(pose, stats);
+  finish(pose, scan.time_s, stats);
   return stats;
 }
 
-ScanStats TerrainMapper::integrate_points(std::span<const MapPoint> points, const TrunkPose& pose) {
+ScanStats TerrainMapper::integrate_points(std::span<const MapPoint> points, const TrunkPose& pose,
+                                          std::optional<double> time_s) {
   ScanStats stats;
   stats.beams = points.size();
-  if (!accept_pose(pose, stats)) return stats;
+  if (!accept(pose, time_s, stats)) return stats;
   follow(pose, stats);
   for (const MapPoint& p : points) {
     if (!std::isfinite(p.x_m) || !std::isfinite(p.y_m) || !std::isfinite(p.elevation_m)) {
@@ -208,7 +217,7 @@ ScanStats TerrainMapper::integrate_points(std::span<const MapPoint> points, cons
     }
     apply(p.x_m, p.y_m, p.elevation_m, p.max_elevation_change_m, stats);
   }
-  finish(pose, stats);
+  finish(pose, time_s, stats);
   return stats;
 }
 

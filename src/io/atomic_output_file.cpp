@@ -50,6 +50,25 @@ AtomicOutputFile::AtomicOutputFile(std::string final_path, std::string kind)
   const std::string name = base_name(final_path_);
   if (name.empty() || name == "." || name == "..") fail("the path names a folder, not a file");
 
+  struct stat existing {};
+  if (::stat(final_path_.c_str(), &existing) == 0) {
+    if (S_ISDIR(existing.st_mode)) fail("it is a folder");
+    if (!S_ISREG(existing.st_mode)) {
+      // A device or pipe (/dev/null, /dev/stdout, a FIFO): write to it
+      // directly. Renaming a temporary file onto it would replace the
+      // device node itself when running as root.
+      const int fd = ::open(final_path_.c_str(), O_WRONLY | O_CLOEXEC);
+      if (fd < 0) fail("cannot open it (" + errno_text(errno) + ")");
+      stream_ = ::fdopen(fd, "wb");
+      if (stream_ == nullptr) {
+        const int error_number = errno;
+        ::close(fd);
+        fail("cannot open a stream (" + errno_text(error_number) + ")");
+      }
+      return;
+    }
+  }
+
   const std::string folder = parent_folder(final_path_);
   // Several processes (or threads) may write into one folder; the pid and a
   // process-wide counter keep the names apart and O_EXCL catches the rest.
@@ -93,10 +112,11 @@ void AtomicOutputFile::commit() {
   std::FILE* stream = std::exchange(stream_, nullptr);
   if (std::fclose(stream) != 0) {
     const int error_number = errno;
-    ::unlink(temp_path_.c_str());
+    if (!temp_path_.empty()) ::unlink(temp_path_.c_str());
     temp_path_.clear();
     fail("write failed when closing the file (" + errno_text(error_number) + ")");
   }
+  if (temp_path_.empty()) return;  // written straight to a device or pipe
   if (std::rename(temp_path_.c_str(), final_path_.c_str()) != 0) {
     fail("cannot move the finished file into place (" + errno_text(errno) + ")");
   }

@@ -4,7 +4,9 @@
 // temporary file in the destination folder (same file system, so the final
 // rename is atomic) and a failure at any point (missing or read-only folder,
 // disk full, an exception in the writer) removes the temporary file, leaving
-// whatever was at the final path before untouched.
+// whatever was at the final path before untouched. A final path that is a
+// device or a pipe (/dev/null, /dev/full, a FIFO) is written directly; one
+// that is a folder is an error.
 #include <cstdio>
 #include <string>
 

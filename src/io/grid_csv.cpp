@@ -219,11 +219,15 @@ Eigen::MatrixXf read_grid_csv(const std::string& path, GridCsvOptions* metadata)
                      (error_number == ENOENT ? std::string("the file does not exist")
                                              : "cannot open it (" + std::generic_category().message(error_number) + ")"));
   }
-  CsvReader reader(path);
+  return read_grid_csv(file, path, metadata);
+}
+
+Eigen::MatrixXf read_grid_csv(std::istream& input, const std::string& source_name, GridCsvOptions* metadata) {
+  CsvReader reader(source_name);
   std::string line;
   std::size_t line_number = 0;
   std::size_t blank_line = 0;  // first blank line after data, an error if more data follows
-  while (std::getline(file, line)) {
+  while (std::getline(input, line)) {
     ++line_number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
     const std::string_view text = trim(line);
@@ -238,7 +242,7 @@ Eigen::MatrixXf read_grid_csv(const std::string& path, GridCsvOptions* metadata)
     if (blank_line != 0) reader.fail(blank_line, "blank line between data rows");
     reader.parse_row(text, line_number);
   }
-  if (file.bad()) throw InputError("cannot read grid CSV '" + path + "': read failed");
+  if (input.bad()) throw InputError("cannot read grid CSV '" + source_name + "': read failed");
   Eigen::MatrixXf grid = reader.finish(line_number);
   if (metadata != nullptr) *metadata = reader.metadata();
   return grid;

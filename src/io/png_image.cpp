@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <csetjmp>
 #include <cstdio>
+#include <cstring>
 #include <system_error>
 
 #include "atomic_output_file.hpp"
@@ -20,6 +21,10 @@ namespace {
 // owned by their caller, so nothing leaks and no destructor is skipped.
 struct PngContext {
   std::FILE* file = nullptr;
+  // Reading from memory instead of a file: the bytes and the read position.
+  const std::uint8_t* bytes = nullptr;
+  std::size_t size = 0;
+  std::size_t position = 0;
   char message[256] = {};
   int saved_errno = 0;
   bool truncated = false;
@@ -60,6 +65,16 @@ void read_from_file(png_structp png, png_bytep data, png_size_t length) {
     context->truncated = true;
     png_error(png, "unexpected end of file");
   }
+}
+
+void read_from_memory(png_structp png, png_bytep data, png_size_t length) {
+  auto* context = static_cast<PngContext*>(png_get_io_ptr(png));
+  if (context->size - context->position < length) {
+    context->truncated = true;
+    png_error(png, "unexpected end of data");
+  }
+  std::memcpy(data, context->bytes + context->position, length);
+  context->position += length;
 }
 
 struct WriteGuard {
@@ -112,6 +127,19 @@ bool decode_header(png_structp png, png_infop info, png_uint_32* width, png_uint
   return true;
 }
 
+// Non-interlaced images row by row into a buffer that grows with the data,
+// so that a few bytes claiming a huge image cannot make us allocate and
+// clear hundreds of megabytes before the data runs out.
+bool decode_rows(png_structp png, std::vector<std::uint8_t>& rgb, png_uint_32 height, std::size_t row_bytes) {
+  if (setjmp(png_jmpbuf(png))) return false;
+  for (png_uint_32 y = 0; y < height; ++y) {
+    rgb.resize(rgb.size() + row_bytes);
+    png_read_row(png, rgb.data() + rgb.size() - row_bytes, nullptr);
+  }
+  png_read_end(png, nullptr);
+  return true;
+}
+
 bool decode_pixels(png_structp png, png_bytepp rows) {
   if (setjmp(png_jmpbuf(png))) return false;
   png_read_image(png, rows);
@@ -132,6 +160,56 @@ std::string decode_failure(const std::string& path, const PngContext& context) {
     reason = std::string("corrupted or unsupported PNG data (libpng: ") + context.message + ")";
   }
   return "cannot read PNG '" + path + "': " + reason;
+}
+
+// Everything after the 8 signature bytes, from the context's file or memory.
+RgbImage decode_png(PngContext& context, png_rw_ptr read, const std::string& path, PngSourceFormat& source) {
+  ReadGuard guard;
+  guard.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &context, on_png_error, on_png_warning);
+  if (guard.png != nullptr) guard.info = png_create_info_struct(guard.png);
+  if (guard.png == nullptr || guard.info == nullptr) {
+    throw InputError("cannot read PNG '" + path + "': libpng could not be initialised");
+  }
+  png_set_read_fn(guard.png, &context, read);
+  png_set_sig_bytes(guard.png, 8);
+  png_set_user_limits(guard.png, kMaxPngSide, kMaxPngSide);
+
+  png_uint_32 width = 0;
+  png_uint_32 height = 0;
+  png_byte colour_type = 0;
+  png_byte bit_depth = 0;
+  if (!decode_header(guard.png, guard.info, &width, &height, &colour_type, &bit_depth)) {
+    throw InputError(decode_failure(path, context));
+  }
+  source.bit_depth = bit_depth;
+  source.has_colour = (colour_type & PNG_COLOR_MASK_COLOR) != 0;
+  switch (colour_type) {
+    case PNG_COLOR_TYPE_GRAY: source.colour_type = "grey"; break;
+    case PNG_COLOR_TYPE_GRAY_ALPHA: source.colour_type = "grey+alpha"; break;
+    case PNG_COLOR_TYPE_PALETTE: source.colour_type = "palette"; break;
+    case PNG_COLOR_TYPE_RGB_ALPHA: source.colour_type = "RGBA"; break;
+    default: source.colour_type = "RGB"; break;
+  }
+  if (static_cast<long long>(width) * height > kMaxPngPixels) {
+    throw InputError("cannot read PNG '" + path + "': image dimensions " + std::to_string(width) + " x " +
+                     std::to_string(height) + " exceed the limit of " + std::to_string(kMaxPngPixels) +
+                     " pixels");
+  }
+  if (png_get_interlace_type(guard.png, guard.info) == PNG_INTERLACE_NONE) {
+    RgbImage image;
+    image.width = static_cast<int>(width);
+    image.height = static_cast<int>(height);
+    if (!decode_rows(guard.png, image.rgb, height, 3 * static_cast<std::size_t>(width))) {
+      throw InputError(decode_failure(path, context));
+    }
+    return image;
+  }
+  // Interlaced passes revisit every row: the whole image is needed at once.
+  RgbImage image(static_cast<int>(width), static_cast<int>(height));
+  std::vector<png_bytep> rows(height);
+  for (png_uint_32 y = 0; y < height; ++y) rows[y] = image.rgb.data() + image.offset(0, static_cast<int>(y));
+  if (!decode_pixels(guard.png, rows.data())) throw InputError(decode_failure(path, context));
+  return image;
 }
 
 }  // namespace
@@ -212,42 +290,26 @@ RgbImage read_png(const std::string& path, PngSourceFormat& source) {
 
   PngContext context;
   context.file = file.file;
-  ReadGuard guard;
-  guard.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &context, on_png_error, on_png_warning);
-  if (guard.png != nullptr) guard.info = png_create_info_struct(guard.png);
-  if (guard.png == nullptr || guard.info == nullptr) {
-    throw InputError("cannot read PNG '" + path + "': libpng could not be initialised");
-  }
-  png_set_read_fn(guard.png, &context, read_from_file);
-  png_set_sig_bytes(guard.png, sizeof signature);
-  png_set_user_limits(guard.png, kMaxPngSide, kMaxPngSide);
+  return decode_png(context, read_from_file, path, source);
+}
 
-  png_uint_32 width = 0;
-  png_uint_32 height = 0;
-  png_byte colour_type = 0;
-  png_byte bit_depth = 0;
-  if (!decode_header(guard.png, guard.info, &width, &height, &colour_type, &bit_depth)) {
-    throw InputError(decode_failure(path, context));
+RgbImage read_png(std::span<const std::uint8_t> bytes, const std::string& source_name) {
+  PngSourceFormat ignored;
+  return read_png(bytes, source_name, ignored);
+}
+
+RgbImage read_png(std::span<const std::uint8_t> bytes, const std::string& source_name, PngSourceFormat& source) {
+  if (bytes.size() < 8 || png_sig_cmp(bytes.data(), 0, 8) != 0) {
+    throw InputError("cannot read PNG '" + source_name + "': not a PNG file (" +
+                     (bytes.size() < 8 ? "only " + std::to_string(bytes.size()) + " bytes long"
+                                       : std::string("the first 8 bytes are not the PNG signature")) +
+                     ")");
   }
-  source.bit_depth = bit_depth;
-  source.has_colour = (colour_type & PNG_COLOR_MASK_COLOR) != 0;
-  switch (colour_type) {
-    case PNG_COLOR_TYPE_GRAY: source.colour_type = "grey"; break;
-    case PNG_COLOR_TYPE_GRAY_ALPHA: source.colour_type = "grey+alpha"; break;
-    case PNG_COLOR_TYPE_PALETTE: source.colour_type = "palette"; break;
-    case PNG_COLOR_TYPE_RGB_ALPHA: source.colour_type = "RGBA"; break;
-    default: source.colour_type = "RGB"; break;
-  }
-  if (static_cast<long long>(width) * height > kMaxPngPixels) {
-    throw InputError("cannot read PNG '" + path + "': image dimensions " + std::to_string(width) + " x " +
-                     std::to_string(height) + " exceed the limit of " + std::to_string(kMaxPngPixels) +
-                     " pixels");
-  }
-  RgbImage image(static_cast<int>(width), static_cast<int>(height));
-  std::vector<png_bytep> rows(height);
-  for (png_uint_32 y = 0; y < height; ++y) rows[y] = image.rgb.data() + image.offset(0, static_cast<int>(y));
-  if (!decode_pixels(guard.png, rows.data())) throw InputError(decode_failure(path, context));
-  return image;
+  PngContext context;
+  context.bytes = bytes.data();
+  context.size = bytes.size();
+  context.position = 8;
+  return decode_png(context, read_from_memory, source_name, source);
 }
 
 }  // namespace stridemap::io

@@ -3,6 +3,7 @@
 #include <string>
 
 #include "stridemap/core/error.hpp"
+#include "stridemap/sensors/scip_decoder.hpp"
 #include "stridemap/sensors/scip_encoding.hpp"
 
 namespace stridemap::scip {
@@ -11,6 +12,7 @@ namespace {
 
 constexpr std::size_t kDataCharsPerLine = 64;
 constexpr int kTimestampChars = 4;
+constexpr std::size_t kMaxInfoLineBytes = DecoderOptions{}.max_line_bytes;
 
 bool is_status_char(char c) { return (c >= '0' && c <= '9') || (c >= 'A' && c <= 'Z'); }
 
@@ -129,6 +131,13 @@ void append_info_reply(std::string_view echo, const std::vector<InfoField>& fiel
     }
     require_printable(field.key, "info key");
     require_printable(field.value, "info value of " + field.key);
+    // "KEY:value;sum": a longer line than a decoder accepts would be dropped
+    // as line_too_long at the other end.
+    const std::size_t line_bytes = field.key.size() + field.value.size() + 3;
+    if (line_bytes > kMaxInfoLineBytes) {
+      throw InputError("SCIP reply encoder: info line of " + field.key + " would be " + std::to_string(line_bytes) +
+                       " bytes, more than the " + std::to_string(kMaxInfoLineBytes) + " a decoder accepts");
+    }
   }
   append_echo_and_status(echo, "00", out);
   std::string line;

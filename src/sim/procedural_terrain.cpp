@@ -74,6 +74,21 @@ std::optional<SceneProblem> ProceduralTerrainOptions::first_problem() const {
   if (wavelength_m / std::pow(2.0, octaves - 1) < 1e-6) {
     return problem("wavelength_m", "finest octave would be shorter than 1 micrometre");
   }
+  // The noise lattices cover the sampled grid, which may reach a whole step
+  // beyond the extent: a coarse resolution can make them far larger than the
+  // samples themselves (found by fuzzing: 4 GB for a 2 x 2 sample grid).
+  double lattice_values = 0.0;
+  for (int k = 0; k < octaves; ++k) {
+    const double spacing = wavelength_m / std::pow(2.0, k);
+    lattice_values += (std::ceil((columns - 1.0) * resolution_m / spacing) + 2.0) *
+                      (std::ceil((rows - 1.0) * resolution_m / spacing) + 2.0);
+  }
+  if (lattice_values > static_cast<double>(max_height_field_samples)) {
+    return problem("wavelength_m", "needs " + format_number(lattice_values) +
+                                       " noise lattice values over the sampled grid, more than the limit of " +
+                                       std::to_string(max_height_field_samples) +
+                                       " (make the wavelength or the resolution smaller, or use fewer octaves)");
+  }
   if (auto message = finite(base_elevation_m)) return problem("base_elevation_m", *message);
   if (auto message = scene_rules::reflectance(reflectance)) return problem("reflectance", *message);
   return rock_field_problem(rocks);

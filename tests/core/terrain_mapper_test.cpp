@@ -100,6 +100,52 @@ TEST(TerrainMapper, NonFinitePoseRejectsTheWholeScan) {
   EXPECT_EQ(mapper.motion_to(TrunkPose{}).horizontal_travel_m, 0.0);
 }
 
+TEST(TerrainMapper, OutOfOrderDuplicateAndNonFiniteTimesRejectTheScan) {
+  SensorMount mount;
+  TerrainMapper mapper(fixed_window(), mount);
+  PlanarScan scan = flat_ground_scan(mount, 50);
+  scan.time_s = 1.0;
+  ASSERT_FALSE(mapper.integrate(scan, TrunkPose{}).time_rejected);
+  const std::size_t integrated = mapper.totals().integrated;
+  const float certainty = mapper.map().certainty(mapper.map().cell_of(0.37, 0.0));
+  ASSERT_GT(certainty, 0.0f);
+  for (double stale : {1.0, 0.5, -3.0, kNaN, kInf, -kInf}) {
+    scan.time_s = stale;
+    TrunkPose moved;
+    moved.x_m = 0.05;
+    const ScanStats stats = mapper.integrate(scan, moved);
+    EXPECT_TRUE(stats.time_rejected) << stale;
+    EXPECT_FALSE(stats.pose_rejected);
+    EXPECT_EQ(stats.integrated, 0u);
+    // A rejected scan neither raises a certainty nor becomes the previous pose.
+    EXPECT_EQ(mapper.motion_to(TrunkPose{}).horizontal_travel_m, 0.0);
+  }
+  EXPECT_EQ(mapper.totals().scans, 7u);
+  EXPECT_EQ(mapper.totals().scans_rejected_for_time, 6u);
+  EXPECT_EQ(mapper.totals().integrated, integrated);
+  EXPECT_EQ(mapper.map().certainty(mapper.map().cell_of(0.37, 0.0)), certainty);
+  EXPECT_EQ(mapper.last_scan_time_s(), 1.0);
+  scan.time_s = 1.1;
+  EXPECT_FALSE(mapper.integrate(scan, TrunkPose{}).time_rejected);
+  EXPECT_EQ(mapper.last_scan_time_s(), 1.1);
+
+  // The points path checks only when it is given a time, on the same clock.
+  const MapPoint point{0.1, 0.0, 0.0, 0.01};
+  EXPECT_FALSE(mapper.integrate_points({&point, 1}, TrunkPose{}).time_rejected);
+  EXPECT_TRUE(mapper.integrate_points({&point, 1}, TrunkPose{}, 1.1).time_rejected);
+  EXPECT_FALSE(mapper.integrate_points({&point, 1}, TrunkPose{}, 1.2).time_rejected);
+}
+
+TEST(TerrainMapper, StaleScanCheckCanBeTurnedOff) {
+  SensorMount mount;
+  MapperOptions options = fixed_window();
+  options.reject_stale_scans = false;
+  TerrainMapper mapper(options, mount);
+  const PlanarScan scan = flat_ground_scan(mount, 50);  // every time_s 0
+  for (int k = 0; k < 3; ++k) EXPECT_FALSE(mapper.integrate(scan, TrunkPose{}).time_rejected);
+  EXPECT_EQ(mapper.totals().scans_rejected_for_time, 0u);
+}
+
 TEST(TerrainMapper, MismatchedScanVectorsAreAnError) {
   SensorMount mount;
   TerrainMapper mapper(fixed_window(), mount);
@@ -126,7 +172,9 @@ TEST(TerrainMapper, MotionFeedsTheBoundAndTheWindowFollows) {
   EXPECT_NEAR(motion.horizontal_travel_m, 0.01, 1e-12);
   EXPECT_NEAR(motion.yaw_change_rad, 0.05, 1e-12);
   pose.x_m = 2.0;
-  const ScanStats stats = mapper.integrate(flat_ground_scan(mount, 20), pose);
+  PlanarScan later = flat_ground_scan(mount, 20);
+  later.time_s = 0.1;
+  const ScanStats stats = mapper.integrate(later, pose);
   EXPECT_EQ(stats.cells_reset_by_move, 100u * 100u);
   EXPECT_TRUE(mapper.map().contains(mapper.map().cell_of(2.0, 0.0)));
 }

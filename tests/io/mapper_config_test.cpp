@@ -26,6 +26,7 @@ TEST(MapperConfig, ShippedMessorConfigIsTheDefaults) {
   EXPECT_NEAR(c.mount.pitch_rad, d.mount.pitch_rad, 1e-12);
   EXPECT_EQ(c.mapper.grid.cells_per_side, 100);
   EXPECT_DOUBLE_EQ(c.mapper.grid.cell_size_m, 0.01);
+  EXPECT_EQ(c.mapper.reject_stale_scans, d.mapper.reject_stale_scans);
   EXPECT_NEAR(c.mapper.update.max_pitch_error_rad, d.mapper.update.max_pitch_error_rad, 1e-12);
   EXPECT_EQ(c.mapper.update.elevation_rule, ElevationRule::paper_highest);
   EXPECT_EQ(c.fill.min_known_neighbours, 8);
@@ -42,6 +43,7 @@ TEST(MapperConfig, FieldsOverrideDefaultsAndDegreesBecomeRadians) {
   EXPECT_EQ(c.mapper.update.elevation_rule, ElevationRule::gated_highest);
   EXPECT_DOUBLE_EQ(c.calibration.coefficients[1], -0.01);
   EXPECT_EQ(parse_mapper_config("", "empty.yaml").mapper.grid.cells_per_side, 100);
+  EXPECT_FALSE(parse_mapper_config("map: {reject_stale_scans: false}\n", "x.yaml").mapper.reject_stale_scans);
 }
 
 TEST(MapperConfig, ErrorsNameFileLineAndField) {

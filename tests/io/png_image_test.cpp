@@ -320,5 +320,18 @@ TEST_F(PngImageTest, BadHeaderDimensionsAreReported) {
   expect_input_error([&] { read_png(path("huge.png")); }, {"huge.png", "100000 x 100000", "exceed the limit"});
 }
 
+// 16000 x 16000 pixels within the limit, but only one row of data: reading
+// must fail at the data, without first taking the 768 MB the header claims.
+TEST_F(PngImageTest, ATinyFileClaimingAHugeImageDoesNotAllocateIt) {
+  write_bytes(path("bomb.png"), handmade_png(16000, 16000, 8, 0, {Bytes(16000, 7)}));
+  rusage before{};
+  ::getrusage(RUSAGE_SELF, &before);
+  expect_input_error([&] { read_png(path("bomb.png")); }, {"bomb.png", "Not enough image data"});
+  rusage after{};
+  ::getrusage(RUSAGE_SELF, &after);
+  EXPECT_LT(after.ru_maxrss - before.ru_maxrss, 64L * 1024) << "peak resident memory grew by "
+                                                            << (after.ru_maxrss - before.ru_maxrss) << " kB";
+}
+
 }  // namespace
 }  // namespace stridemap::io

@@ -124,6 +124,14 @@ TEST(ScipReplyEncoder, RejectsWhatASensorCouldNotSend) {
   EXPECT_NE(message_of([&] { append_status_reply("B\nM", "00", out); }).find("echo character 1 is 0x0a"),
             std::string::npos);
   EXPECT_NE(message_of([&] { append_info_reply("PP", {{"DM:IN", "20"}}, out); }).find("'DM:IN'"), std::string::npos);
+  // Found by the scip_parameters fuzzer: a line the decoder would drop.
+  EXPECT_EQ(message_of([&] { append_info_reply("PP", {{"MODL", std::string(250, 'x')}}, out); }),
+            "SCIP reply encoder: info line of MODL would be 257 bytes, more than the 256 a decoder accepts");
+  EXPECT_EQ(message_of([&] { append_info_reply("PP", {{"MODL", std::string(249, 'x')}}, out); }), "no exception");
+  const std::vector<Event> longest = decode_all(out);
+  ASSERT_EQ(longest.size(), 1u);
+  EXPECT_EQ(longest[0].kind, EventKind::info);
+  out.clear();
   EXPECT_TRUE(out.empty());
 }
 

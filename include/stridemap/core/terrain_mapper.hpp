@@ -25,6 +25,12 @@ struct MapperOptions {
   /// [m]. 0 keeps the map robot-centred as in the paper; a positive value
   /// keeps more of the terrain ahead, where a tilted sensor looks.
   double window_ahead_m = 0.0;
+  /// Reject a scan whose time_s is not finite or not later than that of the
+  /// last accepted scan (out of order, or the same scan delivered twice):
+  /// the travel term of Delta z_max assumes time runs forward, and a
+  /// duplicate would raise the certainty twice for one measurement. Off for
+  /// sources without timestamps (every time_s 0).
+  bool reject_stale_scans = true;
 };
 
 /// What happened to one scan's beams.
@@ -39,6 +45,9 @@ struct ScanStats {
   std::size_t invalid_beam = 0;      ///< non-finite angle or range error, negative range error
   std::size_t outside_map = 0;       ///< valid, but outside the window
   bool pose_rejected = false;        ///< the pose had a non-finite field: nothing was used
+  /// MapperOptions::reject_stale_scans: the time was not finite or not
+  /// later than the last accepted scan's; nothing was used.
+  bool time_rejected = false;
   std::size_t cells_reset_by_move = 0;
 };
 
@@ -46,6 +55,7 @@ struct ScanStats {
 struct MapperTotals {
   std::size_t scans = 0;
   std::size_t scans_rejected_for_pose = 0;
+  std::size_t scans_rejected_for_time = 0;  ///< non-finite, out-of-order or duplicate time_s
   std::size_t beams = 0;
   std::size_t integrated = 0;
   std::size_t invalid_range = 0;
@@ -69,9 +79,18 @@ class TerrainMapper {
   TerrainMapper(const MapperOptions& options, const SensorMount& mount);
 
   /// Integrates one scan taken at `pose` (the estimate, not ground truth).
+  /// A non-finite pose, or (reject_stale_scans) a scan.time_s that is not
+  /// later than the last accepted one, rejects the whole scan, counted.
   ScanStats integrate(const PlanarScan& scan, const TrunkPose& pose);
   /// Integrates points with their own Delta z_max; `pose` moves the window.
-  ScanStats integrate_points(std::span<const MapPoint> points, const TrunkPose& pose);
+  /// With a time, the same order check as integrate() applies.
+  ScanStats integrate_points(std::span<const MapPoint> points, const TrunkPose& pose,
+                             std::optional<double> time_s = std::nullopt);
+
+  /// Time of the last accepted scan that carried one.
+  std::optional<double> last_scan_time_s() const { return previous_time_s_; }
+  /// Pose of the last accepted scan.
+  std::optional<TrunkPose> last_pose() const { return previous_pose_; }
 
   /// Motion since the previous accepted scan (zero before the first one).
   ScanMotion motion_to(const TrunkPose& pose) const;
@@ -83,10 +102,10 @@ class TerrainMapper {
   const MapperTotals& totals() const { return totals_; }
 
  private:
-  bool accept_pose(const TrunkPose& pose, ScanStats& stats);
+  bool accept(const TrunkPose& pose, std::optional<double> time_s, ScanStats& stats);
   void follow(const TrunkPose& pose, ScanStats& stats);
   void apply(double x_m, double y_m, double h_m, double dz_max, ScanStats& stats);
-  void finish(const TrunkPose& pose, const ScanStats& stats);
+  void finish(const TrunkPose& pose, std::optional<double> time_s, const ScanStats& stats);
   void refresh_beam_directions(const std::vector<double>& angles);
 
   MapperOptions options_;
@@ -94,6 +113,7 @@ class TerrainMapper {
   ElevationMap map_;
   MapperTotals totals_;
   std::optional<TrunkPose> previous_pose_;
+  std::optional<double> previous_time_s_;
   std::vector<double> cached_angles_, cos_angle_, sin_angle_;
 };
 

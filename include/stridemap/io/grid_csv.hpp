@@ -10,6 +10,7 @@
 // reads back to the same float, unknown cells as `nan`, infinities as `inf`
 // and `-inf`.
 #include <Eigen/Core>
+#include <istream>
 #include <optional>
 #include <string>
 
@@ -42,5 +43,9 @@ void write_grid_csv(const std::string& path, const Eigen::MatrixXf& values, cons
 // field, a row whose field count differs from the first row's, a blank line
 // between rows, rows/cols that contradict the header, or no data at all.
 Eigen::MatrixXf read_grid_csv(const std::string& path, GridCsvOptions* metadata = nullptr);
+
+// Same, from a stream; source_name stands for the file in messages.
+Eigen::MatrixXf read_grid_csv(std::istream& input, const std::string& source_name,
+                              GridCsvOptions* metadata = nullptr);
 
 }  // namespace stridemap::io

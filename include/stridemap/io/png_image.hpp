@@ -2,6 +2,7 @@
 // 8-bit RGB images and their PNG files (libpng). Used for the rendered
 // elevation and certainty maps; read_png lets tests and tools inspect them.
 #include <cstdint>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -50,5 +51,10 @@ struct PngSourceFormat {
 
 // As above, and reports the file's own format in `source`.
 RgbImage read_png(const std::string& path, PngSourceFormat& source);
+
+// Same, from the bytes of a PNG file in memory; source_name stands for the
+// file in messages.
+RgbImage read_png(std::span<const std::uint8_t> bytes, const std::string& source_name);
+RgbImage read_png(std::span<const std::uint8_t> bytes, const std::string& source_name, PngSourceFormat& source);
 
 }  // namespace stridemap::io

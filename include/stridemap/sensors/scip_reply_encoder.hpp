@@ -37,8 +37,9 @@ void append_distance_frame(std::string_view echo, std::string_view status, std::
                            std::span<const std::uint32_t> values, int chars_per_value, std::string& out);
 
 /// VV/PP/II reply with status 00: one "KEY:value;sum" line per field, the sum
-/// over "KEY:value". Throws InputError if a key is empty or holds ':' or a
-/// byte is not printable ASCII.
+/// over "KEY:value". Throws InputError if a key is empty or holds ':', a
+/// byte is not printable ASCII, or a line would exceed the decoder's default
+/// DecoderOptions::max_line_bytes (256).
 void append_info_reply(std::string_view echo, const std::vector<InfoField>& fields, std::string& out);
 
 /// TM1 reply: status 00 and the 4-character time line.

@@ -1,0 +1,168 @@
+// `stridemap soak`: the long run of docs/reliability.md. Drives the
+// simulated robot round a circuit far larger than the map for many scans,
+// with bad scans injected, and fails (exit 1) on a lost scan, an invalid
+// cell, growing memory or, with --repeat 2, maps that differ between two
+// runs with the same seed. `make soak` runs the full 100,000 scans.
+#include <cinttypes>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <system_error>
+
+#include "commands.hpp"
+#include "stridemap/core/error.hpp"
+#include "stridemap/experiments/soak.hpp"
+#include "stridemap/io/scene_yaml.hpp"
+#include "stridemap/io/text_file.hpp"
+
+namespace stridemap::cli {
+namespace {
+
+struct SoakCommandOptions {
+  std::string scene_path = "scenes/soak_circuit.yaml";
+  std::string out_dir;  ///< empty: no summary file
+  std::uint64_t scans = 100000;
+  std::uint64_t seed = 1;
+  int repeat = 1;
+  double radius_m = 3.0;
+  bool planner_thread = true;
+};
+
+std::string hex(std::uint64_t value) {
+  char text[20];
+  std::snprintf(text, sizeof text, "%016" PRIx64, value);
+  return text;
+}
+
+void print_run(const SoakResult& r, const SoakOptions& options) {
+  const MapperTotals& t = r.totals;
+  const double map_side_m = options.mapper.grid.cells_per_side * options.mapper.grid.cell_size_m;
+  std::printf("Soak run (simulated URG-04LX): %" PRIu64 " scans, %s\n", r.scans_simulated, r.motion.c_str());
+  std::printf("  path %.1f m long over %.2f x %.2f m; the map is %.2f x %.2f m and followed the robot "
+              "(%" PRIu64 " cells reset by moves)\n",
+              r.path_length_m, r.path_extent_x_m, r.path_extent_y_m, map_side_m, map_side_m, r.cells_reset_by_moves);
+  std::printf("  scans to the mapper %" PRIu64 ": %zu rejected for their pose (%" PRIu64 " NaN poses injected), "
+              "%zu for their time (%" PRIu64 " duplicates + %" PRIu64 " out of order injected)\n",
+              r.scans_to_mapper, t.scans_rejected_for_pose, r.injected_nan_poses, t.scans_rejected_for_time,
+              r.injected_duplicates, r.injected_out_of_order);
+  std::printf("  beams %zu: integrated %zu, invalid range %zu, invalid beam %zu, outside the map %zu, "
+              "in rejected scans %" PRIu64 "\n",
+              t.beams, t.integrated, t.invalid_range, t.invalid_beam, t.outside_map, r.beams_of_rejected_scans);
+  std::printf("  integrity checks %" PRIu64 ": %" PRIu64 " invalid cells; planner thread checked %" PRIu64
+              " snapshots: %" PRIu64 " invalid cells; %" PRIu64 " published, %" PRIu64 " skipped\n",
+              r.integrity_checks, r.invalid_cells, r.reader_snapshots, r.reader_invalid_cells, r.published,
+              r.publishes_skipped);
+  if (!r.checkpoints.empty()) {
+    const SoakCheckpoint& a = r.checkpoints.front();
+    const SoakCheckpoint& b = r.checkpoints.back();
+    std::printf("  memory: heap in use %zu B at scan %" PRIu64 ", %zu B at scan %" PRIu64
+                "; resident %.1f MiB -> %.1f MiB\n",
+                a.heap_in_use_bytes, a.scan, b.heap_in_use_bytes, b.scan, static_cast<double>(a.resident_bytes) / 1048576.0,
+                static_cast<double>(b.resident_bytes) / 1048576.0);
+  }
+  std::printf("  run hash %s (over %zu checkpoints), %.1f s\n", hex(r.run_hash).c_str(), r.checkpoints.size(),
+              r.wall_time_s);
+}
+
+nlohmann::json to_json(const SoakResult& r) {
+  nlohmann::json checkpoints = nlohmann::json::array();
+  for (const SoakCheckpoint& c : r.checkpoints) {
+    checkpoints.push_back({{"scan", c.scan},
+                           {"map_hash", hex(c.map_hash)},
+                           {"snapshot_hash", hex(c.snapshot_hash)},
+                           {"measured_cells", c.measured_cells},
+                           {"heap_in_use_bytes", c.heap_in_use_bytes},
+                           {"resident_bytes", c.resident_bytes}});
+  }
+  const MapperTotals& t = r.totals;
+  return {{"simulated", true},
+          {"motion", r.motion},
+          {"scans_simulated", r.scans_simulated},
+          {"scans_to_mapper", r.scans_to_mapper},
+          {"scans_rejected_for_pose", t.scans_rejected_for_pose},
+          {"scans_rejected_for_time", t.scans_rejected_for_time},
+          {"injected", {{"nan_poses", r.injected_nan_poses},
+                        {"duplicates", r.injected_duplicates},
+                        {"out_of_order", r.injected_out_of_order}}},
+          {"beams", t.beams},
+          {"integrated", t.integrated},
+          {"invalid_range", t.invalid_range},
+          {"invalid_beam", t.invalid_beam},
+          {"outside_map", t.outside_map},
+          {"integrity_checks", r.integrity_checks},
+          {"invalid_cells", r.invalid_cells},
+          {"planner_snapshots", r.reader_snapshots},
+          {"planner_invalid_cells", r.reader_invalid_cells},
+          {"path_length_m", r.path_length_m},
+          {"path_extent_m", {r.path_extent_x_m, r.path_extent_y_m}},
+          {"run_hash", hex(r.run_hash)},
+          {"wall_time_s", r.wall_time_s},
+          {"failures", r.failures()},
+          {"checkpoints", checkpoints}};
+}
+
+void run(const SoakCommandOptions& o) {
+  const Scene scene = load_scene_yaml(o.scene_path);
+  CircuitOptions circuit;
+  circuit.radius_m = o.radius_m;
+  circuit.seed = o.seed;
+  const CircuitMotion motion(scene, circuit);
+  SoakOptions options;
+  options.scans = o.scans;
+  options.seed = o.seed;
+  options.reader_thread = o.planner_thread;
+
+  std::vector<std::string> failures;
+  nlohmann::json runs = nlohmann::json::array();
+  std::uint64_t first_hash = 0;
+  for (int k = 0; k < o.repeat; ++k) {
+    const SoakResult result = run_soak(scene, motion, options);
+    print_run(result, options);
+    for (const std::string& f : result.failures()) failures.push_back("run " + std::to_string(k + 1) + ": " + f);
+    if (k == 0) first_hash = result.run_hash;
+    if (k > 0 && result.run_hash != first_hash) {
+      failures.push_back("run " + std::to_string(k + 1) + " gave run hash " + hex(result.run_hash) + ", run 1 " +
+                         hex(first_hash) + ": the same seed must give the same maps");
+    }
+    runs.push_back(to_json(result));
+  }
+  if (o.repeat > 1 && failures.empty()) std::printf("%d runs with seed %" PRIu64 ": bit-identical maps\n", o.repeat, o.seed);
+  if (!o.out_dir.empty()) {
+    const std::filesystem::path dir = std::filesystem::path(o.out_dir) / "soak";
+    std::error_code ec;
+    std::filesystem::create_directories(dir, ec);
+    if (ec) throw InputError(dir.string() + ": cannot create the output folder: " + ec.message());
+    const nlohmann::json summary = {{"scene", o.scene_path}, {"seed", o.seed}, {"runs", runs}, {"failures", failures}};
+    io::write_text_file((dir / "summary.json").string(), summary.dump(2) + "\n", "summary");
+    std::printf("wrote %s\n", (dir / "summary.json").string().c_str());
+  }
+  if (!failures.empty()) {
+    for (const std::string& f : failures) std::fprintf(stderr, "stridemap: soak failed: %s\n", f.c_str());
+    std::fflush(stdout);
+    std::exit(1);
+  }
+  std::printf("soak passed\n");
+}
+
+}  // namespace
+
+void register_soak(CLI::App& app) {
+  auto options = std::make_shared<SoakCommandOptions>();
+  CLI::App* command = app.add_subcommand(
+      "soak", "Long simulated run: every scan accounted for, no invalid cell, flat memory, same seed same maps");
+  command->add_option("--scene", options->scene_path, "Scene file")->capture_default_str();
+  command->add_option("--scans", options->scans, "Scans to simulate")->capture_default_str()->check(CLI::Range(1, 100000000));
+  command->add_option("--seed", options->seed, "Seed of the simulator and the pose errors")->capture_default_str();
+  command->add_option("--repeat", options->repeat, "Runs with the same seed, compared bit for bit")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 10));
+  command->add_option("--radius-m", options->radius_m, "Radius of the circuit [m]")->capture_default_str();
+  command->add_option("--out", options->out_dir, "Folder for soak/summary.json");
+  command->add_flag("!--no-planner-thread", options->planner_thread, "Do not read snapshots from a second thread");
+  command->callback([options] { run(*options); });
+}
+
+}  // namespace stridemap::cli

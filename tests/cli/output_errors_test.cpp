@@ -1,0 +1,56 @@
+// Outputs that cannot be written, seen from the command line: the tool
+// names the path and the reason and exits with status 2. Root-proof places
+// only (CI runs as root): /dev/full, sysfs, a path below a regular file.
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "cli/cli_runner.hpp"
+
+namespace stridemap {
+namespace {
+
+namespace fs = std::filesystem;
+using test::CommandResult;
+using test::run_cli;
+using test::shell_quoted;
+
+const std::string kScene = std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/cart_rail_boxes.yaml";
+const std::string kPairs = std::string(STRIDEMAP_SOURCE_DIR) + "/configs/urg_calibration_example.csv";
+
+TEST(CliOutputErrors, FullDiskForTheCalibrationJson) {
+  if (::access("/dev/full", W_OK) != 0) GTEST_SKIP() << "no writable /dev/full";
+  const CommandResult r = run_cli("calibrate-range --csv " + shell_quoted(kPairs) + " --json /dev/full");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("stridemap: error: cannot write calibration JSON '/dev/full': write failed (No space left "
+                          "on device)"),
+            std::string::npos)
+      << r.output;
+}
+
+TEST(CliOutputErrors, OutputFolderThatCannotBeCreated) {
+  const fs::path dir = fs::temp_directory_path() / ("stridemap_cli_out_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  std::ofstream(dir / "plain.txt") << "x";
+  struct Case {
+    std::string out, reason;
+  };
+  std::vector<Case> cases = {{(dir / "plain.txt" / "out").string(), "Not a directory"}, {"/dev/full", "Not a directory"}};
+  if (fs::is_directory("/sys/kernel")) cases.push_back({"/sys/stridemap_out", "cannot create the output folder"});
+  for (const Case& c : cases) {
+    const CommandResult r = run_cli("experiment cart-rail --scene " + shell_quoted(kScene) + " --out " + shell_quoted(c.out));
+    EXPECT_EQ(r.exit_code, 2) << c.out << ": " << r.output;
+    EXPECT_NE(r.output.find("stridemap: error: " + c.out), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find(c.reason), std::string::npos) << r.output;
+  }
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace stridemap
