@@ -17,3 +17,42 @@
 #define STRIDEMAP_SKIP_UNLESS_COUNTING_ALLOCATIONS()                                           \
   if (!STRIDEMAP_ALLOCATION_COUNTING)                                                          \
   GTEST_SKIP() << "allocation counting is off under ThreadSanitizer (its runtime owns operator new)"
+
+#include <atomic>
+#include <cstddef>
+#include <cstdlib>
+#include <new>
+
+namespace stridemap::test {
+
+/// The counter behind a test program's one replacement of operator new.
+/// Exactly one file of the program expands STRIDEMAP_REPLACE_OPERATOR_NEW();
+/// every test of it that counts uses allocation_counter().
+struct AllocationCounter {
+  std::atomic<bool> counting{false};
+  std::atomic<std::size_t> allocations{0};
+};
+AllocationCounter& allocation_counter();
+
+}  // namespace stridemap::test
+
+#define STRIDEMAP_DEFINE_ALLOCATION_COUNTER()                       \
+  stridemap::test::AllocationCounter& stridemap::test::allocation_counter() { \
+    static AllocationCounter counter;                                \
+    return counter;                                                  \
+  }
+
+#if STRIDEMAP_ALLOCATION_COUNTING
+#define STRIDEMAP_REPLACE_OPERATOR_NEW()                                                            \
+  STRIDEMAP_DEFINE_ALLOCATION_COUNTER()                                                             \
+  void* operator new(std::size_t size) {                                                            \
+    stridemap::test::AllocationCounter& c = stridemap::test::allocation_counter();                  \
+    if (c.counting.load(std::memory_order_relaxed)) c.allocations.fetch_add(1, std::memory_order_relaxed); \
+    if (void* memory = std::malloc(size == 0 ? 1 : size)) return memory;                            \
+    throw std::bad_alloc();                                                                         \
+  }                                                                                                 \
+  void operator delete(void* memory) noexcept { std::free(memory); }                               \
+  void operator delete(void* memory, std::size_t) noexcept { std::free(memory); }
+#else
+#define STRIDEMAP_REPLACE_OPERATOR_NEW() STRIDEMAP_DEFINE_ALLOCATION_COUNTER()
+#endif

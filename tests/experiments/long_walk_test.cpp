@@ -1,8 +1,8 @@
 // 10,000 scans over a loop 40 m round (the map is 1 m across): the map
 // keeps its memory, nothing is allocated per scan once the buffers have
-// grown, and no cell ever holds a value the layers must not hold. Global
-// operator new is replaced in this test binary to count allocations while
-// a flag is set.
+// grown, and no cell ever holds a value the layers must not hold.
+// Allocations are counted by the program's operator new
+// (operator_new_test.cpp) while a flag is set.
 #include <atomic>
 #include <cmath>
 #include <cstdlib>
@@ -11,24 +11,16 @@
 
 #include <gtest/gtest.h>
 
+#include "allocation_counting.hpp"
+
 #include "stridemap/experiments/urg_walk_sensor.hpp"
 #include "stridemap/experiments/walk.hpp"
 
-namespace {
-std::atomic<bool> counting{false};
-std::atomic<std::size_t> allocations{0};
-}  // namespace
-
-void* operator new(std::size_t size) {
-  if (counting.load(std::memory_order_relaxed)) allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* memory = std::malloc(size == 0 ? 1 : size)) return memory;
-  throw std::bad_alloc();
-}
-void operator delete(void* memory) noexcept { std::free(memory); }
-void operator delete(void* memory, std::size_t) noexcept { std::free(memory); }
-
 namespace stridemap {
 namespace {
+
+std::atomic<bool>& counting = test::allocation_counter().counting;
+std::atomic<std::size_t>& allocations = test::allocation_counter().allocations;
 
 constexpr double kPi = std::numbers::pi;
 

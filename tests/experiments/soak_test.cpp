@@ -1,7 +1,7 @@
 // The short soak of `make test` (the full one is `make soak`): the whole
 // per-scan pipeline over a path many times the map's size, faults injected,
-// a planner thread reading snapshots. Global operator new is replaced in this
-// test program to count allocations between two checkpoints.
+// a planner thread reading snapshots. Allocations between two checkpoints are
+// counted by the program's operator new (operator_new_test.cpp).
 #include "stridemap/experiments/soak.hpp"
 
 #include <atomic>
@@ -16,23 +16,12 @@
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/scene_yaml.hpp"
 
-namespace {
-std::atomic<bool> counting{false};
-std::atomic<std::size_t> allocations{0};
-}  // namespace
-
-#if STRIDEMAP_ALLOCATION_COUNTING
-void* operator new(std::size_t size) {
-  if (counting.load(std::memory_order_relaxed)) allocations.fetch_add(1, std::memory_order_relaxed);
-  if (void* memory = std::malloc(size == 0 ? 1 : size)) return memory;
-  throw std::bad_alloc();
-}
-void operator delete(void* memory) noexcept { std::free(memory); }
-void operator delete(void* memory, std::size_t) noexcept { std::free(memory); }
-#endif
 
 namespace stridemap {
 namespace {
+
+std::atomic<bool>& counting = test::allocation_counter().counting;
+std::atomic<std::size_t>& allocations = test::allocation_counter().allocations;
 
 const Scene& soak_scene() {
   static const Scene scene = load_scene_yaml(std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/soak_circuit.yaml");
