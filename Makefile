@@ -68,6 +68,7 @@ fuzz: deps
 SOAK_SCANS ?= 100000
 soak: build
 	$(BUILD_DIR)/bin/stridemap soak --scans $(SOAK_SCANS) --seed 1 --repeat 2 --out $(OUT)
+	$(BUILD_DIR)/bin/stridemap soak --motion walk --scans $(SOAK_SCANS) --seed 1 --repeat 2 --out $(OUT)/walk
 
 bench: build
 	@bash tools/run-benchmarks.sh $(BUILD_DIR)

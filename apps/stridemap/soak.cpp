@@ -15,6 +15,7 @@
 #include "commands.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/soak.hpp"
+#include "stridemap/experiments/walk_soak_motion.hpp"
 #include "stridemap/io/scene_yaml.hpp"
 #include "stridemap/io/text_file.hpp"
 
@@ -28,6 +29,7 @@ struct SoakCommandOptions {
   std::uint64_t seed = 1;
   int repeat = 1;
   double radius_m = 3.0;
+  std::string motion = "circuit";
   bool planner_thread = true;
 };
 
@@ -105,11 +107,22 @@ nlohmann::json to_json(const SoakResult& r) {
 }
 
 void run(const SoakCommandOptions& o) {
+  if (o.motion != "circuit" && o.motion != "walk") {
+    throw InputError("--motion: expected circuit or walk, got '" + o.motion + "'");
+  }
   const Scene scene = load_scene_yaml(o.scene_path);
-  CircuitOptions circuit;
-  circuit.radius_m = o.radius_m;
-  circuit.seed = o.seed;
-  const CircuitMotion motion(scene, circuit);
+  std::unique_ptr<SoakMotion> moving;
+  if (o.motion == "walk") {
+    WalkSoakOptions walk;
+    walk.seed = o.seed;
+    moving = std::make_unique<WalkSoakMotion>(scene, walk);
+  } else {
+    CircuitOptions circuit;
+    circuit.radius_m = o.radius_m;
+    circuit.seed = o.seed;
+    moving = std::make_unique<CircuitMotion>(scene, circuit);
+  }
+  const SoakMotion& motion = *moving;
   SoakOptions options;
   options.scans = o.scans;
   options.seed = o.seed;
@@ -159,6 +172,10 @@ void register_soak(CLI::App& app) {
   command->add_option("--repeat", options->repeat, "Runs with the same seed, compared bit for bit")
       ->capture_default_str()
       ->check(CLI::Range(1, 10));
+  command->add_option("--motion", options->motion,
+                      "circuit (a circle driven round and round) or walk (the walking robot's gait round the "
+                      "scene's walk_path, a closed loop)")
+      ->capture_default_str();
   command->add_option("--radius-m", options->radius_m, "Radius of the circuit [m]")->capture_default_str();
   command->add_option("--out", options->out_dir, "Folder for soak/summary.json");
   command->add_flag("!--no-planner-thread", options->planner_thread, "Do not read snapshots from a second thread");

@@ -11,14 +11,10 @@
 namespace stridemap {
 namespace {
 
-// A standard normal number from (seed, scan, stream) alone (Box-Muller on
-// two hashed uniforms), so that a pose never depends on earlier calls.
+// A standard normal number from (seed, scan, stream) alone, so that a pose
+// never depends on earlier calls.
 double normal(std::uint64_t seed, std::uint64_t scan, std::uint64_t stream) {
-  const std::uint64_t a = mix64(seed ^ mix64(scan * 4 + stream));
-  const std::uint64_t b = mix64(a);
-  const double u1 = (static_cast<double>(a >> 11) + 0.5) / 9007199254740992.0;  // (0, 1)
-  const double u2 = static_cast<double>(b >> 11) / 9007199254740992.0;
-  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
+  return hashed_standard_normal(seed ^ mix64(scan * 4 + stream));
 }
 
 }  // namespace

@@ -16,9 +16,6 @@ void check_option(const char* field, const std::optional<std::string>& problem) 
   if (problem) throw InputError(std::string("surface texture options: ") + field + ": " + *problem);
 }
 
-// Uniform in (0, 1) from the top 53 bits; never 0, so its logarithm is finite.
-double unit_interval(std::uint64_t bits) { return (static_cast<double>(bits >> 11) + 0.5) * 0x1.0p-53; }
-
 }  // namespace
 
 void SurfaceTextureOptions::validate() const {
@@ -33,16 +30,15 @@ SurfaceTexture::SurfaceTexture(const SurfaceTextureOptions& options) : options_(
 
 double SurfaceTexture::gain(const Eigen::Vector3d& point_m, int object_index) const {
   if (options_.log_sigma == 0.0) return 1.0;
-  std::uint64_t h = mix64(options_.salt ^ static_cast<std::uint64_t>(static_cast<std::int64_t>(object_index)));
+  // The key chains the object and the cube's three indices; the last mix is
+  // hashed_standard_normal's own.
+  std::uint64_t key = options_.salt ^ static_cast<std::uint64_t>(static_cast<std::int64_t>(object_index));
   for (int axis = 0; axis < 3; ++axis) {
     // Clamped so that a far-off point cannot overflow the conversion.
     const double index = std::clamp(std::floor(point_m[axis] * inverse_grain_), -1e15, 1e15);
-    const auto cube = static_cast<std::int64_t>(index);
-    h = mix64(h ^ static_cast<std::uint64_t>(cube));
+    key = mix64(key) ^ static_cast<std::uint64_t>(static_cast<std::int64_t>(index));
   }
-  // Box-Muller on two independent draws from the hash.
-  const double u1 = unit_interval(h), u2 = unit_interval(mix64(h));
-  const double z = std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * std::numbers::pi * u2);
+  const double z = hashed_standard_normal(key);
   const double sigma = options_.log_sigma;
   return std::exp(sigma * z - 0.5 * sigma * sigma);
 }

@@ -50,6 +50,13 @@ TEST(SoakCommand, BadSceneAndOptionsAreErrors) {
   EXPECT_NE(r.output.find("circuit motion"), std::string::npos) << r.output;
   r = run_cli("soak --scans 0");
   EXPECT_NE(r.exit_code, 0) << r.output;
+  r = run_cli("soak --scene " + shell_quoted(kScene) + " --scans 10 --motion fly");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--motion: expected circuit or walk, got 'fly'"), std::string::npos) << r.output;
+  const std::string no_path = std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/cart_rail_boxes.yaml";
+  r = run_cli("soak --scene " + shell_quoted(no_path) + " --scans 10 --motion walk");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("no walk_path section"), std::string::npos) << r.output;
 }
 
 }  // namespace

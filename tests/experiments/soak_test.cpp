@@ -3,6 +3,7 @@
 // a planner thread reading snapshots. Allocations between two checkpoints are
 // counted by the program's operator new (operator_new_test.cpp).
 #include "stridemap/experiments/soak.hpp"
+#include "stridemap/experiments/walk_soak_motion.hpp"
 
 #include <atomic>
 #include <cmath>
@@ -60,6 +61,20 @@ TEST(Soak, ShortRunLosesNothingAndKeepsEveryCellValid) {
   EXPECT_GT(r.checkpoints.back().measured_cells, 1000u);
   EXPECT_EQ(r.published, 150u);
   EXPECT_EQ(r.reader_invalid_cells, 0u);
+}
+
+TEST(Soak, TheWalkingRobotLosesNothingEither) {
+  const WalkSoakMotion walk(soak_scene());
+  SoakOptions options = short_soak(2);
+  options.scans = 1200;
+  const SoakResult r = run_soak(soak_scene(), walk, options);
+  EXPECT_TRUE(r.failures().empty()) << r.failures().front();
+  EXPECT_EQ(r.totals.scans_rejected_for_pose, r.injected_nan_poses);
+  EXPECT_EQ(r.totals.scans_rejected_for_time, r.injected_duplicates + r.injected_out_of_order);
+  EXPECT_EQ(r.invalid_cells, 0u);
+  EXPECT_EQ(r.reader_invalid_cells, 0u);
+  EXPECT_GT(r.path_length_m, 10.0);  // 0.1 m/s x 120 s
+  EXPECT_GT(r.totals.integrated, 200000u);
 }
 
 TEST(Soak, SameSeedSameMapsBitForBitAndAnotherSeedDiffers) {
