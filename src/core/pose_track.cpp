@@ -11,7 +11,12 @@
 namespace stridemap {
 namespace {
 
-double lerp(double a, double b, double t) { return a + t * (b - a); }
+// a + t (b - a) keeps a exactly when b == a; for values so far apart that
+// b - a overflows (finite poses of 1e308 m), the form that stays finite.
+double lerp(double a, double b, double t) {
+  const double d = b - a;
+  return std::isfinite(d) ? a + t * d : (1.0 - t) * a + t * b;
+}
 
 // The shortest text that reads back to the same double: what the file said.
 std::string shortest(double value) {
@@ -23,6 +28,8 @@ std::string shortest(double value) {
 // b - a wrapped into [-pi, pi).
 double angle_difference(double a, double b) {
   const double two_pi = 2.0 * std::numbers::pi;
+  // Headings so large that b - a overflows are wrapped one by one first.
+  if (!std::isfinite(b - a + std::numbers::pi)) return angle_difference(std::remainder(a, two_pi), std::remainder(b, two_pi));
   double d = std::fmod(b - a + std::numbers::pi, two_pi);
   if (d < 0.0) d += two_pi;
   return d - std::numbers::pi;
@@ -74,7 +81,12 @@ PoseLookup PoseTrack::interpolate(double time_s, TrunkPose& out) const {
     return PoseLookup::ok;
   }
   if (later->time_s - before.time_s > max_gap_s_) return PoseLookup::gap_too_large;
-  out = interpolate_pose(before.pose, later->pose, (time_s - before.time_s) / (later->time_s - before.time_s));
+  double span = later->time_s - before.time_s, since = time_s - before.time_s;
+  if (!std::isfinite(span)) {  // times of +-1e308 s (a gap of infinity allowed): halves do not overflow
+    span = 0.5 * later->time_s - 0.5 * before.time_s;
+    since = 0.5 * time_s - 0.5 * before.time_s;
+  }
+  out = interpolate_pose(before.pose, later->pose, std::clamp(since / span, 0.0, 1.0));
   return PoseLookup::ok;
 }
 

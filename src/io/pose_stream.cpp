@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <limits>
 
 #include "stridemap/core/error.hpp"
@@ -88,31 +89,78 @@ std::string format_pose_line(const TimedPose& p) {
 
 std::string pose_file_header() { return std::string("# stridemap poses: ") + kColumns + "\n"; }
 
-std::vector<TimedPose> read_pose_file(const std::string& path) {
-  std::ifstream file(path);
-  if (!file) throw InputError(path + ": cannot open the pose file: " + std::strerror(errno));
+std::vector<TimedPose> parse_pose_text(std::string_view text, const std::string& source) {
   PoseTrack order_check(std::numeric_limits<double>::infinity());
+  PoseLineBuffer lines(source);
   std::vector<TimedPose> poses;
-  std::string line;
-  std::size_t number = 0;
-  TimedPose pose;
-  while (std::getline(file, line)) {
-    ++number;
-    if (!parse_pose_line(line, path, number, pose)) continue;
-    try {
-      order_check.append(pose);
-    } catch (const InputError& e) {
-      throw InputError(located(path, number, e.what()));
-    }
+  // The same line assembly as a live stream, so that a file and the same
+  // bytes through a pipe are read alike; a last line without LF counts here
+  // (the file is complete), unlike in a stream, where it waits.
+  const auto keep = [&](const TimedPose& pose) {
+    order_check.append(pose);
     order_check.drop_before(pose.time_s);
     poses.push_back(pose);
-  }
-  if (file.bad()) throw InputError(path + ": read error");
-  if (poses.empty()) throw InputError(path + ": no pose in the file (expected lines of " + kColumns + ")");
+  };
+  lines.feed(text, keep);
+  lines.finish(keep);
+  if (poses.empty()) throw InputError(source + ": no pose in the file (expected lines of " + kColumns + ")");
   return poses;
 }
 
-PoseStreamReader::PoseStreamReader(const std::string& path) : path_(path) {
+std::vector<TimedPose> read_pose_file(const std::string& path) {
+  std::ifstream file(path, std::ios::binary);
+  if (!file) throw InputError(path + ": cannot open the pose file: " + std::strerror(errno));
+  const std::string text{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+  if (file.bad()) throw InputError(path + ": read error");
+  return parse_pose_text(text, path);
+}
+
+void PoseLineBuffer::complete_line(std::string_view line, const std::function<void(const TimedPose&)>& use) {
+  ++line_number_;
+  if (line.size() > kMaxPoseLineBytes) too_long(line_number_);
+  TimedPose pose;
+  if (!parse_pose_line(line, source_, line_number_, pose)) return;
+  try {
+    use(pose);
+  } catch (const InputError& e) {
+    throw InputError(located(source_, line_number_, e.what()));
+  }
+}
+
+void PoseLineBuffer::too_long(std::size_t line_number) const {
+  throw InputError(located(source_, line_number,
+                           "line longer than " + std::to_string(kMaxPoseLineBytes) + " bytes: not a pose line"));
+}
+
+void PoseLineBuffer::feed(std::string_view bytes, const std::function<void(const TimedPose&)>& use) {
+  while (!bytes.empty()) {
+    const std::size_t lf = bytes.find('\n');
+    if (lf == std::string_view::npos) {
+      // Held until its LF comes; never more than a line may hold.
+      if (partial_.size() + bytes.size() > kMaxPoseLineBytes) too_long(line_number_ + 1);
+      partial_.append(bytes);
+      return;
+    }
+    if (partial_.empty()) {
+      complete_line(bytes.substr(0, lf), use);
+    } else {
+      if (partial_.size() + lf > kMaxPoseLineBytes) too_long(line_number_ + 1);
+      partial_.append(bytes.substr(0, lf));
+      complete_line(partial_, use);
+      partial_.clear();
+    }
+    bytes.remove_prefix(lf + 1);
+  }
+}
+
+void PoseLineBuffer::finish(const std::function<void(const TimedPose&)>& use) {
+  if (partial_.empty()) return;
+  const std::string line = std::move(partial_);
+  partial_.clear();
+  complete_line(line, use);
+}
+
+PoseStreamReader::PoseStreamReader(const std::string& path) : path_(path), lines_(path) {
   struct stat st{};
   if (::stat(path.c_str(), &st) != 0) throw InputError(path + ": cannot open the pose source: " + std::strerror(errno));
   if (!S_ISREG(st.st_mode) && !S_ISFIFO(st.st_mode)) {
@@ -131,33 +179,17 @@ PoseStreamReader::~PoseStreamReader() {
 std::size_t PoseStreamReader::poll(PoseTrack& track) {
   std::size_t added = 0;
   char buffer[4096];
+  const auto use = [&](const TimedPose& pose) {
+    track.append(pose);
+    ++added;
+  };
   while (true) {
     const ssize_t got = ::read(fd_, buffer, sizeof buffer);
     if (got < 0 && errno == EINTR) continue;
     if (got < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) break;
     if (got < 0) throw InputError(path_ + ": cannot read the pose source: " + std::strerror(errno));
     if (got == 0) break;  // nothing more now (end of file, or a pipe without writer)
-    std::size_t start = 0;
-    for (std::size_t i = 0; i < static_cast<std::size_t>(got); ++i) {
-      if (buffer[i] != '\n') continue;
-      partial_.append(buffer + start, i - start);
-      start = i + 1;
-      ++line_number_;
-      TimedPose pose;
-      if (parse_pose_line(partial_, path_, line_number_, pose)) {
-        try {
-          track.append(pose);
-        } catch (const InputError& e) {
-          throw InputError(located(path_, line_number_, e.what()));
-        }
-        ++added;
-      }
-      partial_.clear();
-    }
-    partial_.append(buffer + start, static_cast<std::size_t>(got) - start);
-    if (partial_.size() > 4096) {
-      throw InputError(located(path_, line_number_ + 1, "line longer than 4096 bytes: not a pose line"));
-    }
+    lines_.feed(std::string_view(buffer, static_cast<std::size_t>(got)), use);
   }
   return added;
 }

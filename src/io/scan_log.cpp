@@ -10,12 +10,15 @@
 #include <string_view>
 
 #include "stridemap/core/error.hpp"
+#include "stridemap/sensors/scip_encoding.hpp"
 
 namespace stridemap::io {
 namespace {
 
 constexpr std::string_view kMagic = "stridemap-urg-log";
 constexpr std::size_t kCrcSuffix = 10;  // " *" + 8 hex digits
+// SCIP's 3-character encoding holds 18 bits: no sensor sends more.
+const std::uint32_t kLargestValue = scip::max_encodable_value(3);
 
 void append_number(double value, std::string& out) {
   char text[32];
@@ -66,12 +69,16 @@ class LogParser {
   explicit LogParser(ScanLog& log) : log_(log) {}
   bool have_parameters() const { return have_parameters_; }
 
-  std::string record(std::string_view body) {
+  bool in_block() const { return in_block_; }
+  std::size_t block_line() const { return block_line_; }
+
+  // A record; a sensor block open before it must have been closed first
+  // unless the record belongs to it (vv/pp).
+  std::string record(std::string_view body, std::size_t line) {
     Fields fields(body);
     std::string_view kind;
     if (!fields.next(kind)) return "empty record";
     if (kind == "vv" || kind == "pp") return info_line(kind, fields.rest());
-    if (std::string problem = close_block(); !problem.empty()) return problem;
     if (kind == "device") {
       log_.device = std::string(fields.rest());
       return {};
@@ -80,6 +87,7 @@ class LogParser {
       double time = 0.0;
       if (!read_number(fields, time)) return "sensor: expected a host time";
       in_block_ = true;
+      block_line_ = line;
       vv_.clear();
       pp_.clear();
       return {};
@@ -99,8 +107,9 @@ class LogParser {
       if (have_parameters_ && !(parameters == log_.parameters)) {
         return "the sensor's parameters changed (another sensor?); the log is read up to here";
       }
+      const scip::VersionInfo version = scip::parse_version(vv_);
       log_.parameters = parameters;
-      log_.version = scip::parse_version(vv_);
+      log_.version = version;
       have_parameters_ = true;
       ++log_.connects;
     } catch (const InputError& e) {
@@ -155,6 +164,10 @@ class LogParser {
       if (!read_number(fields, s.raw.values_mm[i])) {
         return "scan: value " + std::to_string(i + 1) + " is missing or not a whole number";
       }
+      if (s.raw.values_mm[i] > kLargestValue) {
+        return "scan: value " + std::to_string(i + 1) + " (" + std::to_string(s.raw.values_mm[i]) +
+               ") is more than a URG can send (" + std::to_string(kLargestValue) + ")";
+      }
     }
     std::string_view extra;
     if (fields.next(extra)) return "scan: more values than the count " + std::to_string(count);
@@ -165,12 +178,13 @@ class LogParser {
   ScanLog& log_;
   bool have_parameters_ = false;
   bool in_block_ = false;
+  std::size_t block_line_ = 0;
   std::vector<scip::InfoField> vv_, pp_;
 };
 
 }  // namespace
 
-std::string scan_log_crc(const std::string& body) {
+std::string scan_log_crc(std::string_view body) {
   const uLong crc = crc32(0L, reinterpret_cast<const Bytef*>(body.data()), static_cast<uInt>(body.size()));
   char text[12];
   std::snprintf(text, sizeof text, "%08lx", static_cast<unsigned long>(crc & 0xFFFFFFFFul));
@@ -181,27 +195,44 @@ ScanLog read_scan_log(const std::string& path) {
   std::ifstream file(path, std::ios::binary);
   if (!file) throw InputError(path + ": cannot open the scan log: " + std::strerror(errno));
   const std::string content{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
+  if (file.bad()) throw InputError(path + ": cannot read the scan log: " + std::strerror(errno));
+  return parse_scan_log(content, path);
+}
+
+// Reading stops at the first problem. log.lines counts the lines whose
+// records are all kept: a sensor block counts once it is closed (by the next
+// record or the end), so the first log.lines lines alone read back as the
+// same log.
+ScanLog parse_scan_log(std::string_view content, const std::string& source_name) {
+  const std::string& path = source_name;
   ScanLog log;
   LogParser parser(log);
   std::size_t pos = 0, number = 0;
-  const auto damage = [&](const std::string& what) {
-    log.damage = path + ":" + std::to_string(number) + ": " + what;
+  const auto damage_at = [&](std::size_t line, const std::string& what) {
+    log.damage = path + ":" + std::to_string(line) + ": " + what;
     if (!parser.have_parameters()) throw InputError(log.damage + " (before the sensor's parameters: nothing usable)");
+  };
+  const auto damage = [&](const std::string& what) {
+    // A sensor block whose every line came before the damage is complete
+    // (its end is only known from the next record): a recorder killed while
+    // writing the first scan still leaves the sensor's parameters.
+    if (parser.in_block() && parser.close_block().empty()) log.lines = number - 1;
+    damage_at(number, what);
   };
   while (pos < content.size()) {
     ++number;
     const std::size_t lf = content.find('\n', pos);
-    if (lf == std::string::npos) {
+    if (lf == std::string_view::npos) {
       damage("truncated: the last line has no end (the recorder was stopped while writing it?)");
       break;
     }
-    const std::string line = content.substr(pos, lf - pos);
+    const std::string_view line = content.substr(pos, lf - pos);
     pos = lf + 1;
     if (line.size() < kCrcSuffix || line.compare(line.size() - kCrcSuffix, 2, " *") != 0) {
       damage("no CRC at the end of the line");
       break;
     }
-    const std::string body = line.substr(0, line.size() - kCrcSuffix);
+    const std::string_view body = line.substr(0, line.size() - kCrcSuffix);
     if (scan_log_crc(body) != line.substr(line.size() - 8)) {
       damage("CRC mismatch: the line is corrupted");
       break;
@@ -220,15 +251,29 @@ ScanLog read_scan_log(const std::string& path) {
       log.lines = number;
       continue;
     }
-    if (const std::string problem = parser.record(body); !problem.empty()) {
+    std::string_view kind;
+    Fields(body).next(kind);
+    const bool info_line = kind == "vv" || kind == "pp";
+    if (!info_line && parser.in_block()) {
+      if (const std::string problem = parser.close_block(); !problem.empty()) {
+        damage_at(parser.block_line(), "sensor block: " + problem);
+        break;
+      }
+      log.lines = number - 1;
+    }
+    if (const std::string problem = parser.record(body, number); !problem.empty()) {
       damage(problem);
       break;
     }
-    log.lines = number;
+    if (!parser.in_block()) log.lines = number;
   }
   if (number == 0) throw InputError(path + ": empty file, not a scan log");
-  if (log.damage.empty()) {
-    if (const std::string problem = parser.close_block(); !problem.empty()) damage(problem);
+  if (log.damage.empty() && parser.in_block()) {
+    if (const std::string problem = parser.close_block(); !problem.empty()) {
+      damage_at(parser.block_line(), "sensor block: " + problem);
+    } else {
+      log.lines = number;
+    }
   }
   if (!parser.have_parameters()) {
     throw InputError(path + ": the log holds no sensor parameters (no complete sensor block)");

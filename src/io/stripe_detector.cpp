@@ -178,18 +178,31 @@ void StripeDetector::detect(const RgbImage& image, StripeDetection& out) {
   }
 }
 
-RgbImage read_stripe_image(const std::string& path, int expected_width, int expected_height) {
-  PngSourceFormat format;
-  RgbImage image = read_png(path, format);
+void check_stripe_image(const RgbImage& image, const PngSourceFormat& format, const std::string& name,
+                        int expected_width, int expected_height) {
   if (!format.has_colour) {
-    throw InputError(path + ": a " + format.colour_type + " PNG has no colour; the stripe detector needs the camera's " +
+    throw InputError(name + ": a " + format.colour_type + " PNG has no colour; the stripe detector needs the camera's " +
                      "colour image (it looks for the laser's red excess)");
   }
   if (image.width != expected_width || image.height != expected_height) {
-    throw InputError(path + ": the image is " + std::to_string(image.width) + " x " + std::to_string(image.height) +
+    throw InputError(name + ": the image is " + std::to_string(image.width) + " x " + std::to_string(image.height) +
                      " pixels, the configuration describes a " + std::to_string(expected_width) + " x " +
                      std::to_string(expected_height) + " image region (image_width_px, image_height_px)");
   }
+}
+
+RgbImage read_stripe_image(const std::string& path, int expected_width, int expected_height) {
+  PngSourceFormat format;
+  RgbImage image = read_png(path, format);
+  check_stripe_image(image, format, path, expected_width, expected_height);
+  return image;
+}
+
+RgbImage read_stripe_image(std::span<const std::uint8_t> bytes, const std::string& source_name, int expected_width,
+                           int expected_height) {
+  PngSourceFormat format;
+  RgbImage image = read_png(bytes, source_name, format);
+  check_stripe_image(image, format, source_name, expected_width, expected_height);
   return image;
 }
 

@@ -87,5 +87,24 @@ TEST(PoseTrack, DropBeforeKeepsWhatLaterTimesNeed) {
   EXPECT_EQ(track.interpolate(0.45, p), PoseLookup::ok);
 }
 
+// Finite poses as far apart as doubles go (a pose file may say 1e308 m):
+// the differences overflow, the interpolated pose must not.
+TEST(PoseTrack, FarApartFinitePosesInterpolateToFinitePoses) {
+  PoseTrack track(std::numeric_limits<double>::infinity());
+  TimedPose a = at(-1e308, 0.0), b = at(1e308, 0.0);
+  a.pose.x_m = -1e308;
+  b.pose.x_m = 1e308;
+  a.pose.yaw_rad = -1e308;
+  b.pose.yaw_rad = 1e308;
+  track.append(a);
+  track.append(b);
+  TrunkPose p;
+  ASSERT_EQ(track.interpolate(0.0, p), PoseLookup::ok);
+  EXPECT_TRUE(std::isfinite(p.x_m) && std::isfinite(p.yaw_rad)) << p.x_m << " " << p.yaw_rad;
+  EXPECT_NEAR(p.x_m, 0.0, 1e292);
+  ASSERT_EQ(track.interpolate(1e308, p), PoseLookup::ok);
+  EXPECT_EQ(p.x_m, 1e308);
+}
+
 }  // namespace
 }  // namespace stridemap

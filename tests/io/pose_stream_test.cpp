@@ -7,6 +7,8 @@
 #include <unistd.h>
 
 #include <string>
+#include <string_view>
+#include <vector>
 
 #include "live/test_folder.hpp"
 #include "stridemap/core/error.hpp"
@@ -98,6 +100,45 @@ TEST(PoseStream, SourceThatIsNeitherFileNorPipeIsRefused) {
   test::TestFolder dir;
   EXPECT_THROW(PoseStreamReader(dir.path().string()), InputError);
   EXPECT_THROW(PoseStreamReader(dir / "missing"), InputError);
+}
+
+// A line that never ends must not fill the memory of a live stream, and the
+// same bytes must be read alike from a file and through a pipe in any pieces.
+TEST(PoseStream, OverlongLineIsRefusedAlikeInAFileAndAStreamInAnyPieces) {
+  const std::string text = "0.1 0 0 0 0 0\n0.2 0 0 0 0 0" + std::string(5000, ' ') + "\n0.3 0 0 0 0 0\n";
+  const std::string expected = "p.txt:2: line longer than 4096 bytes: not a pose line";
+  try {
+    parse_pose_text(text, "p.txt");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), expected);
+  }
+  for (const std::size_t piece : {1u, 7u, 4096u, 5000u, 6000u}) {
+    PoseLineBuffer lines("p.txt");
+    std::size_t poses = 0;
+    try {
+      for (std::size_t pos = 0; pos < text.size(); pos += piece) {
+        lines.feed(std::string_view(text).substr(pos, piece), [&](const TimedPose&) { ++poses; });
+        EXPECT_LE(lines.pending_bytes(), kMaxPoseLineBytes);
+      }
+      ADD_FAILURE() << "no error in pieces of " << piece;
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), expected) << "pieces of " << piece;
+    }
+    EXPECT_EQ(poses, 1u);
+  }
+}
+
+TEST(PoseStream, StreamKeepsAnUnfinishedLastLineUntilItsEnd) {
+  PoseLineBuffer lines("pipe");
+  std::vector<TimedPose> got;
+  const auto use = [&](const TimedPose& p) { got.push_back(p); };
+  lines.feed("0.1 0 0 0 0 0\n0.2 1 0 0", use);
+  EXPECT_EQ(got.size(), 1u);
+  lines.feed(" 0 0\r\n", use);
+  ASSERT_EQ(got.size(), 2u);
+  EXPECT_EQ(got[1].pose.x_m, 1.0);
+  EXPECT_EQ(lines.lines(), 2u);
 }
 
 }  // namespace

@@ -129,5 +129,73 @@ TEST(ScanLog, FilesThatAreNoLogOrHaveNoParametersAreErrors) {
   EXPECT_THROW(ScanLogWriter(dir / "no/such/folder/log.txt", "x"), InputError);
 }
 
+// The recorder killed while writing the first scan: the sensor block before
+// it is complete, so the log is usable (no scans yet) and the damage named.
+TEST(ScanLog, CutWhileWritingTheFirstScanKeepsTheSensorsParameters) {
+  test::TestFolder dir;
+  const std::string path = write_log(dir, 1);
+  std::string text = dir.read("log.txt");
+  text.resize(text.find("\nscan ") + 40);
+  dir.write("log.txt", text);
+  const ScanLog log = read_scan_log(path);
+  EXPECT_TRUE(log.scans.empty());
+  EXPECT_EQ(log.connects, 1u);
+  EXPECT_EQ(log.parameters, scip::ScipParameters{});
+  EXPECT_EQ(log.lines, 16u);
+  EXPECT_NE(log.damage.find("log.txt:17: truncated"), std::string::npos) << log.damage;
+}
+
+// A later sensor block (a reconnection) is kept only whole and only with the
+// same parameters; otherwise reading stops at that block's first line.
+TEST(ScanLog, ReconnectionBlockWithOtherParametersOrCutShortStopsAtTheBlock) {
+  test::TestFolder dir;
+  const std::string path = dir / "log.txt";
+  scip::VersionInfo version{"Hokuyo Automatic Co.,Ltd.", "SOKUIKI Sensor URG-04LX", "3.3.00", "SCIP 2.0", "H0000"};
+  scip::ScipParameters other;
+  other.last_step = 700;
+  {
+    ScanLogWriter writer(path, "/dev/ttyACM0");
+    writer.write_sensor(1.0, version, scip::ScipParameters{});
+    writer.write_scan(make_scan(0));
+    writer.write_sensor(2.0, version, other);  // lines 18-31
+    writer.write_scan(make_scan(1));
+  }
+  ScanLog log = read_scan_log(path);
+  EXPECT_EQ(log.scans.size(), 1u);
+  EXPECT_EQ(log.lines, 17u);
+  EXPECT_EQ(log.damage.rfind(path + ":18: sensor block: the sensor's parameters changed", 0), 0u) << log.damage;
+  // The same log cut at a line end inside the second block.
+  std::string text = dir.read("log.txt");
+  std::size_t cut = 0;
+  for (int line = 0; line < 25; ++line) cut = text.find('\n', cut) + 1;
+  dir.write("log.txt", text.substr(0, cut));
+  log = read_scan_log(path);
+  EXPECT_EQ(log.scans.size(), 1u);
+  EXPECT_EQ(log.connects, 1u);
+  EXPECT_EQ(log.damage.rfind(path + ":18: sensor block: SCIP PP reply", 0), 0u) << log.damage;
+}
+
+TEST(ScanLog, ValuesNoUrgCanSendAreDamage) {
+  test::TestFolder dir;
+  const std::string path = write_log(dir, 2);
+  std::string text = dir.read("log.txt");
+  const std::string body = "scan 9 3 3 0 0 0 0 44 1 2 5 262144";
+  text += body + " *" + scan_log_crc(body) + "\n";
+  dir.write("log.txt", text);
+  const ScanLog log = read_scan_log(path);
+  EXPECT_EQ(log.scans.size(), 2u);
+  EXPECT_NE(log.damage.find("log.txt:20: scan: value 2 (262144) is more than a URG can send (262143)"), std::string::npos)
+      << log.damage;
+}
+
+TEST(ScanLog, ReadFromMemoryNamesTheSource) {
+  test::TestFolder dir;
+  write_log(dir, 3);
+  const std::string text = dir.read("log.txt");
+  const ScanLog log = parse_scan_log(text.substr(0, text.size() - 5), "camera-pc:/logs/run.urglog");
+  EXPECT_EQ(log.scans.size(), 3u);
+  EXPECT_EQ(log.damage.rfind("camera-pc:/logs/run.urglog:20: truncated", 0), 0u) << log.damage;
+}
+
 }  // namespace
 }  // namespace stridemap::io

@@ -9,6 +9,7 @@
 // (replay) or incrementally from a file or named pipe that another process
 // is writing (live mapping).
 #include <cstddef>
+#include <functional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -30,6 +31,35 @@ std::string pose_file_header();
 /// line for a missing file, a bad line, a time not after the previous one,
 /// or a file with no pose.
 std::vector<TimedPose> read_pose_file(const std::string& path);
+/// The same from the file's bytes; `source` stands for the file in messages.
+std::vector<TimedPose> parse_pose_text(std::string_view text, const std::string& source);
+
+/// Longest pose line [bytes, without its LF]: eight numbers need far less,
+/// and a stream must not buffer a line that never ends.
+inline constexpr std::size_t kMaxPoseLineBytes = 4096;
+
+/// Cuts bytes that arrive in any pieces into lines and parses each complete
+/// one, numbering the lines; what the pieces were changes nothing. Throws
+/// InputError "<source>:<line>: ..." for a bad line, a line longer than
+/// kMaxPoseLineBytes, or what `use` throws (a time out of order).
+class PoseLineBuffer {
+ public:
+  explicit PoseLineBuffer(std::string source) : source_(std::move(source)) {}
+  /// Parses every line completed by `bytes` and hands each pose to `use`;
+  /// an unfinished last line is kept for the next call.
+  void feed(std::string_view bytes, const std::function<void(const TimedPose&)>& use);
+  /// The end of the input: an unfinished last line counts as a line.
+  void finish(const std::function<void(const TimedPose&)>& use);
+  std::size_t lines() const { return line_number_; }
+  std::size_t pending_bytes() const { return partial_.size(); }
+
+ private:
+  void complete_line(std::string_view line, const std::function<void(const TimedPose&)>& use);
+  [[noreturn]] void too_long(std::size_t line_number) const;
+  std::string source_;
+  std::string partial_;
+  std::size_t line_number_ = 0;
+};
 
 /// Reads a pose file or named pipe as it grows, without blocking: poll()
 /// appends the complete lines that have arrived to a PoseTrack. A partial
@@ -49,15 +79,14 @@ class PoseStreamReader {
   std::size_t poll(PoseTrack& track);
   /// The file descriptor, for a caller that wants to poll() it.
   int fd() const { return fd_; }
-  std::size_t lines_read() const { return line_number_; }
+  std::size_t lines_read() const { return lines_.lines(); }
   bool is_pipe() const { return is_pipe_; }
 
  private:
   std::string path_;
   int fd_ = -1;
   bool is_pipe_ = false;
-  std::string partial_;
-  std::size_t line_number_ = 0;
+  PoseLineBuffer lines_;
 };
 
 }  // namespace stridemap::io

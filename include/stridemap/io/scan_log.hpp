@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "stridemap/sensors/scip_parameters.hpp"
@@ -42,6 +43,9 @@ struct ScanLog {
 /// comes before the sensor's parameters; later damage is reported in
 /// ScanLog::damage with everything before it kept.
 ScanLog read_scan_log(const std::string& path);
+/// The same from a log's bytes in memory; `source_name` stands for the file
+/// in messages.
+ScanLog parse_scan_log(std::string_view content, const std::string& source_name);
 
 /// Writes a log as it is recorded: each record is written and flushed as a
 /// whole line, so a killed recorder leaves at most one partial last line.
@@ -70,6 +74,6 @@ class ScanLogWriter {
 };
 
 /// The CRC-32 (zlib's) of a line body, as 8 lower-case hex digits.
-std::string scan_log_crc(const std::string& body);
+std::string scan_log_crc(std::string_view body);
 
 }  // namespace stridemap::io

@@ -26,7 +26,9 @@
 // Coordinates follow structured_light.hpp: the pixel (column i, row k) has
 // its centre at (i + 0.5, k + 0.5).
 #include <cstddef>
+#include <cstdint>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -110,6 +112,13 @@ class StripeDetector {
 /// stripe is found by its red excess), or is not expected_width x
 /// expected_height pixels (the image region the configuration describes).
 RgbImage read_stripe_image(const std::string& path, int expected_width, int expected_height);
+/// The same from a PNG file's bytes (a frame from a camera driver);
+/// `source_name` stands for the file in messages.
+RgbImage read_stripe_image(std::span<const std::uint8_t> bytes, const std::string& source_name, int expected_width,
+                           int expected_height);
+/// The checks of read_stripe_image on an image already read.
+void check_stripe_image(const RgbImage& image, const PngSourceFormat& format, const std::string& name,
+                        int expected_width, int expected_height);
 
 /// A copy of the image with the detected stripe drawn on it: green dots
 /// (yellow below confidence 0.5), a magenta tick at the bottom edge of each
