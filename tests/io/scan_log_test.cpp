@@ -184,7 +184,7 @@ TEST(ScanLog, ValuesNoUrgCanSendAreDamage) {
   dir.write("log.txt", text);
   const ScanLog log = read_scan_log(path);
   EXPECT_EQ(log.scans.size(), 2u);
-  EXPECT_NE(log.damage.find("log.txt:20: scan: value 2 (262144) is more than a URG can send (262143)"), std::string::npos)
+  EXPECT_NE(log.damage.find("log.txt:19: scan: value 2 (262144) is more than a URG can send (262143)"), std::string::npos)
       << log.damage;
 }
 
