@@ -197,7 +197,7 @@ void damaged_log(fuzz::ByteReader& in) {
   const std::uint8_t kind = in.byte() % 5;
   const std::size_t at = in.integer<std::uint32_t>() % text.size();
   const char value = static_cast<char>(in.byte());
-  bool damaged = true;
+  bool damaged = true, newline_after_line_end = false;
   switch (kind) {
     case 0: damaged = false; break;
     case 1: text.resize(at); break;
@@ -205,13 +205,19 @@ void damaged_log(fuzz::ByteReader& in) {
       damaged = text[at] != value;
       text[at] = value;
       break;
-    case 3: text.insert(text.begin() + static_cast<std::ptrdiff_t>(at), value); break;
+    case 3:
+      // An LF put just before a line's own LF leaves that line whole: the
+      // damage is the empty line after it.
+      newline_after_line_end = value == '\n' && text[at] == '\n';
+      text.insert(text.begin() + static_cast<std::ptrdiff_t>(at), value);
+      break;
     case 4: text.erase(at, 1); break;
   }
   std::size_t line = lines + 1;  // first damaged line, 1-based
   if (damaged) {
     line = 1;
     while (line < starts.size() && starts[line] <= at) ++line;
+    if (newline_after_line_end) ++line;
   }
   // A cut at a line start leaves a shorter log with nothing damaged.
   const bool cut_at_line_end = kind == 1 && starts[line - 1] == at;

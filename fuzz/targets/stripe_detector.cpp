@@ -45,7 +45,7 @@ bool refused(std::span<const std::uint8_t> bytes, int width, int height) {
   try {
     (void)io::read_stripe_image(bytes, kName, width, height);
   } catch (const InputError& e) {
-    check(std::string(e.what()).rfind(kName, 0) == 0, std::string("an error that does not name the file: ") + e.what());
+    check(std::string(e.what()).find(kName) != std::string::npos, std::string("an error that does not name the file: ") + e.what());
     return true;
   }
   return false;

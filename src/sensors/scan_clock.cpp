@@ -14,7 +14,14 @@ double ScanClock::add(double sensor_time_s, double host_receive_time_s) {
   minima_.emplace_back(count_, offset);
   while (minima_.front().first + window_ <= count_) minima_.pop_front();
   ++count_;
-  return host_time_of(sensor_time_s);
+  double host_s = host_time_of(sensor_time_s);
+  if (have_last_ && sensor_time_s > last_sensor_s_) {
+    host_s = std::max(host_s, last_host_s_ + 0.5 * (sensor_time_s - last_sensor_s_));
+  }
+  have_last_ = true;
+  last_sensor_s_ = sensor_time_s;
+  last_host_s_ = host_s;
+  return host_s;
 }
 
 double ScanClock::offset_s() const { return minima_.empty() ? 0.0 : minima_.front().second - fixed_delay_s_; }
@@ -24,6 +31,7 @@ double ScanClock::host_time_of(double sensor_time_s) const { return sensor_time_
 void ScanClock::reset() {
   minima_.clear();
   count_ = 0;
+  have_last_ = false;
 }
 
 }  // namespace stridemap

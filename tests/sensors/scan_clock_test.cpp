@@ -32,5 +32,27 @@ TEST(ScanClock, WindowFollowsADriftingClock) {
   EXPECT_EQ(clock.offset_s(), 0.0);
 }
 
+// The first scans of a stream read in one go (found by the scip_driver
+// fuzzer): each is a new minimum of the delay, and without a limit the
+// second got exactly the first one's host time.
+TEST(ScanClock, ScansReadTogetherKeepIncreasingHostTimesAndTheEstimateCatchesUp) {
+  ScanClock clock(100, 0.1);
+  const double offset = 1.7e9, read_at = offset + 0.5;
+  double previous = clock.add(0.0, read_at);
+  for (int k = 1; k < 4; ++k) {  // three more frames that waited in the same buffer
+    const double host = clock.add(0.1 * k, read_at);
+    EXPECT_GT(host, previous) << "scan " << k;
+    EXPECT_GE(host - previous, 0.05 - 1e-6);  // doubles near 1.7e9 s step by 2.4e-7 s
+    previous = host;
+  }
+  // From now on each frame is read as it comes, 1 ms after its turn ends.
+  for (int k = 4; k < 40; ++k) {
+    const double host = clock.add(0.1 * k, offset + 0.1 * k + 0.1 + 0.001);
+    EXPECT_GT(host, previous) << "scan " << k;
+    previous = host;
+  }
+  EXPECT_NEAR(previous, offset + 3.9, 0.0015);  // caught up with the true offset
+}
+
 }  // namespace
 }  // namespace stridemap
