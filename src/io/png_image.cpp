@@ -1,6 +1,7 @@
 #include "stridemap/io/png_image.hpp"
 
 #include <png.h>
+#include <sys/stat.h>
 
 #include <cerrno>
 #include <csetjmp>
@@ -25,6 +26,8 @@ struct PngContext {
   const std::uint8_t* bytes = nullptr;
   std::size_t size = 0;
   std::size_t position = 0;
+  // Bytes of the whole input when known (a regular file or memory), else 0.
+  std::size_t input_bytes = 0;
   char message[256] = {};
   int saved_errno = 0;
   bool truncated = false;
@@ -205,6 +208,20 @@ RgbImage decode_png(PngContext& context, png_rw_ptr read, const std::string& pat
     return image;
   }
   // Interlaced passes revisit every row: the whole image is needed at once.
+  // Deflate cannot expand data more than 1032-fold, so an input too short
+  // to hold the image the header claims is refused before that allocation.
+  const int channels = colour_type == PNG_COLOR_TYPE_GRAY_ALPHA ? 2
+                       : colour_type == PNG_COLOR_TYPE_RGB      ? 3
+                       : colour_type == PNG_COLOR_TYPE_RGB_ALPHA ? 4
+                                                                 : 1;
+  const double source_bytes = static_cast<double>(width) * height * channels * bit_depth / 8.0;
+  constexpr double kMaxDeflateExpansion = 1032.0;
+  if (context.input_bytes > 0 && source_bytes > kMaxDeflateExpansion * static_cast<double>(context.input_bytes)) {
+    throw InputError("cannot read PNG '" + path + "': the file is truncated or corrupted: its interlaced " +
+                     std::to_string(width) + " x " + std::to_string(height) + " image needs at least " +
+                     std::to_string(static_cast<long long>(source_bytes / kMaxDeflateExpansion)) +
+                     " bytes of compressed data, the whole file has " + std::to_string(context.input_bytes));
+  }
   RgbImage image(static_cast<int>(width), static_cast<int>(height));
   std::vector<png_bytep> rows(height);
   for (png_uint_32 y = 0; y < height; ++y) rows[y] = image.rgb.data() + image.offset(0, static_cast<int>(y));
@@ -290,6 +307,10 @@ RgbImage read_png(const std::string& path, PngSourceFormat& source) {
 
   PngContext context;
   context.file = file.file;
+  struct stat status {};
+  if (::fstat(::fileno(file.file), &status) == 0 && S_ISREG(status.st_mode)) {
+    context.input_bytes = static_cast<std::size_t>(status.st_size);
+  }
   return decode_png(context, read_from_file, path, source);
 }
 
@@ -308,6 +329,7 @@ RgbImage read_png(std::span<const std::uint8_t> bytes, const std::string& source
   PngContext context;
   context.bytes = bytes.data();
   context.size = bytes.size();
+  context.input_bytes = bytes.size();
   context.position = 8;
   return decode_png(context, read_from_memory, source_name, source);
 }

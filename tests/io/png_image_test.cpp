@@ -102,7 +102,8 @@ void put_chunk(Bytes& out, const char* type, const Bytes& data) {
 
 // `scanlines` holds each row's bytes without the filter byte.
 Bytes handmade_png(std::uint32_t width, std::uint32_t height, std::uint8_t bit_depth, std::uint8_t colour_type,
-                   const std::vector<Bytes>& scanlines, const Bytes& palette = {}, const Bytes& transparency = {}) {
+                   const std::vector<Bytes>& scanlines, const Bytes& palette = {}, const Bytes& transparency = {},
+                   std::uint8_t interlace = 0) {
   Bytes raw;
   for (const auto& row : scanlines) {
     raw.push_back(0);  // filter type None
@@ -131,7 +132,7 @@ Bytes handmade_png(std::uint32_t width, std::uint32_t height, std::uint8_t bit_d
   Bytes header;
   put_u32(header, width);
   put_u32(header, height);
-  header.insert(header.end(), {bit_depth, colour_type, 0, 0, 0});
+  header.insert(header.end(), {bit_depth, colour_type, 0, 0, interlace});
   put_chunk(png, "IHDR", header);
   if (!palette.empty()) put_chunk(png, "PLTE", palette);
   if (!transparency.empty()) put_chunk(png, "tRNS", transparency);
@@ -327,6 +328,28 @@ TEST_F(PngImageTest, ATinyFileClaimingAHugeImageDoesNotAllocateIt) {
   rusage before{};
   ::getrusage(RUSAGE_SELF, &before);
   expect_input_error([&] { read_png(path("bomb.png")); }, {"bomb.png", "Not enough image data"});
+  rusage after{};
+  ::getrusage(RUSAGE_SELF, &after);
+  EXPECT_LT(after.ru_maxrss - before.ru_maxrss, 64L * 1024) << "peak resident memory grew by "
+                                                            << (after.ru_maxrss - before.ru_maxrss) << " kB";
+}
+
+// Interlaced images are decoded whole, so the size check comes first: the
+// header's image must fit what the file's bytes can inflate to.
+TEST_F(PngImageTest, AnInterlacedFileTooShortForItsImageIsRefusedBeforeAllocating) {
+  write_bytes(path("one_pixel.png"), handmade_png(1, 1, 8, 0, {Bytes{200}}, {}, {}, 1));
+  const RgbImage pixel = read_png(path("one_pixel.png"));
+  ASSERT_EQ(pixel.width, 1);
+  expect_pixel(pixel, 0, 0, 200, 200, 200);
+
+  const Bytes bomb = handmade_png(16000, 16000, 8, 2, {Bytes(48000, 7)}, {}, {}, 1);
+  write_bytes(path("bomb.png"), bomb);
+  rusage before{};
+  ::getrusage(RUSAGE_SELF, &before);
+  expect_input_error([&] { read_png(path("bomb.png")); },
+                     {"bomb.png", "interlaced 16000 x 16000 image needs at least 744186 bytes of compressed data",
+                      "the whole file has " + std::to_string(bomb.size())});
+  expect_input_error([&] { read_png(bomb, "frame.png"); }, {"frame.png", "744186 bytes"});
   rusage after{};
   ::getrusage(RUSAGE_SELF, &after);
   EXPECT_LT(after.ru_maxrss - before.ru_maxrss, 64L * 1024) << "peak resident memory grew by "
