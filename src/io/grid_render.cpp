@@ -9,6 +9,7 @@
 #include <opencv2/imgproc.hpp>
 #include <vector>
 
+#include "colour_palette.hpp"
 #include "stridemap/core/error.hpp"
 
 namespace stridemap::io {
@@ -42,18 +43,9 @@ struct Range {
 };
 
 std::array<Rgb, 256> make_palette(ColourScale scale) {
-  int map = cv::COLORMAP_VIRIDIS;
-  if (scale == ColourScale::turbo) map = cv::COLORMAP_TURBO;
-  if (scale == ColourScale::cividis) map = cv::COLORMAP_CIVIDIS;
-  cv::Mat ramp(1, 256, CV_8UC1);
-  for (int i = 0; i < 256; ++i) ramp.at<std::uint8_t>(0, i) = static_cast<std::uint8_t>(i);
-  cv::Mat bgr;
-  cv::applyColorMap(ramp, bgr, map);
+  const std::array<cv::Vec3b, 256> bgr = detail::colour_scale_bgr(scale);
   std::array<Rgb, 256> palette{};
-  for (int i = 0; i < 256; ++i) {
-    const auto& pixel = bgr.at<cv::Vec3b>(0, i);
-    palette[i] = {pixel[2], pixel[1], pixel[0]};
-  }
+  for (std::size_t i = 0; i < palette.size(); ++i) palette[i] = {bgr[i][2], bgr[i][1], bgr[i][0]};
   return palette;
 }
 

@@ -9,23 +9,11 @@
 #include <Eigen/Geometry>
 #include <opencv2/imgproc.hpp>
 
+#include "colour_palette.hpp"
 #include "stridemap/core/error.hpp"
 
 namespace stridemap::io {
 namespace {
-
-std::array<cv::Vec3b, 256> palette_of(ColourScale scale) {
-  int map = cv::COLORMAP_VIRIDIS;
-  if (scale == ColourScale::turbo) map = cv::COLORMAP_TURBO;
-  if (scale == ColourScale::cividis) map = cv::COLORMAP_CIVIDIS;
-  cv::Mat ramp(1, 256, CV_8UC1);
-  for (int i = 0; i < 256; ++i) ramp.at<std::uint8_t>(0, i) = static_cast<std::uint8_t>(i);
-  cv::Mat bgr;
-  cv::applyColorMap(ramp, bgr, map);
-  std::array<cv::Vec3b, 256> palette{};
-  for (int i = 0; i < 256; ++i) palette[static_cast<std::size_t>(i)] = bgr.at<cv::Vec3b>(0, i);
-  return palette;
-}
 
 struct Quad {
   std::array<cv::Point, 4> corners;
@@ -86,7 +74,7 @@ RgbImage render_terrain_view(const Eigen::MatrixXf& elevation_m, const CellMask&
   const Eigen::Vector3d up = right.cross(forward);
   const double focal = 0.5 * o.height_px / std::tan(0.5 * o.field_of_view_deg * deg);
   const Eigen::Vector3d light = Eigen::Vector3d(-0.4, -0.6, 1.0).normalized();
-  const auto palette = palette_of(o.colour_scale);
+  const auto palette = detail::colour_scale_bgr(o.colour_scale);
 
   const auto vertex = [&](Eigen::Index i, Eigen::Index j) {
     return Eigen::Vector3d(static_cast<double>(i) * cell_size_m, static_cast<double>(j) * cell_size_m, elevation_m(i, j) * ex);
