@@ -9,6 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "cli_parsing.hpp"
 #include "commands.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/stripe_detector.hpp"
@@ -138,7 +139,8 @@ void register_calibrate_structured_light(CLI::App& app) {
   command->add_flag("--fit-distance-offset", args->fit_offset,
                     "Also fit an offset added to every distance (a ruler not zeroed at the optical centre)");
   command->add_option("--min-confidence", args->min_confidence, "Stripe columns below this confidence are not used")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_from_to(0.0, 1.0));
   command->add_option("--json", args->json_path, "Also write the result as JSON");
   command->callback([args] { run(*args); });
 }

@@ -5,6 +5,7 @@
 #include <memory>
 #include <string>
 
+#include "cli_parsing.hpp"
 #include "commands.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/sensor_transform.hpp"
@@ -106,17 +107,22 @@ void register_detect_stripe(CLI::App& app) {
       ->required();
   command->add_option("--out", args->out_dir, "Output folder (default: the image's folder)");
   command->add_option("--min-confidence", args->min_confidence, "Columns below this confidence count as no stripe")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_from_to(0.0, 1.0));
   command->add_option("--min-red-excess", args->detector.min_red_excess_dn, "Least R - max(G, B) of a stripe pixel [DN]")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(whole_from_to(0, 65535));
   command->add_option("--min-red", args->detector.min_red_dn, "Least red value of a stripe pixel [DN]")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(whole_from_to(0, 65535));
   command->add_option("--min-component", args->detector.min_component_px,
                       "Connected regions smaller than this are dropped [px]")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(whole_from_to(0, 100000000));
   command->add_option("--max-stripe-height", args->detector.max_stripe_height_px,
                       "A red run taller than this in a column is not a stripe [px]")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(whole_from_to(1, 100000));
   command->callback([args] { run(*args); });
 }
 

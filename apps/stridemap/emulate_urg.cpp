@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_parsing.hpp"
 #include "commands.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
@@ -141,41 +142,55 @@ void register_emulate_urg(CLI::App& app) {
                   "static, cart-rail (the scene's rail, as experiment cart-rail) or walk (the scene's walk_path, "
                   "as experiment rocky-walk)")
       ->capture_default_str();
-  cmd->add_option("--x-m", args->x_m, "static: trunk position x [m]")->capture_default_str();
-  cmd->add_option("--y-m", args->y_m, "static: trunk position y [m]")->capture_default_str();
-  cmd->add_option("--yaw-deg", args->yaw_deg, "static: heading [deg]")->capture_default_str();
-  cmd->add_option("--pitch-deg", args->pitch_deg, "static: trunk pitch, nose down positive [deg]")->capture_default_str();
-  cmd->add_option("--roll-deg", args->roll_deg, "static: trunk roll [deg]")->capture_default_str();
+  cmd->add_option("--x-m", args->x_m, "static: trunk position x [m]")->capture_default_str()
+      ->check(number_from_to(-1e6, 1e6, "m"));
+  cmd->add_option("--y-m", args->y_m, "static: trunk position y [m]")->capture_default_str()
+      ->check(number_from_to(-1e6, 1e6, "m"));
+  cmd->add_option("--yaw-deg", args->yaw_deg, "static: heading [deg]")->capture_default_str()
+      ->check(number_from_to(-360.0, 360.0, "deg"));
+  cmd->add_option("--pitch-deg", args->pitch_deg, "static: trunk pitch, nose down positive [deg]")->capture_default_str()
+      ->check(number_from_to(-90.0, 90.0, "deg"));
+  cmd->add_option("--roll-deg", args->roll_deg, "static: trunk roll [deg]")->capture_default_str()
+      ->check(number_from_to(-90.0, 90.0, "deg"));
   cmd->add_option("--config", args->config_path, "Mapper configuration whose sensor mount the simulation uses");
   cmd->add_option("--link", args->server.link_path, "Symlink to create for the emulated serial port")->required();
   cmd->add_option("--variant", args->variant, "classic (boots in SCIP 1.1) or ug01 (SCIP 2.0 native)")
       ->capture_default_str();
   cmd->add_option("--rate-hz", args->rate_hz, "Scans per second (a real URG-04LX: 10; faster for tests)")
-      ->capture_default_str();
-  cmd->add_option("--seed", args->seed, "Seed of the simulated noise")->capture_default_str();
+      ->capture_default_str()
+      ->check(whole_from_to(1, 1000));
+  cmd->add_option("--seed", args->seed, "Seed of the simulated noise")->capture_default_str()
+      ->check(seed_value());
   cmd->add_option("--mixed-pixels", args->mixed_pixels, "on: the footprint beam model (mixed pixels at edges)")
       ->capture_default_str();
   cmd->add_option("--timestamp-start-ms", args->timestamp_start_ms,
                   "Sensor clock at power-up (e.g. 16776000 to see the 24-bit wrap within a second)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(whole_from_to(0, 4294967295u));
   cmd->add_option("--fault", args->faults,
                   "KIND@FRAME[:SECONDS]: corrupt@20, drop@30, stall@40:1.5, disconnect@60:1, reset@80 (repeatable)");
   cmd->add_option("--corrupt-probability", args->server.corrupt_probability, "Chance per frame of a corrupted byte")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_from_to(0.0, 1.0));
   cmd->add_option("--drop-probability", args->server.drop_probability, "Chance per frame of a dropped frame")
-      ->capture_default_str();
-  cmd->add_option("--fault-seed", args->server.fault_seed, "Seed of the random faults")->capture_default_str();
+      ->capture_default_str()
+      ->check(number_from_to(0.0, 1.0));
+  cmd->add_option("--fault-seed", args->server.fault_seed, "Seed of the random faults")->capture_default_str()
+      ->check(seed_value());
   cmd->add_option("--trace", args->server.trace_path, "Write what happened to every frame to this file");
   cmd->add_option("--poses-out", args->server.poses_path, "Write the true pose of every scan (pose format)");
   cmd->add_option("--poses-clock", args->poses_clock, "Clock of --poses-out: host or sensor")->capture_default_str();
   cmd->add_option("--poses-rate-hz", args->server.poses_rate_hz,
                   "Poses per second in --poses-out, each written when its time comes (0: one per scan, at its "
                   "step 0)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_from_to(0.0, 10000.0, "Hz"));
   cmd->add_option("--max-frames", args->server.max_frames, "Stop after this many scan frames (0: no limit)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(whole_from_to(0, std::numeric_limits<std::uint64_t>::max()));
   cmd->add_option("--duration-s", args->server.max_duration_s, "Stop after this many seconds (0: no limit)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_from_to(0.0, 31536000.0, "s"));
   cmd->callback([args] { run_emulate(*args); });
 }
 

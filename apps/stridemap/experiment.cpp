@@ -105,7 +105,10 @@ void run_cart_rail_command(const CartRailArgs& args) {
     apply_structured_light_args(args, options);
     if (options.structured_light.pipeline == StripePipeline::geometric) name += "-geometric";
   }
-  const CartRailResult result = run_cart_rail(scene, options);
+  const std::string cell_setting = args.cell_size_given || args.config_path.empty()
+                                       ? "--cell-size-m " + number_text(options.cell_size_m)
+                                       : args.config_path + ": map.cell_size_m " + number_text(options.cell_size_m);
+  const CartRailResult result = naming_grid_setting(cell_setting, [&] { return run_cart_rail(scene, options); });
   const CartRailRunInfo info{name, args.scene_path};
   const std::string dir = (std::filesystem::path(args.out_dir) / ("cart-rail-" + name)).string();
   write_cart_rail_outputs(result, options, info, dir);
@@ -187,17 +190,21 @@ void register_experiment(CLI::App& app) {
                         "Structured light: image (render the camera image, detect the stripe) or geometric (the "
                         "simulator's true stripe)")
       ->capture_default_str();
-  cart_rail->add_option("--lux", args->lux, "Structured light: ambient illuminance [lux]")->capture_default_str();
+  cart_rail->add_option("--lux", args->lux, "Structured light: ambient illuminance [lux]")->capture_default_str()
+      ->check(number_from_to(0.0, 1e6, "lux"));
   cart_rail->add_option("--scene", args->scene_path, "Scene file (YAML, see docs/scenes.md)")->required();
   cart_rail->add_option("--out", args->out_dir, "Output folder; results go to OUT/cart-rail-<sensor>/")->required();
-  cart_rail->add_option("--seed", args->seed, "Seed of the simulation")->capture_default_str();
+  cart_rail->add_option("--seed", args->seed, "Seed of the simulation")->capture_default_str()
+      ->check(seed_value());
   cart_rail->add_option("--config", args->config_path,
                         "Mapper configuration (YAML, docs/config.md): mount, update rule, fill, calibration, cell size");
   CLI::Option* cell_size = cart_rail->add_option("--cell-size-m", args->cell_size_m,
                                                  "Map cell size [m] (structured light: 0.005 unless given)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_from_to(kMinCellSizeM, kMaxCellSizeM, "m"));
   cart_rail->add_option("--cells", args->cells_per_side, "Cells per map side (0: fit the swept area)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(grid_cells_option(0));
   CLI::Option* rule = cart_rail->add_option("--elevation-rule", args->elevation_rule,
                         "paper: eq. (10), the highest reading wins; gated: a reading outside the plausibility "
                         "bound needs repeated support (docs/mapping.md)")
@@ -219,16 +226,20 @@ void register_experiment(CLI::App& app) {
       "mixed-pixels", "Mixed pixels from the footprint physics against each filter (Figs. 12-15, 18)");
   mixed->add_option("--scene", mp->scene_path, "Scene file (YAML, see docs/scenes.md)")->required();
   mixed->add_option("--out", mp->out_dir, "Output folder; results go to OUT/mixed-pixels/<scene>/")->required();
-  mixed->add_option("--seed", mp->seed, "Seed of the simulation")->capture_default_str();
+  mixed->add_option("--seed", mp->seed, "Seed of the simulation")->capture_default_str()
+      ->check(seed_value());
   mixed->add_option("--texture-log-sigma", mp->texture_log_sigma,
                     "Surface texture of the footprint model: std. dev. of the log gain (0: off)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_from_to(0.0, 5.0));
   mixed->add_option("--cluster-min-points", mp->cluster_min_points,
                     "Range clustering: clusters with fewer points are removed")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(whole_from_to(1, 100000));
   mixed->add_option("--cluster-max-incidence-deg", mp->cluster_max_incidence_deg,
                     "Range clustering: the most oblique incidence of one surface [deg]")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_from_to(0.0, 90.0, "deg"));
   mixed->add_flag("--square-objects", mp->square_objects,
                   "Turn every box square to the rail (yaw 0), the idealised placement");
   mixed->callback([mp] { run_mixed_pixels_command(*mp); });
@@ -242,8 +253,10 @@ void register_experiment(CLI::App& app) {
                        "Structured-light configuration (YAML); default Ragno's");
   lighting->add_option("--levels", la->levels_lux,
                        "Ambient illuminances [lux], comma separated; default 50,300,1000,3000,10000,30000,100000")
-      ->delimiter(',');
-  lighting->add_option("--seed", la->seed, "Seed of the simulation")->capture_default_str();
+      ->delimiter(',')
+      ->check(number_from_to(0.0, 1e6, "lux"));
+  lighting->add_option("--seed", la->seed, "Seed of the simulation")->capture_default_str()
+      ->check(seed_value());
   lighting->callback([la] { run_lighting_command(*la); });
 
   cart_rail->callback([args, cell_size, rule, filters, mixed_pixels, map_filter] {

@@ -10,8 +10,10 @@
 #include <string>
 #include <vector>
 
+#include "cli_parsing.hpp"
 #include "commands.hpp"
 #include "stridemap/core/error.hpp"
+#include "stridemap/core/printable_text.hpp"
 #include "stridemap/io/map_outputs.hpp"
 #include "stridemap/io/pose_stream.hpp"
 #include "stridemap/io/scan_log.hpp"
@@ -43,7 +45,8 @@ void add_mapping_options(CLI::App& command, MappingArgs& args) {
       ->capture_default_str();
   command.add_option("--max-pose-gap-s", args.max_pose_gap_s,
                      "Do not interpolate between poses farther apart than this")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_from_to(0.001, 86400.0, "s"));
 }
 
 ScanMapperOptions mapper_options(const MappingArgs& args) {
@@ -107,7 +110,7 @@ void run_live(const LiveArgs& args) {
   const double cpu_start = process_cpu_seconds();
   UrgDriverEvent event;
   std::unique_ptr<UrgDriver> driver = start_driver(args.device, event);
-  std::fprintf(stderr, "stridemap: connected: %s\n", event.message.c_str());
+  std::fprintf(stderr, "stridemap: connected: %s\n", printable_text(event.message).c_str());
   if (log) log->write_sensor(host_seconds(), driver->version(), driver->parameters());
   const scip::ScipParameters sensor = driver->parameters();
   ScanMapper mapper(options, driver->urg_parameters());
@@ -248,7 +251,7 @@ void run_map(const MapArgs& args) {
   const ScanMapperOptions options = mapper_options(args.mapping);
   const io::ScanLog log = io::read_scan_log(args.log_path);
   if (!log.damage.empty()) {
-    std::fprintf(stderr, "stridemap: warning: %s; mapping the %zu scans before it\n", log.damage.c_str(),
+    std::fprintf(stderr, "stridemap: warning: %s; mapping the %zu scans before it\n", printable_text(log.damage).c_str(),
                  log.scans.size());
   }
   PoseTrack track(args.mapping.max_pose_gap_s);
@@ -282,11 +285,14 @@ void register_live(CLI::App& app) {
   add_mapping_options(*live, args->mapping);
   live->add_option("--record", args->record_path, "Also write the scans into this scan log");
   live->add_option("--save-every-s", args->save_every_s, "Write the map this often (and at exit)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(number_from_to(0.01, 86400.0, "s"));
   live->add_option("--pose-wait-s", args->pose_wait_s,
                    "A scan whose poses have not arrived after this long is skipped")
-      ->capture_default_str();
-  live->add_option("--status-every-s", args->status_every_s, "Status line period")->capture_default_str();
+      ->capture_default_str()
+      ->check(number_from_to(0.0, 3600.0, "s"));
+  live->add_option("--status-every-s", args->status_every_s, "Status line period")->capture_default_str()
+      ->check(number_from_to(0.01, 86400.0, "s"));
   live->callback([args] { run_live(*args); });
 
   auto map_args = std::make_shared<MapArgs>();

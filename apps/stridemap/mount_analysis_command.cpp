@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_parsing.hpp"
 #include "stridemap/experiments/mount_analysis.hpp"
 #include "stridemap/experiments/mount_analysis_report.hpp"
 #include "stridemap/experiments/structured_light_walk_sensor.hpp"
@@ -119,8 +120,10 @@ void register_mount_analysis(CLI::App* experiment) {
       "mount-analysis", "Sensor mounts compared on random step fields: occlusions, uncertainty, stripe (Figs. 5, 7), simulated");
   cmd->add_option("--sensor", args->sensor, "Sensor: urg or structured-light")->capture_default_str();
   cmd->add_option("--out", args->out_dir, "Output folder; results go to OUT/mount-analysis-<sensor>/")->required();
-  cmd->add_option("--seed", args->seed, "Seed of the step fields and the simulation")->capture_default_str();
-  cmd->add_option("--fields", args->fields, "Random step fields walked per mount")->capture_default_str();
+  cmd->add_option("--seed", args->seed, "Seed of the step fields and the simulation")->capture_default_str()
+      ->check(seed_value());
+  cmd->add_option("--fields", args->fields, "Random step fields walked per mount")->capture_default_str()
+      ->check(whole_from_to(1, 10000));
   cmd->add_option("--heights-cm", args->heights_cm,
                   "Sweep heights: start:stop:step or a list [cm]; default 12:36:4 (urg), 10:30:4 (structured-light)");
   cmd->add_option("--pitches-deg", args->pitches_deg,

@@ -5,6 +5,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "stridemap/core/printable_text.hpp"
 #include "stridemap/io/scan_log.hpp"
 #include "urg_device.hpp"
 
@@ -21,7 +22,7 @@ void run_record(const RecordArgs& args) {
   io::ScanLogWriter log(args.out_path, args.device.device);
   UrgDriverEvent event;
   std::unique_ptr<UrgDriver> driver = start_driver(args.device, event);
-  std::fprintf(stderr, "stridemap: connected: %s\n", event.message.c_str());
+  std::fprintf(stderr, "stridemap: connected: %s\n", printable_text(event.message).c_str());
   log.write_sensor(host_seconds(), driver->version(), driver->parameters());
   const double start = monotonic_seconds();
   double next_status = start + 1.0;
@@ -48,7 +49,7 @@ void run_record(const RecordArgs& args) {
         log.write_fault(host_seconds(), event.fault, event.count, event.message);
         break;
       case UrgDriverEvent::Kind::connected:
-        std::fprintf(stderr, "stridemap: connected: %s\n", event.message.c_str());
+        std::fprintf(stderr, "stridemap: connected: %s\n", printable_text(event.message).c_str());
         log.write_sensor(host_seconds(), driver->version(), driver->parameters());
         break;
     }

@@ -9,6 +9,7 @@
 #include <string>
 #include <system_error>
 
+#include "cli_parsing.hpp"
 #include "commands.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/grid_csv.hpp"
@@ -184,8 +185,10 @@ void register_sensor_report(CLI::App& app) {
   command->add_option("--uncertainty-out", options->uncertainty_dir,
                       "Write x_uncertainty and z_uncertainty maps (.csv in m, .png in mm) into this folder");
   command->add_option("--max-depth", options->maps.max_depth_m, "Largest depth z_c of the maps [m]")
-      ->capture_default_str();
-  command->add_option("--cell-size", options->maps.cell_size_m, "Cell side of the maps [m]")->capture_default_str();
+      ->capture_default_str()
+      ->check(number_from_to(0.001, 1000.0, "m"));
+  command->add_option("--cell-size", options->maps.cell_size_m, "Cell side of the maps [m]")->capture_default_str()
+      ->check(number_from_to(kMinCellSizeM, kMaxCellSizeM, "m"));
   command->add_flag("--with-parameter-errors", options->maps.include_parameter_errors,
                     "Add the calibration errors (Delta b, Delta beta, Delta tau_c) to the pixel errors in the maps");
   command->callback([options] { run(*options); });

@@ -6,6 +6,7 @@
 #include <numbers>
 #include <string>
 
+#include "cli_parsing.hpp"
 #include "commands.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/png_image.hpp"
@@ -101,16 +102,24 @@ void register_simulate_stripe_image(CLI::App& app) {
   command->add_option("--scene", args->scene_path, "Scene file (YAML, docs/scenes.md)");
   command->add_option("--wall-distance-m", args->wall_distance_m,
                       "Instead of a scene: a flat target across the optical axis of a level sensor, this far from "
-                      "the optical centre (z_c) [m]");
+                      "the optical centre (z_c) [m]")
+      ->check(number_from_to(0.001, 1000.0, "m"));
   command->add_option("--out", args->out_path, "Image to write (PNG)")->required();
   command->add_option("--truth", args->truth_path, "Also write the true stripe per column (CSV)");
-  command->add_option("--x", args->x_m, "Trunk position x [m]")->capture_default_str();
-  command->add_option("--y", args->y_m, "Trunk position y [m]")->capture_default_str();
-  command->add_option("--yaw", args->yaw_deg, "Trunk heading [deg]")->capture_default_str();
-  command->add_option("--pitch", args->pitch_deg, "Trunk pitch, positive nose down [deg]")->capture_default_str();
-  command->add_option("--roll", args->roll_deg, "Trunk roll [deg]")->capture_default_str();
-  command->add_option("--lux", args->lux, "Ambient illuminance [lux]")->capture_default_str();
-  command->add_option("--seed", args->seed, "Seed of the sensor noise")->capture_default_str();
+  command->add_option("--x", args->x_m, "Trunk position x [m]")->capture_default_str()
+      ->check(number_from_to(-1e6, 1e6, "m"));
+  command->add_option("--y", args->y_m, "Trunk position y [m]")->capture_default_str()
+      ->check(number_from_to(-1e6, 1e6, "m"));
+  command->add_option("--yaw", args->yaw_deg, "Trunk heading [deg]")->capture_default_str()
+      ->check(number_from_to(-360.0, 360.0, "deg"));
+  command->add_option("--pitch", args->pitch_deg, "Trunk pitch, positive nose down [deg]")->capture_default_str()
+      ->check(number_from_to(-90.0, 90.0, "deg"));
+  command->add_option("--roll", args->roll_deg, "Trunk roll [deg]")->capture_default_str()
+      ->check(number_from_to(-90.0, 90.0, "deg"));
+  command->add_option("--lux", args->lux, "Ambient illuminance [lux]")->capture_default_str()
+      ->check(number_from_to(0.0, 1e6, "lux"));
+  command->add_option("--seed", args->seed, "Seed of the sensor noise")->capture_default_str()
+      ->check(seed_value());
   command->callback([args] { run(*args); });
 }
 

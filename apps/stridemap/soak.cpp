@@ -12,6 +12,7 @@
 #include <string>
 #include <system_error>
 
+#include "cli_parsing.hpp"
 #include "commands.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/soak.hpp"
@@ -167,16 +168,18 @@ void register_soak(CLI::App& app) {
   CLI::App* command = app.add_subcommand(
       "soak", "Long simulated run: every scan accounted for, no invalid cell, flat memory, same seed same maps");
   command->add_option("--scene", options->scene_path, "Scene file")->capture_default_str();
-  command->add_option("--scans", options->scans, "Scans to simulate")->capture_default_str()->check(CLI::Range(1, 100000000));
-  command->add_option("--seed", options->seed, "Seed of the simulator and the pose errors")->capture_default_str();
+  command->add_option("--scans", options->scans, "Scans to simulate")->capture_default_str()->check(whole_from_to(1, 100000000));
+  command->add_option("--seed", options->seed, "Seed of the simulator and the pose errors")->capture_default_str()
+      ->check(seed_value());
   command->add_option("--repeat", options->repeat, "Runs with the same seed, compared bit for bit")
       ->capture_default_str()
-      ->check(CLI::Range(1, 10));
+      ->check(whole_from_to(1, 10));
   command->add_option("--motion", options->motion,
                       "circuit (a circle driven round and round) or walk (the walking robot's gait round the "
                       "scene's walk_path, a closed loop)")
       ->capture_default_str();
-  command->add_option("--radius-m", options->radius_m, "Radius of the circuit [m]")->capture_default_str();
+  command->add_option("--radius-m", options->radius_m, "Radius of the circuit [m]")->capture_default_str()
+      ->check(number_from_to(0.05, 1000.0, "m"));
   command->add_option("--out", options->out_dir, "Folder for soak/summary.json");
   command->add_flag("!--no-planner-thread", options->planner_thread, "Do not read snapshots from a second thread");
   command->callback([options] { run(*options); });

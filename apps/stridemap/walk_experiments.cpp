@@ -91,7 +91,9 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   } else {
     factory = structured_light_walk_sensor_factory(args.seed, args.pipeline);
   }
-  const RockyWalkResult result = run_rocky_walk(scene, path, factory, options);
+  const RockyWalkResult result =
+      naming_grid_setting("--cell-size-m " + number_text(options.walk.mapper.grid.cell_size_m),
+                          [&] { return run_rocky_walk(scene, path, factory, options); });
   const std::string dir = (std::filesystem::path(args.out_dir) / ("rocky-walk-" + result.sensor)).string();
   write_rocky_walk_outputs(result, options, info, dir);
   std::fputs(rocky_walk_table(result).c_str(), stdout);
@@ -110,12 +112,16 @@ void register_walk_experiments(CLI::App& app) {
   rocky->add_option("--scene", rw->scene_path, "Scene file (YAML, docs/scenes.md)")->capture_default_str();
   rocky->add_option("--path", rw->path_file, "Path file (YAML, docs/walking.md); default: the scene's walk_path");
   rocky->add_option("--out", rw->out_dir, "Output folder; results go to OUT/rocky-walk-<sensor>/")->required();
-  rocky->add_option("--seed", rw->seed, "Seed of the simulation")->capture_default_str();
+  rocky->add_option("--seed", rw->seed, "Seed of the simulation")->capture_default_str()
+      ->check(seed_value());
   rocky->add_option("--pose-error-scale", rw->pose_error_scale,
                     "Factor on every pose error of the main walk (docs/walking.md has the defaults)")
-      ->capture_default_str();
-  rocky->add_option("--imu-pitch-bias-deg", rw->imu_pitch_bias_deg, "IMU pitch bias [deg] (default -0.3)");
-  rocky->add_option("--imu-roll-bias-deg", rw->imu_roll_bias_deg, "IMU roll bias [deg] (default 0.3)");
+      ->capture_default_str()
+      ->check(number_from_to(0.0, 1000.0));
+  rocky->add_option("--imu-pitch-bias-deg", rw->imu_pitch_bias_deg, "IMU pitch bias [deg] (default -0.3)")
+      ->check(number_from_to(-90.0, 90.0, "deg"));
+  rocky->add_option("--imu-roll-bias-deg", rw->imu_roll_bias_deg, "IMU roll bias [deg] (default 0.3)")
+      ->check(number_from_to(-90.0, 90.0, "deg"));
   rocky->add_option("--sweep", rw->sweep, "Pose-error factors of the sweep, comma separated; none for no sweep")
       ->capture_default_str();
   rocky->add_option("--reference", rw->reference,
@@ -130,8 +136,10 @@ void register_walk_experiments(CLI::App& app) {
                     "Structured light: geometric (true stripe + 0.3 px row noise) or image (render and detect)")
       ->capture_default_str();
   rocky->add_option("--elevation-rule", rw->elevation_rule, "paper (eq. 10) or gated")->capture_default_str();
-  rocky->add_option("--cell-size-m", rw->cell_size_m, "Map cell size [m]; default 0.01 (urg), 0.005 (structured-light)");
-  rocky->add_option("--cells", rw->cells_per_side, "Cells per side of the local map; default 100 (urg), 200 (structured-light)");
+  rocky->add_option("--cell-size-m", rw->cell_size_m, "Map cell size [m]; default 0.01 (urg), 0.005 (structured-light)")
+      ->check(number_from_to(kMinCellSizeM, kMaxCellSizeM, "m"));
+  rocky->add_option("--cells", rw->cells_per_side, "Cells per side of the local map; default 100 (urg), 200 (structured-light)")
+      ->check(grid_cells_option(1));
   rocky->callback([rw] { run_rocky_walk_command(*rw); });
 
   register_mount_analysis(experiment);

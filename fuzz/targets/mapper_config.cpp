@@ -17,7 +17,7 @@ STRIDEMAP_FUZZ_TARGET(mapper_config) {
   } catch (const InputError&) {
     return;
   }
-  // Up to 20000 cells per side are valid, but 5 GB is not for a fuzzer.
+  // Up to 4096 cells per side are valid, but 335 MB per input is not for a fuzzer.
   if (config.mapper.grid.cells_per_side > 300) config.mapper.grid.cells_per_side = 300;
   try {
     TerrainMapper mapper(config.mapper, config.mount);

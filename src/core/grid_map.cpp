@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <string>
 
@@ -11,20 +12,86 @@ namespace stridemap {
 namespace {
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-// Larger grids would not be a local map any more, and N^2 must fit memory.
-constexpr int kMaxCellsPerSide = 20000;
+static_assert(kGridBytesPerCell == 4 * sizeof(float) + 2 * sizeof(std::uint8_t) + sizeof(std::uint16_t),
+              "kGridBytesPerCell must count every layer of ElevationMap");
+
+std::string number_text(double value) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", value);
+  return text;
+}
+
+std::string length_text(double metres) {
+  char text[48];
+  if (metres < 0.01) {
+    std::snprintf(text, sizeof text, "%g mm", metres * 1000.0);
+  } else {
+    std::snprintf(text, sizeof text, "%.2f m", metres);
+  }
+  return text;
+}
+
+std::string limit_text() {
+  const double n = kMaxGridCellsPerSide;
+  return "the limit is " + std::to_string(kMaxGridCellsPerSide) + " cells per side (" +
+         byte_size_text(n * n * static_cast<double>(kGridBytesPerCell)) + ")";
+}
+
+void check_cell_size(double cell_size_m) {
+  if (!std::isfinite(cell_size_m) || cell_size_m < kMinCellSizeM || cell_size_m > kMaxCellSizeM) {
+    throw GridSizeError("map options: cell_size_m must be between " + number_text(kMinCellSizeM) + " and " +
+                        number_text(kMaxCellSizeM) + " m, got " + number_text(cell_size_m));
+  }
+}
 
 }  // namespace
 
+std::string byte_size_text(double bytes) {
+  const char* units[] = {"B", "kB", "MB", "GB", "TB", "PB", "EB"};
+  int unit = 0;
+  while (bytes >= 1000.0 && unit < 6) {
+    bytes /= 1000.0;
+    ++unit;
+  }
+  char text[48];
+  std::snprintf(text, sizeof text, unit == 0 ? "%.0f %s" : "%.1f %s", bytes, units[unit]);
+  return text;
+}
+
+void validate_grid_options(const GridOptions& options) {
+  const int n = options.cells_per_side;
+  if (n < 1 || n > kMaxGridCellsPerSide) {
+    std::string message = "map options: cells_per_side must be between 1 and " +
+                          std::to_string(kMaxGridCellsPerSide) + ", got " + std::to_string(n);
+    if (n > kMaxGridCellsPerSide) {
+      const double cells = static_cast<double>(n) * static_cast<double>(n);
+      message += ": " + std::to_string(n) + " x " + std::to_string(n) + " cells need " +
+                 byte_size_text(cells * static_cast<double>(kGridBytesPerCell)) + "; " + limit_text();
+    }
+    throw GridSizeError(message);
+  }
+  check_cell_size(options.cell_size_m);
+}
+
+int cells_per_side_to_cover(double extent_m, double cell_size_m) {
+  check_cell_size(cell_size_m);
+  if (!std::isfinite(extent_m) || extent_m < 0.0) {
+    throw GridSizeError("map options: the area to cover must be a finite size, got " + number_text(extent_m) + " m");
+  }
+  // In double until the count is known to fit an int.
+  const double needed = std::max(1.0, std::ceil(extent_m / cell_size_m));
+  if (needed > kMaxGridCellsPerSide) {
+    throw GridSizeError("map options: a " + length_text(cell_size_m) + " map of this " + length_text(extent_m) +
+                        " area needs " + number_text(needed) + " x " + number_text(needed) + " cells, " +
+                        byte_size_text(needed * needed * static_cast<double>(kGridBytesPerCell)) + "; " +
+                        limit_text() + ": use larger cells");
+  }
+  return static_cast<int>(needed);
+}
+
 ElevationMap::ElevationMap(const GridOptions& options)
     : n_(options.cells_per_side), cell_size_m_(options.cell_size_m), inverse_cell_size_(1.0 / options.cell_size_m) {
-  if (n_ < 1 || n_ > kMaxCellsPerSide) {
-    throw InputError("map options: cells_per_side must be between 1 and " + std::to_string(kMaxCellsPerSide) +
-                     ", got " + std::to_string(n_));
-  }
-  if (!std::isfinite(cell_size_m_) || cell_size_m_ <= 0.0) {
-    throw InputError("map options: cell_size_m must be a positive number, got " + std::to_string(cell_size_m_));
-  }
+  validate_grid_options(options);
   const auto cells = static_cast<std::size_t>(n_) * static_cast<std::size_t>(n_);
   elevation_.assign(cells, kNaN);
   certainty_.assign(cells, 0.0f);

@@ -77,8 +77,10 @@ TerrainMapper make_rail_mapper(const Eigen::Vector2d& lo, const Eigen::Vector2d&
   mapper_options.follow_robot = false;
   mapper_options.update = options.update;
   const double margin_m = 0.1;
-  const int needed = static_cast<int>(std::ceil(((hi - lo).maxCoeff() + 2 * margin_m) / options.cell_size_m));
-  mapper_options.grid = {options.cells_per_side > 0 ? options.cells_per_side : needed, options.cell_size_m};
+  const int cells = options.cells_per_side > 0
+                        ? options.cells_per_side
+                        : cells_per_side_to_cover((hi - lo).maxCoeff() + 2 * margin_m, options.cell_size_m);
+  mapper_options.grid = {cells, options.cell_size_m};
   TerrainMapper mapper(mapper_options, mount);
   const Eigen::Vector2d centre = 0.5 * (lo + hi);
   mapper.map().move_to(centre.x(), centre.y());

@@ -20,10 +20,12 @@ constexpr double kYawChangeCounted_rad = 1e-4;
 
 ElevationMap mosaic_for(const HeightField& terrain, double cell_size_m) {
   const double side = std::max(terrain.max_x_m - terrain.min_x_m, terrain.max_y_m - terrain.min_y_m) + 2 * kMosaicMargin_m;
-  const int cells = static_cast<int>(std::ceil(side / cell_size_m));
-  if (cells > 4000) {
-    throw InputError("walk: the scene's extent needs a mosaic of " + std::to_string(cells) + " x " +
-                     std::to_string(cells) + " cells; switch the mosaic off for scenes this large");
+  int cells = 0;
+  try {
+    cells = cells_per_side_to_cover(side, cell_size_m);
+  } catch (const GridSizeError& e) {
+    throw GridSizeError(std::string("walk: the whole-scene mosaic: ") + e.what() +
+                        "; or switch the mosaic off for scenes this large");
   }
   ElevationMap mosaic(GridOptions{cells, cell_size_m});
   mosaic.move_to(0.5 * (terrain.min_x_m + terrain.max_x_m), 0.5 * (terrain.min_y_m + terrain.max_y_m));

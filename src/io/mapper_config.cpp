@@ -67,8 +67,10 @@ class MapperConfigReader : public StrictYamlReader {
     const std::string p = "map";
     const Fields f =
         read_map(node, p, {"cells_per_side", "cell_size_m", "follow_robot", "window_ahead_m", "reject_stale_scans"});
-    o.grid.cells_per_side = whole(f, node, p, "cells_per_side", o.grid.cells_per_side, 1, 20000);
-    o.grid.cell_size_m = checked(f, node, p, "cell_size_m", o.grid.cell_size_m, positive, "a cell size > 0 m");
+    o.grid.cells_per_side = whole(f, node, p, "cells_per_side", o.grid.cells_per_side, 1, kMaxGridCellsPerSide);
+    o.grid.cell_size_m = checked(f, node, p, "cell_size_m", o.grid.cell_size_m,
+                                 [](double v) { return v >= kMinCellSizeM && v <= kMaxCellSizeM; },
+                                 "a cell size from 0.0001 to 10 m");
     o.follow_robot = boolean(f, node, p, "follow_robot", o.follow_robot);
     o.window_ahead_m = checked(f, node, p, "window_ahead_m", o.window_ahead_m, any, "a finite number");
     o.reject_stale_scans = boolean(f, node, p, "reject_stale_scans", o.reject_stale_scans);

@@ -3,6 +3,7 @@
 #include <png.h>
 #include <sys/stat.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <csetjmp>
 #include <cstdio>
@@ -166,7 +167,8 @@ std::string decode_failure(const std::string& path, const PngContext& context) {
 }
 
 // Everything after the 8 signature bytes, from the context's file or memory.
-RgbImage decode_png(PngContext& context, png_rw_ptr read, const std::string& path, PngSourceFormat& source) {
+RgbImage decode_png(PngContext& context, png_rw_ptr read, const std::string& path, PngSourceFormat& source,
+                    const PngReadOptions& options) {
   ReadGuard guard;
   guard.png = png_create_read_struct(PNG_LIBPNG_VER_STRING, &context, on_png_error, on_png_warning);
   if (guard.png != nullptr) guard.info = png_create_info_struct(guard.png);
@@ -193,11 +195,13 @@ RgbImage decode_png(PngContext& context, png_rw_ptr read, const std::string& pat
     case PNG_COLOR_TYPE_RGB_ALPHA: source.colour_type = "RGBA"; break;
     default: source.colour_type = "RGB"; break;
   }
-  if (static_cast<long long>(width) * height > kMaxPngPixels) {
+  const long long max_pixels = std::min(options.max_pixels, kMaxPngPixels);
+  if (static_cast<long long>(width) * height > max_pixels) {
     throw InputError("cannot read PNG '" + path + "': image dimensions " + std::to_string(width) + " x " +
-                     std::to_string(height) + " exceed the limit of " + std::to_string(kMaxPngPixels) +
-                     " pixels");
+                     std::to_string(height) + " exceed the limit of " + std::to_string(max_pixels) + " pixels");
   }
+  // Only the header has been read so far: a refusal here costs nothing.
+  if (options.check_header) options.check_header(static_cast<int>(width), static_cast<int>(height), source);
   if (png_get_interlace_type(guard.png, guard.info) == PNG_INTERLACE_NONE) {
     RgbImage image;
     image.width = static_cast<int>(width);
@@ -284,7 +288,9 @@ RgbImage read_png(const std::string& path) {
   return read_png(path, ignored);
 }
 
-RgbImage read_png(const std::string& path, PngSourceFormat& source) {
+RgbImage read_png(const std::string& path, PngSourceFormat& source) { return read_png(path, source, PngReadOptions{}); }
+
+RgbImage read_png(const std::string& path, PngSourceFormat& source, const PngReadOptions& options) {
   FileGuard file{std::fopen(path.c_str(), "rb")};
   if (file.file == nullptr) {
     const int error_number = errno;
@@ -311,7 +317,7 @@ RgbImage read_png(const std::string& path, PngSourceFormat& source) {
   if (::fstat(::fileno(file.file), &status) == 0 && S_ISREG(status.st_mode)) {
     context.input_bytes = static_cast<std::size_t>(status.st_size);
   }
-  return decode_png(context, read_from_file, path, source);
+  return decode_png(context, read_from_file, path, source, options);
 }
 
 RgbImage read_png(std::span<const std::uint8_t> bytes, const std::string& source_name) {
@@ -320,6 +326,11 @@ RgbImage read_png(std::span<const std::uint8_t> bytes, const std::string& source
 }
 
 RgbImage read_png(std::span<const std::uint8_t> bytes, const std::string& source_name, PngSourceFormat& source) {
+  return read_png(bytes, source_name, source, PngReadOptions{});
+}
+
+RgbImage read_png(std::span<const std::uint8_t> bytes, const std::string& source_name, PngSourceFormat& source,
+                  const PngReadOptions& options) {
   if (bytes.size() < 8 || png_sig_cmp(bytes.data(), 0, 8) != 0) {
     throw InputError("cannot read PNG '" + source_name + "': not a PNG file (" +
                      (bytes.size() < 8 ? "only " + std::to_string(bytes.size()) + " bytes long"
@@ -331,7 +342,7 @@ RgbImage read_png(std::span<const std::uint8_t> bytes, const std::string& source
   context.size = bytes.size();
   context.input_bytes = bytes.size();
   context.position = 8;
-  return decode_png(context, read_from_memory, source_name, source);
+  return decode_png(context, read_from_memory, source_name, source, options);
 }
 
 }  // namespace stridemap::io

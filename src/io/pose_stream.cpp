@@ -14,6 +14,7 @@
 #include <limits>
 
 #include "stridemap/core/error.hpp"
+#include "stridemap/io/text_file.hpp"
 
 namespace stridemap::io {
 namespace {
@@ -108,6 +109,7 @@ std::vector<TimedPose> parse_pose_text(std::string_view text, const std::string&
 }
 
 std::vector<TimedPose> read_pose_file(const std::string& path) {
+  refuse_folder(path, "the pose file");
   std::ifstream file(path, std::ios::binary);
   if (!file) throw InputError(path + ": cannot open the pose file: " + std::strerror(errno));
   const std::string text{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};

@@ -10,11 +10,13 @@
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/scan_log.hpp"
 #include "stridemap/sensors/scip_encoding.hpp"
+#include "stridemap/io/text_file.hpp"
 
 namespace stridemap::io {
 namespace {
 
 std::string read_recording(const std::string& path) {
+  refuse_folder(path, "the recording");
   std::ifstream file(path, std::ios::binary);
   if (!file) throw InputError(path + ": cannot open the recording: " + std::strerror(errno));
   std::string content{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};

@@ -10,6 +10,7 @@
 #include <string_view>
 
 #include "stridemap/core/error.hpp"
+#include "stridemap/io/text_file.hpp"
 #include "stridemap/sensors/scip_encoding.hpp"
 
 namespace stridemap::io {
@@ -192,6 +193,7 @@ std::string scan_log_crc(std::string_view body) {
 }
 
 ScanLog read_scan_log(const std::string& path) {
+  refuse_folder(path, "the scan log");
   std::ifstream file(path, std::ios::binary);
   if (!file) throw InputError(path + ": cannot open the scan log: " + std::strerror(errno));
   const std::string content{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};

@@ -31,6 +31,13 @@ class SceneReader : public StrictYamlReader {
  public:
   using StrictYamlReader::StrictYamlReader;
 
+  void check_count(const Fields& fields, const char* name, std::size_t most) const {
+    const auto it = fields.find(name);
+    if (it == fields.end() || !it->second.value.IsSequence() || it->second.value.size() <= most) return;
+    fail(it->second.value, name,
+         "expected at most " + std::to_string(most) + " " + name + ", got " + std::to_string(it->second.value.size()));
+  }
+
   Scene read(const YAML::Node& root) {
     if (!root.IsMap()) {
       fail(root, "", "expected a scene (a map with terrain, boxes, cylinders, cart_rail, walk_path), got " + describe(root));
@@ -40,6 +47,9 @@ class SceneReader : public StrictYamlReader {
     const auto terrain = fields.find("terrain");
     if (terrain == fields.end()) fail(root, "terrain", "required section is missing");
     scene.terrain = read_terrain(terrain->second.value);
+    // Counted before any object is read: a huge list is refused at once.
+    check_count(fields, "boxes", kMaxSceneBoxes);
+    check_count(fields, "cylinders", kMaxSceneCylinders);
     if (const auto it = fields.find("boxes"); it != fields.end()) {
       for_each_item(it->second.value, "boxes", [&](const YAML::Node& item, const std::string& path) {
         scene.boxes.push_back(read_box(item, path));

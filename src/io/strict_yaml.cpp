@@ -11,6 +11,8 @@
 #include <yaml-cpp/eventhandler.h>
 #include <yaml-cpp/parser.h>
 
+#include "stridemap/io/text_file.hpp"
+
 namespace stridemap::io_detail {
 
 namespace {
@@ -89,6 +91,7 @@ YAML::Node load_single_document(const std::string& text, const std::string& sour
 }
 
 std::string read_text_file(const std::string& path, const std::string& what) {
+  io::refuse_folder(path, what);
   std::ifstream file(path, std::ios::binary);
   if (!file) throw InputError(path + ": cannot read " + what + ": " + std::strerror(errno));
   std::ostringstream contents;

@@ -178,22 +178,41 @@ void StripeDetector::detect(const RgbImage& image, StripeDetection& out) {
   }
 }
 
-void check_stripe_image(const RgbImage& image, const PngSourceFormat& format, const std::string& name,
-                        int expected_width, int expected_height) {
+namespace {
+
+void check_stripe_header(int width, int height, const PngSourceFormat& format, const std::string& name,
+                         int expected_width, int expected_height) {
   if (!format.has_colour) {
     throw InputError(name + ": a " + format.colour_type + " PNG has no colour; the stripe detector needs the camera's " +
                      "colour image (it looks for the laser's red excess)");
   }
-  if (image.width != expected_width || image.height != expected_height) {
-    throw InputError(name + ": the image is " + std::to_string(image.width) + " x " + std::to_string(image.height) +
+  if (width != expected_width || height != expected_height) {
+    throw InputError(name + ": the image is " + std::to_string(width) + " x " + std::to_string(height) +
                      " pixels, the configuration describes a " + std::to_string(expected_width) + " x " +
                      std::to_string(expected_height) + " image region (image_width_px, image_height_px)");
   }
 }
 
+// The camera configuration fixes the size: checked from the PNG header,
+// before a large image would be decoded only to be refused.
+PngReadOptions stripe_png_options(const std::string& name, int expected_width, int expected_height) {
+  PngReadOptions options;
+  options.check_header = [name, expected_width, expected_height](int width, int height, const PngSourceFormat& format) {
+    check_stripe_header(width, height, format, name, expected_width, expected_height);
+  };
+  return options;
+}
+
+}  // namespace
+
+void check_stripe_image(const RgbImage& image, const PngSourceFormat& format, const std::string& name,
+                        int expected_width, int expected_height) {
+  check_stripe_header(image.width, image.height, format, name, expected_width, expected_height);
+}
+
 RgbImage read_stripe_image(const std::string& path, int expected_width, int expected_height) {
   PngSourceFormat format;
-  RgbImage image = read_png(path, format);
+  RgbImage image = read_png(path, format, stripe_png_options(path, expected_width, expected_height));
   check_stripe_image(image, format, path, expected_width, expected_height);
   return image;
 }
@@ -201,7 +220,7 @@ RgbImage read_stripe_image(const std::string& path, int expected_width, int expe
 RgbImage read_stripe_image(std::span<const std::uint8_t> bytes, const std::string& source_name, int expected_width,
                            int expected_height) {
   PngSourceFormat format;
-  RgbImage image = read_png(bytes, source_name, format);
+  RgbImage image = read_png(bytes, source_name, format, stripe_png_options(source_name, expected_width, expected_height));
   check_stripe_image(image, format, source_name, expected_width, expected_height);
   return image;
 }

@@ -1,6 +1,9 @@
 #include "stridemap/io/text_file.hpp"
 
+#include <sys/stat.h>
+
 #include "atomic_output_file.hpp"
+#include "stridemap/core/error.hpp"
 
 namespace stridemap::io {
 
@@ -8,6 +11,13 @@ void write_text_file(const std::string& path, const std::string& text, const std
   detail::AtomicOutputFile file(path, kind);
   file.write(text.data(), text.size());
   file.commit();
+}
+
+void refuse_folder(const std::string& path, const std::string& what) {
+  struct stat status {};
+  if (::stat(path.c_str(), &status) == 0 && S_ISDIR(status.st_mode)) {
+    throw InputError(path + ": cannot open " + what + ": it is a folder, not a file");
+  }
 }
 
 }  // namespace stridemap::io

@@ -203,6 +203,10 @@ void UrgDriver::deliver_scan(const scip::Event& event) {
                     ": the sensor's clock went from %u to %u ms while %.3f s passed here: it restarted; "
                     "about %llu scans missed (from host time)",
                     previous_raw_ms_, raw_ms, host_ms / 1000.0, static_cast<unsigned long long>(missed));
+      // The scans of the outage are lost as surely as those a timestamp gap
+      // shows; only their number is an estimate.
+      stats_.scans_lost += missed;
+      stats_.scans_lost_by_host_time += missed;
       report(UrgFault::sensor_reset, device() + text, missed);
       unwrapper_.reset();
       clock_.reset();

@@ -150,6 +150,14 @@ double Scene::max_height_in_rect(double min_x_m, double min_y_m, double max_x_m,
 
 std::optional<SceneProblem> Scene::first_problem() const {
   if (auto problem = terrain_problem(terrain)) return problem;
+  if (boxes.size() > kMaxSceneBoxes) {
+    return SceneProblem{"boxes", "", "expected at most " + std::to_string(kMaxSceneBoxes) + " boxes, got " +
+                                         std::to_string(boxes.size())};
+  }
+  if (cylinders.size() > kMaxSceneCylinders) {
+    return SceneProblem{"cylinders", "", "expected at most " + std::to_string(kMaxSceneCylinders) +
+                                             " cylinders, got " + std::to_string(cylinders.size())};
+  }
   for (std::size_t k = 0; k < boxes.size(); ++k) {
     const BoxObject& b = boxes[k];
     if (auto problem = object_problem(b, "boxes[" + std::to_string(k) + "]",

@@ -1,6 +1,8 @@
 #include "stridemap/core/grid_map.hpp"
 
 #include <cmath>
+#include <functional>
+#include <string>
 #include <map>
 #include <random>
 
@@ -194,6 +196,62 @@ TEST(ElevationMap, RejectsUnusableOptions) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("cell_size_m"), std::string::npos);
   }
+}
+
+}  // namespace
+}  // namespace stridemap
+
+namespace stridemap {
+namespace {
+
+std::string grid_error(const std::function<void()>& run) {
+  try {
+    run();
+  } catch (const GridSizeError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "no GridSizeError";
+  return {};
+}
+
+TEST(GridSize, AbsurdGridsAreRefusedBeforeAllocatingWithTheMemoryTheyWouldTake) {
+  EXPECT_NE(grid_error([] { ElevationMap map(GridOptions{20000, 0.01}); })
+                .find("cells_per_side must be between 1 and 4096, got 20000: 20000 x 20000 cells need 8.0 GB; the "
+                      "limit is 4096 cells per side (335.5 MB)"),
+            std::string::npos);
+  EXPECT_NE(grid_error([] { ElevationMap map(GridOptions{-5, 0.01}); }).find("got -5"), std::string::npos);
+  for (const double bad : {0.0, -0.01, std::nan(""), 1e300, 1e-5, HUGE_VAL}) {
+    EXPECT_NE(grid_error([bad] { ElevationMap map(GridOptions{100, bad}); })
+                  .find("cell_size_m must be between 0.0001 and 10 m"),
+              std::string::npos)
+        << bad;
+  }
+  // The largest accepted grid is usable.
+  EXPECT_NO_THROW(validate_grid_options(GridOptions{kMaxGridCellsPerSide, kMinCellSizeM}));
+  EXPECT_EQ(static_cast<double>(kMaxGridCellsPerSide) * kMaxGridCellsPerSide * kGridBytesPerCell, 335544320.0);
+}
+
+TEST(GridSize, CoveringAnAreaIsCheckedBeforeTheCountBecomesAnInt) {
+  EXPECT_EQ(cells_per_side_to_cover(1.0, 0.01), 100);
+  EXPECT_EQ(cells_per_side_to_cover(0.0, 0.01), 1);
+  EXPECT_EQ(cells_per_side_to_cover(2.1, 0.05), 42);
+  // The case: 0.1 mm cells over a 2.1 m rail scene.
+  EXPECT_NE(grid_error([] { cells_per_side_to_cover(2.1, 1e-4); })
+                .find("a 0.1 mm map of this 2.10 m area needs 21000 x 21000 cells, 8.8 GB; the limit is 4096"),
+            std::string::npos);
+  // Before the fix these converted an out-of-range double to int (UB).
+  for (const double bad : {0.0, std::nan(""), -1.0}) {
+    EXPECT_NE(grid_error([bad] { cells_per_side_to_cover(2.1, bad); }).find("cell_size_m must be between"),
+              std::string::npos);
+  }
+  EXPECT_NE(grid_error([] { cells_per_side_to_cover(HUGE_VAL, 0.01); }).find("finite size"), std::string::npos);
+  EXPECT_NE(grid_error([] { cells_per_side_to_cover(1e300, 10.0); }).find("cells"), std::string::npos);
+}
+
+TEST(GridSize, ByteSizesReadAsAPersonWouldWriteThem) {
+  EXPECT_EQ(byte_size_text(512), "512 B");
+  EXPECT_EQ(byte_size_text(20e3), "20.0 kB");
+  EXPECT_EQ(byte_size_text(9.7e9), "9.7 GB");
 }
 
 }  // namespace

@@ -334,6 +334,39 @@ TEST_F(PngImageTest, ATinyFileClaimingAHugeImageDoesNotAllocateIt) {
                                                             << (after.ru_maxrss - before.ru_maxrss) << " kB";
 }
 
+// A reader that knows the size it wants (a camera configuration) checks the
+// header before a single row is decoded: the claim of 16000 x 16000 is
+// refused for its size, not for the data it lacks further on.
+TEST_F(PngImageTest, ExpectedSizeAndPixelLimitAreCheckedFromTheHeaderBeforeDecoding) {
+  write_bytes(path("bomb.png"), handmade_png(16000, 16000, 8, 2, {Bytes(48000, 7)}));
+  PngSourceFormat format;
+  int seen_width = 0, seen_height = 0;
+  PngReadOptions options;
+  options.check_header = [&](int width, int height, const PngSourceFormat& source) {
+    seen_width = width;
+    seen_height = height;
+    EXPECT_EQ(source.colour_type, "RGB");
+    if (width != 640 || height != 480) throw InputError("bomb.png: not the 640 x 480 the config says");
+  };
+  expect_input_error([&] { read_png(path("bomb.png"), format, options); }, {"not the 640 x 480 the config says"});
+  EXPECT_EQ(seen_width, 16000);
+  EXPECT_EQ(seen_height, 16000);
+
+  PngReadOptions small;
+  small.max_pixels = 1000 * 1000;
+  expect_input_error([&] { read_png(path("bomb.png"), format, small); },
+                     {"bomb.png", "16000 x 16000 exceed the limit of 1000000 pixels"});
+
+  // The stripe detector reads camera frames this way.
+  expect_input_error([&] { read_stripe_image(path("bomb.png"), 640, 480); },
+                     {"bomb.png: the image is 16000 x 16000 pixels, the configuration describes a 640 x 480"});
+  // A file of the expected size is read as before.
+  RgbImage frame(4, 3, 200, 10, 10);
+  write_png(path("frame.png"), frame);
+  EXPECT_EQ(read_png(path("frame.png"), format, small).width, 4);
+  EXPECT_EQ(read_stripe_image(path("frame.png"), 4, 3).height, 3);
+}
+
 // Interlaced images are decoded whole, so the size check comes first: the
 // header's image must fit what the file's bytes can inflate to.
 TEST_F(PngImageTest, AnInterlacedFileTooShortForItsImageIsRefusedBeforeAllocating) {

@@ -259,6 +259,33 @@ TEST_F(DriverFixture, UnpluggedDeviceIsReportedOnceAndReopenedWhenItReturns) {
   EXPECT_TRUE(back.scans.front().first_after_start);
 }
 
+TEST_F(DriverFixture, ScansMissedWhileUnpluggedCountAsLost) {
+  make_device();
+  UrgDriver driver(test::emulated_opener(*device_), options());
+  Events events = run(driver, 1.0);
+  ASSERT_FALSE(events.scans.empty());
+  const std::uint64_t lost_before = driver.stats().scans_lost;
+  device_->present = false;
+  run(driver, 2.0);
+  device_->present = true;
+  device_->emulator.power_cycle(clock_.now_ms);
+  Events back = run(driver, 3.0);
+  ASSERT_FALSE(back.scans.empty()) << back.fault_list();
+  // From the last scan before the outage to the first after it, one every
+  // 100 ms: the ones in between never arrived.
+  const double gap_s = back.scans.front().host_receive_time_s - events.scans.back().host_receive_time_s;
+  const auto expected = static_cast<std::uint64_t>(std::floor(gap_s / 0.1 + 0.5)) - 1;
+  EXPECT_GE(gap_s, 2.0);
+  EXPECT_EQ(driver.stats().scans_lost - lost_before, expected) << back.fault_list();
+  EXPECT_EQ(driver.stats().scans_lost_by_host_time, expected);
+  EXPECT_GE(expected, 20u);  // 2 s unplugged plus the reconnect at 10 scans/s
+  std::uint64_t reported = 0;
+  for (const auto& f : back.faults) {
+    if (f.fault == UrgFault::sensor_reset) reported += f.count;
+  }
+  EXPECT_EQ(reported, expected);
+}
+
 TEST_F(DriverFixture, MissingDeviceIsReportedAndNextReturnsInTime) {
   make_device();
   device_->present = false;

@@ -44,6 +44,31 @@ std::string validation_error(const Scene& scene) {
   return "(no error)";
 }
 
+// Scenes built in code meet the same caps as scene files.
+TEST(SceneLimits, TooManyBoxesOrCylindersAreAProblemNamingTheList) {
+  Scene scene;
+  scene.boxes.resize(kMaxSceneBoxes);
+  for (std::size_t k = 0; k < scene.boxes.size(); ++k) {
+    scene.boxes[k] = BoxObject{"b" + std::to_string(k), 1.0, 0.0, 0.0, 0.1, 0.1, 0.1};
+  }
+  if (const auto problem = scene.first_problem()) {
+    EXPECT_NE(problem->field_path, "boxes") << problem->message;
+  }
+  scene.boxes.emplace_back().name = "one too many";
+  const auto problem = scene.first_problem();
+  ASSERT_TRUE(problem);
+  EXPECT_EQ(problem->field_path, "boxes");
+  EXPECT_EQ(problem->message, "expected at most 1000 boxes, got 1001");
+  scene.boxes.clear();
+  scene.cylinders.resize(kMaxSceneCylinders + 1);
+  try {
+    scene.validate();
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "scene: cylinders: expected at most 1000 cylinders, got 1001");
+  }
+}
+
 TEST(SceneCast, NearestSurfaceWithItsIndex) {
   const Scene scene = two_objects();
   auto hit = scene.cast_ray({0.0, 0.0, 0.05}, Eigen::Vector3d::UnitX(), 5.0);

@@ -12,9 +12,12 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
+
+#include "stridemap/core/error.hpp"
 
 namespace stridemap {
 
@@ -31,6 +34,37 @@ struct GridOptions {
   /// structured light on Ragno (paper section 5.1).
   double cell_size_m = 0.01;
 };
+
+/// The grids a map accepts. The map is held several times over (snapshots for
+/// a planner, the fill-in's copy, a test bed's truth layers), so its own
+/// layers are kept to a few hundred MB: at most kMaxGridCellsPerSide cells a
+/// side, 4096 x 4096 x kGridBytesPerCell = 335.5 MB. Cells from 0.1 mm to 10 m:
+/// finer is below any range sensor's noise, coarser is no terrain map.
+inline constexpr int kMaxGridCellsPerSide = 4096;
+inline constexpr double kMinCellSizeM = 1e-4;
+inline constexpr double kMaxCellSizeM = 10.0;
+/// Bytes of every layer of one cell (elevation, certainty, state, the gated
+/// rule's bookkeeping, the running mean and its count).
+inline constexpr std::size_t kGridBytesPerCell = 4 + 4 + 1 + 1 + 4 + 4 + 2;
+
+/// A grid too large for memory or too coarse or fine to be a map, refused
+/// before anything is allocated. An InputError, so it reaches a user as one;
+/// its own type so that a caller can name the setting that chose the size.
+class GridSizeError : public InputError {
+ public:
+  using InputError::InputError;
+};
+
+/// Throws GridSizeError naming the field, the value and, for too many
+/// cells, the memory they would take ("20000 x 20000 cells need 8.0 GB").
+void validate_grid_options(const GridOptions& options);
+/// The cells per side a square window needs to cover `extent_m` with cells
+/// of `cell_size_m`, checked before any conversion: throws GridSizeError
+/// with the memory it would take ("a 0.1 mm map of this 2.10 m area needs
+/// 21000 x 21000 cells, 8.8 GB") when that is beyond the limits above.
+int cells_per_side_to_cover(double extent_m, double cell_size_m);
+/// "8.8 GB", "336 MB", "20 kB": bytes for a message.
+std::string byte_size_text(double bytes);
 
 struct CellIndex {
   std::int64_t x = 0;

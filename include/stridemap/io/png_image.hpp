@@ -2,6 +2,7 @@
 // 8-bit RGB images and their PNG files (libpng). Used for the rendered
 // elevation and certainty maps; read_png lets tests and tools inspect them.
 #include <cstdint>
+#include <functional>
 #include <span>
 #include <string>
 #include <vector>
@@ -52,9 +53,25 @@ struct PngSourceFormat {
 // As above, and reports the file's own format in `source`.
 RgbImage read_png(const std::string& path, PngSourceFormat& source);
 
+// What a reader knows it wants, checked from the PNG header before a pixel
+// buffer exists: a valid 16000 x 16000 image that a 640 x 480 camera
+// configuration would refuse must not be decoded (780 MB) first.
+struct PngReadOptions {
+  // At most this many pixels (width x height), on top of the limits above.
+  long long max_pixels = kMaxPngPixels;
+  // Called with the header's size and the file's format before decoding;
+  // throws InputError to refuse the file (e.g. not the expected size).
+  std::function<void(int width, int height, const PngSourceFormat& format)> check_header;
+};
+
+// As above, with the header checked against `options` first.
+RgbImage read_png(const std::string& path, PngSourceFormat& source, const PngReadOptions& options);
+
 // Same, from the bytes of a PNG file in memory; source_name stands for the
 // file in messages.
 RgbImage read_png(std::span<const std::uint8_t> bytes, const std::string& source_name);
 RgbImage read_png(std::span<const std::uint8_t> bytes, const std::string& source_name, PngSourceFormat& source);
+RgbImage read_png(std::span<const std::uint8_t> bytes, const std::string& source_name, PngSourceFormat& source,
+                  const PngReadOptions& options);
 
 }  // namespace stridemap::io

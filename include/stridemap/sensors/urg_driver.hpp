@@ -109,7 +109,11 @@ struct UrgDriverEvent {
 
 struct UrgDriverStats {
   std::uint64_t scans = 0;
-  std::uint64_t scans_lost = 0;       ///< from the sensor's timestamps
+  /// Scans that never arrived: the gaps in the sensor's timestamps, plus the
+  /// scans an outage (the sensor restarted, the link was lost) swallowed,
+  /// estimated from host time and the scan period.
+  std::uint64_t scans_lost = 0;
+  std::uint64_t scans_lost_by_host_time = 0;  ///< the outages' part of scans_lost
   std::uint64_t corrupt_frames = 0;   ///< decode errors while streaming
   std::uint64_t faults = 0;
   std::uint64_t connects = 0;         ///< successful start-ups
