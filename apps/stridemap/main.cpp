@@ -3,6 +3,7 @@
 #include <exception>
 
 #include "commands.hpp"
+#include "output_guard.hpp"
 #include "stridemap/core/error.hpp"
 
 int main(int argc, char** argv) {
@@ -20,10 +21,14 @@ int main(int argc, char** argv) {
   stridemap::cli::register_record(app);
   stridemap::cli::register_live(app);
   stridemap::cli::register_soak(app);
+  stridemap::cli::install_cleanup_signals();
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const stridemap::cli::RunFailed& e) {
+    std::fprintf(stderr, "stridemap: error: %s\n", e.what());
+    return 1;
   } catch (const stridemap::InputError& e) {
     std::fprintf(stderr, "stridemap: error: %s\n", e.what());
     return 2;
