@@ -9,6 +9,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "output_guard.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/calibration_csv.hpp"
 #include "stridemap/io/text_file.hpp"
@@ -71,6 +72,7 @@ void write_json(const std::string& path, const std::string& source, const RangeP
 }
 
 void run(const CalibrateRangeOptions& options) {
+  refuse_output_that_is_an_input("--json", options.json_path, {{"--csv", options.csv_path}});
   const RangePairs pairs = read_range_pairs_csv(options.csv_path);
   const RangeCalibrationFit fit = fit_range_calibration(pairs.measured_m, pairs.true_m);
   const auto [min_it, max_it] = std::minmax_element(pairs.measured_m.begin(), pairs.measured_m.end());

@@ -11,6 +11,7 @@
 
 #include "cli_parsing.hpp"
 #include "commands.hpp"
+#include "output_guard.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/stripe_detector.hpp"
 #include "stridemap/io/structured_light_config.hpp"
@@ -58,6 +59,11 @@ CalibrationTargetImage load_target(const std::string& spec, const StructuredLigh
 }
 
 void run(const CalibrateArgs& args) {
+  std::vector<NamedPath> inputs{{"--config", args.config_path}};
+  for (const std::string& spec : args.targets) {
+    if (const auto equals = spec.find('='); equals != std::string::npos) inputs.push_back({"--target", spec.substr(equals + 1)});
+  }
+  refuse_output_that_is_an_input("--json", args.json_path, inputs);
   const StructuredLightConfig config = load_structured_light_config(args.config_path);
   io::StripeDetector detector;
   std::vector<CalibrationTargetImage> targets;

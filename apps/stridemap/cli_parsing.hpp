@@ -14,6 +14,7 @@
 
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/grid_map.hpp"
+#include "stridemap/core/map_filter.hpp"
 #include "stridemap/core/map_update.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
 
@@ -26,9 +27,7 @@ inline bool parse_on_off(const std::string& option, const std::string& value) {
 }
 
 inline MapFilter parse_map_filter(const std::string& name) {
-  if (name == "fill") return MapFilter::fill;
-  if (name == "cas") return MapFilter::cas;
-  if (name == "none") return MapFilter::none;
+  if (const std::optional<MapFilter> filter = map_filter_from_name(name)) return *filter;
   throw InputError("--map-filter: '" + name + "' is not a map filter; use fill (eq. 11), cas or none");
 }
 

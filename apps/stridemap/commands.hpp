@@ -1,9 +1,18 @@
 #pragma once
 // Each sub-command lives in its own file and registers itself on the CLI11
 // application here; main() only dispatches and turns errors into messages.
+#include <stdexcept>
+
 #include <CLI/CLI.hpp>
 
 namespace stridemap::cli {
+
+/// A run that completed but failed its own checks (e.g. mapped nothing):
+/// main() prints "stridemap: error: ..." and exits 1.
+class RunFailed : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 void register_calibrate_range(CLI::App& app);
 void register_calibrate_structured_light(CLI::App& app);

@@ -7,6 +7,7 @@
 
 #include "cli_parsing.hpp"
 #include "commands.hpp"
+#include "output_guard.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/sensor_transform.hpp"
 #include "stridemap/io/png_image.hpp"
@@ -85,6 +86,9 @@ void run(const DetectStripeArgs& args) {
   const std::string stem = image_path.stem().string();
   const std::string csv = (dir / (stem + ".stripe.csv")).string();
   const std::string overlay = (dir / (stem + ".overlay.png")).string();
+  const std::vector<NamedPath> inputs{{"the image", args.image_path}, {"--config", args.config_path}};
+  refuse_output_that_is_an_input("the stripe CSV", csv, inputs);
+  refuse_output_that_is_an_input("the overlay", overlay, inputs);
   io::write_text_file(csv, points_csv(detection, model, config.has_mount, args.min_confidence), "stripe points");
   io::write_png(overlay, io::stripe_overlay(image, detection));
 

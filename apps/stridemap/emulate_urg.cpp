@@ -10,6 +10,7 @@
 
 #include "cli_parsing.hpp"
 #include "commands.hpp"
+#include "output_guard.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
 #include "stridemap/io/mapper_config.hpp"
@@ -26,6 +27,7 @@ namespace {
 struct EmulateArgs {
   std::string scene_path;
   std::string replay_path;
+  bool overwrite = false;
   std::string motion = "static";
   double x_m = 0.0, y_m = 0.0, yaw_deg = 0.0, pitch_deg = 0.0, roll_deg = 0.0;
   std::string config_path;
@@ -85,6 +87,20 @@ void run_emulate(EmulateArgs& args) {
   const UrgParameters urg = scip::to_urg_parameters(options.parameters);
 
   for (const std::string& f : args.faults) args.server.faults.push_back(parse_emulator_fault(f));
+  {
+    const ExistingLog choice = existing_log_choice(args.overwrite, false);
+    const std::vector<NamedPath> inputs{
+        {"--scene", args.scene_path}, {"--replay", args.replay_path}, {"--config", args.config_path}};
+    for (const auto& [option, path] : {std::pair<std::string, std::string>{"--trace", args.server.trace_path},
+                                       {"--poses-out", args.server.poses_path}}) {
+      if (path.empty()) continue;
+      refuse_output_that_is_an_input(option, path, inputs);
+      check_log_output(option, path, choice, "");
+    }
+    if (!args.server.trace_path.empty() && args.server.trace_path == args.server.poses_path) {
+      throw InputError("--trace and --poses-out name the same file");
+    }
+  }
   args.server.pose_clock = args.poses_clock == "sensor" ? PoseClock::sensor : PoseClock::host;
 
   std::unique_ptr<Scene> scene;
@@ -178,6 +194,7 @@ void register_emulate_urg(CLI::App& app) {
   cmd->add_option("--fault-seed", args->server.fault_seed, "Seed of the random faults")->capture_default_str()
       ->check(seed_value());
   cmd->add_option("--trace", args->server.trace_path, "Write what happened to every frame to this file");
+  cmd->add_flag("--overwrite", args->overwrite, "Replace an existing --trace or --poses-out file (refused by default)");
   cmd->add_option("--poses-out", args->server.poses_path, "Write the true pose of every scan (pose format)");
   cmd->add_option("--poses-clock", args->poses_clock, "Clock of --poses-out: host or sensor")->capture_default_str();
   cmd->add_option("--poses-rate-hz", args->server.poses_rate_hz,

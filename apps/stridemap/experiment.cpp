@@ -8,6 +8,7 @@
 
 #include "cli_parsing.hpp"
 #include "commands.hpp"
+#include "output_guard.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
 #include "stridemap/experiments/cart_rail_report.hpp"
@@ -80,6 +81,9 @@ void run_cart_rail_command(const CartRailArgs& args) {
     throw InputError("--sensor-config, --pipeline and --lux apply to --sensor structured-light only");
   }
   const Scene scene = load_scene_yaml(args.scene_path);
+  const std::string early_dir = (std::filesystem::path(args.out_dir) / ("cart-rail-" + args.sensor)).string();
+  refuse_output_that_is_an_input("--out", early_dir, {{"--scene", args.scene_path}, {"--config", args.config_path}});
+  io::check_output_folder(early_dir, "--out");
   CartRailOptions options;
   if (!args.config_path.empty()) {
     // The rail keeps its fixed window; the rest of the robot's settings apply.
@@ -111,7 +115,8 @@ void run_cart_rail_command(const CartRailArgs& args) {
   const CartRailResult result = naming_grid_setting(cell_setting, [&] { return run_cart_rail(scene, options); });
   const CartRailRunInfo info{name, args.scene_path};
   const std::string dir = (std::filesystem::path(args.out_dir) / ("cart-rail-" + name)).string();
-  write_cart_rail_outputs(result, options, info, dir);
+  refuse_output_that_is_an_input("--out", dir, {{"--scene", args.scene_path}, {"--config", args.config_path}});
+  write_output_set(dir, "--out", [&](const std::string& folder) { write_cart_rail_outputs(result, options, info, folder); });
   std::fputs(cart_rail_table(result, info).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
 }
@@ -136,10 +141,13 @@ void run_mixed_pixels_command(const MixedPixelsArgs& args) {
   options.footprint.texture.log_sigma = args.texture_log_sigma;
   options.filter_options.range_clustering.min_cluster_points = args.cluster_min_points;
   options.filter_options.range_clustering.max_incidence_angle_rad = args.cluster_max_incidence_deg * std::numbers::pi / 180.0;
-  const MixedPixelsResult result = run_mixed_pixels(scene, options);
   const std::string stem = std::filesystem::path(args.scene_path).stem().string();
   const std::string dir = (std::filesystem::path(args.out_dir) / "mixed-pixels" / stem).string();
-  write_mixed_pixels_outputs(result, options, args.scene_path, dir);
+  refuse_output_that_is_an_input("--out", dir, {{"--scene", args.scene_path}});
+  io::check_output_folder(dir, "--out");
+  const MixedPixelsResult result = run_mixed_pixels(scene, options);
+  write_output_set(dir, "--out",
+                   [&](const std::string& folder) { write_mixed_pixels_outputs(result, options, args.scene_path, folder); });
   std::fputs(mixed_pixels_table(result).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
 }
@@ -167,9 +175,12 @@ void run_lighting_command(const LightingArgs& args) {
     options.levels.clear();
     for (double lux : args.levels_lux) options.levels.push_back({lux_name(lux), lux});
   }
-  const LightingResult result = run_lighting(scene, options);
   const std::string dir = (std::filesystem::path(args.out_dir) / "lighting").string();
-  write_lighting_outputs(result, options, args.scene_path, dir);
+  refuse_output_that_is_an_input("--out", dir, {{"--scene", args.scene_path}, {"--sensor-config", args.sensor_config_path}});
+  io::check_output_folder(dir, "--out");
+  const LightingResult result = run_lighting(scene, options);
+  write_output_set(dir, "--out",
+                   [&](const std::string& folder) { write_lighting_outputs(result, options, args.scene_path, folder); });
   std::fputs(lighting_table(result).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
 }

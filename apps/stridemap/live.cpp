@@ -1,23 +1,25 @@
 // `stridemap live`: a map in real time from a URG (or the emulator) and a
-// stream of poses; `stridemap map`: the same map from a scan log and a pose
-// file. Both go through ScanMapper and the same writers (docs/live.md).
+// stream of poses, through the library's LiveMapping loop; `stridemap map`:
+// the same map from a scan log and a pose file. Both go through ScanMapper
+// and the same writers (docs/live.md).
 #include <unistd.h>
 
 #include <algorithm>
 #include <cstdio>
-#include <deque>
 #include <memory>
 #include <string>
-#include <vector>
 
 #include "cli_parsing.hpp"
 #include "commands.hpp"
+#include "output_guard.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/printable_text.hpp"
 #include "stridemap/io/map_outputs.hpp"
 #include "stridemap/io/pose_stream.hpp"
 #include "stridemap/io/scan_log.hpp"
+#include "stridemap/live/live_mapping.hpp"
 #include "stridemap/live/map_report.hpp"
+#include "cli_parsing.hpp"
 #include "urg_device.hpp"
 
 namespace stridemap::cli {
@@ -29,6 +31,7 @@ struct MappingArgs {
   std::string config_path;
   std::string filters = "none";
   std::string clock = "host";
+  std::string map_filter = "fill";
   double max_pose_gap_s = 1.0;
 };
 
@@ -47,20 +50,30 @@ void add_mapping_options(CLI::App& command, MappingArgs& args) {
                      "Do not interpolate between poses farther apart than this")
       ->capture_default_str()
       ->check(number_from_to(0.001, 86400.0, "s"));
+  command.add_option("--map-filter", args.map_filter,
+                     "What runs on a copy of the map before it is saved: fill (eq. 11), cas or none")
+      ->capture_default_str();
+}
+
+LiveClock parse_clock(const std::string& name) {
+  if (name == "host") return LiveClock::host;
+  if (name == "sensor") return LiveClock::sensor;
+  throw InputError("--clock: '" + name + "' is not a clock; use host or sensor");
 }
 
 ScanMapperOptions mapper_options(const MappingArgs& args) {
-  if (args.clock != "host" && args.clock != "sensor") {
-    throw InputError("--clock: '" + args.clock + "' is not a clock; use host or sensor");
-  }
+  parse_clock(args.clock);
+  parse_map_filter(args.map_filter);
   ScanMapperOptions options;
   if (!args.config_path.empty()) options.config = load_mapper_config(args.config_path);
   options.filters = parse_scan_filter_list(args.filters);
   return options;
 }
 
-double scan_time(const UrgScan& scan, const std::string& clock) {
-  return clock == "sensor" ? sensor_time_seconds(scan.sensor_time_ms) : scan.host_time_s;
+void report_shortfall(const ScanMapperStats& stats, const TimeRange& scans, const TimeRange& poses,
+                      const std::string& clock) {
+  const std::string why = mapping_shortfall(stats, scans, poses, clock);
+  if (!why.empty()) throw RunFailed(why);
 }
 
 // ---------------------------------------------------------------- live
@@ -69,175 +82,147 @@ struct LiveArgs {
   DeviceArgs device;
   MappingArgs mapping;
   std::string record_path;
+  bool overwrite = false;
+  bool append = false;
   double save_every_s = 5.0;
   double pose_wait_s = 0.5;
   double status_every_s = 1.0;
 };
 
-class LatencyMeter {
- public:
-  void add(double seconds) {
-    samples_.push_back(seconds);
-    sum_ += seconds;
-    max_ = std::max(max_, seconds);
-  }
-  void fill(LiveRunStats& out) {
-    out.latency_samples = samples_.size();
-    if (samples_.empty()) return;
-    out.latency_mean_s = sum_ / static_cast<double>(samples_.size());
-    out.latency_max_s = max_;
-    std::vector<double> sorted = samples_;
-    const std::size_t k = std::min(sorted.size() - 1, static_cast<std::size_t>(0.99 * static_cast<double>(sorted.size())));
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(k), sorted.end());
-    out.latency_p99_s = sorted[k];
-  }
-
- private:
-  std::vector<double> samples_;
-  double sum_ = 0.0, max_ = 0.0;
-};
-
 void run_live(const LiveArgs& args) {
   install_stop_signals();
-  if (!(args.save_every_s > 0.0)) throw InputError("--save-every-s must be positive");
-  if (!(args.pose_wait_s >= 0.0)) throw InputError("--pose-wait-s must be >= 0");
-  const ScanMapperOptions options = mapper_options(args.mapping);
-  io::PoseStreamReader poses(args.mapping.poses_path);
-  PoseTrack track(args.mapping.max_pose_gap_s);
-  std::unique_ptr<io::ScanLogWriter> log;
-  if (!args.record_path.empty()) log = std::make_unique<io::ScanLogWriter>(args.record_path, args.device.device);
+  LiveMappingOptions options;
+  options.mapper = mapper_options(args.mapping);
+  options.clock = parse_clock(args.mapping.clock);
+  options.map_filter = parse_map_filter(args.mapping.map_filter);
+  options.max_pose_gap_s = args.mapping.max_pose_gap_s;
+  options.save_every_s = args.save_every_s;
+  options.pose_wait_s = args.pose_wait_s;
+  options.status_every_s = args.status_every_s;
+  options.duration_s = args.device.duration_s;
+  options.max_scans = args.device.max_scans;
+  options.validate();
+  const ExistingLog log_choice = existing_log_choice(args.overwrite, args.append);
+  const std::vector<NamedPath> inputs{{"--poses", args.mapping.poses_path},
+                                      {"--config", args.mapping.config_path},
+                                      {"--device", args.device.device}};
+  if (!args.record_path.empty()) {
+    refuse_output_that_is_an_input("--record", args.record_path, inputs);
+    check_log_output("--record", args.record_path, log_choice, "stridemap-urg-log");
+  }
+  std::vector<NamedPath> out_inputs = inputs;
+  out_inputs.push_back({"--record", args.record_path});
+  refuse_output_that_is_an_input("--out", args.mapping.out_dir, out_inputs);
+  io::check_output_folder(args.mapping.out_dir, "--out");
+  PoseStreamSource poses(args.mapping.poses_path);
 
-  const double cpu_start = process_cpu_seconds();
   UrgDriverEvent event;
   std::unique_ptr<UrgDriver> driver = start_driver(args.device, event);
   std::fprintf(stderr, "stridemap: connected: %s\n", printable_text(event.message).c_str());
-  if (log) log->write_sensor(host_seconds(), driver->version(), driver->parameters());
-  const scip::ScipParameters sensor = driver->parameters();
-  ScanMapper mapper(options, driver->urg_parameters());
-  const MapRunInfo info{"live", args.device.device, args.mapping.poses_path, args.mapping.clock, {}};
+  // Only now, with the inputs open and the sensor streaming, is the log touched.
+  std::unique_ptr<io::ScanLogWriter> log;
+  if (!args.record_path.empty()) {
+    log = std::make_unique<io::ScanLogWriter>(args.record_path, args.device.device, log_choice == ExistingLog::append);
+    log->write_sensor(host_seconds(), driver->version(), driver->parameters());
+  }
+  UrgDriverSource scans(*driver);
 
-  LatencyMeter latency;
-  std::deque<double> receive_times;  // of the scans queued in the mapper, oldest first
-  const double start = monotonic_seconds();
-  double next_save = start + args.save_every_s;
-  double next_status = start + args.status_every_s;
+  MapRunInfo info;
+  info.command = "live";
+  info.scans_from = args.device.device;
+  info.poses_from = args.mapping.poses_path;
+  info.clock = args.mapping.clock;
+  info.map_filter = options.map_filter;
   const bool tty = ::isatty(STDERR_FILENO) != 0;
-  const auto run_stats = [&] {
-    LiveRunStats run;
-    run.duration_s = monotonic_seconds() - start;
-    run.cpu_s = process_cpu_seconds() - cpu_start;
-    run.driver = driver->stats();
-    latency.fill(run);
-    return run;
+  std::unique_ptr<LiveMapping> live;
+  std::string log_error;
+  LiveMappingHooks hooks;
+  hooks.save = [&](const ScanMapper& mapper, const LiveRunStats* run) {
+    info.pose_lines_skipped = poses.skipped_lines();
+    write_map_outputs(mapper, live->sensor(), info, run, args.mapping.out_dir);
   };
-  // Scans leave the mapper's queue in order; the ones integrated count for latency.
-  const auto account = [&](std::size_t integrated_before) {
-    const std::size_t left = mapper.waiting();
-    const std::size_t integrated = mapper.stats().integrated - integrated_before;
-    const std::size_t consumed = receive_times.size() - left;
-    const double now = host_seconds();
-    for (std::size_t i = 0; i < consumed; ++i) {
-      if (i < integrated) latency.add(now - receive_times.front());  // process() integrates before expire() skips
-      receive_times.pop_front();
+  hooks.on_scan = [&](const UrgScan& scan) {
+    if (!log || !log_error.empty()) return;
+    try {
+      log->write_scan(scan);
+    } catch (const InputError& e) {
+      log_error = e.what();  // mapping goes on; said once, and at the end
+      std::fprintf(stderr, "%sstridemap: warning: %s; the scans are no longer recorded\n", tty ? "\n" : "",
+                   log_error.c_str());
     }
   };
-  const auto print_status = [&](double now) {
-    const UrgDriverStats& d = driver->stats();
-    const io::MapLayers layers = io::export_map_layers(mapper.mapper().map());
-    std::fprintf(stderr,
-                 "%slive: %.1f scans/s, %llu scans, %llu lost, %llu faults, %zu mapped, %zu waiting for poses, "
-                 "coverage %.1f %%%s",
-                 tty ? "\r" : "", static_cast<double>(d.scans) / std::max(1e-9, now - start),
-                 static_cast<unsigned long long>(d.scans), static_cast<unsigned long long>(d.scans_lost),
-                 static_cast<unsigned long long>(d.faults), mapper.stats().integrated, mapper.waiting(),
-                 100.0 * io::map_coverage(layers), tty ? "\x1b[K" : "\n");
-  };
-  // A bad pose line or another sensor ends live mapping with an error, but
-  // only after the map so far is saved.
-  std::string fatal;
-  constexpr std::size_t kMaxPoses = 200000;  // over half an hour at 100 Hz
-  bool warned_clock = false;
-  while (!stop_requested() && fatal.empty()) {
-    try {
-      const double now = monotonic_seconds();
-      if (args.device.duration_s > 0.0 && now - start >= args.device.duration_s) break;
-      // Counted as handed out, not as the driver queues them.
-      if (args.device.max_scans > 0 && mapper.stats().scans >= args.device.max_scans && mapper.waiting() == 0) break;
-      if (now >= next_save) {
-        write_map_outputs(mapper, sensor, info, nullptr, args.mapping.out_dir);
-        next_save = now + args.save_every_s;
+  const double start = monotonic_seconds();
+  hooks.on_event = [&](const LiveEvent& e) {
+    switch (e.kind) {
+      case LiveEvent::Kind::status: {
+        const UrgDriverStats& d = driver->stats();
+        const ScanMapper& mapper = live->mapper();
+        const double now = monotonic_seconds();
+        std::fprintf(stderr,
+                     "%slive: %.1f scans/s, %llu scans, %llu lost, %llu faults, %zu mapped, %zu waiting for poses, "
+                     "%zu pose lines skipped%s",
+                     tty ? "\r" : "", static_cast<double>(d.scans) / std::max(1e-9, now - start),
+                     static_cast<unsigned long long>(d.scans), static_cast<unsigned long long>(d.scans_lost),
+                     static_cast<unsigned long long>(d.faults), mapper.stats().integrated, mapper.waiting(),
+                     poses.skipped_lines(), tty ? "\x1b[K" : "\n");
+        break;
       }
-      if (now >= next_status) {
-        print_status(now);
-        next_status = now + args.status_every_s;
-      }
-      poses.poll(track);
-      const std::size_t integrated_before = mapper.stats().integrated;
-      if (driver->next(event, 0.05)) {
-        switch (event.kind) {
-          case UrgDriverEvent::Kind::scan: {
-            if (log) log->write_scan(event.scan);
-            UrgRawScan raw = event.scan.raw;
-            raw.time_s = scan_time(event.scan, args.mapping.clock);
-            mapper.add(raw, now);
-            receive_times.push_back(event.scan.host_receive_time_s);
-            poses.poll(track);
-            break;
+      case LiveEvent::Kind::fault:
+        if (tty) std::fputc('\n', stderr);
+        print_fault(*e.driver_event);
+        if (log && log_error.empty()) {
+          try {
+            log->write_fault(host_seconds(), e.driver_event->fault, e.driver_event->count, e.message);
+          } catch (const InputError& error) {
+            log_error = error.what();
           }
-          case UrgDriverEvent::Kind::fault:
-            if (tty) std::fputc('\n', stderr);
-            print_fault(event);
-            if (log) log->write_fault(host_seconds(), event.fault, event.count, event.message);
-            break;
-          case UrgDriverEvent::Kind::connected:
-            if (log) log->write_sensor(host_seconds(), driver->version(), driver->parameters());
-            if (!(driver->parameters() == sensor)) {
-              throw InputError(args.device.device + ": another sensor answered after the reconnection (" +
-                               driver->parameters().model + "); restart live mapping for it");
-            }
-            break;
         }
-      }
-      mapper.process(track, false);
-      mapper.expire(now - args.pose_wait_s);
-      account(integrated_before);
-      if (track.size() > kMaxPoses) {
-        // Poses far ahead of every scan: the clocks do not match. Keep memory bounded and say so once.
-        if (!warned_clock) {
-          std::fprintf(stderr, "stridemap: warning: %zu poses and no scan within their times; do the poses use "
-                               "the clock given with --clock (%s)?\n",
-                       track.size(), args.mapping.clock.c_str());
-          warned_clock = true;
+        break;
+      case LiveEvent::Kind::connected:
+        if (log && log_error.empty()) {
+          try {
+            log->write_sensor(host_seconds(), driver->version(), driver->parameters());
+          } catch (const InputError& error) {
+            log_error = error.what();
+          }
         }
-        track.drop_before(track.last_time_s() - 60.0);
-      }
-    } catch (const InputError& e) {
-      fatal = e.what();
+        break;
+      case LiveEvent::Kind::pose_notice:
+        std::fprintf(stderr, "%sstridemap: warning: pose skipped or reopened: %s\n", tty ? "\n" : "", e.message.c_str());
+        break;
+      case LiveEvent::Kind::save_failed:
+        std::fprintf(stderr, "%sstridemap: warning: saving the map failed, retrying while mapping goes on: %s\n",
+                     tty ? "\n" : "", e.message.c_str());
+        break;
+      case LiveEvent::Kind::save_recovered:
+      case LiveEvent::Kind::warning:
+        std::fprintf(stderr, "%sstridemap: %s%s\n", tty ? "\n" : "",
+                     e.kind == LiveEvent::Kind::warning ? "warning: " : "", e.message.c_str());
+        break;
     }
-  }
+  };
+  live = std::make_unique<LiveMapping>(options, scans, poses, hooks);
+  const LiveMappingResult result = live->run(stop_flag());
   if (tty) std::fputc('\n', stderr);
-  driver->stop();
-  // The end: poses are complete now, as they are for a replay of the same data.
-  if (fatal.empty()) {
+  if (log && log_error.empty()) {
     try {
-      poses.poll(track);
+      log->flush();
     } catch (const InputError& e) {
-      fatal = e.what();
+      log_error = e.what();
     }
   }
-  const std::size_t integrated_before = mapper.stats().integrated;
-  mapper.process(track, true);
-  account(integrated_before);
-  mapper.finish();
-  if (log) log->flush();
-  const LiveRunStats run = run_stats();
-  const io::MapLayers layers = write_map_outputs(mapper, sensor, info, &run, args.mapping.out_dir);
-  std::printf("live: %zu scans mapped of %zu received (%llu lost), coverage %.1f %%, CPU %.2f %% of one core, "
+  const ScanMapper& mapper = live->mapper();
+  const LiveRunStats& run = result.run;
+  std::printf("live: %zu scans mapped of %zu received (%llu lost), %zu pose lines skipped, CPU %.2f %% of one core, "
               "latency mean %.2f ms max %.2f ms; outputs: %s\n",
               mapper.stats().integrated, mapper.stats().scans, static_cast<unsigned long long>(run.driver.scans_lost),
-              100.0 * io::map_coverage(layers), run.duration_s > 0 ? 100.0 * run.cpu_s / run.duration_s : 0.0,
+              poses.skipped_lines(), run.duration_s > 0 ? 100.0 * run.cpu_s / run.duration_s : 0.0,
               run.latency_mean_s * 1000.0, run.latency_max_s * 1000.0, args.mapping.out_dir.c_str());
-  if (!fatal.empty()) throw InputError(fatal + " (the map so far is saved)");
+  std::fflush(stdout);
+  if (!result.last_save_error.empty()) throw InputError(result.last_save_error + " (the map could not be saved)");
+  if (!result.fatal.empty()) throw InputError(args.device.device + ": " + result.fatal + " (the map so far is saved)");
+  if (!log_error.empty()) throw InputError(log_error + " (the map is saved; the log stops where writing failed)");
+  report_shortfall(mapper.stats(), live->scan_times(), live->pose_times(), args.mapping.clock);
 }
 
 // ---------------------------------------------------------------- map
@@ -247,30 +232,61 @@ struct MapArgs {
   MappingArgs mapping;
 };
 
+void print_skipped(const std::string& what, std::size_t count, const std::vector<std::string>& first) {
+  if (count == 0) return;
+  std::fprintf(stderr, "stridemap: warning: %zu %s skipped:\n", count, what.c_str());
+  for (const std::string& line : first) std::fprintf(stderr, "  %s\n", printable_text(line).c_str());
+  if (count > first.size()) std::fprintf(stderr, "  ... and %zu more\n", count - first.size());
+}
+
 void run_map(const MapArgs& args) {
   const ScanMapperOptions options = mapper_options(args.mapping);
+  const LiveClock clock = parse_clock(args.mapping.clock);
+  const std::vector<NamedPath> inputs{{"--log", args.log_path},
+                                      {"--poses", args.mapping.poses_path},
+                                      {"--config", args.mapping.config_path}};
+  refuse_output_that_is_an_input("--out", args.mapping.out_dir, inputs);
+  io::check_output_folder(args.mapping.out_dir, "--out");
   const io::ScanLog log = io::read_scan_log(args.log_path);
-  if (!log.damage.empty()) {
-    std::fprintf(stderr, "stridemap: warning: %s; mapping the %zu scans before it\n", printable_text(log.damage).c_str(),
-                 log.scans.size());
+  print_skipped("damaged scan-log lines", log.skipped_line_numbers.size(), log.skipped);
+  if (!log.stop.empty()) {
+    std::fprintf(stderr, "stridemap: warning: %s; the log is read up to there\n", printable_text(log.stop).c_str());
   }
+  io::PoseLineProblems pose_problems;
   PoseTrack track(args.mapping.max_pose_gap_s);
-  for (const TimedPose& pose : io::read_pose_file(args.mapping.poses_path)) track.append(pose);
+  TimeRange pose_times, scan_times;
+  for (const TimedPose& pose : io::read_pose_file(args.mapping.poses_path, &pose_problems)) {
+    track.append(pose);
+    pose_times.add(pose.time_s);
+  }
+  print_skipped("bad pose lines", pose_problems.count, pose_problems.first);
   ScanMapper mapper(options, scip::to_urg_parameters(log.parameters));
   for (const UrgScan& scan : log.scans) {
     UrgRawScan raw = scan.raw;
-    raw.time_s = scan_time(scan, args.mapping.clock);
+    raw.time_s = clock == LiveClock::sensor ? sensor_time_seconds(scan.sensor_time_ms) : scan.host_time_s;
+    scan_times.add(raw.time_s);
     mapper.add(raw);
     mapper.process(track, true);
   }
   mapper.finish();
-  const MapRunInfo info{"map", args.log_path, args.mapping.poses_path, args.mapping.clock, log.damage};
+  MapRunInfo info;
+  info.command = "map";
+  info.scans_from = args.log_path;
+  info.poses_from = args.mapping.poses_path;
+  info.clock = args.mapping.clock;
+  info.log_damage = log.damage;
+  info.log_lines_skipped = log.skipped_line_numbers.size();
+  info.log_stop = log.stop;
+  info.pose_lines_skipped = pose_problems.count;
+  info.map_filter = parse_map_filter(args.mapping.map_filter);
   const io::MapLayers layers = write_map_outputs(mapper, log.parameters, info, nullptr, args.mapping.out_dir);
   const ScanMapperStats& s = mapper.stats();
   std::printf("map: %zu scans mapped of %zu (%zu before the first pose, %zu after the last, %zu in pose gaps), "
               "coverage %.1f %%; outputs: %s\n",
               s.integrated, s.scans, s.before_first_pose, s.after_last_pose, s.pose_gap,
               100.0 * io::map_coverage(layers), args.mapping.out_dir.c_str());
+  std::fflush(stdout);
+  report_shortfall(s, scan_times, pose_times, args.mapping.clock);
 }
 
 }  // namespace
@@ -284,6 +300,7 @@ void register_live(CLI::App& app) {
       ->required();
   add_mapping_options(*live, args->mapping);
   live->add_option("--record", args->record_path, "Also write the scans into this scan log");
+  add_existing_log_flags(*live, args->overwrite, args->append);
   live->add_option("--save-every-s", args->save_every_s, "Write the map this often (and at exit)")
       ->capture_default_str()
       ->check(number_from_to(0.01, 86400.0, "s"));

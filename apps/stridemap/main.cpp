@@ -9,6 +9,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "output_guard.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/printable_text.hpp"
 
@@ -57,6 +58,7 @@ int main(int argc, char** argv) {
     std::fputs(app.help().c_str(), stdout);
     return 0;
   }
+  stridemap::cli::install_cleanup_signals();
   try {
     app.parse(argc, argv);
   } catch (const CLI::Success& e) {
@@ -65,6 +67,9 @@ int main(int argc, char** argv) {
     // CLI11's own codes (104-109...) would tell a script nothing the docs promise.
     print_error("error", std::string(e.what()) + " (see '" + command_path(app) + " --help')");
     return kExitBadInput;
+  } catch (const stridemap::cli::RunFailed& e) {
+    print_error("error", e.what());
+    return 1;
   } catch (const stridemap::InputError& e) {
     print_error("error", e.what());
     return kExitBadInput;

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cli_parsing.hpp"
+#include "output_guard.hpp"
 #include "stridemap/experiments/mount_analysis.hpp"
 #include "stridemap/experiments/mount_analysis_report.hpp"
 #include "stridemap/experiments/structured_light_walk_sensor.hpp"
@@ -86,7 +87,7 @@ void run_mount_analysis_command(const MountAnalysisArgs& args) {
                                 nullptr, options);
   }
   const std::string dir = (std::filesystem::path(args.out_dir) / ("mount-analysis-" + result.sensor)).string();
-  write_mount_analysis_outputs(result, options, dir);
+  write_output_set(dir, "--out", [&](const std::string& folder) { write_mount_analysis_outputs(result, options, folder); });
   std::fputs(mount_analysis_table(result).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
 }

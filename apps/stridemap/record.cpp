@@ -6,6 +6,7 @@
 
 #include "commands.hpp"
 #include "stridemap/core/printable_text.hpp"
+#include "output_guard.hpp"
 #include "stridemap/io/scan_log.hpp"
 #include "urg_device.hpp"
 
@@ -15,14 +16,20 @@ namespace {
 struct RecordArgs {
   DeviceArgs device;
   std::string out_path;
+  bool overwrite = false;
+  bool append = false;
 };
 
 void run_record(const RecordArgs& args) {
   install_stop_signals();
-  io::ScanLogWriter log(args.out_path, args.device.device);
+  const ExistingLog choice = existing_log_choice(args.overwrite, args.append);
+  refuse_output_that_is_an_input("--out", args.out_path, {{"--device", args.device.device}});
+  check_log_output("--out", args.out_path, choice, "stridemap-urg-log");
   UrgDriverEvent event;
   std::unique_ptr<UrgDriver> driver = start_driver(args.device, event);
   std::fprintf(stderr, "stridemap: connected: %s\n", printable_text(event.message).c_str());
+  // Only now, with the sensor streaming, is the log created or opened.
+  io::ScanLogWriter log(args.out_path, args.device.device, choice == ExistingLog::append);
   log.write_sensor(host_seconds(), driver->version(), driver->parameters());
   const double start = monotonic_seconds();
   double next_status = start + 1.0;
@@ -69,6 +76,7 @@ void register_record(CLI::App& app) {
   CLI::App* record = app.add_subcommand("record", "Record scans from a URG-04LX into a scan log (docs/live.md)");
   add_device_options(*record, args->device);
   record->add_option("--out", args->out_path, "Scan log to write (text, one record per line)")->required();
+  add_existing_log_flags(*record, args->overwrite, args->append);
   record->callback([args] { run_record(*args); });
 }
 

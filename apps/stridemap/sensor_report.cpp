@@ -11,6 +11,7 @@
 
 #include "cli_parsing.hpp"
 #include "commands.hpp"
+#include "output_guard.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/grid_csv.hpp"
 #include "stridemap/io/grid_render.hpp"
@@ -143,17 +144,18 @@ void write_map(const std::string& directory, const std::string& name, const std:
 }
 
 void write_maps(const StructuredLightModel& model, const SensorReportOptions& options) {
-  std::error_code error;
-  std::filesystem::create_directories(options.uncertainty_dir, error);
-  if (error) throw InputError(options.uncertainty_dir + ": cannot create the output folder: " + error.message());
+  refuse_output_that_is_an_input("--uncertainty-out", options.uncertainty_dir, {{"--config", options.config_path}});
+  io::check_output_folder(options.uncertainty_dir, "--uncertainty-out");
   const UncertaintyMaps maps = structured_light_uncertainty_maps(model, options.maps);
   const StructuredLightParameters& p = model.parameters();
   char source[160];
   std::snprintf(source, sizeof source, "Delta u = %.2g px, Delta v = %.2g px%s", p.column_error_px, p.row_error_px,
                 options.maps.include_parameter_errors ? " + calibration errors" : "");
   std::printf("\nSpatial uncertainty maps (x_c across, z_c up the page; %s):\n", source);
-  write_map(options.uncertainty_dir, "x_uncertainty", "x_c uncertainty", maps.x_uncertainty_m, maps);
-  write_map(options.uncertainty_dir, "z_uncertainty", "z_c uncertainty", maps.z_uncertainty_m, maps);
+  write_output_set(options.uncertainty_dir, "--uncertainty-out", [&](const std::string& folder) {
+    write_map(folder, "x_uncertainty", "x_c uncertainty", maps.x_uncertainty_m, maps);
+    write_map(folder, "z_uncertainty", "z_c uncertainty", maps.z_uncertainty_m, maps);
+  });
 }
 
 void run(const SensorReportOptions& options) {

@@ -8,6 +8,7 @@
 
 #include "cli_parsing.hpp"
 #include "commands.hpp"
+#include "output_guard.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/png_image.hpp"
 #include "stridemap/io/scene_yaml.hpp"
@@ -75,6 +76,12 @@ void run(const SimulateImageArgs& args) {
       throw InputError(args.config_path + ": a scene needs the sensor's mount (mount.pitch_deg, mount.height_m)");
     }
     scene = load_scene_yaml(args.scene_path);
+  }
+  const std::vector<NamedPath> inputs{{"--config", args.config_path}, {"--scene", args.scene_path}};
+  refuse_output_that_is_an_input("--out", args.out_path, inputs);
+  refuse_output_that_is_an_input("--truth", args.truth_path, inputs);
+  if (!args.truth_path.empty() && (args.truth_path == args.out_path || io::same_file(args.truth_path, args.out_path))) {
+    throw InputError("--truth: '" + args.truth_path + "' is also --out; give two files");
   }
   StripeImageOptions options;
   options.ambient.illuminance_lux = args.lux;

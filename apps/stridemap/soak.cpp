@@ -14,6 +14,7 @@
 
 #include "cli_parsing.hpp"
 #include "commands.hpp"
+#include "output_guard.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/soak.hpp"
 #include "stridemap/experiments/walk_soak_motion.hpp"
@@ -112,6 +113,11 @@ void run(const SoakCommandOptions& o) {
     throw InputError("--motion: expected circuit or walk, got '" + o.motion + "'");
   }
   const Scene scene = load_scene_yaml(o.scene_path);
+  if (!o.out_dir.empty()) {
+    const std::string dir = (std::filesystem::path(o.out_dir) / "soak").string();
+    refuse_output_that_is_an_input("--out", dir, {{"--scene", o.scene_path}});
+    io::check_output_folder(dir, "--out");
+  }
   std::unique_ptr<SoakMotion> moving;
   if (o.motion == "walk") {
     WalkSoakOptions walk;
@@ -146,11 +152,10 @@ void run(const SoakCommandOptions& o) {
   if (o.repeat > 1 && failures.empty()) std::printf("%d runs with seed %" PRIu64 ": bit-identical maps\n", o.repeat, o.seed);
   if (!o.out_dir.empty()) {
     const std::filesystem::path dir = std::filesystem::path(o.out_dir) / "soak";
-    std::error_code ec;
-    std::filesystem::create_directories(dir, ec);
-    if (ec) throw InputError(dir.string() + ": cannot create the output folder: " + ec.message());
     const nlohmann::json summary = {{"scene", o.scene_path}, {"seed", o.seed}, {"runs", runs}, {"failures", failures}};
-    io::write_text_file((dir / "summary.json").string(), summary.dump(2) + "\n", "summary");
+    write_output_set(dir.string(), "--out", [&](const std::string& folder) {
+      io::write_text_file(folder + "/summary.json", summary.dump(2) + "\n", "summary");
+    });
     std::printf("wrote %s\n", (dir / "summary.json").string().c_str());
   }
   if (!failures.empty()) {

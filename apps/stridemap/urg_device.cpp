@@ -87,8 +87,10 @@ void install_stop_signals() {
   action.sa_handler = on_stop_signal;
   sigemptyset(&action.sa_mask);
   action.sa_flags = 0;  // no SA_RESTART: a blocking poll returns at once
+  // SIGHUP too: an ssh session that drops must not lose the map or the log.
   sigaction(SIGINT, &action, nullptr);
   sigaction(SIGTERM, &action, nullptr);
+  sigaction(SIGHUP, &action, nullptr);
   // A pose pipe whose reader went away must give a write error, not kill us.
   std::signal(SIGPIPE, SIG_IGN);
 }

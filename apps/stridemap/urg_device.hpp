@@ -1,6 +1,6 @@
 #pragma once
 // What `record` and `live` share: the device options, starting the driver
-// with a bounded wait, stopping cleanly on SIGINT/SIGTERM, printing faults.
+// with a bounded wait, stopping cleanly on SIGINT/SIGTERM/SIGHUP, printing faults.
 #include <atomic>
 #include <memory>
 #include <string>
@@ -25,7 +25,7 @@ struct DeviceArgs {
 
 void add_device_options(CLI::App& command, DeviceArgs& args);
 
-/// SIGINT and SIGTERM set a flag instead of killing the process.
+/// SIGINT, SIGTERM and SIGHUP set a flag instead of killing the process.
 void install_stop_signals();
 bool stop_requested();
 const std::atomic<bool>& stop_flag();

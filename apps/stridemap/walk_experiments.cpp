@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "output_guard.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/rocky_walk.hpp"
 #include "stridemap/experiments/rocky_walk_report.hpp"
@@ -91,11 +92,16 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   } else {
     factory = structured_light_walk_sensor_factory(args.seed, args.pipeline);
   }
+  const std::vector<NamedPath> inputs{{"--scene", args.scene_path}, {"--path", args.path_file}};
+  const std::string early_dir = (std::filesystem::path(args.out_dir) / ("rocky-walk-" + args.sensor)).string();
+  refuse_output_that_is_an_input("--out", early_dir, inputs);
+  io::check_output_folder(early_dir, "--out");
   const RockyWalkResult result =
       naming_grid_setting("--cell-size-m " + number_text(options.walk.mapper.grid.cell_size_m),
                           [&] { return run_rocky_walk(scene, path, factory, options); });
   const std::string dir = (std::filesystem::path(args.out_dir) / ("rocky-walk-" + result.sensor)).string();
-  write_rocky_walk_outputs(result, options, info, dir);
+  refuse_output_that_is_an_input("--out", dir, inputs);
+  write_output_set(dir, "--out", [&](const std::string& folder) { write_rocky_walk_outputs(result, options, info, folder); });
   std::fputs(rocky_walk_table(result).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
 }

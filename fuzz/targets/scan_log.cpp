@@ -1,14 +1,16 @@
 // Scan logs (io/scan_log.hpp, docs/live.md). Two kinds of input, by the
 // first byte:
 //  - even: the bytes are a log. Whatever the reader keeps must be exactly
-//    what it reads from the lines before the damage alone: parsing just
-//    those lines gives the same log, with no damage.
+//    what it reads from the same lines without the ones it skipped (and
+//    without everything from where it stopped): parsing those gives the
+//    same log, with no damage.
 //  - odd: the bytes describe a log (sensor blocks, scans, faults with any
 //    values the driver can produce) and one damage (cut, overwritten,
 //    inserted or deleted byte). The log is written with ScanLogWriter,
-//    damaged, and read: every record on a line before the damaged one comes
-//    back unchanged, the damage is reported at its line, and damage before
-//    the sensor's parameters is an InputError naming the file.
+//    damaged, and read: every record on a line the damage did not touch
+//    comes back unchanged (one bad line costs one record), the damage is
+//    reported at its line; damage in a sensor block loses at most what
+//    follows it, and in the first block is an InputError naming the file.
 #include <unistd.h>
 
 #include <cstdio>
@@ -81,26 +83,41 @@ void raw_log(std::string_view bytes) {
     for (const std::uint32_t v : s.raw.values_mm) check(v < (1u << 18), "a value no URG can send");
   }
   const std::vector<std::size_t> starts = line_starts(bytes);
-  if (log.damage.empty()) return;
-  // Reported at a line after those kept (a sensor block cut short by the
-  // damage is not kept, so the damage may lie a few lines further on).
+  if (log.damage.empty()) {
+    check(log.skipped_line_numbers.empty() && log.stop.empty(), "lines skipped without damage reported");
+    return;
+  }
   const std::size_t colon = log.damage.find(':', kName.size() + 1);
   check(starts_with(log.damage, kName + ":") && colon != std::string::npos, "damage without its place: " + log.damage);
-  const std::string place = log.damage.substr(kName.size() + 1, colon - kName.size() - 1);
-  const std::size_t damage_line = std::stoul(place);
+  const std::size_t damage_line = std::stoul(log.damage.substr(kName.size() + 1, colon - kName.size() - 1));
   check(damage_line > log.lines && damage_line <= starts.size(),
         "damage '" + log.damage + "' is not at a line after the " + std::to_string(log.lines) + " kept");
-  // The lines before the damage alone make the same log, undamaged.
-  check(log.lines < starts.size(), "more lines read than the input holds");
-  const std::string_view intact = bytes.substr(0, starts[log.lines]);
+  std::size_t stop_line = starts.size() + 1;
+  if (!log.stop.empty()) {
+    const std::size_t c = log.stop.find(':', kName.size() + 1);
+    check(starts_with(log.stop, kName + ":") && c != std::string::npos, "stop without its place: " + log.stop);
+    stop_line = std::stoul(log.stop.substr(kName.size() + 1, c - kName.size() - 1));
+  }
+  // The same lines without the skipped ones, up to the stop, read alike and undamaged.
+  std::string kept;
+  std::size_t skipped = 0;
+  for (std::size_t line = 1; line <= starts.size() && line < stop_line; ++line) {
+    if (skipped < log.skipped_line_numbers.size() && log.skipped_line_numbers[skipped] == line) {
+      ++skipped;
+      continue;
+    }
+    const std::size_t from = starts[line - 1];
+    const std::size_t to = line < starts.size() ? starts[line] : bytes.size();
+    kept.append(bytes.substr(from, to - from));
+  }
   io::ScanLog again;
   try {
-    again = io::parse_scan_log(intact, kName);
+    again = io::parse_scan_log(kept, kName);
   } catch (const InputError& e) {
-    fuzz::failure(std::string("the lines before the damage are rejected on their own: ") + e.what());
+    fuzz::failure(std::string("the lines kept are rejected on their own: ") + e.what());
   }
-  check(again.damage.empty(), "the lines before the damage are damaged on their own: " + again.damage);
-  check_same_log(log, again, "the log up to the damage read alone");
+  check(again.damage.empty(), "the lines kept are damaged on their own: " + again.damage);
+  check_same_log(log, again, "the log without its skipped lines read alone");
 }
 
 // What the writer is given; and the line each record ends on.
@@ -221,51 +238,63 @@ void damaged_log(fuzz::ByteReader& in) {
   }
   // A cut at a line start leaves a shorter log with nothing damaged.
   const bool cut_at_line_end = kind == 1 && starts[line - 1] == at;
-  const std::size_t intact = line - 1;  // lines before the damage
+  // The written lines whose records are lost: the damaged one; the next one
+  // too when an LF between them went (overwritten or deleted); every one
+  // from it on for a cut.
+  const bool merged = (kind == 2 || kind == 4) && damaged && starts[line] == at + 1;
+  // An LF inserted at a line's start makes an empty line before it: only that is damaged.
+  const bool empty_line_inserted = kind == 3 && value == '\n' && at == starts[line - 1];
+  const std::size_t first_lost = line;
+  std::size_t last_lost = !damaged || newline_after_line_end || empty_line_inserted ? 0 : merged ? line + 1 : line;
+  if (kind == 1) last_lost = lines;
+  const auto lost = [&](std::size_t l) { return damaged && l >= first_lost && l <= last_lost; };
+  bool block_touched = (last_lost >= first_lost && first_lost <= 2) || (damaged && line == 1);
+  for (const Written::Block& b : w.blocks) {
+    const std::size_t first = b.last_line - scip::to_info_fields(b.version).size() -
+                              scip::to_info_fields(parameters).size();
+    for (std::size_t l = first; l <= b.last_line; ++l) block_touched = block_touched || lost(l);
+  }
 
   io::ScanLog log;
   try {
     log = io::parse_scan_log(text, kName);
   } catch (const InputError& e) {
-    check(intact < w.blocks.front().last_line,
-          "a log damaged at line " + std::to_string(line) + ", after the sensor's parameters, is rejected: " + e.what());
+    check(block_touched, "a log damaged at line " + std::to_string(line) + ", outside every sensor block, is rejected: " +
+                             e.what());
     check(starts_with(e.what(), kName), std::string("an error that does not name the log: ") + e.what());
     return;
   }
-  check(intact >= w.blocks.front().last_line,
-        "a log damaged at line " + std::to_string(line) + ", inside the first sensor block, is accepted");
-  // A sensor block cut by the damage is not kept, nor counted as read.
-  std::size_t kept = intact;
-  for (const Written::Block& b : w.blocks) {
-    const std::size_t first = b.last_line - scip::to_info_fields(b.version).size() -
-                              scip::to_info_fields(parameters).size();
-    if (first <= intact && intact < b.last_line) kept = first - 1;
+  if (block_touched) {
+    // What is kept is written records, in order: nothing invented.
+    std::size_t next = 0;
+    for (const UrgScan& s : log.scans) {
+      while (next < w.log.scans.size() && !same_scan(w.log.scans[next], s)) ++next;
+      check(next < w.log.scans.size(), "a scan that was never written came back");
+      ++next;
+    }
+    return;
   }
   if (damaged && !cut_at_line_end) {
     check(starts_with(log.damage, kName + ":" + std::to_string(line) + ": "),
           "damage at line " + std::to_string(line) + " reported as '" + log.damage + "'");
-  } else if (kept < intact) {
-    // Cut at a line end inside a sensor block: the block is incomplete.
-    check(starts_with(log.damage, kName + ":" + std::to_string(kept + 1) + ": sensor block: "),
-          "a log cut inside the sensor block at line " + std::to_string(kept + 1) + " reported as '" + log.damage + "'");
   } else {
     check(log.damage.empty(), "an undamaged log reported as damaged: " + log.damage);
   }
-  check(log.lines == kept, "kept " + std::to_string(log.lines) + " lines, not the " + std::to_string(kept) +
-                               " before the damage");
+  check(log.stop.empty(), "reading stopped at damage outside every sensor block: " + log.stop);
   io::ScanLog expected;
   expected.device = w.log.device;
   expected.parameters = parameters;
   for (const Written::Block& b : w.blocks) {
-    if (b.last_line > intact) break;
     expected.version = b.version;
     ++expected.connects;
   }
-  for (std::size_t i = 0; i < w.log.scans.size() && w.scan_line[i] <= intact; ++i) expected.scans.push_back(w.log.scans[i]);
-  for (std::size_t i = 0; i < w.log.faults.size() && w.fault_line[i] <= intact; ++i) {
-    expected.faults.push_back(w.log.faults[i]);
+  for (std::size_t i = 0; i < w.log.scans.size(); ++i) {
+    if (!lost(w.scan_line[i])) expected.scans.push_back(w.log.scans[i]);
   }
-  check_same_log(log, expected, "the records before the damage");
+  for (std::size_t i = 0; i < w.log.faults.size(); ++i) {
+    if (!lost(w.fault_line[i])) expected.faults.push_back(w.log.faults[i]);
+  }
+  check_same_log(log, expected, "the records on the lines the damage did not touch");
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "stridemap/core/error.hpp"
+#include "temporary_registry.hpp"
 
 namespace stridemap::io::detail {
 namespace {
@@ -70,6 +71,11 @@ AtomicOutputFile::AtomicOutputFile(std::string final_path, std::string kind)
   }
 
   const std::string folder = parent_folder(final_path_);
+  // A writer killed with SIGKILL left its temporary file; no handler ran.
+  std::string prefix(1, '.');
+  prefix += name;
+  prefix += ".tmp-";
+  remove_stale_temporaries(folder, prefix);
   // Several processes (or threads) may write into one folder; the pid and a
   // process-wide counter keep the names apart and O_EXCL catches the rest.
   static std::atomic<unsigned> counter{0};
@@ -89,6 +95,7 @@ AtomicOutputFile::AtomicOutputFile(std::string final_path, std::string kind)
       fail("cannot open a stream (" + errno_text(error_number) + ")");
     }
     temp_path_ = std::move(candidate);
+    registry_slot_ = register_temporary(temp_path_, false);
     return;
   }
   fail("cannot find a free temporary file name in folder '" + folder + "'");
@@ -109,6 +116,11 @@ void AtomicOutputFile::commit() {
   if (std::fflush(stream_) != 0 || std::ferror(stream_) != 0) {
     fail("write failed (" + errno_text(errno) + ")");
   }
+  // Data on the disk before the name: after a power cut the final name never
+  // points at a file with missing blocks.
+  if (!temp_path_.empty() && ::fsync(::fileno(stream_)) != 0 && errno != EINVAL) {
+    fail("write failed when syncing the file to the disk (" + errno_text(errno) + ")");
+  }
   std::FILE* stream = std::exchange(stream_, nullptr);
   if (std::fclose(stream) != 0) {
     const int error_number = errno;
@@ -121,6 +133,9 @@ void AtomicOutputFile::commit() {
     fail("cannot move the finished file into place (" + errno_text(errno) + ")");
   }
   temp_path_.clear();
+  release_temporary(registry_slot_);
+  registry_slot_ = -1;
+  (void)sync_path(parent_folder(final_path_));
 }
 
 void AtomicOutputFile::fail(const std::string& reason) {
@@ -137,6 +152,8 @@ void AtomicOutputFile::discard() noexcept {
     ::unlink(temp_path_.c_str());
     temp_path_.clear();
   }
+  release_temporary(registry_slot_);
+  registry_slot_ = -1;
 }
 
 }  // namespace stridemap::io::detail

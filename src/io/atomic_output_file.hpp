@@ -6,7 +6,9 @@
 // disk full, an exception in the writer) removes the temporary file, leaving
 // whatever was at the final path before untouched. A final path that is a
 // device or a pipe (/dev/null, /dev/full, a FIFO) is written directly; one
-// that is a folder is an error.
+// that is a folder is an error. The file is synced to the disk before the
+// rename; a temporary file left by a writer killed with SIGKILL is removed
+// by the next writer of the same name in that folder.
 #include <cstdio>
 #include <string>
 
@@ -44,6 +46,7 @@ class AtomicOutputFile {
   std::string kind_;
   std::string temp_path_;
   std::FILE* stream_ = nullptr;
+  int registry_slot_ = -1;  // so that a stop signal's handler can remove temp_path_
 };
 
 }  // namespace stridemap::io::detail

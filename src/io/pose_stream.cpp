@@ -12,6 +12,7 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <utility>
 
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/text_file.hpp"
@@ -90,7 +91,12 @@ std::string format_pose_line(const TimedPose& p) {
 
 std::string pose_file_header() { return std::string("# stridemap poses: ") + kColumns + "\n"; }
 
-std::vector<TimedPose> parse_pose_text(std::string_view text, const std::string& source) {
+void PoseLineProblems::add(std::string message) {
+  ++count;
+  if (first.size() < kListed) first.push_back(std::move(message));
+}
+
+std::vector<TimedPose> parse_pose_text(std::string_view text, const std::string& source, PoseLineProblems* problems) {
   PoseTrack order_check(std::numeric_limits<double>::infinity());
   PoseLineBuffer lines(source);
   std::vector<TimedPose> poses;
@@ -104,51 +110,80 @@ std::vector<TimedPose> parse_pose_text(std::string_view text, const std::string&
   };
   lines.feed(text, keep);
   lines.finish(keep);
-  if (poses.empty()) throw InputError(source + ": no pose in the file (expected lines of " + kColumns + ")");
+  if (problems != nullptr) *problems = lines.problems();
+  if (poses.empty()) {
+    std::string why = lines.problems().first.empty() ? "" : "; the first bad line: " + lines.problems().first.front();
+    throw InputError(source + ": no usable pose in the file (expected lines of " + kColumns + ")" + why);
+  }
   return poses;
 }
 
-std::vector<TimedPose> read_pose_file(const std::string& path) {
+std::vector<TimedPose> read_pose_file(const std::string& path, PoseLineProblems* problems) {
   refuse_folder(path, "the pose file");
   std::ifstream file(path, std::ios::binary);
   if (!file) throw InputError(path + ": cannot open the pose file: " + std::strerror(errno));
   const std::string text{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
   if (file.bad()) throw InputError(path + ": read error");
-  return parse_pose_text(text, path);
+  return parse_pose_text(text, path, problems);
 }
 
 void PoseLineBuffer::complete_line(std::string_view line, const std::function<void(const TimedPose&)>& use) {
   ++line_number_;
-  if (line.size() > kMaxPoseLineBytes) too_long(line_number_);
+  if (line.size() > kMaxPoseLineBytes) {
+    too_long(line_number_);
+    return;
+  }
   TimedPose pose;
-  if (!parse_pose_line(line, source_, line_number_, pose)) return;
+  try {
+    if (!parse_pose_line(line, source_, line_number_, pose)) return;
+  } catch (const InputError& e) {
+    problems_.add(e.what());
+    return;
+  }
   try {
     use(pose);
   } catch (const InputError& e) {
-    throw InputError(located(source_, line_number_, e.what()));
+    problems_.add(located(source_, line_number_, e.what()));
   }
 }
 
-void PoseLineBuffer::too_long(std::size_t line_number) const {
-  throw InputError(located(source_, line_number,
-                           "line longer than " + std::to_string(kMaxPoseLineBytes) + " bytes: not a pose line"));
+void PoseLineBuffer::too_long(std::size_t line_number) {
+  problems_.add(located(source_, line_number,
+                        "line longer than " + std::to_string(kMaxPoseLineBytes) + " bytes: not a pose line"));
 }
 
 void PoseLineBuffer::feed(std::string_view bytes, const std::function<void(const TimedPose&)>& use) {
   while (!bytes.empty()) {
     const std::size_t lf = bytes.find('\n');
+    if (discarding_) {
+      // The rest of an overlong line, already reported: dropped up to its LF.
+      if (lf == std::string_view::npos) return;
+      discarding_ = false;
+      bytes.remove_prefix(lf + 1);
+      continue;
+    }
     if (lf == std::string_view::npos) {
       // Held until its LF comes; never more than a line may hold.
-      if (partial_.size() + bytes.size() > kMaxPoseLineBytes) too_long(line_number_ + 1);
+      if (partial_.size() + bytes.size() > kMaxPoseLineBytes) {
+        ++line_number_;
+        too_long(line_number_);
+        partial_.clear();
+        discarding_ = true;
+        return;
+      }
       partial_.append(bytes);
       return;
     }
     if (partial_.empty()) {
       complete_line(bytes.substr(0, lf), use);
     } else {
-      if (partial_.size() + lf > kMaxPoseLineBytes) too_long(line_number_ + 1);
-      partial_.append(bytes.substr(0, lf));
-      complete_line(partial_, use);
+      if (partial_.size() + lf > kMaxPoseLineBytes) {
+        ++line_number_;
+        too_long(line_number_);
+      } else {
+        partial_.append(bytes.substr(0, lf));
+        complete_line(partial_, use);
+      }
       partial_.clear();
     }
     bytes.remove_prefix(lf + 1);
@@ -156,6 +191,10 @@ void PoseLineBuffer::feed(std::string_view bytes, const std::function<void(const
 }
 
 void PoseLineBuffer::finish(const std::function<void(const TimedPose&)>& use) {
+  if (discarding_) {
+    discarding_ = false;
+    return;
+  }
   if (partial_.empty()) return;
   const std::string line = std::move(partial_);
   partial_.clear();
@@ -178,10 +217,48 @@ PoseStreamReader::~PoseStreamReader() {
   if (fd_ >= 0) ::close(fd_);
 }
 
+// A publisher that restarts either writes a new file (rename over, or
+// delete and create: another inode) or truncates the old one (a size below
+// what was read). Both mean: read it anew from its start.
+bool PoseStreamReader::source_changed(std::string& why) {
+  if (is_pipe_) return false;
+  struct stat open_file {}, at_path {};
+  if (::fstat(fd_, &open_file) != 0) return false;
+  if (::stat(path_.c_str(), &at_path) != 0) return false;  // removed: keep the old one until a new file appears
+  if (at_path.st_dev != open_file.st_dev || at_path.st_ino != open_file.st_ino) {
+    why = "replaced by a new file";
+    return S_ISREG(at_path.st_mode);
+  }
+  if (static_cast<std::uint64_t>(open_file.st_size) < offset_) {
+    why = "cut to " + std::to_string(open_file.st_size) + " bytes after " + std::to_string(offset_) + " were read";
+    return true;
+  }
+  return false;
+}
+
+void PoseStreamReader::reopen() {
+  const int fd = ::open(path_.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+  if (fd < 0) return;  // try again at the next poll
+  ::close(fd_);
+  fd_ = fd;
+  offset_ = 0;
+  skipped_before_ += lines_.problems().count;
+  reported_problems_ = 0;
+  lines_ = PoseLineBuffer(path_);
+  after_reopen_ = true;
+  ++reopened_;
+}
+
 std::size_t PoseStreamReader::poll(PoseTrack& track) {
+  if (std::string why; source_changed(why)) {
+    reopen();
+    notices_.push_back(path_ + ": " + why + " (a restarted pose publisher?); reading it again from the start, "
+                       "poses before the last one kept are skipped");
+  }
   std::size_t added = 0;
   char buffer[4096];
   const auto use = [&](const TimedPose& pose) {
+    if (after_reopen_ && track.size() > 0 && !(pose.time_s > track.last_time_s())) return;  // known already
     track.append(pose);
     ++added;
   };
@@ -191,9 +268,16 @@ std::size_t PoseStreamReader::poll(PoseTrack& track) {
     if (got < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) break;
     if (got < 0) throw InputError(path_ + ": cannot read the pose source: " + std::strerror(errno));
     if (got == 0) break;  // nothing more now (end of file, or a pipe without writer)
+    offset_ += static_cast<std::uint64_t>(got);
     lines_.feed(std::string_view(buffer, static_cast<std::size_t>(got)), use);
+  }
+  const PoseLineProblems& problems = lines_.problems();
+  for (; reported_problems_ < problems.first.size(); ++reported_problems_) {
+    notices_.push_back(problems.first[reported_problems_]);
   }
   return added;
 }
+
+std::vector<std::string> PoseStreamReader::take_notices() { return std::exchange(notices_, {}); }
 
 }  // namespace stridemap::io

@@ -17,6 +17,7 @@ namespace stridemap::io {
 namespace {
 
 constexpr std::string_view kMagic = "stridemap-urg-log";
+constexpr std::size_t kMaxSkippedLinesListed = 20;
 constexpr std::size_t kCrcSuffix = 10;  // " *" + 8 hex digits
 // SCIP's 3-character encoding holds 18 bits: no sensor sends more.
 const std::uint32_t kLargestValue = scip::max_encodable_value(3);
@@ -201,43 +202,68 @@ ScanLog read_scan_log(const std::string& path) {
   return parse_scan_log(content, path);
 }
 
-// Reading stops at the first problem. log.lines counts the lines whose
-// records are all kept: a sensor block counts once it is closed (by the next
-// record or the end), so the first log.lines lines alone read back as the
-// same log.
+// Each line carries its own CRC, so a damaged line (CRC, torn, a record
+// that does not parse) is skipped and counted and reading goes on: one
+// flipped byte loses one record. Damage inside a sensor block, or a block
+// with other parameters, stops reading there: the scans after it would be
+// read with the wrong sensor description. log.lines counts the lines before
+// the first damage whose records are all kept: a sensor block counts once it
+// is closed (by the next record or the end).
 ScanLog parse_scan_log(std::string_view content, const std::string& source_name) {
   const std::string& path = source_name;
   ScanLog log;
   LogParser parser(log);
   std::size_t pos = 0, number = 0;
-  const auto damage_at = [&](std::size_t line, const std::string& what) {
-    log.damage = path + ":" + std::to_string(line) + ": " + what;
-    if (!parser.have_parameters()) throw InputError(log.damage + " (before the sensor's parameters: nothing usable)");
+  bool stopped = false;
+  const auto note_damage = [&](std::size_t line, const std::string& what) {
+    const std::string place = path + ":" + std::to_string(line) + ": " + what;
+    if (log.damage.empty()) log.damage = place;
+    if (log.skipped.size() < kMaxSkippedLinesListed) log.skipped.push_back(place);
+    log.skipped_line_numbers.push_back(line);
   };
-  const auto damage = [&](const std::string& what) {
-    // A sensor block whose every line came before the damage is complete
-    // (its end is only known from the next record): a recorder killed while
-    // writing the first scan still leaves the sensor's parameters.
-    if (parser.in_block() && parser.close_block().empty()) log.lines = number - 1;
-    damage_at(number, what);
+  const auto stop_at = [&](std::size_t line, const std::string& what) {
+    stopped = true;
+    const std::string place = path + ":" + std::to_string(line) + ": " + what;
+    if (!parser.have_parameters()) throw InputError(place + " (before the sensor's parameters: nothing usable)");
+    log.stop = place;
+    if (log.damage.empty()) log.damage = place;
   };
-  while (pos < content.size()) {
+  // A line that cannot be used: inside a sensor block the block is lost, and
+  // reading stops; elsewhere only the line is.
+  const auto damaged_line = [&](const std::string& what) {
+    if (parser.in_block()) {
+      // A block whose every line came before the damage is complete (its
+      // end is only known from the next record): a recorder killed while
+      // writing the first scan still leaves the sensor's parameters.
+      if (parser.close_block().empty()) {
+        if (log.damage.empty()) log.lines = number - 1;
+        note_damage(number, what);
+        return;
+      }
+      stop_at(parser.block_line(), "sensor block cut short by damage at " + path + ":" + std::to_string(number) + ": " + what);
+      return;
+    }
+    note_damage(number, what);
+  };
+  while (pos < content.size() && !stopped) {
     ++number;
     const std::size_t lf = content.find('\n', pos);
     if (lf == std::string_view::npos) {
-      damage("truncated: the last line has no end (the recorder was stopped while writing it?)");
+      damaged_line("truncated: the last line has no end (the recorder was stopped while writing it?)");
       break;
     }
     const std::string_view line = content.substr(pos, lf - pos);
     pos = lf + 1;
     if (line.size() < kCrcSuffix || line.compare(line.size() - kCrcSuffix, 2, " *") != 0) {
-      damage("no CRC at the end of the line");
-      break;
+      if (number == 1) throw InputError(path + ":1: no CRC at the end of the line: not a stridemap scan log");
+      damaged_line("no CRC at the end of the line");
+      continue;
     }
     const std::string_view body = line.substr(0, line.size() - kCrcSuffix);
     if (scan_log_crc(body) != line.substr(line.size() - 8)) {
-      damage("CRC mismatch: the line is corrupted");
-      break;
+      if (number == 1) throw InputError(path + ":1: CRC mismatch on the first line: not a readable stridemap scan log");
+      damaged_line("CRC mismatch: the line is corrupted");
+      continue;
     }
     if (number == 1) {
       Fields fields(body);
@@ -258,36 +284,54 @@ ScanLog parse_scan_log(std::string_view content, const std::string& source_name)
     const bool info_line = kind == "vv" || kind == "pp";
     if (!info_line && parser.in_block()) {
       if (const std::string problem = parser.close_block(); !problem.empty()) {
-        damage_at(parser.block_line(), "sensor block: " + problem);
+        stop_at(parser.block_line(), "sensor block: " + problem);
         break;
       }
-      log.lines = number - 1;
+      if (log.damage.empty()) log.lines = number - 1;
+    }
+    if (kind == kMagic) {
+      // `record --append` after a torn last line: the new part starts here.
+      if (log.damage.empty()) log.lines = number;
+      continue;
     }
     if (const std::string problem = parser.record(body, number); !problem.empty()) {
-      damage(problem);
-      break;
+      damaged_line(problem);
+      continue;
     }
-    if (!parser.in_block()) log.lines = number;
+    if (!parser.in_block() && log.damage.empty()) log.lines = number;
   }
   if (number == 0) throw InputError(path + ": empty file, not a scan log");
-  if (log.damage.empty() && parser.in_block()) {
+  if (!stopped && parser.in_block()) {
     if (const std::string problem = parser.close_block(); !problem.empty()) {
-      damage_at(parser.block_line(), "sensor block: " + problem);
-    } else {
+      stop_at(parser.block_line(), "sensor block: " + problem);
+    } else if (log.damage.empty()) {
       log.lines = number;
     }
   }
   if (!parser.have_parameters()) {
-    throw InputError(path + ": the log holds no sensor parameters (no complete sensor block)");
+    throw InputError(path + ": the log holds no sensor parameters (no complete sensor block)" +
+                     (log.damage.empty() ? std::string() : "; the first damage: " + log.damage));
   }
   return log;
 }
 
-ScanLogWriter::ScanLogWriter(const std::string& path, const std::string& device) : path_(path) {
-  file_ = std::fopen(path.c_str(), "wb");
+ScanLogWriter::ScanLogWriter(const std::string& path, const std::string& device, bool append) : path_(path) {
+  file_ = std::fopen(path.c_str(), append ? "ab+" : "wb");
   if (file_ == nullptr) throw InputError(path + ": cannot create the scan log: " + std::strerror(errno));
-  std::string body = std::string(kMagic) + " " + std::to_string(kScanLogVersion);
-  write_line(body);
+  bool empty = true;
+  if (append && std::fseek(file_, 0, SEEK_END) == 0 && std::ftell(file_) > 0) {
+    empty = false;
+    if (std::fseek(file_, -1, SEEK_END) == 0 && std::fgetc(file_) != '\n') {
+      std::fseek(file_, 0, SEEK_END);
+      std::fputc('\n', file_);
+    }
+    std::fseek(file_, 0, SEEK_END);
+  }
+  std::string body;
+  if (empty) {
+    body = std::string(kMagic) + " " + std::to_string(kScanLogVersion);
+    write_line(body);
+  }
   body = "device " + device;
   write_line(body);
   flush();

@@ -1,10 +1,13 @@
 #include "stridemap/live/map_report.hpp"
 
+#include <cstdio>
 #include <filesystem>
 
 #include <nlohmann/json.hpp>
 
+#include "stridemap/core/cas_filter.hpp"
 #include "stridemap/core/grid_map.hpp"
+#include "stridemap/io/output_folder.hpp"
 #include "stridemap/io/text_file.hpp"
 
 namespace stridemap {
@@ -57,6 +60,10 @@ std::string map_summary_json(const ScanMapper& mapper, const io::MapLayers& laye
         {"min_cell", {layers.min_cell.x, layers.min_cell.y}}}},
       {"filters", scan_filter_list_name(mapper.options().filters)}};
   if (!info.log_damage.empty()) summary["log_damage"] = info.log_damage;
+  if (info.log_lines_skipped > 0) summary["log_lines_skipped"] = info.log_lines_skipped;
+  if (!info.log_stop.empty()) summary["log_stop"] = info.log_stop;
+  summary["pose_lines_skipped"] = info.pose_lines_skipped;
+  summary["map_filter"] = std::string(map_filter_name(info.map_filter));
   if (live != nullptr) {
     const UrgDriverStats& d = live->driver;
     summary["run"] = {{"duration_s", live->duration_s},
@@ -76,20 +83,69 @@ std::string map_summary_json(const ScanMapper& mapper, const io::MapLayers& laye
                        {{"samples", live->latency_samples},
                         {"mean", live->latency_mean_s},
                         {"p99", live->latency_p99_s},
-                        {"max", live->latency_max_s}}}};
+                        {"max", live->latency_max_s}}},
+                      {"saves", live->saves},
+                      {"save_failures", live->save_failures},
+                      {"pose_reopens", live->pose_reopens}};
   }
   return summary.dump(2) + "\n";
 }
 
+namespace {
+
+std::string seconds_text(double s) {
+  char text[48];
+  std::snprintf(text, sizeof text, "%.3f", s);
+  return text;
+}
+
+}  // namespace
+
+std::string mapping_shortfall(const ScanMapperStats& s, const TimeRange& scans, const TimeRange& poses,
+                              const std::string& clock) {
+  if (s.scans == 0 || s.integrated * 2 >= s.scans) return {};
+  std::string why = std::to_string(s.integrated) + " scans mapped of " + std::to_string(s.scans) + ": ";
+  if (poses.count == 0) {
+    why += "no usable pose arrived";
+  } else {
+    why += "the scans span " + seconds_text(scans.first_s) + " .. " + seconds_text(scans.last_s) + " s, the poses " +
+           seconds_text(poses.first_s) + " .. " + seconds_text(poses.last_s) + " s (" + clock + " clock)";
+    if (scans.count > 0 && (scans.last_s < poses.first_s || scans.first_s > poses.last_s)) {
+      why += ": they do not overlap; are the poses on the other clock (--clock host|sensor)?";
+    }
+  }
+  why += "; skipped: " + std::to_string(s.before_first_pose) + " before the first pose, " +
+         std::to_string(s.after_last_pose) + " after the last (or waited too long), " + std::to_string(s.pose_gap) +
+         " in gaps between poses wider than the maximum, " + std::to_string(s.rejected) +
+         " rejected (steps or length that do not fit the sensor)";
+  return why;
+}
+
+io::MapLayers filtered_map_layers(const ScanMapper& mapper, MapFilter filter) {
+  switch (filter) {
+    case MapFilter::fill: return mapper.filled_layers();
+    case MapFilter::none: return io::export_map_layers(mapper.mapper().map());
+    case MapFilter::cas: {
+      ElevationMap copy = mapper.mapper().map();
+      CasOptions cas;
+      cas.fill = mapper.options().config.fill;
+      CasFilter(cas).apply(copy);
+      return io::export_map_layers(copy);
+    }
+  }
+  return mapper.filled_layers();
+}
+
 io::MapLayers write_map_outputs(const ScanMapper& mapper, const scip::ScipParameters& sensor, const MapRunInfo& info,
                                 const LiveRunStats* live, const std::string& directory) {
-  io::MapLayers layers = mapper.filled_layers();
+  io::MapLayers layers = filtered_map_layers(mapper, info.map_filter);
   io::MapOutputOptions style;
   style.elevation_title = "Elevation";  // the same for live and replay: their pictures must be equal
   style.certainty_max = mapper.options().config.mapper.update.certainty_max;
-  io::write_map_layers(layers, directory, style);
-  io::write_text_file((std::filesystem::path(directory) / "summary.json").string(),
-                      map_summary_json(mapper, layers, sensor, info, live), "summary");
+  io::OutputFolder staged(directory, "output folder");
+  io::write_map_layers(layers, staged.path(), style);
+  io::write_text_file(staged.file("summary.json"), map_summary_json(mapper, layers, sensor, info, live), "summary");
+  staged.commit();
   return layers;
 }
 

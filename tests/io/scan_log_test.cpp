@@ -1,9 +1,11 @@
 // The scan log: what is written reads back bit for bit, and damage
-// (truncation, a corrupted byte, an impossible record) stops reading with
-// the place named and everything before it kept.
+// (truncation, a corrupted byte, an impossible record) costs only the
+// damaged line, named with its place; damage in a sensor block stops
+// reading there.
 #include <gtest/gtest.h>
 
 #include <string>
+#include <vector>
 
 #include "live/test_folder.hpp"
 #include "stridemap/core/error.hpp"
@@ -78,17 +80,55 @@ TEST(ScanLog, TruncatedLastLineKeepsEveryScanBeforeIt) {
   EXPECT_NE(log.damage.find("log.txt:23: truncated"), std::string::npos) << log.damage;
 }
 
-TEST(ScanLog, CorruptedByteStopsReadingAtItsLine) {
+// Each line has its own CRC: one flipped byte loses one scan, not the rest.
+TEST(ScanLog, CorruptedByteLosesOnlyItsLine) {
   test::TestFolder dir;
   const std::string path = write_log(dir, 6);
   std::string text = dir.read("log.txt");
-  std::size_t line_start = 0;
-  for (int line = 1; line < 19; ++line) line_start = text.find('\n', line_start) + 1;  // line 19: scan 2
-  text[line_start + 300] = text[line_start + 300] == '1' ? '2' : '1';
+  const auto flip_in_line = [&](int wanted) {
+    std::size_t line_start = 0;
+    for (int line = 1; line < wanted; ++line) line_start = text.find('\n', line_start) + 1;
+    text[line_start + 300] = text[line_start + 300] == '1' ? '2' : '1';
+  };
+  flip_in_line(19);  // scan 2
+  flip_in_line(22);  // scan 4
   dir.write("log.txt", text);
   const ScanLog log = read_scan_log(path);
-  EXPECT_EQ(log.scans.size(), 2u);
+  ASSERT_EQ(log.scans.size(), 4u);
+  EXPECT_EQ(log.scans[0].sequence, 0u);
+  EXPECT_EQ(log.scans[1].sequence, 1u);
+  EXPECT_EQ(log.scans[2].sequence, 3u);
+  EXPECT_EQ(log.scans[3].sequence, 5u);
+  EXPECT_EQ(log.faults.size(), 1u);  // line 20, between the damaged ones
+  EXPECT_EQ(log.skipped_line_numbers, (std::vector<std::size_t>{19, 22}));
+  ASSERT_EQ(log.skipped.size(), 2u);
+  EXPECT_NE(log.skipped[0].find("log.txt:19: CRC mismatch"), std::string::npos) << log.skipped[0];
+  EXPECT_NE(log.skipped[1].find("log.txt:22: CRC mismatch"), std::string::npos) << log.skipped[1];
   EXPECT_NE(log.damage.find("log.txt:19: CRC mismatch"), std::string::npos) << log.damage;
+  EXPECT_TRUE(log.stop.empty()) << log.stop;
+}
+
+// `record --append` after a recorder was killed mid-line: the torn line
+// stays one damaged line; everything before and after it is read.
+TEST(ScanLog, AppendingAfterATornLineKeepsBothParts) {
+  test::TestFolder dir;
+  const std::string path = write_log(dir, 3);
+  std::string text = dir.read("log.txt");
+  text.resize(text.size() - 700);  // killed while writing the last scan
+  dir.write("log.txt", text);
+  {
+    ScanLogWriter writer(path, "/dev/ttyACM1", true);
+    scip::VersionInfo version{"Hokuyo Automatic Co.,Ltd.", "SOKUIKI Sensor URG-04LX", "3.3.00", "SCIP 2.0", "H0000"};
+    writer.write_sensor(1733065300.0, version, scip::ScipParameters{});
+    writer.write_scan(make_scan(7));
+  }
+  const ScanLog log = read_scan_log(path);
+  ASSERT_EQ(log.scans.size(), 3u);  // scans 0, 1 and the new 7; the torn scan 2 is skipped
+  EXPECT_EQ(log.scans[2].sequence, 7u);
+  EXPECT_EQ(log.connects, 2u);
+  EXPECT_EQ(log.device, "/dev/ttyACM1");
+  EXPECT_EQ(log.skipped_line_numbers.size(), 1u);
+  EXPECT_TRUE(log.stop.empty()) << log.stop;
 }
 
 TEST(ScanLog, DamageInsideTheSensorBlockLeavesNothingUsableAndIsAnError) {
@@ -164,6 +204,7 @@ TEST(ScanLog, ReconnectionBlockWithOtherParametersOrCutShortStopsAtTheBlock) {
   EXPECT_EQ(log.scans.size(), 1u);
   EXPECT_EQ(log.lines, 17u);
   EXPECT_EQ(log.damage.rfind(path + ":18: sensor block: the sensor's parameters changed", 0), 0u) << log.damage;
+  EXPECT_EQ(log.stop, log.damage);
   // The same log cut at a line end inside the second block.
   std::string text = dir.read("log.txt");
   std::size_t cut = 0;
@@ -181,9 +222,12 @@ TEST(ScanLog, ValuesNoUrgCanSendAreDamage) {
   std::string text = dir.read("log.txt");
   const std::string body = "scan 9 3 3 0 0 0 0 44 1 2 5 262144";
   text += body + " *" + scan_log_crc(body) + "\n";
+  const std::string next = "scan 10 4 4 0 0 0 0 44 1 2 5 6";
+  text += next + " *" + scan_log_crc(next) + "\n";
   dir.write("log.txt", text);
   const ScanLog log = read_scan_log(path);
-  EXPECT_EQ(log.scans.size(), 2u);
+  ASSERT_EQ(log.scans.size(), 3u);  // the bad record skipped, the one after it kept
+  EXPECT_EQ(log.scans[2].sequence, 10u);
   EXPECT_NE(log.damage.find("log.txt:19: scan: value 2 (262144) is more than a URG can send (262143)"), std::string::npos)
       << log.damage;
 }

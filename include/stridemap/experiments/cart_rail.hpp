@@ -17,6 +17,7 @@
 #include "stridemap/experiments/object_extents.hpp"
 #include "stridemap/io/stripe_detector.hpp"
 #include "stridemap/preprocess/scan_filter_chain.hpp"
+#include "stridemap/core/map_filter.hpp"  // what runs on the finished map before it is scored
 #include "stridemap/sensors/urg04lx.hpp"
 #include "stridemap/sim/cart_rail.hpp"
 #include "stridemap/sim/footprint_beam_model.hpp"
@@ -25,13 +26,6 @@
 #include "stridemap/sim/urg_simulator.hpp"
 
 namespace stridemap {
-
-/// What runs on the finished map before it is scored.
-enum class MapFilter : std::uint8_t {
-  none,             ///< the map as the update rule left it
-  fill,             ///< weighted-median fill-in (eq. 11), the paper's choice for the URG
-  cas,              ///< the CAS filter, then the fill (the paper's choice for structured light)
-};
 
 enum class CartRailSensor : std::uint8_t { urg, structured_light };
 

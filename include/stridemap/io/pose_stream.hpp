@@ -12,6 +12,7 @@
 #include <functional>
 #include <string>
 #include <string_view>
+#include <cstdint>
 #include <vector>
 
 #include "stridemap/core/pose_track.hpp"
@@ -27,21 +28,33 @@ std::string format_pose_line(const TimedPose& pose);
 /// The header comment naming the columns (with its LF).
 std::string pose_file_header();
 
-/// Every pose of a file, in order. Throws InputError naming the file and
-/// line for a missing file, a bad line, a time not after the previous one,
-/// or a file with no pose.
-std::vector<TimedPose> read_pose_file(const std::string& path);
+/// Lines skipped as unusable: how many, and the first few as
+/// "<source>:<line>: <what>".
+struct PoseLineProblems {
+  std::size_t count = 0;
+  std::vector<std::string> first;
+  static constexpr std::size_t kListed = 20;
+  void add(std::string message);
+};
+
+/// Every usable pose of a file, in order. A bad line, an overlong line or a
+/// time not after the previous pose is skipped and reported in `problems`
+/// (when given): one bad record never costs the others. Throws InputError
+/// naming the file for a missing file or a file with no usable pose.
+std::vector<TimedPose> read_pose_file(const std::string& path, PoseLineProblems* problems = nullptr);
 /// The same from the file's bytes; `source` stands for the file in messages.
-std::vector<TimedPose> parse_pose_text(std::string_view text, const std::string& source);
+std::vector<TimedPose> parse_pose_text(std::string_view text, const std::string& source,
+                                       PoseLineProblems* problems = nullptr);
 
 /// Longest pose line [bytes, without its LF]: eight numbers need far less,
 /// and a stream must not buffer a line that never ends.
 inline constexpr std::size_t kMaxPoseLineBytes = 4096;
 
 /// Cuts bytes that arrive in any pieces into lines and parses each complete
-/// one, numbering the lines; what the pieces were changes nothing. Throws
-/// InputError "<source>:<line>: ..." for a bad line, a line longer than
-/// kMaxPoseLineBytes, or what `use` throws (a time out of order).
+/// one, numbering the lines; what the pieces were changes nothing. A bad
+/// line, a line longer than kMaxPoseLineBytes, or a line whose pose `use`
+/// refuses with InputError (a time out of order) is skipped and added to
+/// problems() as "<source>:<line>: ...".
 class PoseLineBuffer {
  public:
   explicit PoseLineBuffer(std::string source) : source_(std::move(source)) {}
@@ -52,19 +65,26 @@ class PoseLineBuffer {
   void finish(const std::function<void(const TimedPose&)>& use);
   std::size_t lines() const { return line_number_; }
   std::size_t pending_bytes() const { return partial_.size(); }
+  const PoseLineProblems& problems() const { return problems_; }
 
  private:
   void complete_line(std::string_view line, const std::function<void(const TimedPose&)>& use);
-  [[noreturn]] void too_long(std::size_t line_number) const;
+  void too_long(std::size_t line_number);
   std::string source_;
   std::string partial_;
+  bool discarding_ = false;  // inside an overlong line, until its LF
   std::size_t line_number_ = 0;
+  PoseLineProblems problems_;
 };
 
 /// Reads a pose file or named pipe as it grows, without blocking: poll()
 /// appends the complete lines that have arrived to a PoseTrack. A partial
 /// last line waits for its LF. Opening a named pipe does not wait for a
 /// writer; a writer that closes and a new one that opens are both fine.
+/// A file replaced under the reader (another inode at the path: a restarted
+/// publisher rewrote it) or cut shorter than what was read is reopened and
+/// read from its start; poses not after the last one kept are then skipped
+/// quietly, as they are known already. Bad lines are skipped and reported.
 class PoseStreamReader {
  public:
   /// Throws InputError naming the path when it cannot be opened, or is a
@@ -74,19 +94,33 @@ class PoseStreamReader {
   PoseStreamReader(const PoseStreamReader&) = delete;
   PoseStreamReader& operator=(const PoseStreamReader&) = delete;
 
-  /// Appends the poses read now; returns how many. Throws InputError
-  /// "<path>:<line>: ..." for a bad line or a time out of order.
+  /// Appends the poses read now; returns how many. Throws InputError only
+  /// when the source cannot be read at all.
   std::size_t poll(PoseTrack& track);
+  /// What happened since the last call, one message each: skipped lines
+  /// ("<path>:<line>: ..."), reopenings ("<path>: replaced ...").
+  std::vector<std::string> take_notices();
+  std::size_t skipped_lines() const { return skipped_before_ + lines_.problems().count; }
+  std::size_t reopened() const { return reopened_; }
   /// The file descriptor, for a caller that wants to poll() it.
   int fd() const { return fd_; }
   std::size_t lines_read() const { return lines_.lines(); }
   bool is_pipe() const { return is_pipe_; }
 
  private:
+  bool source_changed(std::string& why);
+  void reopen();
+
   std::string path_;
   int fd_ = -1;
   bool is_pipe_ = false;
   PoseLineBuffer lines_;
+  std::uint64_t offset_ = 0;         // bytes read from the current file
+  std::size_t skipped_before_ = 0;   // skipped lines of files read before a reopening
+  std::size_t reported_problems_ = 0;
+  std::size_t reopened_ = 0;
+  bool after_reopen_ = false;
+  std::vector<std::string> notices_;
 };
 
 }  // namespace stridemap::io

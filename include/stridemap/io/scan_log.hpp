@@ -1,8 +1,8 @@
 #pragma once
 // Recorded URG scans with their timestamps and the sensor's own description
 // (VV, PP), as text: one record per line, each line closed by a CRC-32 so
-// that damage anywhere is found, and a reader that keeps every record
-// before the first damaged or truncated line. The format is in
+// that damage anywhere is found, and a reader that skips (and counts) a
+// damaged or truncated line and keeps every other record. The format is in
 // docs/live.md ("Scan log format"), with the reasons for text.
 #include <cstddef>
 #include <cstdint>
@@ -32,16 +32,23 @@ struct ScanLog {
   std::vector<UrgScan> scans;         ///< in recording order; raw.time_s = host_time_s
   std::vector<LoggedFault> faults;
   std::size_t connects = 0;
-  /// Empty when the whole file was read; else "<file>:<line>: <what>" for the
-  /// first damaged line, where reading stopped.
+  /// Empty when every line was read; else "<file>:<line>: <what>" for the
+  /// first damaged line.
   std::string damage;
-  std::size_t lines = 0;               ///< lines read before the damage
+  std::size_t lines = 0;               ///< lines read before the first damage
+  /// Every damaged line skipped, by number (1-based); the first 20 also as
+  /// "<file>:<line>: <what>" in `skipped`.
+  std::vector<std::size_t> skipped_line_numbers;
+  std::vector<std::string> skipped;
+  /// Empty unless reading stopped early: "<file>:<line>: <what>" for damage
+  /// inside a sensor block or a sensor with other parameters.
+  std::string stop;
 };
 
 /// Reads a log. Throws InputError naming the file for a file that cannot be
-/// opened or is not a scan log (first line), or whose first damaged line
-/// comes before the sensor's parameters; later damage is reported in
-/// ScanLog::damage with everything before it kept.
+/// opened or is not a scan log (first line), or whose first sensor block is
+/// damaged; a later damaged line is skipped and reported in ScanLog::skipped,
+/// damage in a later sensor block ends reading there (ScanLog::stop).
 ScanLog read_scan_log(const std::string& path);
 /// The same from a log's bytes in memory; `source_name` stands for the file
 /// in messages.
@@ -51,8 +58,11 @@ ScanLog parse_scan_log(std::string_view content, const std::string& source_name)
 /// whole line, so a killed recorder leaves at most one partial last line.
 class ScanLogWriter {
  public:
-  /// Creates (truncates) `path`. Throws InputError naming it on failure.
-  ScanLogWriter(const std::string& path, const std::string& device);
+  /// Creates (truncates) `path`, or with `append` adds to it: a torn last
+  /// line left by a killed recorder is ended first, so it stays one damaged
+  /// line that readers skip. Callers check first that truncating is wanted
+  /// (docs/live.md). Throws InputError naming the path on failure.
+  ScanLogWriter(const std::string& path, const std::string& device, bool append = false);
   ~ScanLogWriter();
   ScanLogWriter(const ScanLogWriter&) = delete;
   ScanLogWriter& operator=(const ScanLogWriter&) = delete;

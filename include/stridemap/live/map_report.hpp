@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 
+#include "stridemap/core/map_filter.hpp"
 #include "stridemap/live/scan_mapper.hpp"
 #include "stridemap/sensors/scip_parameters.hpp"
 #include "stridemap/sensors/urg_driver.hpp"
@@ -18,7 +19,11 @@ struct MapRunInfo {
   std::string scans_from;  ///< device or log path
   std::string poses_from;
   std::string clock;       ///< "host" or "sensor"
-  std::string log_damage;  ///< map: where reading the log stopped, if it did
+  std::string log_damage;  ///< map: the first damaged line of the log, if any
+  std::size_t log_lines_skipped = 0;   ///< map: damaged log lines skipped
+  std::string log_stop;                ///< map: where reading the log stopped early, if it did
+  std::size_t pose_lines_skipped = 0;  ///< bad pose lines skipped
+  MapFilter map_filter = MapFilter::fill;
 };
 
 /// Live mapping's own figures (not in a replay: they depend on the run).
@@ -30,13 +35,40 @@ struct LiveRunStats {
   double latency_mean_s = 0.0;   ///< last byte read -> scan integrated
   double latency_max_s = 0.0;
   double latency_p99_s = 0.0;
+  std::uint64_t saves = 0;          ///< periodic saves written
+  std::uint64_t save_failures = 0;  ///< periodic saves that failed (and were retried)
+  std::uint64_t pose_reopens = 0;   ///< the pose file replaced or cut under the reader
 };
 
 std::string map_summary_json(const ScanMapper& mapper, const io::MapLayers& layers,
                              const scip::ScipParameters& sensor, const MapRunInfo& info, const LiveRunStats* live);
 
-/// Writes the layers (with the fill-in applied to a copy) and summary.json
-/// into `directory`. Returns the layers written.
+/// First and last of a series of times (scans', poses').
+struct TimeRange {
+  std::size_t count = 0;
+  double first_s = 0.0;
+  double last_s = 0.0;
+  void add(double time_s) {
+    if (count++ == 0) first_s = time_s;
+    last_s = time_s;
+  }
+};
+
+/// Empty when at least half the scans reached the map; else what went
+/// wrong, for the user: the scans mapped, the scans' and the poses' time
+/// ranges (on `clock`), and what the others were skipped for. A run with no
+/// scan at all is not judged.
+std::string mapping_shortfall(const ScanMapperStats& stats, const TimeRange& scans, const TimeRange& poses,
+                              const std::string& clock);
+
+/// The map with `filter` applied to a copy (the map being built is not
+/// changed, so saving often changes nothing).
+io::MapLayers filtered_map_layers(const ScanMapper& mapper, MapFilter filter);
+
+/// Writes the layers (info.map_filter applied to a copy) and summary.json as
+/// one set (io::OutputFolder): `directory` holds the previous set or the
+/// new one, never a mix or a torn file. Returns the layers written. Throws
+/// InputError naming the folder (unusable folder, disk full).
 io::MapLayers write_map_outputs(const ScanMapper& mapper, const scip::ScipParameters& sensor, const MapRunInfo& info,
                                 const LiveRunStats* live, const std::string& directory);
 

@@ -1,0 +1,57 @@
+#pragma once
+// The rules every command follows before it writes (docs/outputs.md,
+// "Overwriting"): an output is never one of the run's inputs (same device
+// and inode), an existing log is never truncated unless asked, and a set of
+// files appears whole or not at all. Commands check their outputs after
+// reading their inputs and before any work that could be lost.
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "stridemap/io/output_folder.hpp"
+
+namespace stridemap::cli {
+
+/// An input of the run, for the same-file checks: the option and the path.
+struct NamedPath {
+  std::string option;
+  std::string path;
+};
+
+/// Throws InputError when `path` (the value of `option`) is the same file
+/// as one of `inputs`, or (for an output folder) holds one of them.
+void refuse_output_that_is_an_input(const std::string& option, const std::string& path,
+                                    const std::vector<NamedPath>& inputs);
+
+/// What to do with a log file that exists already.
+enum class ExistingLog { refuse, overwrite, append };
+
+/// `--overwrite` and `--append` for a command that writes a log.
+void add_existing_log_flags(CLI::App& command, bool& overwrite, bool& append);
+/// Throws InputError for both flags at once.
+ExistingLog existing_log_choice(bool overwrite, bool append);
+
+/// Throws InputError (exit 2) when the log at `path` exists, is not empty
+/// and `choice` is refuse; with append it must be a log of `magic` (the
+/// start of its first line).
+void check_log_output(const std::string& option, const std::string& path, ExistingLog choice,
+                      const std::string& magic);
+
+/// The set written by `write(folder)` replaces the folder `target` whole
+/// (io::OutputFolder).
+template <typename Write>
+void write_output_set(const std::string& target, const std::string& option, Write&& write) {
+  io::OutputFolder staged(target, option);
+  std::forward<Write>(write)(staged.path());
+  staged.commit();
+}
+
+/// SIGINT, SIGTERM and SIGHUP end the process, after removing the
+/// temporary files and staging folders it has open, so the previous
+/// outputs stay as they were. For every command but record and live,
+/// which stop their loop instead (install_stop_signals).
+void install_cleanup_signals();
+
+}  // namespace stridemap::cli

@@ -1,0 +1,69 @@
+#pragma once
+// A set of output files (a map, an experiment's results) that readers see
+// whole or not at all. The files are written into a staging folder beside
+// the target (`<parent>/.<name>.tmp-<pid>-<n>/`, same file system) and
+// commit() fsyncs them, writes the manifest `.stridemap-output` last, fsyncs
+// the folder and swaps it into place with one atomic rename (an exchange
+// when the target exists; the previous set is then removed). Until then the
+// previous set stays untouched: an exception, a stop signal or SIGKILL at any
+// moment leaves either the old set or the new one (docs/outputs.md).
+//
+// Leftovers of a killed run (a staging folder, or a previous set swapped out
+// but not yet removed) carry the dead process's id in their name; the next
+// OutputFolder for the same target removes them, and nothing reads them.
+#include <string>
+#include <vector>
+
+namespace stridemap::io {
+
+/// Name of the manifest in every output folder: it marks the folder as
+/// stridemap's and lists the files of the set.
+inline constexpr const char* kOutputManifest = ".stridemap-output";
+
+/// Throws InputError unless `target` may receive an output set: it does not
+/// exist, is an empty folder, holds a manifest, or holds only the PNG, CSV
+/// and JSON files an older stridemap wrote. A folder with anything else in
+/// it (a subfolder, a scan log, a pose file, a config) would be replaced
+/// whole, so it is refused, naming `option` and one of its entries.
+void check_output_folder(const std::string& target, const std::string& option);
+
+class OutputFolder {
+ public:
+  /// Checks the target (check_output_folder), removes stale leftovers of
+  /// killed runs and creates the staging folder. Throws InputError.
+  OutputFolder(std::string target, std::string option);
+  /// Removes the staging folder unless commit() succeeded.
+  ~OutputFolder();
+  OutputFolder(const OutputFolder&) = delete;
+  OutputFolder& operator=(const OutputFolder&) = delete;
+
+  /// The staging folder: write the set here.
+  const std::string& path() const { return staging_; }
+  /// path() + "/" + name.
+  std::string file(const std::string& name) const;
+  const std::string& target() const { return target_; }
+
+  /// Makes the staged set the target (see above). Throws InputError naming
+  /// the target; the staging folder is removed then and the previous set
+  /// stays.
+  void commit();
+
+ private:
+  void discard() noexcept;
+  std::string target_;
+  std::string option_;
+  std::string staging_;
+  int registry_slot_ = -1;
+  bool committed_ = false;
+};
+
+/// True when both paths exist and are the same file (device and inode):
+/// an output must never be one of the run's inputs.
+bool same_file(const std::string& a, const std::string& b);
+
+/// For a handler of SIGINT, SIGTERM or SIGHUP that ends the process: removes
+/// every temporary file and staging folder this process has open right now.
+/// Async-signal-safe (system calls only).
+void remove_temporaries_in_signal_handler() noexcept;
+
+}  // namespace stridemap::io

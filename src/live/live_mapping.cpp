@@ -1,0 +1,218 @@
+#include "stridemap/live/live_mapping.hpp"
+
+#include <sys/resource.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+#include "stridemap/core/error.hpp"
+
+namespace stridemap {
+
+double live_host_seconds() {
+  return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+}
+
+double live_monotonic_seconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+double live_process_cpu_seconds() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  const auto seconds = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+  };
+  return seconds(usage.ru_utime) + seconds(usage.ru_stime);
+}
+
+void LiveMappingOptions::validate() const {
+  const auto positive = [](double value, const char* name) {
+    if (!(value > 0.0) || !std::isfinite(value)) {
+      throw InputError(std::string("live mapping options: ") + name + " must be a positive number of seconds");
+    }
+  };
+  positive(save_every_s, "save_every_s");
+  positive(save_retry_s, "save_retry_s");
+  positive(status_every_s, "status_every_s");
+  if (!(pose_wait_s >= 0.0) || !std::isfinite(pose_wait_s)) {
+    throw InputError("live mapping options: pose_wait_s must be >= 0 s");
+  }
+  if (!(duration_s >= 0.0) || !std::isfinite(duration_s)) {
+    throw InputError("live mapping options: duration_s must be >= 0 s (0: no limit)");
+  }
+  if (!(max_pose_gap_s > 0.0)) throw InputError("live mapping options: max_pose_gap_s must be positive");
+  if (max_poses_ahead == 0) throw InputError("live mapping options: max_poses_ahead must be positive");
+}
+
+LiveMapping::LiveMapping(const LiveMappingOptions& options, LiveScanSource& scans, LivePoseSource& poses,
+                         LiveMappingHooks hooks)
+    : options_((options.validate(), options)),
+      scans_(scans),
+      poses_(poses),
+      hooks_(std::move(hooks)),
+      sensor_(scans.parameters()),
+      mapper_(options.mapper, scip::to_urg_parameters(sensor_)),
+      track_(options.max_pose_gap_s) {}
+
+double LiveMapping::scan_time(const UrgScan& scan) const {
+  return options_.clock == LiveClock::sensor ? sensor_time_seconds(scan.sensor_time_ms) : scan.host_time_s;
+}
+
+void LiveMapping::emit(LiveEvent::Kind kind, std::string message, const UrgDriverEvent* event) {
+  if (!hooks_.on_event) return;
+  LiveEvent e;
+  e.kind = kind;
+  e.message = std::move(message);
+  e.driver_event = event;
+  hooks_.on_event(e);
+}
+
+void LiveMapping::poll_poses() {
+  if (poses_.poll(track_) > 0) {
+    if (pose_times_.count == 0) pose_times_.add(track_.first_time_s());
+    pose_times_.add(track_.last_time_s());
+  }
+  for (std::string& notice : poses_.take_notices()) emit(LiveEvent::Kind::pose_notice, std::move(notice));
+}
+
+bool LiveMapping::try_save(const LiveRunStats* run) {
+  if (!hooks_.save) return true;
+  try {
+    hooks_.save(mapper_, run);
+  } catch (const InputError& e) {
+    ++save_failures_;
+    last_save_error_ = e.what();
+    save_failing_ = true;
+    emit(LiveEvent::Kind::save_failed, last_save_error_);
+    return false;
+  }
+  ++saves_;
+  last_save_error_.clear();
+  if (save_failing_) emit(LiveEvent::Kind::save_recovered, "the map is saved again");
+  save_failing_ = false;
+  return true;
+}
+
+// Scans leave the mapper's queue in order; the ones integrated count for latency.
+void LiveMapping::account(std::size_t integrated_before) {
+  const std::size_t queued = receive_times_.size() - receive_head_;
+  const std::size_t consumed = queued - std::min(queued, mapper_.waiting());
+  const std::size_t integrated = mapper_.stats().integrated - integrated_before;
+  const double now = live_host_seconds();
+  for (std::size_t i = 0; i < consumed; ++i) {
+    // process() integrates before expire() skips, so the first ones are the integrated.
+    if (i < integrated) latency_s_.push_back(now - receive_times_[receive_head_]);
+    ++receive_head_;
+  }
+  if (receive_head_ > 4096 && receive_head_ * 2 > receive_times_.size()) {
+    receive_times_.erase(receive_times_.begin(), receive_times_.begin() + static_cast<std::ptrdiff_t>(receive_head_));
+    receive_head_ = 0;
+  }
+}
+
+LiveRunStats LiveMapping::run_stats() const {
+  LiveRunStats run;
+  run.duration_s = live_monotonic_seconds() - start_s_;
+  run.cpu_s = live_process_cpu_seconds() - cpu_start_s_;
+  run.driver = scans_.stats();
+  run.saves = saves_;
+  run.save_failures = save_failures_;
+  run.pose_reopens = poses_.reopened();
+  run.latency_samples = latency_s_.size();
+  if (!latency_s_.empty()) {
+    double sum = 0.0;
+    for (const double s : latency_s_) sum += s;
+    run.latency_mean_s = sum / static_cast<double>(latency_s_.size());
+    run.latency_max_s = *std::max_element(latency_s_.begin(), latency_s_.end());
+    std::vector<double> sorted = latency_s_;
+    const std::size_t k =
+        std::min(sorted.size() - 1, static_cast<std::size_t>(0.99 * static_cast<double>(sorted.size())));
+    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(k), sorted.end());
+    run.latency_p99_s = sorted[k];
+  }
+  return run;
+}
+
+LiveMappingResult LiveMapping::run(const std::atomic<bool>& stop) {
+  LiveMappingResult result;
+  cpu_start_s_ = live_process_cpu_seconds();
+  start_s_ = live_monotonic_seconds();
+  double next_save = start_s_ + options_.save_every_s;
+  double next_status = start_s_ + options_.status_every_s;
+  UrgDriverEvent event;
+  while (!stop.load() && result.fatal.empty()) {
+    const double now = live_monotonic_seconds();
+    if (options_.duration_s > 0.0 && now - start_s_ >= options_.duration_s) break;
+    // Counted as handed out, not as the driver queues them.
+    if (options_.max_scans > 0 && mapper_.stats().scans >= options_.max_scans && mapper_.waiting() == 0) break;
+    if (now >= next_save) {
+      // A failed save (disk full) is retried soon; mapping goes on meanwhile.
+      next_save = now + (try_save(nullptr) ? options_.save_every_s : options_.save_retry_s);
+    }
+    if (now >= next_status) {
+      emit(LiveEvent::Kind::status, {});
+      next_status = now + options_.status_every_s;
+    }
+    poll_poses();
+    const std::size_t integrated_before = mapper_.stats().integrated;
+    const bool room = options_.max_scans == 0 || mapper_.stats().scans < options_.max_scans;
+    if (scans_.next(event, 0.05)) {
+      switch (event.kind) {
+        case UrgDriverEvent::Kind::scan: {
+          if (!room) break;  // beyond --max-scans: neither mapped nor recorded
+          if (hooks_.on_scan) hooks_.on_scan(event.scan);
+          UrgRawScan raw = event.scan.raw;
+          raw.time_s = scan_time(event.scan);
+          scan_times_.add(raw.time_s);
+          mapper_.add(raw, now);
+          receive_times_.push_back(event.scan.host_receive_time_s);
+          poll_poses();
+          break;
+        }
+        case UrgDriverEvent::Kind::fault:
+          emit(LiveEvent::Kind::fault, event.message, &event);
+          break;
+        case UrgDriverEvent::Kind::connected:
+          emit(LiveEvent::Kind::connected, event.message, &event);
+          if (!(scans_.parameters() == sensor_)) {
+            result.fatal = "another sensor answered after the reconnection (" + scans_.parameters().model +
+                           "); restart live mapping for it";
+          }
+          break;
+      }
+    }
+    mapper_.process(track_, false);
+    mapper_.expire(now - options_.pose_wait_s);
+    account(integrated_before);
+    if (track_.size() > options_.max_poses_ahead) {
+      // Poses far ahead of every scan: the clocks do not match. Keep memory bounded and say so once.
+      if (!warned_clock_) {
+        emit(LiveEvent::Kind::warning,
+             std::to_string(track_.size()) + " poses and no scan within their times; do the poses use the clock "
+             "of the scans (" + std::string(options_.clock == LiveClock::sensor ? "sensor" : "host") + ")?");
+        warned_clock_ = true;
+      }
+      track_.drop_before(track_.last_time_s() - 60.0);
+    }
+  }
+  scans_.stop();
+  // The end: poses are complete now, as they are for a replay of the same data.
+  poll_poses();
+  const std::size_t integrated_before = mapper_.stats().integrated;
+  mapper_.process(track_, true);
+  account(integrated_before);
+  mapper_.finish();
+  // The last save matters most: a few tries before giving up.
+  for (int attempt = 0; attempt < 3; ++attempt) {
+    result.run = run_stats();
+    if (try_save(&result.run)) break;
+  }
+  result.run = run_stats();
+  result.last_save_error = last_save_error_;
+  return result;
+}
+
+}  // namespace stridemap

@@ -1,0 +1,141 @@
+// Crash consistency (docs/reliability.md): `live`, mapping from the emulator
+// with --record and saving every 50 ms, is killed with SIGKILL at 50 random
+// (seeded) moments, 0.05 to 0.6 s after it connected. After each kill the output folder holds a complete set
+// (its manifest lists exactly its files, each one readable) or does not
+// exist yet, the leftovers of earlier kills are gone, and the recorded log
+// replays (`stridemap map --log`) to the map of every scan in it.
+#include <gtest/gtest.h>
+
+#include <signal.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "cli/background_process.hpp"
+#include "cli/cli_runner.hpp"
+#include "live/test_folder.hpp"
+#include "stridemap/core/error.hpp"
+#include "stridemap/io/grid_csv.hpp"
+#include "stridemap/io/output_folder.hpp"
+#include "stridemap/io/png_image.hpp"
+#include "stridemap/io/scan_log.hpp"
+
+namespace stridemap {
+namespace {
+
+namespace fs = std::filesystem;
+using test::BackgroundProcess;
+using test::run_cli;
+using test::shell_quoted;
+
+const std::string kScene = std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/cart_rail_boxes.yaml";
+
+std::string cli() { return shell_quoted(STRIDEMAP_CLI_PATH); }
+
+// Every file of the set is listed in its manifest and reads back whole;
+// nothing else is in the folder.
+void expect_complete_set(const fs::path& out, int kill) {
+  if (!fs::exists(out)) return;  // killed before the first save
+  std::ifstream manifest(out / io::kOutputManifest);
+  ASSERT_TRUE(manifest.good()) << "kill " << kill << ": an output folder without its manifest";
+  std::set<std::string> listed{io::kOutputManifest};
+  for (std::string line; std::getline(manifest, line);) {
+    if (!line.empty() && line[0] != '#') listed.insert(line);
+  }
+  std::set<std::string> present;
+  for (const auto& entry : fs::directory_iterator(out)) present.insert(entry.path().filename().string());
+  EXPECT_EQ(present, listed) << "kill " << kill;
+  for (const std::string& name : listed) {
+    const std::string path = (out / name).string();
+    try {
+      if (name.ends_with(".png")) io::read_png(path);
+      if (name.ends_with(".csv")) io::read_grid_csv(path);
+      if (name.ends_with(".json")) {
+        std::ifstream in(path);
+        (void)nlohmann::json::parse(in);
+      }
+    } catch (const std::exception& e) {
+      ADD_FAILURE() << "kill " << kill << ": torn output " << name << ": " << e.what();
+    }
+  }
+}
+
+std::size_t leftovers(const fs::path& folder) {
+  std::size_t n = 0;
+  for (const auto& entry : fs::directory_iterator(folder)) {
+    const std::string name = entry.path().filename().string();
+    n += name.starts_with(".out.tmp-") || name.find(".tmp-") != std::string::npos;
+  }
+  return n;
+}
+
+TEST(LiveCrash, KilledAtFiftyRandomMomentsLeavesCompleteOutputsAndLogsThatReplay) {
+  test::TestFolder dir;
+  BackgroundProcess emulator(cli() + " emulate-urg --link " + shell_quoted(dir / "urg") +
+                             " --rate-hz 100 --duration-s 300 --scene " + shell_quoted(kScene) +
+                             " --motion cart-rail --poses-out " + shell_quoted(dir / "poses.txt") +
+                             " --poses-clock host");
+  ASSERT_TRUE(emulator.wait_for_output("emulating a URG-04LX on", 10.0)) << emulator.output();
+  std::mt19937 random(20261201);
+  std::uniform_real_distribution<double> moment_s(0.05, 0.6);
+  const fs::path out = dir.path() / "out";
+  std::size_t sets_seen = 0, scans_replayed = 0;
+  for (int kill = 1; kill <= 50; ++kill) {
+    const std::string log = dir / ("log" + std::to_string(kill) + ".txt");
+    BackgroundProcess live(cli() + " live --device " + shell_quoted(dir / "urg") + " --poses " +
+                           shell_quoted(dir / "poses.txt") + " --out " + shell_quoted(out.string()) + " --record " +
+                           shell_quoted(log) + " --save-every-s 0.1 --stall-timeout-s 5 --status-every-s 10 --connect-timeout-s 10");
+    ASSERT_TRUE(live.wait_for_output("connected", 15.0)) << live.output();
+    std::this_thread::sleep_for(std::chrono::duration<double>(moment_s(random)));
+    live.signal(SIGKILL);
+    EXPECT_EQ(live.wait(10.0), -1) << "kill " << kill << ": not killed by the signal";
+    expect_complete_set(out, kill);
+    sets_seen += fs::exists(out);
+    // Only the run just killed may have left a staging folder or temporary
+    // file; the next run removes it.
+    EXPECT_LE(leftovers(dir.path()), 1u) << "kill " << kill;
+
+    if (!fs::exists(log)) continue;  // killed between connecting and creating the log
+    io::ScanLog recorded;
+    try {
+      recorded = io::read_scan_log(log);
+    } catch (const InputError& e) {
+      // Killed before the sensor's parameters were written: nothing to replay.
+      EXPECT_LT(fs::file_size(log), 2000u) << "kill " << kill << ": " << e.what();
+      continue;
+    }
+    EXPECT_LE(recorded.skipped_line_numbers.size(), 1u) << "kill " << kill << ": more than the torn last line";
+    EXPECT_TRUE(recorded.stop.empty()) << recorded.stop;
+    if (recorded.scans.empty()) continue;
+    const std::string replay_out = dir / ("replay" + std::to_string(kill));
+    const auto replay = run_cli("map --log " + shell_quoted(log) + " --poses " + shell_quoted(dir / "poses.txt") +
+                                " --out " + shell_quoted(replay_out));
+    ASSERT_EQ(replay.exit_code, 0) << "kill " << kill << ":\n" << replay.output;
+    const std::string all = std::to_string(recorded.scans.size());
+    EXPECT_NE(replay.output.find("map: " + all + " scans mapped of " + all + " "), std::string::npos)
+        << "kill " << kill << ":\n" << replay.output;
+    expect_complete_set(replay_out, kill);
+    scans_replayed += recorded.scans.size();
+    fs::remove_all(replay_out);
+  }
+  // Once a set exists, every later kill may hit its replacement: the checks above covered them.
+  EXPECT_GT(sets_seen, 10u) << "too few kills came after a save to test anything";
+  EXPECT_GT(scans_replayed, 50u);
+  // A last clean run cleans the leftovers of the last kill.
+  const auto last = run_cli("live --device " + shell_quoted(dir / "urg") + " --poses " + shell_quoted(dir / "poses.txt") +
+                            " --out " + shell_quoted(out.string()) + " --max-scans 5 --connect-timeout-s 10");
+  EXPECT_EQ(last.exit_code, 0) << last.output;
+  EXPECT_EQ(leftovers(dir.path()), 0u);
+  expect_complete_set(out, 51);
+}
+
+}  // namespace
+}  // namespace stridemap
