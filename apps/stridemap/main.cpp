@@ -20,6 +20,8 @@ int main(int argc, char** argv) {
   stridemap::cli::register_record(app);
   stridemap::cli::register_live(app);
   stridemap::cli::register_soak(app);
+  stridemap::cli::register_import(app);
+  stridemap::cli::register_map_file_commands(app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

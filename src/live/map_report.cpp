@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "stridemap/core/grid_map.hpp"
+#include "stridemap/io/map_file.hpp"
 #include "stridemap/io/text_file.hpp"
 
 namespace stridemap {
@@ -90,6 +91,10 @@ io::MapLayers write_map_outputs(const ScanMapper& mapper, const scip::ScipParame
   io::write_map_layers(layers, directory, style);
   io::write_text_file((std::filesystem::path(directory) / "summary.json").string(),
                       map_summary_json(mapper, layers, sensor, info, live), "summary");
+  // The mapper's own state (before the fill-in), from which mapping can resume.
+  io::MapFileMetadata metadata = io::map_file_metadata(mapper.options().config, info.command + " " + info.scans_from);
+  metadata.last_scan_time_s = mapper.mapper().last_scan_time_s();
+  io::save_map_file((std::filesystem::path(directory) / "map.smap").string(), mapper.mapper().map(), metadata);
   return layers;
 }
 
