@@ -25,5 +25,7 @@ void register_record(CLI::App& app);       // record.cpp
 void register_live(CLI::App& app);         // live.cpp: live and map
 void register_walk_experiments(CLI::App& app);  // after register_experiment
 void register_soak(CLI::App& app);
+void register_import(CLI::App& app);              // import.cpp
+void register_map_file_commands(CLI::App& app);  // map_file_commands.cpp: export, map-info
 
 }  // namespace stridemap::cli

@@ -52,7 +52,7 @@ bool looks_like_an_older_output(const fs::directory_entry& entry) {
   std::error_code ec;
   if (!entry.is_regular_file(ec)) return false;
   const std::string extension = entry.path().extension().string();
-  return extension == ".png" || extension == ".csv" || extension == ".json";
+  return extension == ".png" || extension == ".csv" || extension == ".json" || extension == ".smap";
 }
 
 }  // namespace

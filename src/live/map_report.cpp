@@ -8,6 +8,7 @@
 #include "stridemap/core/cas_filter.hpp"
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/io/output_folder.hpp"
+#include "stridemap/io/map_file.hpp"
 #include "stridemap/io/text_file.hpp"
 
 namespace stridemap {
@@ -145,6 +146,10 @@ io::MapLayers write_map_outputs(const ScanMapper& mapper, const scip::ScipParame
   io::OutputFolder staged(directory, "output folder");
   io::write_map_layers(layers, staged.path(), style);
   io::write_text_file(staged.file("summary.json"), map_summary_json(mapper, layers, sensor, info, live), "summary");
+  // The mapper's own state (before the fill-in), from which mapping can resume.
+  io::MapFileMetadata metadata = io::map_file_metadata(mapper.options().config, info.command + " " + info.scans_from);
+  metadata.last_scan_time_s = mapper.mapper().last_scan_time_s();
+  io::save_map_file(staged.file("map.smap"), mapper.mapper().map(), metadata);
   staged.commit();
   return layers;
 }

@@ -148,6 +148,9 @@ class ElevationMap {
   float* mean_elevation_data() { return mean_elevation_.data(); }
   std::uint16_t* mean_count_data() { return mean_count_.data(); }
   const float* mean_elevation_data() const { return mean_elevation_.data(); }
+  const std::uint8_t* contradiction_data() const { return contradictions_.data(); }
+  const float* pending_elevation_data() const { return pending_elevation_.data(); }
+  const std::uint16_t* mean_count_data() const { return mean_count_.data(); }
 
   void reset_slot(std::size_t s);
 

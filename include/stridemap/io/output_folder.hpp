@@ -21,8 +21,8 @@ namespace stridemap::io {
 inline constexpr const char* kOutputManifest = ".stridemap-output";
 
 /// Throws InputError unless `target` may receive an output set: it does not
-/// exist, is an empty folder, holds a manifest, or holds only the PNG, CSV
-/// and JSON files an older stridemap wrote. A folder with anything else in
+/// exist, is an empty folder, holds a manifest, or holds only the PNG, CSV, JSON
+/// and map (.smap) files an older stridemap wrote. A folder with anything else in
 /// it (a subfolder, a scan log, a pose file, a config) would be replaced
 /// whole, so it is refused, naming `option` and one of its entries.
 void check_output_folder(const std::string& target, const std::string& option);

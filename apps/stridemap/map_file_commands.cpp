@@ -1,0 +1,102 @@
+// `stridemap export MAPFILE` (NumPy arrays, a PLY mesh, a cell CSV) and
+// `stridemap map-info MAPFILE` (what the file says about itself);
+// docs/map_file.md.
+#include <sys/stat.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "commands.hpp"
+#include "stridemap/core/error.hpp"
+#include "stridemap/io/map_export.hpp"
+#include "stridemap/io/map_file.hpp"
+
+namespace stridemap::cli {
+namespace {
+
+struct ExportArgs {
+  std::string map_path;
+  std::string npy_dir;
+  std::string ply_path;
+  std::string csv_dir;
+  bool info = false;
+  bool overwrite = false;
+};
+
+std::vector<std::string> existing(const std::vector<std::string>& paths) {
+  std::vector<std::string> found;
+  for (const std::string& path : paths) {
+    struct stat info {};
+    if (::stat(path.c_str(), &info) == 0) found.push_back(path);
+  }
+  return found;
+}
+
+std::string read_bytes(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open the map file");
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+}
+
+void print_info(const std::string& path) {
+  std::fputs(io::map_file_header_json(read_bytes(path), path).c_str(), stdout);
+}
+
+void run_export(const ExportArgs& args) {
+  if (args.npy_dir.empty() && args.ply_path.empty() && args.csv_dir.empty() && !args.info) {
+    throw InputError("export: nothing to do; give --npy DIR, --ply FILE, --csv DIR or --info");
+  }
+  std::vector<std::string> outputs;
+  for (const std::string& name : io::npy_file_names()) {
+    if (!args.npy_dir.empty()) outputs.push_back((std::filesystem::path(args.npy_dir) / name).string());
+  }
+  if (!args.ply_path.empty()) outputs.push_back(args.ply_path);
+  if (!args.csv_dir.empty()) outputs.push_back((std::filesystem::path(args.csv_dir) / "cells.csv").string());
+  if (const auto found = existing(outputs); !found.empty() && !args.overwrite) {
+    throw InputError(found.front() + ": already exists (and " + std::to_string(found.size() - 1) +
+                     " more outputs); choose another place or pass --overwrite");
+  }
+  const io::MapFile file = io::load_map_file(args.map_path);
+  if (args.info) print_info(args.map_path);
+  if (!args.npy_dir.empty()) {
+    io::export_npy(file.map, args.npy_dir);
+    std::printf("export: NumPy arrays in %s\n", args.npy_dir.c_str());
+  }
+  if (!args.ply_path.empty()) {
+    const io::PlyStats stats = io::export_ply(file.map, args.ply_path);
+    std::printf("export: PLY mesh %s: %zu vertices, %zu triangles\n", args.ply_path.c_str(), stats.vertices,
+                stats.triangles);
+  }
+  if (!args.csv_dir.empty()) {
+    std::printf("export: %s\n", io::export_cells_csv(file.map, args.csv_dir).c_str());
+  }
+}
+
+}  // namespace
+
+void register_map_file_commands(CLI::App& app) {
+  auto args = std::make_shared<ExportArgs>();
+  CLI::App* command = app.add_subcommand("export", "A map file as NumPy arrays, a PLY mesh or CSV (docs/map_file.md)");
+  command->add_option("mapfile", args->map_path, "Map file (map.smap, written by map and live)")->required();
+  command->add_option("--npy", args->npy_dir, "Folder for one .npy array per layer");
+  command->add_option("--ply", args->ply_path, "PLY mesh file, coloured by elevation");
+  command->add_option("--csv", args->csv_dir, "Folder for cells.csv, one line per cell");
+  command->add_flag("--info", args->info, "Also print the map file's metadata");
+  command->add_flag("--overwrite", args->overwrite, "Replace existing output files");
+  command->callback([args] { run_export(*args); });
+
+  auto info_path = std::make_shared<std::string>();
+  CLI::App* info = app.add_subcommand("map-info", "Print a map file's metadata as JSON (checks the file whole)");
+  info->add_option("mapfile", *info_path, "Map file")->required();
+  info->callback([info_path] {
+    io::load_map_file(*info_path);  // the whole file checked, not only its header
+    print_info(*info_path);
+  });
+}
+
+}  // namespace stridemap::cli

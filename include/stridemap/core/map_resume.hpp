@@ -1,0 +1,20 @@
+#pragma once
+// Going on mapping from a saved map (io/map_file.hpp): the mapper takes the
+// saved map's every layer, window position included, and integrates the
+// next scans into it exactly as if it had never stopped, except that the
+// first scan after resuming has no previous scan to measure motion from.
+#include "stridemap/core/grid_map.hpp"
+#include "stridemap/core/terrain_mapper.hpp"
+
+namespace stridemap {
+
+/// Replaces the mapper's map with `saved`. Throws InputError when the
+/// mapper's grid (cells per side, cell size) is not the saved map's: the
+/// options must describe the map being continued.
+void resume_from_map(TerrainMapper& mapper, const ElevationMap& saved);
+
+/// The mapper options with the saved map's grid, for a caller that wants
+/// the map's own geometry rather than the configuration's.
+MapperOptions options_for_map(MapperOptions options, const ElevationMap& saved);
+
+}  // namespace stridemap

@@ -1,0 +1,31 @@
+#include "stridemap/core/map_resume.hpp"
+
+#include <sstream>
+
+#include "stridemap/core/error.hpp"
+
+namespace stridemap {
+
+void resume_from_map(TerrainMapper& mapper, const ElevationMap& saved) {
+  const ElevationMap& current = mapper.map();
+  // Exact comparison on purpose: the saved map's cell size comes back bit
+  // for bit, and a grid even slightly different would misplace every cell.
+  if (current.cells_per_side() != saved.cells_per_side() || current.cell_size_m() != saved.cell_size_m()) {
+    std::ostringstream message;
+    message.precision(17);
+    message << "cannot resume mapping: the saved map is " << saved.cells_per_side() << " x "
+            << saved.cells_per_side() << " cells of " << saved.cell_size_m() << " m, the mapper's grid "
+            << current.cells_per_side() << " x " << current.cells_per_side() << " cells of "
+            << current.cell_size_m() << " m";
+    throw InputError(message.str());
+  }
+  mapper.map() = saved;
+}
+
+MapperOptions options_for_map(MapperOptions options, const ElevationMap& saved) {
+  options.grid.cells_per_side = saved.cells_per_side();
+  options.grid.cell_size_m = saved.cell_size_m();
+  return options;
+}
+
+}  // namespace stridemap

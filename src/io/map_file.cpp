@@ -1,0 +1,501 @@
+#include "stridemap/io/map_file.hpp"
+
+#include <fcntl.h>
+#include <sys/stat.h>
+#include <unistd.h>
+#include <zlib.h>
+
+#include <algorithm>
+#include <array>
+#include <bit>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <limits>
+#include <system_error>
+
+#include <nlohmann/json.hpp>
+
+#include "atomic_output_file.hpp"
+#include "stridemap/core/error.hpp"
+
+#ifndef STRIDEMAP_VERSION_STRING
+#define STRIDEMAP_VERSION_STRING "unknown"
+#endif
+
+namespace stridemap::io {
+namespace {
+
+using nlohmann::json;
+
+constexpr std::size_t kFixedHeaderBytes = 16;  // magic, version, metadata length
+constexpr std::size_t kChecksumBytes = 4;
+// Layers start on an 8-byte boundary so that a reader can map them as
+// arrays in place (numpy.frombuffer, mmap).
+constexpr std::size_t kLayerAlignment = 8;
+constexpr std::int64_t kLargestCorner = std::numeric_limits<std::int64_t>::max() / 4;
+
+enum class Scalar : std::uint8_t { f4, u1, u2 };
+
+std::size_t scalar_bytes(Scalar s) { return s == Scalar::f4 ? 4 : s == Scalar::u2 ? 2 : 1; }
+const char* scalar_name(Scalar s) { return s == Scalar::f4 ? "<f4" : s == Scalar::u2 ? "<u2" : "|u1"; }
+
+// The layers ElevationMap keeps, in file order (widest first, so every
+// layer stays aligned to its element size).
+struct LayerSpec {
+  const char* name;
+  Scalar type;
+  const char* units;
+  const char* meaning;
+};
+
+constexpr std::array<LayerSpec, 7> kLayers{{
+    {"elevation", Scalar::f4, "m", "eq. (10): elevation of the cell; NaN when unknown"},
+    {"certainty", Scalar::f4, "", "eq. (9): certainty of the cell; 0 when unknown or filled"},
+    {"mean_elevation", Scalar::f4, "m", "mean of the readings eq. (9) accepted; NaN when unknown"},
+    {"pending_elevation", Scalar::f4, "m",
+     "gated rule: highest contradicting reading since the last plausible one; NaN when none"},
+    {"mean_count", Scalar::u2, "", "readings in mean_elevation (saturates at 65535)"},
+    {"state", Scalar::u1, "", "0 unknown, 1 measured, 2 filled (eq. 11)"},
+    {"contradictions", Scalar::u1, "", "gated rule: contradicting readings since the last plausible one"},
+}};
+
+// Pointers to one layer's storage, indexed by ElevationMap::slot().
+struct LayerData {
+  const void* read;
+  void* write;
+};
+
+LayerData layer_data(const ElevationMap& map, ElevationMap* target, std::size_t index) {
+  switch (index) {
+    case 0: return {map.elevation_data(), target ? target->elevation_data() : nullptr};
+    case 1: return {map.certainty_data(), target ? target->certainty_data() : nullptr};
+    case 2: return {map.mean_elevation_data(), target ? target->mean_elevation_data() : nullptr};
+    case 3: return {map.pending_elevation_data(), target ? target->pending_elevation_data() : nullptr};
+    case 4: return {map.mean_count_data(), target ? target->mean_count_data() : nullptr};
+    case 5: return {map.state_data(), target ? target->state_data() : nullptr};
+    default: return {map.contradiction_data(), target ? target->contradiction_data() : nullptr};
+  }
+}
+
+void put_le(std::string& out, std::uint64_t value, std::size_t bytes) {
+  for (std::size_t k = 0; k < bytes; ++k) out.push_back(static_cast<char>((value >> (8 * k)) & 0xFF));
+}
+
+std::uint64_t get_le(const unsigned char* p, std::size_t bytes) {
+  std::uint64_t value = 0;
+  for (std::size_t k = 0; k < bytes; ++k) value |= static_cast<std::uint64_t>(p[k]) << (8 * k);
+  return value;
+}
+
+// The element at `slot` as its little-endian bit pattern (floats by bits, so
+// NaN payloads survive).
+std::uint64_t element_bits(const void* data, Scalar type, std::size_t slot) {
+  switch (type) {
+    case Scalar::f4: return std::bit_cast<std::uint32_t>(static_cast<const float*>(data)[slot]);
+    case Scalar::u2: return static_cast<const std::uint16_t*>(data)[slot];
+    case Scalar::u1: break;
+  }
+  return static_cast<const std::uint8_t*>(data)[slot];
+}
+
+void set_element(void* data, Scalar type, std::size_t slot, std::uint64_t bits) {
+  switch (type) {
+    case Scalar::f4:
+      static_cast<float*>(data)[slot] = std::bit_cast<float>(static_cast<std::uint32_t>(bits));
+      return;
+    case Scalar::u2: static_cast<std::uint16_t*>(data)[slot] = static_cast<std::uint16_t>(bits); return;
+    case Scalar::u1: static_cast<std::uint8_t*>(data)[slot] = static_cast<std::uint8_t>(bits); return;
+  }
+}
+
+std::uint32_t crc32_of(std::string_view bytes) {
+  uLong crc = crc32(0L, Z_NULL, 0);
+  // zlib takes lengths as uInt: feed large maps in pieces.
+  while (!bytes.empty()) {
+    const std::size_t piece = std::min<std::size_t>(bytes.size(), 1u << 30);
+    crc = crc32(crc, reinterpret_cast<const Bytef*>(bytes.data()), static_cast<uInt>(piece));
+    bytes.remove_prefix(piece);
+  }
+  return static_cast<std::uint32_t>(crc);
+}
+
+json mount_json(const SensorMount& m) {
+  return {{"height_m", m.height_m},
+          {"pitch_rad", m.pitch_rad},
+          {"forward_offset_m", m.forward_offset_m},
+          {"lateral_offset_m", m.lateral_offset_m}};
+}
+
+[[noreturn]] void bad(const std::string& source, const std::string& what) {
+  throw InputError(source + ": " + what);
+}
+
+std::string hex32(std::uint32_t v) {
+  char text[16];
+  std::snprintf(text, sizeof text, "0x%08x", v);
+  return text;
+}
+
+// The fixed header and the metadata text, checked against the file length.
+struct Frame {
+  std::uint32_t version = 0;
+  std::string_view metadata;
+  std::size_t data_start = 0;
+  std::size_t data_end = 0;  // where the checksum starts
+};
+
+Frame read_frame(std::string_view bytes, const std::string& source) {
+  if (bytes.size() < kMapFileMagic.size() || bytes.substr(0, kMapFileMagic.size()) != kMapFileMagic) {
+    bad(source, "not a stridemap map file (it does not start with the map file signature)");
+  }
+  if (bytes.size() < kFixedHeaderBytes + kChecksumBytes) {
+    bad(source, "truncated map file: " + std::to_string(bytes.size()) + " bytes, shorter than the " +
+                    std::to_string(kFixedHeaderBytes + kChecksumBytes) + "-byte header and checksum");
+  }
+  const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
+  Frame frame;
+  frame.data_end = bytes.size() - kChecksumBytes;
+  // The checksum first: damage anywhere, the version field included, is
+  // reported as damage rather than as whatever the damaged bytes now say.
+  const auto stored = static_cast<std::uint32_t>(get_le(p + frame.data_end, 4));
+  const std::uint32_t computed = crc32_of(bytes.substr(0, frame.data_end));
+  if (stored != computed) {
+    bad(source, "checksum mismatch (stored " + hex32(stored) + ", computed " + hex32(computed) +
+                    "): the file is damaged or truncated");
+  }
+  frame.version = static_cast<std::uint32_t>(get_le(p + 8, 4));
+  if (frame.version == 0 || frame.version > kMapFileVersion) {
+    bad(source, "map file version " + std::to_string(frame.version) + " is not one this tool reads (1.." +
+                    std::to_string(kMapFileVersion) + "); a newer stridemap wrote it?");
+  }
+  const std::uint64_t metadata_bytes = get_le(p + 12, 4);
+  if (metadata_bytes > frame.data_end - kFixedHeaderBytes) {
+    bad(source, "the header claims " + std::to_string(metadata_bytes) + " bytes of metadata but the file holds " +
+                    std::to_string(frame.data_end - kFixedHeaderBytes));
+  }
+  frame.metadata = bytes.substr(kFixedHeaderBytes, static_cast<std::size_t>(metadata_bytes));
+  frame.data_start = kFixedHeaderBytes + static_cast<std::size_t>(metadata_bytes);
+  return frame;
+}
+
+json parse_metadata(std::string_view text, const std::string& source) {
+  try {
+    json header = json::parse(text);
+    if (!header.is_object()) bad(source, "metadata: not a JSON object");
+    return header;
+  } catch (const json::exception& e) {
+    bad(source, std::string("metadata: not valid JSON (") + e.what() + ")");
+  }
+}
+
+template <typename T>
+T field(const json& object, const char* key, const std::string& source, const std::string& where) {
+  const auto it = object.find(key);
+  if (it == object.end()) bad(source, "metadata: " + where + key + " is missing");
+  try {
+    return it->get<T>();
+  } catch (const json::exception&) {
+    bad(source, "metadata: " + where + key + " has the wrong type (" + it->dump() + ")");
+  }
+}
+
+GridOptions read_geometry(const json& header, const std::string& source, CellIndex& corner) {
+  const auto it = header.find("geometry");
+  if (it == header.end() || !it->is_object()) bad(source, "metadata: geometry is missing");
+  const json& g = *it;
+  GridOptions grid;
+  grid.cells_per_side = field<int>(g, "cells_per_side", source, "geometry.");
+  grid.cell_size_m = field<double>(g, "cell_size_m", source, "geometry.");
+  const auto corner_values = field<std::vector<std::int64_t>>(g, "min_cell", source, "geometry.");
+  if (corner_values.size() != 2) bad(source, "metadata: geometry.min_cell must hold two integers");
+  for (const std::int64_t v : corner_values) {
+    if (v > kLargestCorner || v < -kLargestCorner) {
+      bad(source, "metadata: geometry.min_cell " + std::to_string(v) + " is out of range");
+    }
+  }
+  corner = {corner_values[0], corner_values[1]};
+  if (grid.cells_per_side < 1 || grid.cells_per_side > 20000) {
+    bad(source, "metadata: geometry.cells_per_side " + std::to_string(grid.cells_per_side) +
+                    " is outside 1..20000");
+  }
+  if (!std::isfinite(grid.cell_size_m) || grid.cell_size_m <= 0.0) {
+    bad(source, "metadata: geometry.cell_size_m must be a positive number");
+  }
+  return grid;
+}
+
+// Offsets of the known layers, checked against the data region and each
+// other before anything is allocated.
+std::array<std::size_t, kLayers.size()> read_layer_offsets(const json& header, const Frame& frame,
+                                                          std::uint64_t cells, const std::string& source) {
+  const auto it = header.find("layers");
+  if (it == header.end() || !it->is_array()) bad(source, "metadata: layers is missing");
+  std::array<std::size_t, kLayers.size()> offsets{};
+  std::array<bool, kLayers.size()> seen{};
+  std::vector<std::pair<std::uint64_t, std::uint64_t>> extents;
+  for (const json& layer : *it) {
+    if (!layer.is_object()) bad(source, "metadata: a layers entry is not an object");
+    const auto name = field<std::string>(layer, "name", source, "layers[].");
+    const std::string where = "layer '" + name + "': ";
+    const auto type = field<std::string>(layer, "type", source, where);
+    const auto offset = field<std::uint64_t>(layer, "offset", source, where);
+    const auto size = field<std::uint64_t>(layer, "bytes", source, where);
+    if (offset < frame.data_start || offset > frame.data_end || size > frame.data_end - offset) {
+      bad(source, where + "bytes " + std::to_string(offset) + ".." + std::to_string(offset + size) +
+                      " lie outside the layer data (" + std::to_string(frame.data_start) + ".." +
+                      std::to_string(frame.data_end) + "): truncated or inconsistent file");
+    }
+    extents.emplace_back(offset, size);
+    for (std::size_t k = 0; k < kLayers.size(); ++k) {
+      if (name != kLayers[k].name) continue;
+      if (seen[k]) bad(source, where + "appears twice");
+      if (type != scalar_name(kLayers[k].type)) {
+        bad(source, where + "type " + type + ", expected " + scalar_name(kLayers[k].type));
+      }
+      if (size != cells * scalar_bytes(kLayers[k].type)) {
+        bad(source, where + std::to_string(size) + " bytes, but " + std::to_string(cells) + " cells of " +
+                        type + " need " + std::to_string(cells * scalar_bytes(kLayers[k].type)));
+      }
+      seen[k] = true;
+      offsets[k] = static_cast<std::size_t>(offset);
+    }
+  }
+  for (std::size_t k = 0; k < kLayers.size(); ++k) {
+    if (!seen[k]) bad(source, std::string("metadata: layer '") + kLayers[k].name + "' is missing");
+  }
+  std::sort(extents.begin(), extents.end());
+  for (std::size_t k = 1; k < extents.size(); ++k) {
+    if (extents[k].first < extents[k - 1].first + extents[k - 1].second) bad(source, "metadata: layers overlap");
+  }
+  return offsets;
+}
+
+MapFileMetadata read_metadata(const json& header, const std::string& source) {
+  MapFileMetadata m;
+  const auto text = [&](const char* key) {
+    const auto it = header.find(key);
+    if (it == header.end() || it->is_null()) return std::string();
+    if (!it->is_string()) bad(source, std::string("metadata: ") + key + " must be a string");
+    return it->get<std::string>();
+  };
+  m.tool_version = text("tool_version");
+  m.created_by = text("created_by");
+  m.config_text = text("config");
+  if (const auto it = header.find("mount"); it != header.end() && !it->is_null()) {
+    if (!it->is_object()) bad(source, "metadata: mount must be an object");
+    SensorMount mount;
+    mount.height_m = field<double>(*it, "height_m", source, "mount.");
+    mount.pitch_rad = field<double>(*it, "pitch_rad", source, "mount.");
+    mount.forward_offset_m = field<double>(*it, "forward_offset_m", source, "mount.");
+    mount.lateral_offset_m = field<double>(*it, "lateral_offset_m", source, "mount.");
+    m.mount = mount;
+  }
+  if (const auto it = header.find("last_scan_time_s"); it != header.end() && !it->is_null()) {
+    m.last_scan_time_s = field<double>(header, "last_scan_time_s", source, "");
+  }
+  return m;
+}
+
+std::string read_whole_file(const std::string& path) {
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0) {
+    throw InputError(path + ": cannot open the map file: " + std::generic_category().message(errno));
+  }
+  if (S_ISDIR(info.st_mode)) throw InputError(path + ": is a folder, not a map file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open the map file: " + std::generic_category().message(errno));
+  std::string bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  if (in.bad()) throw InputError(path + ": read error");
+  return bytes;
+}
+
+void sync_folder_of(const std::string& path) {
+  const auto slash = path.find_last_of('/');
+  const std::string folder = slash == std::string::npos ? "." : slash == 0 ? "/" : path.substr(0, slash);
+  const int fd = ::open(folder.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (fd < 0) return;  // the rename is done; a folder we cannot open cannot be synced either
+  ::fsync(fd);
+  ::close(fd);
+}
+
+}  // namespace
+
+std::string encode_map_file(const ElevationMap& map, const MapFileMetadata& metadata) {
+  const int n = map.cells_per_side();
+  const std::size_t cells = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+  json header = {
+      {"format", "stridemap map"},
+      {"version", kMapFileVersion},
+      {"tool_version", metadata.tool_version.empty() ? "stridemap " STRIDEMAP_VERSION_STRING : metadata.tool_version},
+      {"created_by", metadata.created_by},
+      {"geometry",
+       {{"cells_per_side", n},
+        {"cell_size_m", map.cell_size_m()},
+        {"min_cell", {map.min_cell().x, map.min_cell().y}},
+        {"map_frame", "X forward at the start, Y left, Z up; yaw counter-clockwise from +X"},
+        {"cell_index", "cell (ix, iy) covers [ix, ix+1) x [iy, iy+1) times cell_size_m"},
+        {"layout", "row-major N x N: element [i][j] is cell (min_cell[0] + i, min_cell[1] + j)"}}},
+      {"units", {{"length", "m"}, {"angle", "rad"}, {"time", "s"}}},
+      {"config", metadata.config_text},
+      {"mount", metadata.mount ? mount_json(*metadata.mount) : json(nullptr)},
+      {"last_scan_time_s", metadata.last_scan_time_s ? json(*metadata.last_scan_time_s) : json(nullptr)},
+  };
+  // Offsets depend on the metadata's length, which depends on the offsets'
+  // digits: lay out with placeholders of the final width, then fill in.
+  std::size_t metadata_bytes = 0;
+  std::string metadata_text;
+  for (int pass = 0; pass < 3; ++pass) {
+    json layers = json::array();
+    std::size_t offset = kFixedHeaderBytes + metadata_bytes;
+    for (const LayerSpec& spec : kLayers) {
+      const std::size_t size = cells * scalar_bytes(spec.type);
+      layers.push_back({{"name", spec.name},
+                        {"type", scalar_name(spec.type)},
+                        {"units", spec.units},
+                        {"meaning", spec.meaning},
+                        {"offset", offset},
+                        {"bytes", size}});
+      offset += size;
+    }
+    header["layers"] = layers;
+    metadata_text = header.dump(1, ' ', false, json::error_handler_t::replace);
+    metadata_text.push_back('\n');
+    while ((kFixedHeaderBytes + metadata_text.size()) % kLayerAlignment != 0) metadata_text.push_back(' ');
+    if (metadata_text.size() == metadata_bytes) break;
+    metadata_bytes = metadata_text.size();
+  }
+
+  std::string out;
+  out.reserve(kFixedHeaderBytes + metadata_text.size() + cells * 19 + kChecksumBytes);
+  out.append(kMapFileMagic);
+  put_le(out, kMapFileVersion, 4);
+  put_le(out, metadata_text.size(), 4);
+  out += metadata_text;
+  for (std::size_t k = 0; k < kLayers.size(); ++k) {
+    const LayerData data = layer_data(map, nullptr, k);
+    const std::size_t width = scalar_bytes(kLayers[k].type);
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < n; ++j) {
+        put_le(out, element_bits(data.read, kLayers[k].type, map.slot(map.cell_at_local(i, j))), width);
+      }
+    }
+  }
+  put_le(out, crc32_of(out), 4);
+  return out;
+}
+
+MapFile decode_map_file(std::string_view bytes, const std::string& source) {
+  const Frame frame = read_frame(bytes, source);
+  const json header = parse_metadata(frame.metadata, source);
+  CellIndex corner;
+  const GridOptions grid = read_geometry(header, source, corner);
+  const auto n = static_cast<std::uint64_t>(grid.cells_per_side);
+  const auto offsets = read_layer_offsets(header, frame, n * n, source);
+  MapFileMetadata metadata = read_metadata(header, source);
+
+  MapFile file{ElevationMap(grid), std::move(metadata), frame.version};
+  ElevationMap& map = file.map;
+  map.move_corner_to(corner);
+  const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
+  for (std::size_t k = 0; k < kLayers.size(); ++k) {
+    const LayerData data = layer_data(map, &map, k);
+    const std::size_t width = scalar_bytes(kLayers[k].type);
+    const unsigned char* in = p + offsets[k];
+    for (int i = 0; i < grid.cells_per_side; ++i) {
+      for (int j = 0; j < grid.cells_per_side; ++j, in += width) {
+        set_element(data.write, kLayers[k].type, map.slot(map.cell_at_local(i, j)), get_le(in, width));
+      }
+    }
+  }
+  const std::uint8_t* state = map.state_data();
+  for (std::size_t s = 0; s < n * n; ++s) {
+    if (state[s] > static_cast<std::uint8_t>(CellState::filled)) {
+      bad(source, "layer 'state': a cell has state " + std::to_string(state[s]) +
+                      "; only 0 (unknown), 1 (measured) and 2 (filled) exist");
+    }
+  }
+  return file;
+}
+
+std::string map_file_header_json(std::string_view bytes, const std::string& source) {
+  const Frame frame = read_frame(bytes, source);
+  json header = parse_metadata(frame.metadata, source);
+  header["version"] = frame.version;
+  return header.dump(2, ' ', false, json::error_handler_t::replace) + "\n";
+}
+
+bool is_map_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  char head[8] = {};
+  in.read(head, sizeof head);
+  return in.gcount() == static_cast<std::streamsize>(sizeof head) &&
+         std::string_view(head, sizeof head) == kMapFileMagic;
+}
+
+void save_map_file(const std::string& path, const ElevationMap& map, const MapFileMetadata& metadata,
+                   const MapFileSaveOptions& options) {
+  struct stat existing {};
+  if (!options.overwrite_other_files && ::stat(path.c_str(), &existing) == 0 && S_ISREG(existing.st_mode) &&
+      !is_map_file(path)) {
+    throw InputError("cannot write map file '" + path +
+                     "': a file that is not a map file is already there; remove it or choose another name");
+  }
+  const std::string bytes = encode_map_file(map, metadata);
+  detail::AtomicOutputFile file(path, "map file");
+  file.write(bytes.data(), bytes.size());
+  // Durable before it is visible: after a power cut the name holds either
+  // the old map or the whole new one.
+  if (std::fflush(file.stream()) != 0 || ::fsync(::fileno(file.stream())) != 0) {
+    if (errno != EINVAL && errno != EROFS) {  // a pipe or device cannot be synced, nor needs to be
+      file.fail("cannot flush it to disk (" + std::generic_category().message(errno) + ")");
+    }
+  }
+  file.commit();
+  sync_folder_of(path);
+}
+
+std::string mapper_config_json(const MapperConfig& c) {
+  const MapperOptions& m = c.mapper;
+  const UpdateOptions& u = m.update;
+  const json config = {
+      {"mount", mount_json(c.mount)},
+      {"map",
+       {{"cells_per_side", m.grid.cells_per_side},
+        {"cell_size_m", m.grid.cell_size_m},
+        {"follow_robot", m.follow_robot},
+        {"window_ahead_m", m.window_ahead_m},
+        {"reject_stale_scans", m.reject_stale_scans}}},
+      {"update",
+       {{"certainty_increment", u.certainty_increment},
+        {"certainty_max", u.certainty_max},
+        {"max_pitch_error_rad", u.max_pitch_error_rad},
+        {"max_roll_error_rad", u.max_roll_error_rad},
+        {"max_mount_pitch_error_rad", u.max_mount_pitch_error_rad},
+        {"use_turning_term", u.use_turning_term},
+        {"elevation_rule", u.elevation_rule == ElevationRule::gated_highest ? "gated" : "paper"},
+        {"replace_after_contradictions", u.replace_after_contradictions}}},
+      {"fill",
+       {{"window_radius_cells", c.fill.window_radius_cells},
+        {"min_known_neighbours", c.fill.min_known_neighbours},
+        {"min_quadrants", c.fill.min_quadrants},
+        {"near_weight", c.fill.near_weight},
+        {"max_quartile_spread_m", c.fill.max_quartile_spread_m}}},
+      {"range_calibration", {{"coefficients", c.calibration.coefficients}}},
+  };
+  return config.dump(1);
+}
+
+MapFileMetadata map_file_metadata(const MapperConfig& config, const std::string& created_by) {
+  MapFileMetadata metadata;
+  metadata.created_by = created_by;
+  metadata.config_text = mapper_config_json(config);
+  metadata.mount = config.mount;
+  return metadata;
+}
+
+MapFile load_map_file(const std::string& path) { return decode_map_file(read_whole_file(path), path); }
+
+}  // namespace stridemap::io

@@ -1,0 +1,105 @@
+// `stridemap import`, `map` on what it wrote, then `export` and `map-info`
+// on the map file `map` leaves: the whole path a user takes with a
+// recording from elsewhere.
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "cli/cli_runner.hpp"
+#include "live/test_folder.hpp"
+#include "stridemap/io/map_file.hpp"
+
+namespace stridemap {
+namespace {
+
+using test::run_cli;
+using test::shell_quoted;
+using test::TestFolder;
+
+const std::filesystem::path kExp1 =
+    std::filesystem::path(STRIDEMAP_SHARED_DATA_DIR) / "urg04lx_breezyslam" / "exp1.dat";
+
+TEST(ImportCli, BreezySlamRecordingIsMappedThroughTheScanLog) {
+  if (!std::filesystem::exists(kExp1)) GTEST_SKIP() << "no real recording at " << kExp1 << " (../shared/data absent)";
+  TestFolder folder;
+  const auto imported = run_cli("import breezyslam " + shell_quoted(kExp1.string()) + " --log " +
+                                shell_quoted(folder / "exp1.log") + " --poses " + shell_quoted(folder / "exp1.poses"));
+  ASSERT_EQ(imported.exit_code, 0) << imported.output;
+  EXPECT_NE(imported.output.find("756 scans, 756 poses"), std::string::npos) << imported.output;
+
+  const auto mapped = run_cli("map --log " + shell_quoted(folder / "exp1.log") + " --poses " +
+                              shell_quoted(folder / "exp1.poses") + " --out " + shell_quoted(folder / "out"));
+  ASSERT_EQ(mapped.exit_code, 0) << mapped.output;
+  std::ifstream summary_file(folder / "out/summary.json");
+  const auto summary = nlohmann::json::parse(summary_file);
+  EXPECT_EQ(summary["scans"]["received"], 756);
+  EXPECT_EQ(summary["scans"]["rejected"], 0);  // the 683-value scans fit the imported PP
+  // Every scan lies within the poses (they share the log's own clock).
+  EXPECT_EQ(summary["scans"]["integrated"], 756) << summary.dump(1);
+  EXPECT_GT(summary["beams"]["valid"].get<long>(), 756 * 300);
+
+  // map leaves a map file beside the other outputs; it reloads whole.
+  const io::MapFile file = io::load_map_file(folder / "out/map.smap");
+  EXPECT_EQ(file.map.cells_per_side(), summary["map"]["cells_per_side"].get<int>());
+  EXPECT_NE(file.metadata.created_by.find("map"), std::string::npos);
+  ASSERT_TRUE(file.metadata.mount.has_value());
+
+  const auto exported = run_cli("export " + shell_quoted(folder / "out/map.smap") + " --npy " +
+                                shell_quoted(folder / "npy") + " --ply " + shell_quoted(folder / "map.ply") +
+                                " --csv " + shell_quoted(folder / "csv"));
+  ASSERT_EQ(exported.exit_code, 0) << exported.output;
+  EXPECT_TRUE(std::filesystem::exists(folder / "npy/elevation.npy"));
+  EXPECT_TRUE(std::filesystem::exists(folder / "csv/cells.csv"));
+  EXPECT_NE(exported.output.find("vertices"), std::string::npos);
+
+  // Outputs are never replaced unasked.
+  const auto again = run_cli("export " + shell_quoted(folder / "out/map.smap") + " --ply " + shell_quoted(folder / "map.ply"));
+  EXPECT_EQ(again.exit_code, 2) << again.output;
+  EXPECT_NE(again.output.find("already exists"), std::string::npos) << again.output;
+
+  const auto info = run_cli("map-info " + shell_quoted(folder / "out/map.smap"));
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  const auto header = nlohmann::json::parse(info.output);
+  EXPECT_EQ(header["format"], "stridemap map");
+  EXPECT_EQ(header["layers"].size(), 7u);
+}
+
+TEST(ImportCli, ExistingOutputsAreNotReplacedAndBadLinesAreReported) {
+  TestFolder folder;
+  const std::string trajectory =
+      folder.write("traj.txt", "# tum\n1.0 0 0 0 0 0 0 1\nbroken line\n2.0 1 0 0 0 0 0 1\n");
+  const std::string poses = folder.write("poses.txt", "mine\n");
+  const auto refused = run_cli("import tum " + shell_quoted(trajectory) + " --poses " + shell_quoted(poses));
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("already exists"), std::string::npos) << refused.output;
+  EXPECT_EQ(folder.read("poses.txt"), "mine\n");
+
+  const auto imported = run_cli("import tum " + shell_quoted(trajectory) + " --poses " + shell_quoted(folder / "new.txt"));
+  ASSERT_EQ(imported.exit_code, 0) << imported.output;
+  EXPECT_NE(imported.output.find("traj.txt:3: 2 fields, expected 8"), std::string::npos) << imported.output;
+  EXPECT_NE(imported.output.find("2 poses"), std::string::npos) << imported.output;
+  EXPECT_NE(imported.output.find("1 malformed lines skipped"), std::string::npos) << imported.output;
+
+  const std::string empty = folder.write("empty.txt", "# nothing\n");
+  const auto nothing = run_cli("import tum " + shell_quoted(empty) + " --poses " + shell_quoted(folder / "p2.txt"));
+  EXPECT_EQ(nothing.exit_code, 2) << nothing.output;
+  EXPECT_NE(nothing.output.find("nothing to import"), std::string::npos) << nothing.output;
+  EXPECT_FALSE(std::filesystem::exists(folder / "p2.txt"));
+}
+
+TEST(ExportCli, ADamagedMapFileIsAClearError) {
+  TestFolder folder;
+  const std::string damaged = folder.write("bad.smap", std::string("SMAP\r\n\x1a\n", 8) + std::string(40, 'x'));
+  const auto info = run_cli("map-info " + shell_quoted(damaged));
+  EXPECT_EQ(info.exit_code, 2) << info.output;
+  EXPECT_NE(info.output.find("checksum mismatch"), std::string::npos) << info.output;
+  const auto exported = run_cli("export " + shell_quoted(damaged) + " --npy " + shell_quoted(folder / "npy"));
+  EXPECT_EQ(exported.exit_code, 2) << exported.output;
+  EXPECT_FALSE(std::filesystem::exists(folder / "npy"));
+}
+
+}  // namespace
+}  // namespace stridemap
