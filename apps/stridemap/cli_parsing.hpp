@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "stridemap/core/error.hpp"
+#include "stridemap/core/map_filter.hpp"
 #include "stridemap/core/map_update.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
 
@@ -17,10 +18,11 @@ inline bool parse_on_off(const std::string& option, const std::string& value) {
 }
 
 inline MapFilter parse_map_filter(const std::string& name) {
-  if (name == "fill") return MapFilter::fill;
-  if (name == "cas") return MapFilter::cas;
-  if (name == "none") return MapFilter::none;
-  throw InputError("--map-filter: '" + name + "' is not a map filter; use fill (eq. 11), cas or none");
+  try {
+    return stridemap::parse_map_filter(name);
+  } catch (const InputError& e) {
+    throw InputError(std::string("--map-filter: ") + e.what());
+  }
 }
 
 inline ElevationRule parse_elevation_rule(const std::string& name) {

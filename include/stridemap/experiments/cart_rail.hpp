@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "stridemap/core/cas_filter.hpp"
+#include "stridemap/core/map_filter.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/core/weighted_median_fill.hpp"
 #include "stridemap/experiments/map_evaluation.hpp"
@@ -25,13 +26,6 @@
 #include "stridemap/sim/urg_simulator.hpp"
 
 namespace stridemap {
-
-/// What runs on the finished map before it is scored.
-enum class MapFilter : std::uint8_t {
-  none,             ///< the map as the update rule left it
-  fill,             ///< weighted-median fill-in (eq. 11), the paper's choice for the URG
-  cas,              ///< the CAS filter, then the fill (the paper's choice for structured light)
-};
 
 enum class CartRailSensor : std::uint8_t { urg, structured_light };
 
