@@ -2,7 +2,7 @@
 # code can say find_package(stridemap) and link stridemap::core etc.
 include(CMakePackageConfigHelpers)
 
-set(STRIDEMAP_LAYERS core sensors preprocess sim io experiments live)
+set(STRIDEMAP_LAYERS core sensors preprocess pipeline sim io experiments live)
 set(stridemap_install_targets)
 foreach(layer IN LISTS STRIDEMAP_LAYERS)
   list(APPEND stridemap_install_targets stridemap_${layer})

@@ -27,8 +27,11 @@ inline bool parse_on_off(const std::string& option, const std::string& value) {
 }
 
 inline MapFilter parse_map_filter(const std::string& name) {
-  if (const std::optional<MapFilter> filter = map_filter_from_name(name)) return *filter;
-  throw InputError("--map-filter: '" + name + "' is not a map filter; use fill (eq. 11), cas or none");
+  try {
+    return stridemap::parse_map_filter(name);
+  } catch (const InputError& e) {
+    throw InputError(std::string("--map-filter: ") + e.what());
+  }
 }
 
 inline ElevationRule parse_elevation_rule(const std::string& name) {

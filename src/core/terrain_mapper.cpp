@@ -21,6 +21,35 @@ double wrap_angle(double a) { return std::remainder(a, 2.0 * std::numbers::pi); 
 
 }  // namespace
 
+ScanStats& ScanStats::operator+=(const ScanStats& o) {
+  beams += o.beams;
+  integrated += o.integrated;
+  first += o.first;
+  plausible += o.plausible;
+  implausible += o.implausible;
+  replaced += o.replaced;
+  invalid_range += o.invalid_range;
+  invalid_beam += o.invalid_beam;
+  outside_map += o.outside_map;
+  pose_rejected = pose_rejected || o.pose_rejected;
+  time_rejected = time_rejected || o.time_rejected;
+  cells_reset_by_move += o.cells_reset_by_move;
+  return *this;
+}
+
+MapperTotals& MapperTotals::operator+=(const MapperTotals& o) {
+  scans += o.scans;
+  scans_rejected_for_pose += o.scans_rejected_for_pose;
+  scans_rejected_for_time += o.scans_rejected_for_time;
+  beams += o.beams;
+  integrated += o.integrated;
+  invalid_range += o.invalid_range;
+  invalid_beam += o.invalid_beam;
+  outside_map += o.outside_map;
+  implausible += o.implausible;
+  return *this;
+}
+
 bool pose_is_finite(const TrunkPose& p) {
   return std::isfinite(p.x_m) && std::isfinite(p.y_m) && std::isfinite(p.yaw_rad) && std::isfinite(p.pitch_rad) &&
          std::isfinite(p.roll_rad) && std::isfinite(p.reference_elevation_m) && std::isfinite(p.height_change_m);
@@ -115,13 +144,15 @@ void TerrainMapper::apply(double x_m, double y_m, double h_m, double dz_max, Sca
 void TerrainMapper::finish(const TrunkPose& pose, std::optional<double> time_s, const ScanStats& stats) {
   previous_pose_ = pose;
   if (time_s) previous_time_s_ = *time_s;
-  ++totals_.scans;
-  totals_.beams += stats.beams;
-  totals_.integrated += stats.integrated;
-  totals_.invalid_range += stats.invalid_range;
-  totals_.invalid_beam += stats.invalid_beam;
-  totals_.outside_map += stats.outside_map;
-  totals_.implausible += stats.implausible;
+  MapperTotals scan;
+  scan.scans = 1;
+  scan.beams = stats.beams;
+  scan.integrated = stats.integrated;
+  scan.invalid_range = stats.invalid_range;
+  scan.invalid_beam = stats.invalid_beam;
+  scan.outside_map = stats.outside_map;
+  scan.implausible = stats.implausible;
+  totals_ += scan;
 }
 
 void TerrainMapper::refresh_beam_directions(const std::vector<double>& angles) {
@@ -139,63 +170,16 @@ void TerrainMapper::refresh_beam_directions(const std::vector<double>& angles) {
   }
 }
 
-ScanStats TerrainMapper::integrate(const PlanarScan& scan, const TrunkPose& pose) {
-  ScanStats stats;
-  stats.beams = scan.range_m.size();
+void TerrainMapper::check_scan_lengths(const PlanarScan& scan) {
   if (scan.angle_rad.size() != scan.range_m.size() || scan.range_error_m.size() != scan.range_m.size()) {
     throw InputError("scan at t=" + std::to_string(scan.time_s) + " s: angle_rad, range_m and range_error_m have " +
                      std::to_string(scan.angle_rad.size()) + ", " + std::to_string(scan.range_m.size()) + " and " +
                      std::to_string(scan.range_error_m.size()) + " entries; they must be equal");
   }
-  if (!accept(pose, scan.time_s, stats)) return stats;
-  follow(pose, stats);
-  refresh_beam_directions(scan.angle_rad);
+}
 
-  const ScanMotion motion = motion_to(pose);
-  const Eigen::Matrix3d rotation = sensor_to_map_rotation(pose, mount_);
-  const Eigen::Vector3d origin = sensor_origin_in_map(pose, mount_);
-  const Eigen::Vector3d forward = rotation.col(0);  // map direction of a beam at t = 0
-  const Eigen::Vector3d left = rotation.col(1);     // ... and at t = 90 deg
-  // The partial derivatives are linear in (cos t, sin t) with coefficients
-  // fixed for the scan: evaluate beam_elevation_partials at t = 0 and 90 deg.
-  const ElevationPartials at_front = beam_elevation_partials(1.0, 0.0, pose.pitch_rad, pose.roll_rad, mount_.pitch_rad);
-  const ElevationPartials at_left =
-      beam_elevation_partials(1.0, std::numbers::pi / 2, pose.pitch_rad, pose.roll_rad, mount_.pitch_rad);
-  const UpdateOptions& u = options_.update;
-  const double gamma = scan_plane_inclination_rad(pose.pitch_rad, pose.roll_rad, mount_.pitch_rad);
-  const double travel_term = std::abs(motion.horizontal_travel_m * std::tan(gamma));
-  const double turn_offset = std::hypot(mount_.forward_offset_m, mount_.lateral_offset_m);
-  // Fig. 10's travel is (distance + d_s) times a factor of the yaw change.
-  const double turn_factor = u.use_turning_term ? turning_travel_m(1.0, 0.0, motion.yaw_change_rad) : 0.0;
-  const double turn_term_per_m = std::isfinite(turn_factor) ? std::abs(std::tan(gamma)) * turn_factor : std::numeric_limits<double>::infinity();
-
-  for (std::size_t i = 0; i < stats.beams; ++i) {
-    const double r = scan.range_m[i];
-    const double dr = scan.range_error_m[i];
-    if (!std::isfinite(r) || r <= 0.0) {
-      ++stats.invalid_range;
-      continue;
-    }
-    if (!std::isfinite(scan.angle_rad[i]) || !std::isfinite(dr) || dr < 0.0) {
-      ++stats.invalid_beam;
-      continue;
-    }
-    const double ct = cos_angle_[i], st = sin_angle_[i];
-    const Eigen::Vector3d offset = r * (ct * forward + st * left);
-    ElevationPartials partials;
-    partials.d_range = ct * at_front.d_range + st * at_left.d_range;
-    partials.d_pitch_m_per_rad = r * (ct * at_front.d_pitch_m_per_rad + st * at_left.d_pitch_m_per_rad);
-    partials.d_roll_m_per_rad = r * (ct * at_front.d_roll_m_per_rad + st * at_left.d_roll_m_per_rad);
-    partials.d_alpha_m_per_rad = r * (ct * at_front.d_alpha_m_per_rad + st * at_left.d_alpha_m_per_rad);
-    double dz_max = travel_term + elevation_error_bound_m(partials, dr, u);
-    if (turn_term_per_m != 0.0) {
-      // Plain sqrt: hypot's overflow care costs more than the rest of a point.
-      dz_max += turn_term_per_m * (std::sqrt(offset.x() * offset.x() + offset.y() * offset.y()) + turn_offset);
-    }
-    apply(origin.x() + offset.x(), origin.y() + offset.y(), origin.z() + offset.z(), dz_max, stats);
-  }
-  finish(pose, scan.time_s, stats);
-  return stats;
+ScanStats TerrainMapper::integrate(const PlanarScan& scan, const TrunkPose& pose) {
+  return integrate(scan, pose, NoPointSink{});
 }
 
 ScanStats TerrainMapper::integrate_points(std::span<const MapPoint> points, const TrunkPose& pose,

@@ -1,11 +1,12 @@
 #include "stridemap/experiments/cart_rail.hpp"
 
 #include <algorithm>
-#include <array>
 #include <functional>
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <span>
+#include <vector>
 
 #include "cart_rail_internal.hpp"
 #include "stridemap/core/error.hpp"
@@ -14,12 +15,34 @@
 namespace stridemap {
 namespace {
 
-// The ideal filter of CartRailOptions::drop_labelled_mixed: one label per beam.
-void drop_labelled_mixed_beams(const std::vector<BeamLabel>& labels, PlanarScan& scan) {
-  for (std::size_t i = 0; i < labels.size() && i < scan.range_m.size(); ++i) {
-    if (labels[i] == BeamLabel::mixed) scan.range_m[i] = std::numeric_limits<double>::quiet_NaN();
-  }
+std::span<const std::uint8_t> beam_tags(const std::vector<BeamLabel>& labels) {
+  static_assert(sizeof(BeamLabel) == 1);
+  return {reinterpret_cast<const std::uint8_t*>(labels.data()), labels.size()};
 }
+
+// Scores the filters on each scan that reaches the map against the
+// simulator's labels, which travel with the scan as its beam tags.
+class BeamTallyObserver final : public PipelineObserver {
+ public:
+  BeamTallyObserver(BeamTally& tally, bool drop_labelled_mixed) : tally_(tally), drop_labelled_mixed_(drop_labelled_mixed) {}
+  void on_scan(const ScanReport& report) override {
+    const std::vector<std::uint8_t>& tags = report.payload.beam_tags;
+    for (std::size_t i = 0; i < tags.size(); ++i) {
+      const auto label = static_cast<BeamLabel>(tags[i]);
+      const bool was_removed =
+          (i < report.removed.size() && report.removed[i]) || (drop_labelled_mixed_ && label == BeamLabel::mixed);
+      switch (label) {
+        case BeamLabel::clean: ++tally_.clean; tally_.clean_removed += was_removed; break;
+        case BeamLabel::mixed: ++tally_.mixed; tally_.mixed_removed += was_removed; break;
+        case BeamLabel::dropped: ++tally_.dropped; break;
+      }
+    }
+  }
+
+ private:
+  BeamTally& tally_;
+  bool drop_labelled_mixed_;
+};
 
 // Where each beam of one pose meets the floor plane, NaN when it does not
 // within the range limit.
@@ -69,39 +92,37 @@ CellMask swept_floor_area(const ElevationMap& map, const std::vector<TrunkPose>&
 
 namespace detail {
 
-TerrainMapper make_rail_mapper(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, const CartRailOptions& options,
-                               const SensorMount& mount) {
+PipelineOptions rail_pipeline_options(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi,
+                                      const CartRailOptions& options, const SensorMount& mount) {
   // A fixed window around everything the sensor can sweep, so the whole
   // scene stays in the map (the test bed, unlike the robot, need not forget).
-  MapperOptions mapper_options;
-  mapper_options.follow_robot = false;
-  mapper_options.update = options.update;
+  PipelineOptions p;
+  p.mapper.follow_robot = false;
+  p.mapper.update = options.update;
   const double margin_m = 0.1;
   const int cells = options.cells_per_side > 0
                         ? options.cells_per_side
                         : cells_per_side_to_cover((hi - lo).maxCoeff() + 2 * margin_m, options.cell_size_m);
-  mapper_options.grid = {cells, options.cell_size_m};
-  TerrainMapper mapper(mapper_options, mount);
-  const Eigen::Vector2d centre = 0.5 * (lo + hi);
-  mapper.map().move_to(centre.x(), centre.y());
-  return mapper;
+  p.mapper.grid = {cells, options.cell_size_m};
+  p.map_filter = {options.map_filter, options.fill, options.cas};
+  p.mount = mount;
+  return p;
 }
 
-void finish_rail_map(const Scene& scene, const CartRailOptions& options, TerrainMapper& mapper,
+void centre_rail_map(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, MappingPipeline& pipeline) {
+  const Eigen::Vector2d centre = 0.5 * (lo + hi);
+  pipeline.mapper().map().move_to(centre.x(), centre.y());
+}
+
+void finish_rail_map(const Scene& scene, const CartRailOptions& options, MappingPipeline& pipeline,
                      const std::function<CellMask(const ElevationMap&)>& swept_area, CartRailResult& result) {
-  result.mapper_totals = mapper.totals();
-  switch (options.map_filter) {
-    case MapFilter::none: break;
-    case MapFilter::fill: result.filled_cells = WeightedMedianFill(options.fill).apply(mapper.map()); break;
-    case MapFilter::cas: {
-      const CasResult cas = CasFilter(options.cas).apply(mapper.map());
-      result.filled_cells = cas.filled;
-      result.cas_removed_cells = cas.removed;
-      break;
-    }
-  }
-  result.snapshot = snapshot_with_truth(mapper.map(), scene);
-  result.swept_area = swept_area(mapper.map());
+  result.mapper_totals = pipeline.mapper().totals();
+  const MapFilterResult filtered = pipeline.apply_map_filter();
+  result.filled_cells = filtered.filled;
+  result.cas_removed_cells = filtered.cas_removed;
+  const ElevationMap& map = pipeline.mapper().map();
+  result.snapshot = snapshot_with_truth(map, scene);
+  result.swept_area = swept_area(map);
   result.score = score_map(result.snapshot, result.swept_area, options.score);
   result.objects = measure_objects(result.snapshot, scene, options.objects);
 }
@@ -137,9 +158,18 @@ CartRailResult run_cart_rail(const Scene& scene, const CartRailOptions& options)
     throw InputError("cart rail: with this mount no beam meets the floor within " +
                      std::to_string(options.swept_max_range_m) + " m");
   }
-  TerrainMapper mapper = detail::make_rail_mapper(lo, hi, options, options.mount);
+  PipelineOptions pipeline_options = detail::rail_pipeline_options(lo, hi, options, options.mount);
+  pipeline_options.sensor = SensorKind::urg;
+  pipeline_options.urg = options.urg;
+  pipeline_options.calibration = options.calibration;
+  pipeline_options.filters = options.filters;
+  pipeline_options.filter_options = options.filter_options;
+  if (options.drop_labelled_mixed) pipeline_options.drop_beams_tagged = static_cast<std::uint8_t>(BeamLabel::mixed);
+  MappingPipeline pipeline(pipeline_options);
+  detail::centre_rail_map(lo, hi, pipeline);
+  BeamTallyObserver tally(result.beams, options.drop_labelled_mixed);
+  pipeline.integrator().add_observer(tally);
 
-  UrgModel sensor(options.urg, options.calibration);
   std::unique_ptr<BeamModel> beam_model;
   if (options.mixed_pixels) {
     beam_model = std::make_unique<FootprintBeamModel>(options.footprint);
@@ -147,41 +177,17 @@ CartRailResult run_cart_rail(const Scene& scene, const CartRailOptions& options)
     beam_model = std::make_unique<SingleRayBeamModel>();
   }
   UrgSimulator simulator(scene, options.urg, options.sim, options.seed, std::move(beam_model));
-  ScanFilterChain filters(options.filters, options.filter_options);
   UrgRawScan raw;
-  PlanarScan scan, filtered;
-  // The chain may hand back the previous scan: keep the labels of the last
-  // two scans, indexed by scan number, to score the one that comes out.
-  std::array<std::vector<BeamLabel>, 2> labels;
-  std::size_t scans_out = 0;
-  const auto integrate_output = [&] {
-    const std::vector<BeamLabel>& truth = labels[scans_out % 2];
-    const std::vector<std::uint8_t>& removed = filters.removed_by_any();
-    for (std::size_t i = 0; i < truth.size(); ++i) {
-      const bool was_removed = (i < removed.size() && removed[i]) ||
-                               (options.drop_labelled_mixed && truth[i] == BeamLabel::mixed);
-      switch (truth[i]) {
-        case BeamLabel::clean: ++result.beams.clean; result.beams.clean_removed += was_removed; break;
-        case BeamLabel::mixed: ++result.beams.mixed; result.beams.mixed_removed += was_removed; break;
-        case BeamLabel::dropped: ++result.beams.dropped; break;
-      }
-    }
-    mapper.integrate(filtered, poses[scans_out]);
-    ++scans_out;
-  };
+  std::vector<BeamLabel> labels;
   for (std::size_t k = 0; k < poses.size(); ++k) {
     const double time_s = static_cast<double>(k) * options.urg.scan_period_s;
-    simulator.scan(poses[k], options.mount, time_s, raw, &labels[k % 2]);
-    const UrgConversionStats converted = sensor.to_planar_scan(raw, scan);
-    if (options.drop_labelled_mixed) drop_labelled_mixed_beams(labels[k % 2], scan);
-    result.sensor_totals.valid += converted.valid;
-    result.sensor_totals.error_codes += converted.error_codes;
-    result.sensor_totals.beyond_max_range += converted.beyond_max_range;
-    if (filters.push(scan, filtered)) integrate_output();
+    simulator.scan(poses[k], options.mount, time_s, raw, &labels);
+    pipeline.add(raw, poses[k], beam_tags(labels));
   }
-  if (filters.flush(filtered)) integrate_output();
+  pipeline.finish();
+  result.sensor_totals = pipeline.stats().beams;
   result.scans = poses.size();
-  detail::finish_rail_map(scene, options, mapper, [&](const ElevationMap& map) {
+  detail::finish_rail_map(scene, options, pipeline, [&](const ElevationMap& map) {
     return swept_floor_area(map, poses, options.mount, options.urg, floor_m, options.swept_max_range_m);
   }, result);
   return result;

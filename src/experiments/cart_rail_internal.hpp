@@ -7,16 +7,22 @@
 #include <Eigen/Core>
 
 #include "stridemap/experiments/cart_rail.hpp"
+#include "stridemap/pipeline/mapping_pipeline.hpp"
 
 namespace stridemap::detail {
 
-/// A fixed map window (cells of options.cell_size_m, options.cells_per_side
-/// or sized to hold [lo, hi] with a margin) centred on the swept area.
-TerrainMapper make_rail_mapper(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, const CartRailOptions& options,
-                               const SensorMount& mount);
+/// The pipeline of a rail run: a fixed map window (cells of
+/// options.cell_size_m, options.cells_per_side or sized to hold [lo, hi]
+/// with a margin), the options' update rule and map filter, and `mount`.
+/// The sensor fields are left to the caller.
+PipelineOptions rail_pipeline_options(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi,
+                                      const CartRailOptions& options, const SensorMount& mount);
+
+/// Centres the pipeline's map on the swept area [lo, hi].
+void centre_rail_map(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, MappingPipeline& pipeline);
 
 /// Map filter, snapshot with truth, swept area, score, object extents.
-void finish_rail_map(const Scene& scene, const CartRailOptions& options, TerrainMapper& mapper,
+void finish_rail_map(const Scene& scene, const CartRailOptions& options, MappingPipeline& pipeline,
                      const std::function<CellMask(const ElevationMap&)>& swept_area, CartRailResult& result);
 
 /// The structured-light run over the poses (cart_rail_structured_light.cpp).

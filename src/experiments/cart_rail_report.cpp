@@ -115,7 +115,7 @@ std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOption
         {"outside_map", r.mapper_totals.outside_map}}},
       {"filters", scan_filter_list_name(options.filters)},
       {"mixed_pixels", options.mixed_pixels},
-      {"map_filter", options.map_filter == MapFilter::fill ? "fill" : options.map_filter == MapFilter::cas ? "cas" : "none"},
+      {"map_filter", std::string(map_filter_name(options.map_filter))},
       {"cas_removed_cells", r.cas_removed_cells},
       {"beam_labels",
        {{"clean", r.beams.clean},

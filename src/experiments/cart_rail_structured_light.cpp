@@ -13,15 +13,6 @@
 namespace stridemap {
 namespace {
 
-void add(StripeConversionStats& total, const StripeConversionStats& frame) {
-  total.pixels += frame.pixels;
-  total.converted += frame.converted;
-  total.not_finite += frame.not_finite;
-  total.outside_image += frame.outside_image;
-  total.no_intersection += frame.no_intersection;
-  total.pose_rejected = total.pose_rejected || frame.pose_rejected;
-}
-
 // Scores one frame's detections against the truth; returns the sum of the
 // squared row errors of the correct ones.
 double tally_frame(const io::StripeDetection& detection, const StructuredLightFrameTruth& truth,
@@ -105,7 +96,11 @@ void run_structured_light_rail(const Scene& scene, const CartRailOptions& option
     }
   }
   if (!lo.allFinite()) throw InputError("cart rail: the structured-light stripe does not meet the floor in the image");
-  TerrainMapper mapper = make_rail_mapper(lo, hi, options, sl.parameters.mount);
+  PipelineOptions pipeline_options = rail_pipeline_options(lo, hi, options, sl.parameters.mount);
+  pipeline_options.sensor = SensorKind::structured_light;
+  pipeline_options.structured_light = sl.parameters;
+  MappingPipeline pipeline(pipeline_options);
+  centre_rail_map(lo, hi, pipeline);
 
   std::optional<StructuredLightImageRenderer> renderer;
   std::optional<StructuredLightSimulator> simulator;
@@ -119,7 +114,6 @@ void run_structured_light_rail(const Scene& scene, const CartRailOptions& option
   io::StripeDetection detection;
   StructuredLightFrameTruth truth;
   std::vector<StripePixel> pixels;
-  std::vector<MapPoint> points;
   double sum_sq = 0.0;
   for (const TrunkPose& pose : poses) {
     if (renderer) {
@@ -134,15 +128,14 @@ void run_structured_light_rail(const Scene& scene, const CartRailOptions& option
     }
     ++result.stripe.frames;
     result.stripe.columns += truth.columns.size();
-    add(result.stripe_conversion,
-        stripe_to_map_points(model, pixels, pose, mapper.motion_to(pose), options.update, points));
-    mapper.integrate_points(points, pose);
+    pipeline.add(pixels, std::nullopt, pose);  // no time: the rail's frames come in order by construction
   }
+  result.stripe_conversion = pipeline.stats().stripe;
   result.stripe.map_points = result.stripe_conversion.converted;
   result.stripe.row_error_rms_px =
       result.stripe.correct ? std::sqrt(sum_sq / static_cast<double>(result.stripe.correct)) : 0.0;
   result.scans = poses.size();
-  finish_rail_map(scene, options, mapper, [&](const ElevationMap& map) { return swept_area_between(map, first, last); },
+  finish_rail_map(scene, options, pipeline, [&](const ElevationMap& map) { return swept_area_between(map, first, last); },
                   result);
 }
 

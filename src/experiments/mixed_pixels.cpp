@@ -104,7 +104,7 @@ std::string mixed_pixels_summary_json(const MixedPixelsResult& r, const CartRail
     rows.push_back({{"case", row.config.name},
                     {"mixed_pixels", row.config.mixed_pixels},
                     {"filters", scan_filter_list_name(row.config.filters)},
-                    {"map_filter", row.config.map_filter == MapFilter::cas ? "cas" : "fill"},
+                    {"map_filter", std::string(map_filter_name(row.config.map_filter))},
                     {"drops_labelled_mixed", row.config.drop_labelled_mixed},
                     {"beams",
                      {{"clean", row.beams.clean},

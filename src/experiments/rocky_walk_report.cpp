@@ -153,9 +153,7 @@ std::string rocky_walk_summary_json(const RockyWalkResult& r, const RockyWalkOpt
       {"map", score_json(w.mosaic_score, w.unknown_swept_cells)},
       {"local_map", score_json(w.local_score, 0)},
       {"cell_size_m", w.local.cell_size_m},
-      {"map_filter", options.walk.map_filter == MapFilter::fill  ? "fill"
-                     : options.walk.map_filter == MapFilter::cas ? "cas"
-                                                                 : "none"},
+      {"map_filter", std::string(map_filter_name(options.walk.map_filter))},
       {"elevation_rule", options.walk.mapper.update.elevation_rule == ElevationRule::paper_highest ? "paper" : "gated"},
       {"cells_per_side", w.local.elevation_m.rows()},
       {"beams",

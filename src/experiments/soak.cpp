@@ -1,7 +1,6 @@
 #include "stridemap/experiments/soak.hpp"
 
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -13,6 +12,7 @@
 #include "stridemap/core/map_integrity.hpp"
 #include "stridemap/core/map_publisher.hpp"
 #include "stridemap/experiments/process_memory.hpp"
+#include "stridemap/pipeline/mapping_pipeline.hpp"
 
 namespace stridemap {
 namespace {
@@ -68,12 +68,10 @@ class SoakRun {
   SoakRun(const Scene& scene, const SoakMotion& motion, const SoakOptions& options)
       : options_(options),
         motion_(motion),
-        urg_(options.urg),
         simulator_(scene, options.urg, options.sim, options.seed),
-        mapper_(options.mapper, options.mount),
+        pipeline_(pipeline_options(options)),
         publisher_(options.mapper.grid),
-        fill_(options.fill),
-        chain_(options.filters) {
+        fill_(options.fill) {
     result_.motion = motion.describe();
     // The only growth of the run, up front: one record per checkpoint.
     result_.checkpoints.reserve(options.scans / options.checkpoint_every + 2);
@@ -93,7 +91,7 @@ class SoakRun {
       result_.reader_invalid_cells = planner->invalid_cells();
     }
     result_.scans_simulated = options_.scans;
-    result_.totals = mapper_.totals();
+    result_.totals = pipeline_.mapper().totals();
     result_.published = publisher_.published();
     result_.publishes_skipped = publisher_.skipped();
     result_.path_extent_x_m = max_x_ - min_x_;
@@ -108,33 +106,45 @@ class SoakRun {
     motion_.pose_at(k, truth, estimate);
     track_path(truth);
     if (due(k, options_.faults.nan_pose_every)) estimate.roll_rad = kNaN;
-    estimates_[k % estimates_.size()] = estimate;
     simulator_.scan(truth, options_.mount, static_cast<double>(k) * options_.urg.scan_period_s, raw_);
-    urg_.to_planar_scan(raw_, measured_);
-    if (!chain_.push(measured_, filtered_)) return;  // the scan-sequence filter holds the first scan
-    const std::uint64_t index = k - chain_.delay_scans();
-    const TrunkPose& pose = estimates_[index % estimates_.size()];
+    const ScanOutcome out = pipeline_.add(raw_, estimate);
+    if (!out.integrated) return;  // the scan-sequence filter holds the first scan
+    // The scan that reached the map and the pose it was taken at.
+    const PlanarScan& scan = pipeline_.integrator().last_scan();
+    const TrunkPose pose = pipeline_.integrator().filters().output().pose;
     // Counted when handed over: the filters may still hold the last scan.
     if (!pose_is_finite(pose)) ++result_.injected_nan_poses;
-    const bool accepted = integrate(filtered_, pose);
+    const bool accepted = count(out.stats);
     // Faults only on scans that went in, so that each is counted once, by
     // the rule meant to catch it.
     if (accepted && due(k, options_.faults.duplicate_every)) {
-      integrate(filtered_, pose);
+      count(pipeline_.mapper().integrate(scan, pose));
       ++result_.injected_duplicates;
     }
     if (accepted && previous_accepted_ && due(k, options_.faults.out_of_order_every)) {
-      integrate(previous_, estimates_[(index - 1) % estimates_.size()]);
+      count(pipeline_.mapper().integrate(previous_, previous_pose_));
       ++result_.injected_out_of_order;
     }
-    previous_ = filtered_;  // same sizes: copies in place
+    previous_ = scan;  // same sizes: copies in place
+    previous_pose_ = pose;
     previous_accepted_ = accepted;
-    if (due(k, options_.check_every)) check(mapper_.map());
+    if (due(k, options_.check_every)) check(pipeline_.mapper().map());
     if (due(k, options_.publish_every)) publish();
   }
 
-  bool integrate(const PlanarScan& scan, const TrunkPose& pose) {
-    const ScanStats stats = mapper_.integrate(scan, pose);
+  static PipelineOptions pipeline_options(const SoakOptions& o) {
+    PipelineOptions p;
+    p.sensor = SensorKind::urg;
+    p.urg = o.urg;
+    p.filters = o.filters;
+    p.mapper = o.mapper;
+    p.map_filter = {MapFilter::fill, o.fill, {}};
+    p.mount = o.mount;
+    return p;
+  }
+
+  // Accounts for one scan the mapper was given; true when it went in.
+  bool count(const ScanStats& stats) {
     ++result_.scans_to_mapper;
     result_.cells_reset_by_moves += stats.cells_reset_by_move;
     const bool rejected = stats.pose_rejected || stats.time_rejected;
@@ -145,10 +155,10 @@ class SoakRun {
   void publish() {
     PublishedMap* snapshot = publisher_.begin_publish();
     if (snapshot == nullptr) return;  // counted by the publisher
-    snapshot->map = mapper_.map();
-    snapshot->scans = mapper_.totals().scans;
-    snapshot->time_s = mapper_.last_scan_time_s().value_or(kNaN);
-    snapshot->pose = mapper_.last_pose().value_or(TrunkPose{});
+    snapshot->map = pipeline_.mapper().map();
+    snapshot->scans = pipeline_.mapper().totals().scans;
+    snapshot->time_s = pipeline_.mapper().last_scan_time_s().value_or(kNaN);
+    snapshot->pose = pipeline_.mapper().last_pose().value_or(TrunkPose{});
     fill_.apply(snapshot->map);
     check(snapshot->map);
     publisher_.commit_publish();
@@ -176,7 +186,7 @@ class SoakRun {
   void checkpoint(std::uint64_t scans, const std::function<void(const SoakCheckpoint&)>& on_checkpoint) {
     SoakCheckpoint c;
     c.scan = scans;
-    c.map_hash = map_layers_hash(mapper_.map());
+    c.map_hash = map_layers_hash(pipeline_.mapper().map());
     if (const PublishedMapHandle snapshot = publisher_.latest()) c.snapshot_hash = map_layers_hash(snapshot->map);
     c.measured_cells = measured_cells_;
     const ProcessMemory memory = process_memory();
@@ -192,16 +202,14 @@ class SoakRun {
 
   const SoakOptions& options_;
   const SoakMotion& motion_;
-  UrgModel urg_;
   UrgSimulator simulator_;
-  TerrainMapper mapper_;
+  MappingPipeline pipeline_;
   MapPublisher publisher_;
   WeightedMedianFill fill_;
-  ScanFilterChain chain_;
   UrgRawScan raw_;
-  PlanarScan measured_, filtered_, previous_;
+  PlanarScan previous_;
+  TrunkPose previous_pose_{};
   bool previous_accepted_ = false;  // the previous scan went in (so its pose is finite)
-  std::array<TrunkPose, 4> estimates_{};  // by scan index: the filters delay a scan by at most one
   std::size_t measured_cells_ = 0;
   bool have_truth_ = false;
   double last_x_ = 0, last_y_ = 0, min_x_ = 0, max_x_ = 0, min_y_ = 0, max_y_ = 0;

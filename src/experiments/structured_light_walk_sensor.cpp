@@ -8,6 +8,17 @@
 #include "stridemap/sensors/structured_light_report.hpp"
 
 namespace stridemap {
+namespace {
+
+PipelineOptions pipeline_options(const StructuredLightParameters& parameters) {
+  PipelineOptions p;
+  p.sensor = SensorKind::structured_light;
+  p.structured_light = parameters;
+  p.mount = parameters.mount;
+  return p;
+}
+
+}  // namespace
 
 StructuredLightWalkSensor::StructuredLightWalkSensor(const Scene& scene, const StructuredLightWalkSensorOptions& options,
                                                      const UpdateOptions& update, std::uint64_t seed)
@@ -16,7 +27,8 @@ StructuredLightWalkSensor::StructuredLightWalkSensor(const Scene& scene, const S
       model_(options.parameters),
       floor_geometry_(Scene{}, options.parameters, options.geometry, seed),
       detector_(options.detector),
-      image_(options.parameters.image_width_px, options.parameters.image_height_px) {
+      image_(options.parameters.image_width_px, options.parameters.image_height_px),
+      integrator_(pipeline_options(options.parameters)) {
   if (!(std::isfinite(options_.frame_period_s) && options_.frame_period_s > 0.0)) {
     throw InputError("structured-light walk sensor: frame_period_s must be a positive number");
   }
@@ -44,32 +56,8 @@ ScanStats StructuredLightWalkSensor::measure(const TrunkPose& truth, const Trunk
     simulator_->simulate(truth, truth_);
     pixels_ = truth_.stripe;
   }
-  const StripeConversionStats converted =
-      stripe_to_map_points(model_, pixels_, estimate, mapper.motion_to(estimate), mapper.options().update, map_points_);
-  conversion_.pixels += converted.pixels;
-  conversion_.converted += converted.converted;
-  conversion_.no_intersection += converted.no_intersection;
-  conversion_.outside_image += converted.outside_image;
-  conversion_.not_finite += converted.not_finite;
-  const ScanStats stats = mapper.integrate_points(map_points_, estimate);
-
-  points_.clear();
-  if (!collect_ || stats.pose_rejected) return stats;
-  const SensorMount& mount = options_.parameters.mount;
-  const Eigen::Matrix3d rotation = sensor_to_map_rotation(estimate, mount);
-  const Eigen::Vector3d origin = sensor_origin_in_map(estimate, mount);
-  CameraPointPartials partials;
-  for (const StripePixel& p : pixels_) {
-    if (model_.back_project(p.u_px, p.v_px, partials) != StripePointStatus::valid) continue;
-    ObservedPoint o;
-    o.map_m = origin + rotation * camera_to_sensor_frame(partials.point);
-    o.range_m = partials.point.norm();
-    const StructuredLightElevationPartials dz =
-        structured_light_elevation_partials(partials, estimate.pitch_rad, estimate.roll_rad, mount.pitch_rad);
-    o.height_uncertainty_m = structured_light_elevation_error_bound_m(dz, options_.parameters, update_);
-    points_.push_back(o);
-  }
-  return stats;
+  // No time: as before the pipeline, the walk's frames come in order by construction.
+  return integrator_.push(pixels_, std::nullopt, estimate, mapper).stats;
 }
 
 void StructuredLightWalkSensor::floor_trace(const TrunkPose& pose, double floor_elevation_m, double max_range_m,

@@ -14,15 +14,24 @@ std::unique_ptr<BeamModel> beam_model_for(const UrgWalkSensorOptions& o) {
   return std::make_unique<SingleRayBeamModel>();
 }
 
+PipelineOptions pipeline_options(const UrgWalkSensorOptions& o) {
+  PipelineOptions p;
+  p.sensor = SensorKind::urg;
+  p.urg = o.urg;
+  p.calibration = o.calibration;
+  p.filters = o.filters;
+  p.filter_options = o.filter_options;
+  p.mount = o.mount;
+  return p;
+}
+
 }  // namespace
 
-UrgWalkSensor::UrgWalkSensor(const Scene& scene, const UrgWalkSensorOptions& options, const UpdateOptions& update,
+UrgWalkSensor::UrgWalkSensor(const Scene& scene, const UrgWalkSensorOptions& options, const UpdateOptions&,
                              std::uint64_t seed)
     : options_(options),
-      update_(update),
-      model_(options.urg, options.calibration),
       simulator_(scene, options.urg, options.sim, seed, beam_model_for(options)),
-      filters_(options.filters, options.filter_options) {
+      integrator_(pipeline_options(options)) {
   const int beams = options_.urg.beam_count();
   for (int i = 0; i < beams; ++i) {
     const double t = options_.urg.step_angle_rad(options_.urg.first_step + i);
@@ -31,53 +40,13 @@ UrgWalkSensor::UrgWalkSensor(const Scene& scene, const UrgWalkSensorOptions& opt
   }
 }
 
-ScanStats UrgWalkSensor::integrate(const PlanarScan& scan, const TrunkPose& estimate, TerrainMapper& mapper) {
-  const ScanStats stats = mapper.integrate(scan, estimate);
-  points_.clear();
-  if (!collect_ || stats.pose_rejected) return stats;
-  const Eigen::Matrix3d rotation = sensor_to_map_rotation(estimate, options_.mount);
-  const Eigen::Vector3d origin = sensor_origin_in_map(estimate, options_.mount);
-  for (std::size_t i = 0; i < scan.size(); ++i) {
-    const double r = scan.range_m[i];
-    if (!std::isfinite(r) || r <= 0.0) continue;
-    const double t = scan.angle_rad[i];
-    ObservedPoint p;
-    p.range_m = r;
-    p.map_m = origin + r * (std::cos(t) * rotation.col(0) + std::sin(t) * rotation.col(1));
-    const ElevationPartials partials =
-        beam_elevation_partials(r, t, estimate.pitch_rad, estimate.roll_rad, options_.mount.pitch_rad);
-    p.height_uncertainty_m = elevation_error_bound_m(partials, scan.range_error_m[i], update_);
-    points_.push_back(p);
-  }
-  return stats;
-}
-
 ScanStats UrgWalkSensor::measure(const TrunkPose& truth, const TrunkPose& estimate, double time_s,
                                  TerrainMapper& mapper) {
   simulator_.scan(truth, options_.mount, time_s, raw_);
-  const UrgConversionStats converted = model_.to_planar_scan(raw_, scan_);
-  sensor_totals_.valid += converted.valid;
-  sensor_totals_.error_codes += converted.error_codes;
-  sensor_totals_.beyond_max_range += converted.beyond_max_range;
-  // With a one-scan delay the scan that comes out is the previous one, and
-  // it belongs with the estimate taken when it was measured.
-  const TrunkPose used = filters_.delay_scans() > 0 ? held_estimate_ : estimate;
-  const bool had_previous = holding_ || filters_.delay_scans() == 0;
-  held_estimate_ = estimate;
-  holding_ = filters_.delay_scans() > 0;
-  ScanStats stats;
-  if (filters_.push(scan_, filtered_) && had_previous) stats = integrate(filtered_, used, mapper);
-  else points_.clear();
-  return stats;
+  return integrator_.push(raw_, estimate, mapper).stats;
 }
 
-ScanStats UrgWalkSensor::flush(TerrainMapper& mapper) {
-  ScanStats stats;
-  points_.clear();
-  if (holding_ && filters_.flush(filtered_)) stats = integrate(filtered_, held_estimate_, mapper);
-  holding_ = false;
-  return stats;
-}
+ScanStats UrgWalkSensor::flush(TerrainMapper& mapper) { return integrator_.flush(mapper).stats; }
 
 void UrgWalkSensor::floor_trace(const TrunkPose& pose, double floor_elevation_m, double max_range_m,
                                 std::vector<Eigen::Vector2d>& out) const {

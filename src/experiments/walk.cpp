@@ -180,19 +180,8 @@ WalkResult WalkRun::finish() {
   if (mosaic_) copy_into_mosaic();
 
   const auto filter = [&](ElevationMap& map, bool count) {
-    switch (options_.map_filter) {
-      case MapFilter::none: break;
-      case MapFilter::fill: {
-        const std::size_t filled = WeightedMedianFill(options_.fill).apply(map);
-        if (count) r.filled_cells = filled;
-        break;
-      }
-      case MapFilter::cas: {
-        const CasResult cas = CasFilter(options_.cas).apply(map);
-        if (count) r.filled_cells = cas.filled, r.cas_removed_cells = cas.removed;
-        break;
-      }
-    }
+    const MapFilterResult done = apply_map_filter({options_.map_filter, options_.fill, options_.cas}, map);
+    if (count) r.filled_cells = done.filled, r.cas_removed_cells = done.cas_removed;
   };
   const Scene& scene = motion_.scene();
   const auto snapshot = [&](const ElevationMap& map) {

@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 
+#include "stridemap/core/max_elevation_change.hpp"
 #include "stridemap/core/sensor_transform.hpp"
 
 namespace stridemap {
@@ -85,32 +86,25 @@ double structured_light_max_elevation_change(const StructuredLightElevationParti
          structured_light_elevation_error_bound_m(partials, parameters, options);
 }
 
-StripeConversionStats stripe_to_map_points(const StructuredLightModel& model, std::span<const StripePixel> pixels,
-                                           const TrunkPose& pose, const ScanMotion& motion,
-                                           const UpdateOptions& options, std::vector<MapPoint>& points) {
+namespace {
+
+// The per-pixel part both outputs share: back-projection, the offset from
+// the sensor origin and the error part of eq. (8); `emit` takes each point.
+template <class Emit>
+StripeConversionStats for_each_stripe_point(const StructuredLightModel& model, std::span<const StripePixel> pixels,
+                                            const TrunkPose& pose, const SensorMount& mount,
+                                            const UpdateOptions& options, Emit&& emit) {
   StripeConversionStats stats;
   stats.pixels = pixels.size();
-  points.clear();
-  if (!pose_is_finite(pose) || !motion_is_finite(motion)) {
+  if (!pose_is_finite(pose)) {
     stats.pose_rejected = true;
     return stats;
   }
   const StructuredLightParameters& parameters = model.parameters();
-  const SensorMount& mount = parameters.mount;
   const Eigen::Matrix3d rotation = sensor_to_map_rotation(pose, mount);
-  const Eigen::Vector3d origin = sensor_origin_in_map(pose, mount);
   const ElevationRows rows(pose.pitch_rad, pose.roll_rad, mount.pitch_rad);
-
-  const double gamma = sheet_inclination_rad(parameters.sheet_angle_rad, pose.pitch_rad, pose.roll_rad,
-                                             mount.pitch_rad);
-  const double tan_gamma = std::abs(std::tan(gamma));
-  const double travel_term = std::abs(motion.horizontal_travel_m) * tan_gamma;
-  // Fig. 10's travel is (distance + d_s) times a factor of the yaw change,
-  // as in TerrainMapper::integrate.
-  const double turn_factor = options.use_turning_term ? turning_travel_m(1.0, 0.0, motion.yaw_change_rad) : 0.0;
-  const double turn_offset = std::hypot(mount.forward_offset_m, mount.lateral_offset_m);
-
   CameraPointPartials camera;
+  SensorPoint point;
   for (const StripePixel& pixel : pixels) {
     switch (model.back_project(pixel.u_px, pixel.v_px, camera)) {
       case StripePointStatus::valid: break;
@@ -118,17 +112,48 @@ StripeConversionStats stripe_to_map_points(const StructuredLightModel& model, st
       case StripePointStatus::outside_image: ++stats.outside_image; continue;
       case StripePointStatus::no_intersection: ++stats.no_intersection; continue;
     }
-    const Eigen::Vector3d offset = rotation * camera_to_sensor_frame(camera.point);
-    const StructuredLightElevationPartials partials = partials_from_rows(camera, rows);
-    double dz_max = travel_term + structured_light_elevation_error_bound_m(partials, parameters, options);
-    if (turn_factor != 0.0) {
-      dz_max += tan_gamma * turn_factor * (std::hypot(offset.x(), offset.y()) + turn_offset);
-    }
-    if (!(dz_max < kUnboundedElevationChange_m)) dz_max = kUnboundedElevationChange_m;
-    points.push_back({origin.x() + offset.x(), origin.y() + offset.y(), origin.z() + offset.z(), dz_max});
+    point.offset_m = rotation * camera_to_sensor_frame(camera.point);
+    point.height_error_m =
+        structured_light_elevation_error_bound_m(partials_from_rows(camera, rows), parameters, options);
+    point.range_m = camera.point.norm();
+    emit(point);
     ++stats.converted;
   }
   return stats;
+}
+
+}  // namespace
+
+StripeConversionStats stripe_to_sensor_points(const StructuredLightModel& model, std::span<const StripePixel> pixels,
+                                              const TrunkPose& pose, const SensorMount& mount,
+                                              const UpdateOptions& options, PointBatch& batch) {
+  batch.clear();
+  batch.gamma_rad = sheet_inclination_rad(model.parameters().sheet_angle_rad, pose.pitch_rad, pose.roll_rad,
+                                          mount.pitch_rad);
+  return for_each_stripe_point(model, pixels, pose, mount, options,
+                               [&](const SensorPoint& p) { batch.points.push_back(p); });
+}
+
+StripeConversionStats stripe_to_map_points(const StructuredLightModel& model, std::span<const StripePixel> pixels,
+                                           const TrunkPose& pose, const ScanMotion& motion,
+                                           const UpdateOptions& options, std::vector<MapPoint>& points) {
+  points.clear();
+  const SensorMount& mount = model.parameters().mount;
+  if (!motion_is_finite(motion)) {
+    StripeConversionStats stats;
+    stats.pixels = pixels.size();
+    stats.pose_rejected = true;
+    return stats;
+  }
+  const double gamma = sheet_inclination_rad(model.parameters().sheet_angle_rad, pose.pitch_rad, pose.roll_rad,
+                                             mount.pitch_rad);
+  const MaxElevationChange bound(motion, gamma, mount, options);
+  const Eigen::Vector3d origin = sensor_origin_in_map(pose, mount);
+  return for_each_stripe_point(model, pixels, pose, mount, options, [&](const SensorPoint& p) {
+    double dz_max = bound.at(p.height_error_m, p.offset_m);
+    if (!(dz_max < kUnboundedElevationChange_m)) dz_max = kUnboundedElevationChange_m;
+    points.push_back({origin.x() + p.offset_m.x(), origin.y() + p.offset_m.y(), origin.z() + p.offset_m.z(), dz_max});
+  });
 }
 
 }  // namespace stridemap

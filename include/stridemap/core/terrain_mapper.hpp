@@ -6,12 +6,17 @@
 #include <cstddef>
 #include <optional>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/core/map_update.hpp"
+#include "stridemap/core/max_elevation_change.hpp"
 #include "stridemap/core/planar_scan.hpp"
+#include "stridemap/core/planar_scan_points.hpp"
 #include "stridemap/core/pose.hpp"
+#include "stridemap/core/sensor_point.hpp"
+#include "stridemap/core/sensor_transform.hpp"
 
 namespace stridemap {
 
@@ -49,6 +54,9 @@ struct ScanStats {
   /// later than the last accepted scan's; nothing was used.
   bool time_rejected = false;
   std::size_t cells_reset_by_move = 0;
+
+  /// Counts add up; a flag is set when either side has it.
+  ScanStats& operator+=(const ScanStats& other);
 };
 
 /// Running totals since construction (or reset_totals()).
@@ -62,6 +70,8 @@ struct MapperTotals {
   std::size_t invalid_beam = 0;
   std::size_t outside_map = 0;
   std::size_t implausible = 0;
+
+  MapperTotals& operator+=(const MapperTotals& other);
 };
 
 /// A measured point already in the map frame, for sensors whose model is not
@@ -82,6 +92,17 @@ class TerrainMapper {
   /// A non-finite pose, or (reject_stale_scans) a scan.time_s that is not
   /// later than the last accepted one, rejects the whole scan, counted.
   ScanStats integrate(const PlanarScan& scan, const TrunkPose& pose);
+  /// The same, handing each point that passed the checks to
+  /// `sink(index, map_point, sensor_point)` before it is applied.
+  template <class Sink>
+  ScanStats integrate(const PlanarScan& scan, const TrunkPose& pose, Sink&& sink);
+  /// Integrates a scan of any sensor model (core/sensor_point.hpp): the
+  /// source gives each point's offset from the sensor origin and its height
+  /// error; Delta z_max is formed here (core/max_elevation_change.hpp) for
+  /// every sensor alike. With a time, the same order check as integrate().
+  template <class Source, class Sink = NoPointSink>
+  ScanStats integrate_scan(const Source& source, const TrunkPose& pose, std::optional<double> time_s,
+                           Sink&& sink = {});
   /// Integrates points with their own Delta z_max; `pose` moves the window.
   /// With a time, the same order check as integrate() applies.
   ScanStats integrate_points(std::span<const MapPoint> points, const TrunkPose& pose,
@@ -107,6 +128,7 @@ class TerrainMapper {
   void apply(double x_m, double y_m, double h_m, double dz_max, ScanStats& stats);
   void finish(const TrunkPose& pose, std::optional<double> time_s, const ScanStats& stats);
   void refresh_beam_directions(const std::vector<double>& angles);
+  static void check_scan_lengths(const PlanarScan& scan);
 
   MapperOptions options_;
   SensorMount mount_;
@@ -119,5 +141,39 @@ class TerrainMapper {
 
 /// True when every field of the pose is finite.
 bool pose_is_finite(const TrunkPose& pose);
+
+template <class Source, class Sink>
+ScanStats TerrainMapper::integrate_scan(const Source& source, const TrunkPose& pose, std::optional<double> time_s,
+                                        Sink&& sink) {
+  ScanStats stats;
+  stats.beams = source.size();
+  if (!accept(pose, time_s, stats)) return stats;
+  follow(pose, stats);
+  const MaxElevationChange bound(motion_to(pose), source.inclination_rad(), mount_, options_.update);
+  const Eigen::Vector3d origin = sensor_origin_in_map(pose, mount_);
+  SensorPoint p;
+  for (std::size_t i = 0; i < stats.beams; ++i) {
+    switch (source.point(i, p)) {
+      case PointStatus::ok: break;
+      case PointStatus::invalid_range: ++stats.invalid_range; continue;
+      case PointStatus::invalid_beam: ++stats.invalid_beam; continue;
+    }
+    const double dz_max = bound.at(p.height_error_m, p.offset_m);
+    const double x_m = origin.x() + p.offset_m.x(), y_m = origin.y() + p.offset_m.y(),
+                 h_m = origin.z() + p.offset_m.z();
+    sink(i, Eigen::Vector3d(x_m, y_m, h_m), p);
+    apply(x_m, y_m, h_m, dz_max, stats);
+  }
+  finish(pose, time_s, stats);
+  return stats;
+}
+
+template <class Sink>
+ScanStats TerrainMapper::integrate(const PlanarScan& scan, const TrunkPose& pose, Sink&& sink) {
+  check_scan_lengths(scan);
+  refresh_beam_directions(scan.angle_rad);
+  const PlanarScanPoints source(scan, cos_angle_.data(), sin_angle_.data(), pose, mount_, options_.update);
+  return integrate_scan(source, pose, scan.time_s, std::forward<Sink>(sink));
+}
 
 }  // namespace stridemap

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "stridemap/core/cas_filter.hpp"
+#include "stridemap/core/map_filter.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/core/weighted_median_fill.hpp"
 #include "stridemap/experiments/map_evaluation.hpp"

@@ -2,8 +2,8 @@
 // The camera + laser-stripe sensor on a walking robot (WalkSensor): each
 // frame is simulated from the true pose (sim/structured_light_simulator.hpp
 // and, on the image path, rendered and searched by the stripe detector),
-// the stripe becomes map points by eq. (1), (5) and (8) with the estimated
-// pose, and the mapper integrates them.
+// and the pipeline's ScanIntegrator turns the stripe into points by eq. (1),
+// (5) and (8) with the estimated pose and integrates them.
 #include <cstdint>
 #include <optional>
 #include <vector>
@@ -13,6 +13,7 @@
 #include "stridemap/experiments/walk_sensor.hpp"
 #include "stridemap/io/png_image.hpp"
 #include "stridemap/io/stripe_detector.hpp"
+#include "stridemap/pipeline/scan_integrator.hpp"
 #include "stridemap/sim/structured_light_image.hpp"
 #include "stridemap/sim/structured_light_simulator.hpp"
 
@@ -52,13 +53,13 @@ class StructuredLightWalkSensor final : public WalkSensor {
   const SensorMount& mount() const override { return options_.parameters.mount; }
   double frame_period_s() const override { return options_.frame_period_s; }
   ScanStats measure(const TrunkPose& truth, const TrunkPose& estimate, double time_s, TerrainMapper& mapper) override;
-  ScanStats flush(TerrainMapper&) override { points_.clear(); return {}; }
-  void set_collect_points(bool collect) override { collect_ = collect; }
-  const std::vector<ObservedPoint>& last_points() const override { return points_; }
+  ScanStats flush(TerrainMapper& mapper) override { return integrator_.flush(mapper).stats; }
+  void set_collect_points(bool collect) override { integrator_.set_collect_points(collect); }
+  const std::vector<ObservedPoint>& last_points() const override { return integrator_.last_points(); }
   void floor_trace(const TrunkPose& pose, double floor_elevation_m, double max_range_m,
                    std::vector<Eigen::Vector2d>& out) const override;
 
-  const StripeConversionStats& conversion_totals() const { return conversion_; }
+  const StripeConversionStats& conversion_totals() const { return integrator_.stats().stripe; }
 
  private:
   StructuredLightWalkSensorOptions options_;
@@ -72,11 +73,8 @@ class StructuredLightWalkSensor final : public WalkSensor {
   io::StripeDetection detection_;
   StructuredLightFrameTruth truth_;
   std::vector<StripePixel> pixels_;
-  std::vector<MapPoint> map_points_;
   std::vector<Eigen::Vector3d> column_rays_;  ///< emitter ray per column, camera frame
-  bool collect_ = false;
-  std::vector<ObservedPoint> points_;
-  StripeConversionStats conversion_;
+  ScanIntegrator integrator_;
 };
 
 }  // namespace stridemap

@@ -1,13 +1,15 @@
 #pragma once
 // The URG-04LX on a walking robot (WalkSensor): the simulator scans from the
-// true pose, the sensor model turns raw values into a PlanarScan, the
-// chosen scan filters run, and the mapper integrates with the estimate.
+// true pose, and the pipeline's ScanIntegrator takes the raw scan with the
+// estimate: sensor model, the chosen scan filters (the estimate travels
+// with the scan through their delay), and the map update.
 #include <cstdint>
 #include <memory>
 #include <vector>
 
 #include "stridemap/core/map_update.hpp"
 #include "stridemap/experiments/walk_sensor.hpp"
+#include "stridemap/pipeline/scan_integrator.hpp"
 #include "stridemap/preprocess/scan_filter_chain.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
 #include "stridemap/sim/footprint_beam_model.hpp"
@@ -32,9 +34,10 @@ struct UrgWalkSensorOptions {
 
 class UrgWalkSensor final : public WalkSensor {
  public:
-  /// Copies the scene. `update` gives the error bounds of the predicted
-  /// height uncertainty (last_points()); use the mapper's. Throws
-  /// InputError for unusable options.
+  /// Copies the scene. The predicted height uncertainty of last_points()
+  /// is the mapper's own (its update options); `update` is not needed any
+  /// more and kept so that callers compile unchanged. Throws InputError for
+  /// unusable options.
   UrgWalkSensor(const Scene& scene, const UrgWalkSensorOptions& options, const UpdateOptions& update,
                 std::uint64_t seed);
 
@@ -43,29 +46,19 @@ class UrgWalkSensor final : public WalkSensor {
   double frame_period_s() const override { return options_.urg.scan_period_s; }
   ScanStats measure(const TrunkPose& truth, const TrunkPose& estimate, double time_s, TerrainMapper& mapper) override;
   ScanStats flush(TerrainMapper& mapper) override;
-  void set_collect_points(bool collect) override { collect_ = collect; }
-  const std::vector<ObservedPoint>& last_points() const override { return points_; }
+  void set_collect_points(bool collect) override { integrator_.set_collect_points(collect); }
+  const std::vector<ObservedPoint>& last_points() const override { return integrator_.last_points(); }
   void floor_trace(const TrunkPose& pose, double floor_elevation_m, double max_range_m,
                    std::vector<Eigen::Vector2d>& out) const override;
 
-  const UrgConversionStats& sensor_totals() const { return sensor_totals_; }
+  const UrgConversionStats& sensor_totals() const { return integrator_.stats().beams; }
 
  private:
-  ScanStats integrate(const PlanarScan& scan, const TrunkPose& estimate, TerrainMapper& mapper);
-
   UrgWalkSensorOptions options_;
-  UpdateOptions update_;
-  UrgModel model_;
   UrgSimulator simulator_;
-  ScanFilterChain filters_;
+  ScanIntegrator integrator_;
   UrgRawScan raw_;
-  PlanarScan scan_, filtered_;
-  TrunkPose held_estimate_{};  ///< estimate of the scan the filter chain holds
-  bool holding_ = false;
-  bool collect_ = false;
-  std::vector<ObservedPoint> points_;
   std::vector<double> cos_beam_, sin_beam_;
-  UrgConversionStats sensor_totals_;
 };
 
 /// The share of ranges to horizontal surfaces from lowest_m to highest_m

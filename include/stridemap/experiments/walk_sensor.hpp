@@ -12,18 +12,13 @@
 
 #include "stridemap/core/pose.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
+#include "stridemap/pipeline/scan_integrator.hpp"
 
 namespace stridemap {
 
 /// One measured point as the mapper placed it (estimated pose), for the
-/// mount analysis.
-struct ObservedPoint {
-  Eigen::Vector3d map_m = Eigen::Vector3d::Zero();  ///< map frame
-  double range_m = 0.0;  ///< from the sensor's origin (URG: the beam's range) [m]
-  /// The error part of Delta z_max (eq. 6 without d tan(gamma), or eq. 8):
-  /// the predicted height uncertainty of the point [m].
-  double height_uncertainty_m = 0.0;
-};
+/// mount analysis: the pipeline hands them back (ScanIntegrator::last_points).
+using ObservedPoint = IntegratedPoint;
 
 class WalkSensor {
  public:

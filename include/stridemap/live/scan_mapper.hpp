@@ -2,20 +2,21 @@
 // Mapping from a stream of raw URG scans and a stream of timestamped poses,
 // as `stridemap live` does on-line and `stridemap map` does from a log: the
 // same class and the same decisions, so both give the same map from the
-// same data. A scan waits until the poses around its time have arrived;
+// same data. A thin layer over MappingPipeline (pipeline/) configured from
+// the mapper's YAML settings. A scan waits until the poses around its time have arrived;
 // it is then converted with the sensor's own parameters (PP), filtered
 // (optional), and integrated at the interpolated pose. A scan that can
 // never get a pose (before the first pose, in a gap, after the last pose
 // once the poses are complete) is skipped and counted.
 #include <cstddef>
 #include <cstdint>
-#include <deque>
 #include <vector>
 
 #include "stridemap/core/pose_track.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/io/map_outputs.hpp"
 #include "stridemap/io/mapper_config.hpp"
+#include "stridemap/pipeline/mapping_pipeline.hpp"
 #include "stridemap/preprocess/scan_filter_chain.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
 
@@ -29,15 +30,11 @@ struct ScanMapperOptions {
   ScanFilterChainOptions filter_options{};
 };
 
-struct ScanMapperStats {
-  std::size_t scans = 0;               ///< offered with add()
-  std::size_t integrated = 0;          ///< reached the mapper
-  std::size_t before_first_pose = 0;   ///< skipped: earlier than every pose
-  std::size_t after_last_pose = 0;     ///< skipped: later than every pose, and no more poses came
-  std::size_t pose_gap = 0;            ///< skipped: the poses around it are too far apart
-  std::size_t rejected = 0;            ///< skipped: steps or length do not fit the sensor's parameters
-  UrgConversionStats beams;
-};
+/// scans (offered with add()), integrated (reached the mapper),
+/// before_first_pose / after_last_pose / pose_gap (skipped for want of a
+/// pose), rejected (steps or length do not fit the sensor's parameters),
+/// beams (the URG's raw values).
+using ScanMapperStats = PipelineStats;
 
 class ScanMapper {
  public:
@@ -58,29 +55,20 @@ class ScanMapper {
   /// Ends the stream: the scan held by scan-sequence is integrated.
   void finish();
 
-  std::size_t waiting() const { return queue_.size(); }
+  std::size_t waiting() const { return pipeline_.waiting(); }
   const ScanMapperStats& stats() const { return stats_; }
-  const TerrainMapper& mapper() const { return mapper_; }
+  const TerrainMapper& mapper() const { return pipeline_.mapper(); }
   const ScanMapperOptions& options() const { return options_; }
   /// The map with the fill-in (eq. 11) applied to a copy: the map being
   /// built is not changed, so saving it often changes nothing.
   io::MapLayers filled_layers() const;
 
  private:
-  struct Waiting {
-    UrgRawScan raw;
-    double arrival_s = 0.0;
-  };
-  void integrate(const UrgRawScan& raw, const TrunkPose& pose);
+  static PipelineOptions pipeline_options(const ScanMapperOptions& options, const UrgParameters& sensor);
 
   ScanMapperOptions options_;
-  UrgModel sensor_;
-  TerrainMapper mapper_;
-  ScanFilterChain filters_;
-  std::deque<Waiting> queue_;
-  PlanarScan scan_, filtered_;
-  TrunkPose held_pose_{};  // pose of the scan the filter chain holds
-  ScanMapperStats stats_;
+  MappingPipeline pipeline_;
+  ScanMapperStats stats_;  // the pipeline's, as of the last call
 };
 
 }  // namespace stridemap

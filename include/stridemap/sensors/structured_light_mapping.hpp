@@ -15,6 +15,7 @@
 
 #include "stridemap/core/map_update.hpp"
 #include "stridemap/core/pose.hpp"
+#include "stridemap/core/sensor_point.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/sensors/structured_light.hpp"
 
@@ -75,7 +76,28 @@ struct StripeConversionStats {
   std::size_t outside_image = 0;    ///< u or v outside the image
   std::size_t no_intersection = 0;  ///< the ray does not meet the sheet in front of the camera
   bool pose_rejected = false;       ///< a pose field was not finite: no point was produced
+
+  /// Counts add up; pose_rejected is set when either side has it.
+  StripeConversionStats& operator+=(const StripeConversionStats& other) {
+    pixels += other.pixels;
+    converted += other.converted;
+    not_finite += other.not_finite;
+    outside_image += other.outside_image;
+    no_intersection += other.no_intersection;
+    pose_rejected = pose_rejected || other.pose_rejected;
+    return *this;
+  }
 };
+
+/// The structured-light error model: one frame's stripe as points relative
+/// to the sensor origin (map axes) with the error part of eq. (8) as their
+/// height error and the sheet's inclination as the batch's gamma, for
+/// TerrainMapper::integrate_scan (which adds the motion terms). `mount`
+/// places the camera (the mapper's mount). `batch` is refilled; it
+/// allocates only while it grows. A non-finite pose gives no points.
+StripeConversionStats stripe_to_sensor_points(const StructuredLightModel& model, std::span<const StripePixel> pixels,
+                                              const TrunkPose& pose, const SensorMount& mount,
+                                              const UpdateOptions& options, PointBatch& batch);
 
 /// Turns one frame's stripe into map-frame points with their Delta z_max
 /// (eq. 8), for TerrainMapper::integrate_points(points, pose). The mount is

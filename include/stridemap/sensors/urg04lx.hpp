@@ -47,6 +47,13 @@ struct UrgConversionStats {
   std::size_t valid = 0;
   std::size_t error_codes = 0;       ///< raw value below DMIN (sensor error code)
   std::size_t beyond_max_range = 0;  ///< raw value above DMAX
+
+  UrgConversionStats& operator+=(const UrgConversionStats& other) {
+    valid += other.valid;
+    error_codes += other.error_codes;
+    beyond_max_range += other.beyond_max_range;
+    return *this;
+  }
 };
 
 class UrgModel {

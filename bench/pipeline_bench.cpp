@@ -1,0 +1,51 @@
+// One URG-04LX scan's whole way through the mapping pipeline (raw values,
+// sensor model, no filters, map update), beside core_bench's
+// BM_IntegrateScan, which starts from the converted scan
+// (docs/performance.md).
+#include <cmath>
+#include <cstdint>
+#include <random>
+
+#include <benchmark/benchmark.h>
+
+#include "stridemap/pipeline/mapping_pipeline.hpp"
+
+namespace {
+
+using namespace stridemap;
+
+// A floor with a low step seen from the paper's mount, as core_bench's scan.
+UrgRawScan urg_like_raw_scan(const UrgParameters& urg, const SensorMount& mount) {
+  UrgRawScan raw;
+  raw.first_step = urg.first_step;
+  for (int step = urg.first_step; step <= urg.last_step; ++step) {
+    const double down = std::cos(urg.step_angle_rad(step)) * std::sin(mount.pitch_rad);
+    const double range = down > 0.1 ? mount.height_m / down * (step % 50 < 10 ? 0.8 : 1.0) : 0.0;
+    raw.values_mm.push_back(range > 0.0 ? static_cast<std::uint32_t>(std::lround(range * 1000.0)) : 0u);
+  }
+  return raw;
+}
+
+void BM_PipelineUrgScan(benchmark::State& state) {
+  PipelineOptions options;
+  options.mapper.window_ahead_m = 0.3;
+  MappingPipeline pipeline(options);
+  UrgRawScan raw = urg_like_raw_scan(options.urg, options.mount);
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> tilt(0.0, 0.02);
+  TrunkPose pose;
+  for (auto _ : state) {
+    pose.x_m += 0.003;
+    pose.yaw_rad += 0.002;
+    pose.pitch_rad = tilt(rng);
+    pose.roll_rad = tilt(rng);
+    raw.time_s += 0.1;
+    benchmark::DoNotOptimize(pipeline.add(raw, pose));
+  }
+  state.counters["scans_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_PipelineUrgScan);
+
+}  // namespace
+
+BENCHMARK_MAIN();

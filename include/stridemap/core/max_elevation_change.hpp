@@ -1,0 +1,60 @@
+#pragma once
+// The one place where a point's height uncertainty becomes Delta z_max.
+//
+// Every sensor model states how uncertain the height of each of its points
+// is (the error part of eq. 6 for the laser, of eq. 8 for structured light,
+// a per-point sigma for a generic point source). What the robot's motion
+// between two scans adds is the same for all of them: d tan(gamma) for the
+// measuring surface climbing a face (eq. 6, 7), plus the travel a turn
+// gives a point at its horizontal distance from the sensor (Fig. 10). Both
+// are fixed per scan; this class holds them, so the per-point work is two
+// additions (and a square root while the robot turns).
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Core>
+
+#include "stridemap/core/map_update.hpp"
+#include "stridemap/core/pose.hpp"
+
+namespace stridemap {
+
+class MaxElevationChange {
+ public:
+  /// `gamma_rad` is the inclination of the sensor's measuring surface about
+  /// the lateral axis (scan plane, laser sheet) for this scan's pose.
+  MaxElevationChange(const ScanMotion& motion, double gamma_rad, const SensorMount& mount,
+                     const UpdateOptions& options)
+      : travel_term_m_(std::abs(motion.horizontal_travel_m * std::tan(gamma_rad))),
+        turn_offset_m_(std::hypot(mount.forward_offset_m, mount.lateral_offset_m)) {
+    // Fig. 10's travel is (distance + d_s) times a factor of the yaw change.
+    const double turn_factor = options.use_turning_term ? turning_travel_m(1.0, 0.0, motion.yaw_change_rad) : 0.0;
+    turn_term_per_m_ = std::isfinite(turn_factor) ? std::abs(std::tan(gamma_rad)) * turn_factor
+                                                  : std::numeric_limits<double>::infinity();
+  }
+
+  /// Delta z_max of a point `offset_m` (map axes) from the sensor origin
+  /// whose height the sensor knows to within `height_error_m`. Infinite
+  /// ("any change is plausible") when a turn beyond a quarter turn makes
+  /// Fig. 10's term unbounded.
+  double at(double height_error_m, const Eigen::Vector3d& offset_m) const {
+    double dz_max = travel_term_m_ + height_error_m;
+    if (turn_term_per_m_ != 0.0) {
+      // Plain sqrt: hypot's overflow care costs more than the rest of a point.
+      const double turn = turn_term_per_m_ * (std::sqrt(offset_m.x() * offset_m.x() + offset_m.y() * offset_m.y()) +
+                                              turn_offset_m_);
+      dz_max += turn != turn ? std::numeric_limits<double>::infinity() : turn;  // inf * 0 at the sensor itself
+    }
+    return dz_max;
+  }
+
+  double travel_term_m() const { return travel_term_m_; }
+  double turn_term_per_m() const { return turn_term_per_m_; }
+
+ private:
+  double travel_term_m_;
+  double turn_offset_m_;
+  double turn_term_per_m_ = 0.0;
+};
+
+}  // namespace stridemap

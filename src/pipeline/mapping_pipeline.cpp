@@ -1,0 +1,131 @@
+#include "stridemap/pipeline/mapping_pipeline.hpp"
+
+#include "stridemap/core/cas_filter.hpp"
+#include "stridemap/core/weighted_median_fill.hpp"
+
+namespace stridemap {
+namespace {
+
+double time_of(const UrgRawScan& s) { return s.time_s; }
+double time_of(const StripeFrame& s) { return s.time_s; }
+double time_of(const PointFrame& s) { return s.time_s; }
+
+}  // namespace
+
+MappingPipeline::MappingPipeline(const PipelineOptions& options)
+    : options_(options), mapper_(options.mapper, options.mount), integrator_(options) {
+  // Invalid map-filter options fail now, not at the first save.
+  switch (options_.map_filter.filter) {
+    case MapFilter::none: break;
+    case MapFilter::fill: (void)WeightedMedianFill(options_.map_filter.fill); break;
+    case MapFilter::cas: (void)CasFilter(options_.map_filter.cas); break;
+  }
+}
+
+ScanOutcome MappingPipeline::add(const UrgRawScan& raw, const TrunkPose& pose,
+                                 std::span<const std::uint8_t> beam_tags) {
+  ++stream_.scans;
+  return integrator_.push(raw, pose, mapper_, beam_tags);
+}
+
+ScanOutcome MappingPipeline::add(const StripeFrame& frame, const TrunkPose& pose) {
+  ++stream_.scans;
+  return integrator_.push(frame.pixels, frame.time_s, pose, mapper_);
+}
+
+ScanOutcome MappingPipeline::add(std::span<const StripePixel> pixels, std::optional<double> time_s,
+                                 const TrunkPose& pose) {
+  ++stream_.scans;
+  return integrator_.push(pixels, time_s, pose, mapper_);
+}
+
+ScanOutcome MappingPipeline::add(const PointFrame& frame, const TrunkPose& pose) {
+  ++stream_.scans;
+  return integrator_.push(frame.points_m, frame.height_sigma_m, frame.time_s, pose, mapper_);
+}
+
+ScanOutcome MappingPipeline::add(SensorModel& model, double time_s, const TrunkPose& pose) {
+  ++stream_.scans;
+  return integrator_.push(model, time_s, pose, mapper_);
+}
+
+void MappingPipeline::queue(const UrgRawScan& raw, double arrival_s) {
+  ++stream_.scans;
+  queue_.push_back({raw, arrival_s});
+}
+
+void MappingPipeline::queue(const StripeFrame& frame, double arrival_s) {
+  ++stream_.scans;
+  queue_.push_back({frame, arrival_s});
+}
+
+void MappingPipeline::queue(const PointFrame& frame, double arrival_s) {
+  ++stream_.scans;
+  queue_.push_back({frame, arrival_s});
+}
+
+ScanOutcome MappingPipeline::integrate(const Scan& scan, const TrunkPose& pose) {
+  if (const auto* raw = std::get_if<UrgRawScan>(&scan)) return integrator_.push(*raw, pose, mapper_);
+  if (const auto* stripe = std::get_if<StripeFrame>(&scan)) {
+    return integrator_.push(stripe->pixels, stripe->time_s, pose, mapper_);
+  }
+  const auto& points = std::get<PointFrame>(scan);
+  return integrator_.push(points.points_m, points.height_sigma_m, points.time_s, pose, mapper_);
+}
+
+std::size_t MappingPipeline::process(PoseTrack& poses, bool poses_complete) {
+  std::size_t integrated = 0;
+  TrunkPose pose;
+  while (!queue_.empty()) {
+    const Scan& scan = queue_.front().scan;
+    const double time_s = std::visit([](const auto& s) { return time_of(s); }, scan);
+    switch (poses.interpolate(time_s, pose)) {
+      case PoseLookup::ok:
+        integrate(scan, pose);
+        ++integrated;
+        poses.drop_before(time_s);
+        break;
+      case PoseLookup::before_first: ++stream_.before_first_pose; break;
+      case PoseLookup::gap_too_large:
+        ++stream_.pose_gap;
+        poses.drop_before(time_s);
+        break;
+      case PoseLookup::empty:
+      case PoseLookup::after_last:
+        if (!poses_complete) return integrated;
+        ++stream_.after_last_pose;
+        poses.drop_before(time_s);
+        break;
+    }
+    queue_.pop_front();
+  }
+  return integrated;
+}
+
+std::size_t MappingPipeline::expire(double before_s) {
+  std::size_t skipped = 0;
+  while (!queue_.empty() && queue_.front().arrival_s <= before_s) {
+    queue_.pop_front();
+    ++stream_.after_last_pose;
+    ++skipped;
+  }
+  return skipped;
+}
+
+ScanOutcome MappingPipeline::finish() { return integrator_.flush(mapper_); }
+
+MapFilterResult MappingPipeline::apply_map_filter() { return stridemap::apply_map_filter(options_.map_filter, mapper_.map()); }
+
+ElevationMap MappingPipeline::filtered_map() const {
+  ElevationMap copy = mapper_.map();
+  stridemap::apply_map_filter(options_.map_filter, copy);
+  return copy;
+}
+
+PipelineStats MappingPipeline::stats() const {
+  PipelineStats total = integrator_.stats();
+  total += stream_;
+  return total;
+}
+
+}  // namespace stridemap

@@ -1,0 +1,164 @@
+#include "stridemap/pipeline/scan_integrator.hpp"
+
+#include <array>
+#include <limits>
+#include <string>
+#include <utility>
+
+#include "stridemap/core/error.hpp"
+
+namespace stridemap {
+namespace {
+
+constexpr std::array<std::pair<std::string_view, SensorKind>, 4> kSensorNames{{
+    {"urg", SensorKind::urg},
+    {"structured-light", SensorKind::structured_light},
+    {"points", SensorKind::points},
+    {"custom", SensorKind::custom},
+}};
+
+// Keeps each integrated point when the caller asked for them.
+struct CollectingSink {
+  std::vector<IntegratedPoint>& out;
+  void operator()(std::size_t, const Eigen::Vector3d& map_m, const SensorPoint& p) const {
+    out.push_back({map_m, p.range_m, p.height_error_m});
+  }
+};
+
+}  // namespace
+
+std::string_view sensor_kind_name(SensorKind kind) {
+  for (const auto& [name, value] : kSensorNames) {
+    if (value == kind) return name;
+  }
+  return "unknown";
+}
+
+SensorKind parse_sensor_kind(std::string_view name) {
+  for (const auto& [known, value] : kSensorNames) {
+    if (known == name) return value;
+  }
+  throw InputError("'" + std::string(name) + "' is not a sensor; use urg, structured-light, points or custom");
+}
+
+PipelineStats& PipelineStats::operator+=(const PipelineStats& o) {
+  scans += o.scans;
+  integrated += o.integrated;
+  before_first_pose += o.before_first_pose;
+  after_last_pose += o.after_last_pose;
+  pose_gap += o.pose_gap;
+  rejected += o.rejected;
+  beams += o.beams;
+  stripe += o.stripe;
+  points += o.points;
+  return *this;
+}
+
+ScanIntegrator::ScanIntegrator(const PipelineOptions& options)
+    : options_(options),
+      urg_(options.urg, options.calibration),
+      points_sensor_(options.points),
+      filters_(options.filters, options.filter_options) {
+  if (options_.sensor != SensorKind::urg && !options_.filters.empty()) {
+    throw InputError("pipeline: the scan filters (" + scan_filter_list_name(options_.filters) +
+                     ") work on planar scans; the " + std::string(sensor_kind_name(options_.sensor)) +
+                     " sensor takes none");
+  }
+  if (options_.sensor == SensorKind::structured_light) structured_light_.emplace(options_.structured_light);
+}
+
+void ScanIntegrator::require(SensorKind kind) const {
+  if (options_.sensor != kind) {
+    throw InputError("pipeline: configured for the " + std::string(sensor_kind_name(options_.sensor)) +
+                     " sensor, given " + std::string(sensor_kind_name(kind)) + " data");
+  }
+}
+
+ScanOutcome ScanIntegrator::push(const UrgRawScan& raw, const TrunkPose& pose, TerrainMapper& mapper,
+                                 std::span<const std::uint8_t> beam_tags) {
+  require(SensorKind::urg);
+  points_.clear();
+  try {
+    stats_.beams += urg_.to_planar_scan(raw, scan_);
+  } catch (const InputError&) {
+    ++stats_.rejected;  // steps the sensor's parameters do not have: not this sensor's scan
+    return {};
+  }
+  if (options_.drop_beams_tagged) {
+    for (std::size_t i = 0; i < beam_tags.size() && i < scan_.range_m.size(); ++i) {
+      if (beam_tags[i] == *options_.drop_beams_tagged) scan_.range_m[i] = std::numeric_limits<double>::quiet_NaN();
+    }
+  }
+  bool out = false;
+  try {
+    out = filters_.push(scan_, pose, beam_tags, filtered_);
+  } catch (const InputError&) {
+    ++stats_.rejected;  // e.g. a scan of another length after a reconnection: the sequence starts anew
+    return {};
+  }
+  return out ? integrate_planar(mapper) : ScanOutcome{};
+}
+
+ScanOutcome ScanIntegrator::flush(TerrainMapper& mapper) {
+  points_.clear();
+  return filters_.flush(filtered_) ? integrate_planar(mapper) : ScanOutcome{};
+}
+
+ScanOutcome ScanIntegrator::integrate_planar(TerrainMapper& mapper) {
+  const ScanPayload& payload = filters_.output();
+  ScanOutcome outcome;
+  outcome.integrated = true;
+  outcome.stats = collect_ ? mapper.integrate(filtered_, payload.pose, CollectingSink{points_})
+                           : mapper.integrate(filtered_, payload.pose);
+  ++stats_.integrated;
+  report(payload, filtered_.time_s, outcome.stats, filters_.chain().removed_by_any());
+  return outcome;
+}
+
+ScanOutcome ScanIntegrator::push(std::span<const StripePixel> pixels, std::optional<double> time_s,
+                                 const TrunkPose& pose, TerrainMapper& mapper) {
+  require(SensorKind::structured_light);
+  structured_light_->set_frame(pixels);
+  structured_light_->to_points(pose, mapper.mount(), mapper.options().update, batch_);
+  stats_.stripe += structured_light_->last_stats();
+  return integrate_batch(time_s, pose, mapper);
+}
+
+ScanOutcome ScanIntegrator::push(std::span<const Eigen::Vector3d> points_m, std::span<const double> height_sigma_m,
+                                 std::optional<double> time_s, const TrunkPose& pose, TerrainMapper& mapper) {
+  require(SensorKind::points);
+  points_sensor_.set_frame(time_s.value_or(0.0), points_m, height_sigma_m);
+  points_sensor_.to_points(pose, mapper.mount(), mapper.options().update, batch_);
+  stats_.points += points_sensor_.last_stats();
+  return integrate_batch(time_s, pose, mapper);
+}
+
+ScanOutcome ScanIntegrator::push(SensorModel& model, std::optional<double> time_s, const TrunkPose& pose,
+                                 TerrainMapper& mapper) {
+  require(SensorKind::custom);
+  model.to_points(pose, mapper.mount(), mapper.options().update, batch_);
+  return integrate_batch(time_s, pose, mapper);
+}
+
+ScanOutcome ScanIntegrator::integrate_batch(std::optional<double> time_s, const TrunkPose& pose,
+                                            TerrainMapper& mapper) {
+  points_.clear();
+  batch_payload_.pose = pose;
+  batch_payload_.sequence = pushed_++;
+  ScanOutcome outcome;
+  outcome.integrated = true;
+  outcome.stats = collect_ ? mapper.integrate_scan(batch_, pose, time_s, CollectingSink{points_})
+                           : mapper.integrate_scan(batch_, pose, time_s);
+  ++stats_.integrated;
+  report(batch_payload_, time_s, outcome.stats, {});
+  return outcome;
+}
+
+void ScanIntegrator::report(const ScanPayload& payload, std::optional<double> time_s, const ScanStats& stats,
+                            std::span<const std::uint8_t> removed) {
+  if (observers_.empty()) return;
+  const ScanReport r{payload, time_s, stats, removed};
+  for (PipelineObserver* observer : observers_) observer->on_scan(r);
+}
+
+}  // namespace stridemap

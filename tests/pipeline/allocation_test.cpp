@@ -1,0 +1,96 @@
+// The pipeline's per-scan path allocates nothing once its buffers have
+// grown: URG raw scans with tags through the scan-sequence delay, stripe
+// frames and point frames, points handed back included. Global operator new
+// is replaced in this test binary to count allocations while a flag is set.
+#include <gtest/gtest.h>
+
+#include "allocation_counting.hpp"
+
+#include <cmath>
+#include <cstdint>
+#include <vector>
+
+#include "pipeline_test_support.hpp"
+#include "stridemap/pipeline/mapping_pipeline.hpp"
+
+STRIDEMAP_REPLACE_OPERATOR_NEW()
+
+namespace stridemap {
+namespace {
+
+using test::allocation_counter;
+using test::floor_scan;
+using test::pose_at;
+
+class Counting {
+ public:
+  Counting() {
+    allocation_counter().allocations = 0;
+    allocation_counter().counting = true;
+  }
+  ~Counting() { allocation_counter().counting = false; }
+  std::size_t allocations() const { return allocation_counter().allocations.load(); }
+};
+
+TEST(PipelineAllocation, UrgScansThroughTheFiltersAllocateNothing) {
+  STRIDEMAP_SKIP_UNLESS_COUNTING_ALLOCATIONS();
+  PipelineOptions options;
+  options.filters = {ScanFilterKind::range_clustering, ScanFilterKind::scan_sequence};
+  MappingPipeline pipeline(options);
+  pipeline.integrator().set_collect_points(true);
+  UrgRawScan raw = floor_scan(0.0);
+  const std::vector<std::uint8_t> tags(raw.values_mm.size(), 1);
+  for (int k = 0; k < 5; ++k) {
+    raw.time_s = 0.1 * k;
+    pipeline.add(raw, pose_at(0.002 * k, 0.01 * k), tags);
+  }
+  std::size_t allocations = 0;
+  {
+    Counting counting;
+    for (int k = 5; k < 50; ++k) {
+      raw.time_s = 0.1 * k;
+      raw.values_mm[static_cast<std::size_t>(k)] = 0;  // the data change from scan to scan
+      pipeline.add(raw, pose_at(0.002 * k, 0.01 * k), tags);
+    }
+    allocations = counting.allocations();
+  }
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_EQ(pipeline.stats().integrated, 49u);
+}
+
+TEST(PipelineAllocation, StripeAndPointFramesAllocateNothing) {
+  STRIDEMAP_SKIP_UNLESS_COUNTING_ALLOCATIONS();
+  PipelineOptions sl_options;
+  sl_options.sensor = SensorKind::structured_light;
+  sl_options.mount = sl_options.structured_light.mount;
+  MappingPipeline stripes(sl_options);
+  StripeFrame frame;
+  for (int u = 0; u < sl_options.structured_light.image_width_px; ++u) frame.pixels.push_back({u + 0.5, 300.0});
+
+  PipelineOptions point_options;
+  point_options.sensor = SensorKind::points;
+  MappingPipeline points(point_options);
+  PointFrame cloud;
+  for (int i = 0; i < 200; ++i) {
+    cloud.points_m.emplace_back(0.3 + 0.002 * i, 0.001 * i, -0.25);
+    cloud.height_sigma_m.push_back(0.005);
+  }
+  const auto step = [&](int k) {
+    frame.time_s = cloud.time_s = 0.04 * k;
+    stripes.add(frame, pose_at(0.004 * k));
+    points.add(cloud, pose_at(0.004 * k));
+  };
+  for (int k = 0; k < 3; ++k) step(k);
+  std::size_t allocations = 0;
+  {
+    Counting counting;
+    for (int k = 3; k < 30; ++k) step(k);
+    allocations = counting.allocations();
+  }
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_GT(stripes.mapper().totals().integrated, 0u);
+  EXPECT_GT(points.mapper().totals().integrated, 0u);
+}
+
+}  // namespace
+}  // namespace stridemap

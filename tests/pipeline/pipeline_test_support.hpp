@@ -1,0 +1,35 @@
+#pragma once
+// Scans and poses the pipeline tests share.
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+
+#include "stridemap/core/pose.hpp"
+#include "stridemap/sensors/urg04lx.hpp"
+
+namespace stridemap::test {
+
+/// A URG-04LX raw scan of a flat floor seen from the default mount: each
+/// beam that points down gets the floor's range, the others error code 0.
+inline UrgRawScan floor_scan(double time_s, const UrgParameters& urg = {}, const SensorMount& mount = {}) {
+  UrgRawScan raw;
+  raw.time_s = time_s;
+  raw.first_step = urg.first_step;
+  for (int step = urg.first_step; step <= urg.last_step; ++step) {
+    const double down = std::cos(urg.step_angle_rad(step)) * std::sin(mount.pitch_rad);
+    const double range = down > 0.1 ? mount.height_m / down : 0.0;
+    raw.values_mm.push_back(range > urg.min_range_m && range < urg.max_range_m
+                                ? static_cast<std::uint32_t>(std::lround(range * 1000.0))
+                                : 0u);
+  }
+  return raw;
+}
+
+inline TrunkPose pose_at(double x_m, double yaw_rad = 0.0) {
+  TrunkPose p;
+  p.x_m = x_m;
+  p.yaw_rad = yaw_rad;
+  return p;
+}
+
+}  // namespace stridemap::test
