@@ -29,7 +29,7 @@ UrgScan make_scan(std::uint64_t k) {
   s.raw.first_step = 44;
   s.raw.cluster = 1;
   s.raw.time_s = s.host_time_s;
-  s.raw.values_mm.assign(682, 900);
+  s.raw.values_mm.assign(682, 450);  // the ground ahead of the default mount
   return s;
 }
 
