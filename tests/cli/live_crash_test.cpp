@@ -9,6 +9,7 @@
 #include <signal.h>
 
 #include <chrono>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -134,6 +135,7 @@ TEST(LiveCrash, KilledAtFiftyRandomMomentsLeavesCompleteOutputsAndLogsThatReplay
     scans_replayed += recorded.scans.size();
     fs::remove_all(replay_out);
   }
+  std::printf("[ crash    ] 50 kills: %zu left a set of their own, %zu scans replayed\n", sets_replaced, scans_replayed);
   // The killed runs did replace the set now and then (the rest were killed before or while saving).
   EXPECT_GT(sets_replaced, 0u) << "no killed run ever saved: the kills tested nothing but the first set";
   EXPECT_GT(scans_replayed, 50u);
