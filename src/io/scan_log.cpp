@@ -221,29 +221,27 @@ ScanLog parse_scan_log(std::string_view content, const std::string& source_name)
     if (log.skipped.size() < kMaxSkippedLinesListed) log.skipped.push_back(place);
     log.skipped_line_numbers.push_back(line);
   };
+  // Lines before the first damage, if the sensor block it interrupted closes well.
+  std::size_t lines_if_block_closes = 0;
   const auto stop_at = [&](std::size_t line, const std::string& what) {
     stopped = true;
-    const std::string place = path + ":" + std::to_string(line) + ": " + what;
+    std::string place = path + ":" + std::to_string(line) + ": " + what;
+    if (!log.damage.empty()) place += "; the first damage: " + log.damage;
     if (!parser.have_parameters()) throw InputError(place + " (before the sensor's parameters: nothing usable)");
     log.stop = place;
     if (log.damage.empty()) log.damage = place;
   };
-  // A line that cannot be used: inside a sensor block the block is lost, and
-  // reading stops; elsewhere only the line is.
+  // A line that cannot be used is skipped. Inside a sensor block the block
+  // stays open: if its lines still describe the sensor when it closes (the
+  // damaged line was a scan that came after it, or an empty line), all is
+  // well; if not, reading stops at the block.
   const auto damaged_line = [&](const std::string& what) {
-    if (parser.in_block()) {
-      // A block whose every line came before the damage is complete (its
-      // end is only known from the next record): a recorder killed while
-      // writing the first scan still leaves the sensor's parameters.
-      if (parser.close_block().empty()) {
-        if (log.damage.empty()) log.lines = number - 1;
-        note_damage(number, what);
-        return;
-      }
-      stop_at(parser.block_line(), "sensor block cut short by damage at " + path + ":" + std::to_string(number) + ": " + what);
-      return;
-    }
+    if (parser.in_block() && log.damage.empty()) lines_if_block_closes = number - 1;
     note_damage(number, what);
+  };
+  const auto block_closed = [&] {
+    if (lines_if_block_closes > 0) log.lines = lines_if_block_closes;
+    lines_if_block_closes = 0;
   };
   while (pos < content.size() && !stopped) {
     ++number;
@@ -288,6 +286,7 @@ ScanLog parse_scan_log(std::string_view content, const std::string& source_name)
         break;
       }
       if (log.damage.empty()) log.lines = number - 1;
+      block_closed();
     }
     if (kind == kMagic) {
       // `record --append` after a torn last line: the new part starts here.
@@ -306,6 +305,8 @@ ScanLog parse_scan_log(std::string_view content, const std::string& source_name)
       stop_at(parser.block_line(), "sensor block: " + problem);
     } else if (log.damage.empty()) {
       log.lines = number;
+    } else {
+      block_closed();
     }
   }
   if (!parser.have_parameters()) {

@@ -14,7 +14,10 @@
 #include <utility>
 #include <vector>
 
+#include "live/running_emulator.hpp"
+#include "live/test_folder.hpp"
 #include "stridemap/core/error.hpp"
+#include "stridemap/io/serial_port.hpp"
 #include "stridemap/live/live_mapping.hpp"
 
 namespace stridemap {
@@ -29,7 +32,7 @@ UrgScan make_scan(std::uint64_t k) {
   s.raw.first_step = 44;
   s.raw.cluster = 1;
   s.raw.time_s = s.host_time_s;
-  s.raw.values_mm.assign(682, 900);
+  s.raw.values_mm.assign(682, 450);  // the ground ahead of the default mount
   return s;
 }
 
@@ -272,6 +275,52 @@ TEST(LiveMapping, OptionsAreCheckedAndTheMapFilterIsSelectable) {
   EXPECT_EQ(count_filled(none), 0);
   EXPECT_GT(count_filled(fill), 0);
   EXPECT_GT(count_filled(cas), 0);
+}
+
+// The loop on a real driver reading the emulator through a pseudo-terminal:
+// the same scans and the same map as the simulation, the map saved through
+// the hook as the tool saves it.
+TEST(LiveMapping, RunsOnAUrgDriverReadingTheEmulator) {
+  test::TestFolder dir;
+  const test_emulator::Simulation sim;
+  EmulatorServerOptions server;
+  server.link_path = dir / "urg";
+  server.poses_path = dir / "poses.txt";
+  server.pose_clock = PoseClock::sensor;
+  test_emulator::RunningEmulator emulator(sim, server);
+  UrgDriver driver(io::SerialPort::opener(server.link_path));
+  UrgDriverEvent event;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (driver.next(event, 0.1) && event.kind == UrgDriverEvent::Kind::connected) break;
+  }
+  ASSERT_EQ(event.kind, UrgDriverEvent::Kind::connected) << event.message;
+  UrgDriverSource scans(driver);
+  PoseStreamSource poses(server.poses_path);
+  LiveMappingOptions options;
+  options.clock = LiveClock::sensor;
+  options.max_scans = 60;
+  options.save_every_s = 0.5;
+  options.pose_wait_s = 2.0;
+  std::size_t saves = 0;
+  LiveMappingHooks hooks;
+  MapRunInfo info;
+  info.command = "live";
+  hooks.save = [&](const ScanMapper& mapper, const LiveRunStats* run) {
+    ++saves;
+    write_map_outputs(mapper, scans.parameters(), info, run, dir / "out");
+  };
+  LiveMapping live(options, scans, poses, hooks);
+  std::atomic<bool> stop{false};
+  const LiveMappingResult result = live.run(stop);
+  EXPECT_TRUE(result.fatal.empty()) << result.fatal;
+  EXPECT_TRUE(result.last_save_error.empty()) << result.last_save_error;
+  EXPECT_EQ(live.mapper().stats().scans, 60u);
+  EXPECT_GE(live.mapper().stats().integrated, 59u);  // the first scan may precede the first pose line read
+  EXPECT_GT(io::map_coverage(filtered_map_layers(live.mapper(), MapFilter::fill)), 0.0);
+  EXPECT_GT(result.run.latency_samples, 50u);
+  EXPECT_GE(saves, 1u);
+  EXPECT_NE(dir.read("out/summary.json").find("\"latency_s\""), std::string::npos);
 }
 
 }  // namespace
