@@ -23,7 +23,8 @@ double wrap_angle(double a) { return std::remainder(a, 2.0 * std::numbers::pi); 
 
 bool pose_is_finite(const TrunkPose& p) {
   return std::isfinite(p.x_m) && std::isfinite(p.y_m) && std::isfinite(p.yaw_rad) && std::isfinite(p.pitch_rad) &&
-         std::isfinite(p.roll_rad) && std::isfinite(p.reference_elevation_m) && std::isfinite(p.height_change_m);
+         std::isfinite(p.roll_rad) && std::isfinite(p.reference_elevation_m) && std::isfinite(p.height_change_m) &&
+         (!p.z_m || std::isfinite(*p.z_m));
 }
 
 TerrainMapper::TerrainMapper(const MapperOptions& options, const SensorMount& mount)
@@ -48,7 +49,7 @@ TerrainMapper::TerrainMapper(const MapperOptions& options, const SensorMount& mo
     throw InputError("mapper options: window_ahead_m must be finite");
   }
   if (!std::isfinite(mount.height_m) || !std::isfinite(mount.pitch_rad) || !std::isfinite(mount.forward_offset_m) ||
-      !std::isfinite(mount.lateral_offset_m)) {
+      !std::isfinite(mount.lateral_offset_m) || !std::isfinite(mount.roll_rad) || !std::isfinite(mount.yaw_rad)) {
     throw InputError("sensor mount: every field must be finite");
   }
   if (std::abs(mount.pitch_rad) >= std::numbers::pi / 2) {
@@ -158,11 +159,11 @@ ScanStats TerrainMapper::integrate(const PlanarScan& scan, const TrunkPose& pose
   const Eigen::Vector3d left = rotation.col(1);     // ... and at t = 90 deg
   // The partial derivatives are linear in (cos t, sin t) with coefficients
   // fixed for the scan: evaluate beam_elevation_partials at t = 0 and 90 deg.
-  const ElevationPartials at_front = beam_elevation_partials(1.0, 0.0, pose.pitch_rad, pose.roll_rad, mount_.pitch_rad);
-  const ElevationPartials at_left =
-      beam_elevation_partials(1.0, std::numbers::pi / 2, pose.pitch_rad, pose.roll_rad, mount_.pitch_rad);
+  const ElevationPartials at_front = beam_elevation_partials(1.0, 0.0, pose.pitch_rad, pose.roll_rad, mount_);
+  const ElevationPartials at_left = beam_elevation_partials(1.0, std::numbers::pi / 2, pose.pitch_rad, pose.roll_rad, mount_);
+  const ElevationPartials lever = sensor_origin_elevation_partials(pose, mount_);  // zero without pose z
   const UpdateOptions& u = options_.update;
-  const double gamma = scan_plane_inclination_rad(pose.pitch_rad, pose.roll_rad, mount_.pitch_rad);
+  const double gamma = scan_plane_inclination_rad(pose.pitch_rad, pose.roll_rad, mount_);
   const double travel_term = std::abs(motion.horizontal_travel_m * std::tan(gamma));
   const double turn_offset = std::hypot(mount_.forward_offset_m, mount_.lateral_offset_m);
   // Fig. 10's travel is (distance + d_s) times a factor of the yaw change.
@@ -184,8 +185,8 @@ ScanStats TerrainMapper::integrate(const PlanarScan& scan, const TrunkPose& pose
     const Eigen::Vector3d offset = r * (ct * forward + st * left);
     ElevationPartials partials;
     partials.d_range = ct * at_front.d_range + st * at_left.d_range;
-    partials.d_pitch_m_per_rad = r * (ct * at_front.d_pitch_m_per_rad + st * at_left.d_pitch_m_per_rad);
-    partials.d_roll_m_per_rad = r * (ct * at_front.d_roll_m_per_rad + st * at_left.d_roll_m_per_rad);
+    partials.d_pitch_m_per_rad = lever.d_pitch_m_per_rad + r * (ct * at_front.d_pitch_m_per_rad + st * at_left.d_pitch_m_per_rad);
+    partials.d_roll_m_per_rad = lever.d_roll_m_per_rad + r * (ct * at_front.d_roll_m_per_rad + st * at_left.d_roll_m_per_rad);
     partials.d_alpha_m_per_rad = r * (ct * at_front.d_alpha_m_per_rad + st * at_left.d_alpha_m_per_rad);
     double dz_max = travel_term + elevation_error_bound_m(partials, dr, u);
     if (turn_term_per_m != 0.0) {

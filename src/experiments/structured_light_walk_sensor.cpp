@@ -65,7 +65,7 @@ ScanStats StructuredLightWalkSensor::measure(const TrunkPose& truth, const Trunk
     o.map_m = origin + rotation * camera_to_sensor_frame(partials.point);
     o.range_m = partials.point.norm();
     const StructuredLightElevationPartials dz =
-        structured_light_elevation_partials(partials, estimate.pitch_rad, estimate.roll_rad, mount.pitch_rad);
+        structured_light_elevation_partials(partials, estimate.pitch_rad, estimate.roll_rad, mount);
     o.height_uncertainty_m = structured_light_elevation_error_bound_m(dz, options_.parameters, update_);
     points_.push_back(o);
   }

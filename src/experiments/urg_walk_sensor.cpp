@@ -45,7 +45,7 @@ ScanStats UrgWalkSensor::integrate(const PlanarScan& scan, const TrunkPose& esti
     p.range_m = r;
     p.map_m = origin + r * (std::cos(t) * rotation.col(0) + std::sin(t) * rotation.col(1));
     const ElevationPartials partials =
-        beam_elevation_partials(r, t, estimate.pitch_rad, estimate.roll_rad, options_.mount.pitch_rad);
+        beam_elevation_partials(r, t, estimate.pitch_rad, estimate.roll_rad, options_.mount);
     p.height_uncertainty_m = elevation_error_bound_m(partials, scan.range_error_m[i], update_);
     points_.push_back(p);
   }
