@@ -45,12 +45,6 @@ std::string lux_name(double lux) {
   return text;
 }
 
-StripePipeline parse_pipeline(const std::string& name) {
-  if (name == "image") return StripePipeline::image;
-  if (name == "geometric") return StripePipeline::geometric;
-  throw InputError("--pipeline: '" + name + "' is not a pipeline; use image (render, detect, map) or geometric");
-}
-
 // Structured light: Ragno's sensor unless --sensor-config names another;
 // 5 mm cells and the CAS filter by default (paper section 5.2, 5.3).
 void apply_structured_light_args(const CartRailArgs& args, CartRailOptions& options) {
@@ -63,7 +57,7 @@ void apply_structured_light_args(const CartRailArgs& args, CartRailOptions& opti
     }
     options.structured_light.parameters = config.parameters;
   }
-  options.structured_light.pipeline = parse_pipeline(args.pipeline);
+  options.structured_light.pipeline = parse_option<StripePipeline>("--pipeline", args.pipeline);
   options.structured_light.image.ambient.illuminance_lux = args.lux;
   if (!args.cell_size_given) options.cell_size_m = 0.005;
   if (!args.map_filter_given) options.map_filter = MapFilter::cas;
@@ -73,10 +67,9 @@ void apply_structured_light_args(const CartRailArgs& args, CartRailOptions& opti
 }
 
 void run_cart_rail_command(const CartRailArgs& args) {
-  if (args.sensor != "urg" && args.sensor != "structured-light") {
-    throw InputError("--sensor: '" + args.sensor + "' is not available for cart-rail; supported: urg, structured-light");
-  }
-  if (args.sensor == "urg" && (!args.sensor_config_path.empty() || args.pipeline != "image" || args.lux != 300.0)) {
+  const SensorKind sensor = parse_option<SensorKind>("--sensor", args.sensor);
+  if (sensor == SensorKind::urg &&
+      (!args.sensor_config_path.empty() || args.pipeline != name(StripePipeline::image) || args.lux != 300.0)) {
     throw InputError("--sensor-config, --pipeline and --lux apply to --sensor structured-light only");
   }
   const Scene scene = load_scene_yaml(args.scene_path);
@@ -100,14 +93,14 @@ void run_cart_rail_command(const CartRailArgs& args) {
   options.map_filter = parse_map_filter(args.map_filter);
   // With mixed pixels the paper pre-processes every scan (section 5.3).
   options.filters = parse_scan_filter_list(args.filters_given || !options.mixed_pixels ? args.filters : "paper");
-  std::string name = args.sensor;
-  if (args.sensor == "structured-light") {
+  std::string run_name(name(sensor));
+  if (sensor == SensorKind::structured_light) {
     apply_structured_light_args(args, options);
-    if (options.structured_light.pipeline == StripePipeline::geometric) name += "-geometric";
+    if (options.structured_light.pipeline == StripePipeline::geometric) run_name += "-geometric";
   }
   const CartRailResult result = run_cart_rail(scene, options);
-  const CartRailRunInfo info{name, args.scene_path};
-  const std::string dir = (std::filesystem::path(args.out_dir) / ("cart-rail-" + name)).string();
+  const CartRailRunInfo info{run_name, args.scene_path};
+  const std::string dir = (std::filesystem::path(args.out_dir) / ("cart-rail-" + run_name)).string();
   write_cart_rail_outputs(result, options, info, dir);
   std::fputs(cart_rail_table(result, info).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());

@@ -120,12 +120,10 @@ class MapperConfigReader : public StrictYamlReader {
     u.use_turning_term = boolean(f, node, p, "use_turning_term", u.use_turning_term);
     if (find(f, "elevation_rule")) {
       const std::string rule = text(f, node, p, "elevation_rule");
-      if (rule == "paper") {
-        u.elevation_rule = ElevationRule::paper_highest;
-      } else if (rule == "gated") {
-        u.elevation_rule = ElevationRule::gated_highest;
-      } else {
-        fail_at(join(p, "elevation_rule"), "expected paper or gated, got \"" + rule + "\"");
+      try {
+        u.elevation_rule = parse_enum_name<ElevationRule>(rule);
+      } catch (const InputError& e) {
+        fail_at(join(p, "elevation_rule"), e.what());
       }
     }
     u.replace_after_contradictions =

@@ -55,7 +55,7 @@ TEST(MapperConfig, ErrorsNameFileLineAndField) {
   EXPECT_NE(error_of("mount:\n  heigth_m: 0.2\n").find("robot.yaml:2: mount.heigth_m: unknown field"), std::string::npos);
   EXPECT_NE(error_of("mount:\n  pitch_deg: 95\n").find("robot.yaml:2: mount.pitch_deg: expected a pitch strictly"),
             std::string::npos);
-  EXPECT_NE(error_of("update:\n  elevation_rule: newest\n").find("robot.yaml:2: update.elevation_rule: expected paper or gated"),
+  EXPECT_NE(error_of("update:\n  elevation_rule: newest\n").find("robot.yaml:2: update.elevation_rule: 'newest' is not an elevation rule; expected one of: paper, gated"),
             std::string::npos);
   EXPECT_NE(error_of("range_calibration: {}\n").find("range_calibration.coefficients: required field is missing"),
             std::string::npos);
