@@ -1,5 +1,6 @@
 // Map update and fill-in throughput on one core (docs/performance.md).
 #include <cmath>
+#include <optional>
 #include <random>
 
 #include <benchmark/benchmark.h>
@@ -26,8 +27,7 @@ PlanarScan urg_like_scan(const SensorMount& mount) {
   return scan;
 }
 
-void BM_IntegrateScan(benchmark::State& state) {
-  SensorMount mount;
+void integrate_scans(benchmark::State& state, const SensorMount& mount, std::optional<double> trunk_z_m) {
   MapperOptions options;
   options.window_ahead_m = 0.3;
   TerrainMapper mapper(options, mount);
@@ -35,6 +35,7 @@ void BM_IntegrateScan(benchmark::State& state) {
   std::mt19937_64 rng(1);
   std::normal_distribution<double> tilt(0.0, 0.02);
   TrunkPose pose;
+  pose.z_m = trunk_z_m;
   std::size_t valid = 0;
   for (double r : scan.range_m) valid += std::isfinite(r) ? 1 : 0;
   for (auto _ : state) {
@@ -49,7 +50,20 @@ void BM_IntegrateScan(benchmark::State& state) {
       benchmark::Counter(static_cast<double>(valid * state.iterations()), benchmark::Counter::kIsRate);
   state.counters["scans_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
+
+void BM_IntegrateScan(benchmark::State& state) { integrate_scans(state, SensorMount{}, std::nullopt); }
 BENCHMARK(BM_IntegrateScan);
+
+// The full mount (roll and yaw) and a pose with z: the composed rotation and
+// the lever-arm partials, once per scan; the per-point work is the same.
+void BM_IntegrateScanFullMount(benchmark::State& state) {
+  SensorMount mount;
+  mount.roll_rad = 0.087;
+  mount.yaw_rad = 0.17;
+  mount.forward_offset_m = 0.1;
+  integrate_scans(state, mount, 0.05);
+}
+BENCHMARK(BM_IntegrateScanFullMount);
 
 void BM_IntegratePoints(benchmark::State& state) {
   MapperOptions options;

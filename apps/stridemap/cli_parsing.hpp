@@ -34,10 +34,19 @@ inline MapFilter parse_map_filter(const std::string& name) {
   }
 }
 
+/// An option's word as its enum (the enum's own name table), the option
+/// named in front of the error.
+template <typename Enum>
+Enum parse_option(const std::string& option, const std::string& word) {
+  try {
+    return parse_enum_name<Enum>(word);
+  } catch (const InputError& e) {
+    throw InputError(option + ": " + e.what());
+  }
+}
+
 inline ElevationRule parse_elevation_rule(const std::string& name) {
-  if (name == "paper") return ElevationRule::paper_highest;
-  if (name == "gated") return ElevationRule::gated_highest;
-  throw InputError("--elevation-rule: '" + name + "' is not a rule; use paper (eq. 10) or gated");
+  return parse_option<ElevationRule>("--elevation-rule", name);
 }
 
 // Checks of numeric option values, run on the text before CLI11 converts it.

@@ -46,12 +46,6 @@ std::string lux_name(double lux) {
   return text;
 }
 
-StripePipeline parse_pipeline(const std::string& name) {
-  if (name == "image") return StripePipeline::image;
-  if (name == "geometric") return StripePipeline::geometric;
-  throw InputError("--pipeline: '" + name + "' is not a pipeline; use image (render, detect, map) or geometric");
-}
-
 // Structured light: Ragno's sensor unless --sensor-config names another;
 // 5 mm cells and the CAS filter by default (paper section 5.2, 5.3).
 void apply_structured_light_args(const CartRailArgs& args, CartRailOptions& options) {
@@ -64,7 +58,7 @@ void apply_structured_light_args(const CartRailArgs& args, CartRailOptions& opti
     }
     options.structured_light.parameters = config.parameters;
   }
-  options.structured_light.pipeline = parse_pipeline(args.pipeline);
+  options.structured_light.pipeline = parse_option<StripePipeline>("--pipeline", args.pipeline);
   options.structured_light.image.ambient.illuminance_lux = args.lux;
   if (!args.cell_size_given) options.cell_size_m = 0.005;
   if (!args.map_filter_given) options.map_filter = MapFilter::cas;
@@ -74,10 +68,9 @@ void apply_structured_light_args(const CartRailArgs& args, CartRailOptions& opti
 }
 
 void run_cart_rail_command(const CartRailArgs& args) {
-  if (args.sensor != "urg" && args.sensor != "structured-light") {
-    throw InputError("--sensor: '" + args.sensor + "' is not available for cart-rail; supported: urg, structured-light");
-  }
-  if (args.sensor == "urg" && (!args.sensor_config_path.empty() || args.pipeline != "image" || args.lux != 300.0)) {
+  const SensorKind sensor = parse_option<SensorKind>("--sensor", args.sensor);
+  if (sensor == SensorKind::urg &&
+      (!args.sensor_config_path.empty() || args.pipeline != name(StripePipeline::image) || args.lux != 300.0)) {
     throw InputError("--sensor-config, --pipeline and --lux apply to --sensor structured-light only");
   }
   const Scene scene = load_scene_yaml(args.scene_path);
@@ -104,17 +97,17 @@ void run_cart_rail_command(const CartRailArgs& args) {
   options.map_filter = parse_map_filter(args.map_filter);
   // With mixed pixels the paper pre-processes every scan (section 5.3).
   options.filters = parse_scan_filter_list(args.filters_given || !options.mixed_pixels ? args.filters : "paper");
-  std::string name = args.sensor;
-  if (args.sensor == "structured-light") {
+  std::string run_name(name(sensor));
+  if (sensor == SensorKind::structured_light) {
     apply_structured_light_args(args, options);
-    if (options.structured_light.pipeline == StripePipeline::geometric) name += "-geometric";
+    if (options.structured_light.pipeline == StripePipeline::geometric) run_name += "-geometric";
   }
   const std::string cell_setting = args.cell_size_given || args.config_path.empty()
                                        ? "--cell-size-m " + number_text(options.cell_size_m)
                                        : args.config_path + ": map.cell_size_m " + number_text(options.cell_size_m);
   const CartRailResult result = naming_grid_setting(cell_setting, [&] { return run_cart_rail(scene, options); });
-  const CartRailRunInfo info{name, args.scene_path};
-  const std::string dir = (std::filesystem::path(args.out_dir) / ("cart-rail-" + name)).string();
+  const CartRailRunInfo info{run_name, args.scene_path};
+  const std::string dir = (std::filesystem::path(args.out_dir) / ("cart-rail-" + run_name)).string();
   refuse_output_that_is_an_input("--out", dir, {{"--scene", args.scene_path}, {"--config", args.config_path}});
   write_output_set(dir, "--out", [&](const std::string& folder) { write_cart_rail_outputs(result, options, info, folder); });
   std::fputs(cart_rail_table(result, info).c_str(), stdout);

@@ -49,8 +49,8 @@ std::vector<double> parse_grid(const std::string& option, const std::string& tex
 }
 
 void run_mount_analysis_command(const MountAnalysisArgs& args) {
-  const SensorChoice sensor = parse_sensor_choice(args.sensor);
-  const bool urg = sensor == SensorChoice::urg;
+  const SensorKind sensor = parse_option<SensorKind>("--sensor", args.sensor);
+  const bool urg = sensor == SensorKind::urg;
   MountAnalysisOptions options;
   options.seed = args.seed;
   options.fields = args.fields;
@@ -70,7 +70,7 @@ void run_mount_analysis_command(const MountAnalysisArgs& args) {
   options.validate();
 
   MountAnalysisResult result;
-  if (sensor == SensorChoice::urg) {
+  if (sensor == SensorKind::urg) {
     const UrgWalkSensorOptions base;
     const MountSensorFactory factory = [base, seed = args.seed](const Scene& scene, const NamedMount& mount,
                                                                  const UpdateOptions& update) -> std::unique_ptr<WalkSensor> {
@@ -94,13 +94,9 @@ void run_mount_analysis_command(const MountAnalysisArgs& args) {
 
 }  // namespace
 
-WalkSensorFactory structured_light_walk_sensor_factory(std::uint64_t seed, const std::string& pipeline) {
+WalkSensorFactory structured_light_walk_sensor_factory(std::uint64_t seed, StripePipeline pipeline) {
   StructuredLightWalkSensorOptions base;
-  if (pipeline == "image") {
-    base.pipeline = StripePipeline::image;
-  } else if (pipeline != "geometric") {
-    throw InputError("--pipeline: '" + pipeline + "' is not a pipeline; use geometric or image");
-  }
+  base.pipeline = pipeline;
   return [base, seed](const Scene& scene, const UpdateOptions& update) -> std::unique_ptr<WalkSensor> {
     return std::make_unique<StructuredLightWalkSensor>(scene, base, update, seed);
   };

@@ -12,16 +12,10 @@
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/mount_analysis.hpp"
 #include "stridemap/experiments/rocky_walk.hpp"
+#include "cli_parsing.hpp"
 
 namespace stridemap::cli {
 
-enum class SensorChoice { urg, structured_light };
-
-inline SensorChoice parse_sensor_choice(const std::string& name) {
-  if (name == "urg") return SensorChoice::urg;
-  if (name == "structured-light") return SensorChoice::structured_light;
-  throw InputError("--sensor: '" + name + "' is not a sensor; use urg or structured-light");
-}
 
 inline double checked_non_negative(const std::string& option, double value) {
   if (!(std::isfinite(value) && value >= 0.0)) {
@@ -53,8 +47,7 @@ inline std::vector<double> parse_number_list(const std::string& option, const st
 }
 
 /// The structured-light sensor for the walk experiments.
-/// `pipeline`: "geometric" or "image" (InputError otherwise).
-WalkSensorFactory structured_light_walk_sensor_factory(std::uint64_t seed, const std::string& pipeline);
+WalkSensorFactory structured_light_walk_sensor_factory(std::uint64_t seed, StripePipeline pipeline);
 MountSensorFactory structured_light_mount_sensor_factory(std::uint64_t seed);
 
 void register_mount_analysis(CLI::App* experiment);

@@ -43,11 +43,12 @@ struct RockyWalkArgs {
 
 void run_rocky_walk_command(const RockyWalkArgs& args) {
   // Everything the user typed is checked before the scene is even read.
-  const SensorChoice sensor = parse_sensor_choice(args.sensor);
+  const SensorKind sensor = parse_option<SensorKind>("--sensor", args.sensor);
+  const StripePipeline pipeline = parse_option<StripePipeline>("--pipeline", args.pipeline);
   RockyWalkOptions options;
   options.walk.seed = args.seed;
   options.pose_error_scales = parse_number_list("--sweep", args.sweep);
-  options.walk.pose_errors.reference = parse_reference_source("--reference", args.reference);
+  options.walk.pose_errors.reference = parse_option<ReferenceElevationSource>("--reference", args.reference);
   constexpr double deg = std::numbers::pi / 180.0;
   if (args.imu_pitch_bias_deg) options.walk.pose_errors.imu_pitch_bias_rad = *args.imu_pitch_bias_deg * deg;
   if (args.imu_roll_bias_deg) options.walk.pose_errors.imu_roll_bias_rad = *args.imu_roll_bias_deg * deg;
@@ -55,7 +56,7 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   // The paper's settings per sensor (sections 5.1, 5.3): the URG with 10 mm
   // cells and the fill-in, structured light with 5 mm cells and the CAS
   // filter; 200 cells keep the stripe, 0.2-0.3 m ahead, inside the window.
-  const bool urg = sensor == SensorChoice::urg;
+  const bool urg = sensor == SensorKind::urg;
   options.walk.map_filter = parse_map_filter(args.map_filter.value_or(urg ? "fill" : "cas"));
   options.walk.mapper.update.elevation_rule = parse_elevation_rule(args.elevation_rule);
   options.walk.mapper.grid = {args.cells_per_side.value_or(urg ? 100 : 200), args.cell_size_m.value_or(urg ? 0.01 : 0.005)};
@@ -90,7 +91,7 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
       return std::make_unique<UrgWalkSensor>(s, urg_options, update, seed);
     };
   } else {
-    factory = structured_light_walk_sensor_factory(args.seed, args.pipeline);
+    factory = structured_light_walk_sensor_factory(args.seed, pipeline);
   }
   const std::vector<NamedPath> inputs{{"--scene", args.scene_path}, {"--path", args.path_file}};
   const std::string early_dir = (std::filesystem::path(args.out_dir) / ("rocky-walk-" + args.sensor)).string();

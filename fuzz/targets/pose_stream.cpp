@@ -25,14 +25,15 @@ const std::string kName = "fuzz.poses";
 
 bool finite_pose(const TrunkPose& p) {
   return std::isfinite(p.x_m) && std::isfinite(p.y_m) && std::isfinite(p.yaw_rad) && std::isfinite(p.pitch_rad) &&
-         std::isfinite(p.roll_rad) && std::isfinite(p.reference_elevation_m) && std::isfinite(p.height_change_m);
+         std::isfinite(p.roll_rad) && std::isfinite(p.reference_elevation_m) && std::isfinite(p.height_change_m) &&
+         (!p.z_m || std::isfinite(*p.z_m));
 }
 
 bool same_pose(const TimedPose& a, const TimedPose& b) {
   return a.time_s == b.time_s && a.pose.x_m == b.pose.x_m && a.pose.y_m == b.pose.y_m &&
          a.pose.yaw_rad == b.pose.yaw_rad && a.pose.pitch_rad == b.pose.pitch_rad &&
          a.pose.roll_rad == b.pose.roll_rad && a.pose.reference_elevation_m == b.pose.reference_elevation_m &&
-         a.pose.height_change_m == b.pose.height_change_m;
+         a.pose.height_change_m == b.pose.height_change_m && a.pose.z_m == b.pose.z_m;
 }
 
 struct Result {

@@ -47,6 +47,8 @@ TrunkPose interpolate_pose(const TrunkPose& from, const TrunkPose& to, double a)
   p.roll_rad = lerp(from.roll_rad, to.roll_rad, a);
   p.reference_elevation_m = lerp(from.reference_elevation_m, to.reference_elevation_m, a);
   p.height_change_m = lerp(from.height_change_m, to.height_change_m, a);
+  // A z known at only one end is not known in between.
+  if (from.z_m && to.z_m) p.z_m = lerp(*from.z_m, *to.z_m, a);
   return p;
 }
 
@@ -60,6 +62,14 @@ void PoseTrack::append(const TimedPose& p) {
                            p.pose.reference_elevation_m, p.pose.height_change_m};
   for (const double f : fields) {
     if (!std::isfinite(f)) throw InputError("pose fields must be finite numbers");
+  }
+  if (p.pose.z_m && !std::isfinite(*p.pose.z_m)) throw InputError("pose fields must be finite numbers");
+  if (!poses_.empty() && poses_.back().pose.z_m.has_value() != p.pose.z_m.has_value()) {
+    // Between such poses the sensor height would jump from h_ref + d_z to
+    // the estimator's z: a broken source, not a pose to interpolate.
+    throw InputError(std::string("pose at ") + shortest(p.time_s) + " s " + (p.pose.z_m ? "has" : "has no") +
+                     " z but the previous pose " + (p.pose.z_m ? "has none" : "has one") +
+                     " (a track gives z for every pose or for none)");
   }
   if (!poses_.empty() && !(p.time_s > poses_.back().time_s)) {
     throw InputError("pose time " + shortest(p.time_s) + " s is not later than the previous pose's " +

@@ -5,20 +5,56 @@
 #include <Eigen/Geometry>
 
 namespace stridemap {
+namespace {
+
+Eigen::Matrix3d about_x(double angle_rad) {
+  return Eigen::AngleAxisd(angle_rad, Eigen::Vector3d::UnitX()).toRotationMatrix();
+}
+Eigen::Matrix3d about_y(double angle_rad) {
+  return Eigen::AngleAxisd(angle_rad, Eigen::Vector3d::UnitY()).toRotationMatrix();
+}
+Eigen::Matrix3d about_z(double angle_rad) {
+  return Eigen::AngleAxisd(angle_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+}
+
+// d/da of a rotation R(a) = exp(a [u]x) is R(a) [u]x; these are the [u]x.
+Eigen::Matrix3d generator_x() {
+  Eigen::Matrix3d g;
+  g << 0, 0, 0, 0, 0, -1, 0, 1, 0;
+  return g;
+}
+Eigen::Matrix3d generator_y() {
+  Eigen::Matrix3d g;
+  g << 0, 0, 1, 0, 0, 0, -1, 0, 0;
+  return g;
+}
+
+bool is_paper_mount(const SensorMount& mount) { return mount.roll_rad == 0.0 && mount.yaw_rad == 0.0; }
+
+}  // namespace
+
+Eigen::Matrix3d mount_rotation(const SensorMount& mount) {
+  return about_z(mount.yaw_rad) * about_y(mount.pitch_rad) * about_x(mount.roll_rad);
+}
 
 Eigen::Matrix3d tilt_rotation(double pitch_rad, double roll_rad, double alpha_rad) {
-  const Eigen::Matrix3d pitch = Eigen::AngleAxisd(pitch_rad, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  const Eigen::Matrix3d roll = Eigen::AngleAxisd(roll_rad, Eigen::Vector3d::UnitX()).toRotationMatrix();
-  const Eigen::Matrix3d alpha = Eigen::AngleAxisd(alpha_rad, Eigen::Vector3d::UnitY()).toRotationMatrix();
-  return pitch * roll * alpha;
+  return about_y(pitch_rad) * about_x(roll_rad) * about_y(alpha_rad);
+}
+
+Eigen::Matrix3d tilt_rotation(double pitch_rad, double roll_rad, const SensorMount& mount) {
+  return about_y(pitch_rad) * about_x(roll_rad) * mount_rotation(mount);
 }
 
 Eigen::Matrix3d sensor_to_map_rotation(const TrunkPose& pose, const SensorMount& mount) {
-  const Eigen::Matrix3d yaw = Eigen::AngleAxisd(pose.yaw_rad, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  return yaw * tilt_rotation(pose.pitch_rad, pose.roll_rad, mount.pitch_rad);
+  return about_z(pose.yaw_rad) * tilt_rotation(pose.pitch_rad, pose.roll_rad, mount);
 }
 
 Eigen::Vector3d sensor_origin_in_map(const TrunkPose& pose, const SensorMount& mount) {
+  if (pose.z_m) {
+    const Eigen::Vector3d lever(mount.forward_offset_m, mount.lateral_offset_m, mount.height_m);
+    const Eigen::Matrix3d trunk = about_z(pose.yaw_rad) * about_y(pose.pitch_rad) * about_x(pose.roll_rad);
+    return Eigen::Vector3d(pose.x_m, pose.y_m, *pose.z_m) + trunk * lever;
+  }
   // The mount offset turns with the heading only: the paper measures the
   // sensor height d_z from leg kinematics, which already contains the effect
   // of trunk pitch and roll on the sensor's height.
@@ -42,6 +78,11 @@ double scan_plane_inclination_rad(double pitch_rad, double roll_rad, double alph
   return std::atan2(t(0, 2), t(2, 2));
 }
 
+double scan_plane_inclination_rad(double pitch_rad, double roll_rad, const SensorMount& mount) {
+  const Eigen::Matrix3d t = tilt_rotation(pitch_rad, roll_rad, mount);
+  return std::atan2(t(0, 2), t(2, 2));
+}
+
 ElevationPartials beam_elevation_partials(double range_m, double beam_angle_rad, double pitch_rad,
                                           double roll_rad, double alpha_rad) {
   // Third row of T = Ry(pitch) Rx(roll) Ry(alpha), multiplied out by hand:
@@ -58,6 +99,62 @@ ElevationPartials beam_elevation_partials(double range_m, double beam_angle_rad,
   out.d_pitch_m_per_rad = range_m * (ct * (-cp * ca + sp * cr * sa) - st * sp * sr);
   out.d_roll_m_per_rad = range_m * (ct * cp * sr * sa + st * cp * cr);
   out.d_alpha_m_per_rad = range_m * ct * (sp * sa - cp * cr * ca);
+  return out;
+}
+
+ElevationRows elevation_rows(double pitch_rad, double roll_rad, const SensorMount& mount) {
+  ElevationRows out;
+  if (is_paper_mount(mount)) {
+    // T = Ry(pitch) Rx(roll) Ry(alpha) multiplied out by hand, as the
+    // structured-light mapping has always computed it (bit for bit).
+    const double sp = std::sin(pitch_rad), cp = std::cos(pitch_rad);
+    const double sr = std::sin(roll_rad), cr = std::cos(roll_rad);
+    const double sa = std::sin(mount.pitch_rad), ca = std::cos(mount.pitch_rad);
+    out.row = {-sp * ca - cp * cr * sa, cp * sr, -sp * sa + cp * cr * ca};
+    out.d_pitch = {-cp * ca + sp * cr * sa, -sp * sr, -cp * sa - sp * cr * ca};
+    out.d_roll = {cp * sr * sa, cp * cr, -cp * sr * ca};
+    out.d_alpha = {sp * sa - cp * cr * ca, 0.0, -sp * ca - cp * cr * sa};
+    return out;
+  }
+  // T = Ry(p) Rx(r) Rz(yaw_m) Ry(alpha) Rx(roll_m); each angle's derivative
+  // puts its generator right after its own rotation.
+  const Eigen::Matrix3d pitch = about_y(pitch_rad), roll = about_x(roll_rad);
+  const Eigen::Matrix3d yaw_m = about_z(mount.yaw_rad), alpha = about_y(mount.pitch_rad);
+  const Eigen::Matrix3d roll_m = about_x(mount.roll_rad);
+  const Eigen::Matrix3d m = yaw_m * alpha * roll_m;
+  const Eigen::RowVector3d up = Eigen::RowVector3d::UnitZ();
+  out.row = up * pitch * roll * m;
+  out.d_pitch = up * pitch * generator_y() * roll * m;
+  out.d_roll = up * pitch * roll * generator_x() * m;
+  out.d_alpha = up * pitch * roll * yaw_m * alpha * generator_y() * roll_m;
+  return out;
+}
+
+ElevationPartials beam_elevation_partials(double range_m, double beam_angle_rad, double pitch_rad,
+                                          double roll_rad, const SensorMount& mount) {
+  // The paper's mount keeps the hand-multiplied form, so that maps built
+  // with it do not move by a last bit.
+  if (is_paper_mount(mount)) return beam_elevation_partials(range_m, beam_angle_rad, pitch_rad, roll_rad, mount.pitch_rad);
+  // Everything is linear in the range: work on the unit beam and scale.
+  const ElevationRows rows = elevation_rows(pitch_rad, roll_rad, mount);
+  const Eigen::Vector3d beam(std::cos(beam_angle_rad), std::sin(beam_angle_rad), 0.0);
+  ElevationPartials out;
+  out.d_range = (rows.row * beam).value();
+  out.z_m = range_m * out.d_range;
+  out.d_pitch_m_per_rad = range_m * (rows.d_pitch * beam).value();
+  out.d_roll_m_per_rad = range_m * (rows.d_roll * beam).value();
+  out.d_alpha_m_per_rad = range_m * (rows.d_alpha * beam).value();
+  return out;
+}
+
+ElevationPartials sensor_origin_elevation_partials(const TrunkPose& pose, const SensorMount& mount) {
+  ElevationPartials out;
+  if (!pose.z_m) return out;
+  const Eigen::Vector3d lever(mount.forward_offset_m, mount.lateral_offset_m, mount.height_m);
+  const Eigen::Matrix3d pitch = about_y(pose.pitch_rad), roll = about_x(pose.roll_rad);
+  out.z_m = (pitch * (roll * lever)).z();
+  out.d_pitch_m_per_rad = (pitch * (generator_y() * (roll * lever))).z();
+  out.d_roll_m_per_rad = (pitch * (roll * (generator_x() * lever))).z();
   return out;
 }
 

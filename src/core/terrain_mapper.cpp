@@ -52,7 +52,8 @@ MapperTotals& MapperTotals::operator+=(const MapperTotals& o) {
 
 bool pose_is_finite(const TrunkPose& p) {
   return std::isfinite(p.x_m) && std::isfinite(p.y_m) && std::isfinite(p.yaw_rad) && std::isfinite(p.pitch_rad) &&
-         std::isfinite(p.roll_rad) && std::isfinite(p.reference_elevation_m) && std::isfinite(p.height_change_m);
+         std::isfinite(p.roll_rad) && std::isfinite(p.reference_elevation_m) && std::isfinite(p.height_change_m) &&
+         (!p.z_m || std::isfinite(*p.z_m));
 }
 
 TerrainMapper::TerrainMapper(const MapperOptions& options, const SensorMount& mount)
@@ -77,7 +78,7 @@ TerrainMapper::TerrainMapper(const MapperOptions& options, const SensorMount& mo
     throw InputError("mapper options: window_ahead_m must be finite");
   }
   if (!std::isfinite(mount.height_m) || !std::isfinite(mount.pitch_rad) || !std::isfinite(mount.forward_offset_m) ||
-      !std::isfinite(mount.lateral_offset_m)) {
+      !std::isfinite(mount.lateral_offset_m) || !std::isfinite(mount.roll_rad) || !std::isfinite(mount.yaw_rad)) {
     throw InputError("sensor mount: every field must be finite");
   }
   if (std::abs(mount.pitch_rad) >= std::numbers::pi / 2) {

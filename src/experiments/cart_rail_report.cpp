@@ -45,7 +45,7 @@ json structured_light_json(const CartRailResult& r, const CartRailOptions& optio
   const StructuredLightRailOptions& sl = options.structured_light;
   const StructuredLightParameters& p = sl.parameters;
   const StripeTally& t = r.stripe;
-  json out = {{"pipeline", sl.pipeline == StripePipeline::image ? "image" : "geometric"},
+  json out = {{"pipeline", std::string(name(sl.pipeline))},
               {"ambient_lux", sl.image.ambient.illuminance_lux},
               {"baseline_m", p.baseline_m},
               {"sheet_angle_rad", p.sheet_angle_rad},
@@ -104,8 +104,7 @@ std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOption
         {"step_m", r.rail.step_m},
         {"scans", r.scans}}},
       {"mount", {{"height_m", mount.height_m}, {"pitch_rad", mount.pitch_rad}}},
-      {"elevation_rule",
-       options.update.elevation_rule == ElevationRule::paper_highest ? "paper" : "gated"},
+      {"elevation_rule", std::string(name(options.update.elevation_rule))},
       {"beams",
        {{"valid", r.sensor_totals.valid},
         {"error_codes", r.sensor_totals.error_codes},

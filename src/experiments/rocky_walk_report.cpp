@@ -123,7 +123,7 @@ std::string rocky_walk_summary_json(const RockyWalkResult& r, const RockyWalkOpt
     json entry = score_json(row.score, row.unknown_swept_cells);
     entry["label"] = row.label;
     entry["scale"] = row.scale;
-    entry["reference"] = reference_source_name(row.reference);
+    entry["reference"] = std::string(name(row.reference));
     entry["pose_rms"] = pose_json(row.pose);
     sweep.push_back(entry);
   }
@@ -148,13 +148,13 @@ std::string rocky_walk_summary_json(const RockyWalkResult& r, const RockyWalkOpt
         {"camera_position_noise_sigma_m", e.camera_position_noise_sigma_m},
         {"camera_yaw_noise_sigma_deg", e.camera_yaw_noise_sigma_rad * kDeg},
         {"leg_height_noise_sigma_m", e.leg_height_noise_sigma_m},
-        {"reference", reference_source_name(e.reference)}}},
+        {"reference", std::string(name(e.reference))}}},
       {"pose_rms", pose_json(w.pose_errors)},
       {"map", score_json(w.mosaic_score, w.unknown_swept_cells)},
       {"local_map", score_json(w.local_score, 0)},
       {"cell_size_m", w.local.cell_size_m},
       {"map_filter", std::string(map_filter_name(options.walk.map_filter))},
-      {"elevation_rule", options.walk.mapper.update.elevation_rule == ElevationRule::paper_highest ? "paper" : "gated"},
+      {"elevation_rule", std::string(name(options.walk.mapper.update.elevation_rule))},
       {"cells_per_side", w.local.elevation_m.rows()},
       {"beams",
        {{"integrated", w.mapper_totals.integrated},
@@ -196,7 +196,7 @@ std::string rocky_walk_table(const RockyWalkResult& r) {
   out += "                         [deg]      [mm]        [mm]      [mm]              [%]       obstacles\n";
   for (const PoseSweepRow& row : r.sweep) {
     std::snprintf(line, sizeof line, "%-12s %-8s %9.2f %11.1f %9.1f %7.1f %10zu %9.1f %10zu\n", row.label.c_str(),
-                  reference_source_name(row.reference), row.pose.pitch_rad * kDeg, row.pose.sensor_height_m * 1000,
+                  std::string(name(row.reference)).c_str(), row.pose.pitch_rad * kDeg, row.pose.sensor_height_m * 1000,
                   row.score.rms_error_m * 1000, row.score.max_error_m * 1000, row.score.artifact_cells,
                   row.score.coverage * 100, row.unknown_swept_cells);
     out += line;

@@ -53,14 +53,40 @@ class MapperConfigReader : public StrictYamlReader {
   static bool non_negative(double v) { return v >= 0.0; }
   static bool any(double) { return true; }
 
+  // A quantity that has an old key (the paper's names) and a new one (the
+  // rigid transform's names): giving both is an error, not a silent choice.
+  void reject_both(const Fields& f, const std::string& p, const char* old_key, const char* new_key) {
+    const Field* old_field = find(f, old_key);
+    const Field* new_field = find(f, new_key);
+    if (old_field && new_field) {
+      fail(new_field->key, join(p, new_key),
+           std::string("gives the same quantity as ") + old_key + " on line " + std::to_string(line_of(old_field->key)) +
+               "; keep one of them");
+    }
+  }
+
   void read_mount(const YAML::Node& node, SensorMount& m) {
     const std::string p = "mount";
-    const Fields f = read_map(node, p, {"height_m", "pitch_deg", "forward_offset_m", "lateral_offset_m"});
-    m.height_m = checked(f, node, p, "height_m", m.height_m, positive, "a height above the ground > 0 m");
+    const Fields f = read_map(node, p,
+                              {"height_m", "pitch_deg", "forward_offset_m", "lateral_offset_m", "x_m", "y_m", "z_m",
+                               "roll_deg", "yaw_deg"});
+    reject_both(f, p, "height_m", "z_m");
+    reject_both(f, p, "forward_offset_m", "x_m");
+    reject_both(f, p, "lateral_offset_m", "y_m");
+    // height_m is the paper's d_z, a height above the ground; z_m is the
+    // rigid transform's offset above the trunk reference point, which may
+    // lie below it (docs/config.md).
+    m.height_m = find(f, "z_m") ? checked(f, node, p, "z_m", m.height_m, any, "a finite number")
+                                : checked(f, node, p, "height_m", m.height_m, positive, "a height above the ground > 0 m");
     m.pitch_rad = kDeg * checked(f, node, p, "pitch_deg", m.pitch_rad / kDeg,
                                  [](double v) { return v > -90.0 && v < 90.0; }, "a pitch strictly between -90 and 90 deg");
-    m.forward_offset_m = checked(f, node, p, "forward_offset_m", m.forward_offset_m, any, "a finite number");
-    m.lateral_offset_m = checked(f, node, p, "lateral_offset_m", m.lateral_offset_m, any, "a finite number");
+    const char* forward = find(f, "x_m") ? "x_m" : "forward_offset_m";
+    const char* lateral = find(f, "y_m") ? "y_m" : "lateral_offset_m";
+    m.forward_offset_m = checked(f, node, p, forward, m.forward_offset_m, any, "a finite number");
+    m.lateral_offset_m = checked(f, node, p, lateral, m.lateral_offset_m, any, "a finite number");
+    const auto half_turn = [](double v) { return v >= -180.0 && v <= 180.0; };
+    m.roll_rad = kDeg * checked(f, node, p, "roll_deg", m.roll_rad / kDeg, half_turn, "a roll from -180 to 180 deg");
+    m.yaw_rad = kDeg * checked(f, node, p, "yaw_deg", m.yaw_rad / kDeg, half_turn, "a yaw from -180 to 180 deg");
   }
 
   void read_map_section(const YAML::Node& node, MapperOptions& o) {
@@ -96,12 +122,10 @@ class MapperConfigReader : public StrictYamlReader {
     u.use_turning_term = boolean(f, node, p, "use_turning_term", u.use_turning_term);
     if (find(f, "elevation_rule")) {
       const std::string rule = text(f, node, p, "elevation_rule");
-      if (rule == "paper") {
-        u.elevation_rule = ElevationRule::paper_highest;
-      } else if (rule == "gated") {
-        u.elevation_rule = ElevationRule::gated_highest;
-      } else {
-        fail_at(join(p, "elevation_rule"), "expected paper or gated, got \"" + rule + "\"");
+      try {
+        u.elevation_rule = parse_enum_name<ElevationRule>(rule);
+      } catch (const InputError& e) {
+        fail_at(join(p, "elevation_rule"), e.what());
       }
     }
     u.replace_after_contradictions =

@@ -20,7 +20,8 @@
 namespace stridemap::io {
 namespace {
 
-constexpr const char* kColumns = "time_s x_m y_m yaw_rad pitch_rad roll_rad [reference_elevation_m [height_change_m]]";
+constexpr const char* kColumns =
+    "time_s x_m y_m yaw_rad pitch_rad roll_rad [reference_elevation_m [height_change_m [z_m]]]";
 
 std::string located(const std::string& source, std::size_t line, const std::string& what) {
   return source + ":" + std::to_string(line) + ": " + what;
@@ -36,7 +37,7 @@ void append_number(double value, std::string& out) {
 
 bool parse_pose_line(std::string_view line, const std::string& source, std::size_t line_number, TimedPose& out) {
   if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
-  std::array<double, 8> values{};
+  std::array<double, 9> values{};
   std::size_t count = 0;
   std::size_t pos = 0;
   while (true) {
@@ -47,7 +48,7 @@ bool parse_pose_line(std::string_view line, const std::string& source, std::size
     while (end < line.size() && line[end] != ' ' && line[end] != '\t') ++end;
     const std::string_view field = line.substr(pos, end - pos);
     if (count == values.size()) {
-      throw InputError(located(source, line_number, "more than 8 fields; expected " + std::string(kColumns)));
+      throw InputError(located(source, line_number, "more than 9 fields; expected " + std::string(kColumns)));
     }
     double value = 0.0;
     const auto [stop, error] = std::from_chars(field.data(), field.data() + field.size(), value);
@@ -73,6 +74,7 @@ bool parse_pose_line(std::string_view line, const std::string& source, std::size
   out.pose.roll_rad = values[5];
   if (count > 6) out.pose.reference_elevation_m = values[6];
   if (count > 7) out.pose.height_change_m = values[7];
+  if (count > 8) out.pose.z_m = values[8];
   return true;
 }
 
@@ -80,9 +82,10 @@ std::string format_pose_line(const TimedPose& p) {
   std::string line;
   const double fields[] = {p.time_s,       p.pose.x_m,       p.pose.y_m,
                            p.pose.yaw_rad, p.pose.pitch_rad, p.pose.roll_rad,
-                           p.pose.reference_elevation_m, p.pose.height_change_m};
-  for (std::size_t i = 0; i < 8; ++i) {
-    if (i == 6 && fields[6] == 0.0 && fields[7] == 0.0) break;
+                           p.pose.reference_elevation_m, p.pose.height_change_m, p.pose.z_m.value_or(0.0)};
+  for (std::size_t i = 0; i < 9; ++i) {
+    if (i == 6 && fields[6] == 0.0 && fields[7] == 0.0 && !p.pose.z_m) break;
+    if (i == 8 && !p.pose.z_m) break;
     if (i) line += ' ';
     append_number(fields[i], line);
   }

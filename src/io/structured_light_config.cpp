@@ -128,7 +128,7 @@ StructuredLightConfig read_config(const YAML::Node& root, const std::string& sou
 
   if (top.has("mount")) {
     const Section mount(reader, root["mount"], "mount",
-                        {"pitch_deg", "height_m", "forward_offset_m", "lateral_offset_m"});
+                        {"pitch_deg", "height_m", "forward_offset_m", "lateral_offset_m", "roll_deg", "yaw_deg"});
     config.has_mount = true;
     p.mount.pitch_rad = mount.number("pitch_deg") * kDegToRadian;
     note("mount.pitch_rad", mount, "pitch_deg");
@@ -138,6 +138,10 @@ StructuredLightConfig read_config(const YAML::Node& root, const std::string& sou
     note("mount.forward_offset_m", mount, "forward_offset_m");
     p.mount.lateral_offset_m = mount.number("lateral_offset_m", 0.0);
     note("mount.lateral_offset_m", mount, "lateral_offset_m");
+    p.mount.roll_rad = mount.number("roll_deg", 0.0) * kDegToRadian;
+    note("mount.roll_rad", mount, "roll_deg");
+    p.mount.yaw_rad = mount.number("yaw_deg", 0.0) * kDegToRadian;
+    note("mount.yaw_rad", mount, "yaw_deg");
   }
 
   if (top.has("errors")) {

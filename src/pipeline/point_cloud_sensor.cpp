@@ -30,7 +30,7 @@ void PointCloudSensor::to_points(const TrunkPose& pose, const SensorMount& mount
   batch.clear();
   last_ = {};
   last_.points = points_.size();
-  batch.gamma_rad = scan_plane_inclination_rad(pose.pitch_rad, pose.roll_rad, mount.pitch_rad);
+  batch.gamma_rad = scan_plane_inclination_rad(pose.pitch_rad, pose.roll_rad, mount);
   const Eigen::Matrix3d rotation = sensor_to_map_rotation(pose, mount);
   // Tilting the trunk by a small angle moves a point's height by at most
   // its horizontal distance times that angle.

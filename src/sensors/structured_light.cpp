@@ -67,6 +67,12 @@ std::optional<Problem> StructuredLightParameters::first_problem() const {
       std::isfinite(mount.lateral_offset_m)
           ? std::nullopt
           : std::optional<Problem>(Problem{"mount.lateral_offset_m", "must be a finite number of metres"}),
+      std::isfinite(mount.roll_rad)
+          ? std::nullopt
+          : std::optional<Problem>(Problem{"mount.roll_rad", "must be a finite angle"}),
+      std::isfinite(mount.yaw_rad)
+          ? std::nullopt
+          : std::optional<Problem>(Problem{"mount.yaw_rad", "must be a finite angle"}),
       error_bound(baseline_error_m, 1.0, "m", "baseline_error_m"),
       error_bound(sheet_angle_error_rad, kRadToDeg, "deg", "sheet_angle_error_rad"),
       error_bound(half_fov_vertical_error_rad, kRadToDeg, "deg", "half_fov_vertical_error_rad"),

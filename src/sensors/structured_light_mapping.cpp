@@ -16,22 +16,6 @@ namespace {
 // elevation a map holds.
 constexpr double kUnboundedElevationChange_m = 1.0e6;
 
-// The third row of T = Ry(pitch) Rx(roll) Ry(alpha) and its derivatives,
-// multiplied out by hand (core/sensor_transform.cpp has the same row).
-struct ElevationRows {
-  Eigen::RowVector3d row, d_pitch, d_roll, d_alpha;
-
-  ElevationRows(double pitch_rad, double roll_rad, double alpha_rad) {
-    const double sp = std::sin(pitch_rad), cp = std::cos(pitch_rad);
-    const double sr = std::sin(roll_rad), cr = std::cos(roll_rad);
-    const double sa = std::sin(alpha_rad), ca = std::cos(alpha_rad);
-    row = {-sp * ca - cp * cr * sa, cp * sr, -sp * sa + cp * cr * ca};
-    d_pitch = {-cp * ca + sp * cr * sa, -sp * sr, -cp * sa - sp * cr * ca};
-    d_roll = {cp * sr * sa, cp * cr, -cp * sr * ca};
-    d_alpha = {sp * sa - cp * cr * ca, 0.0, -sp * ca - cp * cr * sa};
-  }
-};
-
 StructuredLightElevationPartials partials_from_rows(const CameraPointPartials& p, const ElevationRows& rows) {
   const Eigen::Vector3d s = camera_to_sensor_frame(p.point);
   StructuredLightElevationPartials out;
@@ -55,15 +39,29 @@ bool motion_is_finite(const ScanMotion& motion) {
 StructuredLightElevationPartials structured_light_elevation_partials(const CameraPointPartials& point,
                                                                      double pitch_rad, double roll_rad,
                                                                      double alpha_rad) {
-  return partials_from_rows(point, ElevationRows(pitch_rad, roll_rad, alpha_rad));
+  SensorMount mount;
+  mount.pitch_rad = alpha_rad;
+  return structured_light_elevation_partials(point, pitch_rad, roll_rad, mount);
+}
+
+StructuredLightElevationPartials structured_light_elevation_partials(const CameraPointPartials& point,
+                                                                     double pitch_rad, double roll_rad,
+                                                                     const SensorMount& mount) {
+  return partials_from_rows(point, elevation_rows(pitch_rad, roll_rad, mount));
 }
 
 double sheet_inclination_rad(double sheet_angle_rad, double pitch_rad, double roll_rad, double alpha_rad) {
+  SensorMount mount;
+  mount.pitch_rad = alpha_rad;
+  return sheet_inclination_rad(sheet_angle_rad, pitch_rad, roll_rad, mount);
+}
+
+double sheet_inclination_rad(double sheet_angle_rad, double pitch_rad, double roll_rad, const SensorMount& mount) {
   // The sheet y_c = z_c cot(beta) - b has the camera-frame normal
   // (0, sin beta, -cos beta), which is (cos beta, 0, sin beta) in the sensor
   // frame after flipping it to point up.
   const Eigen::Vector3d normal_in_sensor(std::cos(sheet_angle_rad), 0.0, std::sin(sheet_angle_rad));
-  const Eigen::Vector3d normal = tilt_rotation(pitch_rad, roll_rad, alpha_rad) * normal_in_sensor;
+  const Eigen::Vector3d normal = tilt_rotation(pitch_rad, roll_rad, mount) * normal_in_sensor;
   return std::atan2(normal.x(), normal.z());
 }
 
@@ -102,7 +100,8 @@ StripeConversionStats for_each_stripe_point(const StructuredLightModel& model, s
   }
   const StructuredLightParameters& parameters = model.parameters();
   const Eigen::Matrix3d rotation = sensor_to_map_rotation(pose, mount);
-  const ElevationRows rows(pose.pitch_rad, pose.roll_rad, mount.pitch_rad);
+  const ElevationRows rows = elevation_rows(pose.pitch_rad, pose.roll_rad, mount);
+  const ElevationPartials lever = sensor_origin_elevation_partials(pose, mount);  // zero without pose z
   CameraPointPartials camera;
   SensorPoint point;
   for (const StripePixel& pixel : pixels) {
@@ -113,8 +112,10 @@ StripeConversionStats for_each_stripe_point(const StructuredLightModel& model, s
       case StripePointStatus::no_intersection: ++stats.no_intersection; continue;
     }
     point.offset_m = rotation * camera_to_sensor_frame(camera.point);
-    point.height_error_m =
-        structured_light_elevation_error_bound_m(partials_from_rows(camera, rows), parameters, options);
+    StructuredLightElevationPartials partials = partials_from_rows(camera, rows);
+    partials.d_pitch_m_per_rad += lever.d_pitch_m_per_rad;
+    partials.d_roll_m_per_rad += lever.d_roll_m_per_rad;
+    point.height_error_m = structured_light_elevation_error_bound_m(partials, parameters, options);
     point.range_m = camera.point.norm();
     emit(point);
     ++stats.converted;
@@ -128,8 +129,7 @@ StripeConversionStats stripe_to_sensor_points(const StructuredLightModel& model,
                                               const TrunkPose& pose, const SensorMount& mount,
                                               const UpdateOptions& options, PointBatch& batch) {
   batch.clear();
-  batch.gamma_rad = sheet_inclination_rad(model.parameters().sheet_angle_rad, pose.pitch_rad, pose.roll_rad,
-                                          mount.pitch_rad);
+  batch.gamma_rad = sheet_inclination_rad(model.parameters().sheet_angle_rad, pose.pitch_rad, pose.roll_rad, mount);
   return for_each_stripe_point(model, pixels, pose, mount, options,
                                [&](const SensorPoint& p) { batch.points.push_back(p); });
 }
@@ -145,8 +145,7 @@ StripeConversionStats stripe_to_map_points(const StructuredLightModel& model, st
     stats.pose_rejected = true;
     return stats;
   }
-  const double gamma = sheet_inclination_rad(model.parameters().sheet_angle_rad, pose.pitch_rad, pose.roll_rad,
-                                             mount.pitch_rad);
+  const double gamma = sheet_inclination_rad(model.parameters().sheet_angle_rad, pose.pitch_rad, pose.roll_rad, mount);
   const MaxElevationChange bound(motion, gamma, mount, options);
   const Eigen::Vector3d origin = sensor_origin_in_map(pose, mount);
   return for_each_stripe_point(model, pixels, pose, mount, options, [&](const SensorPoint& p) {

@@ -37,7 +37,7 @@ SheetRowView row_view(const StructuredLightModel& model, double row_px, double d
 
 // A camera-frame point on the level trunk, relative to the camera.
 Eigen::Vector3d level_trunk_offset(const StructuredLightModel& model, const Eigen::Vector3d& camera_point) {
-  return tilt_rotation(0.0, 0.0, model.parameters().mount.pitch_rad) * camera_to_sensor_frame(camera_point);
+  return tilt_rotation(0.0, 0.0, model.parameters().mount) * camera_to_sensor_frame(camera_point);
 }
 
 MountedSheetEnd mounted_end(const StructuredLightModel& model, const SheetRowView& view) {

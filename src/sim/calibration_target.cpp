@@ -31,9 +31,10 @@ TargetDepthRange target_depth_range(const StructuredLightModel& model) {
 
 Scene calibration_target_scene(const StructuredLightParameters& parameters, const TrunkPose& pose, double distance_m) {
   const StructuredLightModel model(parameters);
-  if (parameters.mount.pitch_rad != 0.0 || pose.pitch_rad != 0.0 || pose.roll_rad != 0.0) {
+  if (parameters.mount.pitch_rad != 0.0 || parameters.mount.roll_rad != 0.0 || parameters.mount.yaw_rad != 0.0 ||
+      pose.pitch_rad != 0.0 || pose.roll_rad != 0.0) {
     throw InputError("calibration target: the target stands across the optical axis of a level sensor; the mount "
-                     "pitch and the trunk's pitch and roll must be 0");
+                     "pitch, roll and yaw and the trunk's pitch and roll must be 0");
   }
   if (!(std::isfinite(distance_m) && distance_m > 0.0)) {
     throw InputError("calibration target: the distance must be a positive number of metres, got " +

@@ -52,23 +52,6 @@ PoseEstimator::PoseEstimator(const PoseErrorOptions& options, const GaitOptions&
   gait_.validate();
 }
 
-const char* reference_source_name(ReferenceElevationSource source) {
-  switch (source) {
-    case ReferenceElevationSource::map: return "map";
-    case ReferenceElevationSource::map_mean: return "map-mean";
-    case ReferenceElevationSource::truth: return "truth";
-  }
-  return "unknown";
-}
-
-ReferenceElevationSource parse_reference_source(const std::string& option, const std::string& name) {
-  for (const ReferenceElevationSource s :
-       {ReferenceElevationSource::map, ReferenceElevationSource::map_mean, ReferenceElevationSource::truth}) {
-    if (name == reference_source_name(s)) return s;
-  }
-  throw InputError(option + ": expected map, map-mean or truth, got '" + name + "'");
-}
-
 double PoseEstimator::foot_elevation(const ElevationMap& map, double x_m, double y_m, double fallback) const {
   // A foot covers a few centimetres; the median of the known cells under it
   // keeps one stray cell of the max-height rule (eq. 10) from lifting the

@@ -77,10 +77,14 @@ TEST(RockyWalkCommand, BadInputIsAClearErrorBeforeAnyWork) {
   EXPECT_EQ(r.exit_code, 2) << r.output;
   r = run_cli("experiment rocky-walk --sensor lidar" + out);
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("urg or structured-light"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--sensor: 'lidar' is not a sensor; expected one of: urg, structured-light"), std::string::npos)
+      << r.output;
   r = run_cli("experiment rocky-walk --reference feet" + out);
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("--reference: expected map, map-mean or truth, got 'feet'"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--reference: 'feet' is not a reference elevation source; expected one of: map, map-mean, "
+                          "truth"),
+            std::string::npos)
+      << r.output;
 
   const fs::path path = dir / "path.yaml";
   std::ofstream(path) << "walk_path:\n  start: {x_m: 0.3, y_m: 0.0}\n  segments:\n    - straight_m: 1.0\n"

@@ -78,6 +78,45 @@ TEST(PoseTrack, OutOfOrderOrNonFinitePosesAreRefused) {
   }
 }
 
+TEST(PoseTrack, ZInterpolatesWhenEveryPoseHasIt) {
+  PoseTrack track;
+  TimedPose a = at(0.0, 0.0), b = at(1.0, 1.0);
+  a.pose.z_m = 0.30;
+  b.pose.z_m = 0.40;
+  track.append(a);
+  track.append(b);
+  TrunkPose p;
+  ASSERT_EQ(track.interpolate(0.25, p), PoseLookup::ok);
+  ASSERT_TRUE(p.z_m.has_value());
+  EXPECT_NEAR(*p.z_m, 0.325, 1e-12);
+  ASSERT_EQ(track.interpolate(1.0, p), PoseLookup::ok);
+  EXPECT_EQ(*p.z_m, 0.40);
+  // Poses without z stay without z.
+  EXPECT_FALSE(interpolate_pose(at(0, 0).pose, at(1, 1).pose, 0.5).z_m.has_value());
+}
+
+TEST(PoseTrack, ATrackMixingPosesWithAndWithoutZOrANonFiniteZIsRefused) {
+  PoseTrack track;
+  TimedPose with_z = at(0.0, 0.0);
+  with_z.pose.z_m = 0.3;
+  track.append(with_z);
+  try {
+    track.append(at(1.0, 0.1));
+    ADD_FAILURE() << "a pose without z after one with z was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("has no z but the previous pose has one"), std::string::npos) << e.what();
+  }
+  TimedPose nan_z = at(2.0, 0.0);
+  nan_z.pose.z_m = std::numeric_limits<double>::quiet_NaN();
+  EXPECT_THROW(track.append(nan_z), InputError);
+  PoseTrack without;
+  without.append(at(0.0, 0.0));
+  TimedPose late = at(1.0, 0.0);
+  late.pose.z_m = 0.2;
+  EXPECT_THROW(without.append(late), InputError);
+  EXPECT_EQ(without.size(), 1u);
+}
+
 TEST(PoseTrack, DropBeforeKeepsWhatLaterTimesNeed) {
   PoseTrack track;
   for (int i = 0; i < 10; ++i) track.append(at(0.1 * i, i));

@@ -24,6 +24,8 @@ TEST(MapperConfig, ShippedMessorConfigIsTheDefaults) {
   const MapperConfig d;
   EXPECT_DOUBLE_EQ(c.mount.height_m, d.mount.height_m);
   EXPECT_NEAR(c.mount.pitch_rad, d.mount.pitch_rad, 1e-12);
+  EXPECT_EQ(c.mount.roll_rad, 0.0);
+  EXPECT_EQ(c.mount.yaw_rad, 0.0);
   EXPECT_EQ(c.mapper.grid.cells_per_side, 100);
   EXPECT_DOUBLE_EQ(c.mapper.grid.cell_size_m, 0.01);
   EXPECT_EQ(c.mapper.reject_stale_scans, d.mapper.reject_stale_scans);
@@ -53,7 +55,7 @@ TEST(MapperConfig, ErrorsNameFileLineAndField) {
   EXPECT_NE(error_of("mount:\n  heigth_m: 0.2\n").find("robot.yaml:2: mount.heigth_m: unknown field"), std::string::npos);
   EXPECT_NE(error_of("mount:\n  pitch_deg: 95\n").find("robot.yaml:2: mount.pitch_deg: expected a pitch strictly"),
             std::string::npos);
-  EXPECT_NE(error_of("update:\n  elevation_rule: newest\n").find("robot.yaml:2: update.elevation_rule: expected paper or gated"),
+  EXPECT_NE(error_of("update:\n  elevation_rule: newest\n").find("robot.yaml:2: update.elevation_rule: 'newest' is not an elevation rule; expected one of: paper, gated"),
             std::string::npos);
   EXPECT_NE(error_of("range_calibration: {}\n").find("range_calibration.coefficients: required field is missing"),
             std::string::npos);
@@ -67,6 +69,41 @@ TEST(MapperConfig, ErrorsNameFileLineAndField) {
             std::string::npos);
   EXPECT_NE(error_of("map: {cell_size_m: .nan}\n").find("map.cell_size_m"), std::string::npos);
   EXPECT_NE(error_of("a: [\n").find("robot.yaml:"), std::string::npos);
+}
+
+TEST(MapperConfig, MountTakesTheRigidTransformKeys) {
+  const MapperConfig c = parse_mapper_config(
+      "mount: {x_m: 0.12, y_m: -0.03, z_m: -0.05, roll_deg: 5, pitch_deg: 30, yaw_deg: -10}\n", "x.yaml");
+  const double deg = std::acos(-1.0) / 180.0;
+  EXPECT_DOUBLE_EQ(c.mount.forward_offset_m, 0.12);
+  EXPECT_DOUBLE_EQ(c.mount.lateral_offset_m, -0.03);
+  EXPECT_DOUBLE_EQ(c.mount.height_m, -0.05);  // below the trunk reference point: allowed as z_m
+  EXPECT_NEAR(c.mount.roll_rad, 5 * deg, 1e-15);
+  EXPECT_NEAR(c.mount.pitch_rad, 30 * deg, 1e-15);
+  EXPECT_NEAR(c.mount.yaw_rad, -10 * deg, 1e-15);
+  // The old keys mean the same quantities.
+  const MapperConfig old = parse_mapper_config(
+      "mount: {forward_offset_m: 0.12, lateral_offset_m: -0.03, height_m: 0.2}\n", "x.yaml");
+  EXPECT_DOUBLE_EQ(old.mount.forward_offset_m, 0.12);
+  EXPECT_DOUBLE_EQ(old.mount.lateral_offset_m, -0.03);
+  EXPECT_DOUBLE_EQ(old.mount.height_m, 0.2);
+  EXPECT_EQ(old.mount.roll_rad, 0.0);
+  EXPECT_EQ(old.mount.yaw_rad, 0.0);
+}
+
+TEST(MapperConfig, AQuantityGivenBothWaysIsRefusedWithBothLines) {
+  EXPECT_EQ(error_of("mount:\n  height_m: 0.26\n  z_m: 0.3\n"),
+            "robot.yaml:3: mount.z_m: gives the same quantity as height_m on line 2; keep one of them");
+  EXPECT_EQ(error_of("mount:\n  x_m: 0.1\n  pitch_deg: 20\n  forward_offset_m: 0.1\n"),
+            "robot.yaml:2: mount.x_m: gives the same quantity as forward_offset_m on line 4; keep one of them");
+  EXPECT_NE(error_of("mount: {y_m: 0, lateral_offset_m: 0}\n").find("robot.yaml:1: mount.y_m: gives the same quantity"),
+            std::string::npos);
+  EXPECT_NE(error_of("mount:\n  roll_deg: 200\n").find("robot.yaml:2: mount.roll_deg: expected a roll from -180 to 180"),
+            std::string::npos);
+  EXPECT_NE(error_of("mount:\n  yaw_deg: .inf\n").find("robot.yaml:2: mount.yaw_deg"), std::string::npos);
+  EXPECT_NE(error_of("mount:\n  z_m: abc\n").find("robot.yaml:2: mount.z_m: expected a number"), std::string::npos);
+  EXPECT_NE(error_of("mount:\n  height_m: -0.1\n").find("robot.yaml:2: mount.height_m: expected a height above"),
+            std::string::npos);
 }
 
 TEST(MapperConfig, MissingFileIsNamed) {

@@ -63,16 +63,17 @@ TEST(PoseStream, BadLinesAreSkippedAndNamedWithFileAndLine) {
   test::TestFolder dir;
   EXPECT_EQ(skipped_of(dir, "a.txt", "1 2 3\n"),
             dir / "a.txt" + ":1: 3 fields; expected at least 6: time_s x_m y_m yaw_rad pitch_rad roll_rad "
-                            "[reference_elevation_m [height_change_m]]");
+                            "[reference_elevation_m [height_change_m [z_m]]]");
   EXPECT_EQ(skipped_of(dir, "b.txt", "# c\n1 2 3 4 5 six\n"), dir / "b.txt" + ":2: field 6 'six' is not a finite number");
   EXPECT_EQ(skipped_of(dir, "c.txt", "1 0 0 0 0 nan\n"), dir / "c.txt" + ":1: field 6 'nan' is not a finite number");
-  EXPECT_NE(skipped_of(dir, "d.txt", "1 0 0 0 0 0 0 0 9\n").find(":1: more than 8 fields"), std::string::npos);
+  EXPECT_NE(skipped_of(dir, "d.txt", "1 0 0 0 0 0 0 0 0.3 10\n").find(":1: more than 9 fields"), std::string::npos);
+  EXPECT_EQ(skipped_of(dir, "z.txt", "1 0 0 0 0 0 0 0 inf\n"), dir / "z.txt" + ":1: field 9 'inf' is not a finite number");
   EXPECT_EQ(error_of(dir.write("e.txt", "# nothing\n")), dir / "e.txt" +
                 ": no usable pose in the file (expected lines of time_s x_m y_m yaw_rad pitch_rad roll_rad "
-                "[reference_elevation_m [height_change_m]])");
+                "[reference_elevation_m [height_change_m [z_m]]])");
   EXPECT_EQ(error_of(dir.write("f.txt", "garbage\n")), dir / "f.txt" +
                 ": no usable pose in the file (expected lines of time_s x_m y_m yaw_rad pitch_rad roll_rad "
-                "[reference_elevation_m [height_change_m]]); the first bad line: " + dir / "f.txt" +
+                "[reference_elevation_m [height_change_m [z_m]]]); the first bad line: " + dir / "f.txt" +
                 ":1: field 1 'garbage' is not a finite number");
   EXPECT_NE(error_of(dir / "missing.txt").find("cannot open the pose file"), std::string::npos);
   // Many bad lines: all counted, the first 20 named, every good pose kept.
@@ -82,6 +83,35 @@ TEST(PoseStream, BadLinesAreSkippedAndNamedWithFileAndLine) {
   EXPECT_EQ(read_pose_file(dir.write("g.txt", text), &problems).size(), 25u);
   EXPECT_EQ(problems.count, 25u);
   EXPECT_EQ(problems.first.size(), PoseLineProblems::kListed);
+}
+
+TEST(PoseStream, NinthColumnIsTheTrunkHeightAndOlderFilesReadAsBefore) {
+  test::TestFolder dir;
+  const auto poses = read_pose_file(dir.write("z.txt",
+                                              "1.0 0.25 0 0.5 0.01 -0.02\n"
+                                              "2.0 0.25 0 0.5 0.01 -0.02 0.003 -0.004\n"));
+  ASSERT_EQ(poses.size(), 2u);
+  EXPECT_FALSE(poses[0].pose.z_m.has_value());
+  EXPECT_FALSE(poses[1].pose.z_m.has_value());
+  TimedPose p;
+  ASSERT_TRUE(parse_pose_line("3.0 0.25 0 0.5 0.01 -0.02 0 0 0.4125", "x", 1, p));
+  ASSERT_TRUE(p.pose.z_m.has_value());
+  EXPECT_EQ(*p.pose.z_m, 0.4125);
+  EXPECT_EQ(p.pose.reference_elevation_m, 0.0);
+  // Written and read back: the ninth column only when there is a z, the
+  // two paper columns kept as placeholders before it.
+  EXPECT_EQ(format_pose_line(p), "3 0.25 0 0.5 0.01 -0.02 0 0 0.4125");
+  TimedPose back;
+  ASSERT_TRUE(parse_pose_line(format_pose_line(p), "x", 1, back));
+  EXPECT_EQ(back.pose.z_m, p.pose.z_m);
+  EXPECT_EQ(format_pose_line(poses[0]), "1 0.25 0 0.5 0.01 -0.02");
+  EXPECT_EQ(format_pose_line(poses[1]), "2 0.25 0 0.5 0.01 -0.02 0.003 -0.004");
+  // A line that drops (or adds) z within a file is skipped and named.
+  PoseLineProblems problems;
+  EXPECT_EQ(read_pose_file(dir.write("m.txt", "1 0 0 0 0 0 0 0 0.4\n2 0 0 0 0 0\n"), &problems).size(), 1u);
+  ASSERT_EQ(problems.count, 1u);
+  EXPECT_NE(problems.first.front().find("m.txt:2: pose at 2 s has no z but the previous pose has one"),
+            std::string::npos) << problems.first.front();
 }
 
 TEST(PoseStream, OutOfOrderTimesAreSkippedWithTheLine) {

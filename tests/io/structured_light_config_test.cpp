@@ -86,7 +86,15 @@ TEST(StructuredLightConfig, MountAndErrorsSections) {
   EXPECT_NEAR(config.parameters.mount.pitch_rad, 12.0 * kDeg, 1e-15);
   EXPECT_DOUBLE_EQ(config.parameters.mount.forward_offset_m, 0.05);
   EXPECT_DOUBLE_EQ(config.parameters.mount.lateral_offset_m, 0.0);
+  EXPECT_EQ(config.parameters.mount.roll_rad, 0.0);
+  EXPECT_EQ(config.parameters.mount.yaw_rad, 0.0);
   EXPECT_DOUBLE_EQ(config.parameters.row_error_px, 0.25);
+  const StructuredLightConfig turned = parse_structured_light_config(
+      kValid + "mount: {pitch_deg: 12, height_m: 0.2, roll_deg: 5, yaw_deg: -10}\n", "m.yaml");
+  EXPECT_NEAR(turned.parameters.mount.roll_rad, 5.0 * kDeg, 1e-15);
+  EXPECT_NEAR(turned.parameters.mount.yaw_rad, -10.0 * kDeg, 1e-15);
+  EXPECT_NE(error_of(kValid + "mount: {pitch_deg: 12, height_m: 0.2, yaw_deg: .inf}\n").find("sl.yaml:8: mount.yaw_deg"),
+            std::string::npos);
   EXPECT_DOUBLE_EQ(config.parameters.baseline_error_m, StructuredLightParameters{}.baseline_error_m);
 }
 
@@ -144,7 +152,7 @@ TEST(StructuredLightConfig, UnknownAndRepeatedKeys) {
             "sl.yaml:8: structured_light.baseline_m: appears twice (first on line 2)");
   EXPECT_EQ(error_of(kValid + "mount: {pitch: 10, height_m: 0.1}\n"),
             "sl.yaml:8: mount.pitch: unknown field (expected one of: pitch_deg, height_m, forward_offset_m, "
-            "lateral_offset_m)");
+            "lateral_offset_m, roll_deg, yaw_deg)");
 }
 
 TEST(StructuredLightConfig, UnreadableFiles) {

@@ -24,8 +24,7 @@ double elevation_via_core(const StructuredLightParameters& parameters, double u,
   return (sensor_to_map_rotation(pose, parameters.mount) * camera_to_sensor_frame(camera)).z();
 }
 
-TEST(StructuredLightMapping, ElevationPartialsMatchFiniteDifferences) {
-  StructuredLightParameters base;  // Ragno
+void expect_partials_match_finite_differences(const StructuredLightParameters& base) {
   TrunkPose pose;
   pose.pitch_rad = 3.0 * kDeg;
   pose.roll_rad = -4.0 * kDeg;
@@ -37,7 +36,7 @@ TEST(StructuredLightMapping, ElevationPartialsMatchFiniteDifferences) {
     CameraPointPartials camera;
     ASSERT_EQ(model.back_project(u, v, camera), StripePointStatus::valid);
     const StructuredLightElevationPartials d =
-        structured_light_elevation_partials(camera, pose.pitch_rad, pose.roll_rad, base.mount.pitch_rad);
+        structured_light_elevation_partials(camera, pose.pitch_rad, pose.roll_rad, base.mount);
     EXPECT_NEAR(d.z_m, elevation_via_core(base, u, v, pose), 1e-15);
 
     const auto difference = [&](auto&& move, double h) {
@@ -64,6 +63,17 @@ TEST(StructuredLightMapping, ElevationPartialsMatchFiniteDifferences) {
     check(d.d_alpha_m_per_rad, difference([](auto& p, auto&, auto&, double s) { p.mount.pitch_rad += s; }, h),
           "dz/dalpha");
   }
+}
+
+TEST(StructuredLightMapping, ElevationPartialsMatchFiniteDifferences) {
+  expect_partials_match_finite_differences(StructuredLightParameters{});  // Ragno
+}
+
+TEST(StructuredLightMapping, ElevationPartialsMatchFiniteDifferencesWithMountRollAndYaw) {
+  StructuredLightParameters turned;
+  turned.mount.roll_rad = 5.0 * kDeg;
+  turned.mount.yaw_rad = 10.0 * kDeg;
+  expect_partials_match_finite_differences(turned);
 }
 
 TEST(StructuredLightMapping, EquationEightCountsEachTermOnce) {

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <numbers>
 
+#include "stridemap/core/enum_names.hpp"
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/core/sensor_transform.hpp"
 
@@ -26,6 +27,17 @@ enum class ElevationRule : std::uint8_t {
   /// scan plane (d tan gamma per scan) rises as before.
   gated_highest,
 };
+
+inline constexpr EnumNameTable<ElevationRule, 2> kElevationRuleNames{{
+    {ElevationRule::paper_highest, "paper"},
+    {ElevationRule::gated_highest, "gated"},
+}};
+/// "paper" or "gated": the word in configs, options and summary.json.
+constexpr std::string_view name(ElevationRule rule) { return enum_name_in(kElevationRuleNames, rule); }
+template <>
+inline ElevationRule parse_enum_name<ElevationRule>(std::string_view text) {
+  return enum_value_in(kElevationRuleNames, text, "an elevation rule");
+}
 
 struct UpdateOptions {
   /// a of eq. (9): certainty gained by one plausible measurement. The

@@ -29,9 +29,10 @@ class PlanarScanPoints {
         cos_(cos_angle),
         sin_(sin_angle),
         options_(options),
-        at_front_(beam_elevation_partials(1.0, 0.0, pose.pitch_rad, pose.roll_rad, mount.pitch_rad)),
-        at_left_(beam_elevation_partials(1.0, std::numbers::pi / 2, pose.pitch_rad, pose.roll_rad, mount.pitch_rad)),
-        gamma_rad_(scan_plane_inclination_rad(pose.pitch_rad, pose.roll_rad, mount.pitch_rad)) {
+        at_front_(beam_elevation_partials(1.0, 0.0, pose.pitch_rad, pose.roll_rad, mount)),
+        at_left_(beam_elevation_partials(1.0, std::numbers::pi / 2, pose.pitch_rad, pose.roll_rad, mount)),
+        lever_(sensor_origin_elevation_partials(pose, mount)),  // zero without pose z
+        gamma_rad_(scan_plane_inclination_rad(pose.pitch_rad, pose.roll_rad, mount)) {
     const Eigen::Matrix3d rotation = sensor_to_map_rotation(pose, mount);
     forward_ = rotation.col(0);  // map direction of a beam at t = 0
     left_ = rotation.col(1);     // ... and at t = 90 deg
@@ -49,8 +50,8 @@ class PlanarScanPoints {
     out.offset_m = r * (ct * forward_ + st * left_);
     ElevationPartials partials;
     partials.d_range = ct * at_front_.d_range + st * at_left_.d_range;
-    partials.d_pitch_m_per_rad = r * (ct * at_front_.d_pitch_m_per_rad + st * at_left_.d_pitch_m_per_rad);
-    partials.d_roll_m_per_rad = r * (ct * at_front_.d_roll_m_per_rad + st * at_left_.d_roll_m_per_rad);
+    partials.d_pitch_m_per_rad = lever_.d_pitch_m_per_rad + r * (ct * at_front_.d_pitch_m_per_rad + st * at_left_.d_pitch_m_per_rad);
+    partials.d_roll_m_per_rad = lever_.d_roll_m_per_rad + r * (ct * at_front_.d_roll_m_per_rad + st * at_left_.d_roll_m_per_rad);
     partials.d_alpha_m_per_rad = r * (ct * at_front_.d_alpha_m_per_rad + st * at_left_.d_alpha_m_per_rad);
     out.height_error_m = elevation_error_bound_m(partials, dr, options_);
     out.range_m = r;
@@ -62,7 +63,7 @@ class PlanarScanPoints {
   const double* cos_;
   const double* sin_;
   const UpdateOptions& options_;
-  ElevationPartials at_front_, at_left_;
+  ElevationPartials at_front_, at_left_, lever_;
   double gamma_rad_;
   Eigen::Vector3d forward_, left_;
 };

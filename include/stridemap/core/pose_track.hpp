@@ -32,8 +32,9 @@ class PoseTrack {
   explicit PoseTrack(double max_gap_s = 1.0);
 
   /// Appends a pose. Throws InputError (without a place: callers add the
-  /// file and line) when a field is not finite or the time is not later
-  /// than the last pose's.
+  /// file and line) when a field is not finite, the time is not later
+  /// than the last pose's, or the pose has a z and the last one not (or the
+  /// other way round).
   void append(const TimedPose& pose);
   /// The pose at `time_s`; `out` is set only for PoseLookup::ok. At a
   /// sample's time the sample itself is returned, bit for bit.
@@ -54,7 +55,8 @@ class PoseTrack {
 };
 
 /// Linear interpolation between two poses at fraction a in [0, 1] (yaw the
-/// shorter way round); a = 0 gives `from` exactly.
+/// shorter way round); a = 0 gives `from` exactly. z is present when both
+/// ends have it.
 TrunkPose interpolate_pose(const TrunkPose& from, const TrunkPose& to, double a);
 
 }  // namespace stridemap

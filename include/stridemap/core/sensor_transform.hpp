@@ -1,27 +1,44 @@
 #pragma once
 // Sensor-to-map transform of eq. (5) and the quantities eq. (6)-(7) derive
-// from it.
+// from it (docs/mapping.md "Frames").
 //
 // Sensor frame S: beam i points along (cos t_i, sin t_i, 0) before tilting,
 // t = 0 straight ahead, positive t to the left. The composed rotation is
-//   R = Rz(yaw) * Ry(pitch) * Rx(roll) * Ry(alpha),
+//   R = Rz(yaw) * Ry(pitch) * Rx(roll) * M,   M = Rz(mount yaw) * Ry(alpha) * Rx(mount roll),
 // the paper's Rot(X, phi) Rot(Y', psi) Rot(X'', alpha) renamed to a frame with
-// X forward (the paper's X is lateral). Yaw does not change elevations, so
-// the tilt part T = Ry(pitch) Rx(roll) Ry(alpha) is what eq. (6) differentiates.
+// X forward (the paper's X is lateral), extended by the mount's roll and yaw
+// (M = Ry(alpha) for the paper's mount). The trunk's yaw does not change
+// elevations, so the tilt part T = Ry(pitch) Rx(roll) M is what eq. (6)
+// differentiates.
+//
+// The overloads taking a bare alpha are the paper's mount (no mount roll or
+// yaw); the ones taking a SensorMount honour the full mount and give the
+// same doubles, bit for bit, when its roll and yaw are zero.
 #include <Eigen/Core>
 
 #include "stridemap/core/pose.hpp"
 
 namespace stridemap {
 
+/// M = Rz(mount.yaw_rad) * Ry(mount.pitch_rad) * Rx(mount.roll_rad): the
+/// sensor frame's axes in the trunk frame.
+Eigen::Matrix3d mount_rotation(const SensorMount& mount);
+
 /// T = Ry(pitch) * Rx(roll) * Ry(alpha).
 Eigen::Matrix3d tilt_rotation(double pitch_rad, double roll_rad, double alpha_rad);
+/// T = Ry(pitch) * Rx(roll) * mount_rotation(mount).
+Eigen::Matrix3d tilt_rotation(double pitch_rad, double roll_rad, const SensorMount& mount);
 
 /// Full sensor-to-map rotation Rz(yaw) * T.
 Eigen::Matrix3d sensor_to_map_rotation(const TrunkPose& pose, const SensorMount& mount);
 
-/// Sensor origin in the map frame: trunk position plus the yawed mount offset,
-/// at height h_ref + d_z (the paper's h_m = z_m + d_z + h_ref).
+/// Sensor origin in the map frame.
+/// Pose without z (the paper): trunk position plus the mount offset turned
+/// by the heading only, at height h_ref + d_z + height change (the paper's
+/// h_m = z_m + d_z + h_ref); leg kinematics already contain what trunk pitch
+/// and roll do to the sensor height.
+/// Pose with z: (x, y, z) + Rz(yaw) Ry(pitch) Rx(roll) (forward, lateral, d_z),
+/// the mount as a rigid transform; h_ref and the height change are unused.
 Eigen::Vector3d sensor_origin_in_map(const TrunkPose& pose, const SensorMount& mount);
 
 /// A point of the sensor frame, in the map frame.
@@ -32,6 +49,8 @@ Eigen::Vector3d sensor_point_to_map(const Eigen::Vector3d& point_in_sensor, cons
 /// axis, from the composed rotation as atan2(T(0,2), T(2,2)) (the tilt of
 /// the plane's normal towards +X). For zero roll it is pitch + alpha.
 double scan_plane_inclination_rad(double pitch_rad, double roll_rad, double alpha_rad);
+/// The same for the full mount (T with mount roll and yaw).
+double scan_plane_inclination_rad(double pitch_rad, double roll_rad, const SensorMount& mount);
 
 /// z_m of a beam hit relative to the sensor, and its analytic partial
 /// derivatives (eq. 6's terms).
@@ -45,5 +64,26 @@ struct ElevationPartials {
 
 ElevationPartials beam_elevation_partials(double range_m, double beam_angle_rad, double pitch_rad,
                                           double roll_rad, double alpha_rad);
+/// The same for the full mount: derivatives with respect to trunk pitch,
+/// trunk roll and the mount's pitch alpha, the mount's roll and yaw held.
+ElevationPartials beam_elevation_partials(double range_m, double beam_angle_rad, double pitch_rad,
+                                          double roll_rad, const SensorMount& mount);
+
+/// The third row of T (a sensor-frame vector's height in the map frame) and
+/// its derivatives with respect to trunk pitch, trunk roll and alpha: the
+/// elevation partials of any point fixed in the sensor frame (the laser's
+/// beams, the structured-light camera's points) are these rows times it.
+struct ElevationRows {
+  Eigen::RowVector3d row, d_pitch, d_roll, d_alpha;
+};
+ElevationRows elevation_rows(double pitch_rad, double roll_rad, const SensorMount& mount);
+
+/// How the sensor origin's height moves with trunk pitch and roll
+/// (d_pitch_m_per_rad, d_roll_m_per_rad; z_m is the origin's height above
+/// the trunk reference point). Zero for a pose without z: there the sensor
+/// height comes from leg kinematics, not from the trunk's attitude. With z,
+/// the mount's lever arm turns with the trunk, and an attitude error moves
+/// every point by this much on top of its beam_elevation_partials.
+ElevationPartials sensor_origin_elevation_partials(const TrunkPose& pose, const SensorMount& mount);
 
 }  // namespace stridemap

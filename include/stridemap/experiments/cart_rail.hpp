@@ -12,13 +12,13 @@
 
 #include "stridemap/core/cas_filter.hpp"
 #include "stridemap/core/map_filter.hpp"
+#include "stridemap/core/enum_names.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/core/weighted_median_fill.hpp"
 #include "stridemap/experiments/map_evaluation.hpp"
 #include "stridemap/experiments/object_extents.hpp"
 #include "stridemap/io/stripe_detector.hpp"
 #include "stridemap/preprocess/scan_filter_chain.hpp"
-#include "stridemap/core/map_filter.hpp"  // what runs on the finished map before it is scored
 #include "stridemap/sensors/urg04lx.hpp"
 #include "stridemap/sim/cart_rail.hpp"
 #include "stridemap/sim/footprint_beam_model.hpp"
@@ -28,13 +28,37 @@
 
 namespace stridemap {
 
-enum class CartRailSensor : std::uint8_t { urg, structured_light };
+/// The range sensors an experiment can carry.
+enum class SensorKind : std::uint8_t { urg, structured_light };
+using CartRailSensor = SensorKind;
+
+inline constexpr EnumNameTable<SensorKind, 2> kSensorKindNames{{
+    {SensorKind::urg, "urg"},
+    {SensorKind::structured_light, "structured-light"},
+}};
+/// "urg" or "structured-light": the --sensor word and the outputs' name.
+constexpr std::string_view name(SensorKind sensor) { return enum_name_in(kSensorKindNames, sensor); }
+template <>
+inline SensorKind parse_enum_name<SensorKind>(std::string_view text) {
+  return enum_value_in(kSensorKindNames, text, "a sensor");
+}
 
 /// How a structured-light frame becomes stripe pixels.
 enum class StripePipeline : std::uint8_t {
   image,      ///< render the camera image, detect the stripe in it (the full path)
   geometric,  ///< the simulator's true stripe (plus its row noise option): no image
 };
+
+inline constexpr EnumNameTable<StripePipeline, 2> kStripePipelineNames{{
+    {StripePipeline::image, "image"},
+    {StripePipeline::geometric, "geometric"},
+}};
+/// "image" or "geometric": the --pipeline word and summary.json's.
+constexpr std::string_view name(StripePipeline pipeline) { return enum_name_in(kStripePipelineNames, pipeline); }
+template <>
+inline StripePipeline parse_enum_name<StripePipeline>(std::string_view text) {
+  return enum_value_in(kStripePipelineNames, text, "a pipeline");
+}
 
 struct StructuredLightRailOptions {
   /// Ragno's sensor (the defaults of StructuredLightParameters, as in

@@ -1,8 +1,12 @@
 #pragma once
 // Timestamped poses as text, one per line (docs/live.md, "Pose format"):
 //
-//   # time_s x_m y_m yaw_rad pitch_rad roll_rad [reference_elevation_m [height_change_m]]
+//   # time_s x_m y_m yaw_rad pitch_rad roll_rad [reference_elevation_m [height_change_m [z_m]]]
 //   1733065200.100 0.250 0.000 0.0000 0.0000 0.0000
+//
+// The ninth column, the trunk's height from a 6-DoF estimator, makes the
+// mapper place the sensor by the full mount transform (TrunkPose::z_m);
+// files of 6 to 8 columns read as before, with no z.
 //
 // Fields are separated by spaces or tabs; blank lines and lines starting
 // with '#' are skipped; times increase strictly. Read as a whole file
@@ -46,7 +50,7 @@ std::vector<TimedPose> read_pose_file(const std::string& path, PoseLineProblems*
 std::vector<TimedPose> parse_pose_text(std::string_view text, const std::string& source,
                                        PoseLineProblems* problems = nullptr);
 
-/// Longest pose line [bytes, without its LF]: eight numbers need far less,
+/// Longest pose line [bytes, without its LF]: nine numbers need far less,
 /// and a stream must not buffer a line that never ends.
 inline constexpr std::size_t kMaxPoseLineBytes = 4096;
 

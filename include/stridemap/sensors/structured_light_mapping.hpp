@@ -41,11 +41,17 @@ struct StructuredLightElevationPartials {
 StructuredLightElevationPartials structured_light_elevation_partials(const CameraPointPartials& point,
                                                                      double pitch_rad, double roll_rad,
                                                                      double alpha_rad);
+/// The same for the full mount (its roll and yaw held, alpha = mount.pitch_rad).
+StructuredLightElevationPartials structured_light_elevation_partials(const CameraPointPartials& point,
+                                                                     double pitch_rad, double roll_rad,
+                                                                     const SensorMount& mount);
 
 /// gamma for eq. (8): the tilt towards +X of the laser sheet's normal in the
 /// map frame, atan2(n_x, n_z). With no roll it is pitch + alpha + 90 deg -
 /// beta; for beta = 90 deg it equals core's scan_plane_inclination_rad.
 double sheet_inclination_rad(double sheet_angle_rad, double pitch_rad, double roll_rad, double alpha_rad);
+/// The same for the full mount (T with the mount's roll and yaw).
+double sheet_inclination_rad(double sheet_angle_rad, double pitch_rad, double roll_rad, const SensorMount& mount);
 
 /// The error part of eq. (8), each term once and as a magnitude:
 /// |dz/db| Db + |dz/dbeta| Dbeta + |dz/dtau| Dtau + |dz/dv| Dv (bounds from

@@ -19,6 +19,7 @@
 #include <random>
 #include <string>
 
+#include "stridemap/core/enum_names.hpp"
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/core/pose.hpp"
 #include "stridemap/sim/trunk_motion.hpp"
@@ -39,11 +40,19 @@ enum class ReferenceElevationSource : std::uint8_t {
   truth,  ///< the true ground under the feet: a walk with a perfect h_ref
 };
 
-/// "map", "map-mean", "truth".
-const char* reference_source_name(ReferenceElevationSource source);
-/// The inverse of reference_source_name; throws InputError naming `option`
-/// and the accepted names.
-ReferenceElevationSource parse_reference_source(const std::string& option, const std::string& name);
+inline constexpr EnumNameTable<ReferenceElevationSource, 3> kReferenceElevationSourceNames{{
+    {ReferenceElevationSource::map, "map"},
+    {ReferenceElevationSource::map_mean, "map-mean"},
+    {ReferenceElevationSource::truth, "truth"},
+}};
+/// "map", "map-mean" or "truth": the --reference word and summary.json's.
+constexpr std::string_view name(ReferenceElevationSource source) {
+  return enum_name_in(kReferenceElevationSourceNames, source);
+}
+template <>
+inline ReferenceElevationSource parse_enum_name<ReferenceElevationSource>(std::string_view text) {
+  return enum_value_in(kReferenceElevationSourceNames, text, "a reference elevation source");
+}
 
 struct PoseErrorOptions {
   /// IMU pitch: standard deviation of the white noise per scan, and a bias
