@@ -49,7 +49,7 @@ void add_mapping_options(CLI::App& command, MappingArgs& args) {
   command.add_option("--max-pose-gap-s", args.max_pose_gap_s,
                      "Do not interpolate between poses farther apart than this")
       ->capture_default_str()
-      ->check(number_from_to(0.001, 86400.0, "s"));
+      ->check(number_from_to(0.001, 1e9, "s"));
   command.add_option("--map-filter", args.map_filter,
                      "What runs on a copy of the map before it is saved: fill (eq. 11), cas or none")
       ->capture_default_str();

@@ -133,10 +133,11 @@ TEST(MixedPixelsCommand, ModelAndFilterOptionsAreCheckedBeforeAnyWork) {
   const std::string scene = std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/cart_rail_boxes.yaml";
   CommandResult r = run_cli("experiment mixed-pixels --scene " + scene + " --out /tmp --texture-log-sigma -1");
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("log_sigma: expected a number >= 0, got -1"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--texture-log-sigma: expected a number from 0 to 5, got '-1'"), std::string::npos) << r.output;
   r = run_cli("experiment mixed-pixels --scene " + scene + " --out /tmp --cluster-max-incidence-deg 95");
   EXPECT_EQ(r.exit_code, 2) << r.output;
-  EXPECT_NE(r.output.find("max_incidence_angle_rad"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("--cluster-max-incidence-deg: expected a number from 0 to 90 deg, got '95'"), std::string::npos)
+      << r.output;
 }
 
 TEST(CartRailCommand, BadOnOffAndMapFilterValuesAreErrors) {

@@ -49,7 +49,7 @@ TEST(MapperConfig, FieldsOverrideDefaultsAndDegreesBecomeRadians) {
 }
 
 TEST(MapperConfig, ErrorsNameFileLineAndField) {
-  EXPECT_EQ(error_of("map:\n  cell_size_m: -0.01\n"), "robot.yaml:2: map.cell_size_m: expected a cell size > 0 m, got -0.010000");
+  EXPECT_EQ(error_of("map:\n  cell_size_m: -0.01\n"), "robot.yaml:2: map.cell_size_m: expected a cell size from 0.0001 to 10 m, got -0.010000");
   EXPECT_EQ(error_of("map:\n  cells_per_side: many\n"),
             "robot.yaml:2: map.cells_per_side: expected a whole number >= 0, got \"many\"");
   EXPECT_NE(error_of("mount:\n  heigth_m: 0.2\n").find("robot.yaml:2: mount.heigth_m: unknown field"), std::string::npos);
