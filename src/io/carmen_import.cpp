@@ -126,6 +126,7 @@ ImportedData import_carmen(std::string_view text, const std::string& source, con
         return detail::skip_line(out.report, source, number, e.what());
       }
       out.sensor = layout->sensor;
+      out.sensor.model = "CARMEN laser (imported)";
       first_geometry = laser;
       first_time_s = laser.time_s;
     } else if (laser.ranges_m.size() != first_geometry.ranges_m.size() ||

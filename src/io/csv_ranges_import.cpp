@@ -44,6 +44,7 @@ ImportedData import_csv_ranges(std::string_view text, const std::string& source,
                          std::to_string(fields.size() - 1) + " ranges)");
       }
       out.sensor = layout->sensor;
+      out.sensor.model = "CSV ranges (imported)";
       beams = fields.size() - 1;
       first_time_s = time_s;
     }

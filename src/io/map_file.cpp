@@ -202,25 +202,50 @@ T field(const json& object, const char* key, const std::string& source, const st
   }
 }
 
+// A whole number from the metadata. Read through nlohmann's own integer
+// types only: converting a float such as 1e30 to an integer would be
+// undefined behaviour.
+std::int64_t integer_value(const json& value, const std::string& source, const std::string& name) {
+  if (value.is_number_unsigned()) {
+    const auto v = value.get<std::uint64_t>();
+    if (v > static_cast<std::uint64_t>(std::numeric_limits<std::int64_t>::max())) {
+      bad(source, "metadata: " + name + " is too large");
+    }
+    return static_cast<std::int64_t>(v);
+  }
+  if (value.is_number_integer()) return value.get<std::int64_t>();
+  bad(source, "metadata: " + name + " must be a whole number (" + value.dump() + ")");
+}
+
+std::int64_t integer_field(const json& object, const char* key, const std::string& source, const std::string& where) {
+  const auto it = object.find(key);
+  if (it == object.end()) bad(source, "metadata: " + where + key + " is missing");
+  return integer_value(*it, source, where + key);
+}
+
 GridOptions read_geometry(const json& header, const std::string& source, CellIndex& corner) {
   const auto it = header.find("geometry");
   if (it == header.end() || !it->is_object()) bad(source, "metadata: geometry is missing");
   const json& g = *it;
   GridOptions grid;
-  grid.cells_per_side = field<int>(g, "cells_per_side", source, "geometry.");
+  const std::int64_t cells_per_side = integer_field(g, "cells_per_side", source, "geometry.");
+  if (cells_per_side < 1 || cells_per_side > 20000) {
+    bad(source, "metadata: geometry.cells_per_side " + std::to_string(cells_per_side) + " is outside 1..20000");
+  }
+  grid.cells_per_side = static_cast<int>(cells_per_side);
   grid.cell_size_m = field<double>(g, "cell_size_m", source, "geometry.");
-  const auto corner_values = field<std::vector<std::int64_t>>(g, "min_cell", source, "geometry.");
-  if (corner_values.size() != 2) bad(source, "metadata: geometry.min_cell must hold two integers");
-  for (const std::int64_t v : corner_values) {
-    if (v > kLargestCorner || v < -kLargestCorner) {
-      bad(source, "metadata: geometry.min_cell " + std::to_string(v) + " is out of range");
+  const auto corner_it = g.find("min_cell");
+  if (corner_it == g.end() || !corner_it->is_array() || corner_it->size() != 2) {
+    bad(source, "metadata: geometry.min_cell must hold two integers");
+  }
+  std::int64_t corner_values[2];
+  for (std::size_t k = 0; k < 2; ++k) {
+    corner_values[k] = integer_value((*corner_it)[k], source, "geometry.min_cell");
+    if (corner_values[k] > kLargestCorner || corner_values[k] < -kLargestCorner) {
+      bad(source, "metadata: geometry.min_cell " + std::to_string(corner_values[k]) + " is out of range");
     }
   }
   corner = {corner_values[0], corner_values[1]};
-  if (grid.cells_per_side < 1 || grid.cells_per_side > 20000) {
-    bad(source, "metadata: geometry.cells_per_side " + std::to_string(grid.cells_per_side) +
-                    " is outside 1..20000");
-  }
   if (!std::isfinite(grid.cell_size_m) || grid.cell_size_m <= 0.0) {
     bad(source, "metadata: geometry.cell_size_m must be a positive number");
   }
@@ -241,8 +266,11 @@ std::array<std::size_t, kLayers.size()> read_layer_offsets(const json& header, c
     const auto name = field<std::string>(layer, "name", source, "layers[].");
     const std::string where = "layer '" + name + "': ";
     const auto type = field<std::string>(layer, "type", source, where);
-    const auto offset = field<std::uint64_t>(layer, "offset", source, where);
-    const auto size = field<std::uint64_t>(layer, "bytes", source, where);
+    const std::int64_t signed_offset = integer_field(layer, "offset", source, where);
+    const std::int64_t signed_size = integer_field(layer, "bytes", source, where);
+    if (signed_offset < 0 || signed_size < 0) bad(source, where + "a negative offset or size");
+    const auto offset = static_cast<std::uint64_t>(signed_offset);
+    const auto size = static_cast<std::uint64_t>(signed_size);
     if (offset < frame.data_start || offset > frame.data_end || size > frame.data_end - offset) {
       bad(source, where + "bytes " + std::to_string(offset) + ".." + std::to_string(offset + size) +
                       " lie outside the layer data (" + std::to_string(frame.data_start) + ".." +

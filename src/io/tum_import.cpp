@@ -47,7 +47,7 @@ ImportedData import_tum(std::string_view text, const std::string& source, const 
     pose.pose.x_m = v[1];
     pose.pose.y_m = v[2];
     pose.pose.yaw_rad = std::atan2(r(1, 0), r(0, 0));
-    pose.pose.pitch_rad = std::asin(std::clamp(-r(2, 0), -1.0, 1.0));
+    pose.pose.pitch_rad = std::asin(std::clamp(-r(2, 0), -1.0, 1.0)) + 0.0;  // + 0.0: no "-0" in the file
     pose.pose.roll_rad = std::atan2(r(2, 1), r(2, 2));
     if (out.poses.empty()) first_z = v[3];
     if (options.height == TumHeight::reference_elevation) pose.pose.reference_elevation_m = v[3] - first_z;

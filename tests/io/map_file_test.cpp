@@ -221,6 +221,9 @@ TEST(MapFile, StructuralLiesBehindAValidChecksumAreRefused) {
   const std::string ten = io::encode_map_file(scrambled_map(10, 9), {});
   const std::string negative = with_fixed_checksum(replace_once(ten, "\"cells_per_side\": 10", "\"cells_per_side\": -1"));
   EXPECT_NE(decode_error(negative).find("outside 1..20000"), std::string::npos) << decode_error(negative);
+  // A float where an integer belongs is refused, not converted (1e9 as an int would overflow).
+  const std::string as_float = with_fixed_checksum(replace_once(ten, "\"cells_per_side\": 10", "\"cells_per_side\":1e9"));
+  EXPECT_NE(decode_error(as_float).find("must be a whole number"), std::string::npos) << decode_error(as_float);
 
   const std::string wrong_type = with_fixed_checksum(replace_once(bytes, "\"type\": \"|u1\"", "\"type\": \"<f4\""));
   EXPECT_NE(decode_error(wrong_type).find("type <f4, expected |u1"), std::string::npos) << decode_error(wrong_type);
