@@ -68,8 +68,8 @@ void apply_structured_light_args(const CartRailArgs& args, CartRailOptions& opti
 }
 
 void run_cart_rail_command(const CartRailArgs& args) {
-  const SensorKind sensor = parse_option<SensorKind>("--sensor", args.sensor);
-  if (sensor == SensorKind::urg &&
+  const SimulatedSensor sensor = parse_option<SimulatedSensor>("--sensor", args.sensor);
+  if (sensor == SimulatedSensor::urg &&
       (!args.sensor_config_path.empty() || args.pipeline != name(StripePipeline::image) || args.lux != 300.0)) {
     throw InputError("--sensor-config, --pipeline and --lux apply to --sensor structured-light only");
   }
@@ -98,7 +98,7 @@ void run_cart_rail_command(const CartRailArgs& args) {
   // With mixed pixels the paper pre-processes every scan (section 5.3).
   options.filters = parse_scan_filter_list(args.filters_given || !options.mixed_pixels ? args.filters : "paper");
   std::string run_name(name(sensor));
-  if (sensor == SensorKind::structured_light) {
+  if (sensor == SimulatedSensor::structured_light) {
     apply_structured_light_args(args, options);
     if (options.structured_light.pipeline == StripePipeline::geometric) run_name += "-geometric";
   }

@@ -49,8 +49,8 @@ std::vector<double> parse_grid(const std::string& option, const std::string& tex
 }
 
 void run_mount_analysis_command(const MountAnalysisArgs& args) {
-  const SensorKind sensor = parse_option<SensorKind>("--sensor", args.sensor);
-  const bool urg = sensor == SensorKind::urg;
+  const SimulatedSensor sensor = parse_option<SimulatedSensor>("--sensor", args.sensor);
+  const bool urg = sensor == SimulatedSensor::urg;
   MountAnalysisOptions options;
   options.seed = args.seed;
   options.fields = args.fields;
@@ -70,7 +70,7 @@ void run_mount_analysis_command(const MountAnalysisArgs& args) {
   options.validate();
 
   MountAnalysisResult result;
-  if (sensor == SensorKind::urg) {
+  if (sensor == SimulatedSensor::urg) {
     const UrgWalkSensorOptions base;
     const MountSensorFactory factory = [base, seed = args.seed](const Scene& scene, const NamedMount& mount,
                                                                  const UpdateOptions& update) -> std::unique_ptr<WalkSensor> {

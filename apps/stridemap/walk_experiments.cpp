@@ -43,7 +43,7 @@ struct RockyWalkArgs {
 
 void run_rocky_walk_command(const RockyWalkArgs& args) {
   // Everything the user typed is checked before the scene is even read.
-  const SensorKind sensor = parse_option<SensorKind>("--sensor", args.sensor);
+  const SimulatedSensor sensor = parse_option<SimulatedSensor>("--sensor", args.sensor);
   const StripePipeline pipeline = parse_option<StripePipeline>("--pipeline", args.pipeline);
   RockyWalkOptions options;
   options.walk.seed = args.seed;
@@ -56,7 +56,7 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   // The paper's settings per sensor (sections 5.1, 5.3): the URG with 10 mm
   // cells and the fill-in, structured light with 5 mm cells and the CAS
   // filter; 200 cells keep the stripe, 0.2-0.3 m ahead, inside the window.
-  const bool urg = sensor == SensorKind::urg;
+  const bool urg = sensor == SimulatedSensor::urg;
   options.walk.map_filter = parse_map_filter(args.map_filter.value_or(urg ? "fill" : "cas"));
   options.walk.mapper.update.elevation_rule = parse_elevation_rule(args.elevation_rule);
   options.walk.mapper.grid = {args.cells_per_side.value_or(urg ? 100 : 200), args.cell_size_m.value_or(urg ? 0.01 : 0.005)};

@@ -36,8 +36,8 @@ std::string error_of(std::string_view word) {
 TEST(EnumNames, TheWordsAreTheOnesOutputsAlwaysUsed) {
   EXPECT_EQ(name(ElevationRule::paper_highest), "paper");
   EXPECT_EQ(name(ElevationRule::gated_highest), "gated");
-  EXPECT_EQ(name(SensorKind::urg), "urg");
-  EXPECT_EQ(name(SensorKind::structured_light), "structured-light");
+  EXPECT_EQ(name(SimulatedSensor::urg), "urg");
+  EXPECT_EQ(name(SimulatedSensor::structured_light), "structured-light");
   EXPECT_EQ(name(StripePipeline::image), "image");
   EXPECT_EQ(name(StripePipeline::geometric), "geometric");
   EXPECT_EQ(name(ReferenceElevationSource::map), "map");
@@ -47,14 +47,14 @@ TEST(EnumNames, TheWordsAreTheOnesOutputsAlwaysUsed) {
 
 TEST(EnumNames, EveryWordReadsBackToItsValue) {
   expect_round_trip(kElevationRuleNames);
-  expect_round_trip(kSensorKindNames);
+  expect_round_trip(kSimulatedSensorNames);
   expect_round_trip(kStripePipelineNames);
   expect_round_trip(kReferenceElevationSourceNames);
 }
 
 TEST(EnumNames, AnUnknownWordIsRefusedWithTheValidOnes) {
   EXPECT_EQ(error_of<ElevationRule>("newest"), "'newest' is not an elevation rule; expected one of: paper, gated");
-  EXPECT_EQ(error_of<SensorKind>("lidar"), "'lidar' is not a sensor; expected one of: urg, structured-light");
+  EXPECT_EQ(error_of<SimulatedSensor>("lidar"), "'lidar' is not a sensor; expected one of: urg, structured-light");
   EXPECT_EQ(error_of<StripePipeline>("Image"), "'Image' is not a pipeline; expected one of: image, geometric");
   EXPECT_EQ(error_of<ReferenceElevationSource>(""),
             "'' is not a reference elevation source; expected one of: map, map-mean, truth");

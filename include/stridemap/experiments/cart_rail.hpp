@@ -29,18 +29,18 @@
 namespace stridemap {
 
 /// The range sensors an experiment can carry.
-enum class SensorKind : std::uint8_t { urg, structured_light };
-using CartRailSensor = SensorKind;
+enum class SimulatedSensor : std::uint8_t { urg, structured_light };
+using CartRailSensor = SimulatedSensor;
 
-inline constexpr EnumNameTable<SensorKind, 2> kSensorKindNames{{
-    {SensorKind::urg, "urg"},
-    {SensorKind::structured_light, "structured-light"},
+inline constexpr EnumNameTable<SimulatedSensor, 2> kSimulatedSensorNames{{
+    {SimulatedSensor::urg, "urg"},
+    {SimulatedSensor::structured_light, "structured-light"},
 }};
 /// "urg" or "structured-light": the --sensor word and the outputs' name.
-constexpr std::string_view name(SensorKind sensor) { return enum_name_in(kSensorKindNames, sensor); }
+constexpr std::string_view name(SimulatedSensor sensor) { return enum_name_in(kSimulatedSensorNames, sensor); }
 template <>
-inline SensorKind parse_enum_name<SensorKind>(std::string_view text) {
-  return enum_value_in(kSensorKindNames, text, "a sensor");
+inline SimulatedSensor parse_enum_name<SimulatedSensor>(std::string_view text) {
+  return enum_value_in(kSimulatedSensorNames, text, "a sensor");
 }
 
 /// How a structured-light frame becomes stripe pixels.
