@@ -164,7 +164,7 @@ TEST(ExitCodes, ControlBytesFromTheInputAreEscapedInTheMessage) {
   EXPECT_EQ(result.exit_code, 2) << result.output;
   EXPECT_EQ(result.output.find('\x1b'), std::string::npos) << result.output;
   EXPECT_EQ(result.output.find('\x07'), std::string::npos) << result.output;
-  EXPECT_NE(result.output.find("'\\x1b[2J\\x07' is not available"), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("'\\x1b[2J\\x07' is not a sensor"), std::string::npos) << result.output;
 }
 
 }  // namespace
