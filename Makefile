@@ -30,40 +30,49 @@ build: configure
 
 # The whole suite again under AddressSanitizer + UndefinedBehaviorSanitizer
 # (clang); any report fails the run. The install test is left out: it builds
-# an unsanitized consumer against the sanitized libraries.
+# an unsanitized consumer against the sanitized libraries. The libraries are
+# also instrumented for libFuzzer's coverage, so `make fuzz` reuses this build
+# instead of compiling everything a fourth time (docs/reliability.md).
 SAN_DIR ?= build-sanitize
 SAN_FLAGS = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
-test-sanitize: deps
-	CC=clang CXX=clang++ cmake -S . -B $(SAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-	  -DSTRIDEMAP_BUILD_BENCHMARKS=OFF -DCMAKE_CXX_FLAGS="$(SAN_FLAGS)" \
+SAN_CONFIGURE = CC=clang CXX=clang++ cmake -S . -B $(SAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DSTRIDEMAP_BUILD_BENCHMARKS=OFF -DSTRIDEMAP_BUILD_FUZZERS=ON -DCMAKE_CXX_FLAGS="$(SAN_FLAGS)" \
 	  -DCMAKE_EXE_LINKER_FLAGS="$(SAN_FLAGS)"
+test-sanitize: deps
+	$(SAN_CONFIGURE)
 	cmake --build $(SAN_DIR) -j $(JOBS)
 	cd $(SAN_DIR) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --output-on-failure -j $(JOBS) -E install_and_find_package
 
-# Reliability (docs/reliability.md). The whole suite under ThreadSanitizer
-# (clang); any report fails the run. The thread tests are MapPublisherThreads.*.
-# OpenCV's TBB threads are invisible to TSan; tools/tsan.supp says why.
+# Reliability (docs/reliability.md). The test programs that run threads
+# under ThreadSanitizer (clang); any report fails the run. Those are the
+# layers whose code or tests start threads: core (MapPublisher), pipeline,
+# live (the emulator and the live loop), experiments (the soak's planner
+# thread) and cli (live runs of the tool, itself built with TSan). The other
+# layers' programs are single-threaded, so TSan has nothing to check there
+# and they are not built. OpenCV's TBB threads are invisible to TSan;
+# tools/tsan.supp says why.
 TSAN_DIR ?= build-tsan
 TSAN_FLAGS = -fsanitize=thread -fno-omit-frame-pointer
+TSAN_LAYERS = core pipeline live experiments cli
 test-tsan: deps
 	CC=clang CXX=clang++ cmake -S . -B $(TSAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DSTRIDEMAP_BUILD_BENCHMARKS=OFF -DCMAKE_CXX_FLAGS="$(TSAN_FLAGS)" \
 	  -DCMAKE_EXE_LINKER_FLAGS="$(TSAN_FLAGS)"
-	cmake --build $(TSAN_DIR) -j $(JOBS)
+	cmake --build $(TSAN_DIR) -j $(JOBS) --target stridemap_cli $(foreach l,$(TSAN_LAYERS),stridemap_$(l)_tests)
 	cd $(TSAN_DIR) && TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:suppressions=$(CURDIR)/tools/tsan.supp \
-	  ctest --output-on-failure -j $(JOBS) -E install_and_find_package
+	  ctest --output-on-failure -j $(JOBS) -L '^($(subst $(eval) ,|,$(strip $(TSAN_LAYERS))))$$'
 
-# Every libFuzzer target of fuzz/ for FUZZ_SECONDS each (clang, ASan + UBSan);
-# a crash fails the run and leaves its input in $(FUZZ_DIR)/fuzz-artifacts/.
-FUZZ_DIR ?= build-fuzz
+# Every libFuzzer target of fuzz/ for FUZZ_SECONDS each, FUZZ_JOBS at a time
+# (clang, ASan + UBSan, in the sanitizer build); a crash fails the run and
+# leaves its input in $(SAN_DIR)/fuzz-artifacts/.
 FUZZ_SECONDS ?= 30
+FUZZ_JOBS ?= $(JOBS)
 FUZZ_TARGETS ?=
 fuzz: deps
-	CC=clang CXX=clang++ cmake -S . -B $(FUZZ_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-	  -DSTRIDEMAP_BUILD_FUZZERS=ON -DSTRIDEMAP_BUILD_TESTS=OFF -DSTRIDEMAP_BUILD_BENCHMARKS=OFF
-	cmake --build $(FUZZ_DIR) -j $(JOBS) --target stridemap_fuzzers
-	bash fuzz/run.sh $(FUZZ_DIR) $(FUZZ_SECONDS) $(FUZZ_TARGETS)
+	$(SAN_CONFIGURE)
+	cmake --build $(SAN_DIR) -j $(JOBS) --target stridemap_fuzzers
+	FUZZ_JOBS=$(FUZZ_JOBS) bash fuzz/run.sh $(SAN_DIR) $(FUZZ_SECONDS) $(FUZZ_TARGETS)
 
 # The full soak: SOAK_SCANS simulated scans over a path far larger than the
 # map, run twice with the same seed; fails on growing memory, an invalid
