@@ -12,6 +12,7 @@
 #include "stridemap/io/map_export.hpp"
 #include "stridemap/io/map_file.hpp"
 #include "stridemap/io/map_outputs.hpp"
+#include "stridemap/io/output_folder.hpp"
 #include "stridemap/io/png_image.hpp"
 
 namespace stridemap::python {
@@ -63,7 +64,7 @@ void register_map(py::module_& m) {
                             "layers:\n" +
                             layer_descriptions() +
                             "Arrays are indexed [i, j]: cell (min_cell[0] + i, min_cell[1] + j), i along +X "
-                            "(forward), j along +Y (left), as in the map file.")
+                            "(forward), j along +Y (left), as in the map file. Map.layer_names: the names, in the file's order.")
                                .c_str())
       .def(py::init([](int cells_per_side, double cell_size_m) {
              return ElevationMap(GridOptions{cells_per_side, cell_size_m});
@@ -95,8 +96,6 @@ void register_map(py::module_& m) {
            }, py::arg("ix"), py::arg("iy"), "Centre (x_m, y_m) of the cell with global index (ix, iy).")
       .def("contains", [](const ElevationMap& map, std::int64_t ix, std::int64_t iy) { return map.contains({ix, iy}); },
            py::arg("ix"), py::arg("iy"), "Whether the cell with global index (ix, iy) is inside the window.")
-      .def_property_readonly_static("layer_names", [](const py::object&) { return layer_names(); },
-                                    "The layers' names, in the map file's order.")
       .def(
           "layer",
           [](const py::object& self, const std::string& name) {
@@ -156,11 +155,19 @@ void register_map(py::module_& m) {
              io::MapOutputOptions options;
              options.elevation_title = title;
              options.certainty_max = certainty_max;
-             io::write_map_layers(io::export_map_layers(map), directory, options);
+             // The set replaces the folder whole, and a folder holding anything
+             // but earlier outputs is refused: a user's files are never lost.
+             io::OutputFolder staged(directory, "directory");
+             io::write_map_layers(io::export_map_layers(map), staged.path(), options);
+             staged.commit();
            },
            py::arg("directory"), py::kw_only(), py::arg("title") = "Elevation", py::arg("certainty_max") = 100.0,
-           "Writes elevation.png and certainty.png (with legends) and elevation/certainty/state.csv into "
-           "directory, as the CLI's commands do (docs/outputs.md).");
+           "Writes elevation.png and certainty.png (with legends) and elevation/certainty/state.csv as the "
+           "folder `directory`, as the CLI's commands do (docs/outputs.md): the set appears whole, replacing an "
+           "earlier set; a folder holding other files is refused (InputError).");
+
+  // A constant, named in the class docstring: the layers in the map file's order.
+  py::cast<py::object>(m.attr("Map")).attr("layer_names") = py::tuple(py::cast(layer_names()));
 
   py::class_<io::MapFile>(m, "MapFile", "A loaded map file: the map, what it was made with, the format version.")
       .def_property_readonly(
@@ -176,7 +183,8 @@ void register_map(py::module_& m) {
         "or version, a checksum mismatch, bad metadata.");
   m.def("is_map_file", &io::is_map_file, py::arg("path"), "Whether the file starts with the map file's signature.");
   m.def("write_png", &write_png_array, py::arg("path"), py::arg("pixels"),
-        "Writes an RGB uint8 array of shape (height, width, 3) as a PNG, atomically (the library's libpng writer).");
+        "Writes an RGB uint8 array of shape (height, width, 3) as a PNG (the library's libpng writer). The file "
+        "appears only when complete and replaces any file at path, as numpy.save does.");
 }
 
 }  // namespace stridemap::python
