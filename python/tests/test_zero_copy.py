@@ -7,13 +7,6 @@ import pytest
 import stridemap
 
 
-def aligned_map():
-    # A fixed window whose corner cell (-N/2) is a multiple of N only for
-    # N = 1; otherwise a fresh map's corner sits mid-storage. Loading moves
-    # nothing, so build the aligned case from the window's own geometry.
-    return stridemap.Map(cells_per_side=1, cell_size_m=0.01)
-
-
 def test_storage_view_is_a_view_of_the_map_and_keeps_it_alive(mapped_flat_walk):
     m = mapped_flat_walk.map
     view = m.storage_view("elevation")
@@ -47,12 +40,17 @@ def test_storage_rolled_by_the_corner_is_the_window_order(mapped_flat_walk):
         assert not np.shares_memory(window, m.storage_view(name))
 
 
-def test_layer_is_a_view_when_the_corner_is_in_slot_zero():
-    m = aligned_map()
-    assert m.storage_corner == (0, 0)
+def test_layer_is_a_view_when_the_corner_is_in_slot_zero(flat_walk):
+    # The window follows the robot: centred on cell 50 of a 100-cell map,
+    # its corner is cell 0, which is storage slot (0, 0).
+    pipeline = stridemap.Pipeline()
+    pipeline.add_urg_scan(flat_walk["ranges_mm"][0], 0.0, [0.505, 0.505, 0.0, 0.0, 0.0])
+    m = pipeline.map
+    assert m.min_cell == (0, 0) and m.storage_corner == (0, 0)
     layer = m.layer("elevation")
     assert np.shares_memory(layer, m.storage_view("elevation"))
     assert layer.base is not None and not layer.flags.writeable
+    assert np.count_nonzero(~np.isnan(layer)) > 100
 
 
 def test_layer_dtypes_and_shapes():
