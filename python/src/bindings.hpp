@@ -40,6 +40,9 @@ TrunkPose pose_from_values(const double* values, std::size_t count, double refer
 TrunkPose pose_from_object(const py::handle& pose, double reference_elevation_m, double height_change_m,
                            const std::string& argument);
 
+/// "poses[3]": one element of an argument, for messages.
+std::string element_name(const std::string& argument, long long index);
+
 /// A finite number, InputError naming `argument` otherwise.
 double finite_number(double value, const std::string& argument);
 

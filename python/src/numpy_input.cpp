@@ -27,6 +27,16 @@ py::array_t<double, py::array::c_style> as_float64(const py::handle& obj, const 
   return py::array_t<double, py::array::c_style>::ensure(array);
 }
 
+std::string element_name(const std::string& argument, long long index) {
+  // Appended piece by piece: GCC 12 warns (-Wrestrict, a false positive)
+  // about "[" + std::to_string(i) + "]".
+  std::string name = argument;
+  name += '[';
+  name += std::to_string(index);
+  name += ']';
+  return name;
+}
+
 double finite_number(double value, const std::string& argument) {
   if (!std::isfinite(value)) raise_input_error(argument + ": expected a finite number, got " + std::to_string(value));
   return value;

@@ -78,10 +78,10 @@ class Pipeline {
     const py::object rows = py::module_::import("numpy").attr("asarray")(ranges);
     std::size_t reached = 0;
     for (py::ssize_t i = 0; i < k; ++i) {
-      const std::string at = "[" + std::to_string(i) + "]";
       const TrunkPose p = pose_from_values(q.data(i, 0), static_cast<std::size_t>(q.shape(1)), h_ref[i], d_z[i],
-                                           "poses" + at);
-      fill_raw(rows[py::int_(i)], "ranges" + at, units, finite_number(t.at(i), "times_s" + at), std::nullopt, 1);
+                                           element_name("poses", i));
+      fill_raw(rows[py::int_(i)], element_name("ranges", i), units, finite_number(t.at(i), element_name("times_s", i)),
+               std::nullopt, 1);
       reached += pipeline_.add(raw_, p).integrated ? 1 : 0;
     }
     return reached;
@@ -159,7 +159,7 @@ class Pipeline {
     if (a.ndim() != 1 || a.shape(0) != k) {
       raise_input_error(argument + ": expected one value per scan (" + std::to_string(k) + "), got shape " + shape_text(a));
     }
-    for (py::ssize_t i = 0; i < k; ++i) out[i] = finite_number(a.at(i), argument + "[" + std::to_string(i) + "]");
+    for (py::ssize_t i = 0; i < k; ++i) out[i] = finite_number(a.at(i), element_name(argument, i));
     return out;
   }
 
@@ -188,7 +188,7 @@ class Pipeline {
     raw_.values_mm.resize(static_cast<std::size_t>(values.shape(0)));
     for (py::ssize_t i = 0; i < values.shape(0); ++i) {
       const double v = values.at(i);
-      const std::string at = argument + "[" + std::to_string(i) + "]";
+      const std::string at = element_name(argument, i);
       if (units == "mm") {
         if (v < 0.0 || v > static_cast<double>(std::numeric_limits<std::uint32_t>::max())) {
           raise_input_error(at + ": a raw URG value is 0..4294967295 mm, got " + std::to_string(static_cast<long long>(v)));

@@ -60,9 +60,9 @@ py::array_t<std::uint32_t> simulate_urg_scans(const Scene& scene, const py::hand
   std::vector<TrunkPose> trunk;
   std::vector<double> times;
   for (py::ssize_t k = 0; k < q.shape(0); ++k) {
-    const std::string at = "[" + std::to_string(k) + "]";
-    trunk.push_back(pose_from_values(q.data(k, 0), static_cast<std::size_t>(q.shape(1)), 0.0, 0.0, "poses" + at));
-    times.push_back(finite_number(t.at(k), "times_s" + at));
+    trunk.push_back(
+        pose_from_values(q.data(k, 0), static_cast<std::size_t>(q.shape(1)), 0.0, 0.0, element_name("poses", k)));
+    times.push_back(finite_number(t.at(k), element_name("times_s", k)));
   }
   return simulate(scene, trunk, times, mount, urg, seed, sim_options(noise, systematic_error, dropouts));
 }

@@ -111,3 +111,24 @@ def test_options_from_the_cli_config_file():
     assert options.sensor == "urg"
     assert options.cell_size_m > 0 and options.mount.height_m > 0
     stridemap.Pipeline(options)
+
+
+def test_structured_light_stripes_go_through_the_pipeline():
+    import os
+    from conftest import SOURCE_DIR
+    options = stridemap.PipelineOptions()
+    options.sensor = "structured-light"
+    options.load_structured_light_config(os.path.join(SOURCE_DIR, "configs", "ragno_structured_light.yaml"))
+    options.map_filter = "cas"
+    options.cell_size_m = 0.005
+    options.cells_per_side = 200
+    pipeline = stridemap.Pipeline(options)
+    # One stripe across the image, a few rows apart: every pixel is looked at.
+    u = np.arange(0.0, 640.0, 8.0)
+    pixels = np.column_stack([u, np.full(u.size, 300.0)])
+    outcome = pipeline.add_stripe(pixels, 0.5, [0, 0, 0, 0, 0])
+    stats = pipeline.stats
+    assert stats["stripe_pixels"] == u.size
+    assert outcome["integrated"] == stats["stripe_converted"] > 0
+    with pytest.raises(stridemap.InputError, match=r"pixels: expected shape \(N, 2\)"):
+        pipeline.add_stripe(np.zeros((3, 3)), 0.6, [0, 0, 0, 0, 0])
