@@ -13,7 +13,7 @@ RAIL = os.path.join(SOURCE_DIR, "scenes", "thin_edges.yaml")
 def test_cart_rail_returns_its_summary_and_writes_outputs(tmp_path):
     out = tmp_path / "rail"
     summary = stridemap.run_cart_rail(RAIL, seed=3, out_dir=str(out))
-    assert isinstance(summary, dict)
+    assert summary["experiment"] == "cart-rail" and summary["seed"] == 3
     assert (out / "summary.json").exists()
     import json
     assert json.loads((out / "summary.json").read_text()) == summary
@@ -21,9 +21,12 @@ def test_cart_rail_returns_its_summary_and_writes_outputs(tmp_path):
     assert again == summary
 
 
-def test_rocky_walk_without_sweep(tmp_path):
+def test_rocky_walk_without_sweep_is_deterministic():
     summary = stridemap.run_rocky_walk(ROCKY, seed=2, sweep=[])
-    assert isinstance(summary, dict) and summary
+    assert summary["experiment"] == "rocky-walk" and summary["sensor"] == "urg" and summary["seed"] == 2
+    assert summary["cells_per_side"] == 100 and summary["pose_error_sweep"] == []
+    assert stridemap.run_rocky_walk(ROCKY, seed=2, sweep=[]) == summary
+    assert stridemap.run_rocky_walk(ROCKY, seed=3, sweep=[]) != summary
 
 
 def test_experiment_errors_are_input_errors(tmp_path):
