@@ -30,13 +30,15 @@ build: configure
 
 # The whole suite again under AddressSanitizer + UndefinedBehaviorSanitizer
 # (clang); any report fails the run. The install test is left out: it builds
-# an unsanitized consumer against the sanitized libraries. The libraries are
-# also instrumented for libFuzzer's coverage, so `make fuzz` reuses this build
-# instead of compiling everything a fourth time (docs/reliability.md).
+# an unsanitized consumer against the sanitized libraries, and so is the
+# Python module (an extension under ASan needs the runtime preloaded into
+# python3). The libraries are also instrumented for libFuzzer's coverage, so
+# `make fuzz` reuses this build instead of compiling everything a fourth time
+# (docs/reliability.md).
 SAN_DIR ?= build-sanitize
 SAN_FLAGS = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 SAN_CONFIGURE = CC=clang CXX=clang++ cmake -S . -B $(SAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-	  -DSTRIDEMAP_BUILD_BENCHMARKS=OFF -DSTRIDEMAP_BUILD_FUZZERS=ON -DCMAKE_CXX_FLAGS="$(SAN_FLAGS)" \
+	  -DSTRIDEMAP_BUILD_BENCHMARKS=OFF -DSTRIDEMAP_BUILD_PYTHON=OFF -DSTRIDEMAP_BUILD_FUZZERS=ON -DCMAKE_CXX_FLAGS="$(SAN_FLAGS)" \
 	  -DCMAKE_EXE_LINKER_FLAGS="$(SAN_FLAGS)"
 test-sanitize: deps
 	$(SAN_CONFIGURE)
@@ -57,7 +59,7 @@ TSAN_FLAGS = -fsanitize=thread -fno-omit-frame-pointer
 TSAN_LAYERS = core pipeline live experiments cli
 test-tsan: deps
 	CC=clang CXX=clang++ cmake -S . -B $(TSAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-	  -DSTRIDEMAP_BUILD_BENCHMARKS=OFF -DCMAKE_CXX_FLAGS="$(TSAN_FLAGS)" \
+	  -DSTRIDEMAP_BUILD_BENCHMARKS=OFF -DSTRIDEMAP_BUILD_PYTHON=OFF -DCMAKE_CXX_FLAGS="$(TSAN_FLAGS)" \
 	  -DCMAKE_EXE_LINKER_FLAGS="$(TSAN_FLAGS)"
 	cmake --build $(TSAN_DIR) -j $(JOBS) --target stridemap_cli $(foreach l,$(TSAN_LAYERS),stridemap_$(l)_tests)
 	cd $(TSAN_DIR) && TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:suppressions=$(CURDIR)/tools/tsan.supp \

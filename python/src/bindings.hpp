@@ -1,0 +1,49 @@
+#pragma once
+// Shared by the binding files of the Python module (docs/python.md): the
+// registration functions, one per file, and the checks every NumPy input
+// goes through so that a wrong shape, dtype or value is a Python exception
+// naming the argument, never a crash.
+#include <cstddef>
+#include <optional>
+#include <string>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include "stridemap/core/pose.hpp"
+
+namespace stridemap::python {
+
+namespace py = pybind11;
+
+void register_errors(py::module_& m);
+void register_options(py::module_& m);
+void register_map(py::module_& m);
+void register_pipeline(py::module_& m);
+void register_simulation(py::module_& m);
+void register_experiments(py::module_& m);
+
+/// Raises stridemap.InputError (a ValueError) with `message`.
+[[noreturn]] void raise_input_error(const std::string& message);
+
+/// A C-contiguous float64 array of `obj`, which must be numeric (integers
+/// or floats; not bool, object or complex): TypeError naming `argument`
+/// otherwise. No copy when it already is one.
+py::array_t<double, py::array::c_style> as_float64(const py::handle& obj, const std::string& argument);
+
+/// `pose`: a sequence of 5 numbers (x_m, y_m, roll_rad, pitch_rad, yaw_rad:
+/// the paper's model, the sensor at the mount's height above the reference
+/// elevation) or 6 (x_m, y_m, z_m, roll_rad, pitch_rad, yaw_rad: a 6-DoF
+/// state, the mount applied rigidly). Every value finite.
+TrunkPose pose_from_values(const double* values, std::size_t count, double reference_elevation_m,
+                           double height_change_m, const std::string& argument);
+TrunkPose pose_from_object(const py::handle& pose, double reference_elevation_m, double height_change_m,
+                           const std::string& argument);
+
+/// "poses[3]": one element of an argument, for messages.
+std::string element_name(const std::string& argument, long long index);
+
+/// A finite number, InputError naming `argument` otherwise.
+double finite_number(double value, const std::string& argument);
+
+}  // namespace stridemap::python

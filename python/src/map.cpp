@@ -1,0 +1,190 @@
+// stridemap.Map (an ElevationMap), stridemap.MapFile and the map's files:
+// the .smap map file (io/map_file.hpp), NumPy/PLY/CSV exports and the PNG
+// pictures every command writes.
+#include <optional>
+#include <string>
+
+#include <pybind11/stl.h>
+
+#include "bindings.hpp"
+#include "map_layers.hpp"
+#include "stridemap/core/grid_map.hpp"
+#include "stridemap/io/map_export.hpp"
+#include "stridemap/io/map_file.hpp"
+#include "stridemap/io/map_outputs.hpp"
+#include "stridemap/io/output_folder.hpp"
+#include "stridemap/io/png_image.hpp"
+
+namespace stridemap::python {
+namespace {
+
+py::dict metadata_dict(const io::MapFileMetadata& metadata) {
+  py::dict d;
+  d["tool_version"] = metadata.tool_version;
+  d["created_by"] = metadata.created_by;
+  d["config_text"] = metadata.config_text;
+  d["mount"] = metadata.mount ? py::cast(*metadata.mount) : py::none();
+  d["last_scan_time_s"] = metadata.last_scan_time_s ? py::cast(*metadata.last_scan_time_s) : py::none();
+  return d;
+}
+
+void save(const ElevationMap& map, const std::string& path, const std::string& created_by,
+          const std::string& config_text, std::optional<SensorMount> mount, std::optional<double> last_scan_time_s,
+          bool overwrite_other_files) {
+  io::MapFileMetadata metadata;
+  metadata.created_by = created_by;
+  metadata.config_text = config_text;
+  metadata.mount = mount;
+  if (last_scan_time_s) metadata.last_scan_time_s = finite_number(*last_scan_time_s, "last_scan_time_s");
+  io::save_map_file(path, map, metadata, {overwrite_other_files});
+}
+
+void write_png_array(const std::string& path, const py::handle& pixels) {
+  const py::array array = py::module_::import("numpy").attr("asarray")(pixels);
+  if (array.dtype().kind() != 'u' || array.dtype().itemsize() != 1) {
+    throw py::type_error("pixels: expected a uint8 array, got dtype " + py::str(array.dtype()).cast<std::string>());
+  }
+  if (array.ndim() != 3 || array.shape(2) != 3) {
+    raise_input_error("pixels: expected shape (height, width, 3) of RGB values, got " +
+                      py::str(py::object(array.attr("shape"))).cast<std::string>());
+  }
+  const auto contiguous = py::array_t<std::uint8_t, py::array::c_style>::ensure(array);
+  io::RgbImage image;
+  image.height = static_cast<int>(contiguous.shape(0));
+  image.width = static_cast<int>(contiguous.shape(1));
+  image.rgb.assign(contiguous.data(), contiguous.data() + contiguous.size());
+  io::write_png(path, image);
+}
+
+}  // namespace
+
+void register_map(py::module_& m) {
+  py::class_<ElevationMap>(m, "Map",
+                           ("The local terrain map (core/grid_map.hpp): an N x N window of cells, each with these "
+                            "layers:\n" +
+                            layer_descriptions() +
+                            "Arrays are indexed [i, j]: cell (min_cell[0] + i, min_cell[1] + j), i along +X "
+                            "(forward), j along +Y (left), as in the map file. Map.layer_names: the names, in the file's order.")
+                               .c_str())
+      .def(py::init([](int cells_per_side, double cell_size_m) {
+             return ElevationMap(GridOptions{cells_per_side, cell_size_m});
+           }),
+           py::arg("cells_per_side") = 100, py::arg("cell_size_m") = 0.01,
+           "An empty map (every cell unknown). Raises GridSizeError for a grid too large or a cell size out of "
+           "range.")
+      .def("copy", [](const ElevationMap& map) { return ElevationMap(map); }, "An independent copy.")
+      .def_property_readonly("cells_per_side", &ElevationMap::cells_per_side, "N.")
+      .def_property_readonly("cell_size_m", &ElevationMap::cell_size_m, "Edge of a cell [m].")
+      .def_property_readonly(
+          "min_cell", [](const ElevationMap& map) { return py::make_tuple(map.min_cell().x, map.min_cell().y); },
+          "Global index (ix, iy) of the window's corner cell (smallest x and y).")
+      .def_property_readonly(
+          "extent_m",
+          [](const ElevationMap& map) {
+            const double s = map.cell_size_m(), n = map.cells_per_side();
+            const double x = static_cast<double>(map.min_cell().x) * s, y = static_cast<double>(map.min_cell().y) * s;
+            return py::make_tuple(x, y, x + n * s, y + n * s);
+          },
+          "The window in the map frame: (min_x_m, min_y_m, max_x_m, max_y_m).")
+      .def("cell_of", [](const ElevationMap& map, double x_m, double y_m) {
+             const CellIndex c = map.cell_of(finite_number(x_m, "x_m"), finite_number(y_m, "y_m"));
+             return py::make_tuple(c.x, c.y);
+           }, py::arg("x_m"), py::arg("y_m"), "Global index (ix, iy) of the cell holding the point (x_m, y_m).")
+      .def("cell_center", [](const ElevationMap& map, std::int64_t ix, std::int64_t iy) {
+             const auto c = map.cell_center({ix, iy});
+             return py::make_tuple(c.x(), c.y());
+           }, py::arg("ix"), py::arg("iy"), "Centre (x_m, y_m) of the cell with global index (ix, iy).")
+      .def("contains", [](const ElevationMap& map, std::int64_t ix, std::int64_t iy) { return map.contains({ix, iy}); },
+           py::arg("ix"), py::arg("iy"), "Whether the cell with global index (ix, iy) is inside the window.")
+      .def(
+          "layer",
+          [](const py::object& self, const std::string& name) {
+            return window_layer(self.cast<const ElevationMap&>(), name, self);
+          },
+          py::arg("name"),
+          "The layer in window order. A read-only zero-copy view (its .base keeps this map alive) when the window's "
+          "corner cell is in storage slot (0, 0) (storage_corner == (0, 0)); otherwise a writable copy. A view "
+          "shows later scans as they arrive; take .copy() for a snapshot. Raises InputError for an unknown name.")
+      .def(
+          "storage_view",
+          [](const py::object& self, const std::string& name) {
+            return storage_view(self.cast<const ElevationMap&>(), name, self);
+          },
+          py::arg("name"),
+          "Always a read-only zero-copy view of the layer's storage: element [a, b] is the cell whose global index "
+          "is (a, b) modulo N (the circular buffer). np.roll(v, (-r, -c), (0, 1)) with (r, c) = storage_corner "
+          "gives the window order.")
+      .def_property_readonly(
+          "storage_corner",
+          [](const ElevationMap& map) {
+            const auto [row, col] = storage_corner(map);
+            return py::make_tuple(row, col);
+          },
+          "Storage (row, column) holding the window's corner cell; (0, 0) when layer() returns views.")
+      .def(
+          "layers",
+          [](const py::object& self) {
+            py::dict d;
+            for (const std::string& name : layer_names()) {
+              d[py::str(name)] = window_layer(self.cast<const ElevationMap&>(), name, self);
+            }
+            return d;
+          },
+          "Every layer by name, in window order (see layer()).")
+      .def("save", &save, py::arg("path"), py::kw_only(), py::arg("created_by") = "", py::arg("config_text") = "",
+           py::arg("mount") = py::none(), py::arg("last_scan_time_s") = py::none(),
+           py::arg("overwrite_other_files") = false,
+           "Writes the map file (.smap, docs/map_file.md) atomically. An existing map file is replaced; any other "
+           "existing file is refused (InputError) unless overwrite_other_files.")
+      .def("export_npy", [](const ElevationMap& map, const std::string& directory) { return io::export_npy(map, directory); },
+           py::arg("directory"), "Writes <layer>.npy for every layer into directory; returns the paths.")
+      .def("export_ply",
+           [](const ElevationMap& map, const std::string& path) {
+             const io::PlyStats stats = io::export_ply(map, path);
+             py::dict d;
+             d["vertices"] = stats.vertices;
+             d["triangles"] = stats.triangles;
+             return d;
+           },
+           py::arg("path"), "A binary PLY mesh of the known cells, coloured by elevation; returns its counts.")
+      .def("export_csv", [](const ElevationMap& map, const std::string& directory) {
+             return io::export_cells_csv(map, directory);
+           }, py::arg("directory"), "Writes cells.csv (one line per cell) into directory; returns its path.")
+      .def("write_pictures",
+           [](const ElevationMap& map, const std::string& directory, const std::string& title, double certainty_max) {
+             io::MapOutputOptions options;
+             options.elevation_title = title;
+             options.certainty_max = certainty_max;
+             // The set replaces the folder whole, and a folder holding anything
+             // but earlier outputs is refused: a user's files are never lost.
+             io::OutputFolder staged(directory, "directory");
+             io::write_map_layers(io::export_map_layers(map), staged.path(), options);
+             staged.commit();
+           },
+           py::arg("directory"), py::kw_only(), py::arg("title") = "Elevation", py::arg("certainty_max") = 100.0,
+           "Writes elevation.png and certainty.png (with legends) and elevation/certainty/state.csv as the "
+           "folder `directory`, as the CLI's commands do (docs/outputs.md): the set appears whole, replacing an "
+           "earlier set; a folder holding other files is refused (InputError).");
+
+  // A constant, named in the class docstring: the layers in the map file's order.
+  py::cast<py::object>(m.attr("Map")).attr("layer_names") = py::tuple(py::cast(layer_names()));
+
+  py::class_<io::MapFile>(m, "MapFile", "A loaded map file: the map, what it was made with, the format version.")
+      .def_property_readonly(
+          "map", [](io::MapFile& file) -> ElevationMap& { return file.map; }, py::return_value_policy::reference_internal,
+          "The Map (kept alive by this object and by any view of it).")
+      .def_property_readonly("metadata", [](const io::MapFile& file) { return metadata_dict(file.metadata); },
+                             "dict: tool_version, created_by, config_text, mount (SensorMount or None), "
+                             "last_scan_time_s (float or None).")
+      .def_readonly("version", &io::MapFile::version, "The file format's version.");
+
+  m.def("load_map", &io::load_map_file, py::arg("path"),
+        "Reads a map file (.smap). Raises InputError '<path>: <what is wrong>' for a missing file, a wrong magic "
+        "or version, a checksum mismatch, bad metadata.");
+  m.def("is_map_file", &io::is_map_file, py::arg("path"), "Whether the file starts with the map file's signature.");
+  m.def("write_png", &write_png_array, py::arg("path"), py::arg("pixels"),
+        "Writes an RGB uint8 array of shape (height, width, 3) as a PNG (the library's libpng writer). The file "
+        "appears only when complete and replaces any file at path, as numpy.save does.");
+}
+
+}  // namespace stridemap::python

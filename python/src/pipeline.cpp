@@ -1,0 +1,284 @@
+// stridemap.Pipeline: the library's one entry point (MappingPipeline) fed
+// from NumPy. Every array is checked here, naming the argument, before the
+// library sees it; the library's own InputErrors pass through unchanged.
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <pybind11/stl.h>
+
+#include "bindings.hpp"
+#include "stridemap/core/map_resume.hpp"
+#include "stridemap/pipeline/mapping_pipeline.hpp"
+
+namespace stridemap::python {
+namespace {
+
+// Metres past which a range "in metres" must be millimetres: no URG, nor
+// any sensor a walking robot carries, measures 100 m.
+constexpr double kImplausibleRangeM = 100.0;
+
+py::dict scan_stats_dict(const ScanStats& s) {
+  py::dict d;
+  d["beams"] = s.beams;
+  d["integrated"] = s.integrated;
+  d["first"] = s.first;
+  d["plausible"] = s.plausible;
+  d["implausible"] = s.implausible;
+  d["replaced"] = s.replaced;
+  d["invalid_range"] = s.invalid_range;
+  d["invalid_beam"] = s.invalid_beam;
+  d["outside_map"] = s.outside_map;
+  d["pose_rejected"] = s.pose_rejected;
+  d["time_rejected"] = s.time_rejected;
+  d["cells_reset_by_move"] = s.cells_reset_by_move;
+  return d;
+}
+
+py::dict outcome_dict(const ScanOutcome& outcome) {
+  py::dict d = scan_stats_dict(outcome.stats);
+  d["reached_mapper"] = outcome.integrated;
+  return d;
+}
+
+class Pipeline {
+ public:
+  Pipeline(const PipelineOptions& options, const ElevationMap* resume_from) : pipeline_(options), urg_(options.urg, options.calibration) {
+    if (resume_from) resume_from_map(pipeline_.mapper(), *resume_from);
+  }
+
+  py::dict add_urg_scan(const py::handle& ranges, double time_s, const py::handle& pose, const std::string& units,
+                        std::optional<int> first_step, int cluster, double reference_elevation_m,
+                        double height_change_m) {
+    const TrunkPose p = pose_from_object(pose, reference_elevation_m, height_change_m, "pose");
+    fill_raw(ranges, "ranges", units, finite_number(time_s, "time_s"), first_step, cluster);
+    return outcome_dict(pipeline_.add(raw_, p));
+  }
+
+  std::size_t add_urg_scans(const py::handle& ranges, const py::handle& times_s, const py::handle& poses,
+                            const std::string& units, const py::handle& reference_elevation_m,
+                            const py::handle& height_change_m) {
+    const auto r = as_float64(ranges, "ranges");  // shape only; values are checked per row
+    const auto t = as_float64(times_s, "times_s");
+    const auto q = as_float64(poses, "poses");
+    if (r.ndim() != 2) raise_input_error("ranges: expected a 2-D array (scans x values), got " + std::to_string(r.ndim()) + " dimensions");
+    const py::ssize_t k = r.shape(0);
+    if (t.ndim() != 1 || t.shape(0) != k) {
+      raise_input_error("times_s: expected one time per scan (" + std::to_string(k) + "), got shape " + shape_text(t));
+    }
+    if (q.ndim() != 2 || q.shape(0) != k || (q.shape(1) != 5 && q.shape(1) != 6)) {
+      raise_input_error("poses: expected shape (" + std::to_string(k) + ", 5) or (" + std::to_string(k) +
+                        ", 6), got " + shape_text(q));
+    }
+    const std::vector<double> h_ref = per_scan(reference_elevation_m, k, "reference_elevation_m");
+    const std::vector<double> d_z = per_scan(height_change_m, k, "height_change_m");
+    const py::object rows = py::module_::import("numpy").attr("asarray")(ranges);
+    std::size_t reached = 0;
+    for (py::ssize_t i = 0; i < k; ++i) {
+      const TrunkPose p = pose_from_values(q.data(i, 0), static_cast<std::size_t>(q.shape(1)), h_ref[i], d_z[i],
+                                           element_name("poses", i));
+      fill_raw(rows[py::int_(i)], element_name("ranges", i), units, finite_number(t.at(i), element_name("times_s", i)),
+               std::nullopt, 1);
+      reached += pipeline_.add(raw_, p).integrated ? 1 : 0;
+    }
+    return reached;
+  }
+
+  py::dict add_points(const py::handle& points, const py::handle& sigma_m, double time_s, const py::handle& pose,
+                      double reference_elevation_m, double height_change_m) {
+    const TrunkPose p = pose_from_object(pose, reference_elevation_m, height_change_m, "pose");
+    const auto xyz = as_float64(points, "points");
+    if (xyz.ndim() != 2 || xyz.shape(1) != 3) raise_input_error("points: expected shape (N, 3), got " + shape_text(xyz));
+    const auto n = xyz.shape(0);
+    const auto sigma = as_float64(sigma_m, "sigma_m");
+    if (!(sigma.ndim() == 0 || (sigma.ndim() == 1 && sigma.shape(0) == n))) {
+      raise_input_error("sigma_m: expected one sigma per point (" + std::to_string(n) + ") or one for all, got shape " +
+                        shape_text(sigma));
+    }
+    PointFrame& frame = points_;
+    frame.time_s = finite_number(time_s, "time_s");
+    frame.points_m.resize(static_cast<std::size_t>(n));
+    frame.height_sigma_m.resize(static_cast<std::size_t>(n));
+    for (py::ssize_t i = 0; i < n; ++i) {
+      frame.points_m[i] = {xyz.at(i, 0), xyz.at(i, 1), xyz.at(i, 2)};
+      frame.height_sigma_m[i] = sigma.ndim() == 0 ? *sigma.data() : sigma.at(i);
+    }
+    return outcome_dict(pipeline_.add(frame, p));
+  }
+
+  py::dict add_stripe(const py::handle& pixels, std::optional<double> time_s, const py::handle& pose,
+                      double reference_elevation_m, double height_change_m) {
+    const TrunkPose p = pose_from_object(pose, reference_elevation_m, height_change_m, "pose");
+    const auto uv = as_float64(pixels, "pixels");
+    if (uv.ndim() != 2 || uv.shape(1) != 2) raise_input_error("pixels: expected shape (N, 2) of (u_px, v_px), got " + shape_text(uv));
+    stripe_.resize(static_cast<std::size_t>(uv.shape(0)));
+    for (py::ssize_t i = 0; i < uv.shape(0); ++i) stripe_[i] = {uv.at(i, 0), uv.at(i, 1)};
+    if (time_s) finite_number(*time_s, "time_s");
+    return outcome_dict(pipeline_.add(stripe_, time_s, p));
+  }
+
+  MappingPipeline& pipeline() { return pipeline_; }
+
+  py::dict stats() const {
+    const PipelineStats s = pipeline_.stats();
+    py::dict d;
+    d["scans"] = s.scans;
+    d["integrated"] = s.integrated;
+    d["rejected"] = s.rejected;
+    d["beams_valid"] = s.beams.valid;
+    d["beams_error_codes"] = s.beams.error_codes;
+    d["beams_beyond_max_range"] = s.beams.beyond_max_range;
+    d["points"] = s.points.points;
+    d["points_converted"] = s.points.converted;
+    d["points_not_finite"] = s.points.not_finite;
+    d["stripe_pixels"] = s.stripe.pixels;
+    d["stripe_converted"] = s.stripe.converted;
+    const MapperTotals& t = pipeline_.mapper().totals();
+    d["mapper_scans"] = t.scans;
+    d["scans_rejected_for_pose"] = t.scans_rejected_for_pose;
+    d["scans_rejected_for_time"] = t.scans_rejected_for_time;
+    d["mapper_beams"] = t.beams;
+    d["mapper_integrated"] = t.integrated;
+    d["invalid_range"] = t.invalid_range;
+    d["invalid_beam"] = t.invalid_beam;
+    d["outside_map"] = t.outside_map;
+    d["implausible"] = t.implausible;
+    return d;
+  }
+
+ private:
+  static std::string shape_text(const py::array& a) { return py::str(py::object(a.attr("shape"))).cast<std::string>(); }
+
+  static std::vector<double> per_scan(const py::handle& values, py::ssize_t k, const std::string& argument) {
+    std::vector<double> out(static_cast<std::size_t>(k), 0.0);
+    if (values.is_none()) return out;
+    const auto a = as_float64(values, argument);
+    if (a.ndim() != 1 || a.shape(0) != k) {
+      raise_input_error(argument + ": expected one value per scan (" + std::to_string(k) + "), got shape " + shape_text(a));
+    }
+    for (py::ssize_t i = 0; i < k; ++i) out[i] = finite_number(a.at(i), element_name(argument, i));
+    return out;
+  }
+
+  // The raw scan the URG would have sent: millimetres as given (units
+  // "mm", integers: error codes below DMIN kept), or metres rounded to
+  // millimetres (units "m", floats: NaN / inf / 0 become code 0, "no echo").
+  void fill_raw(const py::handle& ranges, const std::string& argument, const std::string& units, double time_s,
+                std::optional<int> first_step, int cluster) {
+    if (units != "mm" && units != "m") raise_input_error("units: expected 'mm' (raw URG values) or 'm', got '" + units + "'");
+    const py::array array = py::module_::import("numpy").attr("asarray")(ranges);
+    const char kind = array.dtype().kind();
+    const std::string dtype = py::str(array.dtype()).cast<std::string>();
+    if (units == "mm" && kind != 'i' && kind != 'u') {
+      throw py::type_error(argument + ": units='mm' takes the sensor's raw integer millimetres, got dtype " + dtype +
+                           "; pass units='m' for ranges in metres");
+    }
+    if (units == "m" && kind != 'f') {
+      throw py::type_error(argument + ": units='m' takes floating-point metres, got dtype " + dtype +
+                           "; pass units='mm' for raw integer millimetres");
+    }
+    const auto values = as_float64(array, argument);
+    if (values.ndim() != 1) raise_input_error(argument + ": expected one scan (1-D), got shape " + shape_text(values));
+    raw_.time_s = time_s;
+    raw_.first_step = first_step.value_or(pipeline_.options().urg.first_step);
+    raw_.cluster = cluster;
+    raw_.values_mm.resize(static_cast<std::size_t>(values.shape(0)));
+    for (py::ssize_t i = 0; i < values.shape(0); ++i) {
+      const double v = values.at(i);
+      const std::string at = element_name(argument, i);
+      if (units == "mm") {
+        if (v < 0.0 || v > static_cast<double>(std::numeric_limits<std::uint32_t>::max())) {
+          raise_input_error(at + ": a raw URG value is 0..4294967295 mm, got " + std::to_string(static_cast<long long>(v)));
+        }
+        raw_.values_mm[i] = static_cast<std::uint32_t>(v);
+      } else if (!std::isfinite(v) || v == 0.0) {
+        raw_.values_mm[i] = 0;
+      } else if (v < 0.0) {
+        raise_input_error(at + ": a range is not negative, got " + std::to_string(v) + " m");
+      } else if (v > kImplausibleRangeM) {
+        raise_input_error(at + ": " + std::to_string(v) + " m is no range a URG measures; are these millimetres "
+                          "(units='mm')?");
+      } else {
+        raw_.values_mm[i] = static_cast<std::uint32_t>(std::lround(v * 1000.0));
+      }
+    }
+    // The pipeline counts a scan that does not fit the sensor as rejected
+    // and goes on (a live stream must); a script wants to hear why.
+    urg_.to_planar_scan(raw_, scratch_);
+  }
+
+  MappingPipeline pipeline_;
+  UrgModel urg_;
+  UrgRawScan raw_;
+  PlanarScan scratch_;
+  PointFrame points_;
+  std::vector<StripePixel> stripe_;
+};
+
+}  // namespace
+
+void register_pipeline(py::module_& m) {
+  const char* pose_doc =
+      "pose: 5 numbers (x_m, y_m, roll_rad, pitch_rad, yaw_rad; the paper's model: the sensor at mount.height_m "
+      "+ reference_elevation_m + height_change_m) or 6 (x_m, y_m, z_m, roll_rad, pitch_rad, yaw_rad; a 6-DoF "
+      "state, the mount applied rigidly). Positive pitch is nose down, positive roll left side up.";
+  py::class_<Pipeline>(m, "Pipeline",
+                       "The mapping pipeline (pipeline/mapping_pipeline.hpp): scans and poses in, an elevation map "
+                       "out. Every add_* returns the mapper's account of the scan as a dict.")
+      .def(py::init([](const PipelineOptions& options, const ElevationMap* resume_from) {
+             return std::make_unique<Pipeline>(options, resume_from);
+           }),
+           py::arg("options") = PipelineOptions{}, py::arg("resume_from") = nullptr,
+           "Raises InputError for invalid options. resume_from: a Map (e.g. load_map(path).map) to go on mapping "
+           "from; its grid must be the options' (InputError otherwise). The map is copied.")
+      .def("add_urg_scan", &Pipeline::add_urg_scan, py::arg("ranges"), py::arg("time_s"), py::arg("pose"),
+           py::kw_only(), py::arg("units") = "mm", py::arg("first_step") = py::none(), py::arg("cluster") = 1,
+           py::arg("reference_elevation_m") = 0.0, py::arg("height_change_m") = 0.0,
+           (std::string("One URG-04LX scan, integrated now. ranges: 1-D; units='mm' (default): the raw integer "
+                        "values the sensor sends, error codes below DMIN kept; units='m': floats in metres, NaN/inf/0 "
+                        "for no echo. One value per step from first_step (default the sensor's AMIN). time_s: the "
+                        "scan's time [s], later than the last scan's. ") +
+            pose_doc + " Raises InputError/TypeError naming the argument.")
+               .c_str())
+      .def("add_urg_scans", &Pipeline::add_urg_scans, py::arg("ranges"), py::arg("times_s"), py::arg("poses"),
+           py::kw_only(), py::arg("units") = "mm", py::arg("reference_elevation_m") = py::none(),
+           py::arg("height_change_m") = py::none(),
+           "K scans at once: ranges (K, values), times_s (K,), poses (K, 5) or (K, 6) as for add_urg_scan; "
+           "reference_elevation_m, height_change_m: None or (K,). Returns how many scans reached the mapper.")
+      .def("add_points", &Pipeline::add_points, py::arg("points"), py::arg("sigma_m"), py::arg("time_s"),
+           py::arg("pose"), py::kw_only(), py::arg("reference_elevation_m") = 0.0, py::arg("height_change_m") = 0.0,
+           "Sensor 'points': points (N, 3) in the sensor frame [m] (x ahead, y left, z up before the mount's "
+           "pitch) with a height sigma each (N,) or one for all [m]. Non-finite points are counted, not used.")
+      .def("add_stripe", &Pipeline::add_stripe, py::arg("pixels"), py::arg("time_s"), py::arg("pose"), py::kw_only(),
+           py::arg("reference_elevation_m") = 0.0, py::arg("height_change_m") = 0.0,
+           "Sensor 'structured-light': one frame's stripe pixels (N, 2) of (u_px, v_px); time_s may be None.")
+      .def("finish", [](Pipeline& p) { return outcome_dict(p.pipeline().finish()); },
+           "Ends the stream: the scan the scan-sequence filter holds is integrated.")
+      .def("apply_map_filter",
+           [](Pipeline& p) {
+             const MapFilterResult r = p.pipeline().apply_map_filter();
+             py::dict d;
+             d["filled"] = r.filled;
+             d["cas_removed"] = r.cas_removed;
+             return d;
+           },
+           "Runs the options' map filter on the map being built; returns {'filled', 'cas_removed'}.")
+      .def("filtered_map", [](Pipeline& p) { return p.pipeline().filtered_map(); },
+           "A copy of the map with the map filter applied; the map being built is unchanged.")
+      .def_property_readonly(
+          "map", [](Pipeline& p) -> ElevationMap& { return p.pipeline().mapper().map(); },
+          py::return_value_policy::reference_internal,
+          "The map being built (not a copy: it keeps this pipeline alive, and its views show later scans).")
+      .def_property_readonly("options", [](Pipeline& p) { return p.pipeline().options(); }, "A copy of the options.")
+      .def_property_readonly(
+          "last_scan_time_s", [](Pipeline& p) { return p.pipeline().mapper().last_scan_time_s(); },
+          "Time of the last scan the mapper accepted, or None.")
+      .def_property_readonly("stats", &Pipeline::stats,
+                             "Counts since construction: scans offered and integrated, beams and points by "
+                             "outcome, the mapper's totals.");
+}
+
+}  // namespace stridemap::python

@@ -1,0 +1,42 @@
+"""The experiments through Python: summaries as dicts, outputs on request."""
+import os
+
+import pytest
+
+import stridemap
+from conftest import SOURCE_DIR
+
+ROCKY = os.path.join(SOURCE_DIR, "scenes", "rocky_mockup.yaml")
+RAIL = os.path.join(SOURCE_DIR, "scenes", "thin_edges.yaml")
+
+
+def test_cart_rail_returns_its_summary_and_writes_outputs(tmp_path):
+    out = tmp_path / "rail"
+    summary = stridemap.run_cart_rail(RAIL, seed=3, out_dir=str(out))
+    assert summary["experiment"] == "cart-rail" and summary["seed"] == 3
+    assert (out / "summary.json").exists()
+    import json
+    assert json.loads((out / "summary.json").read_text()) == summary
+    again = stridemap.run_cart_rail(RAIL, seed=3)
+    assert again == summary
+
+
+def test_rocky_walk_without_sweep_is_deterministic():
+    summary = stridemap.run_rocky_walk(ROCKY, seed=2, sweep=[])
+    assert summary["experiment"] == "rocky-walk" and summary["sensor"] == "urg" and summary["seed"] == 2
+    assert summary["cells_per_side"] == 100 and summary["pose_error_sweep"] == []
+    assert stridemap.run_rocky_walk(ROCKY, seed=2, sweep=[]) == summary
+    assert stridemap.run_rocky_walk(ROCKY, seed=3, sweep=[]) != summary
+
+
+def test_experiment_errors_are_input_errors(tmp_path):
+    with pytest.raises(stridemap.InputError, match="missing.yaml"):
+        stridemap.run_cart_rail(str(tmp_path / "missing.yaml"))
+    with pytest.raises(stridemap.InputError, match="'lidar'"):
+        stridemap.run_cart_rail(RAIL, sensor="lidar")
+    user = tmp_path / "mine"
+    user.mkdir()
+    (user / "thesis.tex").write_text("keep me")
+    with pytest.raises(stridemap.InputError, match="out_dir"):
+        stridemap.run_cart_rail(RAIL, out_dir=str(user))
+    assert (user / "thesis.tex").read_text() == "keep me"
