@@ -162,6 +162,7 @@ struct LightingArgs {
 
 void run_lighting_command(const LightingArgs& args) {
   const std::string scene_path = resolve_default_data_file("--scene", args.scene_path, LightingArgs::kDefaultScene);
+  if (!std::filesystem::exists(scene_path)) throw InputError(scene_path + ": the scene file does not exist");
   const Scene scene = load_scene_yaml(scene_path);
   LightingOptions options;
   CartRailArgs sl_args;
