@@ -39,7 +39,7 @@ SAN_DIR ?= build-sanitize
 SAN_FLAGS = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 SAN_CONFIGURE = CC=clang CXX=clang++ cmake -S . -B $(SAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DSTRIDEMAP_BUILD_BENCHMARKS=OFF -DSTRIDEMAP_BUILD_PYTHON=OFF -DSTRIDEMAP_BUILD_FUZZERS=ON -DCMAKE_CXX_FLAGS="$(SAN_FLAGS)" \
-	  -DCMAKE_EXE_LINKER_FLAGS="$(SAN_FLAGS)"
+	  -DCMAKE_EXE_LINKER_FLAGS="$(SAN_FLAGS)" -DCMAKE_SHARED_LINKER_FLAGS="$(SAN_FLAGS)"
 test-sanitize: deps
 	$(SAN_CONFIGURE)
 	cmake --build $(SAN_DIR) -j $(JOBS)
@@ -60,7 +60,7 @@ TSAN_LAYERS = core pipeline live experiments cli
 test-tsan: deps
 	CC=clang CXX=clang++ cmake -S . -B $(TSAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo \
 	  -DSTRIDEMAP_BUILD_BENCHMARKS=OFF -DSTRIDEMAP_BUILD_PYTHON=OFF -DCMAKE_CXX_FLAGS="$(TSAN_FLAGS)" \
-	  -DCMAKE_EXE_LINKER_FLAGS="$(TSAN_FLAGS)"
+	  -DCMAKE_EXE_LINKER_FLAGS="$(TSAN_FLAGS)" -DCMAKE_SHARED_LINKER_FLAGS="$(TSAN_FLAGS)"
 	cmake --build $(TSAN_DIR) -j $(JOBS) --target stridemap_cli $(foreach l,$(TSAN_LAYERS),stridemap_$(l)_tests)
 	cd $(TSAN_DIR) && TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:suppressions=$(CURDIR)/tools/tsan.supp \
 	  ctest --output-on-failure -j $(JOBS) -L '^($(subst $(eval) ,|,$(strip $(TSAN_LAYERS))))$$'

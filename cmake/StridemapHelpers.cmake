@@ -31,7 +31,10 @@ function(stridemap_add_layer name)
   endif()
   add_library(stridemap_${name} ${sources})
   add_library(stridemap::${name} ALIAS stridemap_${name})
-  set_target_properties(stridemap_${name} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME stridemap_${name})
+  # While the version is 0.x every minor release may change the ABI, so the
+  # soname carries major.minor (libstridemap_core.so.0.1).
+  set_target_properties(stridemap_${name} PROPERTIES EXPORT_NAME ${name} OUTPUT_NAME stridemap_${name}
+    VERSION ${PROJECT_VERSION} SOVERSION ${PROJECT_VERSION_MAJOR}.${PROJECT_VERSION_MINOR})
   target_include_directories(stridemap_${name} PUBLIC
     $<BUILD_INTERFACE:${include_root}>
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)

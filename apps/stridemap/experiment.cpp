@@ -8,6 +8,8 @@
 
 #include "cli_parsing.hpp"
 #include "commands.hpp"
+#include "installed_data.hpp"
+#include "terminal_output.hpp"
 #include "output_guard.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
@@ -105,11 +107,15 @@ void run_cart_rail_command(const CartRailArgs& args) {
   const std::string cell_setting = args.cell_size_given || args.config_path.empty()
                                        ? "--cell-size-m " + number_text(options.cell_size_m)
                                        : args.config_path + ": map.cell_size_m " + number_text(options.cell_size_m);
+  io::ProgressBar bar = progress_bar("cart-rail", "scans");
+  options.progress = bar.callback();
   const CartRailResult result = naming_grid_setting(cell_setting, [&] { return run_cart_rail(scene, options); });
+  bar.clear();
   const CartRailRunInfo info{run_name, args.scene_path};
   const std::string dir = (std::filesystem::path(args.out_dir) / ("cart-rail-" + run_name)).string();
   refuse_output_that_is_an_input("--out", dir, {{"--scene", args.scene_path}, {"--config", args.config_path}});
   write_output_set(dir, "--out", [&](const std::string& folder) { write_cart_rail_outputs(result, options, info, folder); });
+  note("wrote " + dir);
   std::fputs(cart_rail_table(result, info).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
 }
@@ -146,7 +152,8 @@ void run_mixed_pixels_command(const MixedPixelsArgs& args) {
 }
 
 struct LightingArgs {
-  std::string scene_path = "scenes/cart_rail_boxes.yaml";
+  static constexpr const char* kDefaultScene = "scenes/cart_rail_boxes.yaml";
+  std::string scene_path = kDefaultScene;
   std::string out_dir;
   std::string sensor_config_path;
   std::vector<double> levels_lux;
@@ -154,10 +161,9 @@ struct LightingArgs {
 };
 
 void run_lighting_command(const LightingArgs& args) {
-  if (!std::filesystem::exists(args.scene_path)) {
-    throw InputError(args.scene_path + ": the scene file does not exist (run from the source folder, or pass --scene)");
-  }
-  const Scene scene = load_scene_yaml(args.scene_path);
+  const std::string scene_path = resolve_default_data_file("--scene", args.scene_path, LightingArgs::kDefaultScene);
+  if (!std::filesystem::exists(scene_path)) throw InputError(scene_path + ": the scene file does not exist");
+  const Scene scene = load_scene_yaml(scene_path);
   LightingOptions options;
   CartRailArgs sl_args;
   sl_args.sensor_config_path = args.sensor_config_path;
@@ -169,11 +175,11 @@ void run_lighting_command(const LightingArgs& args) {
     for (double lux : args.levels_lux) options.levels.push_back({lux_name(lux), lux});
   }
   const std::string dir = (std::filesystem::path(args.out_dir) / "lighting").string();
-  refuse_output_that_is_an_input("--out", dir, {{"--scene", args.scene_path}, {"--sensor-config", args.sensor_config_path}});
+  refuse_output_that_is_an_input("--out", dir, {{"--scene", scene_path}, {"--sensor-config", args.sensor_config_path}});
   io::check_output_folder(dir, "--out");
   const LightingResult result = run_lighting(scene, options);
   write_output_set(dir, "--out",
-                   [&](const std::string& folder) { write_lighting_outputs(result, options, args.scene_path, folder); });
+                   [&](const std::string& folder) { write_lighting_outputs(result, options, scene_path, folder); });
   std::fputs(lighting_table(result).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
 }

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "commands.hpp"
+#include "terminal_output.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/log_import.hpp"
 
@@ -50,11 +51,19 @@ void refuse_existing(const std::string& path, bool overwrite) {
   }
 }
 
-void run_import(const ImportArgs& args, const std::function<io::ImportedData(std::string_view)>& import) {
+// The importer of one format, told where to report its progress.
+using Importer = std::function<io::ImportedData(std::string_view text, const ProgressCallback& progress)>;
+
+void run_import(const ImportArgs& args, const Importer& import) {
   refuse_existing(args.log_path, args.overwrite);
   refuse_existing(args.poses_path, args.overwrite);
   const std::string text = read_input(args.input);
-  const io::ImportedData data = import(text);
+  note("read " + std::to_string(text.size()) + " bytes from " + args.input);
+  io::ImportedData data;
+  {
+    io::ProgressBar bar = progress_bar("import", "kB");
+    data = import(text, bar.callback());
+  }
   const io::ImportReport& r = data.report;
   for (std::size_t k = 0; k < r.problems.size() && k < kProblemsShown; ++k) {
     std::fprintf(stderr, "stridemap: warning: %s (line skipped)\n", r.problems[k].c_str());
@@ -108,7 +117,11 @@ void register_import(CLI::App& app) {
   breezyslam->add_option("--first-step", args->breezyslam.first_step, "URG step of the first range")
       ->capture_default_str();
   breezyslam->callback([args] {
-    run_import(*args, [&](std::string_view text) { return io::import_breezyslam(text, args->input, args->breezyslam); });
+    run_import(*args, [&](std::string_view text, const ProgressCallback& progress) {
+      auto options = args->breezyslam;
+      options.progress = progress;
+      return io::import_breezyslam(text, args->input, options);
+    });
   });
 
   CLI::App* carmen = add_format(*import, "carmen", "CARMEN log: FLASER / ROBOTLASER1 lines with the robot's pose",
@@ -119,7 +132,11 @@ void register_import(CLI::App& app) {
   carmen->add_option("--min-range-m", args->carmen.min_range_m, "Shorter ranges are no return")->capture_default_str();
   carmen->callback([args] {
     args->carmen.flaser_field_of_view_rad = args->flaser_fov_deg * kRadPerDeg;
-    run_import(*args, [&](std::string_view text) { return io::import_carmen(text, args->input, args->carmen); });
+    run_import(*args, [&](std::string_view text, const ProgressCallback& progress) {
+      auto options = args->carmen;
+      options.progress = progress;
+      return io::import_carmen(text, args->input, options);
+    });
   });
 
   CLI::App* csv = add_format(*import, "csv-ranges", "CSV ranges: time_s, r_0, r_1, ... per line", *args, true, false);
@@ -133,7 +150,11 @@ void register_import(CLI::App& app) {
   csv->callback([args] {
     args->csv.angle_min_rad = args->angle_min_deg * kRadPerDeg;
     args->csv.angle_step_rad = args->angle_step_deg * kRadPerDeg;
-    run_import(*args, [&](std::string_view text) { return io::import_csv_ranges(text, args->input, args->csv); });
+    run_import(*args, [&](std::string_view text, const ProgressCallback& progress) {
+      auto options = args->csv;
+      options.progress = progress;
+      return io::import_csv_ranges(text, args->input, options);
+    });
   });
 
   CLI::App* tum = add_format(*import, "tum", "TUM trajectory: timestamp tx ty tz qx qy qz qw", *args, false, true);
@@ -151,7 +172,10 @@ void register_import(CLI::App& app) {
     } else {
       throw InputError("--z: '" + args->tum_height + "' is not one of reference, height-change, ignore");
     }
-    run_import(*args, [&](std::string_view text) { return io::import_tum(text, args->input, options); });
+    run_import(*args, [&](std::string_view text, const ProgressCallback& progress) {
+      options.progress = progress;
+      return io::import_tum(text, args->input, options);
+    });
   });
 }
 

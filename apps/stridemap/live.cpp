@@ -11,15 +11,17 @@
 
 #include "cli_parsing.hpp"
 #include "commands.hpp"
+#include "terminal_output.hpp"
 #include "output_guard.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/printable_text.hpp"
+#include "stridemap/io/map_file.hpp"
 #include "stridemap/io/map_outputs.hpp"
+#include "stridemap/io/map_resume_check.hpp"
 #include "stridemap/io/pose_stream.hpp"
 #include "stridemap/io/scan_log.hpp"
 #include "stridemap/live/live_mapping.hpp"
 #include "stridemap/live/map_report.hpp"
-#include "cli_parsing.hpp"
 #include "urg_device.hpp"
 
 namespace stridemap::cli {
@@ -32,6 +34,7 @@ struct MappingArgs {
   std::string filters = "none";
   std::string clock = "host";
   std::string map_filter = "fill";
+  std::string resume_path;
   double max_pose_gap_s = 1.0;
 };
 
@@ -53,6 +56,9 @@ void add_mapping_options(CLI::App& command, MappingArgs& args) {
   command.add_option("--map-filter", args.map_filter,
                      "What runs on a copy of the map before it is saved: fill (eq. 11), cas or none")
       ->capture_default_str();
+  command.add_option("--resume", args.resume_path,
+                     "Go on mapping from this map file (a map.smap of an earlier run, made with the same --config); "
+                     "the new map goes to --out, the file itself is never changed");
 }
 
 LiveClock parse_clock(const std::string& name) {
@@ -67,6 +73,12 @@ ScanMapperOptions mapper_options(const MappingArgs& args) {
   ScanMapperOptions options;
   if (!args.config_path.empty()) options.config = load_mapper_config(args.config_path);
   options.filters = parse_scan_filter_list(args.filters);
+  if (!args.resume_path.empty()) {
+    options.resume = std::make_shared<const io::MapFile>(io::load_map_file(args.resume_path));
+    options.resume_source = "--resume " + args.resume_path;
+    // Before any device is opened or output touched.
+    io::check_map_resumable(*options.resume, options.config, options.resume_source);
+  }
   return options;
 }
 
@@ -105,7 +117,8 @@ void run_live(const LiveArgs& args) {
   const ExistingLog log_choice = existing_log_choice(args.overwrite, args.append);
   const std::vector<NamedPath> inputs{{"--poses", args.mapping.poses_path},
                                       {"--config", args.mapping.config_path},
-                                      {"--device", args.device.device}};
+                                      {"--device", args.device.device},
+                                      {"--resume", args.mapping.resume_path}};
   if (!args.record_path.empty()) {
     refuse_output_that_is_an_input("--record", args.record_path, inputs);
     check_log_output("--record", args.record_path, log_choice, "stridemap-urg-log");
@@ -133,6 +146,7 @@ void run_live(const LiveArgs& args) {
   info.poses_from = args.mapping.poses_path;
   info.clock = args.mapping.clock;
   info.map_filter = options.map_filter;
+  info.resumed_from = args.mapping.resume_path;
   const bool tty = ::isatty(STDERR_FILENO) != 0;
   std::unique_ptr<LiveMapping> live;
   std::string log_error;
@@ -155,6 +169,7 @@ void run_live(const LiveArgs& args) {
   hooks.on_event = [&](const LiveEvent& e) {
     switch (e.kind) {
       case LiveEvent::Kind::status: {
+        if (verbosity().quiet) break;
         const UrgDriverStats& d = driver->stats();
         const ScanMapper& mapper = live->mapper();
         const double now = monotonic_seconds();
@@ -244,7 +259,8 @@ void run_map(const MapArgs& args) {
   const LiveClock clock = parse_clock(args.mapping.clock);
   const std::vector<NamedPath> inputs{{"--log", args.log_path},
                                       {"--poses", args.mapping.poses_path},
-                                      {"--config", args.mapping.config_path}};
+                                      {"--config", args.mapping.config_path},
+                                      {"--resume", args.mapping.resume_path}};
   refuse_output_that_is_an_input("--out", args.mapping.out_dir, inputs);
   io::check_output_folder(args.mapping.out_dir, "--out");
   const io::ScanLog log = io::read_scan_log(args.log_path);
@@ -260,15 +276,22 @@ void run_map(const MapArgs& args) {
     pose_times.add(pose.time_s);
   }
   print_skipped("bad pose lines", pose_problems.count, pose_problems.first);
+  note("read " + std::to_string(log.scans.size()) + " scans from " + args.log_path + " and " +
+       std::to_string(pose_times.count) + " poses from " + args.mapping.poses_path);
   ScanMapper mapper(options, scip::to_urg_parameters(log.parameters));
-  for (const UrgScan& scan : log.scans) {
-    UrgRawScan raw = scan.raw;
-    raw.time_s = clock == LiveClock::sensor ? sensor_time_seconds(scan.sensor_time_ms) : scan.host_time_s;
-    scan_times.add(raw.time_s);
-    mapper.add(raw);
-    mapper.process(track, true);
+  if (options.resume) note("going on from the map in " + args.mapping.resume_path);
+  {
+    io::ProgressBar bar = progress_bar("map", "scans");
+    for (const UrgScan& scan : log.scans) {
+      UrgRawScan raw = scan.raw;
+      raw.time_s = clock == LiveClock::sensor ? sensor_time_seconds(scan.sensor_time_ms) : scan.host_time_s;
+      scan_times.add(raw.time_s);
+      mapper.add(raw);
+      mapper.process(track, true);
+      bar.update(mapper.stats().scans, log.scans.size());
+    }
+    mapper.finish();
   }
-  mapper.finish();
   MapRunInfo info;
   info.command = "map";
   info.scans_from = args.log_path;
@@ -278,6 +301,7 @@ void run_map(const MapArgs& args) {
   info.log_lines_skipped = log.skipped_line_numbers.size();
   info.log_stop = log.stop;
   info.pose_lines_skipped = pose_problems.count;
+  info.resumed_from = args.mapping.resume_path;
   info.map_filter = parse_map_filter(args.mapping.map_filter);
   const io::MapLayers layers = write_map_outputs(mapper, log.parameters, info, nullptr, args.mapping.out_dir);
   const ScanMapperStats& s = mapper.stats();

@@ -10,6 +10,7 @@
 
 #include "commands.hpp"
 #include "output_guard.hpp"
+#include "terminal_output.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/printable_text.hpp"
 
@@ -42,6 +43,7 @@ int main(int argc, char** argv) {
   CLI::App app{"stridemap: terrain maps for walking robots from active 2D range sensors", "stridemap"};
   app.require_subcommand(1);
   app.set_version_flag("--version", "stridemap 0.1.0");
+  stridemap::cli::add_verbosity_flags(app);  // before the sub-commands: they inherit the fallthrough
   stridemap::cli::register_calibrate_range(app);
   stridemap::cli::register_calibrate_structured_light(app);
   stridemap::cli::register_detect_stripe(app);

@@ -11,6 +11,7 @@
 
 #include "cli_parsing.hpp"
 #include "output_guard.hpp"
+#include "terminal_output.hpp"
 #include "stridemap/experiments/mount_analysis.hpp"
 #include "stridemap/experiments/mount_analysis_report.hpp"
 #include "stridemap/experiments/structured_light_walk_sensor.hpp"
@@ -69,6 +70,8 @@ void run_mount_analysis_command(const MountAnalysisArgs& args) {
   for (double deg : parse_grid("--pitches-deg", pitches)) options.sweep_pitches_rad.push_back(deg * std::numbers::pi / 180.0);
   options.validate();
 
+  io::ProgressBar bar = progress_bar("mount-analysis", "mounts");
+  options.progress = bar.callback();
   MountAnalysisResult result;
   if (sensor == SimulatedSensor::urg) {
     const UrgWalkSensorOptions base;
@@ -87,7 +90,9 @@ void run_mount_analysis_command(const MountAnalysisArgs& args) {
                                 nullptr, options);
   }
   const std::string dir = (std::filesystem::path(args.out_dir) / ("mount-analysis-" + result.sensor)).string();
+  bar.clear();
   write_output_set(dir, "--out", [&](const std::string& folder) { write_mount_analysis_outputs(result, options, folder); });
+  note("wrote " + dir);
   std::fputs(mount_analysis_table(result).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
 }

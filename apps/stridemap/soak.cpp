@@ -14,6 +14,8 @@
 
 #include "cli_parsing.hpp"
 #include "commands.hpp"
+#include "installed_data.hpp"
+#include "terminal_output.hpp"
 #include "output_guard.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/soak.hpp"
@@ -25,7 +27,8 @@ namespace stridemap::cli {
 namespace {
 
 struct SoakCommandOptions {
-  std::string scene_path = "scenes/soak_circuit.yaml";
+  static constexpr const char* kDefaultScene = "scenes/soak_circuit.yaml";
+  std::string scene_path = kDefaultScene;
   std::string out_dir;  ///< empty: no summary file
   std::uint64_t scans = 100000;
   std::uint64_t seed = 1;
@@ -138,8 +141,17 @@ void run(const SoakCommandOptions& o) {
   std::vector<std::string> failures;
   nlohmann::json runs = nlohmann::json::array();
   std::uint64_t first_hash = 0;
+  io::ProgressBar bar = progress_bar("soak", "scans");
+  int run_index = 0;
+  if (bar.enabled()) {
+    options.progress = [&](std::size_t done, std::size_t total) {
+      bar.update(static_cast<std::size_t>(run_index) * total + done, static_cast<std::size_t>(o.repeat) * total);
+    };
+  }
   for (int k = 0; k < o.repeat; ++k) {
+    run_index = k;
     const SoakResult result = run_soak(scene, motion, options);
+    bar.clear();
     print_run(result, options);
     for (const std::string& f : result.failures()) failures.push_back("run " + std::to_string(k + 1) + ": " + f);
     if (k == 0) first_hash = result.run_hash;
@@ -187,7 +199,10 @@ void register_soak(CLI::App& app) {
       ->check(number_from_to(0.05, 1000.0, "m"));
   command->add_option("--out", options->out_dir, "Folder for soak/summary.json");
   command->add_flag("!--no-planner-thread", options->planner_thread, "Do not read snapshots from a second thread");
-  command->callback([options] { run(*options); });
+  command->callback([options] {
+    options->scene_path = resolve_default_data_file("--scene", options->scene_path, SoakCommandOptions::kDefaultScene);
+    run(*options);
+  });
 }
 
 }  // namespace stridemap::cli

@@ -9,6 +9,8 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "installed_data.hpp"
+#include "terminal_output.hpp"
 #include "output_guard.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/rocky_walk.hpp"
@@ -24,7 +26,8 @@ namespace {
 
 struct RockyWalkArgs {
   std::string sensor = "urg";
-  std::string scene_path = "scenes/rocky_mockup.yaml";
+  static constexpr const char* kDefaultScene = "scenes/rocky_mockup.yaml";
+  std::string scene_path = kDefaultScene;
   std::string path_file;
   std::string out_dir;
   std::uint64_t seed = 1;
@@ -97,12 +100,16 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   const std::string early_dir = (std::filesystem::path(args.out_dir) / ("rocky-walk-" + args.sensor)).string();
   refuse_output_that_is_an_input("--out", early_dir, inputs);
   io::check_output_folder(early_dir, "--out");
+  io::ProgressBar bar = progress_bar("rocky-walk", "scans");
+  options.progress = bar.callback();
   const RockyWalkResult result =
       naming_grid_setting("--cell-size-m " + number_text(options.walk.mapper.grid.cell_size_m),
                           [&] { return run_rocky_walk(scene, path, factory, options); });
   const std::string dir = (std::filesystem::path(args.out_dir) / ("rocky-walk-" + result.sensor)).string();
   refuse_output_that_is_an_input("--out", dir, inputs);
+  bar.clear();
   write_output_set(dir, "--out", [&](const std::string& folder) { write_rocky_walk_outputs(result, options, info, folder); });
+  note("wrote " + dir);
   std::fputs(rocky_walk_table(result).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
 }
@@ -147,7 +154,10 @@ void register_walk_experiments(CLI::App& app) {
       ->check(number_from_to(kMinCellSizeM, kMaxCellSizeM, "m"));
   rocky->add_option("--cells", rw->cells_per_side, "Cells per side of the local map; default 100 (urg), 200 (structured-light)")
       ->check(grid_cells_option(1));
-  rocky->callback([rw] { run_rocky_walk_command(*rw); });
+  rocky->callback([rw] {
+    rw->scene_path = resolve_default_data_file("--scene", rw->scene_path, RockyWalkArgs::kDefaultScene);
+    run_rocky_walk_command(*rw);
+  });
 
   register_mount_analysis(experiment);
 }

@@ -22,6 +22,17 @@ void resume_from_map(TerrainMapper& mapper, const ElevationMap& saved) {
   mapper.map() = saved;
 }
 
+void resume_from_map(TerrainMapper& mapper, const ElevationMap& saved, std::optional<TrunkPose> last_pose,
+                     std::optional<double> last_scan_time_s) {
+  resume_from_map(mapper, saved);
+  if (!last_pose) return;  // no scan was ever integrated: nothing to remember
+  // The mapper learns the last scan's pose and time the one way it offers:
+  // a scan of no points at that pose and time. The window is already where
+  // that pose puts it (the saved map followed it), so no cell moves or
+  // changes; only the scan count of totals() grows by one.
+  mapper.integrate_points({}, *last_pose, last_scan_time_s);
+}
+
 MapperOptions options_for_map(MapperOptions options, const ElevationMap& saved) {
   options.grid.cells_per_side = saved.cells_per_side();
   options.grid.cell_size_m = saved.cell_size_m();

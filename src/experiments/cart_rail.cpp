@@ -122,6 +122,11 @@ void finish_rail_map(const Scene& scene, const CartRailOptions& options, Mapping
   result.cas_removed_cells = filtered.cas_removed;
   const ElevationMap& map = pipeline.mapper().map();
   result.snapshot = snapshot_with_truth(map, scene);
+  result.map = map;
+  result.map_config.mount = pipeline.mapper().mount();
+  result.map_config.mapper = pipeline.mapper().options();
+  result.map_config.fill = options.fill;
+  result.map_config.calibration = options.calibration;
   result.swept_area = swept_area(map);
   result.score = score_map(result.snapshot, result.swept_area, options.score);
   result.objects = measure_objects(result.snapshot, scene, options.objects);
@@ -183,6 +188,7 @@ CartRailResult run_cart_rail(const Scene& scene, const CartRailOptions& options)
     const double time_s = static_cast<double>(k) * options.urg.scan_period_s;
     simulator.scan(poses[k], options.mount, time_s, raw, &labels);
     pipeline.add(raw, poses[k], beam_tags(labels));
+    if (options.progress) options.progress(k + 1, poses.size());
   }
   pipeline.finish();
   result.sensor_totals = pipeline.stats().beams;

@@ -1,5 +1,7 @@
 #include "stridemap/experiments/cart_rail_report.hpp"
 
+#include "stridemap/io/map_file.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -228,6 +230,10 @@ void write_cart_rail_outputs(const CartRailResult& r, const CartRailOptions& opt
   csv("swept_area", r.swept_area.cast<float>(), "");
 
   io::write_text_file((dir / "summary.json").string(), cart_rail_summary_json(r, options, info), "summary");
+  // The final map whole, for map-info, export and other software.
+  io::save_map_file((dir / "map.smap").string(), r.map,
+                    io::map_file_metadata(r.map_config, "experiment cart-rail --sensor " + info.sensor + " --scene " +
+                                                            info.scene_path));
 }
 
 }  // namespace stridemap

@@ -116,6 +116,7 @@ void run_structured_light_rail(const Scene& scene, const CartRailOptions& option
   std::vector<StripePixel> pixels;
   double sum_sq = 0.0;
   for (const TrunkPose& pose : poses) {
+    if (options.progress) options.progress(static_cast<std::size_t>(&pose - poses.data()), poses.size());
     if (renderer) {
       renderer->render(pose, image.rgb, &truth);
       detector.detect(image, detection);

@@ -194,9 +194,16 @@ MountAnalysisResult run_mount_analysis(const std::vector<NamedMount>& named, con
   }
   MountAnalysisResult result;
   result.sensor = make_sensor(first, named.front(), o.update)->name();
-  for (const NamedMount& m : named) result.named.push_back(analyse_mount(m, make_sensor, range_share, o));
   result.heights = o.sweep_heights_m.size();
   result.pitches = o.sweep_pitches_rad.size();
+  const std::size_t total = named.size() + result.heights * result.pitches;
+  const auto report = [&] {
+    if (o.progress) o.progress(result.named.size() + result.sweep.size(), total);
+  };
+  for (const NamedMount& m : named) {
+    result.named.push_back(analyse_mount(m, make_sensor, range_share, o));
+    report();
+  }
   for (const double pitch : o.sweep_pitches_rad) {
     for (const double height : o.sweep_heights_m) {
       NamedMount m = named.front();
@@ -204,6 +211,7 @@ MountAnalysisResult run_mount_analysis(const std::vector<NamedMount>& named, con
       m.mount.height_m = height;
       m.mount.pitch_rad = pitch;
       result.sweep.push_back(analyse_mount(m, make_sensor, range_share, o));
+      report();
     }
   }
   for (std::size_t k = 1; k < result.sweep.size(); ++k) {

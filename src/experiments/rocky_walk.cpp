@@ -23,18 +23,36 @@ RockyWalkResult run_rocky_walk(const Scene& scene, const WalkPath& path, const W
                                const RockyWalkOptions& options) {
   options.validate();
   RockyWalkResult result;
+  // Every walk follows the same path, so all have the main walk's scans.
+  std::size_t walks = 1;
+  for (std::size_t r = 0; r < options.sweep_references.size(); ++r) {
+    for (const double scale : options.pose_error_scales) {
+      walks += !(scale == 1.0 && options.sweep_references[r] == options.walk.pose_errors.reference);
+    }
+  }
+  std::size_t walks_done = 0;
+  const auto walk_reporting = [&](WalkSensor& sensor, const WalkOptions& walk) {
+    WalkRun run(scene, path, sensor, walk);
+    const std::size_t per_walk = run.total_scans(), before = walks_done * per_walk;
+    while (!run.done()) {
+      run.step();
+      if (options.progress) options.progress(before + run.scans_done(), walks * per_walk);
+    }
+    ++walks_done;
+    return run.finish();
+  };
   const auto walk_with = [&](const PoseErrorOptions& errors) {
     WalkOptions walk = options.walk;
     walk.pose_errors = errors;
     std::unique_ptr<WalkSensor> sensor = make_sensor(scene, walk.mapper.update);
-    return run_walk(scene, path, *sensor, walk);
+    return walk_reporting(*sensor, walk);
   };
   // The main walk first: it also checks the scene, path and mount before
   // the sweep spends any time.
   {
     std::unique_ptr<WalkSensor> sensor = make_sensor(scene, options.walk.mapper.update);
     result.sensor = sensor->name();
-    result.main = run_walk(scene, path, *sensor, options.walk);
+    result.main = walk_reporting(*sensor, options.walk);
   }
   const auto row_of = [](std::string label, double scale, ReferenceElevationSource source, const WalkResult& w) {
     return PoseSweepRow{std::move(label), scale, source, w.pose_errors, w.mosaic_score, w.unknown_swept_cells};

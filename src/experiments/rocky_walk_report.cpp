@@ -1,5 +1,7 @@
 #include "stridemap/experiments/rocky_walk_report.hpp"
 
+#include "stridemap/io/map_file.hpp"
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -248,6 +250,10 @@ void write_rocky_walk_outputs(const RockyWalkResult& r, const RockyWalkOptions& 
   csv("truth", w.mosaic.truth_m, "m");
   csv("swept_area", w.mosaic_swept.cast<float>(), "");
   io::write_text_file((dir / "summary.json").string(), rocky_walk_summary_json(r, options, info), "summary");
+  // The final map whole (the mosaic the CSVs hold), for map-info, export and other software.
+  io::save_map_file((dir / "map.smap").string(), w.map,
+                    io::map_file_metadata(w.map_config, "experiment rocky-walk --sensor " + r.sensor + " --scene " +
+                                                            info.scene_path));
 }
 
 }  // namespace stridemap

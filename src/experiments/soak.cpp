@@ -84,6 +84,7 @@ class SoakRun {
     for (std::uint64_t k = 0; k < options_.scans; ++k) {
       step(k);
       if (due(k, options_.checkpoint_every) || k + 1 == options_.scans) checkpoint(k + 1, on_checkpoint);
+      if (options_.progress) options_.progress(k + 1, options_.scans);
     }
     if (planner) {
       planner->stop();

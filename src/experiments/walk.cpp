@@ -184,6 +184,9 @@ WalkResult WalkRun::finish() {
     if (count) r.filled_cells = done.filled, r.cas_removed_cells = done.cas_removed;
   };
   const Scene& scene = motion_.scene();
+  r.map_config.mount = mapper_.mount();
+  r.map_config.mapper = mapper_.options();
+  r.map_config.fill = options_.fill;
   const auto snapshot = [&](const ElevationMap& map) {
     if (options_.score_against_truth) return snapshot_with_truth(map, scene);
     MapSnapshot s;
@@ -196,9 +199,13 @@ WalkResult WalkRun::finish() {
   filter(mapper_.map(), !mosaic_);
   // A fixed window is the mosaic already: no second snapshot of it.
   if (options_.mapper.follow_robot || !mosaic_) r.local = snapshot(mapper_.map());
-  if (!mosaic_) return r;
+  if (!mosaic_) {
+    r.map = mapper_.map();
+    return r;
+  }
 
   filter(*mosaic_, true);
+  r.map = *mosaic_;
   r.mosaic = snapshot(*mosaic_);
   r.mosaic_swept = swept_;
   if (options_.score_against_truth) r.mosaic_score = score_map(r.mosaic, swept_, options_.score);

@@ -86,7 +86,7 @@ ImportedData import_breezyslam(std::string_view text, const std::string& source,
     out.scans.push_back(detail::make_scan(out.scans.size(), time_s, first_time_s, options.first_step, 1,
                                           std::move(values)));
     out.poses.push_back(pose);
-  });
+  }, options.progress);
   out.report.scans = out.scans.size();
   out.report.poses = out.poses.size();
   return out;

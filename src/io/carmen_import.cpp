@@ -153,7 +153,7 @@ ImportedData import_carmen(std::string_view text, const std::string& source, con
     pose.pose.y_m = laser.y_m;
     pose.pose.yaw_rad = laser.theta_rad;
     out.poses.push_back(pose);
-  });
+  }, options.progress);
   out.report.scans = out.scans.size();
   out.report.poses = out.poses.size();
   return out;

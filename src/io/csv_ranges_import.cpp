@@ -73,7 +73,7 @@ ImportedData import_csv_ranges(std::string_view text, const std::string& source,
     }
     out.scans.push_back(detail::make_scan(out.scans.size(), time_s, first_time_s, layout->first_step,
                                           layout->cluster, std::move(values)));
-  });
+  }, options.progress);
   out.report.scans = out.scans.size();
   return out;
 }

@@ -14,9 +14,13 @@
 
 namespace stridemap::io::detail {
 
-/// Calls use(line, number) for every line, without its LF or CR.
+/// Calls use(line, number) for every line, without its LF or CR, telling
+/// `progress` the kilobytes read of the whole now and then.
 template <typename Use>
-void for_each_line(std::string_view text, Use&& use) {
+void for_each_line(std::string_view text, Use&& use, const ProgressCallback& progress = {}) {
+  constexpr std::size_t kLinesPerReport = 4096;
+  const std::size_t total_kb = text.size() / 1024;
+  const std::size_t size = text.size();
   std::size_t number = 0;
   while (!text.empty()) {
     const std::size_t lf = text.find('\n');
@@ -24,7 +28,9 @@ void for_each_line(std::string_view text, Use&& use) {
     text = lf == std::string_view::npos ? std::string_view{} : text.substr(lf + 1);
     if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
     use(line, ++number);
+    if (progress && number % kLinesPerReport == 0) progress((size - text.size()) / 1024, total_kb);
   }
+  if (progress) progress(total_kb, total_kb);
 }
 
 /// Fields separated by spaces and tabs (and commas with `commas`).

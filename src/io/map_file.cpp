@@ -129,6 +129,14 @@ json mount_json(const SensorMount& m) {
           {"lateral_offset_m", m.lateral_offset_m}};
 }
 
+json pose_json(const TrunkPose& p) {
+  json pose = {{"x_m", p.x_m},         {"y_m", p.y_m},         {"yaw_rad", p.yaw_rad},
+               {"pitch_rad", p.pitch_rad}, {"roll_rad", p.roll_rad}, {"reference_elevation_m", p.reference_elevation_m},
+               {"height_change_m", p.height_change_m}};
+  pose["z_m"] = p.z_m ? json(*p.z_m) : json(nullptr);
+  return pose;
+}
+
 [[noreturn]] void bad(const std::string& source, const std::string& what) {
   throw InputError(source + ": " + what);
 }
@@ -324,6 +332,19 @@ MapFileMetadata read_metadata(const json& header, const std::string& source) {
   if (const auto it = header.find("last_scan_time_s"); it != header.end() && !it->is_null()) {
     m.last_scan_time_s = field<double>(header, "last_scan_time_s", source, "");
   }
+  if (const auto it = header.find("last_pose"); it != header.end() && !it->is_null()) {
+    if (!it->is_object()) bad(source, "metadata: last_pose must be an object");
+    TrunkPose pose;
+    pose.x_m = field<double>(*it, "x_m", source, "last_pose.");
+    pose.y_m = field<double>(*it, "y_m", source, "last_pose.");
+    pose.yaw_rad = field<double>(*it, "yaw_rad", source, "last_pose.");
+    pose.pitch_rad = field<double>(*it, "pitch_rad", source, "last_pose.");
+    pose.roll_rad = field<double>(*it, "roll_rad", source, "last_pose.");
+    pose.reference_elevation_m = field<double>(*it, "reference_elevation_m", source, "last_pose.");
+    pose.height_change_m = field<double>(*it, "height_change_m", source, "last_pose.");
+    if (const auto z = it->find("z_m"); z != it->end() && !z->is_null()) pose.z_m = field<double>(*it, "z_m", source, "last_pose.");
+    m.last_pose = pose;
+  }
   return m;
 }
 
@@ -370,6 +391,7 @@ std::string encode_map_file(const ElevationMap& map, const MapFileMetadata& meta
       {"config", metadata.config_text},
       {"mount", metadata.mount ? mount_json(*metadata.mount) : json(nullptr)},
       {"last_scan_time_s", metadata.last_scan_time_s ? json(*metadata.last_scan_time_s) : json(nullptr)},
+      {"last_pose", metadata.last_pose ? pose_json(*metadata.last_pose) : json(nullptr)},
   };
   // Offsets depend on the metadata's length, which depends on the offsets'
   // digits: lay out with placeholders of the final width, then fill in.

@@ -53,7 +53,7 @@ ImportedData import_tum(std::string_view text, const std::string& source, const 
     if (options.height == TumHeight::reference_elevation) pose.pose.reference_elevation_m = v[3] - first_z;
     if (options.height == TumHeight::height_change) pose.pose.height_change_m = v[3] - first_z;
     out.poses.push_back(pose);
-  });
+  }, options.progress);
   out.report.poses = out.poses.size();
   return out;
 }

@@ -29,6 +29,7 @@ std::string map_summary_json(const ScanMapper& mapper, const io::MapLayers& laye
       {"scans_from", info.scans_from},
       {"poses_from", info.poses_from},
       {"clock", info.clock},
+      {"resumed_from", info.resumed_from.empty() ? json(nullptr) : json(info.resumed_from)},
       {"sensor",
        {{"model", sensor.model},
         {"dmin_mm", sensor.min_distance_mm},
@@ -149,6 +150,7 @@ io::MapLayers write_map_outputs(const ScanMapper& mapper, const scip::ScipParame
   // The mapper's own state (before the fill-in), from which mapping can resume.
   io::MapFileMetadata metadata = io::map_file_metadata(mapper.options().config, info.command + " " + info.scans_from);
   metadata.last_scan_time_s = mapper.mapper().last_scan_time_s();
+  metadata.last_pose = mapper.mapper().last_pose();
   io::save_map_file(staged.file("map.smap"), mapper.mapper().map(), metadata);
   staged.commit();
   return layers;

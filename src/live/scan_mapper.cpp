@@ -1,5 +1,8 @@
 #include "stridemap/live/scan_mapper.hpp"
 
+#include "stridemap/core/map_resume.hpp"
+#include "stridemap/io/map_resume_check.hpp"
+
 namespace stridemap {
 
 PipelineOptions ScanMapper::pipeline_options(const ScanMapperOptions& options, const UrgParameters& sensor) {
@@ -16,7 +19,14 @@ PipelineOptions ScanMapper::pipeline_options(const ScanMapperOptions& options, c
 }
 
 ScanMapper::ScanMapper(const ScanMapperOptions& options, const UrgParameters& sensor)
-    : options_(options), pipeline_(pipeline_options(options, sensor)) {}
+    : options_(options), pipeline_(pipeline_options(options, sensor)) {
+  if (options_.resume) {
+    io::check_map_resumable(*options_.resume, options_.config, options_.resume_source);
+    const io::MapFileMetadata& saved = options_.resume->metadata;
+    resume_from_map(pipeline_.mapper(), options_.resume->map, saved.last_pose, saved.last_scan_time_s);
+    options_.resume.reset();  // the mapper has its copy
+  }
+}
 
 void ScanMapper::add(const UrgRawScan& raw, double arrival_s) {
   pipeline_.queue(raw, arrival_s);

@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/cli_runner.hpp"
+#include "stridemap/io/map_file.hpp"
 
 namespace {
 
@@ -55,6 +56,32 @@ TEST(CartRailCommand, WritesMapsTablesAndSummary) {
     }
     EXPECT_TRUE(object["kind"] == "box" || object["kind"] == "cylinder");
   }
+  // The final map whole, in the manifest with the rest, readable by map-info
+  // and holding what state.csv shows.
+  std::ifstream manifest(dir / ".stridemap-output");
+  const std::string listed{std::istreambuf_iterator<char>(manifest), std::istreambuf_iterator<char>()};
+  EXPECT_NE(listed.find("\nmap.smap\n"), std::string::npos) << listed;
+  const CommandResult info = run_cli("map-info " + (dir / "map.smap").string());
+  ASSERT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_NE(info.output.find("experiment cart-rail --sensor urg"), std::string::npos) << info.output;
+  const stridemap::io::MapFile map = stridemap::io::load_map_file((dir / "map.smap").string());
+  std::ifstream state_csv(dir / "state.csv");
+  std::string line;
+  std::getline(state_csv, line);  // the header
+  int row = 0, differing = 0;
+  std::size_t known = 0;
+  for (; std::getline(state_csv, line); ++row) {
+    std::stringstream cells(line);
+    std::string value;
+    for (int col = 0; std::getline(cells, value, ','); ++col) {
+      const auto state = static_cast<int>(map.map.state(map.map.cell_at_local(row, col)));
+      differing += std::stoi(value) != state;
+      known += state != 0;
+    }
+  }
+  EXPECT_EQ(row, map.map.cells_per_side());
+  EXPECT_EQ(differing, 0);
+  EXPECT_GT(known, 1000u);
   fs::remove_all(out);
 }
 

@@ -38,7 +38,7 @@ TEST(RockyWalkCommand, WritesMapsViewsSummaryAndTable) {
   const fs::path dir = out / "rocky-walk-urg";
   for (const char* file : {"elevation.png", "certainty.png", "error.png", "truth.png", "local_elevation.png",
                            "local_certainty.png", "local_error.png", "view3d.png", "truth_view3d.png", "elevation.csv",
-                           "swept_area.csv", "summary.json"}) {
+                           "swept_area.csv", "map.smap", "summary.json"}) {
     EXPECT_TRUE(fs::exists(dir / file)) << file;
   }
   std::ifstream in(dir / "summary.json");
@@ -47,6 +47,9 @@ TEST(RockyWalkCommand, WritesMapsViewsSummaryAndTable) {
   EXPECT_EQ(summary["seed"], 2);
   EXPECT_EQ(summary["pose_error_sweep"].size(), 6u);  // 2 levels x 3 h_ref sources
   EXPECT_GT(summary["walk"]["scans"].get<int>(), 400);
+  const CommandResult info = run_cli("map-info " + shell_quoted((dir / "map.smap").string()));
+  EXPECT_EQ(info.exit_code, 0) << info.output;
+  EXPECT_NE(info.output.find("experiment rocky-walk --sensor urg"), std::string::npos) << info.output;
   fs::remove_all(out);
 }
 

@@ -12,11 +12,13 @@
 
 #include "stridemap/core/cas_filter.hpp"
 #include "stridemap/core/map_filter.hpp"
+#include "stridemap/core/progress.hpp"
 #include "stridemap/core/enum_names.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/core/weighted_median_fill.hpp"
 #include "stridemap/experiments/map_evaluation.hpp"
 #include "stridemap/experiments/object_extents.hpp"
+#include "stridemap/io/mapper_config.hpp"
 #include "stridemap/io/stripe_detector.hpp"
 #include "stridemap/preprocess/scan_filter_chain.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
@@ -97,6 +99,8 @@ struct StripeTally {
 
 struct CartRailOptions {
   std::uint64_t seed = 1;
+  /// Told the scans (rail positions) done so far.
+  ProgressCallback progress{};
   CartRailSensor sensor = CartRailSensor::urg;
   /// Used when sensor is structured_light.
   StructuredLightRailOptions structured_light{};
@@ -174,6 +178,10 @@ struct CartRailResult {
   std::size_t filled_cells = 0;
   std::size_t cas_removed_cells = 0;
   MapSnapshot snapshot;
+  /// The final map (after the map filter) whole, and the settings it was
+  /// made with: what the run's map.smap holds (io/map_file.hpp).
+  ElevationMap map;
+  MapperConfig map_config;
   CellMask swept_area;
   MapScore score;
   std::vector<ObjectMeasurement> objects;

@@ -29,6 +29,7 @@
 
 #include <Eigen/Core>
 
+#include "stridemap/core/progress.hpp"
 #include "stridemap/experiments/walk.hpp"
 #include "stridemap/experiments/walk_sensor.hpp"
 #include "stridemap/sim/step_field.hpp"
@@ -88,6 +89,8 @@ struct MountAnalysisOptions {
   /// mount otherwise (beta stays the base's for structured light).
   std::vector<double> sweep_heights_m;
   std::vector<double> sweep_pitches_rad;
+  /// Told the mounts analysed so far (the named ones, then the sweep's).
+  ProgressCallback progress{};
 
   /// Throws InputError for an empty sweep grid, a non-finite or negative
   /// option, fields < 1.

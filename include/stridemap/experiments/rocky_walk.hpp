@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "stridemap/core/progress.hpp"
 #include "stridemap/experiments/walk.hpp"
 #include "stridemap/experiments/walk_sensor.hpp"
 
@@ -33,6 +34,9 @@ struct RockyWalkOptions {
   /// `map_mean` the same from the cells' means.
   std::vector<ReferenceElevationSource> sweep_references{
       ReferenceElevationSource::truth, ReferenceElevationSource::map, ReferenceElevationSource::map_mean};
+
+  /// Told the scans walked so far of all the walks (main and sweep).
+  ProgressCallback progress{};
 
   /// Throws InputError for a negative or non-finite scale.
   void validate() const;

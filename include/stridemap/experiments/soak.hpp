@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "stridemap/core/progress.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/core/weighted_median_fill.hpp"
 #include "stridemap/preprocess/scan_filter_chain.hpp"
@@ -106,6 +107,8 @@ struct SoakOptions {
   /// A planner thread takes snapshots throughout and checks each one.
   bool reader_thread = true;
   SoakFaults faults{};
+  /// Told the scans simulated so far (from the mapping thread).
+  ProgressCallback progress{};
 };
 
 struct SoakCheckpoint {

@@ -17,6 +17,7 @@
 #include <string_view>
 #include <vector>
 
+#include "stridemap/core/progress.hpp"
 #include "stridemap/core/pose_track.hpp"
 #include "stridemap/sensors/scip_parameters.hpp"
 #include "stridemap/sensors/urg_driver.hpp"
@@ -61,6 +62,8 @@ struct BreezySlamImportOptions {
   /// Values per scan (the published logs: 683, steps 44..726).
   std::size_t values_per_scan = 683;
   int first_step = 44;
+  /// Told the kilobytes of the text read so far.
+  ProgressCallback progress{};
 };
 
 /// CARMEN logs: FLASER and ROBOTLASER1 lines (ranges in metres and the
@@ -72,6 +75,8 @@ struct CarmenImportOptions {
   double min_range_m = 0.02;
   /// ROBOTLASER1 carries its own maximum range; FLASER uses this [m].
   double flaser_max_range_m = 81.9;
+  /// Told the kilobytes of the text read so far.
+  ProgressCallback progress{};
 };
 
 /// Plain CSV ranges: one scan per line, "time_s, r_0, r_1, ..." (commas,
@@ -83,6 +88,8 @@ struct CsvRangesImportOptions {
   double range_scale_m = 1.0;  ///< metres per unit of the file's ranges (0.001 for millimetres)
   double min_range_m = 0.02;
   double max_range_m = 5.6;
+  /// Told the kilobytes of the text read so far.
+  ProgressCallback progress{};
 };
 
 /// What TUM's tz becomes: h_ref (reference_elevation_m), the trunk's
@@ -92,6 +99,8 @@ enum class TumHeight : std::uint8_t { reference_elevation, height_change, ignore
 
 struct TumImportOptions {
   TumHeight height = TumHeight::reference_elevation;
+  /// Told the kilobytes of the text read so far.
+  ProgressCallback progress{};
 };
 
 ImportedData import_breezyslam(std::string_view text, const std::string& source,

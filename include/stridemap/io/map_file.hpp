@@ -33,6 +33,9 @@ struct MapFileMetadata {
   std::string config_text;
   std::optional<SensorMount> mount;    ///< the sensor mount the scans were integrated with
   std::optional<double> last_scan_time_s;  ///< time of the last scan integrated
+  /// Pose of the last scan integrated: resuming measures the next scan's
+  /// motion (the travel term of Delta z_max) from it, as an unbroken run does.
+  std::optional<TrunkPose> last_pose;
 };
 
 /// A loaded map file.

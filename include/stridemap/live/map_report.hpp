@@ -24,6 +24,7 @@ struct MapRunInfo {
   std::string log_stop;                ///< map: where reading the log stopped early, if it did
   std::size_t pose_lines_skipped = 0;  ///< bad pose lines skipped
   MapFilter map_filter = MapFilter::fill;
+  std::string resumed_from;  ///< the map file mapping went on from, if any
 };
 
 /// Live mapping's own figures (not in a replay: they depend on the run).

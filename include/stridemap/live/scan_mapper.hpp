@@ -10,10 +10,13 @@
 // once the poses are complete) is skipped and counted.
 #include <cstddef>
 #include <cstdint>
+#include <memory>
+#include <string>
 #include <vector>
 
 #include "stridemap/core/pose_track.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
+#include "stridemap/io/map_file.hpp"
 #include "stridemap/io/map_outputs.hpp"
 #include "stridemap/io/mapper_config.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
@@ -28,6 +31,13 @@ struct ScanMapperOptions {
   /// with scan-sequence the map lags one scan until finish()).
   std::vector<ScanFilterKind> filters{};
   ScanFilterChainOptions filter_options{};
+  /// Go on mapping from this saved map (io/map_file.hpp) instead of an
+  /// empty one. Its settings must be `config`'s (io/map_resume_check.hpp),
+  /// else the constructor throws InputError naming `resume_source` and every
+  /// difference. A scan-sequence filter starts afresh: it has no previous
+  /// scan to compare the first one with.
+  std::shared_ptr<const io::MapFile> resume{};
+  std::string resume_source{};
 };
 
 /// scans (offered with add()), integrated (reached the mapper),
