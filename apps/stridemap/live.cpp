@@ -303,12 +303,12 @@ void run_map(const MapArgs& args) {
   info.pose_lines_skipped = pose_problems.count;
   info.resumed_from = args.mapping.resume_path;
   info.map_filter = parse_map_filter(args.mapping.map_filter);
-  const io::MapLayers layers = write_map_outputs(mapper, log.parameters, info, nullptr, args.mapping.out_dir);
+  const ExportedMap layers = write_map_outputs(mapper, log.parameters, info, nullptr, args.mapping.out_dir);
   const ScanMapperStats& s = mapper.stats();
   std::printf("map: %zu scans mapped of %zu (%zu before the first pose, %zu after the last, %zu in pose gaps), "
               "coverage %.1f %%; outputs: %s\n",
               s.integrated, s.scans, s.before_first_pose, s.after_last_pose, s.pose_gap,
-              100.0 * io::map_coverage(layers), args.mapping.out_dir.c_str());
+              100.0 * map_coverage(layers), args.mapping.out_dir.c_str());
   std::fflush(stdout);
   report_shortfall(s, scan_times, pose_times, args.mapping.clock);
 }

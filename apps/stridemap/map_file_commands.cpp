@@ -24,6 +24,7 @@ struct ExportArgs {
   std::string npy_dir;
   std::string ply_path;
   std::string csv_dir;
+  std::vector<std::string> layers;
   bool info = false;
   bool overwrite = false;
 };
@@ -51,8 +52,14 @@ void run_export(const ExportArgs& args) {
   if (args.npy_dir.empty() && args.ply_path.empty() && args.csv_dir.empty() && !args.info) {
     throw InputError("export: nothing to do; give --npy DIR, --ply FILE, --csv DIR or --info");
   }
+  // Loaded first: which files the arrays are depends on the layers the file
+  // holds, and a wrong --layers name is refused before anything is written.
+  const io::MapFile file = io::load_map_file(args.map_path);
+  if (!args.layers.empty() && args.npy_dir.empty() && args.csv_dir.empty()) {
+    throw InputError("export: --layers selects the layers of --npy and --csv; give one of them");
+  }
   std::vector<std::string> outputs;
-  for (const std::string& name : io::npy_file_names()) {
+  for (const std::string& name : io::npy_file_names(file.map, args.layers)) {
     if (!args.npy_dir.empty()) outputs.push_back((std::filesystem::path(args.npy_dir) / name).string());
   }
   if (!args.ply_path.empty()) outputs.push_back(args.ply_path);
@@ -61,10 +68,9 @@ void run_export(const ExportArgs& args) {
     throw InputError(found.front() + ": already exists (and " + std::to_string(found.size() - 1) +
                      " more outputs); choose another place or pass --overwrite");
   }
-  const io::MapFile file = io::load_map_file(args.map_path);
   if (args.info) print_info(args.map_path);
   if (!args.npy_dir.empty()) {
-    io::export_npy(file.map, args.npy_dir);
+    io::export_npy(file.map, args.npy_dir, args.layers);
     std::printf("export: NumPy arrays in %s\n", args.npy_dir.c_str());
   }
   if (!args.ply_path.empty()) {
@@ -73,7 +79,7 @@ void run_export(const ExportArgs& args) {
                 stats.triangles);
   }
   if (!args.csv_dir.empty()) {
-    std::printf("export: %s\n", io::export_cells_csv(file.map, args.csv_dir).c_str());
+    std::printf("export: %s\n", io::export_cells_csv(file.map, args.csv_dir, args.layers).c_str());
   }
 }
 
@@ -86,6 +92,10 @@ void register_map_file_commands(CLI::App& app) {
   command->add_option("--npy", args->npy_dir, "Folder for one .npy array per layer");
   command->add_option("--ply", args->ply_path, "PLY mesh file, coloured by elevation");
   command->add_option("--csv", args->csv_dir, "Folder for cells.csv, one line per cell");
+  command->add_option("--layers", args->layers,
+                      "Layers for --npy and --csv, by name (e.g. elevation,certainty); default: all for --npy, "
+                      "the planner's and the user's for --csv; map-info lists them")
+      ->delimiter(',');
   command->add_flag("--info", args->info, "Also print the map file's metadata");
   command->add_flag("--overwrite", args->overwrite, "Replace existing output files");
   command->callback([args] { run_export(*args); });

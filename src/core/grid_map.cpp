@@ -11,9 +11,6 @@
 namespace stridemap {
 namespace {
 
-constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
-static_assert(kGridBytesPerCell == 4 * sizeof(float) + 2 * sizeof(std::uint8_t) + sizeof(std::uint16_t),
-              "kGridBytesPerCell must count every layer of ElevationMap");
 
 std::string number_text(double value) {
   char text[32];
@@ -41,6 +38,17 @@ void check_cell_size(double cell_size_m) {
   if (!std::isfinite(cell_size_m) || cell_size_m < kMinCellSizeM || cell_size_m > kMaxCellSizeM) {
     throw GridSizeError("map options: cell_size_m must be between " + number_text(kMinCellSizeM) + " and " +
                         number_text(kMaxCellSizeM) + " m, got " + number_text(cell_size_m));
+  }
+}
+
+// One layer's slots of column `col` in the global rows [row_lo, row_hi) of
+// an n x n circular window.
+template <typename T>
+void reset_column(std::vector<T>& values, T value, std::int64_t n, std::size_t col, std::int64_t row_lo,
+                  std::int64_t row_hi) {
+  for (std::int64_t i = row_lo; i < row_hi; ++i) {
+    const std::int64_t m = i % n;
+    values[static_cast<std::size_t>(m < 0 ? m + n : m) * static_cast<std::size_t>(n) + col] = value;
   }
 }
 
@@ -92,15 +100,70 @@ int cells_per_side_to_cover(double extent_m, double cell_size_m) {
 ElevationMap::ElevationMap(const GridOptions& options)
     : n_(options.cells_per_side), cell_size_m_(options.cell_size_m), inverse_cell_size_(1.0 / options.cell_size_m) {
   validate_grid_options(options);
-  const auto cells = static_cast<std::size_t>(n_) * static_cast<std::size_t>(n_);
-  elevation_.assign(cells, kNaN);
-  certainty_.assign(cells, 0.0f);
-  state_.assign(cells, static_cast<std::uint8_t>(CellState::unknown));
-  contradictions_.assign(cells, 0);
-  pending_elevation_.assign(cells, kNaN);
-  mean_elevation_.assign(cells, kNaN);
-  mean_count_.assign(cells, 0);
+  layers_.reserve(builtin_layers().size() + options.extra_layers.size());
+  for (const LayerSpec& spec : builtin_layers()) add_layer(spec);
+  for (const LayerSpec& spec : options.extra_layers) add_layer(spec);
   set_min_cell({-n_ / 2, -n_ / 2});
+}
+
+std::size_t ElevationMap::add_layer(const LayerSpec& spec) {
+  validate_layer_spec(spec);
+  if (find_layer(spec.name)) throw InputError("map layer '" + spec.name + "': the map already has a layer of that name");
+  Layer& layer = layers_.emplace_back();
+  layer.spec = spec;
+  layer.reset_f32 = static_cast<float>(spec.reset_value);
+  layer.reset_u16 = static_cast<std::uint16_t>(spec.reset_value);
+  layer.reset_u8 = static_cast<std::uint8_t>(spec.reset_value);
+  fill_with_reset(layer);
+  return layers_.size() - 1;
+}
+
+void ElevationMap::fill_with_reset(Layer& layer) {
+  const auto cells = static_cast<std::size_t>(n_) * static_cast<std::size_t>(n_);
+  switch (layer.spec.type) {
+    case LayerType::f32: layer.f32.assign(cells, layer.reset_f32); break;
+    case LayerType::u16: layer.u16.assign(cells, layer.reset_u16); break;
+    case LayerType::u8: layer.u8.assign(cells, layer.reset_u8); break;
+  }
+}
+
+std::optional<std::size_t> ElevationMap::find_layer(std::string_view name) const {
+  for (std::size_t k = 0; k < layers_.size(); ++k) {
+    if (layers_[k].spec.name == name) return k;
+  }
+  return std::nullopt;
+}
+
+std::string ElevationMap::layer_names() const {
+  std::string names;
+  for (const Layer& layer : layers_) names += (names.empty() ? "" : ", ") + layer.spec.name;
+  return names;
+}
+
+std::size_t ElevationMap::checked_layer(std::string_view name, LayerType type) const {
+  const auto index = find_layer(name);
+  if (!index) {
+    throw InputError("map layer '" + std::string(name) + "' does not exist; the map has " + layer_names());
+  }
+  if (layers_[*index].spec.type != type) {
+    throw InputError("map layer '" + std::string(name) + "' holds " + layer_type_name(layers_[*index].spec.type) +
+                     ", not " + layer_type_name(type));
+  }
+  return *index;
+}
+
+void* ElevationMap::layer_bytes(std::size_t index) {
+  Layer& layer = layers_[index];
+  switch (layer.spec.type) {
+    case LayerType::f32: return layer.f32.data();
+    case LayerType::u16: return layer.u16.data();
+    case LayerType::u8: break;
+  }
+  return layer.u8.data();
+}
+
+const void* ElevationMap::layer_bytes(std::size_t index) const {
+  return const_cast<ElevationMap*>(this)->layer_bytes(index);
 }
 
 CellIndex ElevationMap::cell_of(double x_m, double y_m) const {
@@ -118,24 +181,19 @@ Eigen::Vector2d ElevationMap::cell_center(CellIndex cell) const {
   return {(static_cast<double>(cell.x) + 0.5) * cell_size_m_, (static_cast<double>(cell.y) + 0.5) * cell_size_m_};
 }
 
-void ElevationMap::reset_slot(std::size_t s) {
-  elevation_[s] = kNaN;
-  certainty_[s] = 0.0f;
-  state_[s] = static_cast<std::uint8_t>(CellState::unknown);
-  contradictions_[s] = 0;
-  pending_elevation_[s] = kNaN;
-  mean_elevation_[s] = kNaN;
-  mean_count_[s] = 0;
+void ElevationMap::clear() {
+  for (Layer& layer : layers_) fill_with_reset(layer);
 }
 
-void ElevationMap::clear() {
-  std::fill(elevation_.begin(), elevation_.end(), kNaN);
-  std::fill(certainty_.begin(), certainty_.end(), 0.0f);
-  std::fill(state_.begin(), state_.end(), static_cast<std::uint8_t>(CellState::unknown));
-  std::fill(contradictions_.begin(), contradictions_.end(), std::uint8_t{0});
-  std::fill(pending_elevation_.begin(), pending_elevation_.end(), kNaN);
-  std::fill(mean_elevation_.begin(), mean_elevation_.end(), kNaN);
-  std::fill(mean_count_.begin(), mean_count_.end(), std::uint16_t{0});
+void ElevationMap::reset_slots(std::size_t begin, std::size_t end) {
+  // Layer by layer: one fill each rather than a type switch per slot.
+  for (Layer& layer : layers_) {
+    switch (layer.spec.type) {
+      case LayerType::f32: std::fill(layer.f32.begin() + begin, layer.f32.begin() + end, layer.reset_f32); break;
+      case LayerType::u16: std::fill(layer.u16.begin() + begin, layer.u16.begin() + end, layer.reset_u16); break;
+      case LayerType::u8: std::fill(layer.u8.begin() + begin, layer.u8.begin() + end, layer.reset_u8); break;
+    }
+  }
 }
 
 std::size_t ElevationMap::move_to(double x_m, double y_m) {
@@ -160,38 +218,28 @@ std::size_t ElevationMap::move_corner_to(CellIndex new_min) {
   // Rows (constant x) that leave along x: their slots become the new rows.
   const std::int64_t first_x = dx > 0 ? min_cell_.x : new_min.x + n_;
   for (std::int64_t k = 0; k < std::abs(dx); ++k) {
-    const std::int64_t row = wrap(first_x + k);
-    for (int j = 0; j < n_; ++j) reset_slot(static_cast<std::size_t>(row * n_ + j));
+    const auto row = static_cast<std::size_t>(wrap(first_x + k));
+    reset_slots(row * static_cast<std::size_t>(n_), (row + 1) * static_cast<std::size_t>(n_));
     reset += static_cast<std::size_t>(n_);
   }
-  // Columns that leave along y, skipping the rows already reset above.
+  // Columns that leave along y, skipping the rows already reset above: the
+  // rows kept are those both windows cover.
   const std::int64_t first_y = dy > 0 ? min_cell_.y : new_min.y + n_;
+  const std::int64_t kept_lo = std::max(min_cell_.x, new_min.x);
+  const std::int64_t kept_hi = std::min(min_cell_.x, new_min.x) + n_;
   for (std::int64_t k = 0; k < std::abs(dy); ++k) {
-    const std::int64_t col = wrap(first_y + k);
-    for (std::int64_t i = new_min.x; i < new_min.x + n_; ++i) {
-      const bool row_was_reset = dx > 0 ? i >= min_cell_.x + n_ : i < min_cell_.x;
-      if (dx != 0 && row_was_reset) continue;
-      reset_slot(static_cast<std::size_t>(wrap(i) * n_ + col));
-      ++reset;
+    const auto col = static_cast<std::size_t>(wrap(first_y + k));
+    for (Layer& layer : layers_) {
+      switch (layer.spec.type) {
+        case LayerType::f32: reset_column(layer.f32, layer.reset_f32, n_, col, kept_lo, kept_hi); break;
+        case LayerType::u16: reset_column(layer.u16, layer.reset_u16, n_, col, kept_lo, kept_hi); break;
+        case LayerType::u8: reset_column(layer.u8, layer.reset_u8, n_, col, kept_lo, kept_hi); break;
+      }
     }
+    reset += static_cast<std::size_t>(kept_hi - kept_lo);
   }
   set_min_cell(new_min);
   return reset;
-}
-
-void ElevationMap::export_layers(Eigen::MatrixXf* elevation, Eigen::MatrixXf* certainty,
-                                 Eigen::Matrix<std::uint8_t, Eigen::Dynamic, Eigen::Dynamic>* state) const {
-  if (elevation) elevation->resize(n_, n_);
-  if (certainty) certainty->resize(n_, n_);
-  if (state) state->resize(n_, n_);
-  for (int i = 0; i < n_; ++i) {
-    for (int j = 0; j < n_; ++j) {
-      const std::size_t s = slot(cell_at_local(i, j));
-      if (elevation) (*elevation)(i, j) = elevation_[s];
-      if (certainty) (*certainty)(i, j) = certainty_[s];
-      if (state) (*state)(i, j) = state_[s];
-    }
-  }
 }
 
 }  // namespace stridemap

@@ -1,5 +1,6 @@
 #include "stridemap/core/map_resume.hpp"
 
+#include <cstring>
 #include <sstream>
 
 #include "stridemap/core/error.hpp"
@@ -19,7 +20,25 @@ void resume_from_map(TerrainMapper& mapper, const ElevationMap& saved) {
             << current.cell_size_m() << " m";
     throw InputError(message.str());
   }
-  mapper.map() = saved;
+  // The mapper's own registry, so that layer handles taken from its map stay
+  // valid: each saved layer goes to the place of the layer of its name, a
+  // layer only the file has is appended, one only the mapper has starts
+  // from its reset value. Same grid and corner, so the same slots.
+  ElevationMap resumed = current;
+  resumed.clear();
+  resumed.move_corner_to(saved.min_cell());
+  const std::size_t cells = static_cast<std::size_t>(saved.cells_per_side()) * static_cast<std::size_t>(saved.cells_per_side());
+  for (std::size_t k = 0; k < saved.layer_count(); ++k) {
+    const LayerSpec& spec = saved.layer_spec(k);
+    const std::size_t to = resumed.find_layer(spec.name).value_or(resumed.layer_count());
+    if (to == resumed.layer_count()) resumed.add_layer(spec);
+    if (resumed.layer_spec(to).type != spec.type) {
+      throw InputError("cannot resume mapping: the saved map's layer '" + spec.name + "' holds " +
+                       layer_type_name(spec.type) + ", the mapper's " + layer_type_name(resumed.layer_spec(to).type));
+    }
+    std::memcpy(resumed.layer_bytes(to), saved.layer_bytes(k), cells * layer_type_bytes(spec.type));
+  }
+  mapper.map() = std::move(resumed);
 }
 
 void resume_from_map(TerrainMapper& mapper, const ElevationMap& saved, std::optional<TrunkPose> last_pose,

@@ -36,10 +36,11 @@ json error_pct_json(const ObjectMeasurement& m) {
 }
 
 io::CellMask filled_mask(const MapSnapshot& s) {
-  io::CellMask mask(s.state.rows(), s.state.cols());
-  for (Eigen::Index i = 0; i < s.state.rows(); ++i)
-    for (Eigen::Index j = 0; j < s.state.cols(); ++j)
-      mask(i, j) = static_cast<CellState>(s.state(i, j)) == CellState::filled;
+  const CellMask& states = s.state();
+  io::CellMask mask(states.rows(), states.cols());
+  for (Eigen::Index i = 0; i < states.rows(); ++i)
+    for (Eigen::Index j = 0; j < states.cols(); ++j)
+      mask(i, j) = static_cast<CellState>(states(i, j)) == CellState::filled;
   return mask;
 }
 
@@ -98,7 +99,7 @@ std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOption
         {"filled_cells", s.filled_cells},
         {"swept_area_cells", s.scored_area_cells},
         {"cell_size_m", r.snapshot.cell_size_m},
-        {"cells_per_side", r.snapshot.elevation_m.rows()}}},
+        {"cells_per_side", r.snapshot.elevation_m().rows()}}},
       {"rail",
        {{"start_x_m", r.rail.start_x_m},
         {"end_x_m", r.rail.end_x_m},
@@ -188,13 +189,12 @@ void write_cart_rail_outputs(const CartRailResult& r, const CartRailOptions& opt
   // One colour scale for elevation and truth, so the two pictures compare.
   const float lo = std::min(0.0f, s.truth_m.minCoeff());
   const float hi = std::max(s.truth_m.maxCoeff(), lo + 0.01f);
-  io::MapLayers layers{s.elevation_m, s.certainty, s.state, s.min_cell, s.cell_size_m};
   io::MapOutputOptions map_style;
   map_style.elevation_title = "Elevation (" + info.sensor + ", simulated)";
   map_style.elevation_min_m = lo;
   map_style.elevation_max_m = hi;
   map_style.certainty_max = options.update.certainty_max;
-  io::write_map_layers(layers, directory, map_style);
+  io::write_map_layers(s, directory, map_style);
 
   io::GridRenderOptions elevation_style;
   elevation_style.units = "m";
@@ -205,7 +205,7 @@ void write_cart_rail_outputs(const CartRailResult& r, const CartRailOptions& opt
   io::write_png((dir / "truth.png").string(), io::render_grid(s.truth_m, elevation_style).image);
 
   const io::CellMask filled = filled_mask(s);
-  const Eigen::MatrixXf error = s.elevation_m - s.truth_m;
+  const Eigen::MatrixXf error = s.elevation_m() - s.truth_m;
   io::GridRenderOptions error_style;
   error_style.title = "Elevation error (map - truth)";
   error_style.units = "m";

@@ -6,10 +6,7 @@
 namespace stridemap {
 
 MapSnapshot snapshot_with_truth(const ElevationMap& map, const Scene& scene) {
-  MapSnapshot snapshot;
-  map.export_layers(&snapshot.elevation_m, &snapshot.certainty, &snapshot.state);
-  snapshot.min_cell = map.min_cell();
-  snapshot.cell_size_m = map.cell_size_m();
+  MapSnapshot snapshot{export_map(map), {}};
   const int n = map.cells_per_side();
   snapshot.truth_m.resize(n, n);
   const double s = map.cell_size_m();
@@ -28,13 +25,15 @@ MapScore score_map(const MapSnapshot& snapshot, const CellMask& area, const MapS
   MapScore score;
   score.artifact_threshold_m = options.artifact_threshold_m;
   double sum_sq = 0.0, sum = 0.0, sum_sq_measured = 0.0, sum_sq_filled = 0.0;
-  for (Eigen::Index i = 0; i < snapshot.elevation_m.rows(); ++i) {
-    for (Eigen::Index j = 0; j < snapshot.elevation_m.cols(); ++j) {
+  const Eigen::MatrixXf& elevation = snapshot.elevation_m();
+  const CellMask& states = snapshot.state();
+  for (Eigen::Index i = 0; i < elevation.rows(); ++i) {
+    for (Eigen::Index j = 0; j < elevation.cols(); ++j) {
       if (!area(i, j)) continue;
       ++score.scored_area_cells;
-      const auto state = static_cast<CellState>(snapshot.state(i, j));
+      const auto state = static_cast<CellState>(states(i, j));
       if (state == CellState::unknown) continue;
-      const double error = static_cast<double>(snapshot.elevation_m(i, j)) - snapshot.truth_m(i, j);
+      const double error = static_cast<double>(elevation(i, j)) - snapshot.truth_m(i, j);
       ++score.known_cells;
       sum += error;
       sum_sq += error * error;

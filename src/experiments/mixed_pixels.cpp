@@ -145,14 +145,14 @@ void write_mixed_pixels_outputs(const MixedPixelsResult& r, const CartRailOption
   if (ec) throw InputError(dir.string() + ": cannot create the output folder: " + ec.message());
   const auto picture = [&](const CartRailResult& run, const std::string& file, const std::string& title) {
     const MapSnapshot& s = run.snapshot;
-    if (s.elevation_m.size() == 0) return;
+    if (s.elevation_m().size() == 0) return;
     io::GridRenderOptions style;
     style.title = title;
     style.units = "m";
     style.cell_size_m = s.cell_size_m;
     style.min_value = std::min(0.0f, s.truth_m.minCoeff());
     style.max_value = std::max(s.truth_m.maxCoeff(), 0.01f);
-    io::write_png((dir / file).string(), io::render_grid(s.elevation_m, style).image);
+    io::write_png((dir / file).string(), io::render_grid(s.elevation_m(), style).image);
   };
   picture(r.unfiltered, "elevation_unfiltered.png", "Mixed pixels, no filtering (simulated)");
   picture(r.paper, "elevation_paper_filters.png", "Range clustering + scan sequence (simulated)");

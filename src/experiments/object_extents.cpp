@@ -62,14 +62,16 @@ double profile_extent(const std::vector<Eigen::Vector2d>& cells, int axis, doubl
 ObjectMeasurement measure_one(const MapSnapshot& m, const Footprint& f,
                               const ObjectMeasureOptions& options) {
   ObjectMeasurement out;
-  const Eigen::Index n = m.elevation_m.rows();
+  const Eigen::MatrixXf& heights = m.elevation_m();
+  const CellMask& states = m.state();
+  const Eigen::Index n = heights.rows();
   const double s = m.cell_size_m;
   const auto centre_of = [&](Eigen::Index i, Eigen::Index j) {
     return Eigen::Vector2d((static_cast<double>(m.min_cell.x + i) + 0.5) * s,
                            (static_cast<double>(m.min_cell.y + j) + 0.5) * s);
   };
   const auto known = [&](Eigen::Index i, Eigen::Index j) {
-    return static_cast<CellState>(m.state(i, j)) != CellState::unknown;
+    return static_cast<CellState>(states(i, j)) != CellState::unknown;
   };
 
   std::vector<double> ground, search_heights;
@@ -78,9 +80,9 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Footprint& f,
       if (!known(i, j)) continue;
       const Eigen::Vector2d c = centre_of(i, j);
       if (inside(f, c.x(), c.y(), options.search_margin_m)) {
-        search_heights.push_back(m.elevation_m(i, j));
+        search_heights.push_back(heights(i, j));
       } else if (inside(f, c.x(), c.y(), options.search_margin_m + options.ground_ring_m)) {
-        ground.push_back(m.elevation_m(i, j));
+        ground.push_back(heights(i, j));
       }
     }
   }
@@ -96,7 +98,7 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Footprint& f,
   Eigen::Index seed_i = -1, seed_j = -1;
   double best = std::numeric_limits<double>::infinity();
   const auto qualifies = [&](Eigen::Index i, Eigen::Index j) {
-    if (!known(i, j) || m.elevation_m(i, j) <= threshold) return false;
+    if (!known(i, j) || heights(i, j) <= threshold) return false;
     const Eigen::Vector2d c = centre_of(i, j);
     return inside(f, c.x(), c.y(), options.search_margin_m);
   };
@@ -123,7 +125,7 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Footprint& f,
     queue.pop_front();
     const Eigen::Vector2d c = centre_of(i, j);
     cells.push_back(in_object_axes(f, c.x(), c.y()));
-    if (static_cast<CellState>(m.state(i, j)) == CellState::measured) tops.push_back(m.elevation_m(i, j));
+    if (static_cast<CellState>(states(i, j)) == CellState::measured) tops.push_back(heights(i, j));
     for (const auto& [di, dj] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
       const Eigen::Index a = i + di, b = j + dj;
       if (a < 0 || b < 0 || a >= n || b >= n || visited(a, b) || !qualifies(a, b)) continue;

@@ -48,9 +48,10 @@ json pose_json(const PoseErrorStats& p) {
 }
 
 io::CellMask state_mask(const MapSnapshot& s, CellState state) {
-  io::CellMask mask(s.state.rows(), s.state.cols());
-  for (Eigen::Index i = 0; i < s.state.rows(); ++i)
-    for (Eigen::Index j = 0; j < s.state.cols(); ++j) mask(i, j) = static_cast<CellState>(s.state(i, j)) == state;
+  const CellMask& states = s.state();
+  io::CellMask mask(states.rows(), states.cols());
+  for (Eigen::Index i = 0; i < states.rows(); ++i)
+    for (Eigen::Index j = 0; j < states.cols(); ++j) mask(i, j) = static_cast<CellState>(states(i, j)) == state;
   return mask;
 }
 
@@ -84,7 +85,7 @@ void write_map_pictures(const std::filesystem::path& dir, const std::string& pre
     io::write_png((dir / (prefix + name)).string(), rendered.image);
   };
   style.title = "Elevation, " + what + " (" + r.sensor + ", simulated)";
-  save("elevation.png", io::render_grid(s.elevation_m, filled, style), true);
+  save("elevation.png", io::render_grid(s.elevation_m(), filled, style), true);
   style.title = "Ground truth: highest point per cell";
   save("truth.png", io::render_grid(s.truth_m, style), true);
 
@@ -93,14 +94,15 @@ void write_map_pictures(const std::filesystem::path& dir, const std::string& pre
   certainty_style.cell_size_m = s.cell_size_m;
   certainty_style.min_value = 0.0;
   certainty_style.max_value = certainty_max;
-  Eigen::MatrixXf certainty = s.certainty;
+  Eigen::MatrixXf certainty = s.certainty();
+  const CellMask& states = s.state();
   for (Eigen::Index i = 0; i < certainty.rows(); ++i)
     for (Eigen::Index j = 0; j < certainty.cols(); ++j)
-      if (static_cast<CellState>(s.state(i, j)) == CellState::unknown) certainty(i, j) = NAN;
+      if (static_cast<CellState>(states(i, j)) == CellState::unknown) certainty(i, j) = NAN;
   save("certainty.png", io::render_grid(certainty, certainty_style), false);
 
   // Errors only where the walk is scored (the swept area).
-  Eigen::MatrixXf error = s.elevation_m - s.truth_m;
+  Eigen::MatrixXf error = s.elevation_m() - s.truth_m;
   for (Eigen::Index i = 0; i < error.rows(); ++i)
     for (Eigen::Index j = 0; j < error.cols(); ++j)
       if (!swept(i, j)) error(i, j) = NAN;
@@ -157,7 +159,7 @@ std::string rocky_walk_summary_json(const RockyWalkResult& r, const RockyWalkOpt
       {"cell_size_m", w.local.cell_size_m},
       {"map_filter", std::string(map_filter_name(options.walk.map_filter))},
       {"elevation_rule", std::string(name(options.walk.mapper.update.elevation_rule))},
-      {"cells_per_side", w.local.elevation_m.rows()},
+      {"cells_per_side", w.local.elevation_m().rows()},
       {"beams",
        {{"integrated", w.mapper_totals.integrated},
         {"implausible", w.mapper_totals.implausible},
@@ -221,7 +223,7 @@ void write_rocky_walk_outputs(const RockyWalkResult& r, const RockyWalkOptions& 
   view.title = "Elevation map of the walk, 3D (" + r.sensor + ", simulated; heights x2)";
   const io::CellMask filled = state_mask(w.mosaic, CellState::filled);
   // Only the swept area: the mosaic's border holds stray far-range cells.
-  Eigen::MatrixXf shown = w.mosaic.elevation_m, truth = w.mosaic.truth_m;
+  Eigen::MatrixXf shown = w.mosaic.elevation_m(), truth = w.mosaic.truth_m;
   for (Eigen::Index i = 0; i < shown.rows(); ++i)
     for (Eigen::Index j = 0; j < shown.cols(); ++j)
       if (!w.mosaic_swept(i, j)) shown(i, j) = NAN, truth(i, j) = NAN;
@@ -244,9 +246,9 @@ void write_rocky_walk_outputs(const RockyWalkResult& r, const RockyWalkOptions& 
     c.origin_y_m = o.y_m;
     io::write_grid_csv((dir / (std::string(name) + ".csv")).string(), values, c);
   };
-  csv("elevation", w.mosaic.elevation_m, "m");
-  csv("certainty", w.mosaic.certainty, "");
-  csv("state", w.mosaic.state.cast<float>(), "");
+  csv("elevation", w.mosaic.elevation_m(), "m");
+  csv("certainty", w.mosaic.certainty(), "");
+  csv("state", w.mosaic.state().cast<float>(), "");
   csv("truth", w.mosaic.truth_m, "m");
   csv("swept_area", w.mosaic_swept.cast<float>(), "");
   io::write_text_file((dir / "summary.json").string(), rocky_walk_summary_json(r, options, info), "summary");

@@ -189,11 +189,8 @@ WalkResult WalkRun::finish() {
   r.map_config.fill = options_.fill;
   const auto snapshot = [&](const ElevationMap& map) {
     if (options_.score_against_truth) return snapshot_with_truth(map, scene);
-    MapSnapshot s;
-    map.export_layers(&s.elevation_m, &s.certainty, &s.state);
-    s.truth_m = Eigen::MatrixXf::Constant(s.elevation_m.rows(), s.elevation_m.cols(), NAN);
-    s.min_cell = map.min_cell();
-    s.cell_size_m = map.cell_size_m();
+    MapSnapshot s{export_map(map), {}};
+    s.truth_m = Eigen::MatrixXf::Constant(map.cells_per_side(), map.cells_per_side(), NAN);
     return s;
   };
   filter(mapper_.map(), !mosaic_);
@@ -209,9 +206,10 @@ WalkResult WalkRun::finish() {
   r.mosaic = snapshot(*mosaic_);
   r.mosaic_swept = swept_;
   if (options_.score_against_truth) r.mosaic_score = score_map(r.mosaic, swept_, options_.score);
+  const CellMask& mosaic_states = r.mosaic.state();
   for (Eigen::Index i = 0; i < swept_.rows(); ++i)
     for (Eigen::Index j = 0; j < swept_.cols(); ++j)
-      r.unknown_swept_cells += swept_(i, j) && static_cast<CellState>(r.mosaic.state(i, j)) == CellState::unknown;
+      r.unknown_swept_cells += swept_(i, j) && static_cast<CellState>(mosaic_states(i, j)) == CellState::unknown;
 
   if (!options_.mapper.follow_robot) return r;
   const ElevationMap& local = mapper_.map();

@@ -54,24 +54,28 @@ std::string layer_bytes(const ElevationMap& map, const T* data) {
   return out;
 }
 
-struct NpyLayer {
-  const char* name;
-  const char* descr;
-};
+const char* npy_descr(LayerType type) {
+  return type == LayerType::f32 ? "<f4" : type == LayerType::u16 ? "<u2" : "|u1";
+}
 
-constexpr NpyLayer kNpyLayers[] = {
-    {"elevation", "<f4"},      {"certainty", "<f4"},         {"state", "|u1"},         {"mean_elevation", "<f4"},
-    {"mean_count", "<u2"},     {"pending_elevation", "<f4"}, {"contradictions", "|u1"},
-};
+std::string npy_layer_bytes(const ElevationMap& map, std::size_t index) {
+  switch (map.layer_spec(index).type) {
+    case LayerType::f32: return layer_bytes(map, map.data(LayerId<float>{index}));
+    case LayerType::u16: return layer_bytes(map, map.data(LayerId<std::uint16_t>{index}));
+    case LayerType::u8: break;
+  }
+  return layer_bytes(map, map.data(LayerId<std::uint8_t>{index}));
+}
 
-std::string npy_layer_bytes(const ElevationMap& map, const std::string& name) {
-  if (name == "elevation") return layer_bytes(map, map.elevation_data());
-  if (name == "certainty") return layer_bytes(map, map.certainty_data());
-  if (name == "state") return layer_bytes(map, map.state_data());
-  if (name == "mean_elevation") return layer_bytes(map, map.mean_elevation_data());
-  if (name == "mean_count") return layer_bytes(map, map.mean_count_data());
-  if (name == "pending_elevation") return layer_bytes(map, map.pending_elevation_data());
-  return layer_bytes(map, map.contradiction_data());
+// The cell CSV's columns when none are asked for: the planner's layers and
+// the running mean, then every layer a user added.
+std::vector<std::size_t> default_csv_layers(const ElevationMap& map) {
+  std::vector<std::size_t> selected;
+  for (const char* name : {"elevation", "certainty", "state", "mean_elevation", "mean_count"}) {
+    selected.push_back(*map.find_layer(name));
+  }
+  for (std::size_t k = builtin_layers().size(); k < map.layer_count(); ++k) selected.push_back(k);
+  return selected;
 }
 
 bool known(const ElevationMap& map, std::size_t slot) {
@@ -109,19 +113,38 @@ std::string encode_npy(const std::string& descr, std::size_t rows, std::size_t c
   return out;
 }
 
-std::vector<std::string> npy_file_names() {
+std::vector<std::size_t> select_layers(const ElevationMap& map, std::span<const std::string> layer_names) {
+  std::vector<std::size_t> selected;
+  if (layer_names.empty()) {
+    for (std::size_t k = 0; k < map.layer_count(); ++k) selected.push_back(k);
+    return selected;
+  }
+  for (const std::string& name : layer_names) {
+    const auto index = map.find_layer(name);
+    if (!index) throw InputError("no map layer '" + name + "'; the map has " + map.layer_names());
+    if (std::find(selected.begin(), selected.end(), *index) != selected.end()) {
+      throw InputError("map layer '" + name + "' is selected twice");
+    }
+    selected.push_back(*index);
+  }
+  return selected;
+}
+
+std::vector<std::string> npy_file_names(const ElevationMap& map, std::span<const std::string> layer_names) {
   std::vector<std::string> names;
-  for (const NpyLayer& layer : kNpyLayers) names.push_back(std::string(layer.name) + ".npy");
+  for (const std::size_t k : select_layers(map, layer_names)) names.push_back(map.layer_spec(k).name + ".npy");
   return names;
 }
 
-std::vector<std::string> export_npy(const ElevationMap& map, const std::string& directory) {
+std::vector<std::string> export_npy(const ElevationMap& map, const std::string& directory,
+                                    std::span<const std::string> layer_names) {
+  const std::vector<std::size_t> selected = select_layers(map, layer_names);
   const std::filesystem::path dir = prepare_folder(directory);
   const auto n = static_cast<std::size_t>(map.cells_per_side());
   std::vector<std::string> written;
-  for (const NpyLayer& layer : kNpyLayers) {
-    const std::string path = (dir / (std::string(layer.name) + ".npy")).string();
-    write_file(path, encode_npy(layer.descr, n, n, npy_layer_bytes(map, layer.name)), "NumPy array");
+  for (const std::size_t k : selected) {
+    const std::string path = (dir / (map.layer_spec(k).name + ".npy")).string();
+    write_file(path, encode_npy(npy_descr(map.layer_spec(k).type), n, n, npy_layer_bytes(map, k)), "NumPy array");
     written.push_back(path);
   }
   return written;
@@ -208,7 +231,10 @@ PlyStats export_ply(const ElevationMap& map, const std::string& path, const PlyO
   return stats;
 }
 
-std::string export_cells_csv(const ElevationMap& map, const std::string& directory) {
+std::string export_cells_csv(const ElevationMap& map, const std::string& directory,
+                             std::span<const std::string> layer_names) {
+  const std::vector<std::size_t> selected =
+      layer_names.empty() ? default_csv_layers(map) : select_layers(map, layer_names);
   const std::filesystem::path dir = prepare_folder(directory);
   const int n = map.cells_per_side();
   char geometry[160];
@@ -219,7 +245,13 @@ std::string export_cells_csv(const ElevationMap& map, const std::string& directo
                     "index, x_m, y_m: cell centre in the map frame (x forward, y left) [m]; elevations [m]; "
                     "state 0 unknown, 1 measured, 2 filled; nan: none; ";
   out += geometry;
-  out += "\nix,iy,x_m,y_m,elevation_m,certainty,state,mean_elevation_m,mean_count\n";
+  out += "\nix,iy,x_m,y_m";
+  // A column is its layer's name with the unit appended: elevation_m.
+  for (const std::size_t k : selected) {
+    const LayerSpec& spec = map.layer_spec(k);
+    out += "," + spec.name + (spec.unit.empty() ? "" : "_" + spec.unit);
+  }
+  out.push_back('\n');
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {
       const CellIndex cell = map.cell_at_local(i, j);
@@ -229,15 +261,15 @@ std::string export_cells_csv(const ElevationMap& map, const std::string& directo
       std::snprintf(prefix, sizeof prefix, "%lld,%lld,%.12g,%.12g,", static_cast<long long>(cell.x),
                     static_cast<long long>(cell.y), centre.x(), centre.y());
       out += prefix;
-      append_number(out, map.elevation_data()[s]);
-      out.push_back(',');
-      append_number(out, map.certainty_data()[s]);
-      out.push_back(',');
-      out += std::to_string(map.state_data()[s]);
-      out.push_back(',');
-      append_number(out, map.mean_elevation_data()[s]);
-      out.push_back(',');
-      out += std::to_string(map.mean_count_data()[s]);
+      for (std::size_t c = 0; c < selected.size(); ++c) {
+        if (c > 0) out.push_back(',');
+        const std::size_t k = selected[c];
+        switch (map.layer_spec(k).type) {
+          case LayerType::f32: append_number(out, map.data(LayerId<float>{k})[s]); break;
+          case LayerType::u16: out += std::to_string(map.data(LayerId<std::uint16_t>{k})[s]); break;
+          case LayerType::u8: out += std::to_string(map.data(LayerId<std::uint8_t>{k})[s]); break;
+        }
+      }
       out.push_back('\n');
     }
   }

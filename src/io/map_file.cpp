@@ -14,6 +14,8 @@
 #include <fstream>
 #include <iterator>
 #include <limits>
+#include <optional>
+#include <span>
 #include <system_error>
 
 #include <nlohmann/json.hpp>
@@ -37,47 +39,28 @@ constexpr std::size_t kChecksumBytes = 4;
 constexpr std::size_t kLayerAlignment = 8;
 constexpr std::int64_t kLargestCorner = std::numeric_limits<std::int64_t>::max() / 4;
 
-enum class Scalar : std::uint8_t { f4, u1, u2 };
+// NumPy's names for the layer types, as the file states them.
+const char* scalar_name(LayerType type) {
+  return type == LayerType::f32 ? "<f4" : type == LayerType::u16 ? "<u2" : "|u1";
+}
 
-std::size_t scalar_bytes(Scalar s) { return s == Scalar::f4 ? 4 : s == Scalar::u2 ? 2 : 1; }
-const char* scalar_name(Scalar s) { return s == Scalar::f4 ? "<f4" : s == Scalar::u2 ? "<u2" : "|u1"; }
+std::optional<LayerType> scalar_type(const std::string& name) {
+  if (name == "<f4") return LayerType::f32;
+  if (name == "<u2") return LayerType::u16;
+  if (name == "|u1") return LayerType::u8;
+  return std::nullopt;
+}
 
-// The layers ElevationMap keeps, in file order (widest first, so every
-// layer stays aligned to its element size).
-struct LayerSpec {
-  const char* name;
-  Scalar type;
-  const char* units;
-  const char* meaning;
-};
-
-constexpr std::array<LayerSpec, 7> kLayers{{
-    {"elevation", Scalar::f4, "m", "eq. (10): elevation of the cell; NaN when unknown"},
-    {"certainty", Scalar::f4, "", "eq. (9): certainty of the cell; 0 when unknown or filled"},
-    {"mean_elevation", Scalar::f4, "m", "mean of the readings eq. (9) accepted; NaN when unknown"},
-    {"pending_elevation", Scalar::f4, "m",
-     "gated rule: highest contradicting reading since the last plausible one; NaN when none"},
-    {"mean_count", Scalar::u2, "", "readings in mean_elevation (saturates at 65535)"},
-    {"state", Scalar::u1, "", "0 unknown, 1 measured, 2 filled (eq. 11)"},
-    {"contradictions", Scalar::u1, "", "gated rule: contradicting readings since the last plausible one"},
-}};
-
-// Pointers to one layer's storage, indexed by ElevationMap::slot().
-struct LayerData {
-  const void* read;
-  void* write;
-};
-
-LayerData layer_data(const ElevationMap& map, ElevationMap* target, std::size_t index) {
-  switch (index) {
-    case 0: return {map.elevation_data(), target ? target->elevation_data() : nullptr};
-    case 1: return {map.certainty_data(), target ? target->certainty_data() : nullptr};
-    case 2: return {map.mean_elevation_data(), target ? target->mean_elevation_data() : nullptr};
-    case 3: return {map.pending_elevation_data(), target ? target->pending_elevation_data() : nullptr};
-    case 4: return {map.mean_count_data(), target ? target->mean_count_data() : nullptr};
-    case 5: return {map.state_data(), target ? target->state_data() : nullptr};
-    default: return {map.contradiction_data(), target ? target->contradiction_data() : nullptr};
-  }
+// The map's layers in file order: widest first, so that every layer stays
+// aligned to its element size; the registry's order among equals (for the
+// built-in layers that is the order files have always had).
+std::vector<std::size_t> file_order(const ElevationMap& map) {
+  std::vector<std::size_t> order(map.layer_count());
+  for (std::size_t k = 0; k < order.size(); ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return layer_type_bytes(map.layer_spec(a).type) > layer_type_bytes(map.layer_spec(b).type);
+  });
+  return order;
 }
 
 void put_le(std::string& out, std::uint64_t value, std::size_t bytes) {
@@ -92,22 +75,22 @@ std::uint64_t get_le(const unsigned char* p, std::size_t bytes) {
 
 // The element at `slot` as its little-endian bit pattern (floats by bits, so
 // NaN payloads survive).
-std::uint64_t element_bits(const void* data, Scalar type, std::size_t slot) {
+std::uint64_t element_bits(const void* data, LayerType type, std::size_t slot) {
   switch (type) {
-    case Scalar::f4: return std::bit_cast<std::uint32_t>(static_cast<const float*>(data)[slot]);
-    case Scalar::u2: return static_cast<const std::uint16_t*>(data)[slot];
-    case Scalar::u1: break;
+    case LayerType::f32: return std::bit_cast<std::uint32_t>(static_cast<const float*>(data)[slot]);
+    case LayerType::u16: return static_cast<const std::uint16_t*>(data)[slot];
+    case LayerType::u8: break;
   }
   return static_cast<const std::uint8_t*>(data)[slot];
 }
 
-void set_element(void* data, Scalar type, std::size_t slot, std::uint64_t bits) {
+void set_element(void* data, LayerType type, std::size_t slot, std::uint64_t bits) {
   switch (type) {
-    case Scalar::f4:
+    case LayerType::f32:
       static_cast<float*>(data)[slot] = std::bit_cast<float>(static_cast<std::uint32_t>(bits));
       return;
-    case Scalar::u2: static_cast<std::uint16_t*>(data)[slot] = static_cast<std::uint16_t>(bits); return;
-    case Scalar::u1: static_cast<std::uint8_t*>(data)[slot] = static_cast<std::uint8_t>(bits); return;
+    case LayerType::u16: static_cast<std::uint16_t*>(data)[slot] = static_cast<std::uint16_t>(bits); return;
+    case LayerType::u8: static_cast<std::uint8_t*>(data)[slot] = static_cast<std::uint8_t>(bits); return;
   }
 }
 
@@ -260,20 +243,60 @@ GridOptions read_geometry(const json& header, const std::string& source, CellInd
   return grid;
 }
 
-// Offsets of the known layers, checked against the data region and each
-// other before anything is allocated.
-std::array<std::size_t, kLayers.size()> read_layer_offsets(const json& header, const Frame& frame,
-                                                          std::uint64_t cells, const std::string& source) {
+// One layer the file holds: its declaration and where its bytes are.
+struct FileLayer {
+  LayerSpec spec;
+  std::size_t offset = 0;
+};
+
+// A layer this library does not declare itself (a user's): its declaration
+// as the file states it. Older files carry no reset value: then NaN for
+// floats, 0 for counts.
+LayerSpec declared_in_file(const json& layer, const std::string& name, LayerType type, const std::string& source,
+                           const std::string& where) {
+  LayerSpec spec;
+  spec.name = name;
+  spec.type = type;
+  spec.reset_value = type == LayerType::f32 ? std::numeric_limits<double>::quiet_NaN() : 0.0;
+  if (const auto it = layer.find("reset_value"); it != layer.end() && !it->is_null()) {
+    if (!it->is_number()) bad(source, where + "reset_value must be a number or null");
+    spec.reset_value = it->get<double>();
+  }
+  const auto text = [&](const char* key) {
+    const auto it = layer.find(key);
+    if (it == layer.end() || it->is_null()) return std::string();
+    if (!it->is_string()) bad(source, where + key + " must be a string");
+    return it->get<std::string>();
+  };
+  spec.unit = text("units");
+  spec.description = text("meaning");
+  if (const auto it = layer.find("exported"); it != layer.end() && !it->is_null()) {
+    if (!it->is_boolean()) bad(source, where + "exported must be true or false");
+    spec.exported = it->get<bool>();
+  }
+  try {
+    validate_layer_spec(spec);
+  } catch (const InputError& e) {
+    bad(source, e.what());
+  }
+  return spec;
+}
+
+// The layers the file holds, checked against the data region and each
+// other before anything is allocated. The built-in layers must all be
+// there with their own types; any other layer is a user's and comes along.
+std::vector<FileLayer> read_layers(const json& header, const Frame& frame, std::uint64_t cells,
+                                   const std::string& source) {
   const auto it = header.find("layers");
   if (it == header.end() || !it->is_array()) bad(source, "metadata: layers is missing");
-  std::array<std::size_t, kLayers.size()> offsets{};
-  std::array<bool, kLayers.size()> seen{};
+  const std::span<const LayerSpec> builtin = builtin_layers();
+  std::vector<FileLayer> found;
   std::vector<std::pair<std::uint64_t, std::uint64_t>> extents;
   for (const json& layer : *it) {
     if (!layer.is_object()) bad(source, "metadata: a layers entry is not an object");
     const auto name = field<std::string>(layer, "name", source, "layers[].");
     const std::string where = "layer '" + name + "': ";
-    const auto type = field<std::string>(layer, "type", source, where);
+    const auto type_text = field<std::string>(layer, "type", source, where);
     const std::int64_t signed_offset = integer_field(layer, "offset", source, where);
     const std::int64_t signed_size = integer_field(layer, "bytes", source, where);
     if (signed_offset < 0 || signed_size < 0) bad(source, where + "a negative offset or size");
@@ -285,28 +308,32 @@ std::array<std::size_t, kLayers.size()> read_layer_offsets(const json& header, c
                       std::to_string(frame.data_end) + "): truncated or inconsistent file");
     }
     extents.emplace_back(offset, size);
-    for (std::size_t k = 0; k < kLayers.size(); ++k) {
-      if (name != kLayers[k].name) continue;
-      if (seen[k]) bad(source, where + "appears twice");
-      if (type != scalar_name(kLayers[k].type)) {
-        bad(source, where + "type " + type + ", expected " + scalar_name(kLayers[k].type));
-      }
-      if (size != cells * scalar_bytes(kLayers[k].type)) {
-        bad(source, where + std::to_string(size) + " bytes, but " + std::to_string(cells) + " cells of " +
-                        type + " need " + std::to_string(cells * scalar_bytes(kLayers[k].type)));
-      }
-      seen[k] = true;
-      offsets[k] = static_cast<std::size_t>(offset);
+    for (const FileLayer& earlier : found) {
+      if (earlier.spec.name == name) bad(source, where + "appears twice");
     }
+    const auto known = std::find_if(builtin.begin(), builtin.end(), [&](const LayerSpec& l) { return l.name == name; });
+    const std::optional<LayerType> type = scalar_type(type_text);
+    if (known != builtin.end() && type != known->type) {
+      bad(source, where + "type " + type_text + ", expected " + scalar_name(known->type));
+    }
+    if (!type) bad(source, where + "type " + type_text + " is not one of <f4, <u2, |u1");
+    if (size != cells * layer_type_bytes(*type)) {
+      bad(source, where + std::to_string(size) + " bytes, but " + std::to_string(cells) + " cells of " + type_text +
+                      " need " + std::to_string(cells * layer_type_bytes(*type)));
+    }
+    found.push_back({known != builtin.end() ? *known : declared_in_file(layer, name, *type, source, where),
+                     static_cast<std::size_t>(offset)});
   }
-  for (std::size_t k = 0; k < kLayers.size(); ++k) {
-    if (!seen[k]) bad(source, std::string("metadata: layer '") + kLayers[k].name + "' is missing");
+  for (const LayerSpec& spec : builtin) {
+    if (std::none_of(found.begin(), found.end(), [&](const FileLayer& l) { return l.spec.name == spec.name; })) {
+      bad(source, "metadata: layer '" + spec.name + "' is missing");
+    }
   }
   std::sort(extents.begin(), extents.end());
   for (std::size_t k = 1; k < extents.size(); ++k) {
     if (extents[k].first < extents[k - 1].first + extents[k - 1].second) bad(source, "metadata: layers overlap");
   }
-  return offsets;
+  return found;
 }
 
 MapFileMetadata read_metadata(const json& header, const std::string& source) {
@@ -375,6 +402,7 @@ void sync_folder_of(const std::string& path) {
 std::string encode_map_file(const ElevationMap& map, const MapFileMetadata& metadata) {
   const int n = map.cells_per_side();
   const std::size_t cells = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+  const std::vector<std::size_t> order = file_order(map);
   json header = {
       {"format", "stridemap map"},
       {"version", kMapFileVersion},
@@ -400,14 +428,22 @@ std::string encode_map_file(const ElevationMap& map, const MapFileMetadata& meta
   for (int pass = 0; pass < 3; ++pass) {
     json layers = json::array();
     std::size_t offset = kFixedHeaderBytes + metadata_bytes;
-    for (const LayerSpec& spec : kLayers) {
-      const std::size_t size = cells * scalar_bytes(spec.type);
-      layers.push_back({{"name", spec.name},
-                        {"type", scalar_name(spec.type)},
-                        {"units", spec.units},
-                        {"meaning", spec.meaning},
-                        {"offset", offset},
-                        {"bytes", size}});
+    for (const std::size_t k : order) {
+      const LayerSpec& spec = map.layer_spec(k);
+      const std::size_t size = cells * layer_type_bytes(spec.type);
+      json entry = {{"name", spec.name},
+                    {"type", scalar_name(spec.type)},
+                    {"units", spec.unit},
+                    {"meaning", spec.description},
+                    {"offset", offset},
+                    {"bytes", size}};
+      // A user's layer carries its whole declaration, so that a reader
+      // without that user's code restores it as declared. (NaN is null.)
+      if (k >= builtin_layers().size()) {
+        entry["reset_value"] = std::isnan(spec.reset_value) ? json(nullptr) : json(spec.reset_value);
+        entry["exported"] = spec.exported;
+      }
+      layers.push_back(std::move(entry));
       offset += size;
     }
     header["layers"] = layers;
@@ -419,18 +455,19 @@ std::string encode_map_file(const ElevationMap& map, const MapFileMetadata& meta
   }
 
   std::string out;
-  out.reserve(kFixedHeaderBytes + metadata_text.size() + cells * 19 + kChecksumBytes);
+  std::size_t cell_bytes = 0;
+  for (const std::size_t k : order) cell_bytes += layer_type_bytes(map.layer_spec(k).type);
+  out.reserve(kFixedHeaderBytes + metadata_text.size() + cells * cell_bytes + kChecksumBytes);
   out.append(kMapFileMagic);
   put_le(out, kMapFileVersion, 4);
   put_le(out, metadata_text.size(), 4);
   out += metadata_text;
-  for (std::size_t k = 0; k < kLayers.size(); ++k) {
-    const LayerData data = layer_data(map, nullptr, k);
-    const std::size_t width = scalar_bytes(kLayers[k].type);
+  for (const std::size_t k : order) {
+    const void* data = map.layer_bytes(k);
+    const LayerType type = map.layer_spec(k).type;
+    const std::size_t width = layer_type_bytes(type);
     for (int i = 0; i < n; ++i) {
-      for (int j = 0; j < n; ++j) {
-        put_le(out, element_bits(data.read, kLayers[k].type, map.slot(map.cell_at_local(i, j))), width);
-      }
+      for (int j = 0; j < n; ++j) put_le(out, element_bits(data, type, map.slot(map.cell_at_local(i, j))), width);
     }
   }
   put_le(out, crc32_of(out), 4);
@@ -443,20 +480,24 @@ MapFile decode_map_file(std::string_view bytes, const std::string& source) {
   CellIndex corner;
   const GridOptions grid = read_geometry(header, source, corner);
   const auto n = static_cast<std::uint64_t>(grid.cells_per_side);
-  const auto offsets = read_layer_offsets(header, frame, n * n, source);
+  const std::vector<FileLayer> layers = read_layers(header, frame, n * n, source);
   MapFileMetadata metadata = read_metadata(header, source);
 
   MapFile file{ElevationMap(grid), std::move(metadata), frame.version};
   ElevationMap& map = file.map;
+  for (const FileLayer& layer : layers) {
+    if (!map.find_layer(layer.spec.name)) map.add_layer(layer.spec);
+  }
   map.move_corner_to(corner);
   const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
-  for (std::size_t k = 0; k < kLayers.size(); ++k) {
-    const LayerData data = layer_data(map, &map, k);
-    const std::size_t width = scalar_bytes(kLayers[k].type);
-    const unsigned char* in = p + offsets[k];
+  for (const FileLayer& layer : layers) {
+    const std::size_t k = *map.find_layer(layer.spec.name);
+    void* data = map.layer_bytes(k);
+    const std::size_t width = layer_type_bytes(layer.spec.type);
+    const unsigned char* in = p + layer.offset;
     for (int i = 0; i < grid.cells_per_side; ++i) {
       for (int j = 0; j < grid.cells_per_side; ++j, in += width) {
-        set_element(data.write, kLayers[k].type, map.slot(map.cell_at_local(i, j)), get_le(in, width));
+        set_element(data, layer.spec.type, map.slot(map.cell_at_local(i, j)), get_le(in, width));
       }
     }
   }

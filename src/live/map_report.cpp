@@ -13,14 +13,15 @@
 
 namespace stridemap {
 
-std::string map_summary_json(const ScanMapper& mapper, const io::MapLayers& layers,
+std::string map_summary_json(const ScanMapper& mapper, const ExportedMap& layers,
                              const scip::ScipParameters& sensor, const MapRunInfo& info, const LiveRunStats* live) {
   using nlohmann::json;
   const ScanMapperStats& s = mapper.stats();
   const MapperTotals& t = mapper.mapper().totals();
   std::size_t measured = 0, filled = 0;
-  for (Eigen::Index i = 0; i < layers.state.size(); ++i) {
-    const auto state = static_cast<CellState>(layers.state.data()[i]);
+  const CellMask& states = layers.state();
+  for (Eigen::Index i = 0; i < states.size(); ++i) {
+    const auto state = static_cast<CellState>(states.data()[i]);
     measured += state == CellState::measured;
     filled += state == CellState::filled;
   }
@@ -54,10 +55,10 @@ std::string map_summary_json(const ScanMapper& mapper, const io::MapLayers& laye
         {"implausible", t.implausible},
         {"outside_map", t.outside_map}}},
       {"map",
-       {{"coverage", io::map_coverage(layers)},
+       {{"coverage", map_coverage(layers)},
         {"measured_cells", measured},
         {"filled_cells", filled},
-        {"cells_per_side", layers.state.rows()},
+        {"cells_per_side", layers.state().rows()},
         {"cell_size_m", layers.cell_size_m},
         {"min_cell", {layers.min_cell.x, layers.min_cell.y}}}},
       {"filters", scan_filter_list_name(mapper.options().filters)}};
@@ -123,24 +124,24 @@ std::string mapping_shortfall(const ScanMapperStats& s, const TimeRange& scans, 
   return why;
 }
 
-io::MapLayers filtered_map_layers(const ScanMapper& mapper, MapFilter filter) {
+ExportedMap filtered_map_layers(const ScanMapper& mapper, MapFilter filter) {
   switch (filter) {
     case MapFilter::fill: return mapper.filled_layers();
-    case MapFilter::none: return io::export_map_layers(mapper.mapper().map());
+    case MapFilter::none: return export_map(mapper.mapper().map());
     case MapFilter::cas: {
       ElevationMap copy = mapper.mapper().map();
       CasOptions cas;
       cas.fill = mapper.options().config.fill;
       CasFilter(cas).apply(copy);
-      return io::export_map_layers(copy);
+      return export_map(copy);
     }
   }
   return mapper.filled_layers();
 }
 
-io::MapLayers write_map_outputs(const ScanMapper& mapper, const scip::ScipParameters& sensor, const MapRunInfo& info,
+ExportedMap write_map_outputs(const ScanMapper& mapper, const scip::ScipParameters& sensor, const MapRunInfo& info,
                                 const LiveRunStats* live, const std::string& directory) {
-  io::MapLayers layers = filtered_map_layers(mapper, info.map_filter);
+  ExportedMap layers = filtered_map_layers(mapper, info.map_filter);
   io::MapOutputOptions style;
   style.elevation_title = "Elevation";  // the same for live and replay: their pictures must be equal
   style.certainty_max = mapper.options().config.mapper.update.certainty_max;

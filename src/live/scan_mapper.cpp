@@ -50,6 +50,6 @@ void ScanMapper::finish() {
   stats_ = pipeline_.stats();
 }
 
-io::MapLayers ScanMapper::filled_layers() const { return io::export_map_layers(pipeline_.filtered_map()); }
+ExportedMap ScanMapper::filled_layers() const { return export_map(pipeline_.filtered_map()); }
 
 }  // namespace stridemap

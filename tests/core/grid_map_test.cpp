@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "stridemap/core/error.hpp"
+#include "stridemap/core/exported_map.hpp"
 
 namespace stridemap {
 namespace {
@@ -181,9 +182,7 @@ TEST(ElevationMap, ExportUsesWindowOrder) {
   const CellIndex c = map.cell_at_local(1, 2);
   map.elevation_data()[map.slot(c)] = 5.0f;
   map.move_corner_to({map.min_cell().x + 1, map.min_cell().y});
-  Eigen::MatrixXf elevation;
-  map.export_layers(&elevation, nullptr, nullptr);
-  EXPECT_EQ(elevation(0, 2), 5.0f);
+  EXPECT_EQ(export_map(map).elevation_m()(0, 2), 5.0f);
 }
 
 TEST(ElevationMap, RejectsUnusableOptions) {

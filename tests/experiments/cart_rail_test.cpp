@@ -76,8 +76,8 @@ TEST(CartRailExperiment, SameSeedSameMapOtherSeedOtherNoise) {
   const auto same = [](const Eigen::MatrixXf& x, const Eigen::MatrixXf& y) {
     return x.rows() == y.rows() && x.cols() == y.cols() && ((x.array() == y.array()) || (x.array().isNaN() && y.array().isNaN())).all();
   };
-  EXPECT_TRUE(same(a.snapshot.elevation_m, b.snapshot.elevation_m));
-  EXPECT_FALSE(same(a.snapshot.elevation_m, c.snapshot.elevation_m));
+  EXPECT_TRUE(same(a.snapshot.elevation_m(), b.snapshot.elevation_m()));
+  EXPECT_FALSE(same(a.snapshot.elevation_m(), c.snapshot.elevation_m()));
 }
 
 TEST(CartRailExperiment, PerfectSensorOnFlatFloorIsExact) {

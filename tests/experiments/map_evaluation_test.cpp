@@ -52,9 +52,9 @@ TEST(MapEvaluation, PerfectMapScoresZeroError) {
 TEST(MapEvaluation, ErrorsArtifactsAndCoverageAreCounted) {
   const Scene scene = one_box_scene();
   MapSnapshot s = perfect_snapshot(scene, 10, 0.01);
-  s.elevation_m(2, 3) += 0.03f;  // an artifact
-  s.elevation_m(4, 4) -= 0.01f;  // within the threshold
-  s.state(5, 5) = static_cast<std::uint8_t>(CellState::unknown);
+  s.elevation_m()(2, 3) += 0.03f;  // an artifact
+  s.elevation_m()(4, 4) -= 0.01f;  // within the threshold
+  s.state()(5, 5) = static_cast<std::uint8_t>(CellState::unknown);
   CellMask area = CellMask::Ones(10, 10);
   area(9, 9) = 0;
   const MapScore score = score_map(s, area);
@@ -93,7 +93,7 @@ TEST(ObjectExtents, CentreSpreadIsUnbiasedOverPlacements) {
 TEST(ObjectExtents, EmptyMapFindsNothing) {
   const Scene scene = one_box_scene();
   MapSnapshot s = perfect_snapshot(scene, 40, 0.01);
-  s.state.setConstant(static_cast<std::uint8_t>(CellState::unknown));
+  s.state().setConstant(static_cast<std::uint8_t>(CellState::unknown));
   const auto objects = measure_objects(s, scene);
   EXPECT_FALSE(objects[0].found);
 }

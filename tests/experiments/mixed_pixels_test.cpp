@@ -46,8 +46,8 @@ TEST(MixedPixelsExperiment, MixedPixelsAppearAndThePaperChainRemovesSome) {
     EXPECT_LT(row.beams.clean_drop_rate(), 0.03);
     EXPECT_GT(mixed_artifact_reduction(r, row), 0.5);
   }
-  EXPECT_GT(r.paper.snapshot.elevation_m.size(), 0);
-  EXPECT_GT(r.unfiltered.snapshot.elevation_m.size(), 0);
+  EXPECT_GT(r.paper.snapshot.elevation_m().size(), 0);
+  EXPECT_GT(r.unfiltered.snapshot.elevation_m().size(), 0);
 }
 
 TEST(MixedPixelsExperiment, FilterRemovalsAreCountedAgainstTheLabels) {

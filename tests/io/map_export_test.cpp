@@ -51,7 +51,7 @@ TEST(MapExport, NpyFilesHoldTheLayersInWindowOrder) {
   TestFolder folder;
   const ElevationMap map = small_map();
   const auto paths = io::export_npy(map, folder / "npy");
-  ASSERT_EQ(paths.size(), io::npy_file_names().size());
+  ASSERT_EQ(paths.size(), io::npy_file_names(map).size());
   const std::string elevation = folder.read("npy/elevation.npy");
   const std::size_t header_length = static_cast<unsigned char>(elevation[8]) |
                                     (static_cast<unsigned char>(elevation[9]) << 8);

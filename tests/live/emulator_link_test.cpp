@@ -106,14 +106,14 @@ TEST(EmulatorLink, ScansArriveAsSimulatedAndTheMapEqualsTheInMemoryOne) {
   }
   live.finish();
   EXPECT_EQ(live.stats().integrated, got.scans.size());
-  const io::MapLayers a = io::export_map_layers(live.mapper().map());
-  const io::MapLayers b = io::export_map_layers(reference.map());
-  ASSERT_EQ(a.elevation_m.size(), b.elevation_m.size());
-  EXPECT_EQ(std::memcmp(a.elevation_m.data(), b.elevation_m.data(), sizeof(float) * a.elevation_m.size()), 0);
-  EXPECT_EQ(std::memcmp(a.certainty.data(), b.certainty.data(), sizeof(float) * a.certainty.size()), 0);
-  EXPECT_EQ(a.state, b.state);
+  const ExportedMap a = export_map(live.mapper().map());
+  const ExportedMap b = export_map(reference.map());
+  ASSERT_EQ(a.elevation_m().size(), b.elevation_m().size());
+  EXPECT_EQ(std::memcmp(a.elevation_m().data(), b.elevation_m().data(), sizeof(float) * a.elevation_m().size()), 0);
+  EXPECT_EQ(std::memcmp(a.certainty().data(), b.certainty().data(), sizeof(float) * a.certainty().size()), 0);
+  EXPECT_EQ(a.state(), b.state());
   EXPECT_EQ(a.min_cell, b.min_cell);
-  EXPECT_GT(io::map_coverage(a), 0.3);  // the map is not trivially empty
+  EXPECT_GT(map_coverage(a), 0.3);  // the map is not trivially empty
 }
 
 // One line of the emulator's trace.

@@ -264,13 +264,13 @@ TEST(LiveMapping, OptionsAreCheckedAndTheMapFilterIsSelectable) {
   LiveMapping live(o, scans, poses, {});
   std::atomic<bool> stop{false};
   live.run(stop);
-  const io::MapLayers none = filtered_map_layers(live.mapper(), MapFilter::none);
-  const io::MapLayers fill = filtered_map_layers(live.mapper(), MapFilter::fill);
-  const io::MapLayers cas = filtered_map_layers(live.mapper(), MapFilter::cas);
-  EXPECT_GT(io::map_coverage(none), 0.0);
-  EXPECT_GE(io::map_coverage(fill), io::map_coverage(none));
-  const auto count_filled = [](const io::MapLayers& l) {
-    return (l.state.array() == static_cast<std::uint8_t>(CellState::filled)).count();
+  const ExportedMap none = filtered_map_layers(live.mapper(), MapFilter::none);
+  const ExportedMap fill = filtered_map_layers(live.mapper(), MapFilter::fill);
+  const ExportedMap cas = filtered_map_layers(live.mapper(), MapFilter::cas);
+  EXPECT_GT(map_coverage(none), 0.0);
+  EXPECT_GE(map_coverage(fill), map_coverage(none));
+  const auto count_filled = [](const ExportedMap& l) {
+    return (l.state().array() == static_cast<std::uint8_t>(CellState::filled)).count();
   };
   EXPECT_EQ(count_filled(none), 0);
   EXPECT_GT(count_filled(fill), 0);
@@ -317,7 +317,7 @@ TEST(LiveMapping, RunsOnAUrgDriverReadingTheEmulator) {
   EXPECT_TRUE(result.last_save_error.empty()) << result.last_save_error;
   EXPECT_EQ(live.mapper().stats().scans, 60u);
   EXPECT_GE(live.mapper().stats().integrated, 59u);  // the first scan may precede the first pose line read
-  EXPECT_GT(io::map_coverage(filtered_map_layers(live.mapper(), MapFilter::fill)), 0.0);
+  EXPECT_GT(map_coverage(filtered_map_layers(live.mapper(), MapFilter::fill)), 0.0);
   EXPECT_GT(result.run.latency_samples, 50u);
   EXPECT_GE(saves, 1u);
   EXPECT_NE(dir.read("out/summary.json").find("\"latency_s\""), std::string::npos);

@@ -83,13 +83,13 @@ TEST(ScanMapper, SavingFillsACopyAndLeavesTheMapAsItWas) {
   for (int k = 0; k <= 20; ++k) poses.append(pose_at(0.1 * k, 0.01 * k));
   for (int k = 0; k < 20; ++k) mapper.add(flat_scan(0.1 * k));
   mapper.process(poses, true);
-  const io::MapLayers before = io::export_map_layers(mapper.mapper().map());
-  const io::MapLayers filled = mapper.filled_layers();
-  const io::MapLayers after = io::export_map_layers(mapper.mapper().map());
-  EXPECT_EQ(before.state, after.state);
-  EXPECT_EQ(std::memcmp(before.elevation_m.data(), after.elevation_m.data(), sizeof(float) * before.elevation_m.size()),
+  const ExportedMap before = export_map(mapper.mapper().map());
+  const ExportedMap filled = mapper.filled_layers();
+  const ExportedMap after = export_map(mapper.mapper().map());
+  EXPECT_EQ(before.state(), after.state());
+  EXPECT_EQ(std::memcmp(before.elevation_m().data(), after.elevation_m().data(), sizeof(float) * before.elevation_m().size()),
             0);
-  EXPECT_GE(io::map_coverage(filled), io::map_coverage(before));
+  EXPECT_GE(map_coverage(filled), map_coverage(before));
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #pragma once
 // The local, robot-centred terrain map (paper section 5.1): an N x N grid of
-// cells with an elevation layer, a certainty layer and a cell state.
+// cells with an elevation layer, a certainty layer, a cell state, the update
+// rule's bookkeeping and any layer a user declares (map_layer.hpp).
 //
 // Cells are addressed by a global integer index (floor of the map-frame
 // coordinate divided by the cell size), so a cell keeps its index however the
@@ -13,11 +14,13 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "stridemap/core/error.hpp"
+#include "stridemap/core/map_layer.hpp"
 
 namespace stridemap {
 
@@ -33,6 +36,10 @@ struct GridOptions {
   /// Edge length of a cell [m]: 10 mm for the URG on Messor, 5 mm for
   /// structured light on Ragno (paper section 5.1).
   double cell_size_m = 0.01;
+  /// Layers the map holds beyond builtin_layers(), in this order; empty by
+  /// default. A mapper's map is made from these options, so a layer
+  /// declared here is there from the first scan (see ElevationMap::layer).
+  std::vector<LayerSpec> extra_layers = {};
 };
 
 /// The grids a map accepts. The map is held several times over (snapshots for
@@ -43,8 +50,9 @@ struct GridOptions {
 inline constexpr int kMaxGridCellsPerSide = 4096;
 inline constexpr double kMinCellSizeM = 1e-4;
 inline constexpr double kMaxCellSizeM = 10.0;
-/// Bytes of every layer of one cell (elevation, certainty, state, the gated
-/// rule's bookkeeping, the running mean and its count).
+/// Bytes of the built-in layers of one cell (elevation, certainty, state,
+/// the gated rule's bookkeeping, the running mean and its count); layers a
+/// user adds come on top.
 inline constexpr std::size_t kGridBytesPerCell = 4 + 4 + 1 + 1 + 4 + 4 + 2;
 
 /// A grid too large for memory or too coarse or fine to be a map, refused
@@ -121,43 +129,79 @@ class ElevationMap {
   /// Global index of the cell at local position (i, j) from the corner.
   CellIndex cell_at_local(int i, int j) const { return {min_cell_.x + i, min_cell_.y + j}; }
 
-  float elevation(CellIndex cell) const { return elevation_[slot(cell)]; }
+  float elevation(CellIndex cell) const { return data(layers::elevation)[slot(cell)]; }
   /// Mean of the readings eq. (9) accepted in the cell (NaN when unknown).
   /// Eq. (10) keeps the highest reading, which is what an obstacle-averse
   /// planner wants but lies above the surface by the noise (about one
   /// standard deviation after a few hits); this mean does not, which is what
   /// the robot's own height reference needs (sim/pose_estimate.hpp).
-  float mean_elevation(CellIndex cell) const { return mean_elevation_[slot(cell)]; }
-  float certainty(CellIndex cell) const { return certainty_[slot(cell)]; }
-  CellState state(CellIndex cell) const { return static_cast<CellState>(state_[slot(cell)]); }
+  float mean_elevation(CellIndex cell) const { return data(layers::mean_elevation)[slot(cell)]; }
+  float certainty(CellIndex cell) const { return data(layers::certainty)[slot(cell)]; }
+  CellState state(CellIndex cell) const { return static_cast<CellState>(data(layers::state)[slot(cell)]); }
 
-  // Storage, indexed by slot(). For the update rule and filters; a slot
-  // holds unknown/NaN until a measurement arrives.
-  float* elevation_data() { return elevation_.data(); }
-  float* certainty_data() { return certainty_.data(); }
-  std::uint8_t* state_data() { return state_.data(); }
-  const float* elevation_data() const { return elevation_.data(); }
-  const float* certainty_data() const { return certainty_.data(); }
-  const std::uint8_t* state_data() const { return state_.data(); }
+  // --- The layer registry (map_layer.hpp) ---
+
+  /// Declares a layer after construction; every cell gets its reset value.
+  /// Throws InputError for an unusable declaration or a name already used.
+  /// Allocates: call it before mapping, not per scan.
+  std::size_t add_layer(const LayerSpec& spec);
+  std::size_t layer_count() const { return layers_.size(); }
+  const LayerSpec& layer_spec(std::size_t index) const { return layers_[index].spec; }
+  /// The layer's place, or nothing when the map has no layer of that name.
+  std::optional<std::size_t> find_layer(std::string_view name) const;
+  /// A typed handle to the named layer, looked up once outside any loop.
+  /// Throws InputError when there is no such layer (the message lists the
+  /// layers there are) or it holds another type.
+  template <typename T>
+  LayerId<T> layer(std::string_view name) const {
+    return LayerId<T>{checked_layer(name, layer_type_of<T>())};
+  }
+  /// "elevation, certainty, ...": the layers' names for messages.
+  std::string layer_names() const;
+
+  // Storage, indexed by slot(). For the update rule, filters and a user's
+  // own layers; a slot holds its layer's reset value until updated.
+  template <typename T>
+  T* data(LayerId<T> id) {
+    return storage<T>(layers_[id.index]).data();
+  }
+  template <typename T>
+  const T* data(LayerId<T> id) const {
+    return storage<T>(layers_[id.index]).data();
+  }
+  /// A layer's elements as bytes, whatever its type (for readers and writers).
+  void* layer_bytes(std::size_t index);
+  const void* layer_bytes(std::size_t index) const;
+
+  float* elevation_data() { return data(layers::elevation); }
+  float* certainty_data() { return data(layers::certainty); }
+  std::uint8_t* state_data() { return data(layers::state); }
+  const float* elevation_data() const { return data(layers::elevation); }
+  const float* certainty_data() const { return data(layers::certainty); }
+  const std::uint8_t* state_data() const { return data(layers::state); }
 
   /// Bookkeeping of the gated elevation rule (map_update.hpp): readings that
   /// contradicted the cell since its last plausible one, and their maximum.
-  std::uint8_t* contradiction_data() { return contradictions_.data(); }
-  float* pending_elevation_data() { return pending_elevation_.data(); }
+  std::uint8_t* contradiction_data() { return data(layers::contradictions); }
+  float* pending_elevation_data() { return data(layers::pending_elevation); }
   /// The running mean of accepted readings and how many it holds.
-  float* mean_elevation_data() { return mean_elevation_.data(); }
-  std::uint16_t* mean_count_data() { return mean_count_.data(); }
-  const float* mean_elevation_data() const { return mean_elevation_.data(); }
-  const std::uint8_t* contradiction_data() const { return contradictions_.data(); }
-  const float* pending_elevation_data() const { return pending_elevation_.data(); }
-  const std::uint16_t* mean_count_data() const { return mean_count_.data(); }
+  float* mean_elevation_data() { return data(layers::mean_elevation); }
+  std::uint16_t* mean_count_data() { return data(layers::mean_count); }
+  const float* mean_elevation_data() const { return data(layers::mean_elevation); }
+  const std::uint8_t* contradiction_data() const { return data(layers::contradictions); }
+  const float* pending_elevation_data() const { return data(layers::pending_elevation); }
+  const std::uint16_t* mean_count_data() const { return data(layers::mean_count); }
 
-  void reset_slot(std::size_t s);
-
-  /// Copies the layers into matrices in window order: row = local x index
-  /// (forward), column = local y index (left). Unknown elevations are NaN.
-  void export_layers(Eigen::MatrixXf* elevation, Eigen::MatrixXf* certainty,
-                     Eigen::Matrix<std::uint8_t, Eigen::Dynamic, Eigen::Dynamic>* state) const;
+  /// Every layer of the slot back to its reset value.
+  void reset_slot(std::size_t s) {
+    for (Layer& layer : layers_) {
+      switch (layer.spec.type) {
+        case LayerType::f32: layer.f32[s] = layer.reset_f32; break;
+        case LayerType::u16: layer.u16[s] = layer.reset_u16; break;
+        case LayerType::u8: layer.u8[s] = layer.reset_u8; break;
+      }
+    }
+  }
 
  private:
   std::int64_t wrap(std::int64_t v) const {
@@ -172,18 +216,38 @@ class ElevationMap {
     min_slot_y_ = static_cast<int>(wrap(c.y));
   }
 
+  // One declared layer and its elements; only the vector of its type is used.
+  struct Layer {
+    LayerSpec spec;
+    float reset_f32 = 0.0f;
+    std::uint16_t reset_u16 = 0;
+    std::uint8_t reset_u8 = 0;
+    std::vector<float> f32;
+    std::vector<std::uint16_t> u16;
+    std::vector<std::uint8_t> u8;
+  };
+  template <typename T>
+  static std::vector<T>& storage(Layer& layer) {
+    if constexpr (std::is_same_v<T, float>) return layer.f32;
+    else if constexpr (std::is_same_v<T, std::uint16_t>) return layer.u16;
+    else return layer.u8;
+  }
+  template <typename T>
+  static const std::vector<T>& storage(const Layer& layer) {
+    if constexpr (std::is_same_v<T, float>) return layer.f32;
+    else if constexpr (std::is_same_v<T, std::uint16_t>) return layer.u16;
+    else return layer.u8;
+  }
+  std::size_t checked_layer(std::string_view name, LayerType type) const;
+  void reset_slots(std::size_t begin, std::size_t end);
+  void fill_with_reset(Layer& layer);
+
   int n_;
   double cell_size_m_;
   double inverse_cell_size_;
   CellIndex min_cell_{};
   int min_slot_x_ = 0, min_slot_y_ = 0;  // wrap(min_cell_), kept for slot_at
-  std::vector<float> elevation_;
-  std::vector<float> certainty_;
-  std::vector<std::uint8_t> state_;
-  std::vector<std::uint8_t> contradictions_;
-  std::vector<float> pending_elevation_;
-  std::vector<float> mean_elevation_;
-  std::vector<std::uint16_t> mean_count_;
+  std::vector<Layer> layers_;  // builtin_layers() first, at the places layers:: names
 };
 
 }  // namespace stridemap

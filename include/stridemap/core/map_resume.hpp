@@ -12,9 +12,13 @@
 
 namespace stridemap {
 
-/// Replaces the mapper's map with `saved`. Throws InputError when the
-/// mapper's grid (cells per side, cell size) is not the saved map's: the
-/// options must describe the map being continued.
+/// Replaces the mapper's map with `saved`, layer by layer by name into the
+/// mapper's own layer registry, so that LayerIds taken from the mapper's map
+/// stay valid; a layer only the file holds is added, one only the mapper
+/// declared starts from its reset value. Throws InputError when the mapper's
+/// grid (cells per side, cell size) is not the saved map's, or a layer of
+/// the same name holds another type: the options must describe the map
+/// being continued.
 void resume_from_map(TerrainMapper& mapper, const ElevationMap& saved);
 
 /// The same, and the mapper remembers the last scan integrated into the

@@ -8,22 +8,16 @@
 
 #include <Eigen/Core>
 
+#include "stridemap/core/exported_map.hpp"
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/sim/scene.hpp"
 
 namespace stridemap {
 
-using CellMask = Eigen::Matrix<std::uint8_t, Eigen::Dynamic, Eigen::Dynamic>;
-
-/// The map's layers in window order (row = local x, column = local y) with
-/// the truth beside them.
-struct MapSnapshot {
-  Eigen::MatrixXf elevation_m;  ///< NaN where unknown
-  Eigen::MatrixXf certainty;
-  CellMask state;               ///< CellState values
-  Eigen::MatrixXf truth_m;      ///< highest scene point inside each cell
-  CellIndex min_cell;
-  double cell_size_m = 0.0;
+/// The exported map (core/exported_map.hpp) with the truth beside it, in
+/// the same window order.
+struct MapSnapshot : ExportedMap {
+  Eigen::MatrixXf truth_m;  ///< highest scene point inside each cell
 };
 
 MapSnapshot snapshot_with_truth(const ElevationMap& map, const Scene& scene);

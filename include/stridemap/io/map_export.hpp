@@ -8,6 +8,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -21,13 +22,20 @@ namespace stridemap::io {
 /// "<u2"), `data` the elements' bytes (rows * cols * element size).
 std::string encode_npy(const std::string& descr, std::size_t rows, std::size_t cols, const std::string& data);
 
-/// Writes <layer>.npy for each layer of the map file (elevation, certainty,
-/// state, mean_elevation, mean_count, pending_elevation, contradictions)
-/// into `directory` (created if missing). Returns the paths written.
-std::vector<std::string> export_npy(const ElevationMap& map, const std::string& directory);
+/// The map's layers named in `layer_names`, in that order; every layer when
+/// it is empty. Throws InputError for an unknown name (listing the layers
+/// the map has) or a name given twice.
+std::vector<std::size_t> select_layers(const ElevationMap& map, std::span<const std::string> layer_names);
 
-/// The names of the files export_npy writes.
-std::vector<std::string> npy_file_names();
+/// Writes <layer>.npy for each selected layer (default: every layer of the
+/// map, the built-in ones elevation, certainty, mean_elevation,
+/// pending_elevation, mean_count, state, contradictions and any a user
+/// added) into `directory` (created if missing). Returns the paths written.
+std::vector<std::string> export_npy(const ElevationMap& map, const std::string& directory,
+                                    std::span<const std::string> layer_names = {});
+
+/// The names of the files export_npy writes for this selection.
+std::vector<std::string> npy_file_names(const ElevationMap& map, std::span<const std::string> layer_names = {});
 
 struct PlyOptions {
   ColourScale colours = ColourScale::viridis;
@@ -49,7 +57,11 @@ PlyStats export_ply(const ElevationMap& map, const std::string& path, const PlyO
 
 /// `cells.csv`: a header line stating the row order and units, the column
 /// names, then one line per cell of the window (unknown cells too, with
-/// nan). Numbers read back to the same float. Returns the path written.
-std::string export_cells_csv(const ElevationMap& map, const std::string& directory);
+/// nan). Columns: ix, iy, x_m, y_m, then one per selected layer, named
+/// <layer>_<unit> (elevation_m) or <layer>; the default selection is
+/// elevation, certainty, state, mean_elevation, mean_count and every layer a
+/// user added. Numbers read back to the same float. Returns the path written.
+std::string export_cells_csv(const ElevationMap& map, const std::string& directory,
+                             std::span<const std::string> layer_names = {});
 
 }  // namespace stridemap::io

@@ -41,7 +41,7 @@ struct LiveRunStats {
   std::uint64_t pose_reopens = 0;   ///< the pose file replaced or cut under the reader
 };
 
-std::string map_summary_json(const ScanMapper& mapper, const io::MapLayers& layers,
+std::string map_summary_json(const ScanMapper& mapper, const ExportedMap& layers,
                              const scip::ScipParameters& sensor, const MapRunInfo& info, const LiveRunStats* live);
 
 /// First and last of a series of times (scans', poses').
@@ -64,13 +64,13 @@ std::string mapping_shortfall(const ScanMapperStats& stats, const TimeRange& sca
 
 /// The map with `filter` applied to a copy (the map being built is not
 /// changed, so saving often changes nothing).
-io::MapLayers filtered_map_layers(const ScanMapper& mapper, MapFilter filter);
+ExportedMap filtered_map_layers(const ScanMapper& mapper, MapFilter filter);
 
 /// Writes the layers (info.map_filter applied to a copy) and summary.json as
 /// one set (io::OutputFolder): `directory` holds the previous set or the
 /// new one, never a mix or a torn file. Returns the layers written. Throws
 /// InputError naming the folder (unusable folder, disk full).
-io::MapLayers write_map_outputs(const ScanMapper& mapper, const scip::ScipParameters& sensor, const MapRunInfo& info,
+ExportedMap write_map_outputs(const ScanMapper& mapper, const scip::ScipParameters& sensor, const MapRunInfo& info,
                                 const LiveRunStats* live, const std::string& directory);
 
 }  // namespace stridemap

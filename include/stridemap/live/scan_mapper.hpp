@@ -71,7 +71,7 @@ class ScanMapper {
   const ScanMapperOptions& options() const { return options_; }
   /// The map with the fill-in (eq. 11) applied to a copy: the map being
   /// built is not changed, so saving it often changes nothing.
-  io::MapLayers filled_layers() const;
+  ExportedMap filled_layers() const;
 
  private:
   static PipelineOptions pipeline_options(const ScanMapperOptions& options, const UrgParameters& sensor);
