@@ -158,7 +158,7 @@ void register_map(py::module_& m) {
              // The set replaces the folder whole, and a folder holding anything
              // but earlier outputs is refused: a user's files are never lost.
              io::OutputFolder staged(directory, "directory");
-             io::write_map_layers(io::export_map_layers(map), staged.path(), options);
+             io::write_map_layers(export_map(map), staged.path(), options);
              staged.commit();
            },
            py::arg("directory"), py::kw_only(), py::arg("title") = "Elevation", py::arg("certainty_max") = 100.0,
