@@ -73,16 +73,18 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   const std::string filter_names = args.filters.empty() ? (mixed ? "paper" : "none") : args.filters;
   const std::vector<ScanFilterKind> filters = parse_scan_filter_list(filter_names);
 
-  const Scene scene = load_scene_yaml(args.scene_path);
+  // Only now, after every option was checked: a bad option is named first.
+  const std::string scene_path = resolve_default_data_file("--scene", args.scene_path, RockyWalkArgs::kDefaultScene);
+  const Scene scene = load_scene_yaml(scene_path);
   WalkPath path;
-  RockyWalkRunInfo info{args.scene_path, args.path_file};
+  RockyWalkRunInfo info{scene_path, args.path_file};
   if (!args.path_file.empty()) {
     path = load_walk_path_yaml(args.path_file, &scene.terrain);
   } else if (scene.walk_path) {
     path = *scene.walk_path;
-    info.path_source = args.scene_path + ":walk_path";
+    info.path_source = scene_path + ":walk_path";
   } else {
-    throw InputError(args.scene_path + ": the scene has no walk_path section; give a path file with --path");
+    throw InputError(scene_path + ": the scene has no walk_path section; give a path file with --path");
   }
 
   WalkSensorFactory factory;
@@ -96,7 +98,7 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   } else {
     factory = structured_light_walk_sensor_factory(args.seed, pipeline);
   }
-  const std::vector<NamedPath> inputs{{"--scene", args.scene_path}, {"--path", args.path_file}};
+  const std::vector<NamedPath> inputs{{"--scene", scene_path}, {"--path", args.path_file}};
   const std::string early_dir = (std::filesystem::path(args.out_dir) / ("rocky-walk-" + args.sensor)).string();
   refuse_output_that_is_an_input("--out", early_dir, inputs);
   io::check_output_folder(early_dir, "--out");
@@ -154,10 +156,7 @@ void register_walk_experiments(CLI::App& app) {
       ->check(number_from_to(kMinCellSizeM, kMaxCellSizeM, "m"));
   rocky->add_option("--cells", rw->cells_per_side, "Cells per side of the local map; default 100 (urg), 200 (structured-light)")
       ->check(grid_cells_option(1));
-  rocky->callback([rw] {
-    rw->scene_path = resolve_default_data_file("--scene", rw->scene_path, RockyWalkArgs::kDefaultScene);
-    run_rocky_walk_command(*rw);
-  });
+  rocky->callback([rw] { run_rocky_walk_command(*rw); });
 
   register_mount_analysis(experiment);
 }
