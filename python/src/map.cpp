@@ -64,7 +64,7 @@ void register_map(py::module_& m) {
                             "layers:\n" +
                             layer_descriptions() +
                             "Arrays are indexed [i, j]: cell (min_cell[0] + i, min_cell[1] + j), i along +X "
-                            "(forward), j along +Y (left), as in the map file. Map.layer_names: the names, in the file's order.")
+                            "(forward), j along +Y (left), as in the map file. Map.layer_names: the built-in layers every map has; add_layer declares more.")
                                .c_str())
       .def(py::init([](int cells_per_side, double cell_size_m) {
              return ElevationMap(GridOptions{cells_per_side, cell_size_m});
@@ -125,12 +125,19 @@ void register_map(py::module_& m) {
           "layers",
           [](const py::object& self) {
             py::dict d;
-            for (const std::string& name : layer_names()) {
+            for (const std::string& name : layer_names(self.cast<const ElevationMap&>())) {
               d[py::str(name)] = window_layer(self.cast<const ElevationMap&>(), name, self);
             }
             return d;
           },
-          "Every layer by name, in window order (see layer()).")
+          "Every layer of this map by name (the built-in ones, then any declared with add_layer), in window "
+          "order (see layer()).")
+      .def("add_layer", &add_layer, py::arg("name"), py::arg("dtype") = "float32", py::arg("reset_value") = 0.0,
+           py::arg("unit") = "", py::arg("description") = "",
+           "Declares a layer of your own (core/map_layer.hpp): a name of lower-case letters, digits and '_', a "
+           "dtype ('float32', 'uint16' or 'uint8') and the value every cell starts with (NaN allowed for "
+           "float32). It is saved in map files and selected by name like the built-in layers. Raises InputError "
+           "for a bad or repeated name or a reset value the dtype cannot hold.")
       .def("save", &save, py::arg("path"), py::kw_only(), py::arg("created_by") = "", py::arg("config_text") = "",
            py::arg("mount") = py::none(), py::arg("last_scan_time_s") = py::none(),
            py::arg("overwrite_other_files") = false,
@@ -166,7 +173,7 @@ void register_map(py::module_& m) {
            "folder `directory`, as the CLI's commands do (docs/outputs.md): the set appears whole, replacing an "
            "earlier set; a folder holding other files is refused (InputError).");
 
-  // A constant, named in the class docstring: the layers in the map file's order.
+  // A constant, named in the class docstring: the layers every map has.
   py::cast<py::object>(m.attr("Map")).attr("layer_names") = py::tuple(py::cast(layer_names()));
 
   py::class_<io::MapFile>(m, "MapFile", "A loaded map file: the map, what it was made with, the format version.")

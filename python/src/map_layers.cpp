@@ -1,6 +1,6 @@
 // The one place the bindings read a map's layers (docs/python.md, "Zero
-// copy"): names, dtypes and where each layer's storage is. When the map's
-// layers become an open set, only this file changes.
+// copy"): names, dtypes and where each layer's storage is, from the map's
+// own layer registry, so a layer a user declared is there like the rest.
 //
 // ElevationMap keeps every layer as an N x N block indexed by slot
 // (ix mod N, iy mod N): a circular buffer, so that moving the window copies
@@ -8,7 +8,7 @@
 // (element [i, j] = cell min_cell + (i, j)) only when the window's corner
 // cell sits in slot (0, 0). Otherwise the window order is the block rolled,
 // which NumPy can only do by copying.
-#include <array>
+#include <optional>
 #include <cstdint>
 #include <string>
 #include <utility>
@@ -21,22 +21,6 @@
 namespace stridemap::python {
 namespace {
 
-struct Layer {
-  const char* name;
-  const char* doc;
-};
-
-// The map file's layer names and order (io/map_export.hpp's .npy files).
-constexpr std::array<Layer, 7> kLayers{{
-    {"elevation", "float32 [m], NaN where unknown: eq. (10)'s elevation"},
-    {"certainty", "float32, 0 where unknown: eq. (9)'s certainty"},
-    {"state", "uint8: 0 unknown, 1 measured, 2 filled"},
-    {"mean_elevation", "float32 [m], NaN where unknown: mean of the accepted readings"},
-    {"mean_count", "uint16: readings in mean_elevation"},
-    {"pending_elevation", "float32 [m]: gated rule, highest contradicting reading"},
-    {"contradictions", "uint8: gated rule, contradicting readings in a row"},
-}};
-
 template <class T>
 py::array view_of(const T* data, int n, py::handle base) {
   const auto side = static_cast<py::ssize_t>(n);
@@ -48,32 +32,49 @@ py::array view_of(const T* data, int n, py::handle base) {
   return array;
 }
 
+const char* numpy_type_name(LayerType type) {
+  switch (type) {
+    case LayerType::f32: return "float32";
+    case LayerType::u16: return "uint16";
+    case LayerType::u8: break;
+  }
+  return "uint8";
+}
+
 }  // namespace
 
 std::vector<std::string> layer_names() {
   std::vector<std::string> names;
-  for (const Layer& layer : kLayers) names.emplace_back(layer.name);
+  for (const LayerSpec& spec : builtin_layers()) names.push_back(spec.name);
+  return names;
+}
+
+std::vector<std::string> layer_names(const ElevationMap& map) {
+  std::vector<std::string> names;
+  for (std::size_t i = 0; i < map.layer_count(); ++i) names.push_back(map.layer_spec(i).name);
   return names;
 }
 
 std::string layer_descriptions() {
   std::string text;
-  for (const Layer& layer : kLayers) text += std::string("  ") + layer.name + ": " + layer.doc + "\n";
+  for (const LayerSpec& spec : builtin_layers()) {
+    text += "  " + spec.name + ": " + numpy_type_name(spec.type) + (spec.unit.empty() ? "" : " [" + spec.unit + "]") +
+            ", " + spec.description + "\n";
+  }
   return text;
 }
 
 py::array storage_view(const ElevationMap& map, const std::string& name, py::handle base) {
+  const std::optional<std::size_t> index = map.find_layer(name);
+  if (!index) raise_input_error("layer: '" + name + "' is not a layer of this map; its layers are " + map.layer_names());
   const int n = map.cells_per_side();
-  if (name == "elevation") return view_of(map.elevation_data(), n, base);
-  if (name == "certainty") return view_of(map.certainty_data(), n, base);
-  if (name == "state") return view_of(map.state_data(), n, base);
-  if (name == "mean_elevation") return view_of(map.mean_elevation_data(), n, base);
-  if (name == "mean_count") return view_of(map.mean_count_data(), n, base);
-  if (name == "pending_elevation") return view_of(map.pending_elevation_data(), n, base);
-  if (name == "contradictions") return view_of(map.contradiction_data(), n, base);
-  std::string known;
-  for (const Layer& layer : kLayers) known += (known.empty() ? "" : ", ") + std::string(layer.name);
-  raise_input_error("layer: '" + name + "' is not a map layer; the layers are " + known);
+  const void* bytes = map.layer_bytes(*index);
+  switch (map.layer_spec(*index).type) {
+    case LayerType::f32: return view_of(static_cast<const float*>(bytes), n, base);
+    case LayerType::u16: return view_of(static_cast<const std::uint16_t*>(bytes), n, base);
+    case LayerType::u8: break;
+  }
+  return view_of(static_cast<const std::uint8_t*>(bytes), n, base);
 }
 
 std::pair<int, int> storage_corner(const ElevationMap& map) {
@@ -89,6 +90,25 @@ py::array window_layer(const ElevationMap& map, const std::string& name, py::han
   py::array rolled = py::module_::import("numpy").attr("roll")(view, py::make_tuple(-row, -col),
                                                                py::make_tuple(0, 1));
   return rolled;
+}
+
+void add_layer(ElevationMap& map, const std::string& name, const std::string& dtype, double reset_value,
+               const std::string& unit, const std::string& description) {
+  LayerSpec spec;
+  spec.name = name;
+  if (dtype == "float32") {
+    spec.type = LayerType::f32;
+  } else if (dtype == "uint16") {
+    spec.type = LayerType::u16;
+  } else if (dtype == "uint8") {
+    spec.type = LayerType::u8;
+  } else {
+    raise_input_error("add_layer: dtype: expected 'float32', 'uint16' or 'uint8', got '" + dtype + "'");
+  }
+  spec.reset_value = reset_value;
+  spec.unit = unit;
+  spec.description = description;
+  map.add_layer(spec);
 }
 
 }  // namespace stridemap::python

@@ -9,9 +9,14 @@
 
 namespace stridemap::python {
 
-/// elevation, certainty, state, mean_elevation, mean_count,
-/// pending_elevation, contradictions: the map file's layers.
+/// The layers every map has (core/map_layer.hpp's built-in declarations).
 std::vector<std::string> layer_names();
+/// This map's layers: the built-in ones, then any a user declared.
+std::vector<std::string> layer_names(const ElevationMap& map);
+/// Declares a layer on the map (ElevationMap::add_layer); dtype is a NumPy
+/// type name: float32, uint16 or uint8. InputError for a bad declaration.
+void add_layer(ElevationMap& map, const std::string& name, const std::string& dtype, double reset_value,
+               const std::string& unit, const std::string& description);
 /// One line per layer: its name, dtype and meaning, for docstrings.
 std::string layer_descriptions();
 /// A read-only zero-copy view of the layer's storage (slot order), kept

@@ -92,6 +92,14 @@ class Map:
     def layer(self, name: str) -> npt.NDArray[Any]: ...
     def storage_view(self, name: str) -> npt.NDArray[Any]: ...
     def layers(self) -> dict[str, npt.NDArray[Any]]: ...
+    def add_layer(
+        self,
+        name: str,
+        dtype: str = "float32",
+        reset_value: float = 0.0,
+        unit: str = "",
+        description: str = "",
+    ) -> None: ...
     def save(
         self,
         path: str,

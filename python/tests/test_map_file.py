@@ -78,3 +78,22 @@ def test_write_png_checks_its_array(tmp_path):
         stridemap.write_png(str(tmp_path / "b.png"), np.zeros((4, 5, 3)))
     with pytest.raises(stridemap.InputError, match="pixels"):
         stridemap.write_png(str(tmp_path / "b.png"), np.zeros((4, 5), np.uint8))
+
+
+def test_a_layer_of_your_own_is_saved_and_loaded_by_name(tmp_path):
+    m = stridemap.Map(20, 0.05)
+    m.add_layer("hit_count", dtype="uint16", description="points per cell")
+    assert "hit_count" in m.layers()
+    view = m.layer("hit_count")
+    assert view.dtype == np.uint16 and view.shape == (20, 20) and not view.any()
+    path = str(tmp_path / "own.smap")
+    m.save(path)
+    loaded = stridemap.load_map(path).map
+    assert loaded.layer("hit_count").dtype == np.uint16
+    assert list(loaded.layers()) == list(m.layers())
+    with pytest.raises(stridemap.InputError, match="hit_count"):
+        stridemap.Map(20, 0.05).layer("hit_count")  # named in the message, with the layers there are
+    with pytest.raises(stridemap.InputError, match="dtype"):
+        m.add_layer("other", dtype="int64")
+    with pytest.raises(stridemap.InputError):
+        m.add_layer("hit_count", dtype="uint16")  # declared twice
