@@ -144,7 +144,10 @@ void run_mixed_pixels_command(const MixedPixelsArgs& args) {
   const std::string dir = (std::filesystem::path(args.out_dir) / "mixed-pixels" / stem).string();
   refuse_output_that_is_an_input("--out", dir, {{"--scene", args.scene_path}});
   io::check_output_folder(dir, "--out");
+  io::ProgressBar bar = progress_bar("mixed-pixels", "scans");
+  options.progress = bar.callback();
   const MixedPixelsResult result = run_mixed_pixels(scene, options);
+  bar.clear();
   write_output_set(dir, "--out",
                    [&](const std::string& folder) { write_mixed_pixels_outputs(result, options, args.scene_path, folder); });
   std::fputs(mixed_pixels_table(result).c_str(), stdout);
@@ -177,7 +180,10 @@ void run_lighting_command(const LightingArgs& args) {
   const std::string dir = (std::filesystem::path(args.out_dir) / "lighting").string();
   refuse_output_that_is_an_input("--out", dir, {{"--scene", scene_path}, {"--sensor-config", args.sensor_config_path}});
   io::check_output_folder(dir, "--out");
+  io::ProgressBar bar = progress_bar("lighting", "scans");
+  options.progress = bar.callback();
   const LightingResult result = run_lighting(scene, options);
+  bar.clear();
   write_output_set(dir, "--out",
                    [&](const std::string& folder) { write_lighting_outputs(result, options, scene_path, folder); });
   std::fputs(lighting_table(result).c_str(), stdout);

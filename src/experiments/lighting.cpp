@@ -83,8 +83,10 @@ LightingResult run_lighting(const Scene& scene, const LightingOptions& options) 
   example_pose.x_m = std::isfinite(options.example_x_m) ? options.example_x_m : 0.5 * (rail.start_x_m + rail.end_x_m);
   example_pose.y_m = rail.y_m;
   example_pose.yaw_rad = rail.yaw_rad;
+  const std::size_t runs = options.levels.size() + 1;  // the levels, then the URG's run
   for (const LightingLevel& level : options.levels) {
     CartRailOptions o = options.structured_light;
+    o.progress = progress_of_part(options.progress, result.rows.size(), runs);
     o.sensor = CartRailSensor::structured_light;
     o.structured_light.pipeline = StripePipeline::image;
     o.structured_light.image.ambient.illuminance_lux = level.illuminance_lux;
@@ -105,6 +107,7 @@ LightingResult run_lighting(const Scene& scene, const LightingOptions& options) 
   }
   CartRailOptions urg = options.urg;
   urg.sensor = CartRailSensor::urg;
+  urg.progress = progress_of_part(options.progress, runs - 1, runs);
   result.urg = run_cart_rail(scene, urg);
   result.urg_range = urg_range_error(scene, urg);
   return result;

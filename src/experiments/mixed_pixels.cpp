@@ -39,6 +39,7 @@ MixedPixelsResult run_mixed_pixels(const Scene& scene, const CartRailOptions& ba
   MixedPixelsResult result;
   for (const MixedPixelsCase& c : cases) {
     CartRailOptions options = base;
+    options.progress = progress_of_part(base.progress, result.rows.size(), cases.size());
     options.mixed_pixels = c.mixed_pixels;
     options.filters = c.filters;
     options.map_filter = c.map_filter;

@@ -99,8 +99,17 @@ TEST(LightingExperiment, DaylightDrownsTheStripeAndLeavesTheUrgAlone) {
   options.structured_light = structured_light(StripePipeline::image);
   options.levels = {{"lab", 300.0}, {"daylight", 30000.0}};
   options.example_x_m = 0.2;
+  std::size_t reports = 0;
+  std::size_t last_done = 0, last_total = 0;
+  options.progress = [&](std::size_t done, std::size_t total) {
+    ++reports;
+    last_done = done;
+    last_total = total;
+  };
   const LightingResult result = run_lighting(scene, options);
   ASSERT_EQ(result.rows.size(), 2u);
+  EXPECT_GT(reports, 3u);  // every level and the URG's run report
+  EXPECT_EQ(last_done, last_total);
   EXPECT_GT(result.rows[0].stripe.detection_rate(), 0.95);
   EXPECT_LT(result.rows[1].stripe.detection_rate(), 0.05);
   EXPECT_LT(result.rows[0].score.rms_error_m, 0.01);

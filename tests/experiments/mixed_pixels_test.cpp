@@ -17,8 +17,19 @@ Scene short_scene() {
 }
 
 TEST(MixedPixelsExperiment, MixedPixelsAppearAndThePaperChainRemovesSome) {
-  const MixedPixelsResult r = run_mixed_pixels(short_scene(), CartRailOptions{});
+  // One bar over all cases: it only moves forward and ends full.
+  CartRailOptions options;
+  double last_share = 0.0;
+  bool went_back = false;
+  options.progress = [&](std::size_t done, std::size_t total) {
+    const double share = total ? static_cast<double>(done) / static_cast<double>(total) : 0.0;
+    went_back |= share + 1e-12 < last_share;
+    last_share = share;
+  };
+  const MixedPixelsResult r = run_mixed_pixels(short_scene(), options);
   ASSERT_EQ(r.rows.size(), default_mixed_pixels_cases().size());
+  EXPECT_FALSE(went_back);
+  EXPECT_DOUBLE_EQ(last_share, 1.0);
   const auto row_named = [&](const std::string& prefix) -> const MixedPixelsRow& {
     for (const MixedPixelsRow& row : r.rows)
       if (row.config.name.rfind(prefix, 0) == 0) return row;

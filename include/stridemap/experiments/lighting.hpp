@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "stridemap/core/progress.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
 #include "stridemap/io/png_image.hpp"
 
@@ -39,6 +40,9 @@ struct LightingOptions {
   /// Where along the rail the example images of each level are taken [m]
   /// (trunk x); NaN: the middle of the rail.
   double example_x_m = 0.62;
+  /// How far the runs are, as one loop over all levels and the URG's run
+  /// (core/progress.hpp); the runs' own `progress` fields are not used.
+  ProgressCallback progress{};
 };
 
 struct LightingRow {
