@@ -81,6 +81,7 @@ std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOption
       options.sensor == CartRailSensor::structured_light ? options.structured_light.parameters.mount : options.mount;
   json summary = {
       {"experiment", "cart-rail"},
+      {"tool_version", io::tool_version()},
       {"sensor", info.sensor},
       {"seed", options.seed},
       {"source", "simulation"},

@@ -14,6 +14,7 @@
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/sensor_transform.hpp"
 #include "stridemap/io/line_plot.hpp"
+#include "stridemap/io/map_file.hpp"
 #include "stridemap/io/png_image.hpp"
 #include "stridemap/io/stripe_detector.hpp"
 #include "stridemap/io/text_file.hpp"
@@ -195,6 +196,7 @@ void write_lighting_outputs(const LightingResult& r, const LightingOptions& opti
 
   const nlohmann::json summary = {
       {"experiment", "lighting"},
+      {"tool_version", io::tool_version()},
       {"source", "simulation"},
       {"scene", scene_path},
       {"seed", options.structured_light.seed},

@@ -9,6 +9,7 @@
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/cart_rail_report.hpp"
 #include "stridemap/io/grid_render.hpp"
+#include "stridemap/io/map_file.hpp"
 #include "stridemap/io/png_image.hpp"
 #include "stridemap/io/text_file.hpp"
 
@@ -129,6 +130,7 @@ std::string mixed_pixels_summary_json(const MixedPixelsResult& r, const CartRail
                       {"cas_removed_cells", row.cas_removed_cells}}}});
   }
   const nlohmann::json summary = {{"experiment", "mixed-pixels"},
+                                 {"tool_version", io::tool_version()},
                                   {"sensor", "urg"},
                                   {"source", "simulation"},
                                   {"seed", base.seed},

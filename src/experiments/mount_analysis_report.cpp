@@ -11,6 +11,7 @@
 
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/heat_map.hpp"
+#include "stridemap/io/map_file.hpp"
 #include "stridemap/io/png_image.hpp"
 #include "stridemap/io/text_file.hpp"
 
@@ -59,6 +60,7 @@ std::string mount_analysis_summary_json(const MountAnalysisResult& r, const Moun
   for (const MountMetrics& m : r.sweep) sweep.push_back(metrics_json(m));
   const json summary = {
       {"experiment", "mount-analysis"},
+      {"tool_version", io::tool_version()},
       {"sensor", r.sensor},
       {"source", "simulation"},
       {"seed", o.seed},

@@ -133,6 +133,7 @@ std::string rocky_walk_summary_json(const RockyWalkResult& r, const RockyWalkOpt
   }
   json summary = {
       {"experiment", "rocky-walk"},
+      {"tool_version", io::tool_version()},
       {"sensor", r.sensor},
       {"source", "simulation"},
       {"seed", options.walk.seed},

@@ -399,6 +399,8 @@ void sync_folder_of(const std::string& path) {
 
 }  // namespace
 
+std::string tool_version() { return "stridemap " STRIDEMAP_VERSION_STRING; }
+
 std::string encode_map_file(const ElevationMap& map, const MapFileMetadata& metadata) {
   const int n = map.cells_per_side();
   const std::size_t cells = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
@@ -406,7 +408,7 @@ std::string encode_map_file(const ElevationMap& map, const MapFileMetadata& meta
   json header = {
       {"format", "stridemap map"},
       {"version", kMapFileVersion},
-      {"tool_version", metadata.tool_version.empty() ? "stridemap " STRIDEMAP_VERSION_STRING : metadata.tool_version},
+      {"tool_version", metadata.tool_version.empty() ? tool_version() : metadata.tool_version},
       {"created_by", metadata.created_by},
       {"geometry",
        {{"cells_per_side", n},

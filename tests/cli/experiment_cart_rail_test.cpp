@@ -43,6 +43,7 @@ TEST(CartRailCommand, WritesMapsTablesAndSummary) {
   std::ifstream in(dir / "summary.json");
   const nlohmann::json summary = nlohmann::json::parse(in);
   EXPECT_EQ(summary["experiment"], "cart-rail");
+  EXPECT_EQ(summary.value("tool_version", "").rfind("stridemap ", 0), 0u) << "the version that made it";
   EXPECT_EQ(summary["sensor"], "urg");
   EXPECT_EQ(summary["seed"], 3);
   for (const char* key : {"rms_error_m", "max_error_m", "coverage", "artifact_cells", "artifact_threshold_m"}) {
@@ -144,6 +145,7 @@ TEST(MixedPixelsCommand, WritesTheComparison) {
   std::ifstream in(out / "summary.json");
   const nlohmann::json summary = nlohmann::json::parse(in);
   EXPECT_EQ(summary["experiment"], "mixed-pixels");
+  EXPECT_EQ(summary.value("tool_version", "").rfind("stridemap ", 0), 0u) << "the version that made it";
   ASSERT_TRUE(summary["cases"].is_array());
   bool has_ideal = false;
   for (const auto& c : summary["cases"]) {

@@ -44,6 +44,7 @@ TEST(RockyWalkCommand, WritesMapsViewsSummaryAndTable) {
   std::ifstream in(dir / "summary.json");
   const nlohmann::json summary = nlohmann::json::parse(in);
   EXPECT_EQ(summary["experiment"], "rocky-walk");
+  EXPECT_EQ(summary.value("tool_version", "").rfind("stridemap ", 0), 0u) << "the version that made it";
   EXPECT_EQ(summary["seed"], 2);
   EXPECT_EQ(summary["pose_error_sweep"].size(), 6u);  // 2 levels x 3 h_ref sources
   EXPECT_GT(summary["walk"]["scans"].get<int>(), 400);

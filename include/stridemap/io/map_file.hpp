@@ -23,6 +23,10 @@ inline constexpr std::uint32_t kMapFileVersion = 1;
 /// that translated line ends, as PNG's signature does.
 inline constexpr std::string_view kMapFileMagic{"SMAP\r\n\x1a\n", 8};
 
+/// "stridemap 0.1.0": the version every output that records one names
+/// (map files, experiments' summary.json).
+std::string tool_version();
+
 /// What the map was made from and with. Everything is optional for a
 /// reader; save_map_file fills tool_version when it is empty.
 struct MapFileMetadata {
