@@ -111,9 +111,14 @@ std::size_t ElevationMap::add_layer(const LayerSpec& spec) {
   if (find_layer(spec.name)) throw InputError("map layer '" + spec.name + "': the map already has a layer of that name");
   Layer& layer = layers_.emplace_back();
   layer.spec = spec;
-  layer.reset_f32 = static_cast<float>(spec.reset_value);
-  layer.reset_u16 = static_cast<std::uint16_t>(spec.reset_value);
-  layer.reset_u8 = static_cast<std::uint8_t>(spec.reset_value);
+  // Only the layer's own type: a float layer's NaN has no integer value, and
+  // converting it would be undefined (validate_layer_spec checked the range
+  // for the integer types).
+  switch (spec.type) {
+    case LayerType::f32: layer.reset_f32 = static_cast<float>(spec.reset_value); break;
+    case LayerType::u16: layer.reset_u16 = static_cast<std::uint16_t>(spec.reset_value); break;
+    case LayerType::u8: layer.reset_u8 = static_cast<std::uint8_t>(spec.reset_value); break;
+  }
   fill_with_reset(layer);
   return layers_.size() - 1;
 }
