@@ -10,7 +10,7 @@ OUT ?= out
 
 # The main job: the walking robot on the rocky mock-up with the URG-04LX
 # (mixed pixels simulated, the paper's scan filters), with its pose-error
-# sweep; about a minute and a half on two cores. It builds only the tool:
+# sweep (which replays the main walk's scans); about 11 s of CPU. It builds only the tool:
 # the tests and benchmarks are `make test`'s and `make bench`'s business.
 run: configure
 	cmake --build $(BUILD_DIR) -j $(JOBS) --target stridemap_cli

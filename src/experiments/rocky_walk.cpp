@@ -41,10 +41,16 @@ RockyWalkResult run_rocky_walk(const Scene& scene, const WalkPath& path, const W
     ++walks_done;
     return run.finish();
   };
+  // The sweep's walks follow the main walk's true trajectory with the same
+  // seed, and the pose estimate enters only after the simulation, so they
+  // replay the main walk's measurements instead of simulating them again
+  // (the simulator is nearly all of the run's time).
+  std::shared_ptr<const WalkRecording> recording;
   const auto walk_with = [&](const PoseErrorOptions& errors) {
     WalkOptions walk = options.walk;
     walk.pose_errors = errors;
     std::unique_ptr<WalkSensor> sensor = make_sensor(scene, walk.mapper.update);
+    if (recording) sensor->replay(recording);
     return walk_reporting(*sensor, walk);
   };
   // The main walk first: it also checks the scene, path and mount before
@@ -52,7 +58,10 @@ RockyWalkResult run_rocky_walk(const Scene& scene, const WalkPath& path, const W
   {
     std::unique_ptr<WalkSensor> sensor = make_sensor(scene, options.walk.mapper.update);
     result.sensor = sensor->name();
+    const bool sweep_follows = walks > 1;
+    if (sweep_follows) sensor->start_recording();
     result.main = walk_reporting(*sensor, options.walk);
+    if (sweep_follows) recording = sensor->recording();
   }
   const auto row_of = [](std::string label, double scale, ReferenceElevationSource source, const WalkResult& w) {
     return PoseSweepRow{std::move(label), scale, source, w.pose_errors, w.mosaic_score, w.unknown_swept_cells};

@@ -2,6 +2,8 @@
 
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/sensor_transform.hpp"
@@ -25,6 +27,13 @@ PipelineOptions pipeline_options(const UrgWalkSensorOptions& o) {
   return p;
 }
 
+// Bit for bit: a replay must see exactly the trajectory that was simulated.
+bool same_pose(const TrunkPose& a, const TrunkPose& b) {
+  return a.x_m == b.x_m && a.y_m == b.y_m && a.yaw_rad == b.yaw_rad && a.pitch_rad == b.pitch_rad &&
+         a.roll_rad == b.roll_rad && a.reference_elevation_m == b.reference_elevation_m &&
+         a.height_change_m == b.height_change_m && a.z_m == b.z_m;
+}
+
 }  // namespace
 
 UrgWalkSensor::UrgWalkSensor(const Scene& scene, const UrgWalkSensorOptions& options, const UpdateOptions&,
@@ -42,8 +51,32 @@ UrgWalkSensor::UrgWalkSensor(const Scene& scene, const UrgWalkSensorOptions& opt
 
 ScanStats UrgWalkSensor::measure(const TrunkPose& truth, const TrunkPose& estimate, double time_s,
                                  TerrainMapper& mapper) {
+  if (replayed_) {
+    const std::size_t k = next_replayed_++;
+    if (k >= replayed_->scans.size() || !same_pose(replayed_->scans[k].truth, truth) ||
+        replayed_->scans[k].time_s != time_s) {
+      throw std::logic_error("urg walk sensor: replay of scan " + std::to_string(k) +
+                             " asked for a true pose or time the recording (" +
+                             std::to_string(replayed_->scans.size()) + " scans) does not hold");
+    }
+    return integrator_.push(replayed_->scans[k].raw, estimate, mapper).stats;
+  }
   simulator_.scan(truth, options_.mount, time_s, raw_);
+  if (recording_) recording_->scans.push_back({truth, time_s, raw_});
   return integrator_.push(raw_, estimate, mapper).stats;
+}
+
+bool UrgWalkSensor::start_recording() {
+  recording_ = std::make_shared<UrgWalkRecording>();
+  return true;
+}
+
+bool UrgWalkSensor::replay(std::shared_ptr<const WalkRecording> recording) {
+  auto urg = std::dynamic_pointer_cast<const UrgWalkRecording>(recording);
+  if (!urg) return false;
+  replayed_ = std::move(urg);
+  next_replayed_ = 0;
+  return true;
 }
 
 ScanStats UrgWalkSensor::flush(TerrainMapper& mapper) { return integrator_.flush(mapper).stats; }

@@ -117,11 +117,16 @@ bool UrgDriver::next(UrgDriverEvent& event, double timeout_s) {
       }
       continue;
     }
+    // A deadline that passed while this thread was not running (a loaded
+    // host) says nothing about the device until the input that waits is
+    // read: a reply or scan may be there. So once per deadline, read first.
     if (state_ == UrgDriverState::starting && t >= reply_deadline_) {
+      if (read_what_waits(drained_for_reply_, reply_deadline_)) continue;
       on_reply_timeout();
       continue;
     }
     if (state_ == UrgDriverState::streaming && t >= stall_deadline_) {
+      if (read_what_waits(drained_for_stall_, stall_deadline_)) continue;
       ++stats_.stalls;
       restart_stream(UrgFault::stall, device() + ": no scan for " + format_s(stall_timeout_s()) + "; restarting the stream",
                      0);
@@ -180,6 +185,7 @@ void UrgDriver::begin_start() {
   probes_sent_ = 0;
   last_decode_error_.clear();
   bytes_at_start_ = stats_.bytes_received;
+  ++stream_starts_;
   decoder_.reset();
   stream_->discard_input();
   // A bare LF ends whatever half command the sensor may hold (as the
@@ -240,6 +246,22 @@ void UrgDriver::on_reply_timeout() {
   report(UrgFault::no_reply, message);
   close_device();
   next_open_time_ = now() + options_.reconnect_interval_s;
+}
+
+// Reads, without waiting, what the port holds (a bounded amount: a device
+// cannot outpace this loop), once for `deadline`; true when that got bytes
+// or lost the link (the caller looks at the state again).
+bool UrgDriver::read_what_waits(double& drained_for, double deadline) {
+  if (drained_for == deadline) return false;
+  drained_for = deadline;
+  constexpr int kMaxChunks = 256;
+  const std::uint64_t before = stats_.bytes_received;
+  for (int k = 0; k < kMaxChunks && stream_; ++k) {
+    const std::uint64_t at = stats_.bytes_received;
+    read_some(0.0);
+    if (stats_.bytes_received == at) break;
+  }
+  return !stream_ || stats_.bytes_received != before;
 }
 
 void UrgDriver::read_some(double wait_s) {

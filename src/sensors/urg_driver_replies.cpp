@@ -192,8 +192,13 @@ void UrgDriver::deliver_scan(const scip::Event& event) {
       return;
     }
     // The two clocks run at the same rate; a sensor time step far from the
-    // host's means the sensor's counter restarted (RS, power loss).
-    const bool consistent = delta_ms <= host_ms * 1.05 + 500.0 && delta_ms + 500.0 >= host_ms * 0.95;
+    // host's means the sensor's counter restarted (RS, power loss). But a
+    // sensor that restarts stops streaming, so between two scans of one
+    // stream the sensor's clock cannot have fallen behind: a host time step
+    // longer than the sensor's there is the host reading late (a loaded
+    // machine; the scans waited in the port), not a reset.
+    const bool same_stream = previous_scan_start_ == stream_starts_;
+    const bool consistent = delta_ms <= host_ms * 1.05 + 500.0 && (same_stream || delta_ms + 500.0 >= host_ms * 0.95);
     if (!consistent) {
       ++stats_.resets;
       const auto missed = static_cast<std::uint64_t>(
@@ -226,6 +231,7 @@ void UrgDriver::deliver_scan(const scip::Event& event) {
   }
   previous_raw_ms_ = raw_ms;
   previous_receive_s_ = receive_s;
+  previous_scan_start_ = stream_starts_;
   have_previous_scan_ = true;
   stall_deadline_ = now() + stall_timeout_s();
 

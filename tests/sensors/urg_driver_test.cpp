@@ -222,6 +222,33 @@ TEST_F(DriverFixture, StallIsReportedAndTheStreamRestartsCountingTheMissedScans)
   expect_accounted(events, 100);
 }
 
+TEST_F(DriverFixture, AHostThatReadsLateLosesNothingAndReportsNoFault) {
+  make_device();
+  UrgDriver driver(test::emulated_opener(*device_), options());
+  Events events = run(driver, 1.0);
+  ASSERT_FALSE(events.scans.empty());
+  // The host was busy for 1.5 s (a loaded machine): the driver did not run
+  // while the sensor went on sending. The scans wait in the port; the stall
+  // deadline and the host-time step of the next scan both look like faults
+  // until that input is read.
+  clock_.now_ms += 1500;
+  const Events after = run(driver, 1.0);
+  EXPECT_TRUE(after.faults.empty()) << after.fault_list();
+  ASSERT_FALSE(after.scans.empty());
+  EXPECT_FALSE(after.scans.front().first_after_start);
+  events.scans.insert(events.scans.end(), after.scans.begin(), after.scans.end());
+  expect_accounted(events, 100);
+  std::vector<std::uint32_t> sent, delivered;
+  for (const EmulatorOutput& out : device_->sent_scans) {
+    if (out.timestamp_ms <= events.scans.back().sensor_timestamp_ms) sent.push_back(out.timestamp_ms);
+  }
+  for (const UrgScan& s : events.scans) delivered.push_back(s.sensor_timestamp_ms);
+  EXPECT_EQ(delivered, sent);
+  EXPECT_EQ(driver.stats().scans_lost, 0u);
+  EXPECT_EQ(driver.stats().resets, 0u);
+  EXPECT_EQ(driver.stats().stalls, 0u);
+}
+
 TEST_F(DriverFixture, SensorResetIsDetectedFromItsClockAndFromScip11) {
   make_device();
   UrgDriver driver(test::emulated_opener(*device_), options());

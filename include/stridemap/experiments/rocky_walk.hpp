@@ -19,6 +19,9 @@
 namespace stridemap {
 
 /// Makes a fresh sensor for one walk (the simulators keep per-run state).
+/// Every call must make the same sensor with the same seed: the sweep's
+/// walks replay what the main walk's sensor simulated when it can
+/// (WalkSensor::replay), and simulate again otherwise.
 using WalkSensorFactory = std::function<std::unique_ptr<WalkSensor>(const Scene& scene, const UpdateOptions& update)>;
 
 struct RockyWalkOptions {

@@ -32,6 +32,17 @@ struct UrgWalkSensorOptions {
   ScanFilterChainOptions filter_options{};
 };
 
+/// The URG's recording: each simulated scan with the true pose and time it
+/// was simulated for (a replay checks them).
+struct UrgWalkRecording final : WalkRecording {
+  struct Scan {
+    TrunkPose truth;
+    double time_s = 0.0;
+    UrgRawScan raw;
+  };
+  std::vector<Scan> scans;
+};
+
 class UrgWalkSensor final : public WalkSensor {
  public:
   /// Copies the scene. The predicted height uncertainty of last_points()
@@ -46,6 +57,9 @@ class UrgWalkSensor final : public WalkSensor {
   double frame_period_s() const override { return options_.urg.scan_period_s; }
   ScanStats measure(const TrunkPose& truth, const TrunkPose& estimate, double time_s, TerrainMapper& mapper) override;
   ScanStats flush(TerrainMapper& mapper) override;
+  bool start_recording() override;
+  std::shared_ptr<const WalkRecording> recording() const override { return recording_; }
+  bool replay(std::shared_ptr<const WalkRecording> recording) override;
   void set_collect_points(bool collect) override { integrator_.set_collect_points(collect); }
   const std::vector<ObservedPoint>& last_points() const override { return integrator_.last_points(); }
   void floor_trace(const TrunkPose& pose, double floor_elevation_m, double max_range_m,
@@ -59,6 +73,9 @@ class UrgWalkSensor final : public WalkSensor {
   ScanIntegrator integrator_;
   UrgRawScan raw_;
   std::vector<double> cos_beam_, sin_beam_;
+  std::shared_ptr<UrgWalkRecording> recording_;
+  std::shared_ptr<const UrgWalkRecording> replayed_;
+  std::size_t next_replayed_ = 0;
 };
 
 /// The share of ranges to horizontal surfaces from lowest_m to highest_m

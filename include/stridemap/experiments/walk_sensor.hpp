@@ -5,6 +5,7 @@
 // area it sweeps). The URG-04LX implements it here
 // (urg_walk_sensor.hpp); the structured-light sensor plugs in the same way.
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,16 @@ namespace stridemap {
 /// One measured point as the mapper placed it (estimated pose), for the
 /// mount analysis: the pipeline hands them back (ScanIntegrator::last_points).
 using ObservedPoint = IntegratedPoint;
+
+/// What a sensor simulated during one walk, kept so that another walk
+/// along the same true trajectory, with a sensor made with the same seed,
+/// replays it instead of simulating again: the simulation depends on the
+/// true pose, the time and the seed only, the pose estimate enters after it
+/// (the rocky walk's pose-error sweep). Each sensor keeps its own kind.
+class WalkRecording {
+ public:
+  virtual ~WalkRecording() = default;
+};
 
 class WalkSensor {
  public:
@@ -36,6 +47,21 @@ class WalkSensor {
   /// estimate. Returns the mapper's statistics of what it integrated.
   virtual ScanStats measure(const TrunkPose& truth, const TrunkPose& estimate, double time_s,
                             TerrainMapper& mapper) = 0;
+  /// From now on keep what measure() simulates; false when this sensor
+  /// cannot (the walk then simply simulates again).
+  virtual bool start_recording() { return false; }
+  /// What was kept since start_recording() (nullptr when not recording).
+  virtual std::shared_ptr<const WalkRecording> recording() const { return nullptr; }
+  /// Makes measure() take its measurements from `recording` (made by a
+  /// sensor of this kind and seed) instead of simulating them. measure()
+  /// then throws std::logic_error when asked for a true pose or time other
+  /// than the recording's next: a replay never silently differs from a
+  /// simulation. False when this sensor cannot replay it.
+  virtual bool replay(std::shared_ptr<const WalkRecording> recording) {
+    (void)recording;
+    return false;
+  }
+
   /// Integrates whatever is still held back at the end of a walk.
   virtual ScanStats flush(TerrainMapper& mapper) = 0;
 

@@ -160,6 +160,7 @@ class UrgDriver {
   bool send(const std::string& command);
   void on_reply_timeout();
   void read_some(double wait_s);
+  bool read_what_waits(double& drained_for, double deadline);
   void handle(const scip::Event& event);
   void handle_start_reply(const scip::Event& event);
   void handle_stream_event(const scip::Event& event);
@@ -183,6 +184,12 @@ class UrgDriver {
   std::string last_open_error_;
   std::string last_decode_error_;
   std::uint64_t bytes_at_start_ = 0;
+  // The deadline for which the waiting input was last read (see next()).
+  double drained_for_reply_ = -1.0;
+  double drained_for_stall_ = -1.0;
+  // Stream starts so far, and the one the previous scan came in.
+  std::uint64_t stream_starts_ = 0;
+  std::uint64_t previous_scan_start_ = 0;
 
   scip::Decoder decoder_;
   scip::Event event_;
