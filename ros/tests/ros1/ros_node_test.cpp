@@ -208,8 +208,11 @@ TEST_F(RosNodeTest, MapsSimulatedScansLikeTheTruthAndLikeMapBagBitForBit) {
   EXPECT_EQ(diag("scans_mapped"), n) << message_;
   EXPECT_EQ(diag("scans_dropped"), 0.0) << message_;
   EXPECT_EQ(level_, diagnostic_msgs::DiagnosticStatus::OK);
-  ASSERT_TRUE(wait_for([&] { return elevation && info && cloud && marker && elevation->header.stamp.toSec() >=
-                                                                              kStart + run.scans.back().time_s - 1e-6; },
+  // Every output from the publication after the last scan (they arrive on separate connections).
+  const double last = kStart + run.scans.back().time_s - 1e-6;
+  ASSERT_TRUE(wait_for([&] { return elevation && info && cloud && marker && elevation->header.stamp.toSec() >= last &&
+                                    cloud->header.stamp.toSec() >= last && marker->header.stamp.toSec() >= last &&
+                                    info->map_load_time.toSec() >= last; },
                        60.0, pump));
 
   // The published elevation image against the scene's surface (simulator truth).
