@@ -14,6 +14,8 @@ packages=(
   ros-core libroscpp-dev librosbag-dev libtf2-ros-dev libtf2-msgs-dev libtopic-tools-dev
   libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev libvisualization-msgs-dev
   libdiagnostic-msgs-dev libstd-srvs-dev librcpputils-dev librcutils-dev libament-index-cpp-dev
+  # rostopic echo / rosservice call of the node's topics and services, headless
+  python3-sensor-msgs python3-nav-msgs python3-visualization-msgs python3-diagnostic-msgs python3-std-srvs
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -16,8 +16,10 @@ stop() {
   echo "stopped; logs and the saved map in $work"
 }
 trap stop EXIT INT TERM
+export ROS_MASTER_URI="${ROS_MASTER_URI:-http://localhost:11311}"
 if ! rostopic list >/dev/null 2>&1; then
-  roscore >"$work/roscore.log" 2>&1 &
+  port="${ROS_MASTER_URI##*:}"
+  roscore -p "${port%%/*}" >"$work/roscore.log" 2>&1 &
   pids+=($!)
   for _ in $(seq 100); do rostopic list >/dev/null 2>&1 && break; sleep 0.2; done
 fi

@@ -79,18 +79,30 @@ class Node {
     diag_pub_ = nh.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
     save_srv_ = pnh.advertiseService("save_map", &Node::on_save, this);
     clear_srv_ = pnh.advertiseService("clear_map", &Node::on_clear, this);
-    process_timer_ = nh.createWallTimer(ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) { process(); });
+    process_timer_ = nh.createWallTimer(ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) { guarded("timer", [&] { process(); }); });
     publish_timer_ =
-        nh.createWallTimer(ros::WallDuration(publish_every_s), [this](const ros::WallTimerEvent&) { publish(); });
+        nh.createWallTimer(ros::WallDuration(publish_every_s), [this](const ros::WallTimerEvent&) { guarded("publish", [&] { publish(); }); });
     ROS_INFO("stridemap_node: scans from '%s'%s, poses from %s, map frame '%s'", scan_topic.c_str(),
              cloud_topic.empty() ? "" : (" and cloud '" + cloud_topic + "'").c_str(),
              pose_topic.empty() ? "TF" : pose_topic.c_str(), options.map_frame.c_str());
   }
 
  private:
+  // A message the library refuses must not end the node: said, and mapping goes on.
+  template <typename Body>
+  void guarded(const char* what, Body&& body) {
+    try {
+      body();
+    } catch (const std::exception& e) {
+      ROS_ERROR_THROTTLE(2.0, "stridemap_node: %s: %s", what, e.what());
+    }
+  }
+
   void on_scan(const sensor_msgs::LaserScan::ConstPtr& msg) {
-    mapper_->add(laser_scan_data(*msg), wall_now());
-    process();
+    guarded("scan", [&] {
+      mapper_->add(laser_scan_data(*msg), wall_now());
+      process();
+    });
   }
 
   void on_cloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
@@ -99,23 +111,29 @@ class Node {
       ROS_WARN_THROTTLE(5.0, "stridemap_node: cloud skipped: %s", why.c_str());
       return;
     }
-    mapper_->add(cloud_, wall_now());
-    process();
+    guarded("cloud", [&] {
+      mapper_->add(cloud_, wall_now());
+      process();
+    });
   }
 
   // PoseStamped or Odometry, whichever the topic carries.
   void on_pose(const topic_tools::ShapeShifter::ConstPtr& msg) {
+    guarded("pose", [&] { take_pose(*msg); });
+  }
+
+  void take_pose(const topic_tools::ShapeShifter& msg) {
     const std::string& map_frame = mapper_->options().map_frame;
     bool kept = false;
-    if (msg->getDataType() == "geometry_msgs/PoseStamped") {
-      const auto p = msg->instantiate<geometry_msgs::PoseStamped>();
+    if (msg.getDataType() == "geometry_msgs/PoseStamped") {
+      const auto p = msg.instantiate<geometry_msgs::PoseStamped>();
       kept = p->header.frame_id == map_frame && topic_poses_->add(p->header.stamp.toSec(), to_isometry(p->pose));
-    } else if (msg->getDataType() == "nav_msgs/Odometry") {
-      const auto o = msg->instantiate<nav_msgs::Odometry>();
+    } else if (msg.getDataType() == "nav_msgs/Odometry") {
+      const auto o = msg.instantiate<nav_msgs::Odometry>();
       kept = o->header.frame_id == map_frame && topic_poses_->add(o->header.stamp.toSec(), to_isometry(o->pose.pose));
     } else {
       ROS_WARN_THROTTLE(5.0, "stridemap_node: pose topic carries %s, not PoseStamped or Odometry",
-                        msg->getDataType().c_str());
+                        msg.getDataType().c_str());
     }
     mapper_->count_pose(kept);
     process();

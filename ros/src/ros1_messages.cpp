@@ -129,7 +129,10 @@ PoseAnswer TfPoseSource::sensor_in_map(const std::string& frame_id, double stamp
     why = "the stamp is not a ROS time";
     return PoseAnswer::never;
   }
-  if (!buffer_.canTransform(map_frame_, frame_id, stamp, &why)) return PoseAnswer::not_yet;
+  if (!buffer_.canTransform(map_frame_, frame_id, stamp, &why)) {
+    // Older than everything TF holds: waiting cannot help.
+    return why.find("into the past") != std::string::npos ? PoseAnswer::never : PoseAnswer::not_yet;
+  }
   try {
     out = to_isometry(buffer_.lookupTransform(map_frame_, frame_id, stamp).transform);
   } catch (const tf2::TransformException& e) {

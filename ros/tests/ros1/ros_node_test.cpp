@@ -13,6 +13,7 @@
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <nav_msgs/MapMetaData.h>
+#include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
 #include <rosbag/bag.h>
 #include <rosbag/view.h>
@@ -165,15 +166,19 @@ void play(ros::NodeHandle& nh, const std::string& bag_path, const std::string& n
   ros::Publisher scan_pub = nh.advertise<sensor_msgs::LaserScan>("/scan", 1000);
   ros::Publisher tf_pub = nh.advertise<tf2_msgs::TFMessage>("/tf", 1000);
   ros::Publisher static_pub = nh.advertise<tf2_msgs::TFMessage>("/tf_static", 10, true);
-  ASSERT_TRUE(wait_for([&] { return scan_pub.getNumSubscribers() > 0 && tf_pub.getNumSubscribers() > 0 &&
-                                    static_pub.getNumSubscribers() > 0; },
-                       60.0, [] { ros::spinOnce(); }))
-      << node << " did not subscribe to /scan, /tf and /tf_static within 60 s";
+  ros::Publisher odom_pub = nh.advertise<nav_msgs::Odometry>("/odom", 1000);
   rosbag::Bag bag(bag_path, rosbag::bagmode::Read);
+  bool odom = false;
+  for (const rosbag::ConnectionInfo* c : rosbag::View(bag).getConnections()) odom = odom || c->topic == "/odom";
+  ASSERT_TRUE(wait_for([&] { return scan_pub.getNumSubscribers() > 0 && (odom ? odom_pub.getNumSubscribers() > 0 :
+                                    tf_pub.getNumSubscribers() > 0 && static_pub.getNumSubscribers() > 0); },
+                       60.0, [] { ros::spinOnce(); }))
+      << node << " did not subscribe to /scan and its poses within 60 s";
   for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
     if (m.getTopic() == "/scan") scan_pub.publish(m.instantiate<sensor_msgs::LaserScan>());
     if (m.getTopic() == "/tf") tf_pub.publish(m.instantiate<tf2_msgs::TFMessage>());
     if (m.getTopic() == "/tf_static") static_pub.publish(m.instantiate<tf2_msgs::TFMessage>());
+    if (m.getTopic() == "/odom") odom_pub.publish(m.instantiate<nav_msgs::Odometry>());
     ros::WallDuration(0.003).sleep();
   }
 }
@@ -313,6 +318,52 @@ TEST_F(RosNodeTest, BadMessagesAreCountedAndReportedNeverFatal) {
   EXPECT_NE(save.response.message.find("was not written by this run"), std::string::npos) << save.response.message;
   EXPECT_EQ(read_text(user_file), "a user's file, not the node's\n");
   EXPECT_TRUE(node->running()) << read_text(log_);
+}
+
+TEST_F(RosNodeTest, PosesFromAnOdometryTopicGiveMapBagsMapBitForBit) {
+  const SimulatedRun run = simulate_cart_rail(kScene, 40, 11);
+  const std::string bag = *folder_ + "/odom.bag";
+  {
+    rosbag::Bag b(bag, rosbag::bagmode::Write);
+    for (const SimulatedScan& scan : run.scans) {
+      const double t = kStart + scan.time_s;
+      for (const double dt : {-0.04, 0.04}) {  // around the scan, as write_tf
+        nav_msgs::Odometry odom;
+        odom.header.stamp.fromSec(t + dt);
+        odom.header.frame_id = "map";
+        odom.child_frame_id = "base_link";
+        const geometry_msgs::Transform tr = ros_adapter::to_transform(scan.trunk_in_map);
+        odom.pose.pose.position.x = tr.translation.x;
+        odom.pose.pose.position.y = tr.translation.y;
+        odom.pose.pose.position.z = tr.translation.z;
+        odom.pose.pose.orientation = tr.rotation;
+        b.write("/odom", ros::Time(t), odom);
+      }
+      b.write("/scan", ros::Time(t), laser_scan(run, scan, t));
+    }
+    b.close();
+  }
+  const std::string node_map = *folder_ + "/odom_node.smap";
+  std::unique_ptr<Child> node = start_node("stridemap_odom", {{"pose_topic", "/odom"}, {"pose_wait_s", "30.0"},
+                                                             {"publish_every_s", "0.2"}, {"map_file", node_map}});
+  listen_to_diagnostics("stridemap_odom");
+  play(*nh_, bag, "stridemap_odom");
+  const double n = static_cast<double>(run.scans.size());
+  ASSERT_TRUE(wait_for([&] { return diag("scans_mapped") + diag("scans_dropped") >= n; }, 120.0, pump))
+      << read_text(log_);
+  EXPECT_EQ(diag("scans_mapped"), n) << message_;
+  EXPECT_EQ(diag("poses"), 2 * n);
+  EXPECT_EQ(diag("poses_rejected"), 0.0);
+  std_srvs::Trigger save;
+  ASSERT_TRUE(ros::service::waitForService("/stridemap_odom/save_map", 30000));
+  ASSERT_TRUE(ros::service::call("/stridemap_odom/save_map", save));
+  ASSERT_TRUE(save.response.success) << save.response.message;
+  const std::string out = *folder_ + "/odom_from_bag";
+  const std::string command = std::string(STRIDEMAP_CLI_PATH) + " map --bag " + bag +
+                              " --scan-topic /scan --pose-topic /odom --pose-wait-s 30 --out " + out + " > " +
+                              *folder_ + "/odom_map_bag.log 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0) << read_text(*folder_ + "/odom_map_bag.log");
+  EXPECT_EQ(compare_map_files(node_map, out + "/map.smap"), "");
 }
 
 }  // namespace
