@@ -10,6 +10,8 @@
 #include <memory>
 #include <string>
 
+#include <sys/wait.h>
+
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <gtest/gtest.h>
 #include <nav_msgs/MapMetaData.h>
@@ -108,6 +110,8 @@ class RosNodeTest : public ::testing::Test {
     if (ros::isStarted()) ros::shutdown();
     delete roscore_;
     roscore_ = nullptr;
+    // Kept when a test failed: the logs of roscore and the node are there.
+    if (!::testing::UnitTest::GetInstance()->Failed()) std::filesystem::remove_all(*folder_);
   }
 
   void SetUp() override {
@@ -364,6 +368,17 @@ TEST_F(RosNodeTest, PosesFromAnOdometryTopicGiveMapBagsMapBitForBit) {
                               *folder_ + "/odom_map_bag.log 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << read_text(*folder_ + "/odom_map_bag.log");
   EXPECT_EQ(compare_map_files(node_map, out + "/map.smap"), "");
+
+  // A topic the bag does not have: exit 2, the bag's topics listed, nothing written.
+  const std::string wrong = std::string(STRIDEMAP_CLI_PATH) + " map --bag " + bag +
+                            " --scan-topic /laser --tf --out " + *folder_ + "/never > " + *folder_ +
+                            "/wrong_topic.log 2>&1";
+  const int status = std::system(wrong.c_str());
+  EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << read_text(*folder_ + "/wrong_topic.log");
+  EXPECT_NE(read_text(*folder_ + "/wrong_topic.log").find("no scan topic '/laser' in the bag; its topics: /odom, /scan"),
+            std::string::npos)
+      << read_text(*folder_ + "/wrong_topic.log");
+  EXPECT_FALSE(std::filesystem::exists(*folder_ + "/never"));
 }
 
 }  // namespace
