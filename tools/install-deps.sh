@@ -8,6 +8,14 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev
   pybind11-dev python3-dev python3-numpy python3-pytest
+  # ROS 1 (docs/ros.md): the node, map --bag and their tests; roscore comes
+  # with ros-core. rosbag's headers include Debian's pluginlib, which is
+  # ROS 2's and needs rcpputils, rcutils and ament_index_cpp's headers.
+  ros-core libroscpp-dev librosbag-dev libtf2-ros-dev libtf2-msgs-dev libtopic-tools-dev
+  libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev libvisualization-msgs-dev
+  libdiagnostic-msgs-dev libstd-srvs-dev librcpputils-dev librcutils-dev libament-index-cpp-dev
+  # rostopic echo / rosservice call of the node's topics and services, headless
+  python3-sensor-msgs python3-nav-msgs python3-visualization-msgs python3-diagnostic-msgs python3-std-srvs
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -11,6 +11,7 @@
 
 #include "cli_parsing.hpp"
 #include "commands.hpp"
+#include "map_bag.hpp"
 #include "terminal_output.hpp"
 #include "output_guard.hpp"
 #include "stridemap/core/error.hpp"
@@ -245,6 +246,7 @@ void run_live(const LiveArgs& args) {
 struct MapArgs {
   std::string log_path;
   MappingArgs mapping;
+  MapBagArgs bag;
 };
 
 void print_skipped(const std::string& what, std::size_t count, const std::vector<std::string>& first) {
@@ -338,10 +340,22 @@ void register_live(CLI::App& app) {
 
   auto map_args = std::make_shared<MapArgs>();
   CLI::App* map = app.add_subcommand("map", "The map from a scan log and a pose file, as live mapping makes it");
-  map->add_option("--log", map_args->log_path, "Scan log (stridemap record, or live --record)")->required();
-  map->add_option("--poses", map_args->mapping.poses_path, "Pose file (docs/live.md)")->required();
+  CLI::Option* log = map->add_option("--log", map_args->log_path, "Scan log (stridemap record, or live --record)");
+  map->add_option("--poses", map_args->mapping.poses_path, "Pose file (docs/live.md)");
   add_mapping_options(*map, map_args->mapping);
-  map->callback([map_args] { run_map(*map_args); });
+  add_map_bag_options(*map, map_args->bag);  // --bag: a ROS 1 bag instead of --log/--poses (docs/ros.md)
+  map->callback([map_args, log] {
+    if (!map_args->bag.bag_path.empty()) {
+      if (log->count() > 0 || !map_args->mapping.poses_path.empty()) {
+        throw InputError("--bag: give either --bag or --log with --poses, not both");
+      }
+      run_map_bag(map_args->bag, map_args->mapping.config_path, map_args->mapping.out_dir);
+      return;
+    }
+    if (map_args->log_path.empty()) throw InputError("--log is required (or --bag, docs/ros.md)");
+    if (map_args->mapping.poses_path.empty()) throw InputError("--poses is required with --log");
+    run_map(*map_args);
+  });
 }
 
 }  // namespace stridemap::cli

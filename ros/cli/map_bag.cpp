@@ -1,0 +1,73 @@
+// `stridemap map --bag`: the node's map, offline, from a ROS 1 bag through
+// the same MessageMapper (docs/ros.md).
+#include "map_bag.hpp"
+
+#include <cstdio>
+
+#include "cli_parsing.hpp"
+#include "commands.hpp"
+#include "output_guard.hpp"
+#include "terminal_output.hpp"
+#include "stridemap/core/error.hpp"
+#include "stridemap/io/map_outputs.hpp"
+#include "stridemap_ros/bag_mapping.hpp"
+#include "stridemap_ros/map_saving.hpp"
+#include "stridemap_ros/message_mapper_library.hpp"
+
+namespace stridemap::cli {
+
+void add_map_bag_options(CLI::App& map, MapBagArgs& args) {
+  map.add_option("--bag", args.bag_path, "A ROS 1 bag to map instead of --log/--poses (docs/ros.md)");
+  map.add_option("--scan-topic", args.scan_topic, "--bag: sensor_msgs/LaserScan topic");
+  map.add_option("--cloud-topic", args.cloud_topic, "--bag: sensor_msgs/PointCloud2 topic (the stripe camera)");
+  map.add_option("--pose-topic", args.pose_topic, "--bag: the trunk's geometry_msgs/PoseStamped or nav_msgs/Odometry");
+  map.add_flag("--tf", args.tf, "--bag: the sensor's pose from the bag's /tf and /tf_static");
+  map.add_option("--map-frame", args.map_frame, "--bag: fixed frame of TF or of the pose topic")->capture_default_str();
+  map.add_option("--sensor-frame", args.sensor_frame, "--bag: frame the scans must carry (default: the first scan's)");
+  map.add_option("--pose-wait-s", args.pose_wait_s,
+                 "--bag: a scan whose pose has not come this long (bag time) after it is dropped, as the node does")
+      ->capture_default_str()
+      ->check(number_from_to(0.0, 3600.0, "s"));
+}
+
+void run_map_bag(const MapBagArgs& args, const std::string& config_path, const std::string& out_dir) {
+  if (args.scan_topic.empty() == args.cloud_topic.empty()) {
+    throw InputError("--bag: give one of --scan-topic or --cloud-topic");
+  }
+  if (args.tf == !args.pose_topic.empty()) throw InputError("--bag: give one of --pose-topic or --tf");
+  ros_adapter::BagMappingOptions options;
+  options.bag_path = args.bag_path;
+  options.scan_topic = args.scan_topic;
+  options.cloud_topic = args.cloud_topic;
+  options.pose_topic = args.pose_topic;
+  options.mapper.map_frame = args.map_frame;
+  options.mapper.sensor_frame = args.sensor_frame;
+  options.mapper.pose_wait_s = args.pose_wait_s;
+  options.mapper.config_path = config_path;
+  refuse_output_that_is_an_input("--out", out_dir, {{"--bag", args.bag_path}, {"--config", config_path}});
+  io::check_output_folder(out_dir, "--out");
+  ros_adapter::BagMapping mapping(options);
+  {
+    io::ProgressBar bar = progress_bar("map", "messages");
+    mapping.run([&bar](std::size_t done, std::size_t total) { bar.update(done, total); });
+  }
+  const ros_adapter::MessageMapper& mapper = mapping.mapper();
+  const ros_adapter::MessageMapperStats& s = mapper.stats();
+  const ExportedMap layers = export_map(mapper.impl().pipeline->filtered_map());
+  write_output_set(out_dir, "--out", [&](const std::string& dir) {
+    io::MapOutputOptions outputs;
+    outputs.certainty_max = mapper.impl().config.mapper.update.certainty_max;
+    io::write_map_layers(layers, dir, outputs);
+    std::set<std::string> written;
+    ros_adapter::save_map(mapper, dir + "/map.smap", "map --bag " + args.bag_path, written);
+  });
+  std::printf("map: %zu scans mapped of %zu (dropped: %zu wrong frame, %zu stamp not increasing, %zu no valid beams, "
+              "%zu pose timeout, %zu pose unavailable, %zu other), %zu NaN ranges; coverage %.1f %%; outputs: %s\n",
+              s.mapped, s.scans, s.wrong_frame, s.stamp_not_increasing, s.no_valid_beams, s.pose_timeout,
+              s.pose_unavailable, s.bad_geometry + s.queue_full + s.rejected_by_mapper, s.beams_not_finite,
+              100.0 * map_coverage(layers), out_dir.c_str());
+  std::fflush(stdout);
+  if (s.mapped == 0) throw RunFailed(args.bag_path + ": no scan was mapped (" + mapper.last_drop() + ")");
+}
+
+}  // namespace stridemap::cli

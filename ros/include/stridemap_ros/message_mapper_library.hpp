@@ -1,0 +1,39 @@
+#pragma once
+// The library side of MessageMapper (C++20, no ROS): the pipeline and what
+// converts ROS poses into the library's. For the adapter's own sources, the
+// CLI's `map --bag` and tests; the ROS 1 sources never include it.
+#include <deque>
+#include <memory>
+#include <vector>
+
+#include "stridemap/core/pose.hpp"
+#include "stridemap/io/mapper_config.hpp"
+#include "stridemap/pipeline/mapping_pipeline.hpp"
+#include "stridemap_ros/message_mapper.hpp"
+
+namespace stridemap::ros_adapter {
+
+/// A rigid pose (REP-103 axes, as ROS gives them) as the library's trunk
+/// pose: yaw, pitch (positive nose down), roll (positive left side up), z.
+TrunkPose trunk_pose_from_isometry(const Eigen::Isometry3d& trunk_in_map);
+/// The trunk pose that puts the sensor (placed on the trunk by `mount`) at
+/// `sensor_in_map`.
+TrunkPose trunk_pose_from_sensor(const Eigen::Isometry3d& sensor_in_map, const SensorMount& mount);
+
+/// The pipeline the adapter runs: the generic point sensor, the config's
+/// mount, map and update rule, the fill-in.
+PipelineOptions message_pipeline_options(const MapperConfig& config);
+
+struct MessageMapper::Impl {
+  struct Waiting {
+    PointFrame frame;
+    std::string frame_id;
+    double arrival_s = 0.0;
+  };
+  MapperConfig config;
+  std::unique_ptr<MappingPipeline> pipeline;
+  std::deque<Waiting> waiting;
+  std::vector<Waiting> spare;  // frames reused, so a steady stream does not allocate
+};
+
+}  // namespace stridemap::ros_adapter

@@ -1,0 +1,297 @@
+#include "stridemap_ros/message_mapper_library.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "stridemap/core/error.hpp"
+#include "stridemap/core/exported_map.hpp"
+#include "stridemap/core/pose_track.hpp"
+#include "stridemap/core/sensor_transform.hpp"
+
+namespace stridemap::ros_adapter {
+namespace {
+
+bool finite(const Eigen::Isometry3d& t) { return t.matrix().allFinite(); }
+
+MessageMapper::Impl::Waiting take_spare(MessageMapper::Impl& impl) {
+  if (impl.spare.empty()) return {};
+  MessageMapper::Impl::Waiting w = std::move(impl.spare.back());
+  impl.spare.pop_back();
+  return w;
+}
+
+}  // namespace
+
+void MessageMapperOptions::validate() const {
+  auto positive = [](double v, const char* name) {
+    if (!(v > 0.0) || !std::isfinite(v)) throw InputError(std::string(name) + ": must be a positive number");
+  };
+  if (map_frame.empty()) throw InputError("map_frame: must not be empty");
+  positive(range_sigma_m, "range_sigma_m");
+  if (!(range_sigma_fraction >= 0.0) || !std::isfinite(range_sigma_fraction)) {
+    throw InputError("range_sigma_fraction: must be a number >= 0");
+  }
+  if (!std::isfinite(min_intensity)) throw InputError("min_intensity: must be a number");
+  if (!(pose_wait_s >= 0.0) || !std::isfinite(pose_wait_s)) throw InputError("pose_wait_s: must be a number >= 0");
+  positive(max_pose_gap_s, "max_pose_gap_s");
+  if (max_waiting == 0) throw InputError("max_waiting: must be at least 1");
+}
+
+TrunkPose trunk_pose_from_isometry(const Eigen::Isometry3d& trunk_in_map) {
+  // R = Rz(yaw) Ry(pitch) Rx(roll), the library's order (core/sensor_transform).
+  const Eigen::Matrix3d r = trunk_in_map.rotation();
+  TrunkPose pose;
+  pose.x_m = trunk_in_map.translation().x();
+  pose.y_m = trunk_in_map.translation().y();
+  pose.z_m = trunk_in_map.translation().z();
+  pose.pitch_rad = std::asin(std::clamp(-r(2, 0), -1.0, 1.0));
+  pose.yaw_rad = std::atan2(r(1, 0), r(0, 0));
+  pose.roll_rad = std::atan2(r(2, 1), r(2, 2));
+  return pose;
+}
+
+TrunkPose trunk_pose_from_sensor(const Eigen::Isometry3d& sensor_in_map, const SensorMount& mount) {
+  Eigen::Isometry3d trunk = Eigen::Isometry3d::Identity();
+  trunk.linear() = sensor_in_map.rotation() * mount_rotation(mount).transpose();
+  const Eigen::Vector3d lever(mount.forward_offset_m, mount.lateral_offset_m, mount.height_m);
+  trunk.translation() = sensor_in_map.translation() - trunk.linear() * lever;
+  return trunk_pose_from_isometry(trunk);
+}
+
+struct TopicPoseSource::Track {
+  PoseTrack track;
+};
+
+TopicPoseSource::TopicPoseSource(double max_gap_s) : track_(std::make_unique<Track>(Track{PoseTrack(max_gap_s)})) {}
+TopicPoseSource::~TopicPoseSource() = default;
+
+bool TopicPoseSource::add(double stamp_s, const Eigen::Isometry3d& trunk_in_map) {
+  PoseTrack& track = track_->track;
+  if (!std::isfinite(stamp_s) || !finite(trunk_in_map)) return false;
+  if (!track.empty() && !(stamp_s > track.last_time_s())) return false;
+  track.append({stamp_s, trunk_pose_from_isometry(trunk_in_map)});
+  return true;
+}
+
+void TopicPoseSource::drop_before(double stamp_s) { track_->track.drop_before(stamp_s); }
+
+PipelineOptions message_pipeline_options(const MapperConfig& config) {
+  PipelineOptions p;
+  p.sensor = SensorKind::points;
+  p.mapper = config.mapper;
+  p.map_filter = {MapFilter::fill, config.fill, {}};
+  p.mount = config.mount;
+  return p;
+}
+
+MessageMapper::MessageMapper(const MessageMapperOptions& options, PoseSource& poses)
+    : options_(options), poses_(poses), impl_(std::make_unique<Impl>()) {
+  options_.validate();
+  if (!options_.config_path.empty()) impl_->config = load_mapper_config(options_.config_path);
+  impl_->pipeline = std::make_unique<MappingPipeline>(message_pipeline_options(impl_->config));
+  sensor_frame_ = options_.sensor_frame;
+}
+
+MessageMapper::~MessageMapper() = default;
+
+std::size_t MessageMapper::waiting() const { return impl_->waiting.size(); }
+
+MapLayers MessageMapper::layers(const std::vector<std::string>& names) const {
+  const ExportedMap map = export_map(impl_->pipeline->filtered_map(), names);
+  MapLayers out;
+  out.min_cell_x = map.min_cell.x;
+  out.min_cell_y = map.min_cell.y;
+  out.cell_size_m = map.cell_size_m;
+  out.cells_per_side = map.cells_per_side;
+  const Eigen::Index n = map.cells_per_side;
+  for (const ExportedLayer& layer : map.layers) {
+    out.names.push_back(layer.spec.name);
+    std::vector<float>& values = out.values.emplace_back(static_cast<std::size_t>(n * n));
+    for (Eigen::Index i = 0; i < n; ++i) {
+      for (Eigen::Index j = 0; j < n; ++j) values[static_cast<std::size_t>(i * n + j)] = layer.value(i, j);
+    }
+  }
+  return out;
+}
+
+void MessageMapper::drop(std::size_t& counter, const std::string& why) {
+  ++counter;
+  last_drop_ = why;
+}
+
+bool MessageMapper::accept_header(double stamp_s, const std::string& frame_id) {
+  ++stats_.scans;
+  if (sensor_frame_.empty()) sensor_frame_ = frame_id;
+  if (frame_id != sensor_frame_) {
+    drop(stats_.wrong_frame, "frame '" + frame_id + "' is not the sensor frame '" + sensor_frame_ + "'");
+    return false;
+  }
+  if (!std::isfinite(stamp_s) || (last_stamp_ && !(stamp_s > *last_stamp_))) {
+    drop(stats_.stamp_not_increasing, "stamp " + std::to_string(stamp_s) + " is not later than the previous scan's");
+    return false;
+  }
+  last_stamp_ = stamp_s;
+  return true;
+}
+
+void MessageMapper::make_room() {
+  while (impl_->waiting.size() >= options_.max_waiting) {
+    drop(stats_.queue_full, "more than " + std::to_string(options_.max_waiting) + " scans waiting for their pose");
+    impl_->spare.push_back(std::move(impl_->waiting.front()));
+    impl_->waiting.pop_front();
+  }
+}
+
+void MessageMapper::add(const LaserScanData& scan, double arrival_s) {
+  if (!accept_header(scan.stamp_s, scan.frame_id)) return;
+  const bool geometry_ok = std::isfinite(scan.angle_min_rad) && std::isfinite(scan.angle_increment_rad) &&
+                           std::isfinite(scan.range_min_m) && std::isfinite(scan.range_max_m) &&
+                           scan.range_max_m > scan.range_min_m &&
+                           (scan.intensity_count == 0 || scan.intensity_count == scan.range_count) &&
+                           (scan.range_count == 0 || scan.ranges_m != nullptr);
+  if (!geometry_ok) {
+    drop(stats_.bad_geometry, "angles, range limits or intensities unusable");
+    return;
+  }
+  Impl::Waiting w = take_spare(*impl_);
+  w.frame.time_s = scan.stamp_s;
+  w.frame.points_m.clear();
+  w.frame.height_sigma_m.clear();
+  w.frame_id = scan.frame_id;
+  w.arrival_s = arrival_s;
+  bool bad_beam = false;
+  const bool with_intensities = scan.intensity_count > 0;
+  for (std::size_t k = 0; k < scan.range_count; ++k) {
+    ++stats_.beams;
+    const double r = scan.ranges_m[k];
+    if (std::isnan(r)) {
+      ++stats_.beams_not_finite;
+      bad_beam = true;
+      continue;
+    }
+    // REP-117: +-Inf are readings (nothing within range), not errors.
+    if (std::isinf(r) || r < scan.range_min_m || r > scan.range_max_m) {
+      ++stats_.beams_out_of_range;
+      continue;
+    }
+    if (with_intensities && !(scan.intensities[k] >= options_.min_intensity)) {
+      ++stats_.beams_low_intensity;
+      continue;
+    }
+    const double a = scan.angle_min_rad + static_cast<double>(k) * scan.angle_increment_rad;
+    w.frame.points_m.emplace_back(r * std::cos(a), r * std::sin(a), 0.0);
+    w.frame.height_sigma_m.push_back(std::max(options_.range_sigma_m, options_.range_sigma_fraction * r));
+  }
+  if (bad_beam) ++stats_.scans_with_bad_beams;
+  if (w.frame.points_m.empty()) {
+    drop(stats_.no_valid_beams, "no beam with a usable range");
+    impl_->spare.push_back(std::move(w));
+    return;
+  }
+  make_room();
+  impl_->waiting.push_back(std::move(w));
+}
+
+void MessageMapper::add(const PointCloudData& cloud, double arrival_s) {
+  if (!accept_header(cloud.stamp_s, cloud.frame_id)) return;
+  const bool sigma_given = !cloud.height_sigma_m.empty();
+  if (sigma_given && cloud.height_sigma_m.size() != cloud.points_m.size()) {
+    drop(stats_.bad_geometry, "a sigma field that is not one per point");
+    return;
+  }
+  Impl::Waiting w = take_spare(*impl_);
+  w.frame.points_m.clear();
+  w.frame.height_sigma_m.clear();
+  w.frame.time_s = cloud.stamp_s;
+  w.frame_id = cloud.frame_id;
+  w.arrival_s = arrival_s;
+  bool bad_beam = false;
+  for (std::size_t k = 0; k < cloud.points_m.size(); ++k) {
+    ++stats_.beams;
+    const Eigen::Vector3d& p = cloud.points_m[k];
+    const double sigma = sigma_given ? cloud.height_sigma_m[k]
+                                     : std::max(options_.range_sigma_m, options_.range_sigma_fraction * p.norm());
+    if (!p.allFinite() || !std::isfinite(sigma) || sigma < 0.0) {
+      ++stats_.beams_not_finite;
+      bad_beam = true;
+      continue;
+    }
+    w.frame.points_m.push_back(p);
+    w.frame.height_sigma_m.push_back(sigma);
+  }
+  if (bad_beam) ++stats_.scans_with_bad_beams;
+  if (w.frame.points_m.empty()) {
+    drop(stats_.no_valid_beams, "no point with finite coordinates");
+    impl_->spare.push_back(std::move(w));
+    return;
+  }
+  make_room();
+  impl_->waiting.push_back(std::move(w));
+}
+
+std::size_t MessageMapper::process(double now_s, bool end_of_stream) {
+  std::size_t mapped = 0;
+  auto* topic = dynamic_cast<TopicPoseSource*>(&poses_);
+  const SensorMount& mount = impl_->config.mount;
+  while (!impl_->waiting.empty()) {
+    Impl::Waiting& w = impl_->waiting.front();
+    TrunkPose pose;
+    std::string why;
+    PoseAnswer answer = PoseAnswer::never;
+    if (topic) {
+      switch (topic->track_->track.interpolate(w.frame.time_s, pose)) {
+        case PoseLookup::ok: answer = PoseAnswer::ok; break;
+        case PoseLookup::empty:
+        case PoseLookup::after_last: answer = PoseAnswer::not_yet; break;
+        case PoseLookup::before_first:
+        case PoseLookup::gap_too_large: answer = PoseAnswer::never; break;
+      }
+      why = "the pose topic has no pose at that time";
+    } else {
+      Eigen::Isometry3d sensor;
+      answer = poses_.sensor_in_map(w.frame_id, w.frame.time_s, sensor, why);
+      if (answer == PoseAnswer::ok) {
+        if (!sensor.matrix().allFinite()) {
+          answer = PoseAnswer::never;
+          why = "the transform is not finite";
+        } else {
+          pose = trunk_pose_from_sensor(sensor, mount);
+        }
+      }
+    }
+    if (answer == PoseAnswer::not_yet && !end_of_stream && now_s - w.arrival_s <= options_.pose_wait_s) break;
+    if (answer == PoseAnswer::not_yet) {
+      drop(stats_.pose_timeout, "no pose for the scan at " + std::to_string(w.frame.time_s) + " within " +
+                                    std::to_string(options_.pose_wait_s) + " s: " + why);
+    } else if (answer == PoseAnswer::never) {
+      drop(stats_.pose_unavailable, "no pose for the scan at " + std::to_string(w.frame.time_s) + ": " + why);
+    } else {
+      const ScanOutcome outcome = impl_->pipeline->add(w.frame, pose);
+      if (outcome.stats.pose_rejected || outcome.stats.time_rejected) {
+        drop(stats_.rejected_by_mapper, "the mapper refused the scan's pose or time");
+      } else {
+        ++stats_.mapped;
+        ++mapped;
+        const double latency = std::max(0.0, now_s - w.arrival_s);
+        stats_.latency_sum_s += latency;
+        stats_.latency_max_s = std::max(stats_.latency_max_s, latency);
+        last_mapped_stamp_ = w.frame.time_s;
+        if (topic) topic->drop_before(w.frame.time_s);
+      }
+    }
+    impl_->spare.push_back(std::move(w));
+    impl_->waiting.pop_front();
+  }
+  return mapped;
+}
+
+void MessageMapper::clear() {
+  impl_->pipeline = std::make_unique<MappingPipeline>(message_pipeline_options(impl_->config));
+  for (Impl::Waiting& w : impl_->waiting) impl_->spare.push_back(std::move(w));
+  impl_->waiting.clear();
+  last_stamp_.reset();
+  last_mapped_stamp_.reset();
+}
+
+}  // namespace stridemap::ros_adapter

@@ -1,0 +1,217 @@
+// stridemap_node: the ROS 1 node (docs/ros.md). Scans (LaserScan or
+// PointCloud2) and poses (TF or a pose topic) in, through MessageMapper to
+// the library's MappingPipeline; the map out as images, a cloud, a marker
+// and diagnostics; services to save and clear the map.
+#include <memory>
+#include <set>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <geometry_msgs/PoseStamped.h>
+#include <nav_msgs/Odometry.h>
+#include <ros/ros.h>
+#include <std_srvs/Trigger.h>
+#include <tf2_ros/buffer.h>
+#include <tf2_ros/transform_listener.h>
+#include <topic_tools/shape_shifter.h>
+
+#include "stridemap/core/error.hpp"
+#include "stridemap_ros/map_saving.hpp"
+#include "stridemap_ros/ros1_messages.hpp"
+
+namespace stridemap::ros_adapter {
+namespace {
+
+std::vector<std::string> split_names(const std::string& text) {
+  std::vector<std::string> names;
+  std::stringstream in(text);
+  for (std::string name; std::getline(in, name, ',');) {
+    if (!name.empty()) names.push_back(name);
+  }
+  return names;
+}
+
+double wall_now() { return ros::WallTime::now().toSec(); }
+
+class Node {
+ public:
+  explicit Node(ros::NodeHandle& nh, ros::NodeHandle& pnh) : pnh_(pnh), tf_(ros::Duration(30.0)), listener_(tf_) {
+    MessageMapperOptions options;
+    pnh.param<std::string>("config", options.config_path, "");
+    pnh.param<std::string>("map_frame", options.map_frame, options.map_frame);
+    pnh.param<std::string>("sensor_frame", options.sensor_frame, options.sensor_frame);
+    pnh.param("range_sigma_m", options.range_sigma_m, options.range_sigma_m);
+    pnh.param("range_sigma_fraction", options.range_sigma_fraction, options.range_sigma_fraction);
+    pnh.param("min_intensity", options.min_intensity, options.min_intensity);
+    pnh.param("pose_wait_s", options.pose_wait_s, options.pose_wait_s);
+    pnh.param("max_pose_gap_s", options.max_pose_gap_s, options.max_pose_gap_s);
+    std::string scan_topic, cloud_topic, pose_topic, layers;
+    pnh.param<std::string>("scan_topic", scan_topic, "scan");
+    pnh.param<std::string>("cloud_topic", cloud_topic, "");
+    pnh.param<std::string>("pose_topic", pose_topic, "");
+    pnh.param<std::string>("layers", layers, "elevation,certainty,mean_elevation,state");
+    double publish_every_s = 0.5;
+    pnh.param("publish_every_s", publish_every_s, publish_every_s);
+    pnh.param<std::string>("map_file", map_file_, "stridemap_map.smap");
+    layer_names_ = split_names(layers);
+    if (publish_every_s <= 0.0) throw InputError("~publish_every_s: must be positive");
+
+    if (pose_topic.empty()) {
+      poses_ = std::make_unique<TfPoseSource>(tf_, options.map_frame);
+    } else {
+      auto topic = std::make_unique<TopicPoseSource>(options.max_pose_gap_s);
+      topic_poses_ = topic.get();
+      poses_ = std::move(topic);
+      pose_sub_ = nh.subscribe(pose_topic, 100, &Node::on_pose, this);
+    }
+    mapper_ = std::make_unique<MessageMapper>(options, *poses_);
+    // The map is checked against the layer names once, so a typo fails at start.
+    (void)mapper_->layers(layer_names_);
+    if (!scan_topic.empty()) scan_sub_ = nh.subscribe(scan_topic, 200, &Node::on_scan, this);
+    if (!cloud_topic.empty()) cloud_sub_ = nh.subscribe(cloud_topic, 50, &Node::on_cloud, this);
+    for (const std::string& name : layer_names_) {
+      image_pubs_.push_back(pnh.advertise<sensor_msgs::Image>("layers/" + name, 1, true));
+    }
+    info_pub_ = pnh.advertise<nav_msgs::MapMetaData>("map_info", 1, true);
+    cloud_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("cloud", 1, true);
+    marker_pub_ = pnh.advertise<visualization_msgs::Marker>("marker", 1, true);
+    diag_pub_ = nh.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
+    save_srv_ = pnh.advertiseService("save_map", &Node::on_save, this);
+    clear_srv_ = pnh.advertiseService("clear_map", &Node::on_clear, this);
+    process_timer_ = nh.createWallTimer(ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) { guarded("timer", [&] { process(); }); });
+    publish_timer_ =
+        nh.createWallTimer(ros::WallDuration(publish_every_s), [this](const ros::WallTimerEvent&) { guarded("publish", [&] { publish(); }); });
+    ROS_INFO("stridemap_node: scans from '%s'%s, poses from %s, map frame '%s'", scan_topic.c_str(),
+             cloud_topic.empty() ? "" : (" and cloud '" + cloud_topic + "'").c_str(),
+             pose_topic.empty() ? "TF" : pose_topic.c_str(), options.map_frame.c_str());
+  }
+
+ private:
+  // A message the library refuses must not end the node: said, and mapping goes on.
+  template <typename Body>
+  void guarded(const char* what, Body&& body) {
+    try {
+      body();
+    } catch (const std::exception& e) {
+      ROS_ERROR_THROTTLE(2.0, "stridemap_node: %s: %s", what, e.what());
+    }
+  }
+
+  void on_scan(const sensor_msgs::LaserScan::ConstPtr& msg) {
+    guarded("scan", [&] {
+      mapper_->add(laser_scan_data(*msg), wall_now());
+      process();
+    });
+  }
+
+  void on_cloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
+    std::string why;
+    if (!point_cloud_data(*msg, cloud_, why)) {
+      ROS_WARN_THROTTLE(5.0, "stridemap_node: cloud skipped: %s", why.c_str());
+      return;
+    }
+    guarded("cloud", [&] {
+      mapper_->add(cloud_, wall_now());
+      process();
+    });
+  }
+
+  // PoseStamped or Odometry, whichever the topic carries.
+  void on_pose(const topic_tools::ShapeShifter::ConstPtr& msg) {
+    guarded("pose", [&] { take_pose(*msg); });
+  }
+
+  void take_pose(const topic_tools::ShapeShifter& msg) {
+    const std::string& map_frame = mapper_->options().map_frame;
+    bool kept = false;
+    if (msg.getDataType() == "geometry_msgs/PoseStamped") {
+      const auto p = msg.instantiate<geometry_msgs::PoseStamped>();
+      kept = p->header.frame_id == map_frame && topic_poses_->add(p->header.stamp.toSec(), to_isometry(p->pose));
+    } else if (msg.getDataType() == "nav_msgs/Odometry") {
+      const auto o = msg.instantiate<nav_msgs::Odometry>();
+      kept = o->header.frame_id == map_frame && topic_poses_->add(o->header.stamp.toSec(), to_isometry(o->pose.pose));
+    } else {
+      ROS_WARN_THROTTLE(5.0, "stridemap_node: pose topic carries %s, not PoseStamped or Odometry",
+                        msg.getDataType().c_str());
+    }
+    mapper_->count_pose(kept);
+    process();
+  }
+
+  void process() {
+    const std::size_t dropped = mapper_->stats().dropped();
+    mapper_->process(wall_now(), false);
+    if (mapper_->stats().dropped() != dropped) {
+      ROS_WARN_THROTTLE(2.0, "stridemap_node: scan dropped: %s", mapper_->last_drop().c_str());
+    }
+  }
+
+  void publish() {
+    const ros::Time stamp = mapper_->last_mapped_stamp_s() ? ros::Time(*mapper_->last_mapped_stamp_s()) : ros::Time(0);
+    diag_pub_.publish(diagnostics(mapper_->stats(), mapper_->last_drop(), ros::this_node::getName(), ros::Time::now()));
+    if (mapper_->stats().mapped == published_at_) return;
+    published_at_ = mapper_->stats().mapped;
+    const MapMessages m = map_messages(mapper_->layers(layer_names_), mapper_->options().map_frame, stamp);
+    for (std::size_t k = 0; k < image_pubs_.size(); ++k) image_pubs_[k].publish(m.images[k]);
+    info_pub_.publish(m.info);
+    cloud_pub_.publish(m.cloud);
+    marker_pub_.publish(m.marker);
+  }
+
+  bool on_save(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+    std::string path = map_file_;
+    pnh_.getParam("map_file", path);  // read at each call: `rosparam set` then call
+    try {
+      save_map(*mapper_, path, "stridemap_node " + ros::this_node::getName(), written_);
+      res.success = true;
+      res.message = path + ": " + std::to_string(mapper_->stats().mapped) + " scans";
+    } catch (const std::exception& e) {
+      res.success = false;
+      res.message = e.what();
+    }
+    return true;
+  }
+
+  bool on_clear(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
+    mapper_->clear();
+    published_at_ = static_cast<std::size_t>(-1);
+    res.success = true;
+    res.message = "map cleared";
+    return true;
+  }
+
+  ros::NodeHandle& pnh_;
+  tf2_ros::Buffer tf_;
+  tf2_ros::TransformListener listener_;
+  std::unique_ptr<PoseSource> poses_;
+  TopicPoseSource* topic_poses_ = nullptr;
+  std::unique_ptr<MessageMapper> mapper_;
+  std::vector<std::string> layer_names_;
+  std::string map_file_;
+  std::set<std::string> written_;
+  PointCloudData cloud_;
+  std::size_t published_at_ = 0;
+  ros::Subscriber scan_sub_, cloud_sub_, pose_sub_;
+  std::vector<ros::Publisher> image_pubs_;
+  ros::Publisher info_pub_, cloud_pub_, marker_pub_, diag_pub_;
+  ros::ServiceServer save_srv_, clear_srv_;
+  ros::WallTimer process_timer_, publish_timer_;
+};
+
+}  // namespace
+}  // namespace stridemap::ros_adapter
+
+int main(int argc, char** argv) {
+  ros::init(argc, argv, "stridemap_node");
+  ros::NodeHandle nh;
+  ros::NodeHandle pnh("~");
+  try {
+    stridemap::ros_adapter::Node node(nh, pnh);
+    ros::spin();
+  } catch (const std::exception& e) {  // a bad parameter or config file: said, exit 2
+    ROS_FATAL("stridemap_node: %s", e.what());
+    return 2;
+  }
+  return 0;
+}
