@@ -8,7 +8,13 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   clang libclang-rt-14-dev
   pybind11-dev python3-dev python3-numpy python3-pytest
+  chromium  # the report page's browser test (tests/browser); about 50 s to install
 )
+# npm fetches the report page's three.js at build time (web/package-lock.json).
+# Debian's nodejs and npm, unless a Node.js with npm is installed already.
+if ! command -v npm >/dev/null 2>&1; then
+  packages+=(nodejs npm)
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

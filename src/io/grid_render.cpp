@@ -67,6 +67,19 @@ Range colour_range(const Eigen::MatrixXf& values, const GridRenderOptions& optio
     }
   }
   const bool any_data = data_low <= data_high;
+  if (any_data && options.robust_range) {
+    std::vector<float> finite;
+    finite.reserve(static_cast<std::size_t>(values.size()));
+    for (Eigen::Index k = 0; k < values.size(); ++k)
+      if (std::isfinite(values.data()[k])) finite.push_back(values.data()[k]);
+    const auto at = [&](double share) {
+      const auto n = static_cast<std::size_t>(std::lround(share * static_cast<double>(finite.size() - 1)));
+      std::nth_element(finite.begin(), finite.begin() + static_cast<std::ptrdiff_t>(n), finite.end());
+      return static_cast<double>(finite[n]);
+    };
+    data_low = at(0.02);
+    data_high = at(0.98);
+  }
   Range range;
   range.low = options.min_value.value_or(any_data ? data_low : 0.0);
   range.high = options.max_value.value_or(any_data ? data_high : 1.0);
