@@ -89,12 +89,13 @@ function readMap(raw, index) {
     const error = new Float32Array(cells);
     for (let k = 0; k < cells; ++k) error[k] = elevation[k] - truth[k];
     layers.set('error vs truth', { units: 'm', values: error, signed: true });
+    raw.truthValues = truth;
   }
   let known = 0;
   for (let k = 0; k < cells; ++k) known += Number.isFinite(elevation[k]);
   if (known === 0) throw new Error(`map '${name}': holds no known cell, so there is nothing to draw (was anything mapped?)`);
   return { name, rows, cols, cell, ox: raw.origin_x_m ?? 0, oy: raw.origin_y_m ?? 0, layers, elevation, known,
-           path: raw.path ?? [], lastPose: raw.last_pose ?? null, mount: raw.mount ?? null };
+           path: raw.path ?? [], lastPose: raw.last_pose ?? null, mount: raw.mount ?? null, truth: raw.truthValues ?? null };
 }
 
 function readData() {
@@ -114,7 +115,14 @@ function readData() {
   if (!Array.isArray(data.maps) || data.maps.length === 0) {
     throw new Error('This run left no readable map file (map.smap), so there is no 3D view; the tables and pictures below still show the run.');
   }
-  return data.maps.map(readMap);
+  const maps = data.maps.map(readMap);
+  // The run's truth, shown beside the map as a map of its own.
+  if (maps[0].truth) {
+    const m = maps[0];
+    const layers = new Map([['elevation', { units: 'm', values: m.truth }]]);
+    maps.push({ ...m, name: 'ground truth (simulated)', layers, elevation: m.truth, path: [], lastPose: null, truth: null });
+  }
+  return maps;
 }
 
 // ---- colours --------------------------------------------------------------

@@ -130,10 +130,10 @@ void write_mount_analysis_outputs(const MountAnalysisResult& r, const MountAnaly
   std::string best_text;
   if (!r.sweep.empty()) {
     char t[200];
-    std::snprintf(t, sizeof t, "; framed: best mount, %.0f cm, %.0f deg", r.sweep[r.best].mount.mount.height_m * 100,
+    std::snprintf(t, sizeof t, "\nframed: the best mount, %.0f cm, %.0f deg", r.sweep[r.best].mount.mount.height_m * 100,
                   r.sweep[r.best].mount.mount.pitch_rad * kDeg);
     best_text = t;
-    if (on_edge && r.sweep.size() > 1) best_text += " - ON THE SWEEP'S EDGE: widen the sweep";
+    if (on_edge && r.sweep.size() > 1) best_text += "\nWARNING: it lies on the sweep's edge; widen the sweep";
   }
   const auto heat = [&](const char* file, const std::string& title, const char* units, double scale,
                         const std::function<std::optional<double>(const MountMetrics&)>& value) {
@@ -162,8 +162,8 @@ void write_mount_analysis_outputs(const MountAnalysisResult& r, const MountAnaly
   }
   char score_title[200];
   std::snprintf(score_title, sizeof score_title,
-                "Score = (1 - unobserved) x in-range share / (1 + uncertainty / %.0f mm); 0 if stripe < %.2f m or "
-                "look-ahead < %.2f m", o.score.uncertainty_scale_m * 1000, o.score.min_stripe_width_m,
+                "Score = (1 - unobserved) x in-range share / (1 + uncertainty / %.0f mm)\n"
+                "(0 if stripe < %.2f m or look-ahead < %.2f m), higher is better", o.score.uncertainty_scale_m * 1000, o.score.min_stripe_width_m,
                 o.score.min_look_ahead_m);
   heat("score.png", score_title, "", 1.0, [](const MountMetrics& m) { return m.score; });
 

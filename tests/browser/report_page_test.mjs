@@ -6,7 +6,7 @@
 // cell and of cut data must show a readable message instead of a blank view.
 //
 //   node report_page_test.mjs --tool build/bin/stridemap --modules build/web/node_modules
-//        --work build/browser-test [--chromium /usr/bin/chromium]
+//        --work build/browser-test [--scene scenes/rocky_mockup.yaml] [--chromium /usr/bin/chromium]
 import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
 import { createRequire } from 'node:module';
@@ -30,7 +30,7 @@ function check(ok, what) {
 // A short simulated walk: a map, its truth and its path.
 fs.rmSync(work, { recursive: true, force: true });
 fs.mkdirSync(work, { recursive: true });
-execFileSync(tool, ['experiment', 'rocky-walk', '--sensor', 'urg', '--out', work, '--sweep', 'none', '--seed', '1', '--report', '--quiet'],
+execFileSync(tool, ['experiment', 'rocky-walk', '--sensor', 'urg', '--scene', args.scene ?? 'scenes/rocky_mockup.yaml', '--out', work, '--sweep', 'none', '--seed', '1', '--report', '--quiet'],
              { stdio: ['ignore', 'ignore', 'inherit'] });
 const run = path.join(work, 'rocky-walk-urg');
 const goodPage = path.join(run, 'report.html');
@@ -53,7 +53,8 @@ const data = JSON.parse(html.slice(dataStart, dataEnd).replaceAll('<\\/', '</'))
 const withData = (d) => html.slice(0, dataStart) + JSON.stringify(d).replaceAll('</', '<\\/') + html.slice(dataEnd);
 const empty = structuredClone(data);
 const cells = empty.maps[0].rows * empty.maps[0].cols;
-empty.maps[0].layers.find((l) => l.name === 'elevation').data = Buffer.from(new Float32Array(cells).fill(NaN).buffer).toString('base64');
+Object.assign(empty.maps[0].layers.find((l) => l.name === 'elevation'),
+              { encoding: 'f32', data: Buffer.from(new Float32Array(cells).fill(NaN).buffer).toString('base64') });
 fs.writeFileSync(path.join(work, 'empty.html'), withData(empty));
 const cut = structuredClone(data);
 cut.maps[0].layers[0].data = cut.maps[0].layers[0].data.slice(0, 1000);

@@ -61,10 +61,10 @@ TEST(ReportPage, EmbedsTheMapLayersTablesAndPictures) {
   const nlohmann::json& map = data["maps"][0];
   EXPECT_EQ(map["rows"], 8);
   EXPECT_DOUBLE_EQ(map["cell_size_m"].get<double>(), 0.02);
-  // elevation exact (float32: 8 * 8 * 4 bytes = 344 base64 characters), certainty as float16.
+  // float16: 8 * 8 * 2 bytes = 172 base64 characters.
   EXPECT_EQ(map["layers"][0]["name"], "elevation");
-  EXPECT_EQ(map["layers"][0]["encoding"], "f32");
-  EXPECT_EQ(map["layers"][0]["data"].get<std::string>().size(), 344u);
+  EXPECT_EQ(map["layers"][0]["encoding"], "f16");
+  EXPECT_EQ(map["layers"][0]["data"].get<std::string>().size(), 172u);
   bool has_certainty = false, has_pending = false;
   for (const auto& layer : map["layers"]) {
     has_certainty |= layer["name"] == "certainty" && layer["encoding"] == "f16";

@@ -4,9 +4,8 @@
 // drawn with three.js) and opens offline from disk (docs/outputs.md,
 // "The report page"). The 3D library and the page's own script are read
 // from `assets_dir` when the page is made and embedded whole; the map
-// layers go in as little-endian binary, base64-encoded (float32 for
-// elevations, float16 for the other float layers), so a 500 x 500 map
-// stays under 5 MB.
+// layers go in as little-endian binary, base64-encoded (float16 for the
+// float layers), so a 500 x 500 map with its truth stays under 5 MB.
 #include <string>
 #include <vector>
 
