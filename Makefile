@@ -34,7 +34,9 @@ build: configure
 # Python module (an extension under ASan needs the runtime preloaded into
 # python3). The libraries are also instrumented for libFuzzer's coverage, so
 # `make fuzz` reuses this build instead of compiling everything a fourth time
-# (docs/reliability.md).
+# (docs/reliability.md). The browser test (label browser) is left out too:
+# it runs Chromium and Node.js, which are not built with the sanitizers, on
+# a page the unsanitized `make test` already checks.
 SAN_DIR ?= build-sanitize
 SAN_FLAGS = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 # Line tables are all a sanitizer report needs for file:line stacks; full
@@ -50,7 +52,7 @@ test-sanitize: deps
 	$(SAN_CONFIGURE)
 	cmake --build $(SAN_DIR) -j $(JOBS)
 	cd $(SAN_DIR) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
-	  ctest --output-on-failure -j $(JOBS) -E install_and_find_package
+	  ctest --output-on-failure -j $(JOBS) -E install_and_find_package -LE browser
 
 # Reliability (docs/reliability.md). The test programs that run threads
 # under ThreadSanitizer (clang); any report fails the run. Those are the
@@ -58,7 +60,8 @@ test-sanitize: deps
 # live (the emulator and the live loop), experiments (the soak's planner
 # thread) and cli (live runs of the tool, itself built with TSan). The other
 # layers' programs are single-threaded, so TSan has nothing to check there
-# and they are not built. OpenCV's TBB threads are invisible to TSan;
+# and they are not built (nor is the browser test, label browser: Chromium
+# is not built with TSan). OpenCV's TBB threads are invisible to TSan;
 # tools/tsan.supp says why.
 TSAN_DIR ?= build-tsan
 TSAN_FLAGS = -fsanitize=thread -fno-omit-frame-pointer

@@ -16,7 +16,13 @@ packages=(
   libdiagnostic-msgs-dev libstd-srvs-dev librcpputils-dev librcutils-dev libament-index-cpp-dev
   # rostopic echo / rosservice call of the node's topics and services, headless
   python3-sensor-msgs python3-nav-msgs python3-visualization-msgs python3-diagnostic-msgs python3-std-srvs
+  chromium  # the report page's browser test (tests/browser); about 50 s to install
 )
+# npm fetches the report page's three.js at build time (web/package-lock.json).
+# Debian's nodejs and npm, unless a Node.js with npm is installed already.
+if ! command -v npm >/dev/null 2>&1; then
+  packages+=(nodejs npm)
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -14,6 +14,7 @@
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
 #include "stridemap/experiments/cart_rail_report.hpp"
+#include "report_command.hpp"
 #include "stridemap/experiments/lighting.hpp"
 #include "stridemap/experiments/mixed_pixels.hpp"
 #include "stridemap/io/mapper_config.hpp"
@@ -24,6 +25,7 @@ namespace stridemap::cli {
 namespace {
 
 struct CartRailArgs {
+  bool report = false;
   std::string sensor = "urg";
   std::string scene_path;
   std::string out_dir;
@@ -79,6 +81,7 @@ void run_cart_rail_command(const CartRailArgs& args) {
   const std::string early_dir = (std::filesystem::path(args.out_dir) / ("cart-rail-" + args.sensor)).string();
   refuse_output_that_is_an_input("--out", early_dir, {{"--scene", args.scene_path}, {"--config", args.config_path}});
   io::check_output_folder(early_dir, "--out");
+  if (args.report) report_assets_dir();  // before the run, not after it
   CartRailOptions options;
   if (!args.config_path.empty()) {
     // The rail keeps its fixed window; the rest of the robot's settings apply.
@@ -114,7 +117,10 @@ void run_cart_rail_command(const CartRailArgs& args) {
   const CartRailRunInfo info{run_name, args.scene_path};
   const std::string dir = (std::filesystem::path(args.out_dir) / ("cart-rail-" + run_name)).string();
   refuse_output_that_is_an_input("--out", dir, {{"--scene", args.scene_path}, {"--config", args.config_path}});
-  write_output_set(dir, "--out", [&](const std::string& folder) { write_cart_rail_outputs(result, options, info, folder); });
+  write_output_set(dir, "--out", [&](const std::string& folder) {
+    write_cart_rail_outputs(result, options, info, folder);
+    if (args.report) write_run_report(folder, dir);
+  });
   note("wrote " + dir);
   std::fputs(cart_rail_table(result, info).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
@@ -199,6 +205,7 @@ void register_experiment(CLI::App& app) {
   auto args = std::make_shared<CartRailArgs>();
   CLI::App* cart_rail = experiment->add_subcommand(
       "cart-rail", "Sensor on a cart moved along a rail over a scene (Figs. 16-20, Table 1)");
+  add_report_flag(*cart_rail, args->report);
   cart_rail->add_option("--sensor", args->sensor, "Sensor model: urg or structured-light")->capture_default_str();
   cart_rail->add_option("--sensor-config", args->sensor_config_path,
                         "Structured light: sensor configuration (YAML, docs/structured_light.md); default Ragno's");

@@ -5,7 +5,9 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <string>
 
@@ -23,6 +25,7 @@
 #include "stridemap/io/scan_log.hpp"
 #include "stridemap/live/live_mapping.hpp"
 #include "stridemap/live/map_report.hpp"
+#include "report_command.hpp"
 #include "urg_device.hpp"
 
 namespace stridemap::cli {
@@ -37,11 +40,42 @@ struct MappingArgs {
   std::string map_filter = "fill";
   std::string resume_path;
   double max_pose_gap_s = 1.0;
+  bool report = false;
+  std::string range;
 };
+
+// --range MIN:MAX: the ends of elevation.png's colour scale [m].
+std::optional<std::pair<double, double>> parse_range(const std::string& text) {
+  if (text.empty()) return std::nullopt;
+  const std::size_t colon = text.find(':');
+  char* end = nullptr;
+  const auto number = [&](const std::string& part) {
+    const double value = std::strtod(part.c_str(), &end);
+    if (part.empty() || *end != '\0' || !std::isfinite(value)) {
+      throw InputError("--range: '" + text + "' is not MIN:MAX in metres (e.g. -0.05:0.12)");
+    }
+    return value;
+  };
+  if (colon == std::string::npos) number("");
+  const double low = number(text.substr(0, colon)), high = number(text.substr(colon + 1));
+  if (!(low < high)) throw InputError("--range: MIN must be below MAX, got '" + text + "'");
+  return std::make_pair(low, high);
+}
 
 void add_mapping_options(CLI::App& command, MappingArgs& args) {
   command.add_option("--out", args.out_dir, "Output folder: elevation/certainty PNG and CSV, state.csv, summary.json")
       ->required();
+  add_report_flag(command, args.report);
+  command.add_option("--range", args.range,
+                     "Colour range of elevation.png, MIN:MAX in metres (default: the 2nd to 98th percentile)")
+      ->check([](const std::string& text) {
+        try {
+          parse_range(text);  // at parsing, so that a typo costs no run
+        } catch (const InputError& e) {
+          return std::string(e.what());
+        }
+        return std::string();
+      });
   command.add_option("--config", args.config_path, "Mapper configuration (YAML, docs/config.md)");
   command.add_option("--filters", args.filters,
                      "Scan filters in order: range-clustering, scan-sequence, shadow, speckle; paper; none")
@@ -128,6 +162,7 @@ void run_live(const LiveArgs& args) {
   out_inputs.push_back({"--record", args.record_path});
   refuse_output_that_is_an_input("--out", args.mapping.out_dir, out_inputs);
   io::check_output_folder(args.mapping.out_dir, "--out");
+  if (args.mapping.report) report_assets_dir();  // before the run, not after it
   PoseStreamSource poses(args.mapping.poses_path);
 
   UrgDriverEvent event;
@@ -143,6 +178,10 @@ void run_live(const LiveArgs& args) {
 
   MapRunInfo info;
   info.command = "live";
+  info.elevation_range_m = parse_range(args.mapping.range);
+  if (args.mapping.report) {
+    info.extra_outputs = [target = args.mapping.out_dir](const std::string& folder) { write_run_report(folder, target); };
+  }
   info.scans_from = args.device.device;
   info.poses_from = args.mapping.poses_path;
   info.clock = args.mapping.clock;
@@ -265,6 +304,7 @@ void run_map(const MapArgs& args) {
                                       {"--resume", args.mapping.resume_path}};
   refuse_output_that_is_an_input("--out", args.mapping.out_dir, inputs);
   io::check_output_folder(args.mapping.out_dir, "--out");
+  if (args.mapping.report) report_assets_dir();
   const io::ScanLog log = io::read_scan_log(args.log_path);
   print_skipped("damaged scan-log lines", log.skipped_line_numbers.size(), log.skipped);
   if (!log.stop.empty()) {
@@ -296,6 +336,10 @@ void run_map(const MapArgs& args) {
   }
   MapRunInfo info;
   info.command = "map";
+  info.elevation_range_m = parse_range(args.mapping.range);
+  if (args.mapping.report) {
+    info.extra_outputs = [target = args.mapping.out_dir](const std::string& folder) { write_run_report(folder, target); };
+  }
   info.scans_from = args.log_path;
   info.poses_from = args.mapping.poses_path;
   info.clock = args.mapping.clock;

@@ -14,6 +14,7 @@
 #include "terminal_output.hpp"
 #include "stridemap/experiments/mount_analysis.hpp"
 #include "stridemap/experiments/mount_analysis_report.hpp"
+#include "report_command.hpp"
 #include "stridemap/experiments/structured_light_walk_sensor.hpp"
 #include "stridemap/experiments/urg_walk_sensor.hpp"
 #include "walk_cli_common.hpp"
@@ -22,6 +23,7 @@ namespace stridemap::cli {
 namespace {
 
 struct MountAnalysisArgs {
+  bool report = false;
   std::string sensor = "urg";
   std::string out_dir;
   std::uint64_t seed = 1;
@@ -50,6 +52,7 @@ std::vector<double> parse_grid(const std::string& option, const std::string& tex
 }
 
 void run_mount_analysis_command(const MountAnalysisArgs& args) {
+  if (args.report) report_assets_dir();  // before the run, not after it
   const SimulatedSensor sensor = parse_option<SimulatedSensor>("--sensor", args.sensor);
   const bool urg = sensor == SimulatedSensor::urg;
   MountAnalysisOptions options;
@@ -91,7 +94,10 @@ void run_mount_analysis_command(const MountAnalysisArgs& args) {
   }
   const std::string dir = (std::filesystem::path(args.out_dir) / ("mount-analysis-" + result.sensor)).string();
   bar.clear();
-  write_output_set(dir, "--out", [&](const std::string& folder) { write_mount_analysis_outputs(result, options, folder); });
+  write_output_set(dir, "--out", [&](const std::string& folder) {
+    write_mount_analysis_outputs(result, options, folder);
+    if (args.report) write_run_report(folder, dir);
+  });
   note("wrote " + dir);
   std::fputs(mount_analysis_table(result).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
@@ -120,6 +126,7 @@ void register_mount_analysis(CLI::App* experiment) {
   auto args = std::make_shared<MountAnalysisArgs>();
   CLI::App* cmd = experiment->add_subcommand(
       "mount-analysis", "Sensor mounts compared on random step fields: occlusions, uncertainty, stripe (Figs. 5, 7), simulated");
+  add_report_flag(*cmd, args->report);
   cmd->add_option("--sensor", args->sensor, "Sensor: urg or structured-light")->capture_default_str();
   cmd->add_option("--out", args->out_dir, "Output folder; results go to OUT/mount-analysis-<sensor>/")->required();
   cmd->add_option("--seed", args->seed, "Seed of the step fields and the simulation")->capture_default_str()

@@ -15,6 +15,7 @@
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/rocky_walk.hpp"
 #include "stridemap/experiments/rocky_walk_report.hpp"
+#include "report_command.hpp"
 #include "stridemap/experiments/urg_walk_sensor.hpp"
 #include "stridemap/io/scene_yaml.hpp"
 #include "stridemap/io/walk_path_yaml.hpp"
@@ -25,6 +26,7 @@ namespace stridemap::cli {
 namespace {
 
 struct RockyWalkArgs {
+  bool report = false;
   std::string sensor = "urg";
   static constexpr const char* kDefaultScene = "scenes/rocky_mockup.yaml";
   std::string scene_path = kDefaultScene;
@@ -102,6 +104,7 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   const std::string early_dir = (std::filesystem::path(args.out_dir) / ("rocky-walk-" + args.sensor)).string();
   refuse_output_that_is_an_input("--out", early_dir, inputs);
   io::check_output_folder(early_dir, "--out");
+  if (args.report) report_assets_dir();  // before the run, not after it
   io::ProgressBar bar = progress_bar("rocky-walk", "scans");
   options.progress = bar.callback();
   const RockyWalkResult result =
@@ -110,7 +113,10 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   const std::string dir = (std::filesystem::path(args.out_dir) / ("rocky-walk-" + result.sensor)).string();
   refuse_output_that_is_an_input("--out", dir, inputs);
   bar.clear();
-  write_output_set(dir, "--out", [&](const std::string& folder) { write_rocky_walk_outputs(result, options, info, folder); });
+  write_output_set(dir, "--out", [&](const std::string& folder) {
+    write_rocky_walk_outputs(result, options, info, folder);
+    if (args.report) write_run_report(folder, dir);
+  });
   note("wrote " + dir);
   std::fputs(rocky_walk_table(result).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
@@ -124,6 +130,7 @@ void register_walk_experiments(CLI::App& app) {
   auto rw = std::make_shared<RockyWalkArgs>();
   CLI::App* rocky = experiment->add_subcommand(
       "rocky-walk", "A walking robot maps the rocky mock-up with an imperfect pose (Figs. 22-24), simulated");
+  add_report_flag(*rocky, rw->report);
   rocky->add_option("--sensor", rw->sensor, "Sensor: urg or structured-light")->capture_default_str();
   rocky->add_option("--scene", rw->scene_path, "Scene file (YAML, docs/scenes.md)")->capture_default_str();
   rocky->add_option("--path", rw->path_file, "Path file (YAML, docs/walking.md); default: the scene's walk_path");

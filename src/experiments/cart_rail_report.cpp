@@ -213,7 +213,7 @@ void write_cart_rail_outputs(const CartRailResult& r, const CartRailOptions& opt
   error_style.cell_size_m = s.cell_size_m;
   error_style.min_value = -0.05;
   error_style.max_value = 0.05;
-  error_style.colour_scale = io::ColourScale::turbo;
+  error_style.colour_scale = io::ColourScale::diverging;
   io::write_png((dir / "error.png").string(), io::render_grid(error, filled, error_style).image);
 
   const double origin_x = (static_cast<double>(s.min_cell.x) + 0.5) * s.cell_size_m;

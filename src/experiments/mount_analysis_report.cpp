@@ -91,6 +91,11 @@ std::string mount_analysis_table(const MountAnalysisResult& r) {
   if (!r.sweep.empty()) {
     out += "best of the sweep (" + std::to_string(r.pitches) + " pitches x " + std::to_string(r.heights) + " heights):\n";
     out += row_text(r.sweep[r.best]);
+    const std::size_t row = r.best / r.heights, col = r.best % r.heights;
+    if (r.sweep.size() > 1 && (row == 0 || col == 0 || row + 1 == r.pitches || col + 1 == r.heights)) {
+      out += "warning: the best mount lies on the sweep's edge, so the optimum may lie outside it "
+             "(widen --heights-cm / --pitches-deg)\n";
+    }
   }
   return out;
 }
@@ -116,7 +121,20 @@ void write_mount_analysis_outputs(const MountAnalysisResult& r, const MountAnaly
     std::snprintf(t, sizeof t, "%.0f", p * kDeg);
     style.y_ticks.emplace_back(t);
   }
-  style.highlight = std::make_pair(static_cast<int>(r.best / r.heights), static_cast<int>(r.best % r.heights));
+  const int best_row = static_cast<int>(r.best / r.heights), best_col = static_cast<int>(r.best % r.heights);
+  style.highlight = std::make_pair(best_row, best_col);
+  // The frame says which mount won; a winner on the sweep's edge may only
+  // be the best of a range that is too narrow, so the pictures say so.
+  const bool on_edge = best_row == 0 || best_col == 0 || best_row + 1 == static_cast<int>(r.pitches) ||
+                       best_col + 1 == static_cast<int>(r.heights);
+  std::string best_text;
+  if (!r.sweep.empty()) {
+    char t[200];
+    std::snprintf(t, sizeof t, "\nframed: the best mount, %.0f cm, %.0f deg", r.sweep[r.best].mount.mount.height_m * 100,
+                  r.sweep[r.best].mount.mount.pitch_rad * kDeg);
+    best_text = t;
+    if (on_edge && r.sweep.size() > 1) best_text += "\nWARNING: it lies on the sweep's edge; widen the sweep";
+  }
   const auto heat = [&](const char* file, const std::string& title, const char* units, double scale,
                         const std::function<std::optional<double>(const MountMetrics&)>& value) {
     Eigen::MatrixXf grid(static_cast<Eigen::Index>(r.pitches), static_cast<Eigen::Index>(r.heights));
@@ -128,7 +146,7 @@ void write_mount_analysis_outputs(const MountAnalysisResult& r, const MountAnaly
       }
     }
     io::HeatMapOptions s = style;
-    s.title = title + " (" + r.sensor + ", simulated)";
+    s.title = title + " (" + r.sensor + ", simulated)" + best_text;
     s.units = units;
     io::write_png((dir / file).string(), io::render_heat_map(grid, s));
   };
@@ -142,7 +160,12 @@ void write_mount_analysis_outputs(const MountAnalysisResult& r, const MountAnaly
     heat("range_share.png", "Ranges to -0.10..+0.15 m surfaces in 0.2-0.9 m", "%", 100.0,
          [](const MountMetrics& m) { return m.favourable_range_share; });
   }
-  heat("score.png", "Mount score (docs/experiments.md)", "", 1.0, [](const MountMetrics& m) { return m.score; });
+  char score_title[200];
+  std::snprintf(score_title, sizeof score_title,
+                "Score = (1 - unobserved) x in-range share / (1 + uncertainty / %.0f mm)\n"
+                "(0 if stripe < %.2f m or look-ahead < %.2f m), higher is better", o.score.uncertainty_scale_m * 1000, o.score.min_stripe_width_m,
+                o.score.min_look_ahead_m);
+  heat("score.png", score_title, "", 1.0, [](const MountMetrics& m) { return m.score; });
 
   std::string csv = "name,height_m,pitch_deg,sees_ground,unobserved_fraction,mean_height_uncertainty_m,stripe_width_m,"
                     "look_ahead_m,favourable_range_share,score\n";

@@ -112,7 +112,7 @@ void write_map_pictures(const std::filesystem::path& dir, const std::string& pre
   error_style.cell_size_m = s.cell_size_m;
   error_style.min_value = -0.05;
   error_style.max_value = 0.05;
-  error_style.colour_scale = io::ColourScale::turbo;
+  error_style.colour_scale = io::ColourScale::diverging;
   save("error.png", io::render_grid(error, filled, error_style), true);
 }
 
@@ -252,6 +252,15 @@ void write_rocky_walk_outputs(const RockyWalkResult& r, const RockyWalkOptions& 
   csv("state", w.mosaic.state().cast<float>(), "");
   csv("truth", w.mosaic.truth_m, "m");
   csv("swept_area", w.mosaic_swept.cast<float>(), "");
+  // The track drawn on the pictures, for the report page's 3D view.
+  Eigen::MatrixXf track(static_cast<Eigen::Index>(w.trajectory.size()), 2);
+  for (std::size_t k = 0; k < w.trajectory.size(); ++k) track.row(static_cast<Eigen::Index>(k)) = w.trajectory[k].cast<float>().transpose();
+  if (track.rows() > 0) {
+    io::GridCsvOptions columns;
+    columns.layer_name = "path_x_m_y_m";
+    columns.units = "m";
+    io::write_grid_csv((dir / "path.csv").string(), track, columns);
+  }
   io::write_text_file((dir / "summary.json").string(), rocky_walk_summary_json(r, options, info), "summary");
   // The final map whole (the mosaic the CSVs hold), for map-info, export and other software.
   io::save_map_file((dir / "map.smap").string(), w.map,

@@ -1,6 +1,7 @@
 #include "stridemap/io/grid_overlay.hpp"
 
 #include <cmath>
+#include <vector>
 
 #include <opencv2/imgproc.hpp>
 
@@ -30,6 +31,25 @@ void draw_path(RenderedGrid& rendered, const std::vector<Eigen::Vector2d>& point
   for (std::size_t k = 1; k < points_m.size(); ++k) {
     if (!points_m[k - 1].allFinite() || !points_m[k].allFinite()) continue;
     cv::line(grid, pixel(points_m[k - 1]) + shift, pixel(points_m[k]) + shift, colour, thickness_px, cv::LINE_AA);
+  }
+  // Where the path starts (a green dot ringed in black) and which way it
+  // ends (an arrow past its last point), so direction reads without a legend.
+  std::vector<cv::Point> finite;
+  for (const Eigen::Vector2d& p : points_m)
+    if (p.allFinite()) finite.push_back(pixel(p) + shift);
+  if (finite.empty()) return;
+  const int radius = 3 + thickness_px;
+  cv::circle(grid, finite.front(), radius, cv::Scalar(44, 160, 44), cv::FILLED, cv::LINE_AA);
+  cv::circle(grid, finite.front(), radius, cv::Scalar(20, 20, 20), 1, cv::LINE_AA);
+  const cv::Point last = finite.back();
+  for (auto it = finite.rbegin(); it != finite.rend(); ++it) {
+    const cv::Point2d d(last - *it);
+    const double length = std::hypot(d.x, d.y);
+    if (length < 6.0) continue;  // a few pixels back, so that jitter does not turn the arrow
+    const cv::Point tip(static_cast<int>(std::lround(last.x + 16.0 * d.x / length)),
+                        static_cast<int>(std::lround(last.y + 16.0 * d.y / length)));
+    cv::arrowedLine(grid, last, tip, colour, thickness_px + 1, cv::LINE_AA, 0, 0.5);
+    break;
   }
 }
 

@@ -67,6 +67,19 @@ Range colour_range(const Eigen::MatrixXf& values, const GridRenderOptions& optio
     }
   }
   const bool any_data = data_low <= data_high;
+  if (any_data && options.robust_range) {
+    std::vector<float> finite;
+    finite.reserve(static_cast<std::size_t>(values.size()));
+    for (Eigen::Index k = 0; k < values.size(); ++k)
+      if (std::isfinite(values.data()[k])) finite.push_back(values.data()[k]);
+    const auto at = [&](double share) {
+      const auto n = static_cast<std::size_t>(std::lround(share * static_cast<double>(finite.size() - 1)));
+      std::nth_element(finite.begin(), finite.begin() + static_cast<std::ptrdiff_t>(n), finite.end());
+      return static_cast<double>(finite[n]);
+    };
+    data_low = at(0.02);
+    data_high = at(0.98);
+  }
   Range range;
   range.low = options.min_value.value_or(any_data ? data_low : 0.0);
   range.high = options.max_value.value_or(any_data ? data_high : 1.0);
@@ -236,7 +249,17 @@ RenderedGrid render(const Eigen::MatrixXf& values, const CellMask* filled, const
                        swatch_rows * (kSwatch + 8) + (cell_text.empty() ? 0 : text_h + 12) + 16 + text_h + 6 +
                        kArrowPx + 6 + text_h;
 
-  const cv::Size title_size = text_size(options.title, kTitleScale);
+  // A title may hold several lines ('\n'): a long one would widen the picture.
+  std::vector<std::string> title_lines;
+  for (std::size_t begin = 0; !options.title.empty() && begin <= options.title.size();) {
+    const std::size_t end = std::min(options.title.find('\n', begin), options.title.size());
+    title_lines.push_back(options.title.substr(begin, end - begin));
+    begin = end + 1;
+  }
+  cv::Size title_size(0, 0);
+  const int title_line_h = text_size("Ag", kTitleScale).height + 8;
+  for (const std::string& line : title_lines) title_size.width = std::max(title_size.width, text_size(line, kTitleScale).width);
+  title_size.height = static_cast<int>(title_lines.size()) * title_line_h - 8;
   out.grid_left_px = kMargin;
   out.grid_top_px = kMargin + (options.title.empty() ? 0 : title_size.height + 16);
   const int scale_bar_h = options.cell_size_m ? 16 + text_h + 4 : 0;
@@ -246,7 +269,9 @@ RenderedGrid render(const Eigen::MatrixXf& values, const CellMask* filled, const
   Canvas canvas(width, height);
 
   if (!options.title.empty()) {
-    canvas.text(options.title, kMargin, kMargin + title_size.height, kTitleScale);
+    for (std::size_t k = 0; k < title_lines.size(); ++k) {
+      canvas.text(title_lines[k], kMargin, kMargin + title_line_h - 8 + static_cast<int>(k) * title_line_h, kTitleScale);
+    }
   }
 
   // The grid, seen from above: +X up, +Y left.

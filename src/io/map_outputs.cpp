@@ -34,6 +34,7 @@ void write_map_layers(const ExportedMap& s, const std::string& directory, const 
   elevation_style.cell_size_m = s.cell_size_m;
   elevation_style.min_value = options.elevation_min_m;
   elevation_style.max_value = options.elevation_max_m;
+  elevation_style.robust_range = true;
   write_png((dir / "elevation.png").string(), render_grid(s.elevation_m(), filled, elevation_style).image);
 
   GridRenderOptions certainty_style;

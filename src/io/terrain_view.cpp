@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <vector>
 
@@ -76,6 +77,13 @@ RgbImage render_terrain_view(const Eigen::MatrixXf& elevation_m, const CellMask&
   const Eigen::Vector3d light = Eigen::Vector3d(-0.4, -0.6, 1.0).normalized();
   const auto palette = detail::colour_scale_bgr(o.colour_scale);
 
+  const auto project = [&](const Eigen::Vector3d& p, cv::Point* at) {
+    const Eigen::Vector3d d = p - eye;
+    const double z = d.dot(forward);
+    *at = cv::Point(static_cast<int>(std::lround(0.5 * o.width_px + focal * d.dot(right) / z)),
+                    static_cast<int>(std::lround(0.5 * o.height_px - focal * d.dot(up) / z)));
+    return z > 1e-6;
+  };
   const auto vertex = [&](Eigen::Index i, Eigen::Index j) {
     return Eigen::Vector3d(static_cast<double>(i) * cell_size_m, static_cast<double>(j) * cell_size_m, elevation_m(i, j) * ex);
   };
@@ -116,14 +124,65 @@ RgbImage render_terrain_view(const Eigen::MatrixXf& elevation_m, const CellMask&
   }
   std::sort(quads.begin(), quads.end(), [](const Quad& a, const Quad& b) { return a.depth > b.depth; });
 
-  cv::Mat canvas(o.height_px, o.width_px, CV_8UC3, cv::Scalar(255, 255, 255));
-  for (const Quad& q : quads) cv::fillConvexPoly(canvas, q.corners.data(), 4, q.colour, cv::LINE_8);
-  if (!o.title.empty()) {
-    cv::putText(canvas, o.title, cv::Point(16, 30), cv::FONT_HERSHEY_SIMPLEX, 0.7, cv::Scalar(30, 30, 30), 1, cv::LINE_AA);
+  const cv::Scalar background(o.background_rgb[2], o.background_rgb[1], o.background_rgb[0]);
+  const int panel = o.legend ? kTerrainLegendWidthPx : 0;
+  cv::Mat canvas(o.height_px, o.width_px + panel, CV_8UC3, cv::Scalar(255, 255, 255));
+  cv::Mat view = canvas(cv::Rect(0, 0, o.width_px, o.height_px));
+  view.setTo(background);
+  for (const Quad& q : quads) cv::fillConvexPoly(view, q.corners.data(), 4, q.colour, cv::LINE_8);
+  const cv::Scalar ink(30, 30, 30);
+  const auto text = [&](const std::string& t, int x, int y, double scale = 0.45) {
+    cv::putText(canvas, t, cv::Point(x, y), cv::FONT_HERSHEY_SIMPLEX, scale, ink, 1, cv::LINE_AA);
+  };
+  if (!o.title.empty()) text(o.title, 16, 30, 0.7);
+  if (o.legend) {
+    // Scale: x and y axes of a round length from the corner of the known
+    // cells, drawn in the scene so that they shrink with distance as it does.
+    const double extent_m = static_cast<double>(std::max(i_hi - i_lo, j_hi - j_lo) + 1) * cell_size_m;
+    const double magnitude = std::pow(10.0, std::floor(std::log10(extent_m / 3.0)));
+    const double step = extent_m / 3.0 >= 5 * magnitude ? 5 * magnitude : extent_m / 3.0 >= 2 * magnitude ? 2 * magnitude : magnitude;
+    const Eigen::Vector3d corner(static_cast<double>(i_lo) * cell_size_m, static_cast<double>(j_lo) * cell_size_m, low * ex);
+    cv::Point origin, x_end, y_end;
+    if (project(corner, &origin) && project(corner + Eigen::Vector3d(step, 0, 0), &x_end) &&
+        project(corner + Eigen::Vector3d(0, step, 0), &y_end)) {
+      cv::arrowedLine(view, origin, x_end, cv::Scalar(40, 40, 200), 2, cv::LINE_AA, 0, 0.12);
+      cv::arrowedLine(view, origin, y_end, cv::Scalar(40, 150, 40), 2, cv::LINE_AA, 0, 0.12);
+      text("x", x_end.x + 4, x_end.y);
+      text("y", y_end.x + 4, y_end.y);
+    }
+    char line[96];
+    const int left = o.width_px + 14;
+    text("elevation [m]", left, 60);
+    const int bar_top = 75, bar_h = std::max(60, o.height_px / 2), bar_w = 22;
+    for (int k = 0; k < bar_h; ++k) {
+      const cv::Vec3b c = palette[static_cast<std::size_t>(std::lround(255.0 * (bar_h - 1 - k) / (bar_h - 1)))];
+      cv::line(canvas, {left, bar_top + k}, {left + bar_w, bar_top + k}, cv::Scalar(c[0], c[1], c[2]));
+    }
+    cv::rectangle(canvas, cv::Rect(left - 1, bar_top - 1, bar_w + 2, bar_h + 2), cv::Scalar(80, 80, 80));
+    for (int k = 0; k <= 4; ++k) {
+      const double value = high - (high - low) * k / 4.0;
+      const int y = bar_top + (bar_h - 1) * k / 4;
+      cv::line(canvas, {left + bar_w, y}, {left + bar_w + 5, y}, ink);
+      std::snprintf(line, sizeof line, "%+.3f", value);
+      text(line, left + bar_w + 9, y + 5);
+    }
+    int y = bar_top + bar_h + 30;
+    cv::rectangle(canvas, cv::Rect(left, y - 12, 16, 16), background, cv::FILLED);
+    cv::rectangle(canvas, cv::Rect(left, y - 12, 16, 16), cv::Scalar(80, 80, 80));
+    text("hole: unknown", left + 24, y);
+    y += 24;
+    text("paler: filled", left, y);
+    y += 24;
+    std::snprintf(line, sizeof line, "axes x, y: %g m", step);
+    text(line, left, y);
+    y += 24;
+    std::snprintf(line, sizeof line, "heights x%g", ex);
+    text(line, left, y);
   }
-  RgbImage image(o.width_px, o.height_px);
+  const int width = canvas.cols;
+  RgbImage image(width, o.height_px);
   for (int y = 0; y < o.height_px; ++y) {
-    for (int x = 0; x < o.width_px; ++x) {
+    for (int x = 0; x < width; ++x) {
       const cv::Vec3b& bgr = canvas.at<cv::Vec3b>(y, x);
       const std::size_t at = image.offset(x, y);
       image.rgb[at] = bgr[2];

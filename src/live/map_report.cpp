@@ -145,6 +145,10 @@ ExportedMap write_map_outputs(const ScanMapper& mapper, const scip::ScipParamete
   io::MapOutputOptions style;
   style.elevation_title = "Elevation";  // the same for live and replay: their pictures must be equal
   style.certainty_max = mapper.options().config.mapper.update.certainty_max;
+  if (info.elevation_range_m) {
+    style.elevation_min_m = info.elevation_range_m->first;
+    style.elevation_max_m = info.elevation_range_m->second;
+  }
   io::OutputFolder staged(directory, "output folder");
   io::write_map_layers(layers, staged.path(), style);
   io::write_text_file(staged.file("summary.json"), map_summary_json(mapper, layers, sensor, info, live), "summary");
@@ -153,6 +157,7 @@ ExportedMap write_map_outputs(const ScanMapper& mapper, const scip::ScipParamete
   metadata.last_scan_time_s = mapper.mapper().last_scan_time_s();
   metadata.last_pose = mapper.mapper().last_pose();
   io::save_map_file(staged.file("map.smap"), mapper.mapper().map(), metadata);
+  if (info.extra_outputs) info.extra_outputs(staged.path());
   staged.commit();
   return layers;
 }

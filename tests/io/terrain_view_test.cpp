@@ -30,6 +30,8 @@ TEST(TerrainView, DrawsTheKnownCellsAndLeavesHolesForUnknownOnes) {
   TerrainViewOptions o;
   o.width_px = 320;
   o.height_px = 240;
+  o.legend = false;
+  o.background_rgb = {255, 255, 255};
   const Eigen::MatrixXf h = bump(40);
   const RgbImage full = render_terrain_view(h, CellMask(), 0.01, o);
   ASSERT_EQ(full.width, 320);
@@ -41,6 +43,28 @@ TEST(TerrainView, DrawsTheKnownCellsAndLeavesHolesForUnknownOnes) {
   EXPECT_LT(non_white(render_terrain_view(holed, CellMask(), 0.01, o)), drawn);
   const Eigen::MatrixXf unknown = Eigen::MatrixXf::Constant(10, 10, NAN);
   EXPECT_EQ(non_white(render_terrain_view(unknown, CellMask(), 0.01, o)), 0u);
+}
+
+TEST(TerrainView, TheLegendPanelWidensThePictureAndHolesShowTheBackground) {
+  TerrainViewOptions o;
+  o.width_px = 320;
+  o.height_px = 240;
+  Eigen::MatrixXf h = bump(40);
+  h.block(15, 15, 10, 10).setConstant(NAN);
+  const RgbImage image = render_terrain_view(h, CellMask(), 0.01, o);
+  ASSERT_EQ(image.width, 320 + kTerrainLegendWidthPx);
+  std::size_t background = 0, ink_in_panel = 0;
+  for (int y = 0; y < image.height; ++y) {
+    for (int x = 0; x < image.width; ++x) {
+      const std::size_t at = image.offset(x, y);
+      const bool is_background = image.rgb[at] == o.background_rgb[0] && image.rgb[at + 1] == o.background_rgb[1] &&
+                                 image.rgb[at + 2] == o.background_rgb[2];
+      background += is_background && x < 320;
+      ink_in_panel += x >= 320 && image.rgb[at] < 128;
+    }
+  }
+  EXPECT_GT(background, 0u);
+  EXPECT_GT(ink_in_panel, 200u);  // the colour bar and its labels
 }
 
 TEST(TerrainView, BadOptionsAreErrors) {

@@ -23,6 +23,7 @@ enum class ColourScale {
   viridis,  // dark blue -> green -> yellow; perceptually uniform, colour-blind safe (default)
   turbo,    // dark blue -> green -> red; more contrast for fine height steps, not uniform in lightness
   cividis,  // blue -> yellow; uniform and readable with red-green colour blindness
+  diverging,  // blue -> white -> red, for signed values (errors): give a range centred on zero
 };
 
 struct GridRenderOptions {
@@ -37,6 +38,10 @@ struct GridRenderOptions {
   // [0, 1] when there is no value at all. Both given with min >= max is an error.
   std::optional<double> min_value;
   std::optional<double> max_value;
+  // An end left empty is taken from the 2nd / 98th percentile of the finite
+  // values instead of the extremes, so that a few outlier cells do not wash
+  // the rest into one colour (values beyond take the end colours).
+  bool robust_range = false;
   // Side of one cell in pixels; 0 picks max(1, round(500 / longer side)), so
   // a 100 x 100 grid becomes 500 x 500 pixels.
   int pixels_per_cell = 0;

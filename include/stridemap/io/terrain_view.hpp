@@ -3,6 +3,8 @@
 // cells as a shaded surface seen obliquely through a perspective camera,
 // coloured by elevation. A small painter's-algorithm renderer on OpenCV's
 // polygon fill; no 3D library.
+#include <array>
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -31,7 +33,15 @@ struct TerrainViewOptions {
   /// Ends of the colour scale [m]; empty: from the data.
   std::optional<double> min_value, max_value;
   ColourScale colour_scale = ColourScale::viridis;
+  /// A panel to the right of the view (the image grows by kTerrainLegendWidthPx):
+  /// the colour bar with its range, what holes and paler cells are, and, in
+  /// the view, x and y axes of a round length at the map's corner as scale.
+  bool legend = true;
+  /// Behind the surface; unknown cells are holes through which it shows.
+  std::array<std::uint8_t, 3> background_rgb{226, 232, 240};
 };
+
+inline constexpr int kTerrainLegendWidthPx = 190;
 
 /// Renders `elevation_m` (row = +X, column = +Y, cell_size_m apart; NaN =
 /// unknown, left as a hole). Cells flagged in `filled` are drawn paler.

@@ -4,6 +4,8 @@
 // beam counts, the sensor's parameters and, for live mapping, the run's
 // rates, faults, CPU use and latency (docs/live.md).
 #include <cstdint>
+#include <functional>
+#include <utility>
 #include <optional>
 #include <string>
 
@@ -25,6 +27,11 @@ struct MapRunInfo {
   std::size_t pose_lines_skipped = 0;  ///< bad pose lines skipped
   MapFilter map_filter = MapFilter::fill;
   std::string resumed_from;  ///< the map file mapping went on from, if any
+  /// Called with the staging folder once the map's files are in it, before
+  /// the set is committed, so that more files join the set (the report page).
+  std::function<void(const std::string&)> extra_outputs;
+  /// Ends of elevation.png's colour scale [m]; empty: the 2nd-98th percentile.
+  std::optional<std::pair<double, double>> elevation_range_m;
 };
 
 /// Live mapping's own figures (not in a replay: they depend on the run).

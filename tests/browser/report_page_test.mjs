@@ -1,0 +1,133 @@
+// Browser test of the report page (docs/outputs.md): Debian's Chromium,
+// headless, driven by playwright-core (web/package-lock.json). A run made
+// with `--report` must load with no console error, draw a 3D view whose
+// pixels differ from the background, and change its picture when the
+// colour layer changes; pages of a damaged map file, of a map with no known
+// cell and of cut data must show a readable message instead of a blank view.
+//
+//   node report_page_test.mjs --tool build/bin/stridemap --modules build/web/node_modules
+//        --work build/browser-test [--scene scenes/rocky_mockup.yaml] [--chromium /usr/bin/chromium]
+import { execFileSync } from 'node:child_process';
+import fs from 'node:fs';
+import { createRequire } from 'node:module';
+import path from 'node:path';
+
+const args = Object.fromEntries(process.argv.slice(2).reduce((pairs, a, k, all) => (a.startsWith('--') ? [...pairs, [a.slice(2), all[k + 1]]] : pairs), []));
+const tool = args.tool, work = args.work, chromiumPath = args.chromium ?? '/usr/bin/chromium';
+if (!tool || !work || !args.modules) throw new Error('usage: --tool STRIDEMAP --modules NODE_MODULES --work DIR');
+if (!fs.existsSync(chromiumPath)) {
+  console.error(`${chromiumPath} is missing: the report page is tested in Debian's Chromium; run 'make deps'`);
+  process.exit(1);
+}
+const { chromium } = createRequire(path.resolve(args.modules, 'x.js'))('playwright-core');
+
+let failures = 0;
+function check(ok, what) {
+  console.log(`${ok ? 'ok  ' : 'FAIL'} ${what}`);
+  if (!ok) failures += 1;
+}
+
+// A short simulated walk: a map, its truth and its path.
+fs.rmSync(work, { recursive: true, force: true });
+fs.mkdirSync(work, { recursive: true });
+execFileSync(tool, ['experiment', 'rocky-walk', '--sensor', 'urg', '--scene', args.scene ?? 'scenes/rocky_mockup.yaml', '--out', work, '--sweep', 'none', '--seed', '1', '--report', '--quiet'],
+             { stdio: ['ignore', 'ignore', 'inherit'] });
+const run = path.join(work, 'rocky-walk-urg');
+const goodPage = path.join(run, 'report.html');
+check(fs.existsSync(goodPage), '--report wrote report.html into the run folder');
+
+// The same folder with a damaged map file, reported by `stridemap report`.
+const damaged = path.join(work, 'damaged');
+fs.mkdirSync(damaged);
+for (const name of ['summary.json', 'map.smap']) fs.copyFileSync(path.join(run, name), path.join(damaged, name));
+const bytes = fs.readFileSync(path.join(damaged, 'map.smap'));
+bytes[bytes.length - 100] ^= 0xff;
+fs.writeFileSync(path.join(damaged, 'map.smap'), bytes);
+execFileSync(tool, ['report', damaged, '--quiet'], { stdio: ['ignore', 'ignore', 'pipe'] });
+
+// Pages whose embedded data is wrong: no known cell, and cut base64.
+const html = fs.readFileSync(goodPage, 'utf8');
+const dataStart = html.indexOf('<script type="application/json" id="stridemap-data">') + '<script type="application/json" id="stridemap-data">'.length;
+const dataEnd = html.indexOf('</script>', dataStart);
+const data = JSON.parse(html.slice(dataStart, dataEnd).replaceAll('<\\/', '</'));
+const withData = (d) => html.slice(0, dataStart) + JSON.stringify(d).replaceAll('</', '<\\/') + html.slice(dataEnd);
+const empty = structuredClone(data);
+const cells = empty.maps[0].rows * empty.maps[0].cols;
+Object.assign(empty.maps[0].layers.find((l) => l.name === 'elevation'),
+              { encoding: 'f32', data: Buffer.from(new Float32Array(cells).fill(NaN).buffer).toString('base64') });
+fs.writeFileSync(path.join(work, 'empty.html'), withData(empty));
+const cut = structuredClone(data);
+cut.maps[0].layers[0].data = cut.maps[0].layers[0].data.slice(0, 1000);
+fs.writeFileSync(path.join(work, 'cut.html'), withData(cut));
+
+const browser = await chromium.launch({
+  executablePath: chromiumPath,
+  // Root in a container has no user namespaces for the sandbox; WebGL runs
+  // on SwiftShader, the software GPU, as there is no display.
+  args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
+});
+
+async function open(file) {
+  const page = await browser.newPage({ viewport: { width: 1200, height: 900 } });
+  const errors = [];
+  page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
+  page.on('pageerror', (e) => errors.push(e.message));
+  const started = Date.now();
+  await page.goto('file://' + path.resolve(file));
+  await page.waitForSelector('body[data-view]', { timeout: 20000 });
+  return { page, errors, ms: Date.now() - started };
+}
+
+// Share of pixels unlike the background, and the mean colour, read back
+// from the WebGL canvas (preserveDrawingBuffer keeps the last frame).
+const pixelStats = (page) => page.evaluate(() => {
+  const source = document.getElementById('canvas3d');
+  const copy = document.createElement('canvas');
+  copy.width = source.width; copy.height = source.height;
+  const g = copy.getContext('2d');
+  g.drawImage(source, 0, 0);
+  const p = g.getImageData(0, 0, copy.width, copy.height).data;
+  let differ = 0; const sum = [0, 0, 0];
+  for (let k = 0; k < p.length; k += 4) {
+    if (Math.abs(p[k] - 244) + Math.abs(p[k + 1] - 244) + Math.abs(p[k + 2] - 244) > 24) differ += 1;
+    for (let c = 0; c < 3; ++c) sum[c] += p[k + c];
+  }
+  const n = p.length / 4;
+  return { differ: differ / n, mean: sum.map((s) => s / n), pixels: Array.from(p.filter((_, k) => k % 64 === 0)) };
+});
+
+try {
+  const good = await open(goodPage);
+  console.log(`report page ${(fs.statSync(goodPage).size / 1e6).toFixed(2)} MB, ready in ${good.ms} ms`);
+  check(await good.page.evaluate(() => document.body.dataset.view) === 'ready', 'the 3D view is ready');
+  check(good.errors.length === 0, `no console error${good.errors.length ? ': ' + good.errors.join(' | ') : ''}`);
+  const before = await pixelStats(good.page);
+  check(before.differ > 0.05, `the canvas is not blank: ${(100 * before.differ).toFixed(1)} % of its pixels differ from the background`);
+  const layers = await good.page.$$eval('#layer option', (o) => o.map((x) => x.value));
+  check(layers.includes('certainty') && layers.includes('error vs truth'), `layers offered: ${layers.join(', ')}`);
+  await good.page.selectOption('#layer', 'error vs truth');
+  const after = await pixelStats(good.page);
+  let changed = 0;
+  for (let k = 0; k < before.pixels.length; ++k) changed += Math.abs(before.pixels[k] - after.pixels[k]);
+  changed /= before.pixels.length;
+  check(changed > 5, `switching to 'error vs truth' changes the picture (mean channel change ${changed.toFixed(1)})`);
+  check(await good.page.$eval('#stage', (s) => s.dataset.split) === 'yes', 'the truth is shown side by side');
+  check(good.errors.length === 0, 'still no console error after switching');
+  for (const [file, expected] of [[path.join(damaged, 'report.html'), /checksum|damaged/i],
+                                  [path.join(work, 'empty.html'), /no known cell/],
+                                  [path.join(work, 'cut.html'), /bytes where|base64/]]) {
+    const bad = await open(file);
+    const text = await bad.page.$eval('#view-message', (e) => (e.hidden ? '' : e.textContent));
+    const notes = await bad.page.$$eval('.message', (all) => all.map((e) => e.textContent).join(' '));
+    check(await bad.page.evaluate(() => document.body.dataset.view) === 'error' && text.length > 20,
+          `${path.basename(path.dirname(file))}/${path.basename(file)} shows a message: "${text}"`);
+    check(expected.test(text + ' ' + notes), `  which says what is wrong (${expected})`);
+    check(bad.errors.length === 0, `  and logs no console error${bad.errors.length ? ': ' + bad.errors.join(' | ') : ''}`);
+  }
+} finally {
+  await browser.close();
+}
+if (failures > 0) {
+  console.error(`${failures} check(s) failed`);
+  process.exit(1);
+}
