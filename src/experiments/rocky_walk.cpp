@@ -17,6 +17,8 @@ void RockyWalkOptions::validate() const {
   }
   walk.pose_errors.validate();
   walk.gait.validate();
+  walk.height_fusion.validate();
+  if (calibrate_attitude) calibration.validate();
 }
 
 RockyWalkResult run_rocky_walk(const Scene& scene, const WalkPath& path, const WalkSensorFactory& make_sensor,
@@ -46,9 +48,22 @@ RockyWalkResult run_rocky_walk(const Scene& scene, const WalkPath& path, const W
   // replay the main walk's measurements instead of simulating them again
   // (the simulator is nearly all of the run's time).
   std::shared_ptr<const WalkRecording> recording;
+  // The calibration's own sensor sees a floor of the scene's reflectance.
+  const auto calibrated = [&](WalkOptions walk) {
+    if (!options.calibrate_attitude) return walk;
+    std::unique_ptr<WalkSensor> sensor =
+        make_sensor(flat_calibration_floor(scene.terrain.reflectance), walk.mapper.update);
+    const AttitudeCalibration c = calibrate_attitude_on_flat_floor(
+        *sensor, walk.pose_errors, walk.gait, walk.mapper, walk.seed ^ 0xCA11B4A7EULL, options.calibration);
+    walk.imu_pitch_correction_rad = c.pitch_bias_rad;
+    walk.imu_roll_correction_rad = c.roll_bias_rad;
+    if (!result.calibration) result.calibration = c;
+    return walk;
+  };
   const auto walk_with = [&](const PoseErrorOptions& errors) {
     WalkOptions walk = options.walk;
     walk.pose_errors = errors;
+    walk = calibrated(walk);
     std::unique_ptr<WalkSensor> sensor = make_sensor(scene, walk.mapper.update);
     if (recording) sensor->replay(recording);
     return walk_reporting(*sensor, walk);
@@ -60,7 +75,7 @@ RockyWalkResult run_rocky_walk(const Scene& scene, const WalkPath& path, const W
     result.sensor = sensor->name();
     const bool sweep_follows = walks > 1;
     if (sweep_follows) sensor->start_recording();
-    result.main = walk_reporting(*sensor, options.walk);
+    result.main = walk_reporting(*sensor, calibrated(options.walk));
     if (sweep_follows) recording = sensor->recording();
   }
   const auto row_of = [](std::string label, double scale, ReferenceElevationSource source, const WalkResult& w) {

@@ -2,6 +2,7 @@
 
 #include "stridemap/io/map_file.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -24,8 +25,15 @@ namespace {
 using nlohmann::json;
 constexpr double kDeg = 180.0 / std::numbers::pi;
 
+// The error with the map's mean height offset taken out: what a drifting
+// h_ref leaves of the shapes once the whole map is shifted back.
+double offset_free_rms_m(const MapScore& s) {
+  return std::sqrt(std::max(0.0, s.rms_error_m * s.rms_error_m - s.mean_error_m * s.mean_error_m));
+}
+
 json score_json(const MapScore& s, std::size_t unknown_swept) {
   return {{"rms_error_m", s.rms_error_m},
+          {"rms_error_offset_free_m", offset_free_rms_m(s)},
           {"max_error_m", s.max_error_m},
           {"mean_error_m", s.mean_error_m},
           {"artifact_cells", s.artifact_cells},
@@ -168,6 +176,21 @@ std::string rocky_walk_summary_json(const RockyWalkResult& r, const RockyWalkOpt
         {"invalid_range", w.mapper_totals.invalid_range}}},
       {"pose_error_sweep", sweep}};
   summary["local_map"].erase("unknown_swept_cells");
+  if (e.reference == ReferenceElevationSource::map_fused) {
+    const HeightFusionOptions& f = options.walk.height_fusion;
+    summary["height_fusion"] = {{"mahalanobis_gate", f.mahalanobis_gate},
+                                {"outlier_variance_m2", f.outlier_variance_m2},
+                                {"min_variance_m2", f.min_variance_m2},
+                                {"sigma_per_uncertainty", f.sigma_per_uncertainty}};
+  }
+  if (r.calibration) {
+    const AttitudeCalibration& c = *r.calibration;
+    summary["attitude_calibration"] = {{"pitch_bias_deg", c.pitch_bias_rad * kDeg},
+                                       {"roll_bias_deg", c.roll_bias_rad * kDeg},
+                                       {"height_offset_m", c.height_offset_m},
+                                       {"points", c.points},
+                                       {"residual_rms_m", c.residual_rms_m}};
+  }
   return summary.dump(2) + "\n";
 }
 
@@ -181,9 +204,9 @@ std::string rocky_walk_table(const RockyWalkResult& r) {
   out += line;
   const MapScore& s = w.mosaic_score;
   std::snprintf(line, sizeof line,
-                "whole walk: RMS error %.1f mm, max %.1f mm, artifact cells %zu (> %.0f mm), coverage %.1f %%, "
-                "unknown cells behind obstacles %zu (of %zu swept)\n",
-                s.rms_error_m * 1000, s.max_error_m * 1000, s.artifact_cells, s.artifact_threshold_m * 1000,
+                "whole walk: RMS error %.1f mm (%.1f mm without the mean offset of %+.1f mm), max %.1f mm, artifact "
+                "cells %zu (> %.0f mm), coverage %.1f %%, unknown cells behind obstacles %zu (of %zu swept)\n",
+                s.rms_error_m * 1000, offset_free_rms_m(s) * 1000, s.mean_error_m * 1000, s.max_error_m * 1000, s.artifact_cells, s.artifact_threshold_m * 1000,
                 s.coverage * 100, w.unknown_swept_cells, s.scored_area_cells);
   out += line;
   const MapScore& l = w.local_score;
@@ -197,12 +220,21 @@ std::string rocky_walk_table(const RockyWalkResult& r) {
                 p.x_m * 1000, p.y_m * 1000, p.yaw_rad * kDeg, p.pitch_rad * kDeg, p.roll_rad * kDeg,
                 p.sensor_height_m * 1000, p.mean_sensor_height_m * 1000);
   out += line;
-  out += "pose errors  h_ref     pitch RMS  height RMS  map RMS   max    artifacts  coverage  unknown behind\n";
-  out += "                         [deg]      [mm]        [mm]      [mm]              [%]       obstacles\n";
+  if (r.calibration) {
+    std::snprintf(line, sizeof line,
+                  "attitude calibration on a flat floor: pitch bias %+.3f deg, roll bias %+.3f deg (%zu points, "
+                  "residual %.1f mm)\n",
+                  r.calibration->pitch_bias_rad * kDeg, r.calibration->roll_bias_rad * kDeg, r.calibration->points,
+                  r.calibration->residual_rms_m * 1000);
+    out += line;
+  }
+  out += "pose errors  h_ref      pitch RMS  height RMS  map RMS  offset-free  max    artifacts  coverage  unknown behind\n";
+  out += "                          [deg]      [mm]        [mm]     RMS [mm]     [mm]              [%]       obstacles\n";
   for (const PoseSweepRow& row : r.sweep) {
-    std::snprintf(line, sizeof line, "%-12s %-8s %9.2f %11.1f %9.1f %7.1f %10zu %9.1f %10zu\n", row.label.c_str(),
+    std::snprintf(line, sizeof line, "%-12s %-9s %9.2f %11.1f %8.1f %12.1f %7.1f %10zu %9.1f %10zu\n", row.label.c_str(),
                   std::string(name(row.reference)).c_str(), row.pose.pitch_rad * kDeg, row.pose.sensor_height_m * 1000,
-                  row.score.rms_error_m * 1000, row.score.max_error_m * 1000, row.score.artifact_cells,
+                  row.score.rms_error_m * 1000, offset_free_rms_m(row.score) * 1000, row.score.max_error_m * 1000,
+                  row.score.artifact_cells,
                   row.score.coverage * 100, row.unknown_swept_cells);
     out += line;
   }

@@ -65,6 +65,9 @@ WalkRun::WalkRun(const Scene& scene, const WalkPath& path, WalkSensor& sensor, c
   if (!(std::isfinite(options_.swept_max_range_m) && options_.swept_max_range_m > 0.0)) {
     throw InputError("walk options: swept_max_range_m must be a positive number");
   }
+  if (!(std::isfinite(options_.imu_pitch_correction_rad) && std::isfinite(options_.imu_roll_correction_rad))) {
+    throw InputError("walk options: imu_pitch_correction_rad and imu_roll_correction_rad must be finite");
+  }
   check_mount_sees_ground(sensor_, options_.swept_max_range_m, sensor_.name());
   const double period = sensor_.frame_period_s();
   if (!(std::isfinite(period) && period > 0.0)) throw InputError("walk: the sensor's frame period must be positive");
@@ -82,6 +85,11 @@ WalkRun::WalkRun(const Scene& scene, const WalkPath& path, WalkSensor& sensor, c
     mapper_ = TerrainMapper(fixed, sensor_.mount());
     mapper_.map().move_corner_to(whole.min_cell());
   }
+  if (options_.pose_errors.reference == ReferenceElevationSource::map_fused) {
+    fusion_.emplace(mapper_.map(), options_.height_fusion);
+    sensor_.set_collect_points(true);
+  }
+  estimator_.set_attitude_correction(options_.imu_pitch_correction_rad, options_.imu_roll_correction_rad);
   if (options_.build_mosaic) {
     mosaic_ = mosaic_for(terrain, options_.mapper.grid.cell_size_m);
     swept_ = CellMask::Zero(mosaic_->cells_per_side(), mosaic_->cells_per_side());
@@ -141,6 +149,11 @@ void WalkRun::step() {
   estimate_ = estimator_.estimate(truth_, mapper_.map());
   if (std::abs(mapper_.motion_to(estimate_).yaw_change_rad) > kYawChangeCounted_rad) ++yaw_change_scans_;
   last_stats_ = sensor_.measure(truth_.pose, estimate_, time_s, mapper_);
+  if (fusion_) {
+    for (const ObservedPoint& p : sensor_.last_points()) {
+      fusion_->add(mapper_.map(), p.map_m.x(), p.map_m.y(), p.map_m.z(), p.height_uncertainty_m);
+    }
+  }
 
   const TrunkPose& t = truth_.pose;
   const TrunkPose& e = estimate_;

@@ -146,7 +146,7 @@ StripeConversionStats stripe_to_map_points(const StructuredLightModel& model, st
     return stats;
   }
   const double gamma = sheet_inclination_rad(model.parameters().sheet_angle_rad, pose.pitch_rad, pose.roll_rad, mount);
-  const MaxElevationChange bound(motion, gamma, mount, options);
+  const MaxElevationChange bound(motion, gamma, mount, options, pose.yaw_rad);
   const Eigen::Vector3d origin = sensor_origin_in_map(pose, mount);
   return for_each_stripe_point(model, pixels, pose, mount, options, [&](const SensorPoint& p) {
     double dz_max = bound.at(p.height_error_m, p.offset_m);

@@ -52,7 +52,8 @@ PoseEstimator::PoseEstimator(const PoseErrorOptions& options, const GaitOptions&
   gait_.validate();
 }
 
-double PoseEstimator::foot_elevation(const ElevationMap& map, double x_m, double y_m, double fallback) const {
+double PoseEstimator::foot_elevation(const ElevationMap& map, double x_m, double y_m, double fallback,
+                                     const float* fused) const {
   // A foot covers a few centimetres; the median of the known cells under it
   // keeps one stray cell of the max-height rule (eq. 10) from lifting the
   // whole robot.
@@ -64,7 +65,15 @@ double PoseEstimator::foot_elevation(const ElevationMap& map, double x_m, double
     for (int dy = -reach; dy <= reach; ++dy) {
       if (dx * dx + dy * dy > reach * reach) continue;
       const CellIndex c{centre.x + dx, centre.y + dy};
-      if (!map.contains(c) || map.state(c) == CellState::unknown) continue;
+      if (!map.contains(c)) continue;
+      if (fused) {
+        // The fused layer knows a cell from its first reading, whatever
+        // eq. (9) made of it.
+        const float h = fused[map.slot(c)];
+        if (h == h) known[static_cast<std::size_t>(count++)] = h;
+        continue;
+      }
+      if (map.state(c) == CellState::unknown) continue;
       // A filled cell has no readings of its own, only its estimate.
       const bool mean = options_.reference == ReferenceElevationSource::map_mean &&
                         map.state(c) == CellState::measured;
@@ -84,8 +93,10 @@ TrunkPose PoseEstimator::estimate(const TrunkState& truth, const ElevationMap& m
   }
   TrunkPose e = t;
   const auto noise = [&](double sigma) { return sigma > 0.0 ? sigma * gaussian_(rng_) : 0.0; };
-  e.pitch_rad = t.pitch_rad + options_.imu_pitch_bias_rad + noise(options_.imu_pitch_noise_sigma_rad);
-  e.roll_rad = t.roll_rad + options_.imu_roll_bias_rad + noise(options_.imu_roll_noise_sigma_rad);
+  e.pitch_rad = t.pitch_rad + options_.imu_pitch_bias_rad + noise(options_.imu_pitch_noise_sigma_rad) -
+                pitch_correction_rad_;
+  e.roll_rad = t.roll_rad + options_.imu_roll_bias_rad + noise(options_.imu_roll_noise_sigma_rad) -
+               roll_correction_rad_;
   e.x_m = t.x_m + noise(options_.camera_position_noise_sigma_m);
   e.y_m = t.y_m + noise(options_.camera_position_noise_sigma_m);
   e.yaw_rad = t.yaw_rad + noise(options_.camera_yaw_noise_sigma_rad);
@@ -98,10 +109,19 @@ TrunkPose PoseEstimator::estimate(const TrunkState& truth, const ElevationMap& m
     // With fewer than three known feet the ground is not determined and the
     // last h_ref stays (at the first scan: the true ground the robot starts
     // on, which defines the map's zero).
+    const float* fused = nullptr;
+    if (options_.reference == ReferenceElevationSource::map_fused) {
+      const std::optional<std::size_t> layer = map.find_layer("fused_elevation");
+      if (!layer || map.layer_spec(*layer).type != LayerType::f32) {
+        throw InputError("pose estimate: h_ref from map-fused needs the map's fused_elevation layer (f32); the map has " +
+                         map.layer_names());
+      }
+      fused = map.data(LayerId<float>{*layer});
+    }
     const auto feet = foot_positions(gait_, e.x_m, e.y_m, e.yaw_rad);
     double sum = 0.0;
     for (const Eigen::Vector2d& foot : feet) {
-      const double h = foot_elevation(map, foot.x(), foot.y(), std::numeric_limits<double>::quiet_NaN());
+      const double h = foot_elevation(map, foot.x(), foot.y(), std::numeric_limits<double>::quiet_NaN(), fused);
       if (!std::isfinite(h)) continue;
       sum += h;
       ++feet_from_map_;

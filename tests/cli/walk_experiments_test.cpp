@@ -86,7 +86,7 @@ TEST(RockyWalkCommand, BadInputIsAClearErrorBeforeAnyWork) {
   r = run_cli("experiment rocky-walk --reference feet" + out);
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--reference: 'feet' is not a reference elevation source; expected one of: map, map-mean, "
-                          "truth"),
+                          "truth, map-fused"),
             std::string::npos)
       << r.output;
 

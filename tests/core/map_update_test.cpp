@@ -1,4 +1,5 @@
 #include "stridemap/core/map_update.hpp"
+#include "stridemap/core/max_elevation_change.hpp"
 
 #include <cmath>
 #include <numbers>
@@ -172,6 +173,45 @@ TEST(MaxElevationChange, TurningTravelFollowsFigureTen) {
   EXPECT_NEAR(turning_travel_m(0.4, 0.1, -theta), turning_travel_m(0.4, 0.1, theta), 1e-15);
   EXPECT_EQ(turning_travel_m(0.4, 0.1, 0.0), 0.0);
   EXPECT_TRUE(std::isinf(turning_travel_m(0.4, 0.1, 2.0)));
+}
+
+TEST(MaxElevationChange, ATurnMovesAPointBesideTheRobotAlongTheHeading) {
+  // Fig. 10 bounds the travel of a point straight ahead; a point 0.3 m to
+  // the side moves 0.3 sin(theta) along the heading, and the inclined scan
+  // plane meets the ground that much further on.
+  UpdateOptions options;
+  SensorMount mount;
+  mount.forward_offset_m = 0.0;
+  mount.lateral_offset_m = 0.0;
+  const double theta = 5.0 * kDegToRad, gamma = 0.7;
+  const ScanMotion turn{0.0, theta};
+  const double radial_per_m = std::tan(gamma) * turning_travel_m(1.0, 0.0, theta);
+  const double lateral = 0.3 * std::sin(theta) * std::tan(gamma);
+  for (const double heading : {0.0, 1.2, -2.5}) {
+    const MaxElevationChange bound(turn, gamma, mount, options, heading);
+    const Eigen::Vector2d ahead(std::cos(heading), std::sin(heading)), left(-std::sin(heading), std::cos(heading));
+    const Eigen::Vector3d beside(0.3 * left.x(), 0.3 * left.y(), -0.2);
+    const Eigen::Vector3d right(-0.3 * left.x(), -0.3 * left.y(), -0.2);
+    const Eigen::Vector3d front(0.4 * ahead.x(), 0.4 * ahead.y(), -0.2);
+    EXPECT_NEAR(bound.at(0.001, beside), 0.001 + radial_per_m * 0.3 + lateral, 1e-12) << heading;
+    EXPECT_NEAR(bound.at(0.001, right), bound.at(0.001, beside), 1e-12) << heading;
+    EXPECT_NEAR(bound.at(0.001, front), 0.001 + radial_per_m * 0.4, 1e-12) << heading;
+  }
+  // 26 mm along the heading in a 5 deg turn: the bound now covers most of
+  // it (times tan gamma), where Fig. 10's term alone gave about 1 mm.
+  EXPECT_GT(lateral, 0.018);
+  EXPECT_LT(radial_per_m * 0.3, 0.0015);
+  // Without the turning term, and on a straight walk, nothing is added.
+  options.use_turning_term = false;
+  EXPECT_NEAR(MaxElevationChange(turn, gamma, mount, options, 0.0).at(0.001, Eigen::Vector3d(0, 0.3, 0)), 0.001, 1e-15);
+  options.use_turning_term = true;
+  EXPECT_NEAR(MaxElevationChange({0.0, 0.0}, gamma, mount, options, 0.0).at(0.001, Eigen::Vector3d(0, 0.3, 0)), 0.001,
+              1e-15);
+  // The sensor's own lateral offset counts: the turning centre is the trunk.
+  mount.lateral_offset_m = 0.1;
+  const MaxElevationChange offset_bound(turn, gamma, mount, options, 0.0);
+  EXPECT_NEAR(offset_bound.at(0.0, Eigen::Vector3d(0.0, 0.3, 0.0)) - offset_bound.at(0.0, Eigen::Vector3d(0.0, 0.0, 0.0)),
+              radial_per_m * 0.3 + 0.3 * std::sin(theta) * std::tan(gamma), 1e-12);
 }
 
 }  // namespace

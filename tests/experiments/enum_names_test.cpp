@@ -43,6 +43,7 @@ TEST(EnumNames, TheWordsAreTheOnesOutputsAlwaysUsed) {
   EXPECT_EQ(name(ReferenceElevationSource::map), "map");
   EXPECT_EQ(name(ReferenceElevationSource::map_mean), "map-mean");
   EXPECT_EQ(name(ReferenceElevationSource::truth), "truth");
+  EXPECT_EQ(name(ReferenceElevationSource::map_fused), "map-fused");
 }
 
 TEST(EnumNames, EveryWordReadsBackToItsValue) {
@@ -57,7 +58,7 @@ TEST(EnumNames, AnUnknownWordIsRefusedWithTheValidOnes) {
   EXPECT_EQ(error_of<SimulatedSensor>("lidar"), "'lidar' is not a sensor; expected one of: urg, structured-light");
   EXPECT_EQ(error_of<StripePipeline>("Image"), "'Image' is not a pipeline; expected one of: image, geometric");
   EXPECT_EQ(error_of<ReferenceElevationSource>(""),
-            "'' is not a reference elevation source; expected one of: map, map-mean, truth");
+            "'' is not a reference elevation source; expected one of: map, map-mean, truth, map-fused");
 }
 
 TEST(EnumNames, AValueOutsideTheTableIsNamedUnknown) {

@@ -103,6 +103,23 @@ TEST(Walk, PoseErrorsReachTheMapAndItsScore) {
   EXPECT_EQ(count_invalid_cells(*std::make_unique<ElevationMap>(), 100.0), 0u);
 }
 
+// Eq. (10)'s highest reading lies above the floor by the range noise; a
+// robot reading its h_ref from it climbs by that at every look-ahead it
+// walks, even with a perfect pose. The fused layer has no such bias.
+TEST(Walk, HrefFromTheFusedLayerDoesNotClimbWithTheRangeNoise) {
+  const Scene scene = rail_scene();
+  WalkOptions options;
+  options.pose_errors = PoseErrorOptions{}.scaled(0.0);
+  options.build_mosaic = false;
+  options.pose_errors.reference = ReferenceElevationSource::map;
+  const WalkResult highest = walk(scene, along_the_rail(), options);
+  options.pose_errors.reference = ReferenceElevationSource::map_fused;
+  const WalkResult fused = walk(scene, along_the_rail(), options);
+  EXPECT_GT(highest.pose_errors.mean_sensor_height_m, 0.003);
+  EXPECT_LT(std::abs(fused.pose_errors.mean_sensor_height_m), 0.5 * highest.pose_errors.mean_sensor_height_m);
+  EXPECT_LT(fused.pose_errors.sensor_height_m, highest.pose_errors.sensor_height_m);
+}
+
 TEST(Walk, BadInputIsRejectedBeforeTheFirstScan) {
   const Scene scene = rail_scene();
   const auto error_of = [&](const WalkPath& path, const WalkOptions& options, const UrgWalkSensorOptions& urg) {

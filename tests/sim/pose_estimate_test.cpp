@@ -1,12 +1,14 @@
 #include "stridemap/sim/pose_estimate.hpp"
 
 #include <cmath>
+#include <string>
 #include <numbers>
 #include <vector>
 
 #include <gtest/gtest.h>
 
 #include "stridemap/core/error.hpp"
+#include "stridemap/core/height_fusion.hpp"
 
 namespace stridemap {
 namespace {
@@ -159,6 +161,43 @@ TEST(PoseEstimate, BadOptionsNameTheField) {
   EXPECT_DOUBLE_EQ(doubled.leg_height_noise_sigma_m, 2 * PoseErrorOptions{}.leg_height_noise_sigma_m);
   EXPECT_DOUBLE_EQ(doubled.imu_pitch_bias_rad, 2 * PoseErrorOptions{}.imu_pitch_bias_rad);
   EXPECT_EQ(doubled.reference, ReferenceElevationSource::map);
+}
+
+TEST(PoseEstimate, MapFusedReadsTheFusedLayerAndTakesOffACalibratedBias) {
+  PoseErrorOptions o = PoseErrorOptions{}.scaled(0.0);
+  o.imu_pitch_bias_rad = 0.01;
+  o.reference = ReferenceElevationSource::map_fused;
+  const GaitOptions gait;
+  PoseEstimator estimator(o, gait, 1);
+  ElevationMap map(GridOptions{100, 0.01});
+  map.move_to(0.0, 0.0);
+  TrunkState t = truth_at(0.0, 0.0);
+  t.pose.yaw_rad = 0.0;
+  t.pose.y_m = 0.0;
+  // Without the layer the source cannot work: said so, naming the layers there are.
+  try {
+    estimator.estimate(t, map);
+    FAIL() << "map-fused read a map without its layer";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("fused_elevation"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("mean_elevation"), std::string::npos) << e.what();
+  }
+  const HeightFusion fusion(map);
+  // Eq. (10)'s layer says 0.05 under every foot, the fused layer 0.01: the
+  // fused one is read, whatever eq. (9) made of the cells.
+  for (const Eigen::Vector2d& f : foot_positions(gait, 0.0, 0.0, 0.0)) {
+    const std::size_t s = map.slot(map.cell_of(f.x(), f.y()));
+    map.elevation_data()[s] = 0.05f;
+    map.state_data()[s] = static_cast<std::uint8_t>(CellState::measured);
+    map.data(fusion.elevation_layer())[s] = 0.01f;
+  }
+  EXPECT_NEAR(estimator.estimate(t, map).pitch_rad, t.pose.pitch_rad + 0.01, 1e-12);
+  estimator.set_attitude_correction(0.008, -0.002);
+  const TrunkPose e = estimator.estimate(t, map);
+  EXPECT_NEAR(e.reference_elevation_m, 0.01, 1e-6);
+  EXPECT_EQ(estimator.feet_read_from_map(), 6);
+  EXPECT_NEAR(e.pitch_rad, t.pose.pitch_rad + 0.002, 1e-12);
+  EXPECT_NEAR(e.roll_rad, t.pose.roll_rad + 0.002, 1e-12);
 }
 
 }  // namespace

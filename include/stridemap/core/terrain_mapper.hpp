@@ -149,7 +149,7 @@ ScanStats TerrainMapper::integrate_scan(const Source& source, const TrunkPose& p
   stats.beams = source.size();
   if (!accept(pose, time_s, stats)) return stats;
   follow(pose, stats);
-  const MaxElevationChange bound(motion_to(pose), source.inclination_rad(), mount_, options_.update);
+  const MaxElevationChange bound(motion_to(pose), source.inclination_rad(), mount_, options_.update, pose.yaw_rad);
   const Eigen::Vector3d origin = sensor_origin_in_map(pose, mount_);
   SensorPoint p;
   for (std::size_t i = 0; i < stats.beams; ++i) {

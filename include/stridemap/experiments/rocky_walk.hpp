@@ -9,10 +9,12 @@
 #include <cstdint>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "stridemap/core/progress.hpp"
+#include "stridemap/experiments/attitude_calibration.hpp"
 #include "stridemap/experiments/walk.hpp"
 #include "stridemap/experiments/walk_sensor.hpp"
 
@@ -38,6 +40,12 @@ struct RockyWalkOptions {
   std::vector<ReferenceElevationSource> sweep_references{
       ReferenceElevationSource::truth, ReferenceElevationSource::map, ReferenceElevationSource::map_mean};
 
+  /// Before each walk, measure the IMU's pitch and roll biases on a flat
+  /// floor (attitude_calibration.hpp) and take them off its readings. Off
+  /// by default (the paper's robot had no such step).
+  bool calibrate_attitude = false;
+  AttitudeCalibrationOptions calibration{};
+
   /// Told the scans walked so far of all the walks (main and sweep).
   ProgressCallback progress{};
 
@@ -58,6 +66,8 @@ struct RockyWalkResult {
   std::string sensor;
   WalkResult main;
   std::vector<PoseSweepRow> sweep;
+  /// The main walk's calibration, with calibrate_attitude.
+  std::optional<AttitudeCalibration> calibration;
 };
 
 /// Runs the main walk and the sweep; deterministic for options.walk.seed.

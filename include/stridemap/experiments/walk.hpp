@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "stridemap/core/cas_filter.hpp"
+#include "stridemap/core/height_fusion.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/core/weighted_median_fill.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
@@ -31,6 +32,14 @@ struct WalkOptions {
   std::uint64_t seed = 1;
   GaitOptions gait{};
   PoseErrorOptions pose_errors{};
+  /// The fused layer the estimator reads h_ref from when
+  /// pose_errors.reference is map_fused (declared in the local map and fed
+  /// every scan's points; unused otherwise).
+  HeightFusionOptions height_fusion{};
+  /// IMU biases known from a calibration before the walk
+  /// (experiments/attitude_calibration.hpp), taken off every reading [rad].
+  double imu_pitch_correction_rad = 0.0;
+  double imu_roll_correction_rad = 0.0;
   /// Default: the paper's local map, 100 x 100 cells of 10 mm, following
   /// the robot. With follow_robot off the map instead covers the whole
   /// scene (a test bed view, as in the mount analysis) and is its own mosaic.
@@ -139,6 +148,7 @@ class WalkRun {
   TrunkMotion motion_;
   PoseEstimator estimator_;
   TerrainMapper mapper_;
+  std::optional<HeightFusion> fusion_;
   std::optional<ElevationMap> mosaic_;
   CellMask swept_;  ///< over the mosaic's window
   std::size_t total_scans_ = 0, next_scan_ = 0;

@@ -38,14 +38,19 @@ enum class ReferenceElevationSource : std::uint8_t {
   /// the pose errors feed back. Ours, measured against `map`.
   map_mean,
   truth,  ///< the true ground under the feet: a walk with a perfect h_ref
+  /// The map at the estimated feet, its fused layer (core/height_fusion.hpp:
+  /// variance-weighted readings behind a Mahalanobis gate). The map must
+  /// have the layer (the walk declares it and feeds it). Ours.
+  map_fused,
 };
 
-inline constexpr EnumNameTable<ReferenceElevationSource, 3> kReferenceElevationSourceNames{{
+inline constexpr EnumNameTable<ReferenceElevationSource, 4> kReferenceElevationSourceNames{{
     {ReferenceElevationSource::map, "map"},
     {ReferenceElevationSource::map_mean, "map-mean"},
     {ReferenceElevationSource::truth, "truth"},
+    {ReferenceElevationSource::map_fused, "map-fused"},
 }};
-/// "map", "map-mean" or "truth": the --reference word and summary.json's.
+/// "map", "map-mean", "truth" or "map-fused": the --reference word and summary.json's.
 constexpr std::string_view name(ReferenceElevationSource source) {
   return enum_name_in(kReferenceElevationSourceNames, source);
 }
@@ -95,7 +100,8 @@ class PoseEstimator {
   PoseEstimator(const PoseErrorOptions& options, const GaitOptions& gait, std::uint64_t seed);
 
   /// The estimate for a scan taken in `truth`. `map` is the map built so
-  /// far (read for h_ref when the source is `map`). The noise comes from
+  /// far (read for h_ref when the source is one of the map's; for
+  /// `map_fused` it must hold the fused_elevation layer, else InputError). The noise comes from
   /// one generator seeded at construction, so the same seed and the same
   /// sequence of calls give the same estimates. Allocates nothing.
   TrunkPose estimate(const TrunkState& truth, const ElevationMap& map);
@@ -105,8 +111,16 @@ class PoseEstimator {
   int feet_read_from_map() const { return feet_from_map_; }
   const PoseErrorOptions& options() const { return options_; }
 
+  /// Attitude biases known from a calibration (experiments/
+  /// attitude_calibration.hpp), taken off every IMU reading [rad].
+  void set_attitude_correction(double pitch_bias_rad, double roll_bias_rad) {
+    pitch_correction_rad_ = pitch_bias_rad;
+    roll_correction_rad_ = roll_bias_rad;
+  }
+
  private:
-  double foot_elevation(const ElevationMap& map, double x_m, double y_m, double fallback) const;
+  double foot_elevation(const ElevationMap& map, double x_m, double y_m, double fallback,
+                        const float* fused) const;
 
   PoseErrorOptions options_;
   GaitOptions gait_;
@@ -120,6 +134,7 @@ class PoseEstimator {
   double reference_m_ = 0.0;
   bool started_ = false;
   int feet_from_map_ = 0;
+  double pitch_correction_rad_ = 0.0, roll_correction_rad_ = 0.0;
 };
 
 }  // namespace stridemap
