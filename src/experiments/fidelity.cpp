@@ -22,12 +22,13 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The largest |relative error| over the box extents long enough to score,
 // and every such error into `all`.
 double worst_extent_error(const std::vector<ObjectMeasurement>& objects, double min_extent_m,
-                          std::vector<double>& all) {
+                          std::vector<double>& all, ObjectDimensions ObjectMeasurement::* estimate) {
   double worst = kNaN;
   for (const ObjectMeasurement& m : objects) {
     if (m.kind != "box" || !m.found) continue;
-    for (const auto& [truth, measured] : {std::pair{m.truth.length_m, m.measured.length_m},
-                                          std::pair{m.truth.width_m, m.measured.width_m}}) {
+    const ObjectDimensions& d = m.*estimate;
+    for (const auto& [truth, measured] : {std::pair{m.truth.length_m, d.length_m},
+                                          std::pair{m.truth.width_m, d.width_m}}) {
       if (truth < min_extent_m) continue;
       const double error = std::abs(relative_error_pct(measured, truth));
       all.push_back(error);
@@ -82,7 +83,7 @@ FigureDistribution distribution_of(const std::string& figure, std::vector<double
 FidelityResult run_fidelity(const FidelityOptions& options) {
   if (options.scenes == 0) throw InputError("fidelity: the number of scenes must be at least 1");
   FidelityResult result;
-  std::vector<double> urg_all, sl_all;
+  std::vector<double> urg_all, sl_all, unused;
   const std::size_t runs_per_scene = options.structured_light ? 4 : 3;
   for (std::size_t k = 0; k < options.scenes; ++k) {
     FidelitySceneResult row;
@@ -105,7 +106,12 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
     urg.filters = {ScanFilterKind::range_clustering, ScanFilterKind::scan_sequence};
     const CartRailResult filtered = run(urg);
     row.urg_objects = filtered.objects;
-    row.urg_extent_error_pct = worst_extent_error(filtered.objects, options.min_scored_extent_m, urg_all);
+    row.urg_extent_error_pct =
+        worst_extent_error(filtered.objects, options.min_scored_extent_m, urg_all, &ObjectMeasurement::measured);
+    row.urg_extent_error_trimmed_pct = worst_extent_error(filtered.objects, options.min_scored_extent_m, unused,
+                                                          &ObjectMeasurement::measured_trimmed);
+    row.urg_extent_error_untrimmed_pct = worst_extent_error(filtered.objects, options.min_scored_extent_m, unused,
+                                                            &ObjectMeasurement::measured_untrimmed);
     row.urg_objects_missed = missed(filtered.objects);
     row.urg_rms_error_mm = filtered.score.rms_error_m * 1000.0;
     row.artifact_cells_reference = reference.score.artifact_cells;
@@ -121,10 +127,16 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
     if (options.structured_light) {
       const CartRailResult sl = run(options.structured_light_rail);
       row.structured_light_objects = sl.objects;
-      row.structured_light_extent_error_pct = worst_extent_error(sl.objects, options.min_scored_extent_m, sl_all);
+      row.structured_light_extent_error_pct =
+          worst_extent_error(sl.objects, options.min_scored_extent_m, sl_all, &ObjectMeasurement::measured);
+      row.structured_light_extent_error_trimmed_pct =
+          worst_extent_error(sl.objects, options.min_scored_extent_m, unused, &ObjectMeasurement::measured_trimmed);
+      row.structured_light_extent_error_untrimmed_pct =
+          worst_extent_error(sl.objects, options.min_scored_extent_m, unused, &ObjectMeasurement::measured_untrimmed);
       row.structured_light_objects_missed = missed(sl.objects);
     } else {
-      row.structured_light_extent_error_pct = kNaN;
+      row.structured_light_extent_error_pct = row.structured_light_extent_error_trimmed_pct =
+          row.structured_light_extent_error_untrimmed_pct = kNaN;
     }
     result.scenes.push_back(std::move(row));
   }
@@ -136,10 +148,16 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
   using R = FidelitySceneResult;
   figure("urg_box_extent_error_pct (worst per scene)", &R::urg_extent_error_pct, false);
   result.figures.push_back(distribution_of("urg_box_extent_error_pct (every extent)", urg_all, false));
+  figure("urg_box_extent_error_pct, trimmed cells", &R::urg_extent_error_trimmed_pct, false);
+  figure("urg_box_extent_error_pct, untrimmed cells", &R::urg_extent_error_untrimmed_pct, false);
   figure("urg_objects_missed", &R::urg_objects_missed, false);
   if (options.structured_light) {
     figure("structured_light_box_extent_error_pct (worst per scene)", &R::structured_light_extent_error_pct, false);
     result.figures.push_back(distribution_of("structured_light_box_extent_error_pct (every extent)", sl_all, false));
+    figure("structured_light_box_extent_error_pct, trimmed cells", &R::structured_light_extent_error_trimmed_pct,
+           false);
+    figure("structured_light_box_extent_error_pct, untrimmed cells", &R::structured_light_extent_error_untrimmed_pct,
+           false);
     figure("structured_light_objects_missed", &R::structured_light_objects_missed, false);
   }
   figure("mixed_artifacts_removed_pct", &R::mixed_artifacts_removed_pct, true);
@@ -173,7 +191,11 @@ nlohmann::json objects_json(const std::vector<ObjectMeasurement>& objects) {
                     {"found", m.found},
                     {"truth_m", {{"length", m.truth.length_m}, {"width", m.truth.width_m}, {"height", m.truth.height_m}}},
                     {"measured_m",
-                     {{"length", m.measured.length_m}, {"width", m.measured.width_m}, {"height", m.measured.height_m}}}});
+                     {{"length", m.measured.length_m}, {"width", m.measured.width_m}, {"height", m.measured.height_m}}},
+                    {"trimmed_m", {{"length", m.measured_trimmed.length_m}, {"width", m.measured_trimmed.width_m}}},
+                    {"untrimmed_m",
+                     {{"length", m.measured_untrimmed.length_m}, {"width", m.measured_untrimmed.width_m}}},
+                    {"measured_yaw_rad", m.measured_yaw_rad}});
   }
   return list;
 }
