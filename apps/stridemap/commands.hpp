@@ -28,5 +28,6 @@ void register_soak(CLI::App& app);
 void register_import(CLI::App& app);              // import.cpp
 void register_map_file_commands(CLI::App& app);  // map_file_commands.cpp: export, map-info
 void register_report(CLI::App& app);              // report_command.cpp
+void register_random_scenes(CLI::App& app);       // random_scenes.cpp: scene random, experiment fidelity
 
 }  // namespace stridemap::cli

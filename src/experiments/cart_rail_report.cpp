@@ -74,6 +74,8 @@ std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOption
                        {"cells", m.cells},
                        {"truth_m", dimensions_json(m.truth)},
                        {"measured_m", m.found ? dimensions_json(m.measured) : json(nullptr)},
+                       {"trimmed_m", m.found ? dimensions_json(m.measured_trimmed) : json(nullptr)},
+                       {"untrimmed_m", m.found ? dimensions_json(m.measured_untrimmed) : json(nullptr)},
                        {"error_pct", error_pct_json(m)}});
   }
   const MapScore& s = r.score;

@@ -4,14 +4,16 @@
 #include <cmath>
 #include <deque>
 #include <limits>
+#include <numbers>
 
 namespace stridemap {
 namespace {
 
-struct Footprint {
-  double cx, cy;           // centre [m]
-  double half_x, half_y;   // half extents along the object's axes [m]
-  double yaw;              // axes of the object
+// What the truth may say: where the object is (its region's seed) and, for
+// a box, which of its axes is the length.
+struct Identity {
+  double cx, cy;
+  double yaw;
   bool round;
 };
 
@@ -22,25 +24,41 @@ double median(std::vector<double>& values) {
   return *mid;
 }
 
-// Offsets of a point in the object's axes.
-Eigen::Vector2d in_object_axes(const Footprint& f, double x, double y) {
-  const double c = std::cos(f.yaw), s = std::sin(f.yaw);
-  const double dx = x - f.cx, dy = y - f.cy;
-  return {c * dx + s * dy, -s * dx + c * dy};
+std::vector<Eigen::Vector2d> turned(const std::vector<Eigen::Vector2d>& points, double yaw) {
+  const double c = std::cos(yaw), s = std::sin(yaw);
+  std::vector<Eigen::Vector2d> out;
+  out.reserve(points.size());
+  for (const Eigen::Vector2d& p : points) out.emplace_back(c * p.x() + s * p.y(), -s * p.x() + c * p.y());
+  return out;
 }
 
-bool inside(const Footprint& f, double x, double y, double margin) {
-  const Eigen::Vector2d p = in_object_axes(f, x, y);
-  if (f.round) return p.norm() <= f.half_x + margin;
-  return std::abs(p.x()) <= f.half_x + margin && std::abs(p.y()) <= f.half_y + margin;
+// The yaw of the smallest rectangle around the cell centres, in [0, 90)
+// deg; a box's cells fill its own rectangle best, at any size ratio (a
+// square's principal axes, by contrast, are undefined).
+double min_area_yaw(const std::vector<Eigen::Vector2d>& points) {
+  double best_yaw = 0.0, best_area = std::numeric_limits<double>::infinity();
+  for (int k = 0; k < 180; ++k) {
+    const double yaw = k * 0.5 * std::numbers::pi / 180.0;
+    const double c = std::cos(yaw), s = std::sin(yaw);
+    Eigen::Vector2d lo = Eigen::Vector2d::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (const Eigen::Vector2d& p : points) {
+      const Eigen::Vector2d q(c * p.x() + s * p.y(), -s * p.x() + c * p.y());
+      lo = lo.cwiseMin(q);
+      hi = hi.cwiseMax(q);
+    }
+    const double area = (hi - lo).prod();
+    if (area < best_area - 1e-12) {
+      best_area = area;
+      best_yaw = yaw;
+    }
+  }
+  return best_yaw;
 }
 
-// Extent of a box along one of its axes from the region's profile: the
-// rows (bins one cell wide) holding at least half as many cells as the
-// fullest row are the object; a row of a few stray cells along an edge is
-// not. For a max-height map the spread of the kept bins' centres is an
-// unbiased estimate of the true extent.
-double profile_extent(const std::vector<Eigen::Vector2d>& cells, int axis, double s) {
+// Extent along one axis from the rows (bins one cell wide) holding at
+// least half as many cells as the fullest: a row of a few stray cells along
+// an edge is not the object.
+double trimmed_extent(const std::vector<Eigen::Vector2d>& cells, int axis, double s) {
   double lo = std::numeric_limits<double>::infinity();
   for (const Eigen::Vector2d& c : cells) lo = std::min(lo, c[axis]);
   std::vector<int> counts;
@@ -59,8 +77,29 @@ double profile_extent(const std::vector<Eigen::Vector2d>& cells, int axis, doubl
   return static_cast<double>(last - first) * s;
 }
 
-ObjectMeasurement measure_one(const MapSnapshot& m, const Footprint& f,
-                              const ObjectMeasureOptions& options) {
+double untrimmed_extent(const std::vector<Eigen::Vector2d>& cells, int axis) {
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (const Eigen::Vector2d& c : cells) {
+    lo = std::min(lo, c[axis]);
+    hi = std::max(hi, c[axis]);
+  }
+  return hi - lo;
+}
+
+// A rectangle of length L covered by cells of side s: the covering cells'
+// centres span L + s on average, and a uniform spread over a span of n
+// cells has variance ((n s)^2 - s^2) / 12, hence L = sqrt(12 var + s^2) - s.
+double moment_extent(const std::vector<Eigen::Vector2d>& cells, int axis, double s) {
+  double mean = 0.0;
+  for (const Eigen::Vector2d& c : cells) mean += c[axis];
+  mean /= static_cast<double>(cells.size());
+  double var = 0.0;
+  for (const Eigen::Vector2d& c : cells) var += (c[axis] - mean) * (c[axis] - mean);
+  var /= static_cast<double>(cells.size());
+  return std::max(0.0, std::sqrt(12.0 * var + s * s) - s);
+}
+
+ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const ObjectMeasureOptions& options) {
   ObjectMeasurement out;
   const Eigen::MatrixXf& heights = m.elevation_m();
   const CellMask& states = m.state();
@@ -73,81 +112,106 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Footprint& f,
   const auto known = [&](Eigen::Index i, Eigen::Index j) {
     return static_cast<CellState>(states(i, j)) != CellState::unknown;
   };
+  const Eigen::Vector2d centre(id.cx, id.cy);
+  const auto distance = [&](Eigen::Index i, Eigen::Index j) { return (centre_of(i, j) - centre).norm(); };
 
-  std::vector<double> ground, search_heights;
+  // First guesses from the neighbourhood: the ground is most of it, the top
+  // is what stands at the centre.
+  std::vector<double> around, at_centre;
   for (Eigen::Index i = 0; i < n; ++i) {
     for (Eigen::Index j = 0; j < n; ++j) {
       if (!known(i, j)) continue;
-      const Eigen::Vector2d c = centre_of(i, j);
-      if (inside(f, c.x(), c.y(), options.search_margin_m)) {
-        search_heights.push_back(heights(i, j));
-      } else if (inside(f, c.x(), c.y(), options.search_margin_m + options.ground_ring_m)) {
-        ground.push_back(heights(i, j));
-      }
+      const double d = distance(i, j);
+      if (d <= options.neighbourhood_m) around.push_back(heights(i, j));
+      if (d <= 1.5 * s) at_centre.push_back(heights(i, j));
     }
   }
-  if (search_heights.empty() || ground.empty()) return out;
-  const double ground_m = median(ground);
-  // The top is a high quantile rather than the maximum, so one spike does not
-  // set the threshold.
-  std::sort(search_heights.begin(), search_heights.end());
-  const double top_m = search_heights[static_cast<std::size_t>(0.95 * static_cast<double>(search_heights.size() - 1))];
-  const double threshold = ground_m + options.height_fraction * (top_m - ground_m);
-
-  // Seed: the qualifying cell nearest the object's centre.
-  Eigen::Index seed_i = -1, seed_j = -1;
-  double best = std::numeric_limits<double>::infinity();
+  if (around.empty() || at_centre.empty()) return out;
+  const double ground_guess = median(around);
+  const double top_m = median(at_centre);
+  if (!(top_m > ground_guess)) return out;
+  const double threshold = ground_guess + options.height_fraction * (top_m - ground_guess);
   const auto qualifies = [&](Eigen::Index i, Eigen::Index j) {
-    if (!known(i, j) || heights(i, j) <= threshold) return false;
-    const Eigen::Vector2d c = centre_of(i, j);
-    return inside(f, c.x(), c.y(), options.search_margin_m);
+    return known(i, j) && heights(i, j) > threshold && distance(i, j) <= options.neighbourhood_m;
   };
+
+  Eigen::Index seed_i = -1, seed_j = -1;
+  double best = 2.5 * s;
   for (Eigen::Index i = 0; i < n; ++i) {
     for (Eigen::Index j = 0; j < n; ++j) {
-      if (!qualifies(i, j)) continue;
-      const double d = (centre_of(i, j) - Eigen::Vector2d(f.cx, f.cy)).norm();
-      if (d < best) {
-        best = d;
-        seed_i = i;
-        seed_j = j;
-      }
+      if (!qualifies(i, j) || distance(i, j) > best) continue;
+      best = distance(i, j);
+      seed_i = i;
+      seed_j = j;
     }
   }
   if (seed_i < 0) return out;
 
-  CellMask visited = CellMask::Zero(n, n);
+  CellMask region = CellMask::Zero(n, n);
   std::deque<std::pair<Eigen::Index, Eigen::Index>> queue{{seed_i, seed_j}};
-  visited(seed_i, seed_j) = 1;
-  std::vector<Eigen::Vector2d> cells;  // centres in the object's axes
+  region(seed_i, seed_j) = 1;
+  std::vector<Eigen::Vector2d> cells;
   std::vector<double> tops;
   while (!queue.empty()) {
     const auto [i, j] = queue.front();
     queue.pop_front();
-    const Eigen::Vector2d c = centre_of(i, j);
-    cells.push_back(in_object_axes(f, c.x(), c.y()));
+    cells.push_back(centre_of(i, j) - centre);
     if (static_cast<CellState>(states(i, j)) == CellState::measured) tops.push_back(heights(i, j));
     for (const auto& [di, dj] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
       const Eigen::Index a = i + di, b = j + dj;
-      if (a < 0 || b < 0 || a >= n || b >= n || visited(a, b) || !qualifies(a, b)) continue;
-      visited(a, b) = 1;
+      if (a < 0 || b < 0 || a >= n || b >= n || region(a, b) || !qualifies(a, b)) continue;
+      region(a, b) = 1;
       queue.emplace_back(a, b);
     }
   }
+  // The ground the height is measured from: a ring of known cells around
+  // the region (not the region's own neighbourhood median, which other
+  // objects may raise).
+  const auto ring_cells = static_cast<Eigen::Index>(std::ceil(options.ground_ring_m / s));
+  std::vector<double> ring;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (Eigen::Index j = 0; j < n; ++j) {
+      if (region(i, j) || !known(i, j)) continue;
+      bool near = false;
+      for (Eigen::Index a = std::max<Eigen::Index>(0, i - ring_cells); a <= std::min(n - 1, i + ring_cells) && !near; ++a)
+        for (Eigen::Index b = std::max<Eigen::Index>(0, j - ring_cells); b <= std::min(n - 1, j + ring_cells); ++b)
+          if (region(a, b)) {
+            near = true;
+            break;
+          }
+      if (near) ring.push_back(heights(i, j));
+    }
+  }
+  const double ground_m = ring.empty() ? ground_guess : median(ring);
+
   out.found = true;
   out.cells = cells.size();
-  if (f.round) {
+  const double height = (tops.empty() ? threshold : median(tops)) - ground_m;
+  if (id.round) {
     // A grid of cells of side s touching a disk of radius R covers on
     // average pi R^2 + 4 R s + s^2 (the area of the disk grown by a cell);
     // solving for R uses every cell, so a stray cell moves it by s^2 only.
     const double area = static_cast<double>(cells.size()) * s * s;
-    const double pi = 3.14159265358979323846;
+    const double pi = std::numbers::pi;
     const double radius = (-4.0 * s + std::sqrt(16.0 * s * s - 4.0 * pi * (s * s - area))) / (2.0 * pi);
-    out.measured.length_m = out.measured.width_m = 2.0 * radius;
-  } else {
-    out.measured.length_m = profile_extent(cells, 0, s);
-    out.measured.width_m = profile_extent(cells, 1, s);
+    out.measured = out.measured_trimmed = out.measured_untrimmed = {2.0 * radius, 2.0 * radius, height};
+    return out;
   }
-  out.measured.height_m = (tops.empty() ? threshold : median(tops)) - ground_m;
+  // The measured axes, the first one turned to the nearer of the truth's
+  // length axis (truth names the dimensions, it does not place them).
+  double yaw = min_area_yaw(cells);
+  const auto gap = [](double a, double b) { return std::abs(std::remainder(a - b, std::numbers::pi)); };
+  if (gap(yaw + std::numbers::pi / 2, id.yaw) < gap(yaw, id.yaw)) yaw += std::numbers::pi / 2;
+  out.measured_yaw_rad = std::remainder(yaw, std::numbers::pi);
+  const std::vector<Eigen::Vector2d> axes = turned(cells, yaw);
+  out.measured_trimmed = {trimmed_extent(axes, 0, s), trimmed_extent(axes, 1, s), height};
+  out.measured_untrimmed = {untrimmed_extent(axes, 0), untrimmed_extent(axes, 1), height};
+  const ObjectDimensions moments{moment_extent(axes, 0, s), moment_extent(axes, 1, s), height};
+  switch (options.extent) {
+    case ExtentEstimate::moments: out.measured = moments; break;
+    case ExtentEstimate::trimmed: out.measured = out.measured_trimmed; break;
+    case ExtentEstimate::untrimmed: out.measured = out.measured_untrimmed; break;
+  }
   return out;
 }
 
@@ -161,16 +225,14 @@ std::vector<ObjectMeasurement> measure_objects(const MapSnapshot& snapshot, cons
                                                const ObjectMeasureOptions& options) {
   std::vector<ObjectMeasurement> results;
   for (const BoxObject& box : scene.boxes) {
-    const Footprint f{box.center_x_m, box.center_y_m, box.length_m / 2, box.width_m / 2, box.yaw_rad, false};
-    ObjectMeasurement m = measure_one(snapshot, f, options);
+    ObjectMeasurement m = measure_one(snapshot, {box.center_x_m, box.center_y_m, box.yaw_rad, false}, options);
     m.name = box.name;
     m.kind = "box";
     m.truth = {box.length_m, box.width_m, box.top_m() - scene.terrain.height_at(box.center_x_m, box.center_y_m)};
     results.push_back(std::move(m));
   }
   for (const CylinderObject& cyl : scene.cylinders) {
-    const Footprint f{cyl.center_x_m, cyl.center_y_m, cyl.radius_m, cyl.radius_m, 0.0, true};
-    ObjectMeasurement m = measure_one(snapshot, f, options);
+    ObjectMeasurement m = measure_one(snapshot, {cyl.center_x_m, cyl.center_y_m, 0.0, true}, options);
     m.name = cyl.name;
     m.kind = "cylinder";
     m.truth = {2 * cyl.radius_m, 2 * cyl.radius_m,
@@ -181,4 +243,3 @@ std::vector<ObjectMeasurement> measure_objects(const MapSnapshot& snapshot, cons
 }
 
 }  // namespace stridemap
-

@@ -90,6 +90,35 @@ TEST(ObjectExtents, CentreSpreadIsUnbiasedOverPlacements) {
   EXPECT_NEAR(sum / placements, 0.20, 0.001);
 }
 
+// The truth names the object only: a turned box is measured along the axes
+// its own cells show, and its region is not clipped to the true footprint
+// (a map that grew the box by two cells on one side measures it longer).
+TEST(ObjectExtents, TurnedBoxAxesComeFromTheMapNotTheTruth) {
+  Scene scene = one_box_scene();
+  scene.boxes[0].yaw_rad = 0.5;
+  const MapSnapshot s = perfect_snapshot(scene, 80, 0.01);
+  const auto objects = measure_objects(s, scene);
+  ASSERT_TRUE(objects[0].found);
+  EXPECT_NEAR(objects[0].measured_yaw_rad, 0.5, 0.03);
+  EXPECT_NEAR(objects[0].measured.length_m, 0.20, 0.01);
+  EXPECT_NEAR(objects[0].measured.width_m, 0.15, 0.01);
+  EXPECT_GT(objects[0].measured_untrimmed.length_m, objects[0].measured.length_m - 1e-9);
+
+  Scene square = one_box_scene();
+  MapSnapshot grown = perfect_snapshot(square, 80, 0.01);
+  const auto before = measure_objects(grown, square);
+  // Two more columns of box beyond its +x face, 30 mm outside the truth's
+  // footprint margin of the old method.
+  for (Eigen::Index i = 0; i < grown.elevation_m().rows(); ++i)
+    for (Eigen::Index j = 0; j < grown.elevation_m().cols(); ++j) {
+      const double x = (static_cast<double>(grown.min_cell.x + i) + 0.5) * 0.01;
+      const double y = (static_cast<double>(grown.min_cell.y + j) + 0.5) * 0.01;
+      if (x > 0.608 && x < 0.628 && std::abs(y - 0.012) < 0.07) grown.elevation_m()(i, j) = 0.1f;
+    }
+  const auto after = measure_objects(grown, square);
+  EXPECT_NEAR(after[0].measured_untrimmed.length_m - before[0].measured_untrimmed.length_m, 0.02, 1e-9);
+}
+
 TEST(ObjectExtents, EmptyMapFindsNothing) {
   const Scene scene = one_box_scene();
   MapSnapshot s = perfect_snapshot(scene, 40, 0.01);

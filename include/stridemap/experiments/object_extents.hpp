@@ -2,6 +2,7 @@
 // Measures the boxes and cylinders of a scene from an elevation map, as the
 // paper measures its boxes in Table 1: length (along the rail, X), width
 // (across it, Y) and height above the ground around the object.
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -16,32 +17,55 @@ struct ObjectDimensions {
   double height_m = 0.0;
 };
 
+/// How a box's length and width are read from its region of cells.
+enum class ExtentEstimate : std::uint8_t {
+  /// From the second moment of the region's cell centres along each axis,
+  /// L = sqrt(12 var + s^2) - s: every cell counts, so where an edge falls
+  /// inside its cell moves the estimate by a fraction of a cell, not by one.
+  moments,
+  /// The spread of the rows holding at least half as many cells as the
+  /// fullest (whole cells; a few stray cells along an edge do not count).
+  trimmed,
+  /// The spread of all the region's cell centres (whole cells).
+  untrimmed,
+};
+
 struct ObjectMeasurement {
   std::string name;
   std::string kind;  ///< "box" or "cylinder"
   ObjectDimensions truth;
+  /// By ObjectMeasureOptions::extent (and height, the same in all three).
   ObjectDimensions measured;
+  ObjectDimensions measured_trimmed;
+  ObjectDimensions measured_untrimmed;
+  /// The box's yaw as read from the map (the minimum-area rectangle of its
+  /// cells; length along it) [rad].
+  double measured_yaw_rad = 0.0;
   bool found = false;  ///< false when the map holds no cell above the half-height threshold
   std::size_t cells = 0;  ///< cells of the connected region taken as the object
 };
 
 struct ObjectMeasureOptions {
-  /// How far around the object's true footprint the map is searched [m].
-  double search_margin_m = 0.05;
-  /// Width of the ring around the search area whose median elevation is the
-  /// local ground [m].
+  /// The first guess of the local ground is the median of the known cells
+  /// within this distance of the object's centre [m].
+  double neighbourhood_m = 0.35;
+  /// Width of the ring around the object's region whose median elevation
+  /// is the local ground its height is measured from [m].
   double ground_ring_m = 0.05;
   /// A cell belongs to the object when it rises above the local ground by
   /// at least this fraction of the object's height in the map.
   double height_fraction = 0.5;
+  ExtentEstimate extent = ExtentEstimate::moments;
 };
 
 /// For each object: the connected region of known cells higher than half
-/// way between the local ground and the region's top, grown from the cell
-/// nearest the object's centre. Length and width are the spread of the
-/// region's cell centres along the object's axes (for a max-height map that
-/// spread is an unbiased estimate of the true extent), height is the median
-/// of the region's measured elevations above the ground ring's median.
+/// way between the local ground and the top at the object's centre, grown
+/// from the cell nearest that centre. The scene's truth says only which
+/// object is which (its centre seeds the region, its length names the
+/// measured axis nearer its own): the region is not clipped to the true
+/// footprint and its axes are the minimum-area rectangle of its cells, not
+/// the true yaw. Height is the median of the region's measured elevations
+/// above the median of a ring of cells around it.
 std::vector<ObjectMeasurement> measure_objects(const MapSnapshot& snapshot, const Scene& scene,
                                                const ObjectMeasureOptions& options = {});
 

@@ -1,0 +1,133 @@
+// `stridemap scene random` (a random scene as a YAML file) and
+// `stridemap experiment fidelity` (the cart-rail figures over many random
+// scenes, as distributions): issue 13's measuring ground.
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include <fcntl.h>
+#include <unistd.h>
+
+#include "cli_parsing.hpp"
+#include "commands.hpp"
+#include "output_guard.hpp"
+#include "terminal_output.hpp"
+#include "stridemap/core/error.hpp"
+#include "stridemap/experiments/fidelity.hpp"
+#include "stridemap/io/scene_yaml.hpp"
+
+namespace stridemap::cli {
+namespace {
+
+struct RandomSceneArgs {
+  std::uint64_t seed = 1;
+  std::string kind = "boxes";
+  std::string out_path;
+};
+
+// Creates `path` only if nothing is there (O_EXCL: no race with another
+// writer either) and removes it again if the text cannot be written whole,
+// so an existing file is never touched and no half file is left.
+void write_new_file(const std::string& path, const std::string& text) {
+  const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
+  if (fd < 0) {
+    if (errno == EEXIST) throw InputError("--out: " + path + " exists already; it is not overwritten (choose another name)");
+    throw InputError("--out: cannot create " + path + ": " + std::strerror(errno));
+  }
+  std::size_t written = 0;
+  int error = 0;
+  while (written < text.size()) {
+    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      error = n < 0 ? errno : EIO;
+      break;
+    }
+    written += static_cast<std::size_t>(n);
+  }
+  if (error == 0 && ::fsync(fd) != 0 && errno != EINVAL) error = errno;
+  if (::close(fd) != 0 && error == 0) error = errno;
+  if (error != 0) {
+    ::unlink(path.c_str());
+    throw InputError("--out: cannot write " + path + ": " + std::strerror(error));
+  }
+}
+
+void run_random_scene(const RandomSceneArgs& args) {
+  const RandomSceneKind kind = parse_option<RandomSceneKind>("--kind", args.kind);
+  const std::string text = random_scene_yaml(kind, args.seed);
+  // What is written must load: the generator's own check.
+  (void)parse_scene_yaml(text, "random scene (kind " + args.kind + ", seed " + std::to_string(args.seed) + ")");
+  write_new_file(args.out_path, text);
+  note("wrote " + args.out_path);
+}
+
+struct FidelityArgs {
+  std::size_t scenes = 30;
+  std::uint64_t seed = 1;
+  std::string kind = "boxes";
+  std::string structured_light = "image";
+  std::string out_dir;
+};
+
+void run_fidelity_command(const FidelityArgs& args) {
+  FidelityOptions options;
+  options.scenes = args.scenes;
+  options.seed = args.seed;
+  options.kind = parse_option<RandomSceneKind>("--kind", args.kind);
+  if (options.kind == RandomSceneKind::rocky) {
+    throw InputError("--kind: rocky scenes have no cart rail to measure on; use boxes or steps");
+  }
+  if (args.structured_light == "off") {
+    options.structured_light = false;
+  } else {
+    options.structured_light_rail.structured_light.pipeline =
+        parse_option<StripePipeline>("--structured-light", args.structured_light);
+  }
+  const std::string dir = (std::filesystem::path(args.out_dir) / "fidelity").string();
+  io::check_output_folder(dir, "--out");
+  io::ProgressBar bar = progress_bar("fidelity", "runs");
+  options.progress = bar.callback();
+  const FidelityResult result = run_fidelity(options);
+  bar.clear();
+  write_output_set(dir, "--out", [&](const std::string& folder) { write_fidelity_outputs(result, options, folder); });
+  std::fputs(fidelity_table(result).c_str(), stdout);
+  std::printf("outputs: %s\n", dir.c_str());
+}
+
+}  // namespace
+
+void register_random_scenes(CLI::App& app) {
+  CLI::App* scene = app.add_subcommand("scene", "Scenes for the simulator (docs/scenes.md)");
+  scene->require_subcommand(1);
+  auto rs = std::make_shared<RandomSceneArgs>();
+  CLI::App* random = scene->add_subcommand(
+      "random", "Write a random scene (sizes off the grid, turned boxes, reflectances 0.1-0.9) as YAML");
+  random->add_option("--seed", rs->seed, "Same seed and kind, same scene")->capture_default_str()->check(seed_value());
+  random->add_option("--kind", rs->kind, "boxes (on a cart rail), rocky (ground, rocks, a walk path) or steps "
+                                         "(a block field on a cart rail)")
+      ->capture_default_str();
+  random->add_option("--out", rs->out_path, "The scene file to create (an existing file is never overwritten)")
+      ->required();
+  random->callback([rs] { run_random_scene(*rs); });
+
+  CLI::App* experiment = app.get_subcommand("experiment");
+  auto fa = std::make_shared<FidelityArgs>();
+  CLI::App* fidelity = experiment->add_subcommand(
+      "fidelity", "Cart-rail figures on random scenes: median, 90th percentile and worst (issue 13)");
+  fidelity->add_option("--scenes", fa->scenes, "How many random scenes")->capture_default_str()
+      ->check(whole_from_to(1, 100000));
+  fidelity->add_option("--seed", fa->seed, "Scene k is random scene seed*1000+k")->capture_default_str()
+      ->check(seed_value());
+  fidelity->add_option("--kind", fa->kind, "Scene kind: boxes or steps")->capture_default_str();
+  fidelity->add_option("--structured-light", fa->structured_light,
+                       "Structured-light runs: image (render and detect), geometric (the true stripe) or off")
+      ->capture_default_str();
+  fidelity->add_option("--out", fa->out_dir, "Output folder; results go to OUT/fidelity/")->required();
+  fidelity->callback([fa] { run_fidelity_command(*fa); });
+}
+
+}  // namespace stridemap::cli

@@ -1,0 +1,89 @@
+#pragma once
+// The fidelity experiment (issue 13): the cart-rail measurements on many
+// random scenes (sim/random_scene.hpp) instead of the shipped few, reported
+// as distributions (median, 90th percentile, worst) so that no figure rests
+// on one scene. Per scene: the URG with mixed pixels and the paper's filters
+// (the default run), the same scene without mixed pixels and with no filter
+// (the references for the artifact figures), and the structured-light
+// sensor. Results are from the simulator, not from a real sensor.
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "stridemap/core/progress.hpp"
+#include "stridemap/experiments/cart_rail.hpp"
+#include "stridemap/sim/random_scene.hpp"
+
+namespace stridemap {
+
+struct FidelityOptions {
+  std::size_t scenes = 30;
+  /// Scene k is random scene seed * 1000 + k (`stridemap scene random
+  /// --seed` makes it again), and that number seeds its simulation too.
+  std::uint64_t seed = 1;
+  RandomSceneKind kind = RandomSceneKind::boxes;
+  /// The URG's runs: every setting but mixed_pixels, filters and seed.
+  CartRailOptions urg{};
+  /// Structured light: off skips it (then nothing is reported for it).
+  bool structured_light = true;
+  CartRailOptions structured_light_rail = default_structured_light_rail();
+  /// Box extents at least this long are scored against the targets [m].
+  double min_scored_extent_m = 0.09;
+  ProgressCallback progress{};
+
+  /// The CLI's structured-light defaults: Ragno's sensor, the image path at
+  /// 300 lux, 5 mm cells, the CAS filter.
+  static CartRailOptions default_structured_light_rail();
+};
+
+/// The figures of one scene.
+struct FidelitySceneResult {
+  std::uint64_t scene_seed = 0;
+  std::string scene_yaml;
+  std::vector<ObjectMeasurement> urg_objects;
+  std::vector<ObjectMeasurement> structured_light_objects;
+  /// Largest |relative error| [%] over the box extents (length, width) of
+  /// at least min_scored_extent_m; NaN when the scene has none.
+  double urg_extent_error_pct = 0.0;
+  double structured_light_extent_error_pct = 0.0;
+  /// The same from the whole-cell extents (ObjectMeasurement::measured_trimmed, measured_untrimmed).
+  double urg_extent_error_trimmed_pct = 0.0, urg_extent_error_untrimmed_pct = 0.0;
+  double structured_light_extent_error_trimmed_pct = 0.0, structured_light_extent_error_untrimmed_pct = 0.0;
+  std::size_t urg_objects_missed = 0;
+  std::size_t structured_light_objects_missed = 0;
+  /// Artifact cells of the map: without mixed pixels, with them unfiltered,
+  /// with them and the paper's filters.
+  std::size_t artifact_cells_reference = 0, artifact_cells_unfiltered = 0, artifact_cells_filtered = 0;
+  /// Of the artifact cells mixed pixels add (unfiltered minus reference),
+  /// the share the filters remove [%]; NaN when mixed pixels add none.
+  double mixed_artifacts_removed_pct = 0.0;
+  /// Clean beams the paper's filters drop [%].
+  double clean_beams_dropped_pct = 0.0;
+  double urg_rms_error_mm = 0.0;
+};
+
+/// Median, 90th percentile and worst of a figure over scenes; "worse" is
+/// higher, or lower for figures where more is better (the 90th percentile
+/// is then taken from the low side). NaN values are left out.
+struct FigureDistribution {
+  std::string figure;
+  bool higher_is_better = false;
+  std::size_t count = 0;
+  double median = 0.0, p90 = 0.0, worst = 0.0;
+};
+
+struct FidelityResult {
+  std::vector<FidelitySceneResult> scenes;
+  std::vector<FigureDistribution> figures;
+};
+
+FidelityResult run_fidelity(const FidelityOptions& options);
+
+FigureDistribution distribution_of(const std::string& figure, std::vector<double> values, bool higher_is_better);
+
+std::string fidelity_table(const FidelityResult& result);
+std::string fidelity_summary_json(const FidelityResult& result, const FidelityOptions& options);
+/// summary.json and the scenes (scenes/scene_<seed>.yaml) into `directory`.
+void write_fidelity_outputs(const FidelityResult& result, const FidelityOptions& options, const std::string& directory);
+
+}  // namespace stridemap

@@ -1,0 +1,264 @@
+#include "stridemap/experiments/fidelity.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <system_error>
+
+#include <nlohmann/json.hpp>
+
+#include "stridemap/core/error.hpp"
+#include "stridemap/io/map_file.hpp"
+#include "stridemap/io/scene_yaml.hpp"
+#include "stridemap/io/text_file.hpp"
+
+namespace stridemap {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+// The largest |relative error| over the box extents long enough to score,
+// and every such error into `all`.
+double worst_extent_error(const std::vector<ObjectMeasurement>& objects, double min_extent_m,
+                          std::vector<double>& all, ObjectDimensions ObjectMeasurement::* estimate) {
+  double worst = kNaN;
+  for (const ObjectMeasurement& m : objects) {
+    if (m.kind != "box" || !m.found) continue;
+    const ObjectDimensions& d = m.*estimate;
+    for (const auto& [truth, measured] : {std::pair{m.truth.length_m, d.length_m},
+                                          std::pair{m.truth.width_m, d.width_m}}) {
+      if (truth < min_extent_m) continue;
+      const double error = std::abs(relative_error_pct(measured, truth));
+      all.push_back(error);
+      worst = std::isnan(worst) ? error : std::max(worst, error);
+    }
+  }
+  return worst;
+}
+
+std::size_t missed(const std::vector<ObjectMeasurement>& objects) {
+  return static_cast<std::size_t>(
+      std::count_if(objects.begin(), objects.end(), [](const ObjectMeasurement& m) { return !m.found; }));
+}
+
+}  // namespace
+
+CartRailOptions FidelityOptions::default_structured_light_rail() {
+  CartRailOptions options;
+  options.sensor = CartRailSensor::structured_light;
+  options.structured_light.pipeline = StripePipeline::image;
+  options.structured_light.image.ambient.illuminance_lux = 300.0;
+  options.cell_size_m = 0.005;
+  options.map_filter = MapFilter::cas;
+  return options;
+}
+
+FigureDistribution distribution_of(const std::string& figure, std::vector<double> values, bool higher_is_better) {
+  FigureDistribution d;
+  d.figure = figure;
+  d.higher_is_better = higher_is_better;
+  std::erase_if(values, [](double v) { return std::isnan(v); });
+  d.count = values.size();
+  if (values.empty()) {
+    d.median = d.p90 = d.worst = kNaN;
+    return d;
+  }
+  // Sorted from best to worst, so the 90th percentile lies on the bad side.
+  if (higher_is_better) std::sort(values.begin(), values.end(), std::greater<>());
+  else std::sort(values.begin(), values.end());
+  const auto at = [&](double q) {
+    const double position = q * static_cast<double>(values.size() - 1);
+    const auto lo = static_cast<std::size_t>(std::floor(position));
+    const std::size_t hi = std::min(lo + 1, values.size() - 1);
+    return values[lo] + (values[hi] - values[lo]) * (position - static_cast<double>(lo));
+  };
+  d.median = at(0.5);
+  d.p90 = at(0.9);
+  d.worst = values.back();
+  return d;
+}
+
+FidelityResult run_fidelity(const FidelityOptions& options) {
+  if (options.scenes == 0) throw InputError("fidelity: the number of scenes must be at least 1");
+  FidelityResult result;
+  std::vector<double> urg_all, sl_all, unused;
+  const std::size_t runs_per_scene = options.structured_light ? 4 : 3;
+  for (std::size_t k = 0; k < options.scenes; ++k) {
+    FidelitySceneResult row;
+    row.scene_seed = options.seed * 1000 + k;
+    row.scene_yaml = random_scene_yaml(options.kind, row.scene_seed);
+    const Scene scene = parse_scene_yaml(row.scene_yaml, "random scene " + std::to_string(row.scene_seed));
+    std::size_t part = k * runs_per_scene;
+    const auto run = [&](CartRailOptions run_options) {
+      run_options.seed = row.scene_seed;
+      run_options.progress = progress_of_part(options.progress, part++, options.scenes * runs_per_scene);
+      return run_cart_rail(scene, run_options);
+    };
+    CartRailOptions urg = options.urg;
+    urg.sensor = CartRailSensor::urg;
+    urg.mixed_pixels = false;
+    urg.filters = {};
+    const CartRailResult reference = run(urg);
+    urg.mixed_pixels = true;
+    const CartRailResult unfiltered = run(urg);
+    urg.filters = {ScanFilterKind::range_clustering, ScanFilterKind::scan_sequence};
+    const CartRailResult filtered = run(urg);
+    row.urg_objects = filtered.objects;
+    row.urg_extent_error_pct =
+        worst_extent_error(filtered.objects, options.min_scored_extent_m, urg_all, &ObjectMeasurement::measured);
+    row.urg_extent_error_trimmed_pct = worst_extent_error(filtered.objects, options.min_scored_extent_m, unused,
+                                                          &ObjectMeasurement::measured_trimmed);
+    row.urg_extent_error_untrimmed_pct = worst_extent_error(filtered.objects, options.min_scored_extent_m, unused,
+                                                            &ObjectMeasurement::measured_untrimmed);
+    row.urg_objects_missed = missed(filtered.objects);
+    row.urg_rms_error_mm = filtered.score.rms_error_m * 1000.0;
+    row.artifact_cells_reference = reference.score.artifact_cells;
+    row.artifact_cells_unfiltered = unfiltered.score.artifact_cells;
+    row.artifact_cells_filtered = filtered.score.artifact_cells;
+    const double added = static_cast<double>(row.artifact_cells_unfiltered) -
+                         static_cast<double>(row.artifact_cells_reference);
+    row.mixed_artifacts_removed_pct =
+        added > 0.0 ? 100.0 * (static_cast<double>(row.artifact_cells_unfiltered) -
+                               static_cast<double>(row.artifact_cells_filtered)) / added
+                    : kNaN;
+    row.clean_beams_dropped_pct = 100.0 * filtered.beams.clean_drop_rate();
+    if (options.structured_light) {
+      const CartRailResult sl = run(options.structured_light_rail);
+      row.structured_light_objects = sl.objects;
+      row.structured_light_extent_error_pct =
+          worst_extent_error(sl.objects, options.min_scored_extent_m, sl_all, &ObjectMeasurement::measured);
+      row.structured_light_extent_error_trimmed_pct =
+          worst_extent_error(sl.objects, options.min_scored_extent_m, unused, &ObjectMeasurement::measured_trimmed);
+      row.structured_light_extent_error_untrimmed_pct =
+          worst_extent_error(sl.objects, options.min_scored_extent_m, unused, &ObjectMeasurement::measured_untrimmed);
+      row.structured_light_objects_missed = missed(sl.objects);
+    } else {
+      row.structured_light_extent_error_pct = row.structured_light_extent_error_trimmed_pct =
+          row.structured_light_extent_error_untrimmed_pct = kNaN;
+    }
+    result.scenes.push_back(std::move(row));
+  }
+  const auto figure = [&](const std::string& name, auto field, bool higher_is_better) {
+    std::vector<double> values;
+    for (const FidelitySceneResult& row : result.scenes) values.push_back(static_cast<double>(row.*field));
+    result.figures.push_back(distribution_of(name, values, higher_is_better));
+  };
+  using R = FidelitySceneResult;
+  figure("urg_box_extent_error_pct (worst per scene)", &R::urg_extent_error_pct, false);
+  result.figures.push_back(distribution_of("urg_box_extent_error_pct (every extent)", urg_all, false));
+  figure("urg_box_extent_error_pct, trimmed cells", &R::urg_extent_error_trimmed_pct, false);
+  figure("urg_box_extent_error_pct, untrimmed cells", &R::urg_extent_error_untrimmed_pct, false);
+  figure("urg_objects_missed", &R::urg_objects_missed, false);
+  if (options.structured_light) {
+    figure("structured_light_box_extent_error_pct (worst per scene)", &R::structured_light_extent_error_pct, false);
+    result.figures.push_back(distribution_of("structured_light_box_extent_error_pct (every extent)", sl_all, false));
+    figure("structured_light_box_extent_error_pct, trimmed cells", &R::structured_light_extent_error_trimmed_pct,
+           false);
+    figure("structured_light_box_extent_error_pct, untrimmed cells", &R::structured_light_extent_error_untrimmed_pct,
+           false);
+    figure("structured_light_objects_missed", &R::structured_light_objects_missed, false);
+  }
+  figure("mixed_artifacts_removed_pct", &R::mixed_artifacts_removed_pct, true);
+  figure("clean_beams_dropped_pct", &R::clean_beams_dropped_pct, false);
+  figure("urg_rms_error_mm", &R::urg_rms_error_mm, false);
+  return result;
+}
+
+std::string fidelity_table(const FidelityResult& result) {
+  std::string out = "fidelity, cart rail on " + std::to_string(result.scenes.size()) +
+                    " random scenes (simulated)\nfigure                                                  scenes"
+                    "    median       p90     worst\n";
+  char line[256];
+  for (const FigureDistribution& d : result.figures) {
+    std::snprintf(line, sizeof line, "%-56s %6zu %9.2f %9.2f %9.2f\n", d.figure.c_str(), d.count, d.median, d.p90,
+                  d.worst);
+    out += line;
+  }
+  return out;
+}
+
+namespace {
+
+nlohmann::json number_or_null(double value) { return std::isnan(value) ? nlohmann::json() : nlohmann::json(value); }
+
+nlohmann::json objects_json(const std::vector<ObjectMeasurement>& objects) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const ObjectMeasurement& m : objects) {
+    list.push_back({{"name", m.name},
+                    {"kind", m.kind},
+                    {"found", m.found},
+                    {"truth_m", {{"length", m.truth.length_m}, {"width", m.truth.width_m}, {"height", m.truth.height_m}}},
+                    {"measured_m",
+                     {{"length", m.measured.length_m}, {"width", m.measured.width_m}, {"height", m.measured.height_m}}},
+                    {"trimmed_m", {{"length", m.measured_trimmed.length_m}, {"width", m.measured_trimmed.width_m}}},
+                    {"untrimmed_m",
+                     {{"length", m.measured_untrimmed.length_m}, {"width", m.measured_untrimmed.width_m}}},
+                    {"measured_yaw_rad", m.measured_yaw_rad}});
+  }
+  return list;
+}
+
+}  // namespace
+
+std::string fidelity_summary_json(const FidelityResult& result, const FidelityOptions& options) {
+  nlohmann::json figures = nlohmann::json::array();
+  for (const FigureDistribution& d : result.figures) {
+    figures.push_back({{"figure", d.figure},
+                       {"higher_is_better", d.higher_is_better},
+                       {"scenes", d.count},
+                       {"median", number_or_null(d.median)},
+                       {"p90", number_or_null(d.p90)},
+                       {"worst", number_or_null(d.worst)}});
+  }
+  nlohmann::json scenes = nlohmann::json::array();
+  for (const FidelitySceneResult& row : result.scenes) {
+    nlohmann::json entry = {{"scene_seed", row.scene_seed},
+                            {"urg_box_extent_error_pct", number_or_null(row.urg_extent_error_pct)},
+                            {"urg_objects_missed", row.urg_objects_missed},
+                            {"urg_rms_error_mm", row.urg_rms_error_mm},
+                            {"artifact_cells",
+                             {{"reference", row.artifact_cells_reference},
+                              {"unfiltered", row.artifact_cells_unfiltered},
+                              {"filtered", row.artifact_cells_filtered}}},
+                            {"mixed_artifacts_removed_pct", number_or_null(row.mixed_artifacts_removed_pct)},
+                            {"clean_beams_dropped_pct", row.clean_beams_dropped_pct},
+                            {"urg_objects", objects_json(row.urg_objects)}};
+    if (options.structured_light) {
+      entry["structured_light_box_extent_error_pct"] = number_or_null(row.structured_light_extent_error_pct);
+      entry["structured_light_objects_missed"] = row.structured_light_objects_missed;
+      entry["structured_light_objects"] = objects_json(row.structured_light_objects);
+    }
+    scenes.push_back(std::move(entry));
+  }
+  const nlohmann::json summary = {
+      {"experiment", "fidelity"},
+      {"tool_version", io::tool_version()},
+      {"source", "simulation"},
+      {"seed", options.seed},
+      {"kind", std::string(name(options.kind))},
+      {"scene_count", options.scenes},
+      {"min_scored_extent_m", options.min_scored_extent_m},
+      {"structured_light", options.structured_light
+                               ? std::string(name(options.structured_light_rail.structured_light.pipeline))
+                               : std::string("off")},
+      {"figures", figures},
+      {"scenes", scenes}};
+  return summary.dump(2) + "\n";
+}
+
+void write_fidelity_outputs(const FidelityResult& result, const FidelityOptions& options,
+                            const std::string& directory) {
+  const std::filesystem::path dir(directory);
+  std::error_code ec;
+  std::filesystem::create_directories(dir / "scenes", ec);
+  if (ec) throw InputError((dir / "scenes").string() + ": cannot create the output folder: " + ec.message());
+  for (const FidelitySceneResult& row : result.scenes) {
+    io::write_text_file((dir / "scenes" / ("scene_" + std::to_string(row.scene_seed) + ".yaml")).string(),
+                        row.scene_yaml, "scene");
+  }
+  io::write_text_file((dir / "summary.json").string(), fidelity_summary_json(result, options), "summary");
+}
+
+}  // namespace stridemap

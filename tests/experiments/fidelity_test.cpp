@@ -1,0 +1,89 @@
+// Random scenes and the fidelity experiment's distributions.
+#include <cmath>
+#include <set>
+
+#include <gtest/gtest.h>
+
+#include "stridemap/experiments/fidelity.hpp"
+#include "stridemap/io/scene_yaml.hpp"
+
+namespace stridemap {
+namespace {
+
+TEST(RandomScene, SameSeedSameTextOtherSeedOtherScene) {
+  for (RandomSceneKind kind : {RandomSceneKind::boxes, RandomSceneKind::rocky, RandomSceneKind::steps}) {
+    EXPECT_EQ(random_scene_yaml(kind, 7), random_scene_yaml(kind, 7));
+    EXPECT_NE(random_scene_yaml(kind, 7), random_scene_yaml(kind, 8));
+  }
+}
+
+// Every seed's scene loads with the scene loader (a rocky path that left the
+// patch, or two boxes given one name, would be an InputError here).
+TEST(RandomScene, ManySeedsLoadAndMeetTheBrief) {
+  std::set<long> millimetre_remainders;
+  double lowest_reflectance = 1.0, highest_reflectance = 0.0, lowest_box = 1.0, highest_box = 0.0;
+  std::size_t turned = 0, square = 0;
+  for (std::uint64_t seed = 0; seed < 60; ++seed) {
+    for (RandomSceneKind kind : {RandomSceneKind::boxes, RandomSceneKind::steps}) {
+      const Scene scene = parse_scene_yaml(random_scene_yaml(kind, seed), "seed " + std::to_string(seed));
+      ASSERT_TRUE(scene.cart_rail.has_value());
+      for (const BoxObject& box : scene.boxes) {
+        lowest_reflectance = std::min(lowest_reflectance, box.reflectance);
+        highest_reflectance = std::max(highest_reflectance, box.reflectance);
+        lowest_box = std::min(lowest_box, box.height_m);
+        highest_box = std::max(highest_box, box.height_m);
+        (box.yaw_rad == 0.0 ? square : turned) += 1;
+        millimetre_remainders.insert(std::lround(box.length_m * 1000.0) % 10);
+      }
+    }
+    if (seed < 8) {
+      const Scene rocky = parse_scene_yaml(random_scene_yaml(RandomSceneKind::rocky, seed), "rocky");
+      EXPECT_TRUE(rocky.walk_path.has_value());
+    }
+  }
+  EXPECT_LT(lowest_reflectance, 0.2);
+  EXPECT_GT(highest_reflectance, 0.8);
+  EXPECT_LT(lowest_box, 0.04) << "flat objects";
+  EXPECT_GT(highest_box, 0.1) << "tall objects";
+  EXPECT_GT(square, 10u);
+  EXPECT_GT(turned, 10u);
+  EXPECT_GE(millimetre_remainders.size(), 8u) << "sizes off the 10 mm grid";
+}
+
+TEST(FigureDistribution, MedianNinetiethAndWorstOnTheBadSide) {
+  std::vector<double> values;
+  for (int i = 1; i <= 11; ++i) values.push_back(i);
+  values.push_back(std::nan(""));
+  const FigureDistribution lower = distribution_of("error", values, false);
+  EXPECT_EQ(lower.count, 11u);
+  EXPECT_DOUBLE_EQ(lower.median, 6.0);
+  EXPECT_DOUBLE_EQ(lower.p90, 10.0);
+  EXPECT_DOUBLE_EQ(lower.worst, 11.0);
+  const FigureDistribution higher = distribution_of("removed", values, true);
+  EXPECT_DOUBLE_EQ(higher.median, 6.0);
+  EXPECT_DOUBLE_EQ(higher.p90, 2.0);
+  EXPECT_DOUBLE_EQ(higher.worst, 1.0);
+  EXPECT_TRUE(std::isnan(distribution_of("none", {}, false).median));
+}
+
+TEST(Fidelity, OneSceneGivesEveryFigureAndIsDeterministic) {
+  FidelityOptions options;
+  options.scenes = 1;
+  options.seed = 3;
+  options.structured_light = false;
+  const FidelityResult a = run_fidelity(options);
+  const FidelityResult b = run_fidelity(options);
+  ASSERT_EQ(a.scenes.size(), 1u);
+  EXPECT_EQ(fidelity_summary_json(a, options), fidelity_summary_json(b, options));
+  const FidelitySceneResult& row = a.scenes.front();
+  EXPECT_EQ(row.scene_seed, 3000u);
+  EXPECT_FALSE(row.urg_objects.empty());
+  EXPECT_GE(row.artifact_cells_unfiltered, row.artifact_cells_reference);
+  EXPECT_LT(row.clean_beams_dropped_pct, 10.0);
+  EXPECT_GE(a.figures.size(), 5u);
+  options.scenes = 0;
+  EXPECT_THROW(run_fidelity(options), InputError);
+}
+
+}  // namespace
+}  // namespace stridemap
