@@ -50,6 +50,7 @@ class MaxElevationChange {
 
   double travel_term_m() const { return travel_term_m_; }
   double turn_term_per_m() const { return turn_term_per_m_; }
+  double turn_offset_m() const { return turn_offset_m_; }
 
  private:
   double travel_term_m_;
