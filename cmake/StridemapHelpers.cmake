@@ -39,12 +39,6 @@ function(stridemap_add_layer name)
     $<BUILD_INTERFACE:${include_root}>
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   target_link_libraries(stridemap_${name} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
-  # GCC assumes with -fPIC that any exported function may be replaced at
-  # load time, so it inlines no helper of the same file into another; this
-  # lets it (clang does so already). No library relies on interposition.
-  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
-    target_compile_options(stridemap_${name} PRIVATE -fno-semantic-interposition)
-  endif()
   stridemap_set_warnings(stridemap_${name})
 endfunction()
 

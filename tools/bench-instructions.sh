@@ -18,7 +18,7 @@ trap 'rm -rf "$work"' EXIT
 # the callgrind output $1.
 inclusive() {
   callgrind_annotate --inclusive=yes --threshold=100 "$1" 2>/dev/null |
-    awk -v pattern="$2" 'index($0, pattern) { gsub(",", "", $1); print $1; exit }'
+    awk -v pattern="$2" '!found && index($0, pattern) { gsub(",", "", $1); print $1; found = 1 }'
 }
 
 for mode in packed planar; do

@@ -5,8 +5,10 @@
 // and (10) in beam order. The arithmetic is PlanarBeamGeometry::point's and
 // ElevationMap::slot_at's, operation for operation, so the maps are those of
 // the per-point path bit for bit (tests/core/packed_beams_test.cpp).
-// This file is built with -fno-math-errno (src/CMakeLists.txt): sqrt then
-// needs no error branch and the first pass vectorises; nothing reads errno.
+// This file is built with -fno-math-errno and -fno-trapping-math
+// (src/CMakeLists.txt): sqrt then needs no error branch and the selects of
+// the first pass become vector blends, so that it vectorises. Neither
+// changes a result; nothing reads errno or floating-point traps.
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -16,11 +18,8 @@
 namespace stridemap {
 namespace {
 
-// The window's bounds in cell units and its wrap-around, for the first pass.
-struct WindowBounds {
-  double lo_x, hi_x, lo_y, hi_y;
-  std::int32_t min_x, min_y, slot_x, slot_y, n;
-};
+// Added to an outside point's slot: beyond the largest window's cells.
+constexpr double kOutsideSlot = 1.0e9;
 
 }  // namespace
 
@@ -42,19 +41,21 @@ void TerrainMapper::locate_beams(const PlanarBeams& beams, const PlanarBeamGeome
                turn_offset = bound.turn_offset_m();
   const double x0 = origin.x(), y0 = origin.y(), z0 = origin.z();
   const double inverse_cell = 1.0 / map_.cell_size_m();
-  const std::int32_t n = map_.cells_per_side();
-  const auto min_x = static_cast<std::int32_t>(map_.min_cell().x), min_y = static_cast<std::int32_t>(map_.min_cell().y);
-  const auto slot_x = static_cast<std::int32_t>(map_.slot(map_.min_cell()) / static_cast<std::size_t>(n));
-  const auto slot_y = static_cast<std::int32_t>(map_.slot(map_.min_cell()) % static_cast<std::size_t>(n));
-  const double lo_x = min_x, lo_y = min_y, hi_x = lo_x + n, hi_y = lo_y + n;
+  const auto cells_per_side = static_cast<std::size_t>(map_.cells_per_side());
+  const auto n = static_cast<double>(cells_per_side);
+  const auto slot_x = static_cast<double>(map_.slot(map_.min_cell()) / cells_per_side);
+  const auto slot_y = static_cast<double>(map_.slot(map_.min_cell()) % cells_per_side);
+  const auto lo_x = static_cast<double>(map_.min_cell().x), lo_y = static_cast<double>(map_.min_cell().y);
+  const double hi_x = lo_x + n, hi_y = lo_y + n;
   constexpr double kMaxCoordinate_m = 1.0e6;  // as apply()
   constexpr double kInf = std::numeric_limits<double>::infinity();
+  constexpr double kRound = 6755399441055744.0;  // 1.5 * 2^52
 
   const double* __restrict range = beams.range_m.data();
   const double* __restrict range_error = beams.range_error_m.data();
   const double* __restrict cos_t = beams.cos_angle.data();
   const double* __restrict sin_t = beams.sin_angle.data();
-  std::int32_t* __restrict slot = located_slot_.data();
+  double* __restrict slot = located_slot_.data();
   float* __restrict h_out = located_h_m_.data();
   float* __restrict dz_out = located_dz_max_m_.data();
   const std::size_t count = beams.count;
@@ -77,20 +78,30 @@ void TerrainMapper::locate_beams(const PlanarBeams& beams, const PlanarBeamGeome
       dz += turn != turn ? kInf : turn;
     }
     const double x = x0 + ox, y = y0 + oy, h = z0 + oz;
-    // apply()'s range check, then ElevationMap::slot_at in 32-bit integers
-    // (integrate() checked that the window's indices fit).
+    // apply()'s range check and ElevationMap::slot_at, in doubles so that
+    // the loop stays one vector type: a point that fails a range check gets
+    // -inf, which fails the window's bounds; floor() is round-to-nearest by
+    // the 1.5 * 2^52 trick, less one where that rounded up (exact for cell
+    // indices below 2^51; integrate() checked the window's fit in 2^30).
     const double cx = x * inverse_cell, cy = y * inverse_cell;
-    const bool inside = (std::fabs(x) < kMaxCoordinate_m) & (std::fabs(y) < kMaxCoordinate_m) &
-                        (std::fabs(h) < kMaxCoordinate_m) & (cx >= lo_x) & (cx < hi_x) & (cy >= lo_y) & (cy < hi_y);
-    const double sx = inside ? cx : lo_x, sy = inside ? cy : lo_y;
-    const auto tx = static_cast<std::int32_t>(sx), ty = static_cast<std::int32_t>(sy);
-    std::int32_t i = tx - static_cast<std::int32_t>(sx < static_cast<double>(tx)) - min_x + slot_x;
-    std::int32_t j = ty - static_cast<std::int32_t>(sy < static_cast<double>(ty)) - min_y + slot_y;
-    i -= i >= n ? n : 0;
-    j -= j >= n ? n : 0;
-    slot[k] = inside ? i * n + j : -1;
-    h_out[k] = static_cast<float>(inside ? h : 0.0);
-    dz_out[k] = static_cast<float>(inside ? dz : 0.0);
+    const double mx = (std::fabs(x) < kMaxCoordinate_m ? cx : -kInf) + (std::fabs(h) < kMaxCoordinate_m ? 0.0 : -kInf);
+    const double my = std::fabs(y) < kMaxCoordinate_m ? cy : -kInf;
+    const double bx = mx >= lo_x ? mx : kInf, by = my >= lo_y ? my : kInf;
+    const double outside = (bx < hi_x ? 0.0 : 1.0) + (by < hi_y ? 0.0 : 1.0);
+    const double sx = bx < hi_x ? cx : lo_x, sy = by < hi_y ? cy : lo_y;
+    const double rx = (sx + kRound) - kRound, ry = (sy + kRound) - kRound;
+    double i = rx - (rx > sx ? 1.0 : 0.0) - lo_x + slot_x;
+    double j = ry - (ry > sy ? 1.0 : 0.0) - lo_y + slot_y;
+    i -= i >= n ? n : 0.0;
+    j -= j >= n ? n : 0.0;
+    // Outside: beyond every slot (update_located() checks the bound). Such
+    // a point's h_m and Delta z_max are never read; beyond float's range
+    // their conversion gives an infinity (IEEE 754; no sanitizer checks a
+    // conversion between floating types), and a select here would keep
+    // the loop from vectorising.
+    slot[k] = i * n + j + outside * kOutsideSlot;
+    h_out[k] = static_cast<float>(h);
+    dz_out[k] = static_cast<float>(dz);
   }
 }
 
@@ -105,9 +116,10 @@ void TerrainMapper::update_located(std::size_t count, ScanStats& stats) {
   const UpdateOptions& options = options_.update;
   std::size_t outcomes[4] = {0, 0, 0, 0};
   std::size_t outside = 0;
+  const std::size_t cells = static_cast<std::size_t>(map_.cells_per_side()) * static_cast<std::size_t>(map_.cells_per_side());
   for (std::size_t k = 0; k < count; ++k) {
-    const std::int32_t s = located_slot_[k];
-    if (s < 0) {
+    const auto s = static_cast<std::size_t>(located_slot_[k]);
+    if (s >= cells) {
       ++outside;
       continue;
     }

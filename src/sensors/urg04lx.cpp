@@ -194,41 +194,52 @@ UrgConversionStats UrgModel::pack_beams(const UrgRawScan& raw, PlanarBeams& out)
   out.prepare(n);
   out.time_s = raw.time_s;
   const std::uint32_t* values = raw.values_mm.data();
-  const double* cos_t = step_cos_.data() + (raw.first_step - parameters_.first_step);
-  const double* sin_t = step_sin_.data() + (raw.first_step - parameters_.first_step);
+  const auto first = static_cast<std::size_t>(raw.first_step - parameters_.first_step);
+  const double* cos_t = step_cos_.data() + first;
+  const double* sin_t = step_sin_.data() + first;
   const auto cluster = static_cast<std::size_t>(raw.cluster);
   double* range = out.range_m.data();
   double* error = out.range_error_m.data();
   double* out_cos = out.cos_angle.data();
   double* out_sin = out.sin_angle.data();
   const std::uint64_t lowest = lowest_valid_mm_, highest = highest_valid_mm_;
+  // valid <=> value - lowest <= span, in one unsigned comparison.
+  const std::uint64_t span = highest >= lowest ? highest - lowest : 0;
+  const bool any_valid = highest >= lowest;
   const auto& c = calibration_.coefficients;
   constexpr double kInf = std::numeric_limits<double>::infinity();
-  std::size_t count = 0, error_codes = 0, beyond = 0;
-  // Every beam is written and only a usable one kept: no branch to
-  // mispredict. Usable is what the mapper would accept from to_planar_scan:
-  // a valid value whose calibrated range is finite and positive (its error,
-  // 1 cm or 1 %, and its angle are then finite too).
-  for (std::size_t i = 0; i < n; ++i) {
+  std::size_t count = 0, beyond = 0, valid = 0;
+  // Valid and invalid values come in long runs (ground, then sky), so the
+  // branch is well predicted. A beam is kept when the mapper would use it
+  // from to_planar_scan: a valid value whose calibrated range is finite and
+  // positive (its error, 1 cm or 1 %, and its angle are then finite too).
+  for (std::size_t i = 0, step = 0; i < n; ++i, step += cluster) {
     const std::uint64_t value = values[i];
-    const bool low = value < lowest, high = value > highest;
-    const double raw_m = static_cast<double>(value) * 0.001;
+    if (value - lowest > span || !any_valid) {
+      beyond += static_cast<std::size_t>(value > highest);
+      continue;
+    }
+    ++valid;
+    const double raw_m = static_cast<double>(static_cast<std::int64_t>(value)) * 0.001;
     double r = raw_m;
-    if constexpr (kCalibrated) r = raw_m + (c[0] + raw_m * (c[1] + raw_m * (c[2] + raw_m * c[3])));
+    if constexpr (kCalibrated) {
+      r = raw_m + (c[0] + raw_m * (c[1] + raw_m * (c[2] + raw_m * c[3])));
+      if (!(r > 0.0 && r < kInf)) continue;
+    } else if (value == 0) {
+      continue;  // a DMIN below 1 mm lets 0 through; the mapper takes no zero range
+    }
     range[count] = r;
     error[count] = r <= 1.0 ? 0.010 : 0.01 * r;  // spec_range_error_m
-    out_cos[count] = cos_t[i * cluster];
-    out_sin[count] = sin_t[i * cluster];
-    count += static_cast<std::size_t>(!low & !high & (r > 0.0) & (r < kInf));
-    error_codes += static_cast<std::size_t>(low);
-    beyond += static_cast<std::size_t>(high);
+    out_cos[count] = cos_t[step];
+    out_sin[count] = sin_t[step];
+    ++count;
   }
   out.count = count;
   out.invalid_range = n - count;  // an error code, beyond DMAX or calibrated out of range
   UrgConversionStats stats;
-  stats.error_codes = error_codes;
+  stats.valid = valid;
   stats.beyond_max_range = beyond;
-  stats.valid = n - error_codes - beyond;
+  stats.error_codes = n - valid - beyond;
   return stats;
 }
 

@@ -152,9 +152,10 @@ class TerrainMapper {
   std::optional<double> previous_time_s_;
   std::vector<double> cached_angles_, cos_angle_, sin_angle_;
   PlanarBeams packed_;  // integrate(PlanarScan)'s beams
-  // Per valid beam of the scan being integrated: its slot (-1 outside the
-  // window) and h_m, Delta z_max as the map stores them.
-  std::vector<std::int32_t> located_slot_;
+  // Per valid beam of the scan being integrated: its slot (beyond the
+  // window's cells when outside it; a double, as the pass computing it)
+  // and h_m, Delta z_max as the map stores them.
+  std::vector<double> located_slot_;
   std::vector<float> located_h_m_, located_dz_max_m_;
 };
 
