@@ -70,7 +70,14 @@ void reset_columns(std::vector<T>& values, T value, std::size_t n, const Runs& r
   for (int r = 0; r < rows.count; ++r) {
     for (std::size_t row = rows.begin[r]; row < rows.end[r]; ++row) {
       T* line = data + row * n;
-      for (int c = 0; c < columns.count; ++c) std::fill(line + columns.begin[c], line + columns.end[c], value);
+      for (int c = 0; c < columns.count; ++c) {
+        // A one-cell move is one element per row: a store, not a fill call.
+        if (columns.end[c] - columns.begin[c] == 1) {
+          line[columns.begin[c]] = value;
+        } else {
+          std::fill(line + columns.begin[c], line + columns.end[c], value);
+        }
+      }
     }
   }
 }
