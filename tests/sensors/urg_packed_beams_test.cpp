@@ -108,7 +108,7 @@ TEST(UrgPackedBeams, BadScansAreRefusedAsByTheConversion) {
 // classify() in whole millimetres against the comparison it stands for,
 // around thresholds that are not whole millimetres.
 TEST(UrgPackedBeams, ClassifyMatchesTheMetreBounds) {
-  for (const auto [lo_m, hi_m] : {std::pair{0.020, 5.600}, std::pair{0.0205, 4.0999}, std::pair{1e-12, 1e9}}) {
+  for (const auto& [lo_m, hi_m] : {std::pair{0.020, 5.600}, std::pair{0.0205, 4.0999}, std::pair{1e-12, 1e9}}) {
     UrgParameters p;
     p.min_range_m = lo_m;
     p.max_range_m = hi_m;
