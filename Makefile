@@ -6,7 +6,7 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 SCENE ?= scenes/rocky_mockup.yaml
 OUT ?= out
 
-.PHONY: run test test-sanitize test-tsan fuzz soak deps configure build bench clean
+.PHONY: run test test-sanitize test-tsan fuzz soak deps configure build bench bench-instructions bench-compare clean
 
 # The main job: the walking robot on the rocky mock-up with the URG-04LX
 # (mixed pixels simulated, the paper's scan filters), with its pose-error
@@ -95,6 +95,24 @@ soak: build
 
 bench: build
 	@bash tools/run-benchmarks.sh $(BUILD_DIR)
+
+# Instructions per valid point of the per-point path (callgrind over a fixed
+# workload; docs/performance.md). Needs valgrind.
+bench-instructions: configure
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target point_path_workload
+	@bash tools/bench-instructions.sh $(BUILD_DIR)
+
+# stridemap against OctoMap and a plain per-point update on the same
+# simulated scans (bench/compare.cpp, docs/performance.md). OctoMap is a
+# bench-only dependency, installed here rather than by `make deps`, so that
+# CI does not pay for it.
+bench-compare: configure
+	@dpkg -s liboctomap-dev >/dev/null 2>&1 || { echo "installing liboctomap-dev (bench-compare only)"; \
+	  if [ "$$(id -u)" = 0 ]; then apt-get install -y --no-install-recommends liboctomap-dev; \
+	  else sudo apt-get install -y --no-install-recommends liboctomap-dev; fi; }
+	cmake -S . -B $(BUILD_DIR)
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target compare
+	$(BUILD_DIR)/bin/compare $(CURDIR)
 
 clean:
 	rm -rf $(BUILD_DIR) $(OUT)

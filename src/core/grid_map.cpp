@@ -41,14 +41,44 @@ void check_cell_size(double cell_size_m) {
   }
 }
 
-// One layer's slots of column `col` in the global rows [row_lo, row_hi) of
-// an n x n circular window.
+// The slot rows (or columns) of `count` consecutive global indices from
+// `first` in a circular window of n: one run, or two where they wrap.
+struct Runs {
+  std::size_t begin[2] = {0, 0}, end[2] = {0, 0};
+  int count = 0;
+};
+Runs runs_of(std::int64_t first, std::int64_t count, std::int64_t n) {
+  Runs runs;
+  if (count <= 0) return runs;
+  const std::int64_t m = first % n;
+  const std::int64_t start = m < 0 ? m + n : m;
+  runs.begin[0] = static_cast<std::size_t>(start);
+  runs.end[0] = static_cast<std::size_t>(std::min(start + count, n));
+  runs.count = 1;
+  if (start + count > n) {
+    runs.end[1] = static_cast<std::size_t>(start + count - n);
+    runs.count = 2;
+  }
+  return runs;
+}
+
+// Columns `columns` of the rows `rows` of one layer back to `value`: per
+// row a contiguous fill, no modulo per cell.
 template <typename T>
-void reset_column(std::vector<T>& values, T value, std::int64_t n, std::size_t col, std::int64_t row_lo,
-                  std::int64_t row_hi) {
-  for (std::int64_t i = row_lo; i < row_hi; ++i) {
-    const std::int64_t m = i % n;
-    values[static_cast<std::size_t>(m < 0 ? m + n : m) * static_cast<std::size_t>(n) + col] = value;
+void reset_columns(std::vector<T>& values, T value, std::size_t n, const Runs& rows, const Runs& columns) {
+  T* data = values.data();
+  for (int r = 0; r < rows.count; ++r) {
+    for (std::size_t row = rows.begin[r]; row < rows.end[r]; ++row) {
+      T* line = data + row * n;
+      for (int c = 0; c < columns.count; ++c) {
+        // A one-cell move is one element per row: a store, not a fill call.
+        if (columns.end[c] - columns.begin[c] == 1) {
+          line[columns.begin[c]] = value;
+        } else {
+          std::fill(line + columns.begin[c], line + columns.end[c], value);
+        }
+      }
+    }
   }
 }
 
@@ -220,28 +250,29 @@ std::size_t ElevationMap::move_corner_to(CellIndex new_min) {
     return static_cast<std::size_t>(n_) * static_cast<std::size_t>(n_);
   }
   std::size_t reset = 0;
-  // Rows (constant x) that leave along x: their slots become the new rows.
-  const std::int64_t first_x = dx > 0 ? min_cell_.x : new_min.x + n_;
-  for (std::int64_t k = 0; k < std::abs(dx); ++k) {
-    const auto row = static_cast<std::size_t>(wrap(first_x + k));
-    reset_slots(row * static_cast<std::size_t>(n_), (row + 1) * static_cast<std::size_t>(n_));
-    reset += static_cast<std::size_t>(n_);
+  const auto n = static_cast<std::size_t>(n_);
+  // Rows (constant x) that leave along x: their slots become the new rows,
+  // one fill per layer for each run of them.
+  const Runs rows = runs_of(dx > 0 ? min_cell_.x : new_min.x + n_, std::abs(dx), n_);
+  for (int r = 0; r < rows.count; ++r) {
+    reset_slots(rows.begin[r] * n, rows.end[r] * n);
+    reset += (rows.end[r] - rows.begin[r]) * n;
   }
-  // Columns that leave along y, skipping the rows already reset above: the
-  // rows kept are those both windows cover.
-  const std::int64_t first_y = dy > 0 ? min_cell_.y : new_min.y + n_;
+  // Columns that leave along y, in the rows both windows cover (the others
+  // were reset above).
   const std::int64_t kept_lo = std::max(min_cell_.x, new_min.x);
   const std::int64_t kept_hi = std::min(min_cell_.x, new_min.x) + n_;
-  for (std::int64_t k = 0; k < std::abs(dy); ++k) {
-    const auto col = static_cast<std::size_t>(wrap(first_y + k));
+  const Runs columns = runs_of(dy > 0 ? min_cell_.y : new_min.y + n_, std::abs(dy), n_);
+  const Runs kept = runs_of(kept_lo, kept_hi - kept_lo, n_);
+  if (columns.count > 0) {
     for (Layer& layer : layers_) {
       switch (layer.spec.type) {
-        case LayerType::f32: reset_column(layer.f32, layer.reset_f32, n_, col, kept_lo, kept_hi); break;
-        case LayerType::u16: reset_column(layer.u16, layer.reset_u16, n_, col, kept_lo, kept_hi); break;
-        case LayerType::u8: reset_column(layer.u8, layer.reset_u8, n_, col, kept_lo, kept_hi); break;
+        case LayerType::f32: reset_columns(layer.f32, layer.reset_f32, n, kept, columns); break;
+        case LayerType::u16: reset_columns(layer.u16, layer.reset_u16, n, kept, columns); break;
+        case LayerType::u8: reset_columns(layer.u8, layer.reset_u8, n, kept, columns); break;
       }
     }
-    reset += static_cast<std::size_t>(kept_hi - kept_lo);
+    reset += static_cast<std::size_t>(kept_hi - kept_lo) * static_cast<std::size_t>(std::abs(dy));
   }
   set_min_cell(new_min);
   return reset;

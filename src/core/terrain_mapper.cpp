@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -158,8 +159,10 @@ void TerrainMapper::finish(const TrunkPose& pose, std::optional<double> time_s, 
 
 void TerrainMapper::refresh_beam_directions(const std::vector<double>& angles) {
   // A sensor's beam angles rarely change between scans; their sines and
-  // cosines are the costliest part of a point, so keep them.
-  if (angles.size() == cached_angles_.size() && std::equal(angles.begin(), angles.end(), cached_angles_.begin())) {
+  // cosines are the costliest part of a point, so keep them. Compared bit
+  // for bit (memcmp runs at memory speed): a -0 for a 0 is a new angle too.
+  if (angles.size() == cached_angles_.size() &&
+      (angles.empty() || std::memcmp(angles.data(), cached_angles_.data(), angles.size() * sizeof(double)) == 0)) {
     return;
   }
   cached_angles_.assign(angles.begin(), angles.end());
@@ -171,6 +174,37 @@ void TerrainMapper::refresh_beam_directions(const std::vector<double>& angles) {
   }
 }
 
+void TerrainMapper::pack(const PlanarScan& scan) {
+  const std::size_t n = scan.size();
+  packed_.prepare(n);
+  packed_.time_s = scan.time_s;
+  const double* range = scan.range_m.data();
+  const double* error = scan.range_error_m.data();
+  double* out_range = packed_.range_m.data();
+  double* out_error = packed_.range_error_m.data();
+  double* out_cos = packed_.cos_angle.data();
+  double* out_sin = packed_.sin_angle.data();
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::size_t count = 0, invalid_range = 0, invalid_beam = 0;
+  // Every beam is written and only a valid one kept: no branch to mispredict.
+  // PlanarScanPoints::point's checks; a non-finite angle has a NaN cosine.
+  for (std::size_t i = 0; i < n; ++i) {
+    const double r = range[i], dr = error[i], c = cos_angle_[i];
+    const bool range_ok = (r > 0.0) & (r < kInf);
+    const bool beam_ok = (c == c) & (dr >= 0.0) & (dr < kInf);
+    out_range[count] = r;
+    out_error[count] = dr;
+    out_cos[count] = c;
+    out_sin[count] = sin_angle_[i];
+    count += static_cast<std::size_t>(range_ok & beam_ok);
+    invalid_range += static_cast<std::size_t>(!range_ok);
+    invalid_beam += static_cast<std::size_t>(range_ok & !beam_ok);
+  }
+  packed_.count = count;
+  packed_.invalid_range = invalid_range;
+  packed_.invalid_beam = invalid_beam;
+}
+
 void TerrainMapper::check_scan_lengths(const PlanarScan& scan) {
   if (scan.angle_rad.size() != scan.range_m.size() || scan.range_error_m.size() != scan.range_m.size()) {
     throw InputError("scan at t=" + std::to_string(scan.time_s) + " s: angle_rad, range_m and range_error_m have " +
@@ -180,7 +214,10 @@ void TerrainMapper::check_scan_lengths(const PlanarScan& scan) {
 }
 
 ScanStats TerrainMapper::integrate(const PlanarScan& scan, const TrunkPose& pose) {
-  return integrate(scan, pose, NoPointSink{});
+  check_scan_lengths(scan);
+  refresh_beam_directions(scan.angle_rad);
+  pack(scan);
+  return integrate(packed_, pose);
 }
 
 ScanStats TerrainMapper::integrate_points(std::span<const MapPoint> points, const TrunkPose& pose,

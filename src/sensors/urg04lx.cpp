@@ -85,17 +85,30 @@ UrgModel::UrgModel(const UrgParameters& parameters, const RangeCalibration& cali
               << calibration_.coefficients[k];
       throw InputError(message.str());
     }
+    // With every coefficient zero, raw + correction(raw) is raw exactly.
+    if (calibration_.coefficients[k] != 0.0) calibrated_ = true;
   }
+  const auto steps = static_cast<std::size_t>(parameters_.beam_count());
+  step_angle_.resize(steps);
+  step_cos_.resize(steps);
+  step_sin_.resize(steps);
+  for (std::size_t k = 0; k < steps; ++k) {
+    step_angle_[k] = parameters_.step_angle_rad(static_cast<double>(parameters_.first_step) + static_cast<double>(k));
+    step_cos_[k] = std::cos(step_angle_[k]);
+    step_sin_[k] = std::sin(step_angle_[k]);
+  }
+  // classify() compares a whole number v with a double bound A: v < A holds
+  // exactly when v < ceil(A), and v > B exactly when v > floor(B).
+  constexpr double kTop = 4294967295.0;  // largest raw value
+  const double lowest = std::ceil(parameters_.min_range_m * 1000.0 - threshold_margin_mm);
+  const double highest = std::floor(parameters_.max_range_m * 1000.0 + threshold_margin_mm);
+  lowest_valid_mm_ = lowest <= 0.0 ? 0 : lowest > kTop ? std::uint64_t{1} << 32 : static_cast<std::uint64_t>(lowest);
+  highest_valid_mm_ = highest >= kTop ? static_cast<std::uint64_t>(kTop) : static_cast<std::uint64_t>(highest);
 }
 
 UrgValueClass UrgModel::classify(std::uint32_t raw_mm) const {
-  const double value_mm = static_cast<double>(raw_mm);
-  if (value_mm < parameters_.min_range_m * 1000.0 - threshold_margin_mm) {
-    return UrgValueClass::error_code;
-  }
-  if (value_mm > parameters_.max_range_m * 1000.0 + threshold_margin_mm) {
-    return UrgValueClass::beyond_max_range;
-  }
+  if (raw_mm < lowest_valid_mm_) return UrgValueClass::error_code;
+  if (raw_mm > highest_valid_mm_) return UrgValueClass::beyond_max_range;
   return UrgValueClass::valid;
 }
 
@@ -106,7 +119,7 @@ double UrgModel::spec_range_error_m(double range_m) {
   return 0.01 * range_m;
 }
 
-UrgConversionStats UrgModel::to_planar_scan(const UrgRawScan& raw, PlanarScan& out) const {
+void UrgModel::check_fits(const UrgRawScan& raw) const {
   const long long count = static_cast<long long>(raw.values_mm.size());
   if (raw.cluster < 1) {
     std::ostringstream message;
@@ -135,18 +148,22 @@ UrgConversionStats UrgModel::to_planar_scan(const UrgRawScan& raw, PlanarScan& o
       throw InputError(message.str());
     }
   }
+}
 
+UrgConversionStats UrgModel::to_planar_scan(const UrgRawScan& raw, PlanarScan& out) const {
+  check_fits(raw);
   out.time_s = raw.time_s;
   out.resize(raw.values_mm.size());
   UrgConversionStats stats;
+  // check_fits() keeps every value's step within the table.
+  const auto first = static_cast<std::size_t>(raw.first_step - parameters_.first_step);
+  const auto cluster = static_cast<std::size_t>(raw.cluster);
   for (std::size_t i = 0; i < raw.values_mm.size(); ++i) {
     const std::uint32_t value = raw.values_mm[i];
     const double raw_range_m = static_cast<double>(value) * 0.001;
     // A cluster's value is the minimum over its steps and the sensor does not
     // say which step gave it; SCIP drivers place it at the cluster's first step.
-    const double step = static_cast<double>(raw.first_step) +
-                        static_cast<double>(i) * static_cast<double>(raw.cluster);
-    out.angle_rad[i] = parameters_.step_angle_rad(step);
+    out.angle_rad[i] = step_angle_[first + i * cluster];
     switch (classify(value)) {
       case UrgValueClass::valid: {
         const double range_m = calibration_.corrected_m(raw_range_m);
@@ -169,6 +186,66 @@ UrgConversionStats UrgModel::to_planar_scan(const UrgRawScan& raw, PlanarScan& o
     out.range_error_m[i] = spec_range_error_m(raw_range_m);
   }
   return stats;
+}
+
+template <bool kCalibrated>
+UrgConversionStats UrgModel::pack_beams(const UrgRawScan& raw, PlanarBeams& out) const {
+  const std::size_t n = raw.values_mm.size();
+  out.prepare(n);
+  out.time_s = raw.time_s;
+  const std::uint32_t* values = raw.values_mm.data();
+  const auto first = static_cast<std::size_t>(raw.first_step - parameters_.first_step);
+  const double* cos_t = step_cos_.data() + first;
+  const double* sin_t = step_sin_.data() + first;
+  const auto cluster = static_cast<std::size_t>(raw.cluster);
+  double* range = out.range_m.data();
+  double* error = out.range_error_m.data();
+  double* out_cos = out.cos_angle.data();
+  double* out_sin = out.sin_angle.data();
+  const std::uint64_t lowest = lowest_valid_mm_, highest = highest_valid_mm_;
+  // valid <=> value - lowest <= span, in one unsigned comparison.
+  const std::uint64_t span = highest >= lowest ? highest - lowest : 0;
+  const bool any_valid = highest >= lowest;
+  const auto& c = calibration_.coefficients;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  std::size_t count = 0, beyond = 0, valid = 0;
+  // Valid and invalid values come in long runs (ground, then sky), so the
+  // branch is well predicted. A beam is kept when the mapper would use it
+  // from to_planar_scan: a valid value whose calibrated range is finite and
+  // positive (its error, 1 cm or 1 %, and its angle are then finite too).
+  for (std::size_t i = 0, step = 0; i < n; ++i, step += cluster) {
+    const std::uint64_t value = values[i];
+    if (value - lowest > span || !any_valid) {
+      beyond += static_cast<std::size_t>(value > highest);
+      continue;
+    }
+    ++valid;
+    const double raw_m = static_cast<double>(static_cast<std::int64_t>(value)) * 0.001;
+    double r = raw_m;
+    if constexpr (kCalibrated) {
+      r = raw_m + (c[0] + raw_m * (c[1] + raw_m * (c[2] + raw_m * c[3])));
+      if (!(r > 0.0 && r < kInf)) continue;
+    } else if (value == 0) {
+      continue;  // a DMIN below 1 mm lets 0 through; the mapper takes no zero range
+    }
+    range[count] = r;
+    error[count] = r <= 1.0 ? 0.010 : 0.01 * r;  // spec_range_error_m
+    out_cos[count] = cos_t[step];
+    out_sin[count] = sin_t[step];
+    ++count;
+  }
+  out.count = count;
+  out.invalid_range = n - count;  // an error code, beyond DMAX or calibrated out of range
+  UrgConversionStats stats;
+  stats.valid = valid;
+  stats.beyond_max_range = beyond;
+  stats.error_codes = n - valid - beyond;
+  return stats;
+}
+
+UrgConversionStats UrgModel::to_beams(const UrgRawScan& raw, PlanarBeams& out) const {
+  check_fits(raw);
+  return calibrated_ ? pack_beams<true>(raw, out) : pack_beams<false>(raw, out);
 }
 
 }  // namespace stridemap

@@ -66,6 +66,12 @@ class MaxElevationChange {
   double travel_term_m() const { return travel_term_m_; }
   double turn_term_per_m() const { return turn_term_per_m_; }
   double lateral_term_per_m() const { return lateral_term_per_m_; }
+  double turn_offset_m() const { return turn_offset_m_; }
+  /// The lateral term's axis (across the trunk's heading) and the mount's
+  /// offset along it, for code that writes `at` out per coordinate.
+  double cos_yaw() const { return cos_yaw_; }
+  double sin_yaw() const { return sin_yaw_; }
+  double mount_lateral_m() const { return mount_lateral_m_; }
 
  private:
   double travel_term_m_;

@@ -19,41 +19,56 @@
 
 namespace stridemap {
 
+/// What a planar scanner's beams share within one scan: the map directions
+/// of a beam at t = 0 and 90 deg and the partials of eq. (6) there (every
+/// beam's are a combination of the two), the lever arm's partials and gamma.
+struct PlanarBeamGeometry {
+  PlanarBeamGeometry(const TrunkPose& pose, const SensorMount& mount)
+      : at_front(beam_elevation_partials(1.0, 0.0, pose.pitch_rad, pose.roll_rad, mount)),
+        at_left(beam_elevation_partials(1.0, std::numbers::pi / 2, pose.pitch_rad, pose.roll_rad, mount)),
+        lever(sensor_origin_elevation_partials(pose, mount)),  // zero without pose z
+        gamma_rad(scan_plane_inclination_rad(pose.pitch_rad, pose.roll_rad, mount)) {
+    const Eigen::Matrix3d rotation = sensor_to_map_rotation(pose, mount);
+    forward = rotation.col(0);  // map direction of a beam at t = 0
+    left = rotation.col(1);     // ... and at t = 90 deg
+  }
+
+  /// A valid beam's offset from the sensor origin (map axes) and the
+  /// sensor's error part of Delta z_max. The one formula of the scan path:
+  /// PlanarScanPoints and the packed path (TerrainMapper) both call it.
+  void point(double r, double dr, double ct, double st, const UpdateOptions& options, Eigen::Vector3d& offset_m,
+             double& height_error_m) const {
+    offset_m = r * (ct * forward + st * left);
+    ElevationPartials partials;
+    partials.d_range = ct * at_front.d_range + st * at_left.d_range;
+    partials.d_pitch_m_per_rad = lever.d_pitch_m_per_rad + r * (ct * at_front.d_pitch_m_per_rad + st * at_left.d_pitch_m_per_rad);
+    partials.d_roll_m_per_rad = lever.d_roll_m_per_rad + r * (ct * at_front.d_roll_m_per_rad + st * at_left.d_roll_m_per_rad);
+    partials.d_alpha_m_per_rad = r * (ct * at_front.d_alpha_m_per_rad + st * at_left.d_alpha_m_per_rad);
+    height_error_m = elevation_error_bound_m(partials, dr, options);
+  }
+
+  ElevationPartials at_front, at_left, lever;
+  double gamma_rad;
+  Eigen::Vector3d forward, left;
+};
+
 class PlanarScanPoints {
  public:
   /// `cos_angle` / `sin_angle` hold cos and sin of scan.angle_rad (the
   /// caller keeps them between scans); all four must outlive this object.
   PlanarScanPoints(const PlanarScan& scan, const double* cos_angle, const double* sin_angle, const TrunkPose& pose,
                    const SensorMount& mount, const UpdateOptions& options)
-      : scan_(scan),
-        cos_(cos_angle),
-        sin_(sin_angle),
-        options_(options),
-        at_front_(beam_elevation_partials(1.0, 0.0, pose.pitch_rad, pose.roll_rad, mount)),
-        at_left_(beam_elevation_partials(1.0, std::numbers::pi / 2, pose.pitch_rad, pose.roll_rad, mount)),
-        lever_(sensor_origin_elevation_partials(pose, mount)),  // zero without pose z
-        gamma_rad_(scan_plane_inclination_rad(pose.pitch_rad, pose.roll_rad, mount)) {
-    const Eigen::Matrix3d rotation = sensor_to_map_rotation(pose, mount);
-    forward_ = rotation.col(0);  // map direction of a beam at t = 0
-    left_ = rotation.col(1);     // ... and at t = 90 deg
-  }
+      : scan_(scan), cos_(cos_angle), sin_(sin_angle), options_(options), geometry_(pose, mount) {}
 
   std::size_t size() const { return scan_.range_m.size(); }
-  double inclination_rad() const { return gamma_rad_; }
+  double inclination_rad() const { return geometry_.gamma_rad; }
 
   PointStatus point(std::size_t i, SensorPoint& out) const {
     const double r = scan_.range_m[i];
     const double dr = scan_.range_error_m[i];
     if (!std::isfinite(r) || r <= 0.0) return PointStatus::invalid_range;
     if (!std::isfinite(scan_.angle_rad[i]) || !std::isfinite(dr) || dr < 0.0) return PointStatus::invalid_beam;
-    const double ct = cos_[i], st = sin_[i];
-    out.offset_m = r * (ct * forward_ + st * left_);
-    ElevationPartials partials;
-    partials.d_range = ct * at_front_.d_range + st * at_left_.d_range;
-    partials.d_pitch_m_per_rad = lever_.d_pitch_m_per_rad + r * (ct * at_front_.d_pitch_m_per_rad + st * at_left_.d_pitch_m_per_rad);
-    partials.d_roll_m_per_rad = lever_.d_roll_m_per_rad + r * (ct * at_front_.d_roll_m_per_rad + st * at_left_.d_roll_m_per_rad);
-    partials.d_alpha_m_per_rad = r * (ct * at_front_.d_alpha_m_per_rad + st * at_left_.d_alpha_m_per_rad);
-    out.height_error_m = elevation_error_bound_m(partials, dr, options_);
+    geometry_.point(r, dr, cos_[i], sin_[i], options_, out.offset_m, out.height_error_m);
     out.range_m = r;
     return PointStatus::ok;
   }
@@ -63,9 +78,7 @@ class PlanarScanPoints {
   const double* cos_;
   const double* sin_;
   const UpdateOptions& options_;
-  ElevationPartials at_front_, at_left_, lever_;
-  double gamma_rad_;
-  Eigen::Vector3d forward_, left_;
+  PlanarBeamGeometry geometry_;
 };
 
 }  // namespace stridemap

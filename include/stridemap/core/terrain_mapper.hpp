@@ -4,6 +4,7 @@
 // allocates nothing, and it rejects bad samples and poses one by one,
 // counting them, so that nothing non-finite ever reaches a map layer.
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <span>
 #include <utility>
@@ -12,6 +13,7 @@
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/core/map_update.hpp"
 #include "stridemap/core/max_elevation_change.hpp"
+#include "stridemap/core/planar_beams.hpp"
 #include "stridemap/core/planar_scan.hpp"
 #include "stridemap/core/planar_scan_points.hpp"
 #include "stridemap/core/pose.hpp"
@@ -91,7 +93,12 @@ class TerrainMapper {
   /// Integrates one scan taken at `pose` (the estimate, not ground truth).
   /// A non-finite pose, or (reject_stale_scans) a scan.time_s that is not
   /// later than the last accepted one, rejects the whole scan, counted.
+  /// Packs the scan's valid beams and takes the packed path below.
   ScanStats integrate(const PlanarScan& scan, const TrunkPose& pose);
+  /// The same for beams a sensor model packed itself (core/planar_beams.hpp):
+  /// the per-point hot path. The maps are those integrate(PlanarScan) and
+  /// integrate_scan(PlanarScanPoints) make, bit for bit.
+  ScanStats integrate(const PlanarBeams& beams, const TrunkPose& pose);
   /// The same, handing each point that passed the checks to
   /// `sink(index, map_point, sensor_point)` before it is applied.
   template <class Sink>
@@ -128,6 +135,13 @@ class TerrainMapper {
   void apply(double x_m, double y_m, double h_m, double dz_max, ScanStats& stats);
   void finish(const TrunkPose& pose, std::optional<double> time_s, const ScanStats& stats);
   void refresh_beam_directions(const std::vector<double>& angles);
+  void pack(const PlanarScan& scan);
+  template <bool kTurning>
+  void locate_beams(const PlanarBeams& beams, const PlanarBeamGeometry& geometry, const MaxElevationChange& bound,
+                    const Eigen::Vector3d& origin);
+  void update_located(std::size_t count, ScanStats& stats);
+  void integrate_far(const PlanarBeams& beams, const PlanarBeamGeometry& geometry, const MaxElevationChange& bound,
+                     const Eigen::Vector3d& origin, ScanStats& stats);
   static void check_scan_lengths(const PlanarScan& scan);
 
   MapperOptions options_;
@@ -137,6 +151,12 @@ class TerrainMapper {
   std::optional<TrunkPose> previous_pose_;
   std::optional<double> previous_time_s_;
   std::vector<double> cached_angles_, cos_angle_, sin_angle_;
+  PlanarBeams packed_;  // integrate(PlanarScan)'s beams
+  // Per valid beam of the scan being integrated: its slot (beyond the
+  // window's cells when outside it; a double, as the pass computing it)
+  // and h_m, Delta z_max as the map stores them.
+  std::vector<double> located_slot_;
+  std::vector<float> located_h_m_, located_dz_max_m_;
 };
 
 /// True when every field of the pose is finite.

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "stridemap/core/planar_beams.hpp"
 #include "stridemap/core/planar_scan.hpp"
 #include "stridemap/sensors/range_calibration.hpp"
 
@@ -75,10 +76,27 @@ class UrgModel {
   /// storage. Throws InputError if the raw scan's first step, cluster or
   /// length do not fit the parameters (names the field and the numbers).
   UrgConversionStats to_planar_scan(const UrgRawScan& raw, PlanarScan& out) const;
+  /// The same conversion straight into the mapper's packed beams
+  /// (TerrainMapper::integrate(PlanarBeams)): only the beams the mapper
+  /// would use, with the cosine and sine of their angles from a table made
+  /// once. The map is the one to_planar_scan + integrate(PlanarScan) make,
+  /// bit for bit. Throws InputError as to_planar_scan does.
+  UrgConversionStats to_beams(const UrgRawScan& raw, PlanarBeams& out) const;
 
  private:
+  void check_fits(const UrgRawScan& raw) const;
+  template <bool kCalibrated>
+  UrgConversionStats pack_beams(const UrgRawScan& raw, PlanarBeams& out) const;
+
   UrgParameters parameters_;
   RangeCalibration calibration_;
+  // Per measurable step (index step - first_step): its angle, and that
+  // angle's cosine and sine.
+  std::vector<double> step_angle_, step_cos_, step_sin_;
+  // classify() as whole millimetres: a raw value is valid when it lies in
+  // [lowest_valid_mm_, highest_valid_mm_] (empty when lowest > highest).
+  std::uint64_t lowest_valid_mm_ = 0, highest_valid_mm_ = 0;
+  bool calibrated_ = false;  // any coefficient non-zero
 };
 
 }  // namespace stridemap

@@ -1,0 +1,84 @@
+// The fixed workload of `make bench-instructions` (tools/bench-instructions.sh):
+// raw URG-04LX scans through the whole per-point path (raw millimetres ->
+// calibrated beams -> the map), 1 cm cells, 100 x 100 window, the robot
+// walking and turning. Run under callgrind, which counts the instructions
+// of the conversion and the integration separately; it prints the valid
+// points so that the script can divide.
+//
+//   point_path_workload [packed|planar] [scans]
+//     packed: UrgModel::to_beams + TerrainMapper::integrate(PlanarBeams) (default)
+//     planar: UrgModel::to_planar_scan + TerrainMapper::integrate(PlanarScan)
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <random>
+#include <string>
+
+#include "stridemap/core/terrain_mapper.hpp"
+#include "stridemap/sensors/urg04lx.hpp"
+
+using namespace stridemap;
+
+namespace {
+
+// A floor with a low step seen from the paper's mount (as pipeline_bench's),
+// with a little range noise so that cells see plausible and implausible
+// readings alike.
+UrgRawScan floor_scan(const UrgParameters& urg, const SensorMount& mount, std::mt19937_64& rng) {
+  std::normal_distribution<double> noise_mm(0.0, 3.0);
+  UrgRawScan raw;
+  raw.first_step = urg.first_step;
+  for (int step = urg.first_step; step <= urg.last_step; ++step) {
+    const double down = std::cos(urg.step_angle_rad(step)) * std::sin(mount.pitch_rad);
+    const double range_mm = down > 0.1 ? 1000.0 * mount.height_m / down * (step % 50 < 10 ? 0.8 : 1.0) : 0.0;
+    raw.values_mm.push_back(range_mm > 0.0 ? static_cast<std::uint32_t>(std::lround(range_mm + noise_mm(rng))) : 0u);
+  }
+  return raw;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const std::string mode = argc > 1 ? argv[1] : "packed";
+  const int scans = argc > 2 ? std::atoi(argv[2]) : 750;
+  if ((mode != "packed" && mode != "planar") || scans < 1) {
+    std::fprintf(stderr, "usage: point_path_workload [packed|planar] [scans >= 1]\n");
+    return 2;
+  }
+  const UrgParameters urg;
+  const SensorMount mount;
+  const UrgModel model(urg);
+  MapperOptions options;
+  options.window_ahead_m = 0.3;
+  TerrainMapper mapper(options, mount);
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> tilt(0.0, 0.02);
+  // A handful of different scans, made before the measured loop.
+  std::vector<UrgRawScan> raw_scans;
+  for (int k = 0; k < 8; ++k) raw_scans.push_back(floor_scan(urg, mount, rng));
+  PlanarScan planar;
+  PlanarBeams beams;
+  TrunkPose pose;
+  std::size_t valid = 0;
+  for (int k = 0; k < scans; ++k) {
+    UrgRawScan& raw = raw_scans[static_cast<std::size_t>(k) % raw_scans.size()];
+    pose.x_m += 0.003;
+    pose.yaw_rad += 0.002;
+    pose.pitch_rad = tilt(rng);
+    pose.roll_rad = tilt(rng);
+    raw.time_s = 0.1 * (k + 1);
+    const ScanStats stats = mode == "packed" ? (model.to_beams(raw, beams), mapper.integrate(beams, pose))
+                                             : (model.to_planar_scan(raw, planar), mapper.integrate(planar, pose));
+    valid += stats.integrated + stats.outside_map;
+  }
+  std::printf("scans %d valid_points %zu cells_measured_certainty_sum %.1f\n", scans, valid,
+              [&] {
+                double sum = 0.0;
+                const ElevationMap& map = mapper.map();
+                const std::size_t n = static_cast<std::size_t>(map.cells_per_side()) * map.cells_per_side();
+                for (std::size_t s = 0; s < n; ++s) sum += map.certainty_data()[s];
+                return sum;
+              }());
+  return 0;
+}

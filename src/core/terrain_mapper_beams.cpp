@@ -1,0 +1,188 @@
+// TerrainMapper's packed per-point path (core/planar_beams.hpp). Two passes
+// per scan: the geometry of every valid beam (eq. 5, 6, 7 and Fig. 10, then
+// the cell it falls in) as straight-line code over arrays, which the
+// compiler turns into vector instructions, then the cell updates of eq. (9)
+// and (10) in beam order. The arithmetic is PlanarBeamGeometry::point's and
+// ElevationMap::slot_at's, operation for operation, so the maps are those of
+// the per-point path bit for bit (tests/core/packed_beams_test.cpp).
+// This file is built with -fno-math-errno and -fno-trapping-math
+// (src/CMakeLists.txt): sqrt then needs no error branch and the selects of
+// the first pass become vector blends, so that it vectorises. Neither
+// changes a result; nothing reads errno or floating-point traps.
+#include <cmath>
+#include <cstdint>
+#include <limits>
+
+#include "stridemap/core/terrain_mapper.hpp"
+
+namespace stridemap {
+namespace {
+
+// Added to an outside point's slot: beyond the largest window's cells.
+constexpr double kOutsideSlot = 1.0e9;
+
+}  // namespace
+
+template <bool kTurning>
+void TerrainMapper::locate_beams(const PlanarBeams& beams, const PlanarBeamGeometry& g,
+                                 const MaxElevationChange& bound, const Eigen::Vector3d& origin) {
+  // Everything the loop reads lives in locals, so that the compiler sees
+  // that the output arrays alias none of it.
+  const double fx = g.forward.x(), fy = g.forward.y(), fz = g.forward.z();
+  const double lx = g.left.x(), ly = g.left.y(), lz = g.left.z();
+  const double front_range = g.at_front.d_range, left_range = g.at_left.d_range;
+  const double front_pitch = g.at_front.d_pitch_m_per_rad, left_pitch = g.at_left.d_pitch_m_per_rad;
+  const double front_roll = g.at_front.d_roll_m_per_rad, left_roll = g.at_left.d_roll_m_per_rad;
+  const double front_alpha = g.at_front.d_alpha_m_per_rad, left_alpha = g.at_left.d_alpha_m_per_rad;
+  const double lever_pitch = g.lever.d_pitch_m_per_rad, lever_roll = g.lever.d_roll_m_per_rad;
+  const double k_roll = options_.update.max_roll_error_rad, k_pitch = options_.update.max_pitch_error_rad;
+  const double k_alpha = options_.update.max_mount_pitch_error_rad;
+  const double travel = bound.travel_term_m(), turn_per_m = bound.turn_term_per_m(),
+               turn_offset = bound.turn_offset_m();
+  const double lateral_per_m = bound.lateral_term_per_m(), cos_yaw = bound.cos_yaw(), sin_yaw = bound.sin_yaw(),
+               mount_lateral = bound.mount_lateral_m();
+  const double x0 = origin.x(), y0 = origin.y(), z0 = origin.z();
+  const double inverse_cell = 1.0 / map_.cell_size_m();
+  const auto cells_per_side = static_cast<std::size_t>(map_.cells_per_side());
+  const auto n = static_cast<double>(cells_per_side);
+  const auto slot_x = static_cast<double>(map_.slot(map_.min_cell()) / cells_per_side);
+  const auto slot_y = static_cast<double>(map_.slot(map_.min_cell()) % cells_per_side);
+  const auto lo_x = static_cast<double>(map_.min_cell().x), lo_y = static_cast<double>(map_.min_cell().y);
+  const double hi_x = lo_x + n, hi_y = lo_y + n;
+  constexpr double kMaxCoordinate_m = 1.0e6;  // as apply()
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  constexpr double kRound = 6755399441055744.0;  // 1.5 * 2^52
+
+  const double* __restrict range = beams.range_m.data();
+  const double* __restrict range_error = beams.range_error_m.data();
+  const double* __restrict cos_t = beams.cos_angle.data();
+  const double* __restrict sin_t = beams.sin_angle.data();
+  double* __restrict slot = located_slot_.data();
+  float* __restrict h_out = located_h_m_.data();
+  float* __restrict dz_out = located_dz_max_m_.data();
+  const std::size_t count = beams.count;
+  for (std::size_t k = 0; k < count; ++k) {
+    const double r = range[k], dr = range_error[k], ct = cos_t[k], st = sin_t[k];
+    // PlanarBeamGeometry::point, written out per coordinate.
+    const double ox = r * (ct * fx + st * lx), oy = r * (ct * fy + st * ly), oz = r * (ct * fz + st * lz);
+    const double d_range = ct * front_range + st * left_range;
+    const double d_pitch = lever_pitch + r * (ct * front_pitch + st * left_pitch);
+    const double d_roll = lever_roll + r * (ct * front_roll + st * left_roll);
+    const double d_alpha = r * (ct * front_alpha + st * left_alpha);
+    // elevation_error_bound_m; fabs differs from its v < 0 ? -v : v only
+    // in the sign of a zero term, which no sum below can see.
+    const double error = std::fabs(d_range * dr) + std::fabs(d_roll) * k_roll + std::fabs(d_pitch) * k_pitch +
+                         std::fabs(d_alpha) * k_alpha;
+    // MaxElevationChange::at.
+    double dz = travel + error;
+    if constexpr (kTurning) {
+      const double turn = turn_per_m * (std::sqrt(ox * ox + oy * oy) + turn_offset);
+      dz += turn != turn ? kInf : turn;
+      const double lateral = -sin_yaw * ox + cos_yaw * oy + mount_lateral;
+      dz += lateral_per_m * (lateral < 0 ? -lateral : lateral);
+    }
+    const double x = x0 + ox, y = y0 + oy, h = z0 + oz;
+    // apply()'s range check and ElevationMap::slot_at, in doubles so that
+    // the loop stays one vector type: a point that fails a range check gets
+    // -inf, which fails the window's bounds; floor() is round-to-nearest by
+    // the 1.5 * 2^52 trick, less one where that rounded up (exact for cell
+    // indices below 2^51; integrate() checked the window's fit in 2^30).
+    const double cx = x * inverse_cell, cy = y * inverse_cell;
+    const double mx = (std::fabs(x) < kMaxCoordinate_m ? cx : -kInf) + (std::fabs(h) < kMaxCoordinate_m ? 0.0 : -kInf);
+    const double my = std::fabs(y) < kMaxCoordinate_m ? cy : -kInf;
+    const double bx = mx >= lo_x ? mx : kInf, by = my >= lo_y ? my : kInf;
+    const double outside = (bx < hi_x ? 0.0 : 1.0) + (by < hi_y ? 0.0 : 1.0);
+    const double sx = bx < hi_x ? cx : lo_x, sy = by < hi_y ? cy : lo_y;
+    const double rx = (sx + kRound) - kRound, ry = (sy + kRound) - kRound;
+    double i = rx - (rx > sx ? 1.0 : 0.0) - lo_x + slot_x;
+    double j = ry - (ry > sy ? 1.0 : 0.0) - lo_y + slot_y;
+    i -= i >= n ? n : 0.0;
+    j -= j >= n ? n : 0.0;
+    // Outside: beyond every slot (update_located() checks the bound). Such
+    // a point's h_m and Delta z_max are never read; beyond float's range
+    // their conversion gives an infinity (IEEE 754; no sanitizer checks a
+    // conversion between floating types), and a select here would keep
+    // the loop from vectorising.
+    slot[k] = i * n + j + outside * kOutsideSlot;
+    h_out[k] = static_cast<float>(h);
+    dz_out[k] = static_cast<float>(dz);
+  }
+}
+
+void TerrainMapper::update_located(std::size_t count, ScanStats& stats) {
+  float* elevation = map_.elevation_data();
+  float* certainty = map_.certainty_data();
+  std::uint8_t* state = map_.state_data();
+  float* pending = map_.pending_elevation_data();
+  std::uint8_t* contradictions = map_.contradiction_data();
+  float* mean = map_.mean_elevation_data();
+  std::uint16_t* mean_count = map_.mean_count_data();
+  const UpdateOptions& options = options_.update;
+  std::size_t outcomes[4] = {0, 0, 0, 0};
+  std::size_t outside = 0;
+  const std::size_t cells = static_cast<std::size_t>(map_.cells_per_side()) * static_cast<std::size_t>(map_.cells_per_side());
+  for (std::size_t k = 0; k < count; ++k) {
+    const auto s = static_cast<std::size_t>(located_slot_[k]);
+    if (s >= cells) {
+      ++outside;
+      continue;
+    }
+    const CellUpdate result = update_cell({elevation[s], certainty[s], state[s], pending[s], contradictions[s], mean[s],
+                                           mean_count[s]},
+                                          located_h_m_[k], located_dz_max_m_[k], options);
+    ++outcomes[static_cast<std::size_t>(result)];
+  }
+  stats.outside_map += outside;
+  stats.integrated += count - outside;
+  stats.first += outcomes[static_cast<std::size_t>(CellUpdate::first)];
+  stats.plausible += outcomes[static_cast<std::size_t>(CellUpdate::plausible)];
+  stats.implausible += outcomes[static_cast<std::size_t>(CellUpdate::implausible)];
+  stats.replaced += outcomes[static_cast<std::size_t>(CellUpdate::replaced)];
+}
+
+void TerrainMapper::integrate_far(const PlanarBeams& beams, const PlanarBeamGeometry& geometry,
+                                  const MaxElevationChange& bound, const Eigen::Vector3d& origin, ScanStats& stats) {
+  Eigen::Vector3d offset;
+  double height_error = 0.0;
+  for (std::size_t k = 0; k < beams.count; ++k) {
+    geometry.point(beams.range_m[k], beams.range_error_m[k], beams.cos_angle[k], beams.sin_angle[k], options_.update,
+                   offset, height_error);
+    apply(origin.x() + offset.x(), origin.y() + offset.y(), origin.z() + offset.z(), bound.at(height_error, offset),
+          stats);
+  }
+}
+
+ScanStats TerrainMapper::integrate(const PlanarBeams& beams, const TrunkPose& pose) {
+  ScanStats stats;
+  stats.beams = beams.beams;
+  if (!accept(pose, beams.time_s, stats)) return stats;
+  follow(pose, stats);
+  stats.invalid_range = beams.invalid_range;
+  stats.invalid_beam = beams.invalid_beam;
+  const PlanarBeamGeometry geometry(pose, mount_);
+  const MaxElevationChange bound(motion_to(pose), geometry.gamma_rad, mount_, options_.update, pose.yaw_rad);
+  const Eigen::Vector3d origin = sensor_origin_in_map(pose, mount_);
+  // The first pass indexes cells in 32 bits; a window beyond that (some
+  // 20,000 km of 1 cm cells from the origin) takes the per-point way.
+  constexpr std::int64_t kIndexLimit = std::int64_t{1} << 30;
+  const CellIndex corner = map_.min_cell();
+  if (std::abs(corner.x) >= kIndexLimit || std::abs(corner.y) >= kIndexLimit) {
+    integrate_far(beams, geometry, bound, origin, stats);
+  } else {
+    if (located_slot_.size() < beams.count) {  // grows once, as the beams did
+      located_slot_.resize(beams.range_m.size());
+      located_h_m_.resize(beams.range_m.size());
+      located_dz_max_m_.resize(beams.range_m.size());
+    }
+    if (bound.turn_term_per_m() != 0.0) {
+      locate_beams<true>(beams, geometry, bound, origin);
+    } else {
+      locate_beams<false>(beams, geometry, bound, origin);
+    }
+    update_located(beams.count, stats);
+  }
+  finish(pose, beams.time_s, stats);
+  return stats;
+}
+
+}  // namespace stridemap
