@@ -46,7 +46,7 @@ TEST(RockyWalkCommand, WritesMapsViewsSummaryAndTable) {
   EXPECT_EQ(summary["experiment"], "rocky-walk");
   EXPECT_EQ(summary.value("tool_version", "").rfind("stridemap ", 0), 0u) << "the version that made it";
   EXPECT_EQ(summary["seed"], 2);
-  EXPECT_EQ(summary["pose_error_sweep"].size(), 6u);  // 2 levels x 3 h_ref sources
+  EXPECT_EQ(summary["pose_error_sweep"].size(), 8u);  // 2 levels x 4 h_ref sources
   EXPECT_GT(summary["walk"]["scans"].get<int>(), 400);
   const CommandResult info = run_cli("map-info " + shell_quoted((dir / "map.smap").string()));
   EXPECT_EQ(info.exit_code, 0) << info.output;

@@ -224,8 +224,12 @@ TEST(StructuredLightMapping, TravelAndTurningWidenTheBound) {
   const double yaw = 0.05;
   stripe_to_map_points(model, pixels, {}, {0.0, yaw}, options, turned);
   const double distance = std::hypot(turned[0].x_m, turned[0].y_m);  // sensor at the origin, no offsets
+  // Fig. 10's term, plus the point's sideways distance from the heading
+  // swept along it by the turn (|y| |sin theta| tan gamma; docs/mapping.md).
   EXPECT_NEAR(turned[0].max_elevation_change_m - still[0].max_elevation_change_m,
-              std::tan(55.0 * kDeg) * turning_travel_m(distance, 0.0, yaw), 1e-12);
+              std::tan(55.0 * kDeg) * turning_travel_m(distance, 0.0, yaw) +
+                  std::abs(turned[0].y_m) * std::abs(std::sin(yaw)) * std::tan(55.0 * kDeg),
+              1e-12);
   // A quarter turn between frames is a glitch: anything is plausible, but
   // the bound stays finite so that the mapper still takes the point.
   stripe_to_map_points(model, pixels, {}, {0.0, 2.0}, options, glitch);
