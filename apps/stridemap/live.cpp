@@ -393,6 +393,7 @@ void register_live(CLI::App& app) {
       if (log->count() > 0 || !map_args->mapping.poses_path.empty()) {
         throw InputError("--bag: give either --bag or --log with --poses, not both");
       }
+      map_args->bag.max_pose_gap_s = map_args->mapping.max_pose_gap_s;  // the map command's option serves both
       run_map_bag(map_args->bag, map_args->mapping.config_path, map_args->mapping.out_dir);
       return;
     }

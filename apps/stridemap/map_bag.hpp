@@ -1,7 +1,8 @@
 #pragma once
-// `stridemap map --bag`: a map from a ROS 1 bag (docs/ros.md). Built from
-// ros/cli/map_bag.cpp when ROS is found (STRIDEMAP_WITH_ROS); otherwise the
-// option says the tool was built without ROS.
+// `stridemap map --bag`: a map from a ROS 1 bag (docs/ros.md). The options
+// are ros/cli/map_bag_options.cpp in every build; the run is
+// ros/cli/map_bag.cpp when ROS is found (STRIDEMAP_WITH_ROS), otherwise
+// ros/cli/map_bag_without_ros.cpp, which says the tool was built without ROS.
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -17,6 +18,12 @@ struct MapBagArgs {
   std::string map_frame = "map";
   std::string sensor_frame;
   double pose_wait_s = 0.5;
+  // The node's parameters of the same names (MessageMapperOptions' defaults);
+  // max_pose_gap_s is the map command's own --max-pose-gap-s.
+  double max_pose_gap_s = 1.0;
+  double range_error_m = 0.01;
+  double range_error_fraction = 0.01;
+  double min_intensity = 0.0;
 };
 
 /// Adds --bag and its options to the map command.

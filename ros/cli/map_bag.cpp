@@ -4,7 +4,6 @@
 
 #include <cstdio>
 
-#include "cli_parsing.hpp"
 #include "commands.hpp"
 #include "output_guard.hpp"
 #include "terminal_output.hpp"
@@ -15,20 +14,6 @@
 #include "stridemap_ros/message_mapper_library.hpp"
 
 namespace stridemap::cli {
-
-void add_map_bag_options(CLI::App& map, MapBagArgs& args) {
-  map.add_option("--bag", args.bag_path, "A ROS 1 bag to map instead of --log/--poses (docs/ros.md)");
-  map.add_option("--scan-topic", args.scan_topic, "--bag: sensor_msgs/LaserScan topic");
-  map.add_option("--cloud-topic", args.cloud_topic, "--bag: sensor_msgs/PointCloud2 topic (the stripe camera)");
-  map.add_option("--pose-topic", args.pose_topic, "--bag: the trunk's geometry_msgs/PoseStamped or nav_msgs/Odometry");
-  map.add_flag("--tf", args.tf, "--bag: the sensor's pose from the bag's /tf and /tf_static");
-  map.add_option("--map-frame", args.map_frame, "--bag: fixed frame of TF or of the pose topic")->capture_default_str();
-  map.add_option("--sensor-frame", args.sensor_frame, "--bag: frame the scans must carry (default: the first scan's)");
-  map.add_option("--pose-wait-s", args.pose_wait_s,
-                 "--bag: a scan whose pose has not come this long (bag time) after it is dropped, as the node does")
-      ->capture_default_str()
-      ->check(number_from_to(0.0, 3600.0, "s"));
-}
 
 void run_map_bag(const MapBagArgs& args, const std::string& config_path, const std::string& out_dir) {
   if (args.scan_topic.empty() == args.cloud_topic.empty()) {
@@ -43,6 +28,10 @@ void run_map_bag(const MapBagArgs& args, const std::string& config_path, const s
   options.mapper.map_frame = args.map_frame;
   options.mapper.sensor_frame = args.sensor_frame;
   options.mapper.pose_wait_s = args.pose_wait_s;
+  options.mapper.max_pose_gap_s = args.max_pose_gap_s;
+  options.mapper.range_error_m = args.range_error_m;
+  options.mapper.range_error_fraction = args.range_error_fraction;
+  options.mapper.min_intensity = args.min_intensity;
   options.mapper.config_path = config_path;
   refuse_output_that_is_an_input("--out", out_dir, {{"--bag", args.bag_path}, {"--config", config_path}});
   io::check_output_folder(out_dir, "--out");
@@ -61,9 +50,10 @@ void run_map_bag(const MapBagArgs& args, const std::string& config_path, const s
     std::set<std::string> written;
     ros_adapter::save_map(mapper, dir + "/map.smap", "map --bag " + args.bag_path, written);
   });
-  std::printf("map: %zu scans mapped of %zu (dropped: %zu wrong frame, %zu stamp not increasing, %zu no valid beams, "
-              "%zu pose timeout, %zu pose unavailable, %zu other), %zu NaN ranges; coverage %.1f %%; outputs: %s\n",
-              s.mapped, s.scans, s.wrong_frame, s.stamp_not_increasing, s.no_valid_beams, s.pose_timeout,
+  std::printf("map: %zu scans mapped of %zu (dropped: %zu wrong frame, %zu stamp not increasing, %zu unreadable, "
+              "%zu no valid beams, %zu pose timeout, %zu pose unavailable, %zu other), %zu NaN ranges; "
+              "coverage %.1f %%; outputs: %s\n",
+              s.mapped, s.scans, s.wrong_frame, s.stamp_not_increasing, s.unreadable, s.no_valid_beams, s.pose_timeout,
               s.pose_unavailable, s.bad_geometry + s.queue_full + s.rejected_by_mapper, s.beams_not_finite,
               100.0 * map_coverage(layers), out_dir.c_str());
   std::fflush(stdout);

@@ -86,7 +86,11 @@ void BagMapping::run(const std::function<void(std::size_t, std::size_t)>& progre
         if (auto scan = m.instantiate<sensor_msgs::LaserScan>()) mapper_->add(laser_scan_data(*scan), now);
       } else if (topic == options_.cloud_topic) {
         if (auto msg = m.instantiate<sensor_msgs::PointCloud2>()) {
-          if (point_cloud_data(*msg, cloud, why)) mapper_->add(cloud, now);
+          if (point_cloud_data(*msg, cloud, why)) {
+            mapper_->add(cloud, now);
+          } else {
+            mapper_->add_unreadable(msg->header.frame_id, why);
+          }
         }
       } else if (topic == options_.pose_topic) {
         if (auto p = m.instantiate<geometry_msgs::PoseStamped>()) {

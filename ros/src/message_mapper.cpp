@@ -28,9 +28,9 @@ void MessageMapperOptions::validate() const {
     if (!(v > 0.0) || !std::isfinite(v)) throw InputError(std::string(name) + ": must be a positive number");
   };
   if (map_frame.empty()) throw InputError("map_frame: must not be empty");
-  positive(range_sigma_m, "range_sigma_m");
-  if (!(range_sigma_fraction >= 0.0) || !std::isfinite(range_sigma_fraction)) {
-    throw InputError("range_sigma_fraction: must be a number >= 0");
+  positive(range_error_m, "range_error_m");
+  if (!(range_error_fraction >= 0.0) || !std::isfinite(range_error_fraction)) {
+    throw InputError("range_error_fraction: must be a number >= 0");
   }
   if (!std::isfinite(min_intensity)) throw InputError("min_intensity: must be a number");
   if (!(pose_wait_s >= 0.0) || !std::isfinite(pose_wait_s)) throw InputError("pose_wait_s: must be a number >= 0");
@@ -115,6 +115,10 @@ MapLayers MessageMapper::layers(const std::vector<std::string>& names) const {
   return out;
 }
 
+double MessageMapper::range_error(double range_m) const {
+  return std::max(options_.range_error_m, options_.range_error_fraction * range_m);
+}
+
 void MessageMapper::drop(std::size_t& counter, const std::string& why) {
   ++counter;
   last_drop_ = why;
@@ -145,23 +149,38 @@ void MessageMapper::make_room() {
 
 void MessageMapper::add(const LaserScanData& scan, double arrival_s) {
   if (!accept_header(scan.stamp_s, scan.frame_id)) return;
-  const bool geometry_ok = std::isfinite(scan.angle_min_rad) && std::isfinite(scan.angle_increment_rad) &&
-                           std::isfinite(scan.range_min_m) && std::isfinite(scan.range_max_m) &&
-                           scan.range_max_m > scan.range_min_m &&
-                           (scan.intensity_count == 0 || scan.intensity_count == scan.range_count) &&
-                           (scan.range_count == 0 || scan.ranges_m != nullptr);
-  if (!geometry_ok) {
-    drop(stats_.bad_geometry, "angles, range limits or intensities unusable");
+  // Intensities matter only when they filter beams; a driver that sends a
+  // wrong number of them loses its scans only then.
+  const bool use_intensities = options_.min_intensity > 0.0 && scan.intensity_count > 0;
+  std::string bad;
+  if (!std::isfinite(scan.angle_min_rad) || !std::isfinite(scan.angle_increment_rad)) {
+    bad = "angle_min or angle_increment not finite";
+  } else if (scan.angle_increment_rad == 0.0 && scan.range_count > 1) {
+    bad = "angle_increment 0 with " + std::to_string(scan.range_count) + " ranges";
+  } else if (!std::isfinite(scan.range_min_m) || !std::isfinite(scan.range_max_m) ||
+             !(scan.range_max_m > scan.range_min_m) || !(scan.range_max_m > 0.0)) {
+    bad = "range limits [" + std::to_string(scan.range_min_m) + ", " + std::to_string(scan.range_max_m) +
+          "] m make no sense";
+  } else if (use_intensities && scan.intensity_count != scan.range_count) {
+    bad = std::to_string(scan.intensity_count) + " intensities for " + std::to_string(scan.range_count) +
+          " ranges (min_intensity needs one per range)";
+  } else if (scan.range_count > 0 && scan.ranges_m == nullptr) {
+    bad = "no range data";
+  }
+  if (!bad.empty()) {
+    drop(stats_.bad_geometry, "scan at " + std::to_string(scan.stamp_s) + ": " + bad);
     return;
   }
   Impl::Waiting w = take_spare(*impl_);
-  w.frame.time_s = scan.stamp_s;
-  w.frame.points_m.clear();
-  w.frame.height_sigma_m.clear();
+  w.planar = true;
+  w.time_s = scan.stamp_s;
+  w.scan.time_s = scan.stamp_s;
+  w.scan.angle_rad.clear();
+  w.scan.range_m.clear();
+  w.scan.range_error_m.clear();
   w.frame_id = scan.frame_id;
   w.arrival_s = arrival_s;
   bool bad_beam = false;
-  const bool with_intensities = scan.intensity_count > 0;
   for (std::size_t k = 0; k < scan.range_count; ++k) {
     ++stats_.beams;
     const double r = scan.ranges_m[k];
@@ -170,27 +189,35 @@ void MessageMapper::add(const LaserScanData& scan, double arrival_s) {
       bad_beam = true;
       continue;
     }
-    // REP-117: +-Inf are readings (nothing within range), not errors.
-    if (std::isinf(r) || r < scan.range_min_m || r > scan.range_max_m) {
+    // REP-117: +-Inf are readings (nothing within range), not errors. A
+    // range of 0 is how many drivers say "no echo", even with range_min 0:
+    // as a point it would sit at the sensor itself.
+    if (std::isinf(r) || r < scan.range_min_m || r > scan.range_max_m || !(r > 0.0)) {
       ++stats_.beams_out_of_range;
       continue;
     }
-    if (with_intensities && !(scan.intensities[k] >= options_.min_intensity)) {
+    if (use_intensities && !(scan.intensities[k] >= options_.min_intensity)) {
       ++stats_.beams_low_intensity;
       continue;
     }
     const double a = scan.angle_min_rad + static_cast<double>(k) * scan.angle_increment_rad;
-    w.frame.points_m.emplace_back(r * std::cos(a), r * std::sin(a), 0.0);
-    w.frame.height_sigma_m.push_back(std::max(options_.range_sigma_m, options_.range_sigma_fraction * r));
+    w.scan.angle_rad.push_back(a);
+    w.scan.range_m.push_back(r);
+    w.scan.range_error_m.push_back(range_error(r));
   }
   if (bad_beam) ++stats_.scans_with_bad_beams;
-  if (w.frame.points_m.empty()) {
+  if (w.scan.range_m.empty()) {
     drop(stats_.no_valid_beams, "no beam with a usable range");
     impl_->spare.push_back(std::move(w));
     return;
   }
   make_room();
   impl_->waiting.push_back(std::move(w));
+}
+
+void MessageMapper::add_unreadable(const std::string& frame_id, const std::string& why) {
+  ++stats_.scans;
+  drop(stats_.unreadable, "cloud in '" + frame_id + "': " + why);
 }
 
 void MessageMapper::add(const PointCloudData& cloud, double arrival_s) {
@@ -201,6 +228,8 @@ void MessageMapper::add(const PointCloudData& cloud, double arrival_s) {
     return;
   }
   Impl::Waiting w = take_spare(*impl_);
+  w.planar = false;
+  w.time_s = cloud.stamp_s;
   w.frame.points_m.clear();
   w.frame.height_sigma_m.clear();
   w.frame.time_s = cloud.stamp_s;
@@ -210,8 +239,7 @@ void MessageMapper::add(const PointCloudData& cloud, double arrival_s) {
   for (std::size_t k = 0; k < cloud.points_m.size(); ++k) {
     ++stats_.beams;
     const Eigen::Vector3d& p = cloud.points_m[k];
-    const double sigma = sigma_given ? cloud.height_sigma_m[k]
-                                     : std::max(options_.range_sigma_m, options_.range_sigma_fraction * p.norm());
+    const double sigma = sigma_given ? cloud.height_sigma_m[k] : range_error(p.norm()) / 3.0;
     if (!p.allFinite() || !std::isfinite(sigma) || sigma < 0.0) {
       ++stats_.beams_not_finite;
       bad_beam = true;
@@ -240,7 +268,7 @@ std::size_t MessageMapper::process(double now_s, bool end_of_stream) {
     std::string why;
     PoseAnswer answer = PoseAnswer::never;
     if (topic) {
-      switch (topic->track_->track.interpolate(w.frame.time_s, pose)) {
+      switch (topic->track_->track.interpolate(w.time_s, pose)) {
         case PoseLookup::ok: answer = PoseAnswer::ok; break;
         case PoseLookup::empty:
         case PoseLookup::after_last: answer = PoseAnswer::not_yet; break;
@@ -250,7 +278,7 @@ std::size_t MessageMapper::process(double now_s, bool end_of_stream) {
       why = "the pose topic has no pose at that time";
     } else {
       Eigen::Isometry3d sensor;
-      answer = poses_.sensor_in_map(w.frame_id, w.frame.time_s, sensor, why);
+      answer = poses_.sensor_in_map(w.frame_id, w.time_s, sensor, why);
       if (answer == PoseAnswer::ok) {
         if (!sensor.matrix().allFinite()) {
           answer = PoseAnswer::never;
@@ -262,13 +290,16 @@ std::size_t MessageMapper::process(double now_s, bool end_of_stream) {
     }
     if (answer == PoseAnswer::not_yet && !end_of_stream && now_s - w.arrival_s <= options_.pose_wait_s) break;
     if (answer == PoseAnswer::not_yet) {
-      drop(stats_.pose_timeout, "no pose for the scan at " + std::to_string(w.frame.time_s) + " within " +
+      drop(stats_.pose_timeout, "no pose for the scan at " + std::to_string(w.time_s) + " within " +
                                     std::to_string(options_.pose_wait_s) + " s: " + why);
     } else if (answer == PoseAnswer::never) {
-      drop(stats_.pose_unavailable, "no pose for the scan at " + std::to_string(w.frame.time_s) + ": " + why);
+      drop(stats_.pose_unavailable, "no pose for the scan at " + std::to_string(w.time_s) + ": " + why);
     } else {
-      const ScanOutcome outcome = impl_->pipeline->add(w.frame, pose);
-      if (outcome.stats.pose_rejected || outcome.stats.time_rejected) {
+      // A planar scan takes the mapper's own scan path (eq. 6, as the URG's
+      // scans do); the pipeline has no front end for scans already planar.
+      const ScanStats stats = w.planar ? impl_->pipeline->mapper().integrate(w.scan, pose)
+                                       : impl_->pipeline->add(w.frame, pose).stats;
+      if (stats.pose_rejected || stats.time_rejected) {
         drop(stats_.rejected_by_mapper, "the mapper refused the scan's pose or time");
       } else {
         ++stats_.mapped;
@@ -276,8 +307,8 @@ std::size_t MessageMapper::process(double now_s, bool end_of_stream) {
         const double latency = std::max(0.0, now_s - w.arrival_s);
         stats_.latency_sum_s += latency;
         stats_.latency_max_s = std::max(stats_.latency_max_s, latency);
-        last_mapped_stamp_ = w.frame.time_s;
-        if (topic) topic->drop_before(w.frame.time_s);
+        last_mapped_stamp_ = w.time_s;
+        if (topic) topic->drop_before(w.time_s);
       }
     }
     impl_->spare.push_back(std::move(w));

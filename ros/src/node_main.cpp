@@ -41,8 +41,8 @@ class Node {
     pnh.param<std::string>("config", options.config_path, "");
     pnh.param<std::string>("map_frame", options.map_frame, options.map_frame);
     pnh.param<std::string>("sensor_frame", options.sensor_frame, options.sensor_frame);
-    pnh.param("range_sigma_m", options.range_sigma_m, options.range_sigma_m);
-    pnh.param("range_sigma_fraction", options.range_sigma_fraction, options.range_sigma_fraction);
+    pnh.param("range_error_m", options.range_error_m, options.range_error_m);
+    pnh.param("range_error_fraction", options.range_error_fraction, options.range_error_fraction);
     pnh.param("min_intensity", options.min_intensity, options.min_intensity);
     pnh.param("pose_wait_s", options.pose_wait_s, options.pose_wait_s);
     pnh.param("max_pose_gap_s", options.max_pose_gap_s, options.max_pose_gap_s);
@@ -106,13 +106,13 @@ class Node {
   }
 
   void on_cloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
-    std::string why;
-    if (!point_cloud_data(*msg, cloud_, why)) {
-      ROS_WARN_THROTTLE(5.0, "stridemap_node: cloud skipped: %s", why.c_str());
-      return;
-    }
     guarded("cloud", [&] {
-      mapper_->add(cloud_, wall_now());
+      std::string why;
+      if (point_cloud_data(*msg, cloud_, why)) {
+        mapper_->add(cloud_, wall_now());
+      } else {
+        mapper_->add_unreadable(msg->header.frame_id, why);
+      }
       process();
     });
   }

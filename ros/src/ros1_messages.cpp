@@ -65,24 +65,31 @@ bool point_cloud_data(const sensor_msgs::PointCloud2& msg, PointCloudData& out, 
   const sensor_msgs::PointField* z = field(msg, "z");
   const sensor_msgs::PointField* sigma = field(msg, "sigma");
   if (!readable(msg, x) || !readable(msg, y) || !readable(msg, z) || (sigma && !readable(msg, sigma))) {
-    why = "needs float32 or float64 fields x, y, z (and optionally sigma) inside point_step";
+    std::string names;
+    for (const sensor_msgs::PointField& f : msg.fields) names += (names.empty() ? "" : ", ") + f.name;
+    why = "needs float32 or float64 fields x, y, z (and optionally sigma) of count 1 inside point_step " +
+          std::to_string(msg.point_step) + "; its fields: " + (names.empty() ? "none" : names);
     return false;
   }
   if (msg.is_bigendian) {
     why = "big-endian clouds are not read";
     return false;
   }
-  const std::size_t count = static_cast<std::size_t>(msg.width) * msg.height;
-  if (msg.row_step != static_cast<std::size_t>(msg.width) * msg.point_step ||
-      msg.data.size() != static_cast<std::size_t>(msg.row_step) * msg.height) {
-    why = "width, height, point_step and row_step do not match the data's size";
+  // row_step may pad each row beyond width x point_step (the message allows it).
+  const std::size_t row_bytes = static_cast<std::size_t>(msg.width) * msg.point_step;
+  if (msg.row_step < row_bytes || msg.data.size() != static_cast<std::size_t>(msg.row_step) * msg.height) {
+    why = "width " + std::to_string(msg.width) + ", height " + std::to_string(msg.height) + ", point_step " +
+          std::to_string(msg.point_step) + " and row_step " + std::to_string(msg.row_step) + " do not match the " +
+          std::to_string(msg.data.size()) + " bytes of data";
     return false;
   }
-  out.points_m.reserve(count);
-  for (std::size_t k = 0; k < count; ++k) {
-    const std::uint8_t* p = msg.data.data() + k * msg.point_step;
-    out.points_m.emplace_back(read(p, *x), read(p, *y), read(p, *z));
-    if (sigma) out.height_sigma_m.push_back(read(p, *sigma));
+  out.points_m.reserve(static_cast<std::size_t>(msg.width) * msg.height);
+  for (std::size_t row = 0; row < msg.height; ++row) {
+    for (std::size_t k = 0; k < msg.width; ++k) {
+      const std::uint8_t* p = msg.data.data() + row * msg.row_step + k * msg.point_step;
+      out.points_m.emplace_back(read(p, *x), read(p, *y), read(p, *z));
+      if (sigma) out.height_sigma_m.push_back(read(p, *sigma));
+    }
   }
   return true;
 }
@@ -284,6 +291,7 @@ diagnostic_msgs::DiagnosticArray diagnostics(const MessageMapperStats& s, const 
   count("dropped_wrong_frame", s.wrong_frame);
   count("dropped_stamp_not_increasing", s.stamp_not_increasing);
   count("dropped_bad_geometry", s.bad_geometry);
+  count("dropped_unreadable", s.unreadable);
   count("dropped_no_valid_beams", s.no_valid_beams);
   count("dropped_pose_timeout", s.pose_timeout);
   count("dropped_pose_unavailable", s.pose_unavailable);

@@ -26,6 +26,9 @@ namespace stridemap::ros_adapter {
 
 /// What a sensor_msgs/LaserScan carries, without ROS. Beam k points at
 /// angle_min + k angle_increment in the scan's x-y plane (x ahead, y left).
+/// The whole scan takes the pose at its stamp (the first beam's time, as
+/// LaserScan's header says and the library's URG scans are stamped): the
+/// paper's one pose per scan; time_increment is not used.
 struct LaserScanData {
   double stamp_s = 0.0;
   std::string frame_id;
@@ -56,12 +59,15 @@ struct MessageMapperOptions {
   std::string map_frame = "map";
   /// Frame the scans must carry; empty: the first scan's frame, then that one.
   std::string sensor_frame{};
-  /// Height sigma of a point = max(range_sigma_m, range_sigma_fraction x range):
-  /// the URG-04LX's specified accuracy by default (10 mm, 1 % beyond 1 m).
-  double range_sigma_m = 0.01;
-  double range_sigma_fraction = 0.01;
-  /// Beams with an intensity below this are not used (0: all; only when the
-  /// message has intensities).
+  /// Delta r of eq. (6), a beam's maximum range error: max(range_error_m,
+  /// range_error_fraction x range), the URG-04LX's specified accuracy by
+  /// default (10 mm, 1 % beyond 1 m), as the library's URG model uses it.
+  /// A cloud point without a sigma field gets that bound / 3 as its height
+  /// sigma (the bound read as 3 sigma, as the point sensor scales it back).
+  double range_error_m = 0.01;
+  double range_error_fraction = 0.01;
+  /// Beams with an intensity below this are not used (0: all, and the
+  /// intensities are not looked at; only when the message has intensities).
   double min_intensity = 0.0;
   /// A scan whose pose has not come this long after the scan (on the clock
   /// of `now_s` given to process()) is dropped as pose_timeout.
@@ -82,6 +88,7 @@ struct MessageMapperStats {
   std::size_t wrong_frame = 0;           ///< frame_id not the sensor frame
   std::size_t stamp_not_increasing = 0;  ///< stamp not later than the previous scan's
   std::size_t bad_geometry = 0;          ///< angle increment, limits or sizes unusable
+  std::size_t unreadable = 0;            ///< a cloud without float x, y, z fields, or sizes not matching its data
   std::size_t no_valid_beams = 0;
   std::size_t pose_timeout = 0;      ///< the pose (TF or topic) did not come within pose_wait_s
   std::size_t pose_unavailable = 0;  ///< the pose can never come (before the first pose, in a gap)
@@ -98,8 +105,8 @@ struct MessageMapperStats {
   double latency_max_s = 0.0;
 
   std::size_t dropped() const {
-    return wrong_frame + stamp_not_increasing + bad_geometry + no_valid_beams + pose_timeout + pose_unavailable +
-           queue_full + rejected_by_mapper;
+    return wrong_frame + stamp_not_increasing + bad_geometry + unreadable + no_valid_beams + pose_timeout +
+           pose_unavailable + queue_full + rejected_by_mapper;
   }
 };
 
@@ -161,6 +168,9 @@ class MessageMapper {
   /// when it came (the clock of process()'s `now_s`).
   void add(const LaserScanData& scan, double arrival_s);
   void add(const PointCloudData& cloud, double arrival_s);
+  /// A message that could not be read as a scan (point_cloud_data said
+  /// `why`): counted as offered and dropped, its stamp and frame unused.
+  void add_unreadable(const std::string& frame_id, const std::string& why);
   /// Maps the waiting scans, oldest first, while their pose is there. A scan
   /// waiting longer than pose_wait_s (or any, with `end_of_stream`) whose
   /// pose is still missing is dropped. Returns the scans mapped.
@@ -191,6 +201,7 @@ class MessageMapper {
  private:
   bool accept_header(double stamp_s, const std::string& frame_id);
   void drop(std::size_t& counter, const std::string& why);
+  double range_error(double range_m) const;
   void make_room();
 
   MessageMapperOptions options_;

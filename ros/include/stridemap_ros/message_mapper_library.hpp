@@ -6,6 +6,7 @@
 #include <memory>
 #include <vector>
 
+#include "stridemap/core/planar_scan.hpp"
 #include "stridemap/core/pose.hpp"
 #include "stridemap/io/mapper_config.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
@@ -25,8 +26,13 @@ TrunkPose trunk_pose_from_sensor(const Eigen::Isometry3d& sensor_in_map, const S
 PipelineOptions message_pipeline_options(const MapperConfig& config);
 
 struct MessageMapper::Impl {
+  // A LaserScan is a planar scan (the library's eq. 6 model, the URG's);
+  // a cloud is points with a sigma each (the generic point sensor).
   struct Waiting {
+    bool planar = false;
+    PlanarScan scan;
     PointFrame frame;
+    double time_s = 0.0;
     std::string frame_id;
     double arrival_s = 0.0;
   };

@@ -9,6 +9,7 @@
 #include "stridemap/core/sensor_transform.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/exported_map.hpp"
+#include "stridemap/sensors/urg04lx.hpp"
 #include "stridemap_ros/message_mapper_library.hpp"
 
 namespace stridemap::ros_adapter {
@@ -127,14 +128,159 @@ TEST(MessageMapper, ClearEmptiesTheMapAndAcceptsAnyStampAfter) {
   EXPECT_EQ(mapper.stats().mapped, 2u);
 }
 
+// Any scanner: the beams' angles, limits and intensities come from the
+// message, each beam judged on its own.
+TEST(MessageMapper, TakesEachBeamAsTheMessageDescribesIt) {
+  FixedPose poses;
+  MessageMapperOptions options;
+  options.min_intensity = 100.0;
+  MessageMapper mapper(options, poses);
+  Scan scan;
+  std::vector<float> intensities(21, 500.0f);
+  scan.ranges[0] = 0.0f;                                        // "no echo" of many drivers
+  scan.ranges[1] = std::numeric_limits<float>::infinity();      // REP-117: nothing within range
+  scan.ranges[2] = -std::numeric_limits<float>::infinity();     // REP-117: too close
+  scan.ranges[3] = 6.0f;                                        // beyond range_max
+  intensities[4] = 20.0f;                                       // too weak
+  intensities[5] = std::numeric_limits<float>::quiet_NaN();     // no intensity
+  LaserScanData d = scan.data(1.0);
+  d.range_min_m = 0.0;  // a driver that states no minimum: 0 is still no reading
+  d.range_max_m = 5.6;
+  d.intensities = intensities.data();
+  d.intensity_count = intensities.size();
+  mapper.add(d, 0.0);
+  LaserScanData wrong_count = scan.data(1.1);
+  wrong_count.intensities = intensities.data();
+  wrong_count.intensity_count = 20;  // not one per range while they filter
+  mapper.add(wrong_count, 0.0);
+  LaserScanData no_increment = scan.data(1.2);
+  no_increment.angle_increment_rad = 0.0;
+  mapper.add(no_increment, 0.0);
+  LaserScanData limits = scan.data(1.3);
+  limits.range_max_m = 0.01;  // below range_min
+  mapper.add(limits, 0.0);
+  mapper.process(0.0, false);
+  const MessageMapperStats& s = mapper.stats();
+  EXPECT_EQ(s.mapped, 1u);
+  EXPECT_EQ(s.beams, 21u);
+  EXPECT_EQ(s.beams_out_of_range, 4u);
+  EXPECT_EQ(s.beams_low_intensity, 2u);
+  EXPECT_EQ(s.beams_not_finite, 0u);
+  EXPECT_EQ(s.bad_geometry, 3u);
+  EXPECT_NE(mapper.last_drop().find("range limits"), std::string::npos) << mapper.last_drop();
+  EXPECT_EQ(mapper.impl().pipeline->mapper().totals().beams, 15u);  // the 15 usable beams reached the map
+
+  // Without an intensity threshold the intensities are not looked at.
+  MessageMapper ignoring({}, poses);
+  ignoring.add(wrong_count, 0.0);
+  ignoring.process(0.0, false);
+  EXPECT_EQ(ignoring.stats().mapped, 1u);
+}
+
+// A scanner turning clockwise (negative angle_increment) describes the same
+// beams from the other end: the same map.
+TEST(MessageMapper, ANegativeAngleIncrementGivesTheSameMap) {
+  FixedPose poses;
+  MessageMapper forward({}, poses), backward({}, poses);
+  Scan scan;
+  for (std::size_t k = 0; k < scan.ranges.size(); ++k) scan.ranges[k] = 0.4f + 0.01f * static_cast<float>(k);
+  Scan reversed;
+  reversed.ranges.assign(scan.ranges.rbegin(), scan.ranges.rend());
+  forward.add(scan.data(1.0), 0.0);
+  LaserScanData d = reversed.data(1.0);
+  d.angle_min_rad = 0.5;
+  d.angle_increment_rad = -0.05;
+  backward.add(d, 0.0);
+  forward.process(0.0, false);
+  backward.process(0.0, false);
+  const ExportedMap a = export_map(forward.impl().pipeline->mapper().map());
+  const ExportedMap b = export_map(backward.impl().pipeline->mapper().map());
+  ASSERT_GT(map_coverage(a), 0.0);
+  EXPECT_EQ(map_coverage(a), map_coverage(b));
+  const ExportedLayer& za = a.layers.front();
+  const ExportedLayer& zb = b.layers.front();
+  for (Eigen::Index i = 0; i < a.cells_per_side; ++i) {
+    for (Eigen::Index j = 0; j < a.cells_per_side; ++j) {
+      const float va = za.value(i, j), vb = zb.value(i, j);
+      if (std::isnan(va)) {
+        EXPECT_TRUE(std::isnan(vb));
+      } else {
+        EXPECT_NEAR(va, vb, 1e-6);
+      }
+    }
+  }
+}
+
+// The URG's raw scan as a LaserScan (its step angles, values / 1000, its
+// limits) gives the map the library's own URG path gives: the same eq. (6)
+// model, Delta r the URG's specification, not a copy with its own model.
+TEST(MessageMapper, AUrgScanAsALaserScanMapsAsTheLibrarysUrgPath) {
+  FixedPose poses;
+  MessageMapper mapper({}, poses);
+  PipelineOptions urg_options = message_pipeline_options(MapperConfig{});
+  urg_options.sensor = SensorKind::urg;
+  MappingPipeline urg(urg_options);
+  const UrgParameters p{};
+  UrgRawScan raw;
+  raw.time_s = 1.0;
+  raw.first_step = p.first_step;
+  std::vector<float> ranges;
+  for (int step = p.first_step; step <= p.last_step; ++step) {
+    const auto mm = static_cast<std::uint32_t>(300 + (step * 37) % 900);  // 0.3 to 1.2 m
+    raw.values_mm.push_back(step % 50 == 0 ? 5u : mm);                      // 5: an error code
+    ranges.push_back(static_cast<float>(raw.values_mm.back()) / 1000.0f);
+  }
+  LaserScanData d;
+  d.stamp_s = 1.0;
+  d.frame_id = "laser";
+  d.angle_min_rad = p.step_angle_rad(p.first_step);
+  d.angle_increment_rad = p.step_angle_rad(p.first_step + 1) - d.angle_min_rad;
+  d.range_min_m = p.min_range_m;
+  d.range_max_m = p.max_range_m;
+  d.ranges_m = ranges.data();
+  d.range_count = ranges.size();
+  mapper.add(d, 0.0);
+  ASSERT_EQ(mapper.process(0.0, false), 1u);
+  Eigen::Isometry3d sensor;
+  std::string why;
+  poses.sensor_in_map("laser", 1.0, sensor, why);
+  urg.add(raw, trunk_pose_from_sensor(sensor, MapperConfig{}.mount));
+  const ExportedMap a = export_map(mapper.impl().pipeline->mapper().map());
+  const ExportedMap b = export_map(urg.mapper().map());
+  ASSERT_GT(map_coverage(b), 0.0);
+  EXPECT_EQ(map_coverage(a), map_coverage(b));
+  for (std::size_t l = 0; l < a.layers.size(); ++l) {
+    for (Eigen::Index i = 0; i < a.cells_per_side; ++i) {
+      for (Eigen::Index j = 0; j < a.cells_per_side; ++j) {
+        const float va = a.layers[l].value(i, j), vb = b.layers[l].value(i, j);
+        if (std::isnan(vb)) {
+          EXPECT_TRUE(std::isnan(va)) << a.layers[l].spec.name;
+        } else {
+          EXPECT_NEAR(va, vb, 1e-5) << a.layers[l].spec.name << " at " << i << ", " << j;
+        }
+      }
+    }
+  }
+}
+
+TEST(MessageMapper, AnUnreadableCloudIsCountedWithItsReason) {
+  FixedPose poses;
+  MessageMapper mapper({}, poses);
+  mapper.add_unreadable("camera", "no z field");
+  EXPECT_EQ(mapper.stats().scans, 1u);
+  EXPECT_EQ(mapper.stats().unreadable, 1u);
+  EXPECT_EQ(mapper.stats().dropped(), 1u);
+  EXPECT_NE(mapper.last_drop().find("no z field"), std::string::npos);
+}
+
 TEST(MessageMapperOptions, BadValuesNameTheField) {
   MessageMapperOptions options;
-  options.range_sigma_m = -1;
+  options.range_error_m = -1;
   try {
     options.validate();
     FAIL();
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("range_sigma_m"), std::string::npos);
+    EXPECT_NE(std::string(e.what()).find("range_error_m"), std::string::npos);
   }
 }
 

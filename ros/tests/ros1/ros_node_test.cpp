@@ -26,25 +26,14 @@
 #include <tf2_msgs/TFMessage.h>
 #include <visualization_msgs/Marker.h>
 
-#include "ros_harness.hpp"
+#include "ros_fixture.hpp"
 #include "sim_truth.hpp"
 #include "stridemap_ros/ros1_messages.hpp"
 
 namespace stridemap::ros_test {
 namespace {
 
-constexpr double kStart = 1000.0;  // the bag's clock: stamps from here
 const std::string kScene = std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/cart_rail_boxes.yaml";
-
-geometry_msgs::TransformStamped stamped(const Eigen::Isometry3d& pose, const std::string& parent,
-                                        const std::string& child, double stamp_s) {
-  geometry_msgs::TransformStamped t;
-  t.header.stamp.fromSec(stamp_s);
-  t.header.frame_id = parent;
-  t.child_frame_id = child;
-  t.transform = ros_adapter::to_transform(pose);
-  return t;
-}
 
 sensor_msgs::LaserScan laser_scan(const SimulatedRun& run, const SimulatedScan& scan, double stamp_s,
                                   const std::string& frame = "laser") {
@@ -61,18 +50,6 @@ sensor_msgs::LaserScan laser_scan(const SimulatedRun& run, const SimulatedScan& 
   return msg;
 }
 
-// The trunk's TF for a scan at `t`: two samples of its pose around the
-// stamp, never at it, so tf2 interpolates between the same two samples
-// whenever the lookup happens (in the node as in the bag), and a scan's
-// pose is never an exact sample in one and an interpolation in the other.
-void write_tf(rosbag::Bag& bag, const SimulatedScan& scan, double t) {
-  for (const double dt : {-0.04, 0.04}) {
-    tf2_msgs::TFMessage tf;
-    tf.transforms.push_back(stamped(scan.trunk_in_map, "map", "base_link", t + dt));
-    bag.write("/tf", ros::Time(t), tf);
-  }
-}
-
 // The run as a bag: per scan, the trunk's TF around the scan's stamp, then the scan.
 void write_bag(const std::string& path, const SimulatedRun& run) {
   rosbag::Bag bag(path, rosbag::bagmode::Write);
@@ -81,110 +58,10 @@ void write_bag(const std::string& path, const SimulatedRun& run) {
   bag.write("/tf_static", ros::Time(kStart), static_tf);
   for (const SimulatedScan& scan : run.scans) {
     const double t = kStart + scan.time_s;
-    write_tf(bag, scan, t);
+    write_trunk_tf(bag, scan.trunk_in_map, t);
     bag.write("/scan", ros::Time(t), laser_scan(run, scan, t));
   }
   bag.close();
-}
-
-// One roscore for the test program, started on a free port; this process
-// is the publisher and the listener.
-class RosNodeTest : public ::testing::Test {
- protected:
-  static void SetUpTestSuite() {
-    folder_ = new std::string(temp_folder("node"));
-    const int port = free_port();
-    const std::string uri = "http://127.0.0.1:" + std::to_string(port);
-    // This process and its children only: roscore, the node and the tool.
-    ::setenv("ROS_MASTER_URI", uri.c_str(), 1);
-    ::setenv("ROS_HOSTNAME", "127.0.0.1", 1);
-    ::setenv("ROS_HOME", folder_->c_str(), 1);
-    ::setenv("ROS_LOG_DIR", folder_->c_str(), 1);
-    roscore_ = new Child({"roscore", "-p", std::to_string(port)}, *folder_ + "/roscore.log");
-    int argc = 0;
-    ros::init(argc, nullptr, "stridemap_ros_test", ros::init_options::NoSigintHandler | ros::init_options::AnonymousName);
-    master_up_ = wait_for([] { return ros::master::check(); }, 60.0);
-  }
-
-  static void TearDownTestSuite() {
-    if (ros::isStarted()) ros::shutdown();
-    delete roscore_;
-    roscore_ = nullptr;
-    // Kept when a test failed: the logs of roscore and the node are there.
-    if (!::testing::UnitTest::GetInstance()->Failed()) std::filesystem::remove_all(*folder_);
-  }
-
-  void SetUp() override {
-    ASSERT_TRUE(master_up_) << "roscore did not come up within 60 s:\n" << read_text(*folder_ + "/roscore.log");
-    nh_ = std::make_unique<ros::NodeHandle>();
-  }
-
-  // Starts the node under `name` with the given private parameters.
-  std::unique_ptr<Child> start_node(const std::string& name, const std::map<std::string, std::string>& params) {
-    std::vector<std::string> argv{STRIDEMAP_NODE_PATH, "__name:=" + name};
-    for (const auto& [key, value] : params) argv.push_back("_" + key + ":=" + value);
-    log_ = *folder_ + "/" + name + ".log";
-    return std::make_unique<Child>(argv, log_);
-  }
-
-  // The latest diagnostics of `name`, as key -> value.
-  void listen_to_diagnostics(const std::string& name) {
-    diag_sub_ = nh_->subscribe<diagnostic_msgs::DiagnosticArray>(
-        "/diagnostics", 10, [this, name](const diagnostic_msgs::DiagnosticArray::ConstPtr& msg) {
-          for (const auto& status : msg->status) {
-            if (status.name != "/" + name + ": mapping") continue;
-            for (const auto& kv : status.values) diagnostics_[kv.key] = std::stod(kv.value);
-            level_ = status.level;
-            message_ = status.message;
-          }
-        });
-  }
-
-  double diag(const std::string& key) const {
-    const auto it = diagnostics_.find(key);
-    return it == diagnostics_.end() ? -1.0 : it->second;
-  }
-
-  static void pump() { ros::spinOnce(); }
-
-  static std::string* folder_;
-  static Child* roscore_;
-  static bool master_up_;
-  std::unique_ptr<ros::NodeHandle> nh_;
-  ros::Subscriber diag_sub_;
-  std::map<std::string, double> diagnostics_;
-  int level_ = -1;
-  std::string message_;
-  std::string log_;
-};
-
-std::string* RosNodeTest::folder_ = nullptr;
-Child* RosNodeTest::roscore_ = nullptr;
-bool RosNodeTest::master_up_ = false;
-
-// Plays a bag's messages in their recorded order, each on its topic, once
-// the node listens on all of them. The pacing keeps the node's queues from
-// overflowing on a loaded machine; the tests then wait on the node's own
-// counts, not on time.
-void play(ros::NodeHandle& nh, const std::string& bag_path, const std::string& node) {
-  ros::Publisher scan_pub = nh.advertise<sensor_msgs::LaserScan>("/scan", 1000);
-  ros::Publisher tf_pub = nh.advertise<tf2_msgs::TFMessage>("/tf", 1000);
-  ros::Publisher static_pub = nh.advertise<tf2_msgs::TFMessage>("/tf_static", 10, true);
-  ros::Publisher odom_pub = nh.advertise<nav_msgs::Odometry>("/odom", 1000);
-  rosbag::Bag bag(bag_path, rosbag::bagmode::Read);
-  bool odom = false;
-  for (const rosbag::ConnectionInfo* c : rosbag::View(bag).getConnections()) odom = odom || c->topic == "/odom";
-  ASSERT_TRUE(wait_for([&] { return scan_pub.getNumSubscribers() > 0 && (odom ? odom_pub.getNumSubscribers() > 0 :
-                                    tf_pub.getNumSubscribers() > 0 && static_pub.getNumSubscribers() > 0); },
-                       60.0, [] { ros::spinOnce(); }))
-      << node << " did not subscribe to /scan and its poses within 60 s";
-  for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
-    if (m.getTopic() == "/scan") scan_pub.publish(m.instantiate<sensor_msgs::LaserScan>());
-    if (m.getTopic() == "/tf") tf_pub.publish(m.instantiate<tf2_msgs::TFMessage>());
-    if (m.getTopic() == "/tf_static") static_pub.publish(m.instantiate<tf2_msgs::TFMessage>());
-    if (m.getTopic() == "/odom") odom_pub.publish(m.instantiate<nav_msgs::Odometry>());
-    ros::WallDuration(0.003).sleep();
-  }
 }
 
 TEST_F(RosNodeTest, MapsSimulatedScansLikeTheTruthAndLikeMapBagBitForBit) {
@@ -264,9 +141,14 @@ TEST_F(RosNodeTest, MapsSimulatedScansLikeTheTruthAndLikeMapBagBitForBit) {
   ASSERT_EQ(std::system(command.c_str()), 0) << read_text(*folder_ + "/map_bag.log");
   EXPECT_EQ(compare_map_files(node_map, out + "/map.smap"), "");
 
-  // Clearing empties the published map.
+  // Clearing empties the published map: the next cloud and marker are empty.
+  cloud.reset();
+  marker.reset();
   ASSERT_TRUE(ros::service::call("/stridemap_mapper/clear_map", save));
   EXPECT_TRUE(save.response.success);
+  ASSERT_TRUE(wait_for([&] { return cloud && marker && cloud->width == 0 && marker->points.empty(); }, 30.0, pump))
+      << "no empty map published after ~clear_map; last cloud width "
+      << (cloud ? std::to_string(cloud->width) : std::string("none"));
   EXPECT_TRUE(node->running()) << read_text(log_);
 }
 
@@ -281,7 +163,7 @@ TEST_F(RosNodeTest, BadMessagesAreCountedAndReportedNeverFatal) {
     for (std::size_t k = 0; k < 10; ++k) {
       const SimulatedScan& scan = run.scans[k];
       const double t = kStart + scan.time_s;
-      write_tf(b, scan, t);
+      write_trunk_tf(b, scan.trunk_in_map, t);
       sensor_msgs::LaserScan msg = laser_scan(run, scan, t);
       if (k == 3) msg.ranges.assign(msg.ranges.size(), std::nanf(""));  // every range NaN
       if (k == 4) msg.ranges[100] = std::nanf("");                      // one NaN range

@@ -31,6 +31,28 @@ struct SimulatedRun {
 /// rail), default mount and configuration, seeded.
 SimulatedRun simulate_cart_rail(const std::string& scene_path, int count, std::uint64_t seed);
 
+/// One frame of the stripe camera: the detected stripe (the simulator's,
+/// with its row noise) back-projected onto the laser sheet, in the sensor
+/// frame S (REP-103: x ahead, y left, z up before the mount's pitch).
+struct SimulatedCloud {
+  double time_s = 0.0;
+  std::vector<Eigen::Vector3d> points_m;
+  std::vector<double> height_sigma_m;  ///< the row noise's effect on the point
+  Eigen::Isometry3d trunk_in_map = Eigen::Isometry3d::Identity();  ///< true pose
+};
+
+struct SimulatedCloudRun {
+  double mount_height_m = 0.0;
+  double mount_pitch_deg = 0.0;
+  Eigen::Isometry3d sensor_on_trunk = Eigen::Isometry3d::Identity();  ///< Ragno's mount
+  std::vector<SimulatedCloud> frames;
+};
+
+/// `count` frames of Ragno's structured-light sensor (camera + laser
+/// stripe, docs/structured_light.md) on the scene's rail, one every
+/// 40 ms (25 Hz), the stripe's rows with 0.3 px of noise, seeded.
+SimulatedCloudRun simulate_structured_light_rail(const std::string& scene_path, int count, std::uint64_t seed);
+
 class SceneTruth {
  public:
   explicit SceneTruth(const std::string& scene_path);
