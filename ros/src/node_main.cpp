@@ -149,7 +149,8 @@ class Node {
 
   void publish() {
     const ros::Time stamp = mapper_->last_mapped_stamp_s() ? ros::Time(*mapper_->last_mapped_stamp_s()) : ros::Time(0);
-    diag_pub_.publish(diagnostics(mapper_->stats(), mapper_->last_drop(), ros::this_node::getName(), ros::Time::now()));
+    diag_pub_.publish(diagnostics(mapper_->stats(), mapper_->last_drop(), ros::this_node::getName(), ros::Time::now(),
+                                  mapper_->last_mapped_stamp_s()));
     if (mapper_->stats().mapped == published_at_) return;
     published_at_ = mapper_->stats().mapped;
     const MapMessages m = map_messages(mapper_->layers(layer_names_), mapper_->options().map_frame, stamp);

@@ -263,7 +263,8 @@ MapMessages map_messages(const MapLayers& map, const std::string& map_frame, con
 }
 
 diagnostic_msgs::DiagnosticArray diagnostics(const MessageMapperStats& s, const std::string& last_drop,
-                                             const std::string& node_name, const ros::Time& stamp) {
+                                             const std::string& node_name, const ros::Time& stamp,
+                                             std::optional<double> last_mapped_stamp_s) {
   diagnostic_msgs::DiagnosticArray array;
   array.header.stamp = stamp;
   diagnostic_msgs::DiagnosticStatus status;
@@ -306,6 +307,8 @@ diagnostic_msgs::DiagnosticArray diagnostics(const MessageMapperStats& s, const 
   count("poses_rejected", s.poses_rejected);
   add("latency_mean_ms", s.mapped ? 1000.0 * s.latency_sum_s / static_cast<double>(s.mapped) : 0.0);
   add("latency_max_ms", 1000.0 * s.latency_max_s);
+  // Driver, transport, TF wait and mapping together (if the clocks agree).
+  if (last_mapped_stamp_s) add("newest_mapped_age_ms", 1000.0 * (stamp.toSec() - *last_mapped_stamp_s));
   array.status.push_back(status);
   return array;
 }

@@ -3,6 +3,7 @@
 // ROS messages. Everything ROS-specific the node and `map --bag` share is
 // here; a ROS 2 port rewrites this file and the node, nothing else
 // (docs/ros.md, "Porting to ROS 2").
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -62,7 +63,10 @@ MapMessages map_messages(const MapLayers& map, const std::string& map_frame, con
 
 /// The mapper's counts as one DiagnosticStatus: OK while every scan is
 /// mapped, WARN once one was dropped (the message names the last reason).
+/// With `last_mapped_stamp_s`, also how old the newest data in the map is
+/// at `stamp`.
 diagnostic_msgs::DiagnosticArray diagnostics(const MessageMapperStats& stats, const std::string& last_drop,
-                                             const std::string& node_name, const ros::Time& stamp);
+                                             const std::string& node_name, const ros::Time& stamp,
+                                             std::optional<double> last_mapped_stamp_s = std::nullopt);
 
 }  // namespace stridemap::ros_adapter

@@ -94,6 +94,9 @@ TEST_F(RosNodeTest, MapsSimulatedScansLikeTheTruthAndLikeMapBagBitForBit) {
   EXPECT_EQ(diag("scans_mapped"), n) << message_;
   EXPECT_EQ(diag("scans_dropped"), 0.0) << message_;
   EXPECT_EQ(level_, diagnostic_msgs::DiagnosticStatus::OK);
+  EXPECT_EQ(diag("beams_not_finite"), 0.0);
+  EXPECT_GT(diag("beams_out_of_range"), 0.0);  // the URG's error codes and ranges beyond its limit
+  EXPECT_GT(diag("newest_mapped_age_ms"), 0.0);  // the bag's stamps are long past
   // Every output from the publication after the last scan (they arrive on separate connections).
   const double last = kStart + run.scans.back().time_s - 1e-6;
   ASSERT_TRUE(wait_for([&] { return elevation && info && cloud && marker && elevation->header.stamp.toSec() >= last &&
