@@ -47,14 +47,17 @@ class Node {
     pnh.param("pose_wait_s", options.pose_wait_s, options.pose_wait_s);
     pnh.param("max_pose_gap_s", options.max_pose_gap_s, options.max_pose_gap_s);
     std::string scan_topic, cloud_topic, pose_topic, layers;
-    pnh.param<std::string>("scan_topic", scan_topic, "scan");
     pnh.param<std::string>("cloud_topic", cloud_topic, "");
+    // A stripe camera's node does not also take whatever LaserScan is on
+    // `scan` (two sensors in one map would drop each other's frames).
+    pnh.param<std::string>("scan_topic", scan_topic, cloud_topic.empty() ? "scan" : "");
     pnh.param<std::string>("pose_topic", pose_topic, "");
     pnh.param<std::string>("layers", layers, "elevation,certainty,mean_elevation,state");
     double publish_every_s = 0.5;
     pnh.param("publish_every_s", publish_every_s, publish_every_s);
     pnh.param<std::string>("map_file", map_file_, "stridemap_map.smap");
     layer_names_ = split_names(layers);
+    if (scan_topic.empty() && cloud_topic.empty()) throw InputError("~scan_topic and ~cloud_topic: both empty");
     if (publish_every_s <= 0.0) throw InputError("~publish_every_s: must be positive");
 
     if (pose_topic.empty()) {
@@ -82,9 +85,8 @@ class Node {
     process_timer_ = nh.createWallTimer(ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) { guarded("timer", [&] { process(); }); });
     publish_timer_ =
         nh.createWallTimer(ros::WallDuration(publish_every_s), [this](const ros::WallTimerEvent&) { guarded("publish", [&] { publish(); }); });
-    ROS_INFO("stridemap_node: scans from '%s'%s, poses from %s, map frame '%s'", scan_topic.c_str(),
-             cloud_topic.empty() ? "" : (" and cloud '" + cloud_topic + "'").c_str(),
-             pose_topic.empty() ? "TF" : pose_topic.c_str(), options.map_frame.c_str());
+    ROS_INFO("stridemap_node: scans from '%s', clouds from '%s', poses from %s, map frame '%s'", scan_topic.c_str(),
+             cloud_topic.c_str(), pose_topic.empty() ? "TF" : pose_topic.c_str(), options.map_frame.c_str());
   }
 
  private:

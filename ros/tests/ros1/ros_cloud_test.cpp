@@ -19,6 +19,7 @@
 #include <ros/ros.h>
 #include <rosbag/bag.h>
 #include <sensor_msgs/Image.h>
+#include <sensor_msgs/LaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
 #include <std_srvs/Trigger.h>
 #include <tf2_msgs/TFMessage.h>
@@ -103,6 +104,9 @@ TEST_F(RosNodeTest, MapsStripeCloudsLikeTheTruthAndLikeMapBagBitForBit) {
       "/stridemap_stripe/map_info", 1, [&](const nav_msgs::MapMetaData::ConstPtr& m) { info = m; });
 
   play(*nh_, bag_path, "stridemap_stripe");
+  // With a cloud topic the node takes no LaserScan from the default `scan`.
+  ros::Publisher scan_pub = nh_->advertise<sensor_msgs::LaserScan>("/scan", 1);
+  EXPECT_FALSE(wait_for([&] { return scan_pub.getNumSubscribers() > 0; }, 2.0, pump));
   const double n = static_cast<double>(run.frames.size());
   ASSERT_TRUE(wait_for([&] { return diag("scans_mapped") + diag("scans_dropped") >= n; }, 120.0, pump))
       << "the node did not account for every cloud; scans " << diag("scans") << "\n" << read_text(log_);
