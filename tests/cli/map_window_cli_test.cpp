@@ -93,6 +93,7 @@ TEST(MapWindowCli, FitHoldsEveryPointOfALogTheFollowingWindowCutsOff) {
   ASSERT_EQ(fit.exit_code, 0) << fit.output;
   EXPECT_NE(fit.output.find("--window fit:"), std::string::npos) << fit.output;
   EXPECT_NE(fit.output.find("grown from 100"), std::string::npos) << fit.output;
+  RecordProperty("fit_message", fit.output);  // what docs/cli.md quotes
   const auto fitted = summary_of(dir, "fit");
   EXPECT_EQ(fitted["beams"]["outside_map"].get<std::size_t>(), 0u) << fitted.dump();
   EXPECT_EQ(fitted["beams"]["integrated"], followed["beams"]["integrated"].get<std::size_t>() +
