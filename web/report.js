@@ -5,8 +5,9 @@
 // ends in a readable message in #view-message, never a blank view; the
 // browser test reads document.body.dataset.view ("ready" or "error").
 // Performance marks (measured from navigation, docs/performance.md):
-// stridemap-data-read, stridemap-three-loaded, stridemap-first-frame (the
-// frame after the first render reached the screen).
+// stridemap-data-read, stridemap-three-loaded, stridemap-mesh-built,
+// stridemap-render-issued (the first render's calls made), and
+// stridemap-first-frame (the frame after it reached the screen).
 
 const messageBox = document.getElementById('view-message');
 
@@ -441,7 +442,9 @@ async function main() {
   controls.addEventListener('change', render);
   window.addEventListener('resize', render);
   rebuild();
+  performance.mark('stridemap-mesh-built');
   recolour(false);
+  performance.mark('stridemap-render-issued');
   document.body.dataset.readyMs = Math.round(performance.now());
   document.body.dataset.view = 'ready';
   // Two frames on: the first render's frame has been composited.

@@ -107,7 +107,7 @@ const pixelStats = (page) => page.evaluate(() => {
 
 // Milliseconds from navigation to the page's performance marks (web/report.js).
 const marks = (page) => page.evaluate(() => Object.fromEntries(
-  ['stridemap-data-read', 'stridemap-three-loaded', 'stridemap-first-frame'].map((n) => [n.replace('stridemap-', ''), performance.getEntriesByName(n)[0]?.startTime])));
+  ['stridemap-data-read', 'stridemap-three-loaded', 'stridemap-mesh-built', 'stridemap-render-issued', 'stridemap-first-frame'].map((n) => [n.replace('stridemap-', ''), performance.getEntriesByName(n)[0]?.startTime])));
 
 try {
   {
@@ -123,7 +123,7 @@ try {
       await big.page.waitForFunction(() => performance.getEntriesByName('stridemap-first-frame').length > 0, null, { timeout: 20000 });
       const m = await marks(big.page);
       times.push(m['first-frame']);
-      console.log(`500 x 500 page, opening ${k + 1}: data read ${m['data-read'].toFixed(0)} ms, three.js loaded ${m['three-loaded'].toFixed(0)} ms, first frame ${m['first-frame'].toFixed(0)} ms after navigation`);
+      console.log(`500 x 500 page, opening ${k + 1}: data read ${m['data-read'].toFixed(0)} ms, three.js loaded ${m['three-loaded'].toFixed(0)} ms, mesh built ${m['mesh-built'].toFixed(0)} ms, render issued ${m['render-issued'].toFixed(0)} ms, first frame ${m['first-frame'].toFixed(0)} ms after navigation`);
       check(big.errors.length === 0, `  no console error${big.errors.length ? ': ' + big.errors.join(' | ') : ''}`);
       await big.page.close();
     }
