@@ -130,7 +130,7 @@ try {
     times.sort((a, b) => a - b);
     // Software WebGL (SwiftShader) on a shared machine: the bound is loose,
     // the measured median goes into docs/performance.md.
-    check(times[1] < 5000, `the 500 x 500 page shows its first frame in ${times[1].toFixed(0)} ms (median of 3; bound 5000 ms)`);
+    check(times[1] < 10000, `the 500 x 500 page shows its first frame in ${times[1].toFixed(0)} ms (median of 3; bound 10000 ms)`);
   }
   const good = await open(goodPage);
   console.log(`report page ${(fs.statSync(goodPage).size / 1e6).toFixed(2)} MB, ready in ${good.ms} ms`);
