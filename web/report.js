@@ -4,6 +4,10 @@
 // arrive as base64 little-endian arrays (report_page.cpp). Every failure
 // ends in a readable message in #view-message, never a blank view; the
 // browser test reads document.body.dataset.view ("ready" or "error").
+// Performance marks (measured from navigation, docs/performance.md):
+// stridemap-data-read, stridemap-three-loaded, stridemap-mesh-built,
+// stridemap-render-issued (the first render's calls made), and
+// stridemap-first-frame (the frame after it reached the screen).
 
 const messageBox = document.getElementById('view-message');
 
@@ -51,11 +55,24 @@ function halfToFloat(h) {
 
 const bytesPerCell = { f32: 4, f16: 2, u16: 2, u8: 1 };
 
-function decodeLayer(layer, cells, mapName) {
+// Layers come deflated (zlib format, report_page.cpp); the browser's own
+// DecompressionStream unpacks them. Uncompressed layers are read as well.
+async function unpacked(bytes, compression, what) {
+  if (!compression) return bytes;
+  if (compression !== 'deflate') throw new Error(`${what}: unknown compression '${compression}'`);
+  try {
+    const stream = new Blob([bytes]).stream().pipeThrough(new DecompressionStream('deflate'));
+    return new Uint8Array(await new Response(stream).arrayBuffer());
+  } catch (e) {
+    throw new Error(`${what}: the embedded data cannot be unpacked (${e.message}); the page was cut or edited`);
+  }
+}
+
+async function decodeLayer(layer, cells, mapName) {
   const what = `map '${mapName}', layer '${layer.name}'`;
   const size = bytesPerCell[layer.encoding];
   if (!size) throw new Error(`${what}: unknown encoding '${layer.encoding}'`);
-  const bytes = bytesOf(layer.data ?? '', what);
+  const bytes = await unpacked(bytesOf(layer.data ?? '', what), layer.compression, what);
   if (bytes.length !== cells * size) {
     throw new Error(`${what}: ${bytes.length} bytes where ${cells} cells need ${cells * size}`);
   }
@@ -72,7 +89,7 @@ function decodeLayer(layer, cells, mapName) {
   return out;
 }
 
-function readMap(raw, index) {
+async function readMap(raw, index) {
   const name = raw?.name ?? `map ${index + 1}`;
   const rows = raw?.rows, cols = raw?.cols, cell = raw?.cell_size_m;
   if (!Number.isInteger(rows) || !Number.isInteger(cols) || rows < 2 || cols < 2) {
@@ -81,11 +98,11 @@ function readMap(raw, index) {
   if (!(cell > 0)) throw new Error(`map '${name}': cell size ${cell} is not positive`);
   const cells = rows * cols;
   const layers = new Map();
-  for (const layer of raw.layers ?? []) layers.set(layer.name, { units: layer.units ?? '', values: decodeLayer(layer, cells, name) });
+  for (const layer of raw.layers ?? []) layers.set(layer.name, { units: layer.units ?? '', values: await decodeLayer(layer, cells, name) });
   if (!layers.has('elevation')) throw new Error(`map '${name}': has no elevation layer`);
   const elevation = layers.get('elevation').values;
   if (raw.truth) {
-    const truth = decodeLayer(raw.truth, cells, name);
+    const truth = await decodeLayer(raw.truth, cells, name);
     const error = new Float32Array(cells);
     for (let k = 0; k < cells; ++k) error[k] = elevation[k] - truth[k];
     layers.set('error vs truth', { units: 'm', values: error, signed: true });
@@ -98,7 +115,7 @@ function readMap(raw, index) {
            path: raw.path ?? [], lastPose: raw.last_pose ?? null, mount: raw.mount ?? null, truth: raw.truthValues ?? null };
 }
 
-function readData() {
+async function readData() {
   const block = document.getElementById('stridemap-data');
   let data;
   try {
@@ -115,7 +132,7 @@ function readData() {
   if (!Array.isArray(data.maps) || data.maps.length === 0) {
     throw new Error('This run left no readable map file (map.smap), so there is no 3D view; the tables and pictures below still show the run.');
   }
-  const maps = data.maps.map(readMap);
+  const maps = await Promise.all(data.maps.map(readMap));
   // The run's truth, shown beside the map as a map of its own.
   if (maps[0].truth) {
     const m = maps[0];
@@ -307,7 +324,8 @@ function drawLegend(state, range, layerName, units, scale, scaleLength) {
 async function main() {
   let maps;
   try {
-    maps = readData();
+    maps = await readData();
+    performance.mark('stridemap-data-read');
   } catch (e) {
     showMessage(e.message);
     return;
@@ -315,6 +333,7 @@ async function main() {
   let THREE, OrbitControls;
   try {
     ({ THREE, OrbitControls } = await loadThree());
+    performance.mark('stridemap-three-loaded');
   } catch (e) {
     showMessage(`The 3D library could not be loaded (${e.message}).`);
     return;
@@ -423,9 +442,16 @@ async function main() {
   controls.addEventListener('change', render);
   window.addEventListener('resize', render);
   rebuild();
+  performance.mark('stridemap-mesh-built');
   recolour(false);
+  performance.mark('stridemap-render-issued');
   document.body.dataset.readyMs = Math.round(performance.now());
   document.body.dataset.view = 'ready';
+  // Two frames on: the first render's frame has been composited.
+  requestAnimationFrame(() => requestAnimationFrame(() => {
+    performance.mark('stridemap-first-frame');
+    document.body.dataset.firstFrameMs = Math.round(performance.now());
+  }));
 }
 
 main().catch((e) => showMessage(`The 3D view failed: ${e.message}`));

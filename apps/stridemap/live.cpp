@@ -24,9 +24,11 @@
 #include "stridemap/io/pose_stream.hpp"
 #include "stridemap/io/scan_log.hpp"
 #include "stridemap/live/live_mapping.hpp"
+#include "stridemap/live/map_window.hpp"
 #include "stridemap/live/map_report.hpp"
 #include "report_command.hpp"
 #include "urg_device.hpp"
+#include "window_placement.hpp"
 
 namespace stridemap::cli {
 namespace {
@@ -42,6 +44,7 @@ struct MappingArgs {
   double max_pose_gap_s = 1.0;
   bool report = false;
   std::string range;
+  std::string window;
 };
 
 // --range MIN:MAX: the ends of elevation.png's colour scale [m].
@@ -76,6 +79,18 @@ void add_mapping_options(CLI::App& command, MappingArgs& args) {
         }
         return std::string();
       });
+  command.add_option("--window", args.window,
+                     "Where the map's window stays: X,Y (its centre in the map frame, metres, e.g. 1.5,-0.2) or "
+                     "fit (map: over everything the log measures, growing the map if needed). Default: it follows "
+                     "the robot (docs/cli.md)")
+      ->check([](const std::string& text) {
+        try {
+          parse_window_choice(text);
+        } catch (const InputError& e) {
+          return std::string(e.what());
+        }
+        return std::string();
+      });
   command.add_option("--config", args.config_path, "Mapper configuration (YAML, docs/config.md)");
   command.add_option("--filters", args.filters,
                      "Scan filters in order: range-clustering, scan-sequence, shadow, speckle; paper; none")
@@ -105,8 +120,16 @@ LiveClock parse_clock(const std::string& name) {
 ScanMapperOptions mapper_options(const MappingArgs& args) {
   parse_clock(args.clock);
   parse_map_filter(args.map_filter);
+  const WindowChoice window = parse_window_choice(args.window);
+  if (window.mode != WindowChoice::Mode::follow && !args.resume_path.empty()) {
+    throw InputError("--window: a resumed map keeps the window of its map file (--resume " + args.resume_path +
+                     "); leave out --window");
+  }
   ScanMapperOptions options;
   if (!args.config_path.empty()) options.config = load_mapper_config(args.config_path);
+  if (window.mode == WindowChoice::Mode::center) {
+    fix_window(options, window_centred_at(options.config.mapper.grid, window.center_m));
+  }
   options.filters = parse_scan_filter_list(args.filters);
   if (!args.resume_path.empty()) {
     options.resume = std::make_shared<const io::MapFile>(io::load_map_file(args.resume_path));
@@ -137,6 +160,10 @@ struct LiveArgs {
 };
 
 void run_live(const LiveArgs& args) {
+  if (parse_window_choice(args.mapping.window).mode == WindowChoice::Mode::fit) {
+    throw InputError("--window fit: live cannot know beforehand where the run will go; give a centre (--window X,Y) "
+                     "or let the window follow the robot (no --window)");
+  }
   install_stop_signals();
   LiveMappingOptions options;
   options.mapper = mapper_options(args.mapping);
@@ -296,7 +323,7 @@ void print_skipped(const std::string& what, std::size_t count, const std::vector
 }
 
 void run_map(const MapArgs& args) {
-  const ScanMapperOptions options = mapper_options(args.mapping);
+  ScanMapperOptions options = mapper_options(args.mapping);
   const LiveClock clock = parse_clock(args.mapping.clock);
   const std::vector<NamedPath> inputs{{"--log", args.log_path},
                                       {"--poses", args.mapping.poses_path},
@@ -318,6 +345,7 @@ void run_map(const MapArgs& args) {
     pose_times.add(pose.time_s);
   }
   print_skipped("bad pose lines", pose_problems.count, pose_problems.first);
+  if (parse_window_choice(args.mapping.window).mode == WindowChoice::Mode::fit) fit_window(options, log, track, clock);
   note("read " + std::to_string(log.scans.size()) + " scans from " + args.log_path + " and " +
        std::to_string(pose_times.count) + " poses from " + args.mapping.poses_path);
   ScanMapper mapper(options, scip::to_urg_parameters(log.parameters));
@@ -394,6 +422,9 @@ void register_live(CLI::App& app) {
         throw InputError("--bag: give either --bag or --log with --poses, not both");
       }
       map_args->bag.max_pose_gap_s = map_args->mapping.max_pose_gap_s;  // the map command's option serves both
+      if (!map_args->mapping.window.empty()) {
+        throw InputError("--window: works with --log; the map of a bag (--bag) follows the robot");
+      }
       run_map_bag(map_args->bag, map_args->mapping.config_path, map_args->mapping.out_dir);
       return;
     }

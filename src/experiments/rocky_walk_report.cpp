@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <numbers>
 #include <system_error>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -77,10 +78,27 @@ void write_map_pictures(const std::filesystem::path& dir, const std::string& pre
                         const RockyWalkResult& r, double certainty_max) {
   const io::CellMask filled = state_mask(s, CellState::filled);
   const Origin o = origin_of(s);
+  // The colour range: the truth's over the swept cells, widened to the
+  // map's 2nd-98th percentile there, so that neither the ground nor the
+  // bulk of the map is clipped while one outlier cell cannot stretch it.
   float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+  const Eigen::MatrixXf elevation = s.elevation_m();
+  std::vector<float> mapped;
   for (Eigen::Index i = 0; i < s.truth_m.rows(); ++i)
-    for (Eigen::Index j = 0; j < s.truth_m.cols(); ++j)
-      if (swept(i, j)) lo = std::min(lo, s.truth_m(i, j)), hi = std::max(hi, s.truth_m(i, j));
+    for (Eigen::Index j = 0; j < s.truth_m.cols(); ++j) {
+      if (!swept(i, j)) continue;
+      lo = std::min(lo, s.truth_m(i, j)), hi = std::max(hi, s.truth_m(i, j));
+      if (std::isfinite(elevation(i, j))) mapped.push_back(elevation(i, j));
+    }
+  if (mapped.size() >= 50) {
+    const auto at = [&](double share) {
+      auto k = mapped.begin() + static_cast<std::ptrdiff_t>(share * static_cast<double>(mapped.size() - 1));
+      std::nth_element(mapped.begin(), k, mapped.end());
+      return *k;
+    };
+    lo = std::min(lo, at(0.02));
+    hi = std::max(hi, at(0.98));
+  }
   if (!(lo < hi)) lo = s.truth_m.minCoeff(), hi = std::max(s.truth_m.maxCoeff(), lo + 0.01f);
 
   io::GridRenderOptions style;

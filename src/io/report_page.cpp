@@ -11,6 +11,7 @@
 #include <system_error>
 
 #include <nlohmann/json.hpp>
+#include <zlib.h>
 
 #include "report_page_parts.hpp"
 #include "stridemap/core/error.hpp"
@@ -56,6 +57,28 @@ std::string bytes_of(const T* values, std::size_t count) {
   return std::string(reinterpret_cast<const char*>(values), count * sizeof(T));
 }
 
+// zlib's format, which the page unpacks with the browser's own
+// DecompressionStream('deflate'): unknown cells (NaN runs) and smooth
+// layers shrink to a fraction, so that the page stays small and quick to
+// parse; the bytes are exactly those given.
+std::string deflated(const std::string& bytes) {
+  uLongf size = compressBound(static_cast<uLong>(bytes.size()));
+  std::string out(size, '\0');
+  if (compress2(reinterpret_cast<Bytef*>(out.data()), &size, reinterpret_cast<const Bytef*>(bytes.data()),
+                static_cast<uLong>(bytes.size()), 6) != Z_OK) {
+    throw InputError("report page: compressing a map layer failed (out of memory?)");
+  }
+  out.resize(size);
+  return out;
+}
+
+// One layer's cells as the page reads them: base64 of the zlib stream.
+json packed_layer(const std::string& name, const std::string& units, const std::string& encoding,
+                  const std::string& bytes) {
+  return {{"name", name}, {"units", units}, {"encoding", encoding}, {"compression", "deflate"},
+          {"data", detail::base64(deflated(bytes))}};
+}
+
 // Row-major copy (the page indexes [i * cols + j]); Eigen stores columns first.
 template <typename Matrix>
 std::vector<typename Matrix::Scalar> row_major(const Matrix& m) {
@@ -68,17 +91,10 @@ std::vector<typename Matrix::Scalar> row_major(const Matrix& m) {
 
 json f32_layer(const std::string& name, const std::string& units, const Eigen::MatrixXf& values, bool exact) {
   const std::vector<float> cells = row_major(values);
-  json layer = {{"name", name}, {"units", units}};
-  if (exact) {
-    layer["encoding"] = "f32";
-    layer["data"] = detail::base64(bytes_of(cells.data(), cells.size()));
-  } else {
-    std::vector<std::uint16_t> halves(cells.size());
-    std::transform(cells.begin(), cells.end(), halves.begin(), to_half);
-    layer["encoding"] = "f16";
-    layer["data"] = detail::base64(bytes_of(halves.data(), halves.size()));
-  }
-  return layer;
+  if (exact) return packed_layer(name, units, "f32", bytes_of(cells.data(), cells.size()));
+  std::vector<std::uint16_t> halves(cells.size());
+  std::transform(cells.begin(), cells.end(), halves.begin(), to_half);
+  return packed_layer(name, units, "f16", bytes_of(halves.data(), halves.size()));
 }
 
 // A layer that holds one value everywhere (the gated rule's bookkeeping
@@ -127,14 +143,12 @@ json map_json(const std::string& name, const MapFile& file) {
         break;
       case LayerType::u16: {
         const auto cells = row_major(layer.u16);
-        out["layers"].push_back({{"name", layer.spec.name}, {"units", layer.spec.unit}, {"encoding", "u16"},
-                                 {"data", detail::base64(bytes_of(cells.data(), cells.size()))}});
+        out["layers"].push_back(packed_layer(layer.spec.name, layer.spec.unit, "u16", bytes_of(cells.data(), cells.size())));
         break;
       }
       case LayerType::u8: {
         const auto cells = row_major(layer.u8);
-        out["layers"].push_back({{"name", layer.spec.name}, {"units", layer.spec.unit}, {"encoding", "u8"},
-                                 {"data", detail::base64(bytes_of(cells.data(), cells.size()))}});
+        out["layers"].push_back(packed_layer(layer.spec.name, layer.spec.unit, "u8", bytes_of(cells.data(), cells.size())));
         break;
       }
     }

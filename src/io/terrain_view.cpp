@@ -141,10 +141,23 @@ RgbImage render_terrain_view(const Eigen::MatrixXf& elevation_m, const CellMask&
     const double extent_m = static_cast<double>(std::max(i_hi - i_lo, j_hi - j_lo) + 1) * cell_size_m;
     const double magnitude = std::pow(10.0, std::floor(std::log10(extent_m / 3.0)));
     const double step = extent_m / 3.0 >= 5 * magnitude ? 5 * magnitude : extent_m / 3.0 >= 2 * magnitude ? 2 * magnitude : magnitude;
-    const Eigen::Vector3d corner(static_cast<double>(i_lo) * cell_size_m, static_cast<double>(j_lo) * cell_size_m, low * ex);
+    // The bounding box's corner lies nearest the camera and can fall
+    // outside the picture (the view is framed on the known cells): the axes
+    // move towards the centre until all of them are in view.
+    const Eigen::Vector3d box_corner(static_cast<double>(i_lo) * cell_size_m, static_cast<double>(j_lo) * cell_size_m, low * ex);
+    const Eigen::Vector3d centre(target.x(), target.y(), low * ex);
     cv::Point origin, x_end, y_end;
-    if (project(corner, &origin) && project(corner + Eigen::Vector3d(step, 0, 0), &x_end) &&
-        project(corner + Eigen::Vector3d(0, step, 0), &y_end)) {
+    const auto in_view = [&](const cv::Point& p) {
+      return p.x >= 8 && p.x < o.width_px - 12 && p.y >= 44 && p.y < o.height_px - 8;
+    };
+    bool placed = false;
+    for (double t = 1.0; t > 0.0 && !placed; t -= 0.1) {
+      const Eigen::Vector3d corner = centre + t * (box_corner - centre);
+      placed = project(corner, &origin) && project(corner + Eigen::Vector3d(step, 0, 0), &x_end) &&
+               project(corner + Eigen::Vector3d(0, step, 0), &y_end) && in_view(origin) && in_view(x_end) &&
+               in_view(y_end);
+    }
+    if (placed) {
       cv::arrowedLine(view, origin, x_end, cv::Scalar(40, 40, 200), 2, cv::LINE_AA, 0, 0.12);
       cv::arrowedLine(view, origin, y_end, cv::Scalar(40, 150, 40), 2, cv::LINE_AA, 0, 0.12);
       text("x", x_end.x + 4, x_end.y);

@@ -20,11 +20,17 @@ PipelineOptions ScanMapper::pipeline_options(const ScanMapperOptions& options, c
 
 ScanMapper::ScanMapper(const ScanMapperOptions& options, const UrgParameters& sensor)
     : options_(options), pipeline_(pipeline_options(options, sensor)) {
+  if (options_.resume && options_.window_corner) {
+    throw InputError("a resumed map keeps the window of its map file; give no window with it");
+  }
   if (options_.resume) {
     io::check_map_resumable(*options_.resume, options_.config, options_.resume_source);
     const io::MapFileMetadata& saved = options_.resume->metadata;
     resume_from_map(pipeline_.mapper(), options_.resume->map, saved.last_pose, saved.last_scan_time_s);
     options_.resume.reset();  // the mapper has its copy
+  }
+  if (options_.window_corner) {
+    pipeline_.mapper().map().move_corner_to(*options_.window_corner);
   }
 }
 

@@ -4,9 +4,13 @@
 // pixels differ from the background, and change its picture when the
 // colour layer changes; pages of a damaged map file, of a map with no known
 // cell and of cut data must show a readable message instead of a blank view.
+// The page of a 500 x 500 map must stay under 5 MB and show its first
+// frame within a generous bound (the measured figures, printed here, go
+// into docs/performance.md).
 //
 //   node report_page_test.mjs --tool build/bin/stridemap --modules build/web/node_modules
-//        --work build/browser-test [--scene scenes/rocky_mockup.yaml] [--chromium /usr/bin/chromium]
+//        --work build/browser-test [--scene scenes/rocky_mockup.yaml]
+//        [--big-scene scenes/cart_rail_boxes.yaml] [--chromium /usr/bin/chromium]
 import { execFileSync } from 'node:child_process';
 import fs from 'node:fs';
 import { createRequire } from 'node:module';
@@ -33,6 +37,11 @@ fs.mkdirSync(work, { recursive: true });
 execFileSync(tool, ['experiment', 'rocky-walk', '--sensor', 'urg', '--scene', args.scene ?? 'scenes/rocky_mockup.yaml', '--out', work, '--sweep', 'none', '--seed', '1', '--report', '--quiet'],
              { stdio: ['ignore', 'ignore', 'inherit'] });
 const run = path.join(work, 'rocky-walk-urg');
+// A 500 x 500 map with its truth (simulated cart on a rail), for size and time.
+const bigScene = args['big-scene'] ?? 'scenes/cart_rail_boxes.yaml';
+execFileSync(tool, ['experiment', 'cart-rail', '--sensor', 'urg', '--scene', bigScene, '--cells', '500', '--out', path.join(work, 'big'), '--seed', '1', '--report', '--quiet'],
+             { stdio: ['ignore', 'ignore', 'inherit'] });
+const bigPage = path.join(work, 'big', 'cart-rail-urg', 'report.html');
 const goodPage = path.join(run, 'report.html');
 check(fs.existsSync(goodPage), '--report wrote report.html into the run folder');
 
@@ -54,7 +63,7 @@ const withData = (d) => html.slice(0, dataStart) + JSON.stringify(d).replaceAll(
 const empty = structuredClone(data);
 const cells = empty.maps[0].rows * empty.maps[0].cols;
 Object.assign(empty.maps[0].layers.find((l) => l.name === 'elevation'),
-              { encoding: 'f32', data: Buffer.from(new Float32Array(cells).fill(NaN).buffer).toString('base64') });
+              { encoding: 'f32', compression: undefined, data: Buffer.from(new Float32Array(cells).fill(NaN).buffer).toString('base64') });
 fs.writeFileSync(path.join(work, 'empty.html'), withData(empty));
 const cut = structuredClone(data);
 cut.maps[0].layers[0].data = cut.maps[0].layers[0].data.slice(0, 1000);
@@ -96,7 +105,33 @@ const pixelStats = (page) => page.evaluate(() => {
   return { differ: differ / n, mean: sum.map((s) => s / n), pixels: Array.from(p.filter((_, k) => k % 64 === 0)) };
 });
 
+// Milliseconds from navigation to the page's performance marks (web/report.js).
+const marks = (page) => page.evaluate(() => Object.fromEntries(
+  ['stridemap-data-read', 'stridemap-three-loaded', 'stridemap-mesh-built', 'stridemap-render-issued', 'stridemap-first-frame'].map((n) => [n.replace('stridemap-', ''), performance.getEntriesByName(n)[0]?.startTime])));
+
 try {
+  {
+    const bigMb = fs.statSync(bigPage).size / 1e6;
+    const bigHtml = fs.readFileSync(bigPage, 'utf8');
+    const bigData = JSON.parse(bigHtml.split('<script type="application/json" id="stridemap-data">')[1].split('</script>')[0].replaceAll('<\\/', '</'));
+    check(bigData.maps[0].rows === 500 && bigData.maps[0].cols === 500 && bigData.maps[0].truth !== undefined,
+          `the large page holds a ${bigData.maps[0].rows} x ${bigData.maps[0].cols} map and its truth`);
+    check(bigMb < 5, `the 500 x 500 map's page is ${bigMb.toFixed(2)} MB (< 5 MB)`);
+    const times = [];
+    for (let k = 0; k < 3; ++k) {
+      const big = await open(bigPage);
+      await big.page.waitForFunction(() => performance.getEntriesByName('stridemap-first-frame').length > 0, null, { timeout: 20000 });
+      const m = await marks(big.page);
+      times.push(m['first-frame']);
+      console.log(`500 x 500 page, opening ${k + 1}: data read ${m['data-read'].toFixed(0)} ms, three.js loaded ${m['three-loaded'].toFixed(0)} ms, mesh built ${m['mesh-built'].toFixed(0)} ms, render issued ${m['render-issued'].toFixed(0)} ms, first frame ${m['first-frame'].toFixed(0)} ms after navigation`);
+      check(big.errors.length === 0, `  no console error${big.errors.length ? ': ' + big.errors.join(' | ') : ''}`);
+      await big.page.close();
+    }
+    times.sort((a, b) => a - b);
+    // Software WebGL (SwiftShader) on a shared machine: the bound is loose,
+    // the measured median goes into docs/performance.md.
+    check(times[1] < 10000, `the 500 x 500 page shows its first frame in ${times[1].toFixed(0)} ms (median of 3; bound 10000 ms)`);
+  }
   const good = await open(goodPage);
   console.log(`report page ${(fs.statSync(goodPage).size / 1e6).toFixed(2)} MB, ready in ${good.ms} ms`);
   check(await good.page.evaluate(() => document.body.dataset.view) === 'ready', 'the 3D view is ready');
@@ -115,7 +150,7 @@ try {
   check(good.errors.length === 0, 'still no console error after switching');
   for (const [file, expected] of [[path.join(damaged, 'report.html'), /checksum|damaged/i],
                                   [path.join(work, 'empty.html'), /no known cell/],
-                                  [path.join(work, 'cut.html'), /bytes where|base64/]]) {
+                                  [path.join(work, 'cut.html'), /bytes where|base64|cannot be unpacked/]]) {
     const bad = await open(file);
     const text = await bad.page.$eval('#view-message', (e) => (e.hidden ? '' : e.textContent));
     const notes = await bad.page.$$eval('.message', (all) => all.map((e) => e.textContent).join(' '));

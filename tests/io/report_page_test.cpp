@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <zlib.h>
 
 #include "live/test_folder.hpp"
 #include "stridemap/core/error.hpp"
@@ -34,6 +35,28 @@ void write_map(const std::string& path, int n) {
   save_map_file(path, map, MapFileMetadata{});
 }
 
+std::string from_base64(const std::string& text) {
+  const std::string digits = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  unsigned bits = 0;
+  int count = 0;
+  for (char c : text) {
+    if (c == '=') break;
+    bits = (bits << 6) | static_cast<unsigned>(digits.find(c));
+    if ((count += 6) >= 8) out += static_cast<char>((bits >> (count -= 8)) & 0xffu);
+  }
+  return out;
+}
+
+std::string inflated(const std::string& packed, std::size_t size) {
+  std::string out(size, '\0');
+  uLongf got = size;
+  EXPECT_EQ(uncompress(reinterpret_cast<Bytef*>(out.data()), &got, reinterpret_cast<const Bytef*>(packed.data()),
+                       static_cast<uLong>(packed.size())), Z_OK);
+  EXPECT_EQ(got, size);
+  return out;
+}
+
 nlohmann::json page_data(const std::string& html) {
   const std::string open = "<script type=\"application/json\" id=\"stridemap-data\">";
   const std::size_t begin = html.find(open) + open.size();
@@ -61,10 +84,22 @@ TEST(ReportPage, EmbedsTheMapLayersTablesAndPictures) {
   const nlohmann::json& map = data["maps"][0];
   EXPECT_EQ(map["rows"], 8);
   EXPECT_DOUBLE_EQ(map["cell_size_m"].get<double>(), 0.02);
-  // float16: 8 * 8 * 2 bytes = 172 base64 characters.
+  // float16, deflated (zlib), base64.
   EXPECT_EQ(map["layers"][0]["name"], "elevation");
   EXPECT_EQ(map["layers"][0]["encoding"], "f16");
-  EXPECT_EQ(map["layers"][0]["data"].get<std::string>().size(), 172u);
+  EXPECT_EQ(map["layers"][0]["compression"], "deflate");
+  EXPECT_GT(map["layers"][0]["data"].get<std::string>().size(), 8u);
+  const std::string halves = inflated(from_base64(map["layers"][0]["data"].get<std::string>()), 8 * 8 * 2);
+  // Every third slot unknown (NaN: exponent all ones), and slot 1's 0.001 m (half 0x1419) among the rest.
+  int unknown = 0;
+  bool found = false;
+  for (std::size_t k = 0; k < 64; ++k) {
+    const unsigned half = static_cast<unsigned char>(halves[2 * k]) | (static_cast<unsigned char>(halves[2 * k + 1]) << 8);
+    unknown += (half & 0x7c00u) == 0x7c00u;
+    found |= half == 0x1419u;
+  }
+  EXPECT_EQ(unknown, 22);
+  EXPECT_TRUE(found);
   bool has_certainty = false, has_pending = false;
   for (const auto& layer : map["layers"]) {
     has_certainty |= layer["name"] == "certainty" && layer["encoding"] == "f16";

@@ -67,6 +67,31 @@ TEST(TerrainView, TheLegendPanelWidensThePictureAndHolesShowTheBackground) {
   EXPECT_GT(ink_in_panel, 200u);  // the colour bar and its labels
 }
 
+// Strongly red pixels (the x axis; the surface is viridis, which has none).
+std::vector<std::pair<int, int>> red_pixels(const RgbImage& image, int view_width) {
+  std::vector<std::pair<int, int>> out;
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < view_width; ++x) {
+      const std::size_t at = image.offset(x, y);
+      if (image.rgb[at] > 150 && image.rgb[at + 1] < 90 && image.rgb[at + 2] < 90) out.emplace_back(x, y);
+    }
+  return out;
+}
+
+TEST(TerrainView, TheScaleAxesStayInsideThePictureForAnLShapedMap) {
+  // Known cells in an L whose bounding box's near corner is empty and, seen
+  // from behind the start, below the picture (as the rocky walk's mosaic).
+  Eigen::MatrixXf h = bump(120);
+  h.block(0, 0, 70, 70).setConstant(NAN);
+  TerrainViewOptions o;
+  const RgbImage image = render_terrain_view(h, CellMask(), 0.01, o);
+  const auto red = red_pixels(image, o.width_px);
+  ASSERT_GT(red.size(), 20u) << "no x axis drawn";
+  for (const auto& [x, y] : red) {
+    EXPECT_TRUE(x > 2 && x < o.width_px - 3 && y > 2 && y < o.height_px - 3) << x << "," << y;
+  }
+}
+
 TEST(TerrainView, BadOptionsAreErrors) {
   const Eigen::MatrixXf h = bump(10);
   TerrainViewOptions o;

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,11 @@ struct ScanMapperOptions {
   /// scan to compare the first one with.
   std::shared_ptr<const io::MapFile> resume{};
   std::string resume_source{};
+  /// A window that stays where it is put (`--window`, live/map_window.hpp)
+  /// instead of following the robot: its corner cell. config.mapper must
+  /// have follow_robot off and the window's size. Not with `resume`: a
+  /// saved map keeps its own window.
+  std::optional<CellIndex> window_corner{};
 };
 
 /// scans (offered with add()), integrated (reached the mapper),
@@ -72,9 +78,10 @@ class ScanMapper {
   /// The map with the fill-in (eq. 11) applied to a copy: the map being
   /// built is not changed, so saving it often changes nothing.
   ExportedMap filled_layers() const;
+  /// The pipeline's options this mapper builds (also the fit pass's, live/map_window.hpp).
+  static PipelineOptions pipeline_options(const ScanMapperOptions& options, const UrgParameters& sensor);
 
  private:
-  static PipelineOptions pipeline_options(const ScanMapperOptions& options, const UrgParameters& sensor);
 
   ScanMapperOptions options_;
   MappingPipeline pipeline_;

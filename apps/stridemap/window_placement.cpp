@@ -1,0 +1,48 @@
+#include "window_placement.hpp"
+
+#include <cstdio>
+#include <string>
+
+#include "terminal_output.hpp"
+
+namespace stridemap::cli {
+
+void fix_window(ScanMapperOptions& options, const WindowPlacement& placement) {
+  options.config.mapper.follow_robot = false;
+  options.config.mapper.grid.cells_per_side = placement.cells_per_side;
+  options.window_corner = placement.min_cell;
+}
+
+void fit_window(ScanMapperOptions& options, const io::ScanLog& log, const PoseTrack& track, LiveClock clock) {
+  PoseTrack poses = track;  // the pass drops the poses it no longer needs
+  FootprintPass pass(options, scip::to_urg_parameters(log.parameters));
+  {
+    io::ProgressBar bar = progress_bar("fit", "scans");
+    std::size_t done = 0;
+    for (const UrgScan& scan : log.scans) {
+      UrgRawScan raw = scan.raw;
+      raw.time_s = clock == LiveClock::sensor ? sensor_time_seconds(scan.sensor_time_ms) : scan.host_time_s;
+      pass.add(raw, poses);
+      bar.update(++done, log.scans.size());
+    }
+  }
+  const FootprintExtent& extent = pass.finish();
+  const GridOptions& grid = options.config.mapper.grid;
+  const WindowPlacement placement = window_fitting(grid, extent);
+  if (!verbosity().quiet) {
+    char line[400];
+    std::snprintf(line, sizeof line,
+                  "stridemap: --window fit: %zu points of %zu scans lie in x %.2f..%.2f m, y %.2f..%.2f m; the "
+                  "window is %d x %d cells of %.1f mm (%.2f m a side)%s\n",
+                  extent.points, pass.scans_placed(), extent.min_m.x(), extent.max_m.x(), extent.min_m.y(),
+                  extent.max_m.y(), placement.cells_per_side, placement.cells_per_side, grid.cell_size_m * 1000.0,
+                  placement.cells_per_side * grid.cell_size_m,
+                  placement.cells_per_side > grid.cells_per_side
+                      ? (", grown from " + std::to_string(grid.cells_per_side) + " to hold them").c_str()
+                      : "");
+    std::fputs(line, stderr);
+  }
+  fix_window(options, placement);
+}
+
+}  // namespace stridemap::cli
