@@ -22,6 +22,7 @@
 #include <cstddef>
 #include <cstdlib>
 #include <new>
+#include <thread>
 
 namespace stridemap::test {
 
@@ -31,6 +32,14 @@ namespace stridemap::test {
 struct AllocationCounter {
   std::atomic<bool> counting{false};
   std::atomic<std::size_t> allocations{0};
+  /// When set, only this thread's allocations count (a test whose helper
+  /// threads, such as a device emulator, are not what it measures).
+  std::atomic<std::thread::id> only_thread{};
+  bool counts_here() const {
+    if (!counting.load(std::memory_order_relaxed)) return false;
+    const std::thread::id only = only_thread.load(std::memory_order_relaxed);
+    return only == std::thread::id{} || only == std::this_thread::get_id();
+  }
 };
 AllocationCounter& allocation_counter();
 
@@ -47,7 +56,7 @@ AllocationCounter& allocation_counter();
   STRIDEMAP_DEFINE_ALLOCATION_COUNTER()                                                             \
   void* operator new(std::size_t size) {                                                            \
     stridemap::test::AllocationCounter& c = stridemap::test::allocation_counter();                  \
-    if (c.counting.load(std::memory_order_relaxed)) c.allocations.fetch_add(1, std::memory_order_relaxed); \
+    if (c.counts_here()) c.allocations.fetch_add(1, std::memory_order_relaxed);                      \
     if (void* memory = std::malloc(size == 0 ? 1 : size)) return memory;                            \
     throw std::bad_alloc();                                                                         \
   }                                                                                                 \

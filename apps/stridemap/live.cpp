@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "cli_parsing.hpp"
@@ -24,6 +25,7 @@
 #include "stridemap/io/pose_stream.hpp"
 #include "stridemap/io/scan_log.hpp"
 #include "stridemap/live/live_mapping.hpp"
+#include "stridemap/live/log_replay.hpp"
 #include "stridemap/live/map_window.hpp"
 #include "stridemap/live/map_report.hpp"
 #include "report_command.hpp"
@@ -332,36 +334,40 @@ void run_map(const MapArgs& args) {
   refuse_output_that_is_an_input("--out", args.mapping.out_dir, inputs);
   io::check_output_folder(args.mapping.out_dir, "--out");
   if (args.mapping.report) report_assets_dir();
-  const io::ScanLog log = io::read_scan_log(args.log_path);
-  print_skipped("damaged scan-log lines", log.skipped_line_numbers.size(), log.skipped);
-  if (!log.stop.empty()) {
-    std::fprintf(stderr, "stridemap: warning: %s; the log is read up to there\n", printable_text(log.stop).c_str());
-  }
+  // The log is read as a stream: memory stays flat however long it is, and
+  // its damage is told after the mapping. Opening it reads up to its first
+  // scan, so a file that is no scan log is refused before the poses are read;
+  // --window fit first reads the log once more (streamed too) to fix the window.
+  const bool fit = parse_window_choice(args.mapping.window).mode == WindowChoice::Mode::fit;
+  std::optional<LogReplay> opened;
+  if (!fit) opened.emplace(args.log_path, options, clock);
   io::PoseLineProblems pose_problems;
   PoseTrack track(args.mapping.max_pose_gap_s);
-  TimeRange pose_times, scan_times;
+  TimeRange pose_times;
   for (const TimedPose& pose : io::read_pose_file(args.mapping.poses_path, &pose_problems)) {
     track.append(pose);
     pose_times.add(pose.time_s);
   }
   print_skipped("bad pose lines", pose_problems.count, pose_problems.first);
-  if (parse_window_choice(args.mapping.window).mode == WindowChoice::Mode::fit) fit_window(options, log, track, clock);
-  note("read " + std::to_string(log.scans.size()) + " scans from " + args.log_path + " and " +
-       std::to_string(pose_times.count) + " poses from " + args.mapping.poses_path);
-  ScanMapper mapper(options, scip::to_urg_parameters(log.parameters));
+  if (fit) {
+    fit_window(options, args.log_path, track, clock);
+    opened.emplace(args.log_path, options, clock);
+  }
+  LogReplay& replay = *opened;
   if (options.resume) note("going on from the map in " + args.mapping.resume_path);
   {
     io::ProgressBar bar = progress_bar("map", "scans");
-    for (const UrgScan& scan : log.scans) {
-      UrgRawScan raw = scan.raw;
-      raw.time_s = clock == LiveClock::sensor ? sensor_time_seconds(scan.sensor_time_ms) : scan.host_time_s;
-      scan_times.add(raw.time_s);
-      mapper.add(raw);
-      mapper.process(track, true);
-      bar.update(mapper.stats().scans, log.scans.size());
-    }
-    mapper.finish();
+    replay.run(track, [&bar](std::size_t scans) { bar.update(scans, 0); });
   }
+  const io::ScanLog& log = replay.log();
+  print_skipped("damaged scan-log lines", log.skipped_line_numbers.size(), log.skipped);
+  if (!log.stop.empty()) {
+    std::fprintf(stderr, "stridemap: warning: %s; the log is read up to there\n", printable_text(log.stop).c_str());
+  }
+  note("read " + std::to_string(replay.scans_read()) + " scans from " + args.log_path + " and " +
+       std::to_string(pose_times.count) + " poses from " + args.mapping.poses_path);
+  const ScanMapper& mapper = replay.mapper();
+  const TimeRange& scan_times = replay.scan_times();
   MapRunInfo info;
   info.command = "map";
   info.elevation_range_m = parse_range(args.mapping.range);

@@ -13,17 +13,20 @@ void fix_window(ScanMapperOptions& options, const WindowPlacement& placement) {
   options.window_corner = placement.min_cell;
 }
 
-void fit_window(ScanMapperOptions& options, const io::ScanLog& log, const PoseTrack& track, LiveClock clock) {
+void fit_window(ScanMapperOptions& options, const std::string& log_path, const PoseTrack& track, LiveClock clock) {
   PoseTrack poses = track;  // the pass drops the poses it no longer needs
-  FootprintPass pass(options, scip::to_urg_parameters(log.parameters));
+  io::ScanLogReader reader(log_path);
+  const UrgScan* scan = reader.next();
+  if (scan == nullptr) return;  // no scan: the mapping pass says so
+  FootprintPass pass(options, scip::to_urg_parameters(reader.log().parameters));
   {
     io::ProgressBar bar = progress_bar("fit", "scans");
-    std::size_t done = 0;
-    for (const UrgScan& scan : log.scans) {
-      UrgRawScan raw = scan.raw;
-      raw.time_s = clock == LiveClock::sensor ? sensor_time_seconds(scan.sensor_time_ms) : scan.host_time_s;
+    UrgRawScan raw;
+    for (; scan != nullptr; scan = reader.next()) {
+      raw = scan->raw;
+      raw.time_s = clock == LiveClock::sensor ? sensor_time_seconds(scan->sensor_time_ms) : scan->host_time_s;
       pass.add(raw, poses);
-      bar.update(++done, log.scans.size());
+      bar.update(reader.scans(), 0);
     }
   }
   const FootprintExtent& extent = pass.finish();

@@ -44,32 +44,54 @@ CasResult CasFilter::apply(ElevationMap& map) {
   const std::uint8_t* state = map.state_data();
   const auto tolerance = static_cast<float>(options_.elevation_tolerance_m);
   to_remove_.clear();
+  // Slot = row_[i] + column_[j]: the circular buffer's modulo once per row
+  // and column, not twice per neighbour.
+  const auto un = static_cast<std::size_t>(n);
+  row_.resize(un);
+  column_.resize(un);
+  for (int k = 0; k < n; ++k) {
+    const std::size_t corner = map.slot(map.cell_at_local(k, k));
+    row_[static_cast<std::size_t>(k)] = corner / un * un;
+    column_[static_cast<std::size_t>(k)] = corner % un;
+  }
 
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {
-      const std::size_t s = map.slot(map.cell_at_local(i, j));
+      const std::size_t s = row_[static_cast<std::size_t>(i)] + column_[static_cast<std::size_t>(j)];
       if (state[s] != measured || c[s] > options_.max_removable_certainty) continue;
-      // Elevation continuity: agreeing 8-neighbours, and the window's median.
+      // Elevation continuity: a cell with enough agreeing 8-neighbours is no
+      // isolated peak, whatever the window's median: the window is only
+      // gathered for the others.
       int agreeing = 0;
+      for (int di = -1; di <= 1; ++di) {
+        for (int dj = -1; dj <= 1; ++dj) {
+          const int ii = i + di, jj = j + dj;
+          if ((di == 0 && dj == 0) || ii < 0 || jj < 0 || ii >= n || jj >= n) continue;
+          const std::size_t t = row_[static_cast<std::size_t>(ii)] + column_[static_cast<std::size_t>(jj)];
+          if (state[t] == measured && std::abs(h[t] - h[s]) <= tolerance) ++agreeing;
+        }
+      }
+      if (agreeing >= options_.min_agreeing_neighbours) continue;
       window_values_.clear();
       window_certainties_.clear();
       double certainty_sum = 0.0;
       for (int di = -w; di <= w; ++di) {
+        const int ii = i + di;
+        if (ii < 0 || ii >= n) continue;
+        const std::size_t row = row_[static_cast<std::size_t>(ii)];
         for (int dj = -w; dj <= w; ++dj) {
-          const int ii = i + di, jj = j + dj;
-          if (ii < 0 || jj < 0 || ii >= n || jj >= n) continue;
-          const std::size_t t = map.slot(map.cell_at_local(ii, jj));
+          const int jj = j + dj;
+          if (jj < 0 || jj >= n) continue;
+          const std::size_t t = row + column_[static_cast<std::size_t>(jj)];
           if (state[t] != measured) continue;
           certainty_sum += c[t];
           if (di == 0 && dj == 0) continue;
           window_values_.push_back(h[t]);
           window_certainties_.push_back(c[t]);
-          if (std::max(std::abs(di), std::abs(dj)) == 1 && std::abs(h[t] - h[s]) <= tolerance) ++agreeing;
         }
       }
       if (window_values_.empty()) continue;
-      const bool isolated_peak =
-          agreeing < options_.min_agreeing_neighbours && h[s] > median_of(window_values_) + tolerance;
+      const bool isolated_peak = h[s] > median_of(window_values_) + tolerance;
       if (!isolated_peak) continue;
       const bool weak = certainty_sum < options_.min_window_certainty ||
                         c[s] < options_.certainty_ratio * median_of(window_certainties_);

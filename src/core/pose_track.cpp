@@ -83,13 +83,22 @@ PoseLookup PoseTrack::interpolate(double time_s, TrunkPose& out) const {
   if (!(time_s >= poses_.front().time_s)) return PoseLookup::before_first;
   if (time_s > poses_.back().time_s) return PoseLookup::after_last;
   // First pose later than time_s; the one before it is at or before time_s.
-  const auto later = std::upper_bound(poses_.begin(), poses_.end(), time_s,
-                                      [](double t, const TimedPose& p) { return t < p.time_s; });
-  const TimedPose& before = *(later - 1);
+  std::size_t lo = 1, hi = poses_.size();  // in [1, size]: the first pose is at or before time_s
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    if (time_s < poses_[mid].time_s) {
+      hi = mid;
+    } else {
+      lo = mid + 1;
+    }
+  }
+  const TimedPose& before = poses_[lo - 1];
   if (before.time_s == time_s) {
     out = before.pose;
     return PoseLookup::ok;
   }
+  // Not past the end: time_s is below the last pose's time, which equals no earlier time.
+  const TimedPose* later = &poses_[lo];
   if (later->time_s - before.time_s > max_gap_s_) return PoseLookup::gap_too_large;
   double span = later->time_s - before.time_s, since = time_s - before.time_s;
   if (!std::isfinite(span)) {  // times of +-1e308 s (a gap of infinity allowed): halves do not overflow

@@ -258,12 +258,18 @@ std::size_t PoseStreamReader::poll(PoseTrack& track) {
     notices_.push_back(path_ + ": " + why + " (a restarted pose publisher?); reading it again from the start, "
                        "poses before the last one kept are skipped");
   }
-  std::size_t added = 0;
+  // One pointer captured: std::function keeps it inline, so a poll allocates nothing.
+  struct Sink {
+    bool after_reopen;
+    PoseTrack& track;
+    std::size_t added = 0;
+  } sink{after_reopen_, track};
+  std::size_t& added = sink.added;
   char buffer[4096];
-  const auto use = [&](const TimedPose& pose) {
-    if (after_reopen_ && track.size() > 0 && !(pose.time_s > track.last_time_s())) return;  // known already
-    track.append(pose);
-    ++added;
+  const auto use = [s = &sink](const TimedPose& pose) {
+    if (s->after_reopen && s->track.size() > 0 && !(pose.time_s > s->track.last_time_s())) return;  // known already
+    s->track.append(pose);
+    ++s->added;
   };
   while (true) {
     const ssize_t got = ::read(fd_, buffer, sizeof buffer);

@@ -72,7 +72,10 @@ void ProgressBar::update(std::size_t done, std::size_t total) {
   const Clock::time_point now = Clock::now();
   const double elapsed_s = std::chrono::duration<double>(now - start_).count();
   if (elapsed_s < show_after_s_) return;
-  if (drawn_ && std::chrono::duration<double>(now - last_draw_).count() < kRedrawEveryS && done < total) return;
+  // Without a total (a streamed input) the end is not known: redrawn at the same pace.
+  if (drawn_ && std::chrono::duration<double>(now - last_draw_).count() < kRedrawEveryS && (total == 0 || done < total)) {
+    return;
+  }
   last_draw_ = now;
   drawn_ = true;
   // \r and erase-to-end: the line is redrawn in place.

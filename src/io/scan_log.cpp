@@ -4,9 +4,8 @@
 
 #include <cerrno>
 #include <charconv>
+#include <cstdlib>
 #include <cstring>
-#include <fstream>
-#include <iterator>
 #include <string_view>
 
 #include "stridemap/core/error.hpp"
@@ -21,18 +20,6 @@ constexpr std::size_t kMaxSkippedLinesListed = 20;
 constexpr std::size_t kCrcSuffix = 10;  // " *" + 8 hex digits
 // SCIP's 3-character encoding holds 18 bits: no sensor sends more.
 const std::uint32_t kLargestValue = scip::max_encodable_value(3);
-
-void append_number(double value, std::string& out) {
-  char text[32];
-  const auto [end, error] = std::to_chars(text, text + sizeof text, value);
-  out.append(text, error == std::errc() ? end : text);
-}
-
-void append_number(std::uint64_t value, std::string& out) {
-  char text[24];
-  const auto [end, error] = std::to_chars(text, text + sizeof text, value);
-  out.append(text, error == std::errc() ? end : text);
-}
 
 // Splits off space-separated fields from the front of `rest`.
 class Fields {
@@ -68,7 +55,8 @@ bool read_number(Fields& fields, T& value) {
 // wrong with the record.
 class LogParser {
  public:
-  explicit LogParser(ScanLog& log) : log_(log) {}
+  // A scan record is read into `scan` (its storage reused) and sets `scan_ready`.
+  LogParser(ScanLog& log, UrgScan& scan, bool& scan_ready) : log_(log), scan_(scan), scan_ready_(scan_ready) {}
   bool have_parameters() const { return have_parameters_; }
 
   bool in_block() const { return in_block_; }
@@ -147,7 +135,7 @@ class LogParser {
 
   std::string scan(Fields& fields) {
     if (!have_parameters_) return "a scan before the sensor's parameters (sensor/pp lines)";
-    UrgScan s;
+    UrgScan& s = scan_;
     int first_after = 0;
     std::size_t count = 0;
     if (!read_number(fields, s.sequence) || !read_number(fields, s.host_time_s) ||
@@ -173,11 +161,13 @@ class LogParser {
     }
     std::string_view extra;
     if (fields.next(extra)) return "scan: more values than the count " + std::to_string(count);
-    log_.scans.push_back(std::move(s));
+    scan_ready_ = true;
     return {};
   }
 
   ScanLog& log_;
+  UrgScan& scan_;
+  bool& scan_ready_;
   bool have_parameters_ = false;
   bool in_block_ = false;
   std::size_t block_line_ = 0;
@@ -193,75 +183,87 @@ std::string scan_log_crc(std::string_view body) {
   return text;
 }
 
-ScanLog read_scan_log(const std::string& path) {
-  refuse_folder(path, "the scan log");
-  std::ifstream file(path, std::ios::binary);
-  if (!file) throw InputError(path + ": cannot open the scan log: " + std::strerror(errno));
-  const std::string content{std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>()};
-  if (file.bad()) throw InputError(path + ": cannot read the scan log: " + std::strerror(errno));
-  return parse_scan_log(content, path);
-}
-
 // Each line carries its own CRC, so a damaged line (CRC, torn, a record
 // that does not parse) is skipped and counted and reading goes on: one
 // flipped byte loses one record. Damage inside a sensor block, or a block
 // with other parameters, stops reading there: the scans after it would be
 // read with the wrong sensor description. log.lines counts the lines before
 // the first damage whose records are all kept: a sensor block counts once it
-// is closed (by the next record or the end).
-ScanLog parse_scan_log(std::string_view content, const std::string& source_name) {
-  const std::string& path = source_name;
-  ScanLog log;
-  LogParser parser(log);
-  std::size_t pos = 0, number = 0;
-  bool stopped = false;
-  const auto note_damage = [&](std::size_t line, const std::string& what) {
+// is closed (by the next record or the end). One line is held at a time
+// (getline's buffer, reused), and one scan.
+struct ScanLogReader::State {
+  State(std::string source) : path(std::move(source)), parser(log, scan, scan_ready) {}
+  ~State() {
+    if (file != nullptr) std::fclose(file);
+    std::free(line_buffer);
+  }
+
+  // The next line without its LF; `ended` false when it had none (the last, torn).
+  bool read_line(std::string_view& line, bool& ended) {
+    if (file == nullptr) {
+      if (pos >= content.size()) return false;
+      const std::size_t lf = content.find('\n', pos);
+      ended = lf != std::string_view::npos;
+      line = content.substr(pos, ended ? lf - pos : std::string_view::npos);
+      pos = ended ? lf + 1 : content.size();
+      return true;
+    }
+    errno = 0;
+    const ssize_t got = ::getline(&line_buffer, &line_capacity, file);
+    if (got < 0) {
+      if (std::ferror(file)) throw InputError(path + ": cannot read the scan log: " + std::strerror(errno));
+      return false;
+    }
+    line = std::string_view(line_buffer, static_cast<std::size_t>(got));
+    ended = !line.empty() && line.back() == '\n';
+    if (ended) line.remove_suffix(1);
+    return true;
+  }
+
+  void note_damage(std::size_t line, const std::string& what) {
     const std::string place = path + ":" + std::to_string(line) + ": " + what;
     if (log.damage.empty()) log.damage = place;
     if (log.skipped.size() < kMaxSkippedLinesListed) log.skipped.push_back(place);
     log.skipped_line_numbers.push_back(line);
-  };
-  // Lines before the first damage, if the sensor block it interrupted closes well.
-  std::size_t lines_if_block_closes = 0;
-  const auto stop_at = [&](std::size_t line, const std::string& what) {
+  }
+  void stop_at(std::size_t line, const std::string& what) {
     stopped = true;
     std::string place = path + ":" + std::to_string(line) + ": " + what;
     if (!log.damage.empty()) place += "; the first damage: " + log.damage;
     if (!parser.have_parameters()) throw InputError(place + " (before the sensor's parameters: nothing usable)");
     log.stop = place;
     if (log.damage.empty()) log.damage = place;
-  };
+  }
   // A line that cannot be used is skipped. Inside a sensor block the block
   // stays open: if its lines still describe the sensor when it closes (the
   // damaged line was a scan that came after it, or an empty line), all is
   // well; if not, reading stops at the block.
-  const auto damaged_line = [&](const std::string& what) {
+  void damaged_line(const std::string& what) {
     if (parser.in_block() && log.damage.empty()) lines_if_block_closes = number - 1;
     note_damage(number, what);
-  };
-  const auto block_closed = [&] {
+  }
+  void block_closed() {
     if (lines_if_block_closes > 0) log.lines = lines_if_block_closes;
     lines_if_block_closes = 0;
-  };
-  while (pos < content.size() && !stopped) {
+  }
+
+  // One line; false when reading ends with it.
+  bool take_line(std::string_view line, bool ended) {
     ++number;
-    const std::size_t lf = content.find('\n', pos);
-    if (lf == std::string_view::npos) {
+    if (!ended) {
       damaged_line("truncated: the last line has no end (the recorder was stopped while writing it?)");
-      break;
+      return false;
     }
-    const std::string_view line = content.substr(pos, lf - pos);
-    pos = lf + 1;
     if (line.size() < kCrcSuffix || line.compare(line.size() - kCrcSuffix, 2, " *") != 0) {
       if (number == 1) throw InputError(path + ":1: no CRC at the end of the line: not a stridemap scan log");
       damaged_line("no CRC at the end of the line");
-      continue;
+      return true;
     }
     const std::string_view body = line.substr(0, line.size() - kCrcSuffix);
     if (scan_log_crc(body) != line.substr(line.size() - 8)) {
       if (number == 1) throw InputError(path + ":1: CRC mismatch on the first line: not a readable stridemap scan log");
       damaged_line("CRC mismatch: the line is corrupted");
-      continue;
+      return true;
     }
     if (number == 1) {
       Fields fields(body);
@@ -275,7 +277,7 @@ ScanLog parse_scan_log(std::string_view content, const std::string& source_name)
                          std::to_string(kScanLogVersion) + ")");
       }
       log.lines = number;
-      continue;
+      return true;
     }
     std::string_view kind;
     Fields(body).next(kind);
@@ -283,7 +285,7 @@ ScanLog parse_scan_log(std::string_view content, const std::string& source_name)
     if (!info_line && parser.in_block()) {
       if (const std::string problem = parser.close_block(); !problem.empty()) {
         stop_at(parser.block_line(), "sensor block: " + problem);
-        break;
+        return false;
       }
       if (log.damage.empty()) log.lines = number - 1;
       block_closed();
@@ -291,121 +293,102 @@ ScanLog parse_scan_log(std::string_view content, const std::string& source_name)
     if (kind == kMagic) {
       // `record --append` after a torn last line: the new part starts here.
       if (log.damage.empty()) log.lines = number;
-      continue;
+      return true;
     }
     if (const std::string problem = parser.record(body, number); !problem.empty()) {
       damaged_line(problem);
-      continue;
+      return true;
     }
     if (!parser.in_block() && log.damage.empty()) log.lines = number;
+    return true;
   }
-  if (number == 0) throw InputError(path + ": empty file, not a scan log");
-  if (!stopped && parser.in_block()) {
-    if (const std::string problem = parser.close_block(); !problem.empty()) {
-      stop_at(parser.block_line(), "sensor block: " + problem);
-    } else if (log.damage.empty()) {
-      log.lines = number;
-    } else {
-      block_closed();
+
+  // After the last line read.
+  void finish() {
+    if (number == 0) throw InputError(path + ": empty file, not a scan log");
+    if (!stopped && parser.in_block()) {
+      if (const std::string problem = parser.close_block(); !problem.empty()) {
+        stop_at(parser.block_line(), "sensor block: " + problem);
+      } else if (log.damage.empty()) {
+        log.lines = number;
+      } else {
+        block_closed();
+      }
+    }
+    if (!parser.have_parameters()) {
+      throw InputError(path + ": the log holds no sensor parameters (no complete sensor block)" +
+                       (log.damage.empty() ? std::string() : "; the first damage: " + log.damage));
     }
   }
-  if (!parser.have_parameters()) {
-    throw InputError(path + ": the log holds no sensor parameters (no complete sensor block)" +
-                     (log.damage.empty() ? std::string() : "; the first damage: " + log.damage));
+
+  std::string path;
+  std::FILE* file = nullptr;
+  char* line_buffer = nullptr;
+  std::size_t line_capacity = 0;
+  std::string_view content;
+  std::size_t pos = 0;
+  ScanLog log;
+  UrgScan scan;
+  bool scan_ready = false;
+  LogParser parser;
+  std::size_t number = 0;
+  std::size_t lines_if_block_closes = 0;  // lines before the first damage, if the block it interrupted closes well
+  bool stopped = false;
+  bool done = false;
+};
+
+ScanLogReader::ScanLogReader(const std::string& path) : state_(std::make_unique<State>(path)) {
+  refuse_folder(path, "the scan log");
+  state_->file = std::fopen(path.c_str(), "rb");
+  if (state_->file == nullptr) throw InputError(path + ": cannot open the scan log: " + std::strerror(errno));
+}
+
+ScanLogReader::ScanLogReader(std::string_view content, const std::string& source_name)
+    : state_(std::make_unique<State>(source_name)) {
+  state_->content = content;
+}
+
+ScanLogReader::~ScanLogReader() = default;
+ScanLogReader::ScanLogReader(ScanLogReader&&) noexcept = default;
+ScanLogReader& ScanLogReader::operator=(ScanLogReader&&) noexcept = default;
+
+const UrgScan* ScanLogReader::next() {
+  State& s = *state_;
+  while (!s.done) {
+    s.scan_ready = false;
+    std::string_view line;
+    bool ended = false;
+    if (!s.read_line(line, ended) || !s.take_line(line, ended)) {
+      s.done = true;
+      s.finish();
+      return nullptr;
+    }
+    if (s.scan_ready) {
+      ++scans_;
+      return &s.scan;
+    }
   }
+  return nullptr;
+}
+
+const ScanLog& ScanLogReader::log() const { return state_->log; }
+
+ScanLog read_scan_log(const std::string& path) {
+  ScanLogReader reader(path);
+  std::vector<UrgScan> scans;
+  while (const UrgScan* scan = reader.next()) scans.push_back(*scan);
+  ScanLog log = reader.log();
+  log.scans = std::move(scans);
   return log;
 }
 
-ScanLogWriter::ScanLogWriter(const std::string& path, const std::string& device, bool append) : path_(path) {
-  file_ = std::fopen(path.c_str(), append ? "ab+" : "wb");
-  if (file_ == nullptr) throw InputError(path + ": cannot create the scan log: " + std::strerror(errno));
-  bool empty = true;
-  if (append && std::fseek(file_, 0, SEEK_END) == 0 && std::ftell(file_) > 0) {
-    empty = false;
-    if (std::fseek(file_, -1, SEEK_END) == 0 && std::fgetc(file_) != '\n') {
-      std::fseek(file_, 0, SEEK_END);
-      std::fputc('\n', file_);
-    }
-    std::fseek(file_, 0, SEEK_END);
-  }
-  std::string body;
-  if (empty) {
-    body = std::string(kMagic) + " " + std::to_string(kScanLogVersion);
-    write_line(body);
-  }
-  body = "device " + device;
-  write_line(body);
-  flush();
-}
-
-ScanLogWriter::~ScanLogWriter() {
-  if (file_ != nullptr) std::fclose(file_);
-}
-
-void ScanLogWriter::write_line(std::string& body) {
-  for (char& c : body) {
-    if (c == '\n' || c == '\r') c = ' ';  // a record is one line, whatever a message holds
-  }
-  body += " *";
-  body += scan_log_crc(body.substr(0, body.size() - 2));
-  body += '\n';
-  if (std::fwrite(body.data(), 1, body.size(), file_) != body.size()) failed_ = true;
-}
-
-void ScanLogWriter::write_sensor(double host_time_s, const scip::VersionInfo& version,
-                                 const scip::ScipParameters& parameters) {
-  line_ = "sensor ";
-  append_number(host_time_s, line_);
-  write_line(line_);
-  for (const scip::InfoField& f : scip::to_info_fields(version)) {
-    line_ = "vv " + f.key + ":" + f.value;
-    write_line(line_);
-  }
-  for (const scip::InfoField& f : scip::to_info_fields(parameters)) {
-    line_ = "pp " + f.key + ":" + f.value;
-    write_line(line_);
-  }
-  flush();
-}
-
-void ScanLogWriter::write_scan(const UrgScan& s) {
-  line_ = "scan ";
-  append_number(s.sequence, line_);
-  line_ += ' ';
-  append_number(s.host_time_s, line_);
-  line_ += ' ';
-  append_number(s.host_receive_time_s, line_);
-  for (const std::uint64_t v : {std::uint64_t{s.sensor_timestamp_ms}, s.sensor_time_ms, s.lost_before,
-                                std::uint64_t{s.first_after_start ? 1u : 0u},
-                                static_cast<std::uint64_t>(s.raw.first_step), static_cast<std::uint64_t>(s.raw.cluster),
-                                std::uint64_t{s.raw.values_mm.size()}}) {
-    line_ += ' ';
-    append_number(v, line_);
-  }
-  for (const std::uint32_t v : s.raw.values_mm) {
-    line_ += ' ';
-    append_number(std::uint64_t{v}, line_);
-  }
-  write_line(line_);
-  flush();
-}
-
-void ScanLogWriter::write_fault(double host_time_s, UrgFault fault, std::uint64_t count, const std::string& message) {
-  line_ = "fault ";
-  append_number(host_time_s, line_);
-  line_ += ' ';
-  line_ += fault_name(fault);
-  line_ += ' ';
-  append_number(count, line_);
-  line_ += ' ';
-  line_ += message;
-  write_line(line_);
-  flush();
-}
-
-void ScanLogWriter::flush() {
-  if (std::fflush(file_) != 0) failed_ = true;
-  if (failed_) throw InputError(path_ + ": cannot write the scan log (disk full?)");
+ScanLog parse_scan_log(std::string_view content, const std::string& source_name) {
+  ScanLogReader reader(content, source_name);
+  std::vector<UrgScan> scans;
+  while (const UrgScan* scan = reader.next()) scans.push_back(*scan);
+  ScanLog log = reader.log();
+  log.scans = std::move(scans);
+  return log;
 }
 
 }  // namespace stridemap::io

@@ -10,6 +10,12 @@
 #include "stridemap/core/error.hpp"
 
 namespace stridemap {
+namespace {
+
+// Poses held at once without allocating: 40 s of a 200 Hz estimator.
+constexpr std::size_t kPosesReserved = 8192;
+
+}  // namespace
 
 double live_host_seconds() {
   return std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
@@ -55,7 +61,16 @@ LiveMapping::LiveMapping(const LiveMappingOptions& options, LiveScanSource& scan
       hooks_(std::move(hooks)),
       sensor_(scans.parameters()),
       mapper_(options.mapper, scip::to_urg_parameters(sensor_)),
-      track_(options.max_pose_gap_s) {}
+      track_(options.max_pose_gap_s) {
+  // Scans wait at most pose_wait_s for their poses (then expire), and poses
+  // run ahead of them by about as long: room for that, and some, from the
+  // start, so that a slow moment later (a loaded host) allocates nothing.
+  const double scans_per_s = std::max(1.0, sensor_.motor_speed_rpm / 60.0);
+  const auto waiting = static_cast<std::size_t>(std::ceil((options_.pose_wait_s + 1.0) * scans_per_s)) + 16;
+  mapper_.reserve(waiting);
+  receive_times_.reserve(waiting);
+  track_.reserve(kPosesReserved);
+}
 
 double LiveMapping::scan_time(const UrgScan& scan) const {
   return options_.clock == LiveClock::sensor ? sensor_time_seconds(scan.sensor_time_ms) : scan.host_time_s;
@@ -96,20 +111,37 @@ bool LiveMapping::try_save(const LiveRunStats* run) {
   return true;
 }
 
+namespace {
+
+constexpr double kLatencyFloorS = 1e-6;
+constexpr double kLatencyBinRatio = 1.01;
+constexpr std::size_t kLatencyBins = 2083;  // 1.01^2083 > 1e9: up to 1000 s
+
+std::size_t latency_bin(double latency_s) {
+  if (!(latency_s > kLatencyFloorS)) return 0;
+  const double bin = std::log(latency_s / kLatencyFloorS) / std::log(kLatencyBinRatio);
+  return std::min(kLatencyBins - 1, static_cast<std::size_t>(bin));
+}
+
+}  // namespace
+
 // Scans leave the mapper's queue in order; the ones integrated count for latency.
 void LiveMapping::account(std::size_t integrated_before) {
-  const std::size_t queued = receive_times_.size() - receive_head_;
+  const std::size_t queued = receive_times_.size();
   const std::size_t consumed = queued - std::min(queued, mapper_.waiting());
   const std::size_t integrated = mapper_.stats().integrated - integrated_before;
   const double now = live_host_seconds();
+  if (latency_bins_.empty()) latency_bins_.assign(kLatencyBins, 0);
   for (std::size_t i = 0; i < consumed; ++i) {
     // process() integrates before expire() skips, so the first ones are the integrated.
-    if (i < integrated) latency_s_.push_back(now - receive_times_[receive_head_]);
-    ++receive_head_;
-  }
-  if (receive_head_ > 4096 && receive_head_ * 2 > receive_times_.size()) {
-    receive_times_.erase(receive_times_.begin(), receive_times_.begin() + static_cast<std::ptrdiff_t>(receive_head_));
-    receive_head_ = 0;
+    if (i < integrated) {
+      const double latency_s = now - receive_times_.front();
+      ++latency_bins_[latency_bin(latency_s)];
+      ++latency_count_;
+      latency_sum_s_ += latency_s;
+      latency_max_s_ = latency_count_ == 1 ? latency_s : std::max(latency_max_s_, latency_s);
+    }
+    receive_times_.pop_front();
   }
 }
 
@@ -121,17 +153,21 @@ LiveRunStats LiveMapping::run_stats() const {
   run.saves = saves_;
   run.save_failures = save_failures_;
   run.pose_reopens = poses_.reopened();
-  run.latency_samples = latency_s_.size();
-  if (!latency_s_.empty()) {
-    double sum = 0.0;
-    for (const double s : latency_s_) sum += s;
-    run.latency_mean_s = sum / static_cast<double>(latency_s_.size());
-    run.latency_max_s = *std::max_element(latency_s_.begin(), latency_s_.end());
-    std::vector<double> sorted = latency_s_;
-    const std::size_t k =
-        std::min(sorted.size() - 1, static_cast<std::size_t>(0.99 * static_cast<double>(sorted.size())));
-    std::nth_element(sorted.begin(), sorted.begin() + static_cast<std::ptrdiff_t>(k), sorted.end());
-    run.latency_p99_s = sorted[k];
+  run.latency_samples = latency_count_;
+  if (latency_count_ > 0) {
+    run.latency_mean_s = latency_sum_s_ / static_cast<double>(latency_count_);
+    run.latency_max_s = latency_max_s_;
+    // The 99th percentile's bin, by its upper edge (at most 1 % high), never above the largest.
+    const std::uint64_t rank =
+        std::min(latency_count_ - 1, static_cast<std::uint64_t>(0.99 * static_cast<double>(latency_count_)));
+    std::uint64_t seen = 0;
+    for (std::size_t b = 0; b < latency_bins_.size(); ++b) {
+      seen += latency_bins_[b];
+      if (seen > rank) {
+        run.latency_p99_s = std::min(latency_max_s_, kLatencyFloorS * std::pow(kLatencyBinRatio, b + 1.0));
+        break;
+      }
+    }
   }
   return run;
 }
@@ -164,10 +200,11 @@ LiveMappingResult LiveMapping::run(const std::atomic<bool>& stop) {
         case UrgDriverEvent::Kind::scan: {
           if (!room) break;  // beyond --max-scans: neither mapped nor recorded
           if (hooks_.on_scan) hooks_.on_scan(event.scan);
-          UrgRawScan raw = event.scan.raw;
-          raw.time_s = scan_time(event.scan);
-          scan_times_.add(raw.time_s);
-          mapper_.add(raw, now);
+          // Into the kept scan's storage: no allocation per scan.
+          raw_ = event.scan.raw;
+          raw_.time_s = scan_time(event.scan);
+          scan_times_.add(raw_.time_s);
+          mapper_.add(raw_, now);
           receive_times_.push_back(event.scan.host_receive_time_s);
           poll_poses();
           break;

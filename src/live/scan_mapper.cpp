@@ -1,5 +1,7 @@
 #include "stridemap/live/scan_mapper.hpp"
 
+#include <algorithm>
+
 #include "stridemap/core/map_resume.hpp"
 #include "stridemap/io/map_resume_check.hpp"
 
@@ -37,6 +39,11 @@ ScanMapper::ScanMapper(const ScanMapperOptions& options, const UrgParameters& se
 void ScanMapper::add(const UrgRawScan& raw, double arrival_s) {
   pipeline_.queue(raw, arrival_s);
   stats_ = pipeline_.stats();
+}
+
+void ScanMapper::reserve(std::size_t scans) {
+  const UrgParameters& urg = pipeline_.options().urg;
+  pipeline_.reserve_queue(scans, static_cast<std::size_t>(std::max(0, urg.beam_count())));
 }
 
 std::size_t ScanMapper::process(PoseTrack& poses, bool poses_complete) {

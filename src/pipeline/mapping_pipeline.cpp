@@ -10,6 +10,17 @@ double time_of(const UrgRawScan& s) { return s.time_s; }
 double time_of(const StripeFrame& s) { return s.time_s; }
 double time_of(const PointFrame& s) { return s.time_s; }
 
+// Copies into the variant, into the vectors it already holds when it holds
+// the same kind (their capacity is reused).
+template <typename T, typename Variant>
+void assign(Variant& slot, const T& value) {
+  if (T* held = std::get_if<T>(&slot)) {
+    *held = value;
+  } else {
+    slot = value;
+  }
+}
+
 }  // namespace
 
 MappingPipeline::MappingPipeline(const PipelineOptions& options)
@@ -51,17 +62,30 @@ ScanOutcome MappingPipeline::add(SensorModel& model, double time_s, const TrunkP
 
 void MappingPipeline::queue(const UrgRawScan& raw, double arrival_s) {
   ++stream_.scans;
-  queue_.push_back({raw, arrival_s});
+  Waiting& slot = queue_.push_slot();
+  assign(slot.scan, raw);
+  slot.arrival_s = arrival_s;
 }
 
 void MappingPipeline::queue(const StripeFrame& frame, double arrival_s) {
   ++stream_.scans;
-  queue_.push_back({frame, arrival_s});
+  Waiting& slot = queue_.push_slot();
+  assign(slot.scan, frame);
+  slot.arrival_s = arrival_s;
 }
 
 void MappingPipeline::queue(const PointFrame& frame, double arrival_s) {
   ++stream_.scans;
-  queue_.push_back({frame, arrival_s});
+  Waiting& slot = queue_.push_slot();
+  assign(slot.scan, frame);
+  slot.arrival_s = arrival_s;
+}
+
+void MappingPipeline::reserve_queue(std::size_t scans, std::size_t values) {
+  queue_.reserve(scans, [values](Waiting& slot) {
+    if (!std::holds_alternative<UrgRawScan>(slot.scan)) slot.scan = UrgRawScan{};
+    std::get<UrgRawScan>(slot.scan).values_mm.reserve(values);
+  });
 }
 
 ScanOutcome MappingPipeline::integrate(const Scan& scan, const TrunkPose& pose) {

@@ -43,6 +43,10 @@ std::string_view error_kind_name(ErrorKind kind) {
 Decoder::Decoder(const DecoderOptions& options) : options_(options) {
   options_.max_line_bytes = std::max(options_.max_line_bytes, kMinLineBytes);
   options_.max_frame_bytes = std::max(options_.max_frame_bytes, kMinFrameLines * options_.max_line_bytes);
+  // A reader feeds what one read returned (the URG driver: up to 4 kB) and
+  // decodes it: room for a frame's worth from the start, so that a bigger
+  // read later (a host that fell behind) does not allocate mid-stream.
+  input_.reserve(options_.max_frame_bytes);
 }
 
 void Decoder::feed(std::string_view bytes) {

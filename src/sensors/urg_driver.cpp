@@ -63,12 +63,22 @@ std::string_view fault_name(UrgFault fault) {
   return "unknown";
 }
 
+namespace {
+
+constexpr std::size_t kPendingReserved = 64;
+constexpr std::size_t kMaxScanValues = 1081;  // the most steps a SCIP 2.0 scanner of this family sends
+
+}  // namespace
+
 UrgDriver::UrgDriver(ByteStreamOpener opener, UrgDriverOptions options)
     : opener_(std::move(opener)), options_(std::move(options)), read_buffer_(kReadChunk),
       clock_(options_.clock_window_scans, 0.1) {
   options_.validate();
   if (!opener_) throw InputError("URG driver: no device opener given");
   urg_parameters_ = scip::to_urg_parameters(parameters_);
+  // Scans that arrive together (a host that read late) wait here: room for
+  // a burst of them, each with room for a full scan, so that none allocates.
+  pending_.reserve(kPendingReserved, [](UrgDriverEvent& e) { e.scan.raw.values_mm.reserve(kMaxScanValues); });
 }
 
 UrgDriver::~UrgDriver() { stop(); }
@@ -98,7 +108,7 @@ bool UrgDriver::next(UrgDriverEvent& event, double timeout_s) {
   const double deadline = now() + (std::isfinite(timeout_s) ? std::max(0.0, timeout_s) : 0.0);
   while (true) {
     if (!pending_.empty()) {
-      event = std::move(pending_.front());
+      std::swap(event, pending_.front());  // the slot takes the caller's old storage
       pending_.pop_front();
       return true;
     }
@@ -287,8 +297,7 @@ void UrgDriver::handle(const scip::Event& event) {
 
 void UrgDriver::report(UrgFault fault, std::string message, std::uint64_t count) {
   ++stats_.faults;
-  UrgDriverEvent& e = pending_.emplace_back();
-  e.kind = UrgDriverEvent::Kind::fault;
+  UrgDriverEvent& e = push_event(UrgDriverEvent::Kind::fault);
   e.fault = fault;
   e.message = std::move(message);
   e.count = count;

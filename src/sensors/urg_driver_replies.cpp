@@ -137,8 +137,7 @@ void UrgDriver::handle_start_reply(const scip::Event& event) {
       stall_deadline_ = now() + stall_timeout_s();
       ++stats_.connects;
       {
-        UrgDriverEvent& e = pending_.emplace_back();
-        e.kind = UrgDriverEvent::Kind::connected;
+        UrgDriverEvent& e = push_event(UrgDriverEvent::Kind::connected);
         e.message = device() + ": " + version_.product + ", serial " + version_.serial + ", firmware " +
                     version_.firmware + "; steps " + std::to_string(stream_command_.start_step) + ".." +
                     std::to_string(stream_command_.end_step) + ", cluster " +
@@ -235,8 +234,7 @@ void UrgDriver::deliver_scan(const scip::Event& event) {
   have_previous_scan_ = true;
   stall_deadline_ = now() + stall_timeout_s();
 
-  UrgDriverEvent& e = pending_.emplace_back();
-  e.kind = UrgDriverEvent::Kind::scan;
+  UrgDriverEvent& e = push_event(UrgDriverEvent::Kind::scan);
   UrgScan& scan = e.scan;
   scan.sensor_timestamp_ms = raw_ms;
   scan.sensor_time_ms = unwrapper_.unwrap(raw_ms);

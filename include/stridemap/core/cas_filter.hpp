@@ -58,6 +58,7 @@ class CasFilter {
   std::vector<std::size_t> to_remove_;
   std::vector<float> window_values_;
   std::vector<float> window_certainties_;
+  std::vector<std::size_t> row_, column_;  // slot = row_[i] + column_[j] (apply())
 };
 
 }  // namespace stridemap

@@ -7,9 +7,8 @@
 // apart than max_gap_s, has no pose.
 #include <cstddef>
 #include <cstdint>
-#include <deque>
-
 #include "stridemap/core/pose.hpp"
+#include "stridemap/core/ring_queue.hpp"
 
 namespace stridemap {
 
@@ -43,6 +42,10 @@ class PoseTrack {
   /// one at or before it).
   void drop_before(double time_s);
 
+  /// Room for `poses` poses held at once without allocating (a live pose
+  /// stream running ahead of the scans).
+  void reserve(std::size_t poses) { poses_.reserve(poses); }
+
   bool empty() const { return poses_.empty(); }
   std::size_t size() const { return poses_.size(); }
   double first_time_s() const { return poses_.front().time_s; }
@@ -51,7 +54,7 @@ class PoseTrack {
 
  private:
   double max_gap_s_;
-  std::deque<TimedPose> poses_;
+  RingQueue<TimedPose> poses_;  // reused slots: a live pose stream allocates nothing per pose
 };
 
 /// Linear interpolation between two poses at fraction a in [0, 1] (yaw the

@@ -4,6 +4,7 @@
 // so that large occlusions stay unknown (Fig. 23d): small holes inside a
 // continuous surface get a value, the shadow behind an obstacle does not.
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "stridemap/core/grid_map.hpp"
@@ -51,7 +52,10 @@ class WeightedMedianFill {
   };
   FillOptions options_;
   std::vector<float> result_;  // per slot, NaN = leave unknown
-  std::vector<std::size_t> row_offset_, column_offset_;
+  // The window in local order with a margin (apply()), kept to reuse storage.
+  std::vector<std::uint8_t> known_;
+  std::vector<float> value_, weight_;
+  std::vector<std::size_t> slot_;  // slot of local cell i * n + j
 };
 
 }  // namespace stridemap

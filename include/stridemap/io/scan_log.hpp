@@ -7,6 +7,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <cstdio>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -43,6 +44,37 @@ struct ScanLog {
   /// Empty unless reading stopped early: "<file>:<line>: <what>" for damage
   /// inside a sensor block or a sensor with other parameters.
   std::string stop;
+};
+
+/// Reads a log record by record, holding one line and one scan: memory does
+/// not grow with the log's length (`stridemap map --log`). The same reading,
+/// damage handling and messages as read_scan_log, which is built on it.
+class ScanLogReader {
+ public:
+  /// Opens the log; throws InputError naming the path when it cannot.
+  explicit ScanLogReader(const std::string& path);
+  /// A log's bytes in memory (they must outlive the reader); `source_name`
+  /// stands for the file in messages.
+  ScanLogReader(std::string_view content, const std::string& source_name);
+  ~ScanLogReader();
+  ScanLogReader(ScanLogReader&&) noexcept;
+  ScanLogReader& operator=(ScanLogReader&&) noexcept;
+
+  /// The next scan, valid until the next call (its storage is reused), or
+  /// null at the end of what can be read. Throws InputError as read_scan_log
+  /// does: the first line, the first sensor block, no sensor parameters at
+  /// all (found at the end), or a read error.
+  const UrgScan* next();
+  /// What was read so far, scans aside (`scans` stays empty); complete once
+  /// next() returned null. `parameters` is set once next() returned a scan.
+  const ScanLog& log() const;
+  /// Scans returned so far.
+  std::size_t scans() const { return scans_; }
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+  std::size_t scans_ = 0;
 };
 
 /// Reads a log. Throws InputError naming the file for a file that cannot be

@@ -16,6 +16,7 @@
 
 #include "stridemap/core/map_filter.hpp"
 #include "stridemap/core/pose_track.hpp"
+#include "stridemap/core/ring_queue.hpp"
 #include "stridemap/io/pose_stream.hpp"
 #include "stridemap/live/map_report.hpp"
 #include "stridemap/live/scan_mapper.hpp"
@@ -176,10 +177,14 @@ class LiveMapping {
   scip::ScipParameters sensor_;
   ScanMapper mapper_;
   PoseTrack track_;
+  UrgRawScan raw_;  // the scan being queued, its storage reused
 
-  std::vector<double> receive_times_;  // of the scans queued in the mapper, oldest first
-  std::size_t receive_head_ = 0;
-  std::vector<double> latency_s_;
+  RingQueue<double> receive_times_;  // of the scans queued in the mapper, oldest first
+  // Latencies as a histogram of 1 % wide bins (1 us .. 1000 s), so that a
+  // run of any length keeps fixed memory and allocates nothing per scan.
+  std::vector<std::uint64_t> latency_bins_;
+  std::uint64_t latency_count_ = 0;
+  double latency_sum_s_ = 0.0, latency_max_s_ = 0.0;
   double start_s_ = 0.0;
   double cpu_start_s_ = 0.0;
   std::uint64_t saves_ = 0, save_failures_ = 0;

@@ -42,7 +42,7 @@ struct LiveRunStats {
   std::uint64_t latency_samples = 0;
   double latency_mean_s = 0.0;   ///< last byte read -> scan integrated
   double latency_max_s = 0.0;
-  double latency_p99_s = 0.0;
+  double latency_p99_s = 0.0;   ///< from 1 %-wide bins: at most 1 % above the exact one
   std::uint64_t saves = 0;          ///< periodic saves written
   std::uint64_t save_failures = 0;  ///< periodic saves that failed (and were retried)
   std::uint64_t pose_reopens = 0;   ///< the pose file replaced or cut under the reader

@@ -72,6 +72,8 @@ class ScanMapper {
   void finish();
 
   std::size_t waiting() const { return pipeline_.waiting(); }
+  /// Room for `scans` scans waiting for their poses at once (no allocation then).
+  void reserve(std::size_t scans);
   const ScanMapperStats& stats() const { return stats_; }
   const TerrainMapper& mapper() const { return pipeline_.mapper(); }
   const ScanMapperOptions& options() const { return options_; }

@@ -12,7 +12,6 @@
 // model, scan filters with the scan's pose carried through their delay, the
 // map update with Delta z_max formed in one place.
 #include <cstddef>
-#include <deque>
 #include <optional>
 #include <span>
 #include <variant>
@@ -20,6 +19,7 @@
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/core/map_filter.hpp"
 #include "stridemap/core/pose_track.hpp"
+#include "stridemap/core/ring_queue.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/pipeline/pipeline_options.hpp"
 #include "stridemap/pipeline/scan_integrator.hpp"
@@ -55,6 +55,9 @@ class MappingPipeline {
   /// Skips the waiting scans that arrived at or before `before_s`. Returns how many.
   std::size_t expire(double before_s);
   std::size_t waiting() const { return queue_.size(); }
+  /// Room for `scans` URG scans of `values` values waiting at once, so that
+  /// a longer wait for poses than before allocates nothing (live mapping).
+  void reserve_queue(std::size_t scans, std::size_t values);
 
   /// Ends the stream: the scan the filters hold is integrated.
   ScanOutcome finish();
@@ -84,7 +87,9 @@ class MappingPipeline {
   PipelineOptions options_;
   TerrainMapper mapper_;
   ScanIntegrator integrator_;
-  std::deque<Waiting> queue_;
+  // Slots are reused: a queued scan is copied into the storage of one that
+  // left, so the stream allocates nothing per scan once the queue is long enough.
+  RingQueue<Waiting> queue_;
   PipelineStats stream_;  // scans offered and skipped
 };
 

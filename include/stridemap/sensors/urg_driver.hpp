@@ -8,12 +8,12 @@
 // device reopened when it comes back. Single-threaded and poll-driven:
 // next() returns within its timeout whatever the device does. docs/driver.md.
 #include <cstdint>
-#include <deque>
 #include <functional>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "stridemap/core/ring_queue.hpp"
 #include "stridemap/sensors/byte_stream.hpp"
 #include "stridemap/sensors/scan_clock.hpp"
 #include "stridemap/sensors/scip_decoder.hpp"
@@ -206,7 +206,15 @@ class UrgDriver {
   double previous_receive_s_ = 0.0;
   double last_read_host_s_ = 0.0;
 
-  std::deque<UrgDriverEvent> pending_;
+  // Slots reused (a scan's values keep their storage): no allocation per scan.
+  RingQueue<UrgDriverEvent> pending_;
+  UrgDriverEvent& push_event(UrgDriverEvent::Kind kind) {
+    UrgDriverEvent& e = pending_.push_slot();
+    e.kind = kind;
+    e.message.clear();
+    e.count = 0;
+    return e;
+  }
   UrgDriverStats stats_;
 };
 

@@ -1,0 +1,51 @@
+#pragma once
+// `stridemap map --log`: a recorded scan log mapped against a complete pose
+// track, as live mapping would have mapped it, reading the log as a stream
+// (io::ScanLogReader): memory stays flat in the log's length, and nothing is
+// allocated per scan once the first scans have sized the buffers.
+#include <cstddef>
+#include <functional>
+#include <memory>
+#include <string>
+
+#include "stridemap/core/pose_track.hpp"
+#include "stridemap/io/scan_log.hpp"
+#include "stridemap/live/live_mapping.hpp"
+#include "stridemap/live/map_report.hpp"
+#include "stridemap/live/scan_mapper.hpp"
+
+namespace stridemap {
+
+class LogReplay {
+ public:
+  /// Opens the log and reads up to its first scan, which tells the sensor's
+  /// parameters the mapper is made for. Throws InputError naming the log as
+  /// io::read_scan_log does, or for `options` as ScanMapper does.
+  LogReplay(const std::string& log_path, const ScanMapperOptions& options, LiveClock clock);
+  /// The same from a log's bytes in memory (they must outlive the replay).
+  LogReplay(io::ScanLogReader reader, const ScanMapperOptions& options, LiveClock clock);
+
+  /// Maps one scan (read before) and reads the next; false when the log is
+  /// read to its end. The poses are complete: a scan after the last is skipped.
+  bool step(PoseTrack& poses);
+  /// Every scan left, then the end of the stream (ScanMapper::finish);
+  /// `progress` is told the scans read after each one.
+  void run(PoseTrack& poses, const std::function<void(std::size_t scans)>& progress = {});
+
+  const ScanMapper& mapper() const { return *mapper_; }
+  /// The log's sensor, damage and faults (no scans: they were streamed).
+  const io::ScanLog& log() const { return reader_.log(); }
+  std::size_t scans_read() const { return reader_.scans(); }
+  const TimeRange& scan_times() const { return scan_times_; }
+
+ private:
+  io::ScanLogReader reader_;
+  LiveClock clock_;
+  const UrgScan* scan_ = nullptr;  // read, not yet mapped
+  std::unique_ptr<ScanMapper> mapper_;
+  UrgRawScan raw_;  // the scan on the mapping clock; its storage reused
+  TimeRange scan_times_;
+  bool finished_ = false;
+};
+
+}  // namespace stridemap

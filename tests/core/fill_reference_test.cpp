@@ -1,0 +1,118 @@
+// The fast fill-in and CAS filter give bit for bit the maps of the kept
+// reference (fill_reference.hpp, the code before issue 17's speed-up) over
+// random maps: several seeds and sizes, windows moved so that the circular
+// buffer wraps, holes, spikes, steps, filled cells from an earlier pass,
+// elevations on a coarse grid so that equal values (the tie-breaking path)
+// are common, and non-default options.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <random>
+
+#include "core/fill_reference.hpp"
+#include "stridemap/core/cas_filter.hpp"
+#include "stridemap/core/weighted_median_fill.hpp"
+
+namespace stridemap {
+namespace {
+
+ElevationMap random_map(int n, std::uint64_t seed, bool coarse_values) {
+  ElevationMap map({n, 0.01});
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  map.move_corner_to({static_cast<std::int64_t>(u(rng) * 1000) - 500, static_cast<std::int64_t>(u(rng) * 1000) - 500});
+  const double unknown = 0.1 + 0.5 * u(rng);
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const std::size_t s = map.slot(map.cell_at_local(i, j));
+      const double r = u(rng);
+      if (r < unknown) continue;
+      double h = 0.002 * i - 0.001 * j + 0.01 * u(rng) + (j > n / 2 ? 0.05 : 0.0);  // a step across the map
+      if (u(rng) < 0.03) h += 0.1;                                               // a spike
+      if (coarse_values) h = std::round(h * 200.0) / 200.0;                     // 5 mm steps: many ties
+      const bool filled = u(rng) < 0.05;
+      map.elevation_data()[s] = static_cast<float>(h);
+      map.certainty_data()[s] = filled ? 0.0f : static_cast<float>(1 + static_cast<int>(u(rng) * 12));
+      map.state_data()[s] = static_cast<std::uint8_t>(filled ? CellState::filled : CellState::measured);
+    }
+  }
+  return map;
+}
+
+void expect_identical(const ElevationMap& a, const ElevationMap& b, const std::string& what) {
+  ASSERT_EQ(a.layer_count(), b.layer_count());
+  const auto cells = static_cast<std::size_t>(a.cells_per_side()) * static_cast<std::size_t>(a.cells_per_side());
+  for (std::size_t l = 0; l < a.layer_count(); ++l) {
+    const std::size_t bytes = cells * layer_type_bytes(a.layer_spec(l).type);
+    EXPECT_EQ(0, std::memcmp(a.layer_bytes(l), b.layer_bytes(l), bytes)) << what << ", layer " << a.layer_spec(l).name;
+  }
+}
+
+std::vector<FillOptions> fill_options() {
+  std::vector<FillOptions> all(4);
+  all[1].window_radius_cells = 1;
+  all[1].min_known_neighbours = 3;
+  all[1].min_quadrants = 2;
+  all[2].window_radius_cells = 3;
+  all[2].near_weight = 3.5;
+  all[2].max_quartile_spread_m = 0.0;  // no spread test
+  all[3].window_radius_cells = 7;
+  all[3].min_known_neighbours = 1;
+  all[3].min_quadrants = 1;
+  all[3].max_quartile_spread_m = 0.2;
+  return all;
+}
+
+TEST(FillReference, FastFillMatchesTheReferenceBitForBit) {
+  std::size_t filled = 0;
+  for (std::uint64_t seed = 1; seed <= 12; ++seed) {
+    for (const bool coarse : {false, true}) {
+      const int n = seed % 3 == 0 ? 37 : 100;
+      const ElevationMap original = random_map(n, seed, coarse);
+      for (const FillOptions& options : fill_options()) {
+        ElevationMap fast = original, reference = original;
+        WeightedMedianFill fill(options);
+        const std::size_t a = fill.apply(fast);
+        const std::size_t b = reference::reference_fill(reference, options);
+        EXPECT_EQ(a, b);
+        filled += a;
+        expect_identical(fast, reference, "seed " + std::to_string(seed) + (coarse ? " coarse" : ""));
+        // A second pass re-estimates the filled cells: still the same.
+        EXPECT_EQ(fill.apply(fast), reference::reference_fill(reference, options));
+        expect_identical(fast, reference, "second pass, seed " + std::to_string(seed));
+      }
+    }
+  }
+  EXPECT_GT(filled, 1000u);  // the maps do exercise the fill
+}
+
+TEST(FillReference, FastCasMatchesTheReferenceBitForBit) {
+  std::size_t removed = 0;
+  for (std::uint64_t seed = 21; seed <= 32; ++seed) {
+    for (const bool coarse : {false, true}) {
+      const ElevationMap original = random_map(seed % 3 == 0 ? 41 : 100, seed, coarse);
+      std::vector<CasOptions> all(3);
+      all[0].max_removable_certainty = 6.0;  // more candidates than the default
+      all[1].window_radius_cells = 1;
+      all[1].min_agreeing_neighbours = 0;
+      all[2].window_radius_cells = 4;
+      all[2].min_agreeing_neighbours = 5;
+      all[2].max_removable_certainty = 12.0;
+      all[2].fill.window_radius_cells = 3;
+      for (const CasOptions& options : all) {
+        ElevationMap fast = original, reference = original;
+        CasFilter cas(options);
+        const CasResult a = cas.apply(fast);
+        const CasResult b = reference::reference_cas(reference, options);
+        EXPECT_EQ(a.removed, b.removed);
+        EXPECT_EQ(a.filled, b.filled);
+        removed += a.removed;
+        expect_identical(fast, reference, "CAS, seed " + std::to_string(seed));
+      }
+    }
+  }
+  EXPECT_GT(removed, 100u);  // the maps do exercise the removal
+}
+
+}  // namespace
+}  // namespace stridemap
