@@ -113,6 +113,14 @@ FootholdLayers::FootholdLayers(ElevationMap& map, const FootholdOptions& options
   min_known_ = std::max<std::size_t>(
       3, static_cast<std::size_t>(std::ceil(options_.min_known_fraction * static_cast<double>(footprint_.size()))));
   min_known_ = std::min(min_known_, std::max<std::size_t>(footprint_.size(), 3));
+  Eigen::Matrix3d full = Eigen::Matrix3d::Zero();
+  for (const CellIndex& o : footprint_) {
+    const Eigen::Vector3d v(1.0, static_cast<double>(o.x) * cell_size_m_, static_cast<double>(o.y) * cell_size_m_);
+    full.noalias() += v * v.transpose();
+  }
+  full_inverse_ = Eigen::Matrix3d::Zero();
+  if (footprint_.size() >= 3) full_inverse_ = full.inverse();
+  ring_rows_.assign(static_cast<std::size_t>(2 * edge_cells_ + 1), nullptr);
   row_distance_.assign(static_cast<std::size_t>(2 * edge_cells_ + 1) * static_cast<std::size_t>(n_), 0);
 }
 
@@ -166,7 +174,7 @@ void FootholdLayers::geometry_of(ElevationMap& map, const LocalSlots& slots, Cel
   // Elevations relative to the centre cell's keep the sums small, so the
   // residuals (millimetres) survive next to heights of metres.
   const double z0 = elevation[s];
-  Eigen::Matrix3d a = Eigen::Matrix3d::Zero();
+  double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0, syy = 0.0;
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
   double lo = 0.0, hi = 0.0;
   std::size_t count = 0;
@@ -176,22 +184,32 @@ void FootholdLayers::geometry_of(ElevationMap& map, const LocalSlots& slots, Cel
     const std::size_t t = slots.of(q);
     if (!known(elevation, state, t)) continue;
     const double z = elevation[t] - z0;
-    const Eigen::Vector3d v(1.0, static_cast<double>(o.x) * cell_size_m_, static_cast<double>(o.y) * cell_size_m_);
-    a.noalias() += v * v.transpose();
-    b += v * z;
+    const double x = static_cast<double>(o.x) * cell_size_m_, y = static_cast<double>(o.y) * cell_size_m_;
+    sx += x;
+    sy += y;
+    sxx += x * x;
+    sxy += x * y;
+    syy += y * y;
+    b += Eigen::Vector3d(z, x * z, y * z);
     lo = std::min(lo, z);
     hi = std::max(hi, z);
     ++count;
   }
   if (count < min_known_) return;
   step[s] = static_cast<float>(hi - lo);
-  Eigen::Matrix3d inverse;
-  bool invertible = false;
-  // Cell spacing squared sets the scale of the determinant: collinear
-  // cells give one that vanishes relative to it.
-  const double scale = cell_size_m_ * cell_size_m_;
-  a.computeInverseWithCheck(inverse, invertible, 1e-9 * scale * scale);
-  if (!invertible) return;
+  // A whole footprint (the common case) has the normal matrix inverted
+  // once, when the layers were attached; only a partial one needs its own.
+  Eigen::Matrix3d inverse = full_inverse_;
+  if (count != footprint_.size()) {
+    Eigen::Matrix3d a;
+    a << static_cast<double>(count), sx, sy, sx, sxx, sxy, sy, sxy, syy;
+    bool invertible = false;
+    // Cell spacing squared sets the scale of the determinant: collinear
+    // cells give one that vanishes relative to it.
+    const double scale = cell_size_m_ * cell_size_m_;
+    a.computeInverseWithCheck(inverse, invertible, 1e-9 * scale * scale);
+    if (!invertible) return;
+  }
   const Eigen::Vector3d plane = inverse * b;
   double residual2 = 0.0;
   for (const CellIndex& o : footprint_) {
@@ -249,6 +267,8 @@ void FootholdLayers::edges_and_score_in(ElevationMap& map, const CellBox& box) {
   const double cap_m = options_.edge_search_radius_m;
   for (std::int64_t x = box.min.x; x <= box.max.x; ++x) {
     fill_row(x + r);
+    // The rows x - r .. x + r of the ring, in order: no modulo per cell.
+    for (std::int64_t k = 0; k < ring; ++k) ring_rows_[static_cast<std::size_t>(k)] = row_distance_.data() + ((x + k - box.min.x) % ring) * n_;
     for (std::int64_t y = box.min.y; y <= box.max.y; ++y) {
       const std::size_t s = slots.of({x, y});
       if (!known(elevation, state, s)) {
@@ -256,8 +276,9 @@ void FootholdLayers::edges_and_score_in(ElevationMap& map, const CellBox& box) {
         continue;
       }
       std::int64_t best = std::numeric_limits<std::int64_t>::max();
-      for (std::int64_t dx = -r; dx <= r; ++dx) {
-        const std::int64_t d = row_distance_[static_cast<std::size_t>(((x + dx - box.min.x + r) % ring) * n_ + (y - box.min.y))];
+      const std::int64_t column = y - box.min.y;
+      for (std::int64_t k = 0; k < ring; ++k) {
+        const std::int64_t d = ring_rows_[static_cast<std::size_t>(k)][column], dx = k - r;
         if (d <= r) best = std::min(best, dx * dx + d * d);
       }
       const double distance_m =

@@ -27,6 +27,8 @@
 #include <cstddef>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "stridemap/core/cell_box.hpp"
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/core/map_layer.hpp"
@@ -106,7 +108,9 @@ class FootholdLayers {
   std::int64_t edge_cells_ = 0;  // edge search radius in whole cells
   std::size_t min_known_ = 3;
   std::vector<CellIndex> footprint_;  // offsets of the footprint's cells
+  Eigen::Matrix3d full_inverse_;      // the plane fit's for a whole footprint
   std::vector<int> row_distance_;     // edge search scratch, cells
+  std::vector<const int*> ring_rows_; // its rows x - r .. x + r for the row x at hand
   CellIndex corner_{};                // window corner at the last update
   bool has_corner_ = false;
   std::size_t last_geometry_cells_ = 0;
