@@ -135,6 +135,7 @@ void TerrainMapper::apply(double x_m, double y_m, double h_m, double dz_max, Sca
                                          map_.mean_elevation_data()[s], map_.mean_count_data()[s]},
                                         static_cast<float>(h_m), static_cast<float>(dz_max), options_.update);
   ++stats.integrated;
+  changed_.add(map_.cell_of(x_m, y_m));
   switch (result) {
     case CellUpdate::first: ++stats.first; break;
     case CellUpdate::plausible: ++stats.plausible; break;

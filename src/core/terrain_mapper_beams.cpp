@@ -9,6 +9,7 @@
 // (src/CMakeLists.txt): sqrt then needs no error branch and the selects of
 // the first pass become vector blends, so that it vectorises. Neither
 // changes a result; nothing reads errno or floating-point traps.
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -121,16 +122,37 @@ void TerrainMapper::update_located(std::size_t count, ScanStats& stats) {
   std::size_t outcomes[4] = {0, 0, 0, 0};
   std::size_t outside = 0;
   const std::size_t cells = static_cast<std::size_t>(map_.cells_per_side()) * static_cast<std::size_t>(map_.cells_per_side());
+  // The changed cells' box, in window-local rows and columns (a box in
+  // slot rows would break where the circular window wraps). Floating-point
+  // division keeps this cheap; the half cell keeps floor() off a boundary.
+  const auto n = static_cast<double>(map_.cells_per_side());
+  const double inverse_n = 1.0 / n;
+  const auto corner_slot = static_cast<double>(map_.slot(map_.min_cell()));
+  const double row0 = std::floor((corner_slot + 0.5) * inverse_n), col0 = corner_slot - row0 * n;
+  double lo_i = n, lo_j = n, hi_i = -1.0, hi_j = -1.0;
   for (std::size_t k = 0; k < count; ++k) {
     const auto s = static_cast<std::size_t>(located_slot_[k]);
     if (s >= cells) {
       ++outside;
       continue;
     }
+    const double row = std::floor((located_slot_[k] + 0.5) * inverse_n);
+    double i = row - row0, j = located_slot_[k] - row * n - col0;
+    i += i < 0.0 ? n : 0.0;
+    j += j < 0.0 ? n : 0.0;
+    lo_i = std::min(lo_i, i);
+    hi_i = std::max(hi_i, i);
+    lo_j = std::min(lo_j, j);
+    hi_j = std::max(hi_j, j);
     const CellUpdate result = update_cell({elevation[s], certainty[s], state[s], pending[s], contradictions[s], mean[s],
                                            mean_count[s]},
                                           located_h_m_[k], located_dz_max_m_[k], options);
     ++outcomes[static_cast<std::size_t>(result)];
+  }
+  if (hi_i >= 0.0) {
+    const CellIndex corner = map_.min_cell();
+    changed_.add(CellIndex{corner.x + static_cast<std::int64_t>(lo_i), corner.y + static_cast<std::int64_t>(lo_j)});
+    changed_.add(CellIndex{corner.x + static_cast<std::int64_t>(hi_i), corner.y + static_cast<std::int64_t>(hi_j)});
   }
   stats.outside_map += outside;
   stats.integrated += count - outside;

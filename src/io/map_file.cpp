@@ -577,6 +577,17 @@ std::string mapper_config_json(const MapperConfig& c) {
         {"near_weight", c.fill.near_weight},
         {"max_quartile_spread_m", c.fill.max_quartile_spread_m}}},
       {"range_calibration", {{"coefficients", c.calibration.coefficients}}},
+      {"foothold",
+       {{"enabled", c.foothold.enabled},
+        {"foot_radius_m", c.foothold.foot_radius_m},
+        {"max_slope_deg", c.foothold.max_slope_deg},
+        {"max_step_m", c.foothold.max_step_m},
+        {"max_roughness_m", c.foothold.max_roughness_m},
+        {"edge_search_radius_m", c.foothold.edge_search_radius_m},
+        {"edge_clearance_m", c.foothold.edge_clearance_m},
+        {"full_certainty", c.foothold.full_certainty},
+        {"min_known_fraction", c.foothold.min_known_fraction},
+        {"safe_score", c.foothold.safe_score}}},
   };
   return config.dump(1);
 }

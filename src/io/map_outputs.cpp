@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <filesystem>
+#include <string>
 #include <system_error>
 
 #include "stridemap/core/error.hpp"
@@ -43,6 +44,28 @@ void write_map_layers(const ExportedMap& s, const std::string& directory, const 
   certainty_style.min_value = 0.0;
   certainty_style.max_value = options.certainty_max;
   write_png((dir / "certainty.png").string(), render_grid(certainty, certainty_style).image);
+
+  // The foothold layers (core/foothold.hpp), when the map has them, each on
+  // a fixed scale so that images of different runs compare.
+  struct FootholdImage {
+    const char* layer;
+    const char* title;
+    const char* units;
+    double max_value;
+  };
+  for (const FootholdImage& f : {FootholdImage{"foothold_score", "Foothold score", "", 1.0},
+                                 FootholdImage{"slope_deg", "Slope", "deg", 45.0},
+                                 FootholdImage{"step_height_m", "Step height", "m", 0.1}}) {
+    const ExportedLayer* layer = s.find(f.layer);
+    if (!layer || layer->spec.type != LayerType::f32) continue;
+    GridRenderOptions style;
+    style.title = f.title;
+    style.units = f.units;
+    style.cell_size_m = s.cell_size_m;
+    style.min_value = 0.0;
+    style.max_value = f.max_value;
+    write_png((dir / (std::string(f.layer) + ".png")).string(), render_grid(layer->f32, style).image);
+  }
 
   const double origin_x = (static_cast<double>(s.min_cell.x) + 0.5) * s.cell_size_m;
   const double origin_y = (static_cast<double>(s.min_cell.y) + 0.5) * s.cell_size_m;

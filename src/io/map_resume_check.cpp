@@ -49,6 +49,9 @@ std::vector<std::string> map_config_differences(const MapFile& saved, const Mapp
     for (std::string& line : settings) {
       // The grid is compared above against the map itself.
       if (line.rfind("map.cells_per_side:", 0) == 0 || line.rfind("map.cell_size_m:", 0) == 0) continue;
+      // Foothold layers are derived and recomputed on resume: their
+      // settings may change (and maps from before them lack the section).
+      if (line.rfind("foothold.", 0) == 0) continue;
       differences.push_back(std::move(line));
     }
   } else if (saved.metadata.mount) {

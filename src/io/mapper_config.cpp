@@ -19,12 +19,13 @@ class MapperConfigReader : public StrictYamlReader {
   MapperConfig read(const YAML::Node& root) {
     MapperConfig config;
     if (!root.IsDefined() || root.IsNull()) return config;  // an empty file: all defaults
-    const Fields top = read_map(root, "", {"mount", "map", "update", "fill", "range_calibration"});
+    const Fields top = read_map(root, "", {"mount", "map", "update", "fill", "range_calibration", "foothold"});
     if (const Field* f = find(top, "mount")) read_mount(f->value, config.mount);
     if (const Field* f = find(top, "map")) read_map_section(f->value, config.mapper);
     if (const Field* f = find(top, "update")) read_update(f->value, config.mapper.update);
     if (const Field* f = find(top, "fill")) read_fill(f->value, config.fill);
     if (const Field* f = find(top, "range_calibration")) read_calibration(f->value, config.calibration);
+    if (const Field* f = find(top, "foothold")) read_foothold(f->value, config.foothold);
     return config;
   }
 
@@ -143,6 +144,28 @@ class MapperConfigReader : public StrictYamlReader {
     o.near_weight = checked(f, node, p, "near_weight", o.near_weight, positive, "a weight > 0");
     o.max_quartile_spread_m =
         checked(f, node, p, "max_quartile_spread_m", o.max_quartile_spread_m, any, "a finite number (<= 0: off)");
+  }
+
+  void read_foothold(const YAML::Node& node, FootholdOptions& o) {
+    const std::string p = "foothold";
+    const Fields f = read_map(node, p,
+                              {"enabled", "foot_radius_m", "max_slope_deg", "max_step_m", "max_roughness_m",
+                               "edge_search_radius_m", "edge_clearance_m", "full_certainty", "min_known_fraction",
+                               "safe_score"});
+    o.enabled = boolean(f, node, p, "enabled", o.enabled);
+    o.foot_radius_m = checked(f, node, p, "foot_radius_m", o.foot_radius_m, positive, "a radius > 0 m");
+    o.max_slope_deg = checked(f, node, p, "max_slope_deg", o.max_slope_deg,
+                              [](double v) { return v > 0.0 && v <= 90.0; }, "an angle > 0 and <= 90 deg");
+    o.max_step_m = checked(f, node, p, "max_step_m", o.max_step_m, positive, "a height > 0 m");
+    o.max_roughness_m = checked(f, node, p, "max_roughness_m", o.max_roughness_m, positive, "a length > 0 m");
+    o.edge_search_radius_m =
+        checked(f, node, p, "edge_search_radius_m", o.edge_search_radius_m, non_negative, "a radius >= 0 m");
+    o.edge_clearance_m = checked(f, node, p, "edge_clearance_m", o.edge_clearance_m, non_negative, "a length >= 0 m");
+    o.full_certainty = checked(f, node, p, "full_certainty", o.full_certainty, positive, "a number > 0");
+    const auto fraction = [](double v) { return v >= 0.0 && v <= 1.0; };
+    o.min_known_fraction =
+        checked(f, node, p, "min_known_fraction", o.min_known_fraction, fraction, "a fraction from 0 to 1");
+    o.safe_score = checked(f, node, p, "safe_score", o.safe_score, fraction, "a score from 0 to 1");
   }
 
   void read_calibration(const YAML::Node& node, RangeCalibration& c) {

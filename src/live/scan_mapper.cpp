@@ -17,6 +17,7 @@ PipelineOptions ScanMapper::pipeline_options(const ScanMapperOptions& options, c
   p.mapper = options.config.mapper;
   p.map_filter = {MapFilter::fill, options.config.fill, {}};
   p.mount = options.config.mount;
+  p.foothold = options.config.foothold;
   return p;
 }
 
@@ -29,6 +30,7 @@ ScanMapper::ScanMapper(const ScanMapperOptions& options, const UrgParameters& se
     io::check_map_resumable(*options_.resume, options_.config, options_.resume_source);
     const io::MapFileMetadata& saved = options_.resume->metadata;
     resume_from_map(pipeline_.mapper(), options_.resume->map, saved.last_pose, saved.last_scan_time_s);
+    pipeline_.recompute_foothold();
     options_.resume.reset();  // the mapper has its copy
   }
   if (options_.window_corner) {

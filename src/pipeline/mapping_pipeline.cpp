@@ -31,33 +31,47 @@ MappingPipeline::MappingPipeline(const PipelineOptions& options)
     case MapFilter::fill: (void)WeightedMedianFill(options_.map_filter.fill); break;
     case MapFilter::cas: (void)CasFilter(options_.map_filter.cas); break;
   }
+  if (options_.foothold.enabled) {
+    foothold_.emplace(mapper_.map(), options_.foothold);
+    foothold_->recompute_all(mapper_.map());
+  }
+}
+
+ScanOutcome MappingPipeline::updated(ScanOutcome outcome) {
+  if (foothold_) foothold_->update(mapper_.map(), mapper_.take_changed_cells());
+  return outcome;
+}
+
+void MappingPipeline::recompute_foothold() {
+  (void)mapper_.take_changed_cells();
+  if (foothold_) foothold_->recompute_all(mapper_.map());
 }
 
 ScanOutcome MappingPipeline::add(const UrgRawScan& raw, const TrunkPose& pose,
                                  std::span<const std::uint8_t> beam_tags) {
   ++stream_.scans;
-  return integrator_.push(raw, pose, mapper_, beam_tags);
+  return updated(integrator_.push(raw, pose, mapper_, beam_tags));
 }
 
 ScanOutcome MappingPipeline::add(const StripeFrame& frame, const TrunkPose& pose) {
   ++stream_.scans;
-  return integrator_.push(frame.pixels, frame.time_s, pose, mapper_);
+  return updated(integrator_.push(frame.pixels, frame.time_s, pose, mapper_));
 }
 
 ScanOutcome MappingPipeline::add(std::span<const StripePixel> pixels, std::optional<double> time_s,
                                  const TrunkPose& pose) {
   ++stream_.scans;
-  return integrator_.push(pixels, time_s, pose, mapper_);
+  return updated(integrator_.push(pixels, time_s, pose, mapper_));
 }
 
 ScanOutcome MappingPipeline::add(const PointFrame& frame, const TrunkPose& pose) {
   ++stream_.scans;
-  return integrator_.push(frame.points_m, frame.height_sigma_m, frame.time_s, pose, mapper_);
+  return updated(integrator_.push(frame.points_m, frame.height_sigma_m, frame.time_s, pose, mapper_));
 }
 
 ScanOutcome MappingPipeline::add(SensorModel& model, double time_s, const TrunkPose& pose) {
   ++stream_.scans;
-  return integrator_.push(model, time_s, pose, mapper_);
+  return updated(integrator_.push(model, time_s, pose, mapper_));
 }
 
 void MappingPipeline::queue(const UrgRawScan& raw, double arrival_s) {
@@ -89,12 +103,12 @@ void MappingPipeline::reserve_queue(std::size_t scans, std::size_t values) {
 }
 
 ScanOutcome MappingPipeline::integrate(const Scan& scan, const TrunkPose& pose) {
-  if (const auto* raw = std::get_if<UrgRawScan>(&scan)) return integrator_.push(*raw, pose, mapper_);
+  if (const auto* raw = std::get_if<UrgRawScan>(&scan)) return updated(integrator_.push(*raw, pose, mapper_));
   if (const auto* stripe = std::get_if<StripeFrame>(&scan)) {
-    return integrator_.push(stripe->pixels, stripe->time_s, pose, mapper_);
+    return updated(integrator_.push(stripe->pixels, stripe->time_s, pose, mapper_));
   }
   const auto& points = std::get<PointFrame>(scan);
-  return integrator_.push(points.points_m, points.height_sigma_m, points.time_s, pose, mapper_);
+  return updated(integrator_.push(points.points_m, points.height_sigma_m, points.time_s, pose, mapper_));
 }
 
 std::size_t MappingPipeline::process(PoseTrack& poses, bool poses_complete) {
@@ -136,13 +150,18 @@ std::size_t MappingPipeline::expire(double before_s) {
   return skipped;
 }
 
-ScanOutcome MappingPipeline::finish() { return integrator_.flush(mapper_); }
+ScanOutcome MappingPipeline::finish() { return updated(integrator_.flush(mapper_)); }
 
-MapFilterResult MappingPipeline::apply_map_filter() { return stridemap::apply_map_filter(options_.map_filter, mapper_.map()); }
+MapFilterResult MappingPipeline::apply_map_filter() {
+  const MapFilterResult result = stridemap::apply_map_filter(options_.map_filter, mapper_.map());
+  recompute_foothold();
+  return result;
+}
 
 ElevationMap MappingPipeline::filtered_map() const {
   ElevationMap copy = mapper_.map();
   stridemap::apply_map_filter(options_.map_filter, copy);
+  if (foothold_) FootholdLayers(copy, options_.foothold).recompute_all(copy);
   return copy;
 }
 

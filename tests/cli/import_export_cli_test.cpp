@@ -64,7 +64,8 @@ TEST(ImportCli, BreezySlamRecordingIsMappedThroughTheScanLog) {
   ASSERT_EQ(info.exit_code, 0) << info.output;
   const auto header = nlohmann::json::parse(info.output);
   EXPECT_EQ(header["format"], "stridemap map");
-  EXPECT_EQ(header["layers"].size(), 7u);
+  // The seven built-in layers and the five foothold layers (docs/foothold.md).
+  EXPECT_EQ(header["layers"].size(), 12u);
 }
 
 TEST(ImportCli, ExistingOutputsAreNotReplacedAndBadLinesAreReported) {

@@ -10,6 +10,7 @@
 #include <utility>
 #include <vector>
 
+#include "stridemap/core/cell_box.hpp"
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/core/map_update.hpp"
 #include "stridemap/core/max_elevation_change.hpp"
@@ -129,6 +130,16 @@ class TerrainMapper {
   const SensorMount& mount() const { return mount_; }
   const MapperTotals& totals() const { return totals_; }
 
+  /// Bounding box of the cells that readings were applied to since the
+  /// last take_changed_cells() (global indices; a window move may have
+  /// reset some since). What derived layers (core/foothold.hpp) redo.
+  const CellBox& changed_cells() const { return changed_; }
+  CellBox take_changed_cells() {
+    const CellBox box = changed_;
+    changed_.clear();
+    return box;
+  }
+
  private:
   bool accept(const TrunkPose& pose, std::optional<double> time_s, ScanStats& stats);
   void follow(const TrunkPose& pose, ScanStats& stats);
@@ -148,6 +159,7 @@ class TerrainMapper {
   SensorMount mount_;
   ElevationMap map_;
   MapperTotals totals_;
+  CellBox changed_;
   std::optional<TrunkPose> previous_pose_;
   std::optional<double> previous_time_s_;
   std::vector<double> cached_angles_, cos_angle_, sin_angle_;

@@ -2,7 +2,8 @@
 // A map's layers written the way every command writes them: elevation.png
 // (filled cells hatched) and certainty.png with legends, and one <layer>.csv
 // per exported layer: elevation.csv, certainty.csv, state.csv and any layer
-// a user added (docs/outputs.md). Deterministic: the same map gives the
+// a user added, and foothold_score.png, slope_deg.png, step_height_m.png
+// when the map has the foothold layers (docs/outputs.md). Deterministic: the same map gives the
 // same bytes.
 #include <cstdint>
 #include <optional>

@@ -1,9 +1,10 @@
 #pragma once
 // The mapper's settings from a YAML file: sensor mount, map, update rule,
-// fill-in and range calibration (schema and defaults: docs/config.md).
+// fill-in, range calibration and foothold layers (schema and defaults: docs/config.md).
 // Angles are in degrees in the file (`_deg` fields) and radians inside.
 #include <string>
 
+#include "stridemap/core/foothold.hpp"
 #include "stridemap/core/pose.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/core/weighted_median_fill.hpp"
@@ -16,6 +17,7 @@ struct MapperConfig {
   MapperOptions mapper{};
   FillOptions fill{};
   RangeCalibration calibration{};
+  FootholdOptions foothold{};
 };
 
 /// Every section and field is optional (the structs' defaults apply);

@@ -10,12 +10,15 @@
 //
 // Inside, each scan takes the way of ScanIntegrator: sensor model and error
 // model, scan filters with the scan's pose carried through their delay, the
-// map update with Delta z_max formed in one place.
+// map update with Delta z_max formed in one place. After each, the foothold
+// layers (core/foothold.hpp) are brought up to date around the cells the
+// scan changed.
 #include <cstddef>
 #include <optional>
 #include <span>
 #include <variant>
 
+#include "stridemap/core/foothold.hpp"
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/core/map_filter.hpp"
 #include "stridemap/core/pose_track.hpp"
@@ -62,11 +65,19 @@ class MappingPipeline {
   /// Ends the stream: the scan the filters hold is integrated.
   ScanOutcome finish();
 
-  /// Runs the map filter of the options on the map being built.
+  /// Runs the map filter of the options on the map being built (and
+  /// recomputes the foothold layers, which it changes everywhere).
   MapFilterResult apply_map_filter();
-  /// The map with the map filter applied to a copy: the map being built is
-  /// not changed.
+  /// The map with the map filter applied to a copy, foothold layers
+  /// recomputed on it: the map being built is not changed.
   ElevationMap filtered_map() const;
+
+  /// The foothold layers' keeper; nullptr when options().foothold.enabled
+  /// is off. Their values are the map's layers (foothold->score() etc.).
+  const FootholdLayers* foothold() const { return foothold_ ? &*foothold_ : nullptr; }
+  /// Recomputes the foothold layers everywhere: after the map was changed
+  /// other than by scans (mapper().map() edited, resume_from_map()).
+  void recompute_foothold();
 
   TerrainMapper& mapper() { return mapper_; }
   const TerrainMapper& mapper() const { return mapper_; }
@@ -83,10 +94,12 @@ class MappingPipeline {
     double arrival_s = 0.0;
   };
   ScanOutcome integrate(const Scan& scan, const TrunkPose& pose);
+  ScanOutcome updated(ScanOutcome outcome);
 
   PipelineOptions options_;
   TerrainMapper mapper_;
   ScanIntegrator integrator_;
+  std::optional<FootholdLayers> foothold_;
   // Slots are reused: a queued scan is copied into the storage of one that
   // left, so the stream allocates nothing per scan once the queue is long enough.
   RingQueue<Waiting> queue_;

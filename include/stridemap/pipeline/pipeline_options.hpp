@@ -8,6 +8,7 @@
 #include <string_view>
 #include <vector>
 
+#include "stridemap/core/foothold.hpp"
 #include "stridemap/core/map_filter.hpp"
 #include "stridemap/core/pose.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
@@ -56,6 +57,9 @@ struct PipelineOptions {
   MapFilterOptions map_filter{};
   /// Where the sensor sits on the trunk.
   SensorMount mount{};
+  /// The foothold layers (core/foothold.hpp), kept current after every
+  /// scan; on by default, `enabled = false` leaves the map without them.
+  FootholdOptions foothold{};
 };
 
 }  // namespace stridemap

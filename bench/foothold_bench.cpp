@@ -1,0 +1,107 @@
+// The foothold layers' cost per scan against the map update they follow
+// (docs/performance.md, docs/foothold.md): the same walking, turning URG
+// scans as core_bench's BM_IntegrateScan, with and without the incremental
+// foothold update, and a recomputation of the whole window for scale.
+#include <cmath>
+#include <random>
+
+#include <benchmark/benchmark.h>
+
+#include "stridemap/core/foothold.hpp"
+#include "stridemap/core/terrain_mapper.hpp"
+
+namespace {
+
+using namespace stridemap;
+
+// A URG-04LX-sized scan (682 beams over 240 deg) of a floor with a low step,
+// as core_bench's: beams that point up get no return (NaN).
+PlanarScan urg_like_scan(const SensorMount& mount) {
+  PlanarScan scan;
+  scan.resize(682);
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const double t = (static_cast<double>(i) + 44.0 - 384.0) * 2.0 * M_PI / 1024.0;
+    const double down = std::cos(t) * std::sin(mount.pitch_rad);
+    scan.angle_rad[i] = t;
+    scan.range_m[i] = down > 0.1 ? mount.height_m / down * (i % 50 < 10 ? 0.8 : 1.0) : NAN;
+    scan.range_error_m[i] = 0.01;
+  }
+  return scan;
+}
+
+void walk(benchmark::State& state, bool with_foothold, double turn_rad_per_scan) {
+  MapperOptions options;
+  options.window_ahead_m = 0.3;
+  const SensorMount mount;
+  TerrainMapper mapper(options, mount);
+  FootholdLayers foothold(mapper.map(), FootholdOptions{});
+  PlanarScan scan = urg_like_scan(mount);
+  std::mt19937_64 rng(1);
+  std::normal_distribution<double> tilt(0.0, 0.02);
+  TrunkPose pose;
+  // Warm up: a map with history, as in a walk.
+  const auto step = [&] {
+    pose.x_m += 0.003;  // a slow walk: the window moves every few scans
+    pose.yaw_rad += turn_rad_per_scan;
+    pose.pitch_rad = tilt(rng);
+    pose.roll_rad = tilt(rng);
+    scan.time_s += 0.1;
+    benchmark::DoNotOptimize(mapper.integrate(scan, pose));
+    if (with_foothold) foothold.update(mapper.map(), mapper.take_changed_cells());
+  };
+  for (int k = 0; k < 50; ++k) step();
+  std::size_t geometry_cells = 0;
+  for (auto _ : state) {
+    step();
+    geometry_cells += foothold.last_geometry_cells();
+  }
+  state.counters["scans_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  if (with_foothold) {
+    state.counters["geometry_cells_per_scan"] =
+        static_cast<double>(geometry_cells) / static_cast<double>(state.iterations());
+  }
+}
+
+// Turning as core_bench's BM_IntegrateScan: the heading sweeps round, so the
+// scan line lies diagonally across the window most of the time and its
+// bounding box covers most of it.
+void BM_ScanMapUpdateOnly(benchmark::State& state) { walk(state, false, 0.002); }
+BENCHMARK(BM_ScanMapUpdateOnly);
+
+void BM_ScanMapUpdateWithFoothold(benchmark::State& state) { walk(state, true, 0.002); }
+BENCHMARK(BM_ScanMapUpdateWithFoothold);
+
+// Walking straight ahead: the scan line stays across the heading, its box
+// a band a few cells deep.
+void BM_ScanMapUpdateOnlyStraight(benchmark::State& state) { walk(state, false, 0.0); }
+BENCHMARK(BM_ScanMapUpdateOnlyStraight);
+
+void BM_ScanMapUpdateWithFootholdStraight(benchmark::State& state) { walk(state, true, 0.0); }
+BENCHMARK(BM_ScanMapUpdateWithFootholdStraight);
+
+// Every cell of the paper's 100 x 100 window, mostly known: what an update
+// would cost without the changed box.
+void BM_FootholdRecomputeWindow(benchmark::State& state) {
+  ElevationMap map(GridOptions{static_cast<int>(state.range(0)), 0.01});
+  std::mt19937_64 rng(2);
+  std::uniform_real_distribution<float> z(0.0f, 0.05f);
+  for (int i = 0; i < map.cells_per_side(); ++i) {
+    for (int j = 0; j < map.cells_per_side(); ++j) {
+      const std::size_t s = map.slot(map.cell_at_local(i, j));
+      if ((i + 3 * j) % 7 == 0) continue;
+      map.elevation_data()[s] = z(rng);
+      map.certainty_data()[s] = 6.0f;
+      map.state_data()[s] = 1;
+    }
+  }
+  FootholdLayers foothold(map, FootholdOptions{});
+  for (auto _ : state) {
+    foothold.recompute_all(map);
+    benchmark::ClobberMemory();
+  }
+}
+BENCHMARK(BM_FootholdRecomputeWindow)->Arg(100);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,119 @@
+#pragma once
+// Foothold layers: where a foot can go, derived from the elevation map and
+// kept up to date incrementally (only around the cells a scan changed).
+// Beyond the paper, which stops at elevation and certainty; docs/foothold.md.
+//
+// Definitions, for a cell p with centre c_p. The footprint F(p) is every
+// known cell (finite elevation, state not unknown) of the window whose
+// centre lies within foot_radius_m of c_p (p included).
+//   slope_deg        angle between the horizontal and the least-squares
+//                    plane z = a + b x + c y through the footprint's cell
+//                    centres at their elevations: atan(sqrt(b^2 + c^2)) [deg]
+//   roughness_m      root mean square of that fit's residuals [m]
+//   step_height_m    max minus min elevation over the footprint [m]
+//   edge_distance_m  distance between c_p and the nearest cell centre whose
+//                    step_height_m exceeds max_step_m (an edge), searched up
+//                    to edge_search_radius_m; beyond it, that radius [m]
+//   foothold_score   in [0, 1]: the product of
+//                      (1 - slope/max_slope), (1 - step/max_step),
+//                      (1 - roughness/max_roughness), each clamped to [0, 1],
+//                      min(1, edge_distance / edge_clearance) and
+//                      min(1, certainty / full_certainty).
+// A cell whose own elevation is unknown, or whose footprint holds fewer
+// known cells than min_known_fraction of the full disc (and fewer than 3),
+// has NaN in every foothold layer: unknown, not unsafe. Cells outside the
+// window count as unknown, so a value depends only on the window's cells.
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "stridemap/core/cell_box.hpp"
+#include "stridemap/core/grid_map.hpp"
+#include "stridemap/core/map_layer.hpp"
+
+namespace stridemap {
+
+struct FootholdOptions {
+  /// Compute the layers at all (MappingPipeline: after every scan).
+  bool enabled = true;
+  /// Radius of the foot's footprint [m]: a small hexapod's foot (2 cm);
+  /// the paper gives none.
+  double foot_radius_m = 0.02;
+  /// Steepest plane the foot stands on [deg].
+  double max_slope_deg = 30.0;
+  /// Highest step within a footprint the foot tolerates; a cell with a
+  /// larger step is an edge [m].
+  double max_step_m = 0.05;
+  /// Plane-fit RMS residual at which the score reaches 0 [m].
+  double max_roughness_m = 0.01;
+  /// How far the search for the nearest edge reaches [m].
+  double edge_search_radius_m = 0.10;
+  /// Distance from an edge beyond which it no longer lowers the score [m].
+  double edge_clearance_m = 0.04;
+  /// Certainty (eq. 9) at which the score stops growing with it: three
+  /// plausible readings at the paper's increment a = 3.
+  double full_certainty = 9.0;
+  /// Share of the footprint's cells that must be known for any value.
+  double min_known_fraction = 0.5;
+  /// Score at or above which a cell counts as safe (the foothold experiment).
+  double safe_score = 0.5;
+};
+
+/// Throws InputError naming the field for a non-finite, negative or
+/// otherwise unusable option.
+void validate_foothold_options(const FootholdOptions& options);
+
+/// The five layers' declarations (f32, reset NaN), in this order.
+std::array<LayerSpec, 5> foothold_layer_specs();
+
+/// Keeps a map's foothold layers current. Owns scratch space sized for the
+/// map's window (allocated here, never per update).
+class FootholdLayers {
+ public:
+  /// Adds the layers to `map` unless it has them (a loaded map file may);
+  /// throws InputError for bad options or a same-named layer of another type.
+  FootholdLayers(ElevationMap& map, const FootholdOptions& options);
+
+  /// Recomputes what cells in `changed` (global indices, any part outside
+  /// the window ignored) can have changed, and what a move of the window
+  /// since the last update changed. Allocates nothing.
+  void update(ElevationMap& map, const CellBox& changed);
+  /// Every cell from scratch (after a map filter, a resume, or edits that
+  /// did not report their cells).
+  void recompute_all(ElevationMap& map);
+
+  const FootholdOptions& options() const { return options_; }
+  LayerId<float> slope() const { return slope_; }
+  LayerId<float> roughness() const { return roughness_; }
+  LayerId<float> step_height() const { return step_; }
+  LayerId<float> edge_distance() const { return edge_distance_; }
+  LayerId<float> score() const { return score_; }
+  /// Cells whose geometry (slope, roughness, step) the last update
+  /// recomputed: the cost measure of the benchmark.
+  std::size_t last_geometry_cells() const { return last_geometry_cells_; }
+
+ private:
+  void geometry_in(ElevationMap& map, const CellBox& box);
+  void edges_and_score_in(ElevationMap& map, const CellBox& box);
+  struct LocalSlots;
+  void geometry_of(ElevationMap& map, const LocalSlots& slots, CellIndex cell) const;
+
+  FootholdOptions options_;
+  LayerId<float> slope_, roughness_, step_, edge_distance_, score_;
+  int n_ = 0;
+  double cell_size_m_ = 0.0;
+  std::int64_t foot_cells_ = 0;  // footprint radius in whole cells
+  std::int64_t edge_cells_ = 0;  // edge search radius in whole cells
+  std::size_t min_known_ = 3;
+  std::vector<CellIndex> footprint_;  // offsets of the footprint's cells
+  Eigen::Matrix3d full_inverse_;      // the plane fit's for a whole footprint
+  std::vector<int> row_distance_;     // edge search scratch, cells
+  std::vector<const int*> ring_rows_; // its rows x - r .. x + r for the row x at hand
+  CellIndex corner_{};                // window corner at the last update
+  bool has_corner_ = false;
+  std::size_t last_geometry_cells_ = 0;
+};
+
+}  // namespace stridemap

@@ -1,0 +1,84 @@
+// A user of MappingPipeline gets the foothold layers, kept current after
+// every scan exactly as a recomputation from scratch would have them.
+#include <cmath>
+#include <cstring>
+
+#include <gtest/gtest.h>
+
+#include "pipeline_test_support.hpp"
+#include "stridemap/core/foothold.hpp"
+#include "stridemap/pipeline/mapping_pipeline.hpp"
+
+namespace stridemap {
+namespace {
+
+using test::floor_scan;
+using test::pose_at;
+
+void expect_as_recomputed(const ElevationMap& map, const FootholdOptions& options) {
+  ElevationMap scratch = map;
+  FootholdLayers(scratch, options).recompute_all(scratch);
+  const std::size_t cells = static_cast<std::size_t>(map.cells_per_side()) * static_cast<std::size_t>(map.cells_per_side());
+  for (const LayerSpec& spec : foothold_layer_specs()) {
+    const std::size_t k = *map.find_layer(spec.name);
+    EXPECT_EQ(std::memcmp(map.layer_bytes(k), scratch.layer_bytes(k), cells * sizeof(float)), 0) << spec.name;
+  }
+}
+
+TEST(PipelineFoothold, ScansUpdateTheLayersAsARecomputationWould) {
+  PipelineOptions options;
+  MappingPipeline pipeline(options);
+  ASSERT_NE(pipeline.foothold(), nullptr);
+  // Walking forward and turning: the window moves, scan lines cross it.
+  for (int k = 0; k < 40; ++k) pipeline.add(floor_scan(0.1 * k), pose_at(0.01 * k, 0.02 * k));
+  const ElevationMap& map = pipeline.mapper().map();
+  expect_as_recomputed(map, options.foothold);
+  // The floor is flat: every known cell with a score has a slope within what
+  // millimetre range steps give over a 2 cm foot, and a score in [0, 1].
+  const auto score = map.layer<float>("foothold_score");
+  const auto slope = map.layer<float>("slope_deg");
+  std::size_t scored = 0;
+  for (int i = 0; i < map.cells_per_side(); ++i) {
+    for (int j = 0; j < map.cells_per_side(); ++j) {
+      const CellIndex c = map.cell_at_local(i, j);
+      const float value = map.data(score)[map.slot(c)];
+      if (map.state(c) == CellState::unknown) {
+        EXPECT_TRUE(std::isnan(value));
+        continue;
+      }
+      if (std::isnan(value)) continue;
+      ++scored;
+      EXPECT_GE(value, 0.0f);
+      EXPECT_LE(value, 1.0f);
+      EXPECT_LT(map.data(slope)[map.slot(c)], 5.0f);
+    }
+  }
+  EXPECT_GT(scored, 50u);
+}
+
+TEST(PipelineFoothold, TheFilteredMapCarriesLayersOfTheFilledMap) {
+  MappingPipeline pipeline(PipelineOptions{});
+  for (int k = 0; k < 10; ++k) pipeline.add(floor_scan(0.1 * k), pose_at(0.01 * k));
+  const ElevationMap filtered = pipeline.filtered_map();
+  expect_as_recomputed(filtered, PipelineOptions{}.foothold);
+  pipeline.apply_map_filter();
+  expect_as_recomputed(pipeline.mapper().map(), PipelineOptions{}.foothold);
+}
+
+TEST(PipelineFoothold, DisabledLeavesTheMapWithoutThem) {
+  PipelineOptions options;
+  options.foothold.enabled = false;
+  MappingPipeline pipeline(options);
+  EXPECT_EQ(pipeline.foothold(), nullptr);
+  pipeline.add(floor_scan(0.0), pose_at(0.0));
+  EXPECT_FALSE(pipeline.mapper().map().find_layer("foothold_score"));
+}
+
+TEST(PipelineFoothold, BadOptionsAreRefusedBeforeAnyScan) {
+  PipelineOptions options;
+  options.foothold.foot_radius_m = std::nan("");
+  EXPECT_THROW(MappingPipeline{options}, InputError);
+}
+
+}  // namespace
+}  // namespace stridemap
