@@ -96,6 +96,8 @@ void apply_structured_light_args(const CartRailArgs& args, CartRailOptions& opti
 
 void run_cart_rail_command(const CartRailArgs& args) {
   const SimulatedSensor sensor = parse_option<SimulatedSensor>("--sensor", args.sensor);
+  CameraSensorOptions exposure_check;  // refused before the scene is read
+  apply_exposure_arg(args.exposure, exposure_check);
   if (sensor == SimulatedSensor::urg &&
       (!args.sensor_config_path.empty() || args.pipeline != name(StripePipeline::image) || args.lux != 300.0 ||
        args.exposure != "auto")) {
