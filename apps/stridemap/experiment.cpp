@@ -1,5 +1,7 @@
 // `stridemap experiment <name>`: the paper's experiments, one command each.
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <numbers>
@@ -40,6 +42,7 @@ struct CartRailArgs {
   std::string sensor_config_path;
   std::string pipeline = "image";
   double lux = 300.0;
+  std::string exposure = "auto";
   bool cell_size_given = false, rule_given = false, filters_given = false, map_filter_given = false;
   bool mixed_pixels_given = false;
 };
@@ -48,6 +51,25 @@ std::string lux_name(double lux) {
   char text[32];
   std::snprintf(text, sizeof text, "%g lux", lux);
   return text;
+}
+
+// "auto", or a fixed gain in DN per lux (a short fixed exposure keeps a
+// white surface and the stripe on it below the clip level).
+void apply_exposure_arg(const std::string& exposure, CameraSensorOptions& camera) {
+  if (exposure == "auto" || exposure == "highlight") {
+    camera.auto_exposure = true;
+    camera.highlight_limit_dn = exposure == "highlight" ? 220.0 : 0.0;
+    return;
+  }
+  char* end = nullptr;
+  const double gain = std::strtod(exposure.c_str(), &end);
+  if (exposure.empty() || end != exposure.c_str() + exposure.size() || !std::isfinite(gain) || gain <= 0.0 ||
+      gain > 1000.0) {
+    throw InputError("--exposure: expected auto, highlight or a fixed gain in DN per lux (a number above 0 and at most 1000), "
+                     "got '" + exposure + "'");
+  }
+  camera.auto_exposure = false;
+  camera.fixed_gain_dn_per_lux = gain;
 }
 
 // Structured light: Ragno's sensor unless --sensor-config names another;
@@ -64,6 +86,7 @@ void apply_structured_light_args(const CartRailArgs& args, CartRailOptions& opti
   }
   options.structured_light.pipeline = parse_option<StripePipeline>("--pipeline", args.pipeline);
   options.structured_light.image.ambient.illuminance_lux = args.lux;
+  apply_exposure_arg(args.exposure, options.structured_light.image.camera);
   if (!args.cell_size_given) options.cell_size_m = 0.005;
   if (!args.map_filter_given) options.map_filter = MapFilter::cas;
   if (args.mixed_pixels_given || args.filters_given) {
@@ -73,9 +96,12 @@ void apply_structured_light_args(const CartRailArgs& args, CartRailOptions& opti
 
 void run_cart_rail_command(const CartRailArgs& args) {
   const SimulatedSensor sensor = parse_option<SimulatedSensor>("--sensor", args.sensor);
+  CameraSensorOptions exposure_check;  // refused before the scene is read
+  apply_exposure_arg(args.exposure, exposure_check);
   if (sensor == SimulatedSensor::urg &&
-      (!args.sensor_config_path.empty() || args.pipeline != name(StripePipeline::image) || args.lux != 300.0)) {
-    throw InputError("--sensor-config, --pipeline and --lux apply to --sensor structured-light only");
+      (!args.sensor_config_path.empty() || args.pipeline != name(StripePipeline::image) || args.lux != 300.0 ||
+       args.exposure != "auto")) {
+    throw InputError("--sensor-config, --pipeline, --lux and --exposure apply to --sensor structured-light only");
   }
   const Scene scene = load_scene_yaml(args.scene_path);
   const std::string early_dir = (std::filesystem::path(args.out_dir) / ("cart-rail-" + args.sensor)).string();
@@ -215,6 +241,10 @@ void register_experiment(CLI::App& app) {
       ->capture_default_str();
   cart_rail->add_option("--lux", args->lux, "Structured light: ambient illuminance [lux]")->capture_default_str()
       ->check(number_from_to(0.0, 1e6, "lux"));
+  cart_rail->add_option("--exposure", args->exposure,
+                        "Structured light: the camera's exposure: auto (metered on the image's mean), highlight (auto, "
+                        "but the brightest 1 % of the scene kept at or below 220 DN) or a fixed gain [DN per lux]")
+      ->capture_default_str();
   cart_rail->add_option("--scene", args->scene_path, "Scene file (YAML, see docs/scenes.md)")->required();
   cart_rail->add_option("--out", args->out_dir, "Output folder; results go to OUT/cart-rail-<sensor>/")->required();
   cart_rail->add_option("--seed", args->seed, "Seed of the simulation")->capture_default_str()

@@ -1,6 +1,7 @@
 #include "stridemap/io/stripe_detector.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <opencv2/imgproc.hpp>
 #include <string>
@@ -28,7 +29,78 @@ struct Run {
   int top = 0, bottom = 0;  // inclusive rows
   long excess_sum = 0;
   int peak = 0;
+  bool saturated = false;
 };
+
+// Shot noise grows with the square root of the signal, so a threshold that
+// keeps the same number of standard deviations does too.
+std::vector<int> excess_thresholds(const StripeDetectorOptions& o) {
+  std::vector<int> threshold(256, o.min_red_excess_dn);
+  if (!o.threshold_follows_shot_noise) return threshold;
+  for (int level = 0; level < 256; ++level) {
+    const double scaled = o.min_red_excess_dn * std::sqrt(static_cast<double>(level) / 255.0);
+    threshold[static_cast<std::size_t>(level)] = std::max(o.min_red_excess_floor_dn, static_cast<int>(std::ceil(scaled)));
+  }
+  return threshold;
+}
+
+// Mean of max(G, B) over rows [from, to] of a column; NaN-free: -1 when the
+// range is empty (outside the image).
+double mean_green_blue(const RgbImage& image, int x, int from, int to) {
+  from = std::max(from, 0);
+  to = std::min(to, image.height - 1);
+  if (from > to) return -1.0;
+  double sum = 0.0;
+  for (int y = from; y <= to; ++y) {
+    const std::size_t i = image.offset(x, y);
+    sum += std::max(image.rgb[i + 1], image.rgb[i + 2]);
+  }
+  return sum / (to - from + 1);
+}
+
+// Marks the saturated stripe cores (header, step 1b) in `mask`, with a
+// strength in `strength` on the colour rule's scale; returns how many pixels
+// it added.
+std::size_t mark_saturated_cores(const RgbImage& image, const StripeDetectorOptions& o, cv::Mat& strength,
+                                 cv::Mat& mask, cv::Mat& core) {
+  core.create(image.height, image.width, CV_8UC1);
+  core.setTo(0);
+  constexpr int kSurroundRows = 3;
+  std::size_t added = 0;
+  for (int x = 0; x < image.width; ++x) {
+    int y = 0;
+    while (y < image.height) {
+      if (image.rgb[image.offset(x, y)] < o.saturation_dn) {
+        ++y;
+        continue;
+      }
+      const int top = y;
+      while (y < image.height && image.rgb[image.offset(x, y)] >= o.saturation_dn) ++y;
+      const int bottom = y - 1;
+      const int rows = bottom - top + 1;
+      if (rows < 2 || rows > o.max_saturated_core_px) continue;
+      const double above = mean_green_blue(image, x, top - kSurroundRows, top - 1);
+      const double below = mean_green_blue(image, x, bottom + 1, bottom + kSurroundRows);
+      if (above < 0.0 && below < 0.0) continue;
+      // A surround that is itself near the clip level may be a lit white
+      // surface whose noise clips: no evidence of the laser there.
+      const double surround = std::max(above, below);
+      if (surround > o.saturation_dn - o.saturation_contrast_dn) continue;
+      const double contrast = mean_green_blue(image, x, top, bottom) - surround;
+      if (contrast < o.saturation_contrast_dn) continue;
+      const int scaled = static_cast<int>(std::lround(contrast * o.min_red_excess_dn / o.saturation_contrast_dn));
+      for (int r = top; r <= bottom; ++r) {
+        auto& m = mask.at<std::uint8_t>(r, x);
+        auto& s = strength.at<std::int16_t>(r, x);
+        s = static_cast<std::int16_t>(std::max<int>(s, std::min(scaled, 255)));
+        added += m == 0;
+        m = 255;
+        core.at<std::uint8_t>(r, x) = 1;
+      }
+    }
+  }
+  return added;
+}
 
 }  // namespace
 
@@ -36,6 +108,15 @@ void StripeDetectorOptions::validate() const {
   require(min_red_excess_dn >= 1 && min_red_excess_dn <= 255, "min_red_excess_dn",
           "must be from 1 to 255, got " + std::to_string(min_red_excess_dn));
   require(min_red_dn >= 0 && min_red_dn <= 255, "min_red_dn", "must be from 0 to 255, got " + std::to_string(min_red_dn));
+  require(min_red_excess_floor_dn >= 1 && min_red_excess_floor_dn <= min_red_excess_dn, "min_red_excess_floor_dn",
+          "must be from 1 to min_red_excess_dn (" + std::to_string(min_red_excess_dn) + "), got " +
+              std::to_string(min_red_excess_floor_dn));
+  require(saturation_dn >= 1 && saturation_dn <= 256, "saturation_dn",
+          "must be from 1 to 256 (256: no saturation rule), got " + std::to_string(saturation_dn));
+  require(max_saturated_core_px >= 2 && max_saturated_core_px <= 101, "max_saturated_core_px",
+          "must be from 2 to 101, got " + std::to_string(max_saturated_core_px));
+  require(saturation_contrast_dn >= 1 && saturation_contrast_dn <= 255, "saturation_contrast_dn",
+          "must be from 1 to 255, got " + std::to_string(saturation_contrast_dn));
   require(opening_size_px >= 1 && opening_size_px <= 101 && opening_size_px % 2 == 1, "opening_size_px",
           "must be an odd number from 1 to 101 (an even square has no centre), got " +
               std::to_string(opening_size_px));
@@ -56,14 +137,16 @@ void StripeDetection::pixels(std::vector<StripePixel>& out, double min_confidenc
 
 struct StripeDetector::Buffers {
   StripeDetectorOptions options;
-  cv::Mat excess, mask, cleaned, labels, stats, centroids;
+  cv::Mat excess, mask, core, cleaned, labels, stats, centroids;
   cv::Mat open_kernel, close_kernel;
   std::vector<Run> runs;
+  std::vector<int> threshold_by_level;  ///< the excess threshold for each background level 0..255
 };
 
 StripeDetector::StripeDetector(const StripeDetectorOptions& options) : buffers_(std::make_unique<Buffers>()) {
   options.validate();
   buffers_->options = options;
+  buffers_->threshold_by_level = excess_thresholds(options);
   buffers_->open_kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(options.opening_size_px, options.opening_size_px));
   buffers_->close_kernel = cv::getStructuringElement(cv::MORPH_RECT, cv::Size(1, options.closing_height_px));
 }
@@ -90,13 +173,22 @@ void StripeDetector::detect(const RgbImage& image, StripeDetection& out) {
     auto* mask = b.mask.ptr<std::uint8_t>(y);
     for (int x = 0; x < width; ++x, pixel += 3) {
       const int red = pixel[0];
-      const int e = red - std::max(pixel[1], pixel[2]);
+      const int background = std::max(pixel[1], pixel[2]);
+      const int e = red - background;
       excess[x] = static_cast<std::int16_t>(e);
-      const bool candidate = e >= o.min_red_excess_dn && red >= o.min_red_dn;
+      const bool candidate = e >= b.threshold_by_level[static_cast<std::size_t>(background)] && red >= o.min_red_dn;
       mask[x] = candidate ? 255 : 0;
       out.candidate_pixels += candidate;
     }
   }
+  out.saturated_core_pixels = 0;
+  if (o.saturation_dn <= 255) {
+    out.saturated_core_pixels = mark_saturated_cores(image, o, b.excess, b.mask, b.core);
+  } else {
+    b.core.create(height, width, CV_8UC1);
+    b.core.setTo(0);
+  }
+  out.candidate_pixels += out.saturated_core_pixels;
 
   // 2. Morphological clean-up.
   if (o.opening_size_px > 1) {
@@ -133,9 +225,10 @@ void StripeDetector::detect(const RgbImage& image, StripeDetection& out) {
     for (int y = 0; y < height; ++y) {
       if (b.cleaned.at<std::uint8_t>(y, x) == 0) continue;
       const int e = std::max<int>(0, b.excess.at<std::int16_t>(y, x));
-      if (b.runs.empty() || b.runs.back().bottom != y - 1) b.runs.push_back({y, y, 0, 0});
+      if (b.runs.empty() || b.runs.back().bottom != y - 1) b.runs.push_back({y, y, 0, 0, false});
       Run& run = b.runs.back();
       run.bottom = y;
+      run.saturated = run.saturated || b.core.at<std::uint8_t>(y, x) != 0;
       run.excess_sum += e;
       run.peak = std::max(run.peak, e);
     }
@@ -170,6 +263,7 @@ void StripeDetector::detect(const RgbImage& image, StripeDetection& out) {
     column.found = true;
     column.v_px = weighted_row / weight_sum;
     column.peak_red_excess_dn = best->peak;
+    column.saturated = best->saturated;
     const double threshold = o.min_red_excess_dn;
     const double contrast = std::clamp((best->peak - threshold) / threshold, 0.0, 1.0);
     const double share = total > 0 ? static_cast<double>(best->excess_sum) / static_cast<double>(total) : 1.0;

@@ -74,6 +74,16 @@ void StripeImageOptions::validate() const {
   check("laser.blue_leak", fraction(laser.blue_leak));
   check("camera.target_mean_dn", scene_rules::positive(camera.target_mean_dn));
   check("camera.auto_exposure_limit_lux", scene_rules::positive(camera.auto_exposure_limit_lux));
+  const auto within = [](double value, bool ok, const char* range) -> std::optional<std::string> {
+    if (ok) return std::nullopt;
+    return std::string("must be ") + range + ", got " + std::to_string(value);
+  };
+  check("camera.highlight_limit_dn",
+        within(camera.highlight_limit_dn, camera.highlight_limit_dn >= 0.0 && camera.highlight_limit_dn <= 255.0,
+               "from 0 (off) to 255 DN"));
+  check("camera.highlight_fraction",
+        within(camera.highlight_fraction, camera.highlight_fraction > 0.0 && camera.highlight_fraction < 1.0,
+               "above 0 and below 1"));
   check("camera.fixed_gain_dn_per_lux", scene_rules::positive(camera.fixed_gain_dn_per_lux));
   check("camera.electrons_per_dn", scene_rules::positive(camera.electrons_per_dn));
   check("camera.read_noise_dn", scene_rules::non_negative(camera.read_noise_dn));
@@ -223,6 +233,14 @@ StripeImageStats StructuredLightImageRenderer::render(const TrunkPose& pose, std
     stats.gain_dn_per_lux =
         stats.mean_green_signal_lux > 0.0 ? std::min(max_gain, camera.target_mean_dn / stats.mean_green_signal_lux)
                                           : max_gain;
+    if (camera.highlight_limit_dn > 0.0) {
+      highlight_scratch_.assign(ambient_.begin(), ambient_.end());
+      const auto rank = static_cast<std::ptrdiff_t>((1.0 - camera.highlight_fraction) *
+                                                    static_cast<double>(highlight_scratch_.size() - 1));
+      std::nth_element(highlight_scratch_.begin(), highlight_scratch_.begin() + rank, highlight_scratch_.end());
+      const double highlight_lux = highlight_scratch_[static_cast<std::size_t>(rank)];
+      if (highlight_lux > 0.0) stats.gain_dn_per_lux = std::min(stats.gain_dn_per_lux, camera.highlight_limit_dn / highlight_lux);
+    }
   } else {
     stats.gain_dn_per_lux = camera.fixed_gain_dn_per_lux;
   }

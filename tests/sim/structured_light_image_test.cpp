@@ -215,3 +215,45 @@ TEST(StructuredLightImage, RejectsBadOptionsAndPoses) {
 
 }  // namespace
 }  // namespace stridemap
+
+namespace stridemap {
+namespace {
+
+// A white box on the grey floor, where metering on the mean clips the box
+// top: highlight metering lowers the gain until the brightest 1 % of the
+// ambient image is at its limit, and leaves a scene without highlights alone.
+TEST(StructuredLightImage, HighlightMeteringKeepsAWhiteBoxBelowTheClip) {
+  Scene scene = floor_scene();
+  BoxObject box;
+  box.name = "white";
+  box.center_x_m = 0.45;
+  box.length_m = 0.2;
+  box.width_m = 0.3;
+  box.height_m = 0.1;
+  box.reflectance = 0.9;
+  scene.boxes.push_back(box);
+  StripeImageOptions mean_metering;
+  mean_metering.ambient.illuminance_lux = 1000.0;
+  StripeImageOptions highlight = mean_metering;
+  highlight.camera.highlight_limit_dn = 220.0;
+  std::vector<std::uint8_t> rgb;
+  const StripeImageStats by_mean = StructuredLightImageRenderer(scene, small_ragno(), mean_metering).render({}, rgb);
+  const StripeImageStats by_highlight = StructuredLightImageRenderer(scene, small_ragno(), highlight).render({}, rgb);
+  EXPECT_LT(by_highlight.gain_dn_per_lux, 0.95 * by_mean.gain_dn_per_lux);
+  EXPECT_LT(by_highlight.saturated_pixels, by_mean.saturated_pixels);
+
+  const Scene grey = floor_scene();
+  const StripeImageStats grey_mean = StructuredLightImageRenderer(grey, small_ragno(), mean_metering).render({}, rgb);
+  const StripeImageStats grey_highlight = StructuredLightImageRenderer(grey, small_ragno(), highlight).render({}, rgb);
+  EXPECT_DOUBLE_EQ(grey_highlight.gain_dn_per_lux, grey_mean.gain_dn_per_lux);
+
+  StripeImageOptions bad = highlight;
+  bad.camera.highlight_limit_dn = 300.0;
+  EXPECT_THROW(StructuredLightImageRenderer(scene, small_ragno(), bad), InputError);
+  bad = highlight;
+  bad.camera.highlight_fraction = 0.0;
+  EXPECT_THROW(StructuredLightImageRenderer(scene, small_ragno(), bad), InputError);
+}
+
+}  // namespace
+}  // namespace stridemap

@@ -7,8 +7,19 @@
 //
 // Steps, each with its option below:
 // 1. red excess e = R - max(G, B) per pixel; a pixel is a stripe candidate
-//    when e >= min_red_excess_dn and R >= min_red_dn (a red laser on a
-//    white-balanced image: the stripe is the only strongly red thing);
+//    when e reaches the threshold and R >= min_red_dn (a red laser on a
+//    white-balanced image: the stripe is the only strongly red thing). The
+//    threshold is min_red_excess_dn on a full-scale background and follows
+//    the shot noise (square root of the background level max(G, B)) below
+//    it, never under min_red_excess_floor_dn: a dark surface is quieter, so
+//    its dimmer stripe is found at the same number of standard deviations;
+// 1b. saturation: where the laser outshines the sensor, red clips at 255
+//    and the green and blue leak clips too, a white core with (sometimes)
+//    a faint red halo and no red excess. In each column a run of clipped red
+//    no taller than max_saturated_core_px, whose mean max(G, B) exceeds the
+//    brighter of the 3 rows above and below by saturation_contrast_dn,
+//    is a stripe candidate too (a clipped white object is taller; a lone
+//    clipped speck is one row and dropped);
 // 2. morphological clean-up: an optional opening with a square (drops
 //    specks and hairlines thinner than it), closing with a vertical line
 //    (joins a stripe that noise split across rows), and an area opening
@@ -43,6 +54,20 @@ struct StripeDetectorOptions {
   int min_red_excess_dn = 30;
   /// Least red value of a stripe pixel [DN], so that dark noise never counts.
   int min_red_dn = 50;
+  /// Scale the excess threshold with the square root of the background level
+  /// (shot noise) below full scale; false: min_red_excess_dn everywhere.
+  bool threshold_follows_shot_noise = true;
+  /// The scaled threshold never drops below this [DN]: 10 is about six
+  /// times the read noise of the excess on a dark webcam image.
+  int min_red_excess_floor_dn = 10;
+  /// Red at or above this is clipped [DN]; 256 turns the saturation rule off.
+  int saturation_dn = 250;
+  /// Tallest run of clipped red that can be a saturated stripe core [px].
+  int max_saturated_core_px = 12;
+  /// Least rise of the run's mean max(G, B) over its surroundings [DN]; the
+  /// laser's leak into green and blue lifts them in the core. 8: over
+  /// three standard deviations of a 2-row mean at mid-grey.
+  int saturation_contrast_dn = 8;
   /// Side of the square of the opening [px], odd; 1 (default) turns it off.
   int opening_size_px = 1;
   /// Height of the vertical closing line [px]; 1 turns the closing off. 7
@@ -67,7 +92,11 @@ struct StripeColumnDetection {
   /// threshold, 1 at twice it and above) times the share of the column's
   /// candidate red excess that the chosen run holds (1 when it is alone).
   double confidence = 0.0;
+  /// Peak strength of the run [DN]: the red excess, or for a saturated core
+  /// its contrast scaled so that saturation_contrast_dn counts as
+  /// min_red_excess_dn.
   int peak_red_excess_dn = 0;
+  bool saturated = false;   ///< the run holds a saturated core
   int runs = 0;             ///< candidate runs in the column after the clean-up
 };
 
@@ -79,6 +108,7 @@ struct StripeDetection {
   std::size_t candidate_pixels = 0;   ///< after thresholding
   std::size_t cleaned_pixels = 0;     ///< after the morphological clean-up
   std::size_t rejected_tall_runs = 0; ///< columns whose best run was too tall
+  std::size_t saturated_core_pixels = 0; ///< candidates from the saturation rule
 
   /// The found columns' (u, v) with confidence >= min_confidence, for
   /// stripe_to_map_points. Clears `out` first.

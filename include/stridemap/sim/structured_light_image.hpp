@@ -77,6 +77,13 @@ struct CameraSensorOptions {
   /// grey (0.5) surface lit by this much needs to reach target_mean_dn, so a
   /// dim scene stays dark [lux].
   double auto_exposure_limit_lux = 150.0;
+  /// Highlight protection of the auto exposure [DN]: when above 0, the gain
+  /// is also held low enough that the brightest highlight_fraction of the
+  /// pixels' ambient signal stays at or below this, so that a white object
+  /// and the stripe on it are not clipped (cameras call it highlight
+  /// priority metering). 0 (default): metering on the mean only.
+  double highlight_limit_dn = 0.0;
+  double highlight_fraction = 0.01;
   /// Gain with auto exposure off [DN per lux times reflectance]: 0.8 puts a
   /// grey surface at 300 lux at 120 of 255.
   double fixed_gain_dn_per_lux = 0.8;
@@ -159,6 +166,7 @@ class StructuredLightImageRenderer {
   std::mt19937_64 rng_;
   // Per-frame scratch, sized once.
   std::vector<SurfaceSample> samples_;
+  std::vector<float> highlight_scratch_;
   std::vector<float> ambient_, sheet_distance_m_, half_thickness_m_, laser_, blurred_, blur_scratch_;
 };
 
