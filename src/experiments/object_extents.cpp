@@ -55,10 +55,10 @@ double min_area_yaw(const std::vector<Eigen::Vector2d>& points) {
   return best_yaw;
 }
 
-// Extent along one axis from the rows (bins one cell wide) holding at
-// least half as many cells as the fullest: a row of a few stray cells along
-// an edge is not the object.
-double trimmed_extent(const std::vector<Eigen::Vector2d>& cells, int axis, double s) {
+// The span along one axis of the rows (bins one cell wide) holding at
+// least half as many cells as the fullest, as the first and last row's
+// centres: a row of a few stray cells along an edge is not the object.
+std::pair<double, double> trimmed_span(const std::vector<Eigen::Vector2d>& cells, int axis, double s) {
   double lo = std::numeric_limits<double>::infinity();
   for (const Eigen::Vector2d& c : cells) lo = std::min(lo, c[axis]);
   std::vector<int> counts;
@@ -74,7 +74,12 @@ double trimmed_extent(const std::vector<Eigen::Vector2d>& cells, int axis, doubl
     first = std::min(first, b);
     last = std::max(last, b);
   }
-  return static_cast<double>(last - first) * s;
+  return {lo + static_cast<double>(first) * s, lo + static_cast<double>(last) * s};
+}
+
+double trimmed_extent(const std::vector<Eigen::Vector2d>& cells, int axis, double s) {
+  const auto [lo, hi] = trimmed_span(cells, axis, s);
+  return hi - lo;
 }
 
 double untrimmed_extent(const std::vector<Eigen::Vector2d>& cells, int axis) {
@@ -164,6 +169,27 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
       queue.emplace_back(a, b);
     }
   }
+  // The readings that set the region's border cells (a cell with a
+  // neighbour outside the region), for the sub-cell edges.
+  std::vector<Eigen::Vector2d> border;
+  const ExportedLayer* top_x = m.find("top_point_x");
+  const ExportedLayer* top_y = m.find("top_point_y");
+  if (top_x && top_y && top_x->spec.type == LayerType::f32 && top_y->spec.type == LayerType::f32) {
+    for (Eigen::Index i = 0; i < n; ++i) {
+      for (Eigen::Index j = 0; j < n; ++j) {
+        if (!region(i, j) || static_cast<CellState>(states(i, j)) != CellState::measured) continue;
+        bool inside = true;
+        for (Eigen::Index a = i - 1; a <= i + 1 && inside; ++a)
+          for (Eigen::Index b = j - 1; b <= j + 1; ++b)
+            if (a < 0 || b < 0 || a >= n || b >= n || !region(a, b)) {
+              inside = false;
+              break;
+            }
+        const Eigen::Vector2d p(top_x->f32(i, j), top_y->f32(i, j));
+        if (!inside && p.allFinite()) border.push_back(p - centre);
+      }
+    }
+  }
   // The ground the height is measured from: a ring of known cells around
   // the region (not the region's own neighbourhood median, which other
   // objects may raise).
@@ -194,7 +220,8 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
     const double area = static_cast<double>(cells.size()) * s * s;
     const double pi = std::numbers::pi;
     const double radius = (-4.0 * s + std::sqrt(16.0 * s * s - 4.0 * pi * (s * s - area))) / (2.0 * pi);
-    out.measured = out.measured_trimmed = out.measured_untrimmed = {2.0 * radius, 2.0 * radius, height};
+    out.measured = out.measured_trimmed = out.measured_untrimmed = out.edges_trimmed = out.edges_untrimmed =
+        {2.0 * radius, 2.0 * radius, height};
     return out;
   }
   // The measured axes, the first one turned to the nearer of the truth's
@@ -207,7 +234,22 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
   out.measured_trimmed = {trimmed_extent(axes, 0, s), trimmed_extent(axes, 1, s), height};
   out.measured_untrimmed = {untrimmed_extent(axes, 0), untrimmed_extent(axes, 1), height};
   const ObjectDimensions moments{moment_extent(axes, 0, s), moment_extent(axes, 1, s), height};
+  // The sides the edge readings are sorted to: the trimmed rows' outer
+  // cell faces, in the turned frame.
+  const auto [u_lo, u_hi] = trimmed_span(axes, 0, s);
+  const auto [v_lo, v_hi] = trimmed_span(axes, 1, s);
+  const BoxFrame frame{yaw, u_lo - s / 2, u_hi + s / 2, v_lo - s / 2, v_hi + s / 2};
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  out.edges_trimmed = out.edges_untrimmed = {kNaN, kNaN, height};
+  const BoxEdgeFit trimmed = fit_box_edges(border, frame, s, true, options.edges);
+  const BoxEdgeFit untrimmed = fit_box_edges(border, frame, s, false, options.edges);
+  if (trimmed.ok) {
+    out.edges_trimmed = {trimmed.length_m, trimmed.width_m, height};
+    out.measured_yaw_rad = std::remainder(trimmed.yaw_rad, std::numbers::pi);
+  }
+  if (untrimmed.ok) out.edges_untrimmed = {untrimmed.length_m, untrimmed.width_m, height};
   switch (options.extent) {
+    case ExtentEstimate::edges: out.measured = trimmed.ok ? out.edges_trimmed : moments; break;
     case ExtentEstimate::moments: out.measured = moments; break;
     case ExtentEstimate::trimmed: out.measured = out.measured_trimmed; break;
     case ExtentEstimate::untrimmed: out.measured = out.measured_untrimmed; break;
