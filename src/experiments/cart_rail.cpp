@@ -125,7 +125,7 @@ void finish_rail_map(const Scene& scene, const CartRailOptions& options, Mapping
   result.snapshot = snapshot_with_truth(map, scene);
   // The objects' sub-cell edges read the top points, which are not in the
   // planner's export.
-  const std::string top_layers[] = {top_point_x_layer().name, top_point_y_layer().name};
+  const std::string top_layers[] = {"top_point_x", "top_point_y"};
   for (ExportedLayer& layer : export_map(map, top_layers).layers) result.snapshot.layers.push_back(std::move(layer));
   result.map = map;
   result.map_config.mount = pipeline.mapper().mount();

@@ -169,19 +169,41 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
       queue.emplace_back(a, b);
     }
   }
-  // The readings that set the region's border cells (a cell with a
-  // neighbour outside the region), for the sub-cell edges.
+  // The box's top: the region's cells within a band below its median top,
+  // grown from the seed. Mixed pixels at an edge leave a ramp of readings
+  // between the top and the floor behind it, which rises above half the
+  // height for some way beyond the edge; a box's top is flat, so the ramp
+  // leaves the band within a few millimetres.
+  std::vector<double> top_values = tops;
+  const double top_level = top_values.empty() ? threshold : median(top_values);
+  const double band = std::min(options.edge_band_m, top_level - threshold);
+  CellMask top_cells = CellMask::Zero(n, n);
+  std::deque<std::pair<Eigen::Index, Eigen::Index>> grow{{seed_i, seed_j}};
+  top_cells(seed_i, seed_j) = 1;
+  while (!grow.empty()) {
+    const auto [i, j] = grow.front();
+    grow.pop_front();
+    for (const auto& [di, dj] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+      const Eigen::Index a = i + di, b = j + dj;
+      if (a < 0 || b < 0 || a >= n || b >= n || top_cells(a, b) || !region(a, b)) continue;
+      if (!(heights(a, b) >= top_level - band)) continue;
+      top_cells(a, b) = 1;
+      grow.emplace_back(a, b);
+    }
+  }
+  // The readings that set the top's border cells (a cell with a neighbour
+  // off the top), for the sub-cell edges.
   std::vector<Eigen::Vector2d> border;
   const ExportedLayer* top_x = m.find("top_point_x");
   const ExportedLayer* top_y = m.find("top_point_y");
   if (top_x && top_y && top_x->spec.type == LayerType::f32 && top_y->spec.type == LayerType::f32) {
     for (Eigen::Index i = 0; i < n; ++i) {
       for (Eigen::Index j = 0; j < n; ++j) {
-        if (!region(i, j) || static_cast<CellState>(states(i, j)) != CellState::measured) continue;
+        if (!top_cells(i, j) || static_cast<CellState>(states(i, j)) != CellState::measured) continue;
         bool inside = true;
         for (Eigen::Index a = i - 1; a <= i + 1 && inside; ++a)
           for (Eigen::Index b = j - 1; b <= j + 1; ++b)
-            if (a < 0 || b < 0 || a >= n || b >= n || !region(a, b)) {
+            if (a < 0 || b < 0 || a >= n || b >= n || !top_cells(a, b)) {
               inside = false;
               break;
             }

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
 #include <gtest/gtest.h>
 
 #include "stridemap/experiments/cart_rail.hpp"

@@ -66,6 +66,10 @@ struct ObjectMeasureOptions {
   /// A cell belongs to the object when it rises above the local ground by
   /// at least this fraction of the object's height in the map.
   double height_fraction = 0.5;
+  /// The sub-cell edges are fitted to the border of the box's top: the
+  /// region's cells at most this far below its median top [m] (and never
+  /// below the region's threshold).
+  double edge_band_m = 0.006;
   ExtentEstimate extent = ExtentEstimate::edges;
   BoxEdgeOptions edges{};
 };
