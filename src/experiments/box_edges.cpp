@@ -43,6 +43,15 @@ BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const Box
     const int side = order[0];
     sorted.push_back({side < 2 ? Eigen::Vector2d(u, v) : Eigen::Vector2d(v, -u), side});
   }
+  // A short side may hold its readings only near its corners: use them
+  // rather than give up.
+  std::array<std::size_t, 4> per_side{};
+  for (const Reading& r : sorted) ++per_side[r.side];
+  if (*std::min_element(per_side.begin(), per_side.end()) < 2 && options.corner_cells > 0.0) {
+    BoxEdgeOptions no_corners = options;
+    no_corners.corner_cells = 0.0;
+    return fit_box_edges(readings, frame, cell_size_m, trim, no_corners);
+  }
 
   Eigen::Vector2d normal(1.0, 0.0);
   std::array<Eigen::Vector2d, 4> centroid{};
@@ -74,7 +83,14 @@ BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const Box
     }
     if (round + 1 == rounds) break;
     const double band = std::max(options.trim_sigmas * 1.4826 * quantile(spread, 0.5), options.min_trim_m);
-    for (Reading& r : sorted) r.active = std::abs(r.residual) <= band;
+    std::array<std::size_t, 4> kept{};
+    for (Reading& r : sorted) {
+      r.active = std::abs(r.residual) <= band;
+      kept[r.side] += r.active ? 1 : 0;
+    }
+    // Trimming never empties a side: a side it would leave with fewer than
+    // two readings keeps them all.
+    for (Reading& r : sorted) r.active = r.active || kept[r.side] < 2;
   }
 
   // Each side's edge: its line moved out to the quantile of its readings.

@@ -271,7 +271,9 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
   }
   if (untrimmed.ok) out.edges_untrimmed = {untrimmed.length_m, untrimmed.width_m, height};
   switch (options.extent) {
-    case ExtentEstimate::edges: out.measured = trimmed.ok ? out.edges_trimmed : moments; break;
+    case ExtentEstimate::edges:
+      out.measured = trimmed.ok ? out.edges_trimmed : untrimmed.ok ? out.edges_untrimmed : moments;
+      break;
     case ExtentEstimate::moments: out.measured = moments; break;
     case ExtentEstimate::trimmed: out.measured = out.measured_trimmed; break;
     case ExtentEstimate::untrimmed: out.measured = out.measured_untrimmed; break;
