@@ -176,7 +176,12 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
   // leaves the band within a few millimetres.
   std::vector<double> top_values = tops;
   const double top_level = top_values.empty() ? threshold : median(top_values);
-  const double band = std::min(options.edge_band_m, top_level - threshold);
+  // A dark or far top is noisier than the band: widen it to the top's own
+  // spread (2.5 robust standard deviations), never below the threshold.
+  std::vector<double> deviations;
+  for (const double t : tops) deviations.push_back(std::abs(t - top_level));
+  const double spread = deviations.empty() ? 0.0 : 2.5 * 1.4826 * median(deviations);
+  const double band = std::min(std::max(options.edge_band_m, spread), top_level - threshold);
   CellMask top_cells = CellMask::Zero(n, n);
   std::deque<std::pair<Eigen::Index, Eigen::Index>> grow{{seed_i, seed_j}};
   top_cells(seed_i, seed_j) = 1;
@@ -191,19 +196,20 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
       grow.emplace_back(a, b);
     }
   }
-  // The readings that set the top's border cells (a cell with a neighbour
-  // off the top), for the sub-cell edges.
-  std::vector<Eigen::Vector2d> border;
+  // The readings that set the border cells of `cells` (a cell with a
+  // neighbour outside), for the sub-cell edges.
   const ExportedLayer* top_x = m.find("top_point_x");
   const ExportedLayer* top_y = m.find("top_point_y");
-  if (top_x && top_y && top_x->spec.type == LayerType::f32 && top_y->spec.type == LayerType::f32) {
+  const auto border_of = [&](const CellMask& cells_mask) {
+    std::vector<Eigen::Vector2d> border;
+    if (!top_x || !top_y || top_x->spec.type != LayerType::f32 || top_y->spec.type != LayerType::f32) return border;
     for (Eigen::Index i = 0; i < n; ++i) {
       for (Eigen::Index j = 0; j < n; ++j) {
-        if (!top_cells(i, j) || static_cast<CellState>(states(i, j)) != CellState::measured) continue;
+        if (!cells_mask(i, j) || static_cast<CellState>(states(i, j)) != CellState::measured) continue;
         bool inside = true;
         for (Eigen::Index a = i - 1; a <= i + 1 && inside; ++a)
           for (Eigen::Index b = j - 1; b <= j + 1; ++b)
-            if (a < 0 || b < 0 || a >= n || b >= n || !top_cells(a, b)) {
+            if (a < 0 || b < 0 || a >= n || b >= n || !cells_mask(a, b)) {
               inside = false;
               break;
             }
@@ -211,7 +217,8 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
         if (!inside && p.allFinite()) border.push_back(p - centre);
       }
     }
-  }
+    return border;
+  };
   // The ground the height is measured from: a ring of known cells around
   // the region (not the region's own neighbourhood median, which other
   // objects may raise).
@@ -263,7 +270,14 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
   const BoxFrame frame{yaw, u_lo - s / 2, u_hi + s / 2, v_lo - s / 2, v_hi + s / 2};
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   out.edges_trimmed = out.edges_untrimmed = {kNaN, kNaN, height};
-  const BoxEdgeFit trimmed = fit_box_edges(border, frame, s, true, options.edges);
+  // The top's border first; where a side of it holds too few readings
+  // (a top broken up by noise), the whole region's border.
+  std::vector<Eigen::Vector2d> border = border_of(top_cells);
+  BoxEdgeFit trimmed = fit_box_edges(border, frame, s, true, options.edges);
+  if (!trimmed.ok) {
+    border = border_of(region);
+    trimmed = fit_box_edges(border, frame, s, true, options.edges);
+  }
   const BoxEdgeFit untrimmed = fit_box_edges(border, frame, s, false, options.edges);
   if (trimmed.ok) {
     out.edges_trimmed = {trimmed.length_m, trimmed.width_m, height};
