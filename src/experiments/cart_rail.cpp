@@ -104,6 +104,7 @@ PipelineOptions rail_pipeline_options(const Eigen::Vector2d& lo, const Eigen::Ve
                         ? options.cells_per_side
                         : cells_per_side_to_cover((hi - lo).maxCoeff() + 2 * margin_m, options.cell_size_m);
   p.mapper.grid = {cells, options.cell_size_m};
+  declare_top_point_layers(p.mapper.grid);
   p.map_filter = {options.map_filter, options.fill, options.cas};
   p.mount = mount;
   return p;
@@ -122,6 +123,10 @@ void finish_rail_map(const Scene& scene, const CartRailOptions& options, Mapping
   result.cas_removed_cells = filtered.cas_removed;
   const ElevationMap& map = pipeline.mapper().map();
   result.snapshot = snapshot_with_truth(map, scene);
+  // The objects' sub-cell edges read the top points, which are not in the
+  // planner's export.
+  const std::string top_layers[] = {"top_point_x", "top_point_y"};
+  for (ExportedLayer& layer : export_map(map, top_layers).layers) result.snapshot.layers.push_back(std::move(layer));
   result.map = map;
   result.map_config.mount = pipeline.mapper().mount();
   result.map_config.mapper = pipeline.mapper().options();
@@ -172,6 +177,7 @@ CartRailResult run_cart_rail(const Scene& scene, const CartRailOptions& options)
   if (options.drop_labelled_mixed) pipeline_options.drop_beams_tagged = static_cast<std::uint8_t>(BeamLabel::mixed);
   MappingPipeline pipeline(pipeline_options);
   detail::centre_rail_map(lo, hi, pipeline);
+  TopPointObserver top_points(pipeline);
   BeamTallyObserver tally(result.beams, options.drop_labelled_mixed);
   pipeline.integrator().add_observer(tally);
 

@@ -8,13 +8,16 @@
 
 #include "stridemap/experiments/cart_rail.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
+#include "stridemap/pipeline/top_point_observer.hpp"
 
 namespace stridemap::detail {
 
 /// The pipeline of a rail run: a fixed map window (cells of
 /// options.cell_size_m, options.cells_per_side or sized to hold [lo, hi]
 /// with a margin), the options' update rule and map filter, and `mount`.
-/// The sensor fields are left to the caller.
+/// The map keeps the top-point layers (core/top_point.hpp) for the objects'
+/// sub-cell edges: a TopPointObserver must write them. The sensor fields
+/// are left to the caller.
 PipelineOptions rail_pipeline_options(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi,
                                       const CartRailOptions& options, const SensorMount& mount);
 

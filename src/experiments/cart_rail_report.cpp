@@ -76,6 +76,9 @@ std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOption
                        {"measured_m", m.found ? dimensions_json(m.measured) : json(nullptr)},
                        {"trimmed_m", m.found ? dimensions_json(m.measured_trimmed) : json(nullptr)},
                        {"untrimmed_m", m.found ? dimensions_json(m.measured_untrimmed) : json(nullptr)},
+                       {"edges_trimmed_m", m.found ? dimensions_json(m.edges_trimmed) : json(nullptr)},
+                       {"edges_untrimmed_m", m.found ? dimensions_json(m.edges_untrimmed) : json(nullptr)},
+                       {"measured_yaw_rad", m.measured_yaw_rad},
                        {"error_pct", error_pct_json(m)}});
   }
   const MapScore& s = r.score;

@@ -101,6 +101,7 @@ void run_structured_light_rail(const Scene& scene, const CartRailOptions& option
   pipeline_options.structured_light = sl.parameters;
   MappingPipeline pipeline(pipeline_options);
   centre_rail_map(lo, hi, pipeline);
+  TopPointObserver top_points(pipeline);
 
   std::optional<StructuredLightImageRenderer> renderer;
   std::optional<StructuredLightSimulator> simulator;

@@ -108,6 +108,8 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
     row.urg_objects = filtered.objects;
     row.urg_extent_error_pct =
         worst_extent_error(filtered.objects, options.min_scored_extent_m, urg_all, &ObjectMeasurement::measured);
+    row.urg_extent_error_edges_untrimmed_pct = worst_extent_error(
+        filtered.objects, options.min_scored_extent_m, unused, &ObjectMeasurement::edges_untrimmed);
     row.urg_extent_error_trimmed_pct = worst_extent_error(filtered.objects, options.min_scored_extent_m, unused,
                                                           &ObjectMeasurement::measured_trimmed);
     row.urg_extent_error_untrimmed_pct = worst_extent_error(filtered.objects, options.min_scored_extent_m, unused,
@@ -129,13 +131,16 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
       row.structured_light_objects = sl.objects;
       row.structured_light_extent_error_pct =
           worst_extent_error(sl.objects, options.min_scored_extent_m, sl_all, &ObjectMeasurement::measured);
+      row.structured_light_extent_error_edges_untrimmed_pct =
+          worst_extent_error(sl.objects, options.min_scored_extent_m, unused, &ObjectMeasurement::edges_untrimmed);
       row.structured_light_extent_error_trimmed_pct =
           worst_extent_error(sl.objects, options.min_scored_extent_m, unused, &ObjectMeasurement::measured_trimmed);
       row.structured_light_extent_error_untrimmed_pct =
           worst_extent_error(sl.objects, options.min_scored_extent_m, unused, &ObjectMeasurement::measured_untrimmed);
       row.structured_light_objects_missed = missed(sl.objects);
     } else {
-      row.structured_light_extent_error_pct = row.structured_light_extent_error_trimmed_pct =
+      row.structured_light_extent_error_pct = row.structured_light_extent_error_edges_untrimmed_pct =
+          row.structured_light_extent_error_trimmed_pct =
           row.structured_light_extent_error_untrimmed_pct = kNaN;
     }
     result.scenes.push_back(std::move(row));
@@ -148,12 +153,15 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
   using R = FidelitySceneResult;
   figure("urg_box_extent_error_pct (worst per scene)", &R::urg_extent_error_pct, false);
   result.figures.push_back(distribution_of("urg_box_extent_error_pct (every extent)", urg_all, false));
+  figure("urg_box_extent_error_pct, sub-cell edges untrimmed", &R::urg_extent_error_edges_untrimmed_pct, false);
   figure("urg_box_extent_error_pct, trimmed cells", &R::urg_extent_error_trimmed_pct, false);
   figure("urg_box_extent_error_pct, untrimmed cells", &R::urg_extent_error_untrimmed_pct, false);
   figure("urg_objects_missed", &R::urg_objects_missed, false);
   if (options.structured_light) {
     figure("structured_light_box_extent_error_pct (worst per scene)", &R::structured_light_extent_error_pct, false);
     result.figures.push_back(distribution_of("structured_light_box_extent_error_pct (every extent)", sl_all, false));
+    figure("structured_light_box_extent_error_pct, sub-cell edges untrimmed",
+           &R::structured_light_extent_error_edges_untrimmed_pct, false);
     figure("structured_light_box_extent_error_pct, trimmed cells", &R::structured_light_extent_error_trimmed_pct,
            false);
     figure("structured_light_box_extent_error_pct, untrimmed cells", &R::structured_light_extent_error_untrimmed_pct,
@@ -195,6 +203,10 @@ nlohmann::json objects_json(const std::vector<ObjectMeasurement>& objects) {
                     {"trimmed_m", {{"length", m.measured_trimmed.length_m}, {"width", m.measured_trimmed.width_m}}},
                     {"untrimmed_m",
                      {{"length", m.measured_untrimmed.length_m}, {"width", m.measured_untrimmed.width_m}}},
+                    {"edges_trimmed_m", {{"length", number_or_null(m.edges_trimmed.length_m)},
+                                         {"width", number_or_null(m.edges_trimmed.width_m)}}},
+                    {"edges_untrimmed_m", {{"length", number_or_null(m.edges_untrimmed.length_m)},
+                                           {"width", number_or_null(m.edges_untrimmed.width_m)}}},
                     {"measured_yaw_rad", m.measured_yaw_rad}});
   }
   return list;

@@ -55,10 +55,10 @@ double min_area_yaw(const std::vector<Eigen::Vector2d>& points) {
   return best_yaw;
 }
 
-// Extent along one axis from the rows (bins one cell wide) holding at
-// least half as many cells as the fullest: a row of a few stray cells along
-// an edge is not the object.
-double trimmed_extent(const std::vector<Eigen::Vector2d>& cells, int axis, double s) {
+// The span along one axis of the rows (bins one cell wide) holding at
+// least half as many cells as the fullest, as the first and last row's
+// centres: a row of a few stray cells along an edge is not the object.
+std::pair<double, double> trimmed_span(const std::vector<Eigen::Vector2d>& cells, int axis, double s) {
   double lo = std::numeric_limits<double>::infinity();
   for (const Eigen::Vector2d& c : cells) lo = std::min(lo, c[axis]);
   std::vector<int> counts;
@@ -74,7 +74,12 @@ double trimmed_extent(const std::vector<Eigen::Vector2d>& cells, int axis, doubl
     first = std::min(first, b);
     last = std::max(last, b);
   }
-  return static_cast<double>(last - first) * s;
+  return {lo + static_cast<double>(first) * s, lo + static_cast<double>(last) * s};
+}
+
+double trimmed_extent(const std::vector<Eigen::Vector2d>& cells, int axis, double s) {
+  const auto [lo, hi] = trimmed_span(cells, axis, s);
+  return hi - lo;
 }
 
 double untrimmed_extent(const std::vector<Eigen::Vector2d>& cells, int axis) {
@@ -164,6 +169,56 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
       queue.emplace_back(a, b);
     }
   }
+  // The box's top: the region's cells within a band below its median top,
+  // grown from the seed. Mixed pixels at an edge leave a ramp of readings
+  // between the top and the floor behind it, which rises above half the
+  // height for some way beyond the edge; a box's top is flat, so the ramp
+  // leaves the band within a few millimetres.
+  std::vector<double> top_values = tops;
+  const double top_level = top_values.empty() ? threshold : median(top_values);
+  // A dark or far top is noisier than the band: widen it to the top's own
+  // spread (2.5 robust standard deviations), never below the threshold.
+  std::vector<double> deviations;
+  for (const double t : tops) deviations.push_back(std::abs(t - top_level));
+  const double spread = deviations.empty() ? 0.0 : 2.5 * 1.4826 * median(deviations);
+  const double band = std::min(std::max(options.edge_band_m, spread), top_level - threshold);
+  CellMask top_cells = CellMask::Zero(n, n);
+  std::deque<std::pair<Eigen::Index, Eigen::Index>> grow{{seed_i, seed_j}};
+  top_cells(seed_i, seed_j) = 1;
+  while (!grow.empty()) {
+    const auto [i, j] = grow.front();
+    grow.pop_front();
+    for (const auto& [di, dj] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+      const Eigen::Index a = i + di, b = j + dj;
+      if (a < 0 || b < 0 || a >= n || b >= n || top_cells(a, b) || !region(a, b)) continue;
+      if (!(heights(a, b) >= top_level - band)) continue;
+      top_cells(a, b) = 1;
+      grow.emplace_back(a, b);
+    }
+  }
+  // The readings that set the border cells of `cells` (a cell with a
+  // neighbour outside), for the sub-cell edges.
+  const ExportedLayer* top_x = m.find("top_point_x");
+  const ExportedLayer* top_y = m.find("top_point_y");
+  const auto border_of = [&](const CellMask& cells_mask) {
+    std::vector<Eigen::Vector2d> border;
+    if (!top_x || !top_y || top_x->spec.type != LayerType::f32 || top_y->spec.type != LayerType::f32) return border;
+    for (Eigen::Index i = 0; i < n; ++i) {
+      for (Eigen::Index j = 0; j < n; ++j) {
+        if (!cells_mask(i, j) || static_cast<CellState>(states(i, j)) != CellState::measured) continue;
+        bool inside = true;
+        for (Eigen::Index a = i - 1; a <= i + 1 && inside; ++a)
+          for (Eigen::Index b = j - 1; b <= j + 1; ++b)
+            if (a < 0 || b < 0 || a >= n || b >= n || !cells_mask(a, b)) {
+              inside = false;
+              break;
+            }
+        const Eigen::Vector2d p(top_x->f32(i, j), top_y->f32(i, j));
+        if (!inside && p.allFinite()) border.push_back(p - centre);
+      }
+    }
+    return border;
+  };
   // The ground the height is measured from: a ring of known cells around
   // the region (not the region's own neighbourhood median, which other
   // objects may raise).
@@ -194,7 +249,8 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
     const double area = static_cast<double>(cells.size()) * s * s;
     const double pi = std::numbers::pi;
     const double radius = (-4.0 * s + std::sqrt(16.0 * s * s - 4.0 * pi * (s * s - area))) / (2.0 * pi);
-    out.measured = out.measured_trimmed = out.measured_untrimmed = {2.0 * radius, 2.0 * radius, height};
+    out.measured = out.measured_trimmed = out.measured_untrimmed = out.edges_trimmed = out.edges_untrimmed =
+        {2.0 * radius, 2.0 * radius, height};
     return out;
   }
   // The measured axes, the first one turned to the nearer of the truth's
@@ -207,7 +263,31 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
   out.measured_trimmed = {trimmed_extent(axes, 0, s), trimmed_extent(axes, 1, s), height};
   out.measured_untrimmed = {untrimmed_extent(axes, 0), untrimmed_extent(axes, 1), height};
   const ObjectDimensions moments{moment_extent(axes, 0, s), moment_extent(axes, 1, s), height};
+  // The sides the edge readings are sorted to: the trimmed rows' outer
+  // cell faces, in the turned frame.
+  const auto [u_lo, u_hi] = trimmed_span(axes, 0, s);
+  const auto [v_lo, v_hi] = trimmed_span(axes, 1, s);
+  const BoxFrame frame{yaw, u_lo - s / 2, u_hi + s / 2, v_lo - s / 2, v_hi + s / 2};
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  out.edges_trimmed = out.edges_untrimmed = {kNaN, kNaN, height};
+  // The top's border first; where a side of it holds too few readings
+  // (a top broken up by noise), the whole region's border.
+  std::vector<Eigen::Vector2d> border = border_of(top_cells);
+  BoxEdgeFit trimmed = fit_box_edges(border, frame, s, true, options.edges);
+  if (!trimmed.ok) {
+    border = border_of(region);
+    trimmed = fit_box_edges(border, frame, s, true, options.edges);
+  }
+  const BoxEdgeFit untrimmed = fit_box_edges(border, frame, s, false, options.edges);
+  if (trimmed.ok) {
+    out.edges_trimmed = {trimmed.length_m, trimmed.width_m, height};
+    out.measured_yaw_rad = std::remainder(trimmed.yaw_rad, std::numbers::pi);
+  }
+  if (untrimmed.ok) out.edges_untrimmed = {untrimmed.length_m, untrimmed.width_m, height};
   switch (options.extent) {
+    case ExtentEstimate::edges:
+      out.measured = trimmed.ok ? out.edges_trimmed : untrimmed.ok ? out.edges_untrimmed : moments;
+      break;
     case ExtentEstimate::moments: out.measured = moments; break;
     case ExtentEstimate::trimmed: out.measured = out.measured_trimmed; break;
     case ExtentEstimate::untrimmed: out.measured = out.measured_untrimmed; break;

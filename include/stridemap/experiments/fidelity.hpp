@@ -46,6 +46,8 @@ struct FidelitySceneResult {
   /// at least min_scored_extent_m; NaN when the scene has none.
   double urg_extent_error_pct = 0.0;
   double structured_light_extent_error_pct = 0.0;
+  /// The same from the sub-cell edges with every reading (ObjectMeasurement::edges_untrimmed).
+  double urg_extent_error_edges_untrimmed_pct = 0.0, structured_light_extent_error_edges_untrimmed_pct = 0.0;
   /// The same from the whole-cell extents (ObjectMeasurement::measured_trimmed, measured_untrimmed).
   double urg_extent_error_trimmed_pct = 0.0, urg_extent_error_untrimmed_pct = 0.0;
   double structured_light_extent_error_trimmed_pct = 0.0, structured_light_extent_error_untrimmed_pct = 0.0;

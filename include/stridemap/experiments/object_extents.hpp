@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "stridemap/experiments/box_edges.hpp"
 #include "stridemap/experiments/map_evaluation.hpp"
 #include "stridemap/sim/scene.hpp"
 
@@ -19,6 +20,11 @@ struct ObjectDimensions {
 
 /// How a box's length and width are read from its region of cells.
 enum class ExtentEstimate : std::uint8_t {
+  /// Sub-cell: the four edges fitted to the positions of the readings that
+  /// set the region's edge cells (experiments/box_edges.hpp, trimmed); the
+  /// map must hold the top-point layers (core/top_point.hpp), else the
+  /// second moments below are used.
+  edges,
   /// From the second moment of the region's cell centres along each axis,
   /// L = sqrt(12 var + s^2) - s: every cell counts, so where an edge falls
   /// inside its cell moves the estimate by a fraction of a cell, not by one.
@@ -36,10 +42,15 @@ struct ObjectMeasurement {
   ObjectDimensions truth;
   /// By ObjectMeasureOptions::extent (and height, the same in all three).
   ObjectDimensions measured;
+  /// Whole cells: ExtentEstimate::trimmed and untrimmed.
   ObjectDimensions measured_trimmed;
   ObjectDimensions measured_untrimmed;
-  /// The box's yaw as read from the map (the minimum-area rectangle of its
-  /// cells; length along it) [rad].
+  /// Sub-cell edge fits, trimmed and with every reading (NaN extents when
+  /// the map has no top-point layers or a side has too few readings).
+  ObjectDimensions edges_trimmed;
+  ObjectDimensions edges_untrimmed;
+  /// The box's yaw as read from the map (the trimmed edge fit's, else the
+  /// minimum-area rectangle of its cells; length along it) [rad].
   double measured_yaw_rad = 0.0;
   bool found = false;  ///< false when the map holds no cell above the half-height threshold
   std::size_t cells = 0;  ///< cells of the connected region taken as the object
@@ -55,7 +66,12 @@ struct ObjectMeasureOptions {
   /// A cell belongs to the object when it rises above the local ground by
   /// at least this fraction of the object's height in the map.
   double height_fraction = 0.5;
-  ExtentEstimate extent = ExtentEstimate::moments;
+  /// The sub-cell edges are fitted to the border of the box's top: the
+  /// region's cells at most this far below its median top [m] (and never
+  /// below the region's threshold).
+  double edge_band_m = 0.006;
+  ExtentEstimate extent = ExtentEstimate::edges;
+  BoxEdgeOptions edges{};
 };
 
 /// For each object: the connected region of known cells higher than half
@@ -64,7 +80,9 @@ struct ObjectMeasureOptions {
 /// object is which (its centre seeds the region, its length names the
 /// measured axis nearer its own): the region is not clipped to the true
 /// footprint and its axes are the minimum-area rectangle of its cells, not
-/// the true yaw. Height is the median of the region's measured elevations
+/// the true yaw. The sub-cell edges come from the readings of the region's
+/// border cells (their top-point layers), sorted to the sides of the
+/// cells' rectangle; nothing of the truth enters them. Height is the median of the region's measured elevations
 /// above the median of a ring of cells around it.
 std::vector<ObjectMeasurement> measure_objects(const MapSnapshot& snapshot, const Scene& scene,
                                                const ObjectMeasureOptions& options = {});

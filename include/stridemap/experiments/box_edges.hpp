@@ -1,0 +1,62 @@
+#pragma once
+// A box's four edges fitted to sub-cell precision from the positions of
+// the readings that set its edge cells (core/top_point.hpp). The cells say
+// roughly where the sides are (the minimum-area rectangle of the box's
+// region); each edge cell's reading is given to the nearest side; one
+// orientation shared by the four sides and one offset per side are fitted
+// by least squares (the smallest eigenvector of the pooled scatter, Eigen).
+// A reading that set an edge cell lies on the box's top inside the edge,
+// or on its face at the edge, so the edge is the outer envelope of the
+// side's readings, not their mean: each side's line is moved out to an
+// upper quantile of its readings' offsets.
+//
+// Trimmed: readings further from their side's line than a multiple of the
+// robust spread (median absolute deviation) are left out and the fit
+// repeated (a mixed pixel, a reading pushed off the edge by range noise).
+// Untrimmed: the same fit with every reading.
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace stridemap {
+
+struct BoxEdgeOptions {
+  /// A reading whose second-nearest side is within this many cells of it
+  /// sits in a corner and is not used: it could belong to either side.
+  double corner_cells = 1.0;
+  /// Trimming leaves out readings further from their line than this many
+  /// robust standard deviations (1.4826 x the median absolute deviation).
+  double trim_sigmas = 2.5;
+  /// ... but never closer than this [m] (noise-free readings have no spread).
+  double min_trim_m = 0.002;
+  int trim_rounds = 3;
+  /// The side's edge is at this quantile of its readings' offsets from the
+  /// fitted line, outwards (0.5 = the line itself, 1 = the outermost).
+  double edge_quantile = 0.9;
+};
+
+/// The rectangle the cells give, in a frame turned by `yaw_rad` (u along
+/// the first axis, v along the second), around which readings are sorted.
+struct BoxFrame {
+  double yaw_rad = 0.0;
+  double u_min_m = 0.0, u_max_m = 0.0, v_min_m = 0.0, v_max_m = 0.0;
+};
+
+struct BoxEdgeFit {
+  bool ok = false;  ///< false when a side has fewer than two readings
+  /// The fitted first axis's direction in the map frame [rad].
+  double yaw_rad = 0.0;
+  double length_m = 0.0;  ///< between the u sides
+  double width_m = 0.0;   ///< between the v sides
+  /// Readings used per side (u min, u max, v min, v max), after trimming.
+  std::array<std::size_t, 4> points{};
+};
+
+/// Fits the four edges to `readings` (map frame, any origin) with the
+/// sides placed by `frame` and `cell_size_m` setting the corner margin.
+BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const BoxFrame& frame, double cell_size_m,
+                         bool trim, const BoxEdgeOptions& options = {});
+
+}  // namespace stridemap
