@@ -21,7 +21,7 @@ for r in 0.1 0.3 0.5 0.7 0.9; do
         "$bin" experiment cart-rail --sensor structured-light --scene "$scene" --lux "$lux" --exposure "$exposure" \
           --seed "$seed" --out "$run" --quiet > "$run.txt"
         detected=$(grep -o '[0-9.]* % of the [0-9]* visible' "$run.txt" | cut -d' ' -f1)
-        worst=$(awk '/not found/ {m="missed"} $2 ~ /length|width|diameter/ && NF >= 5 && m != "missed" {e=$5; if (e<0) e=-e; if (e>w) w=e} END {print (m=="missed") ? "missed" : w}' "$run.txt")
+        worst=$(awk '/not found/ {m=1} {for (i = 1; i <= NF; i++) if (($i == "length" || $i == "width") && i + 3 <= NF) {e = $(i + 3); if (e < 0) e = -e; if (e > w) w = e}} END {print m ? "missed" : w}' "$run.txt")
         printf "%-10s %-11s %6s %5s %9s%% %10s\n" "$exposure" "$r" "$lux" "$seed" "$detected" "$worst"
       done
     done

@@ -42,7 +42,7 @@ struct CartRailArgs {
   std::string sensor_config_path;
   std::string pipeline = "image";
   double lux = 300.0;
-  std::string exposure = "auto";
+  std::string exposure = "highlight";
   bool cell_size_given = false, rule_given = false, filters_given = false, map_filter_given = false;
   bool mixed_pixels_given = false;
 };
@@ -100,7 +100,7 @@ void run_cart_rail_command(const CartRailArgs& args) {
   apply_exposure_arg(args.exposure, exposure_check);
   if (sensor == SimulatedSensor::urg &&
       (!args.sensor_config_path.empty() || args.pipeline != name(StripePipeline::image) || args.lux != 300.0 ||
-       args.exposure != "auto")) {
+       args.exposure != "highlight")) {
     throw InputError("--sensor-config, --pipeline, --lux and --exposure apply to --sensor structured-light only");
   }
   const Scene scene = load_scene_yaml(args.scene_path);
@@ -242,8 +242,9 @@ void register_experiment(CLI::App& app) {
   cart_rail->add_option("--lux", args->lux, "Structured light: ambient illuminance [lux]")->capture_default_str()
       ->check(number_from_to(0.0, 1e6, "lux"));
   cart_rail->add_option("--exposure", args->exposure,
-                        "Structured light: the camera's exposure: auto (metered on the image's mean), highlight (auto, "
-                        "but the brightest 1 % of the scene kept at or below 220 DN) or a fixed gain [DN per lux]")
+                        "Structured light: the camera's exposure: highlight (auto exposure metered on the image's mean, "
+                        "but the brightest 1 % of the scene kept at or below 220 DN), auto (the mean only) or a fixed "
+                        "gain [DN per lux]")
       ->capture_default_str();
   cart_rail->add_option("--scene", args->scene_path, "Scene file (YAML, see docs/scenes.md)")->required();
   cart_rail->add_option("--out", args->out_dir, "Output folder; results go to OUT/cart-rail-<sensor>/")->required();

@@ -234,6 +234,7 @@ TEST(StructuredLightImage, HighlightMeteringKeepsAWhiteBoxBelowTheClip) {
   scene.boxes.push_back(box);
   StripeImageOptions mean_metering;
   mean_metering.ambient.illuminance_lux = 1000.0;
+  mean_metering.camera.highlight_limit_dn = 0.0;
   StripeImageOptions highlight = mean_metering;
   highlight.camera.highlight_limit_dn = 220.0;
   std::vector<std::uint8_t> rgb;

@@ -81,8 +81,10 @@ struct CameraSensorOptions {
   /// is also held low enough that the brightest highlight_fraction of the
   /// pixels' ambient signal stays at or below this, so that a white object
   /// and the stripe on it are not clipped (cameras call it highlight
-  /// priority metering). 0 (default): metering on the mean only.
-  double highlight_limit_dn = 0.0;
+  /// priority metering). 220 DN by default: on grey scenes it never binds
+  /// (the gain is the mean metering's), on white objects it keeps the stripe
+  /// detectable (docs/structured_light_images.md). 0: the mean only.
+  double highlight_limit_dn = 220.0;
   double highlight_fraction = 0.01;
   /// Gain with auto exposure off [DN per lux times reflectance]: 0.8 puts a
   /// grey surface at 300 lux at 120 of 255.
