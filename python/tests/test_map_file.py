@@ -61,7 +61,9 @@ def test_a_damaged_file_names_the_problem(tmp_path, mapped_flat_walk):
 def test_exports_write_their_files(tmp_path, mapped_flat_walk):
     m = mapped_flat_walk.map
     written = m.export_npy(str(tmp_path / "npy"))
-    assert len(written) == len(stridemap.Map.layer_names)
+    # every layer of this map: the built-in ones and the pipeline's foothold layers
+    assert len(written) == len(m.layers())
+    assert len(written) > len(stridemap.Map.layer_names)
     elevation = np.load(str(tmp_path / "npy" / "elevation.npy"))
     assert np.array_equal(elevation, m.layer("elevation"), equal_nan=True)
     ply = m.export_ply(str(tmp_path / "map.ply"))

@@ -296,8 +296,8 @@ std::size_t MessageMapper::process(double now_s, bool end_of_stream) {
       drop(stats_.pose_unavailable, "no pose for the scan at " + std::to_string(w.time_s) + ": " + why);
     } else {
       // A planar scan takes the mapper's own scan path (eq. 6, as the URG's
-      // scans do); the pipeline has no front end for scans already planar.
-      const ScanStats stats = w.planar ? impl_->pipeline->mapper().integrate(w.scan, pose)
+      // scans do), through the pipeline so that its foothold layers follow.
+      const ScanStats stats = w.planar ? impl_->pipeline->add_planar(w.scan, pose)
                                        : impl_->pipeline->add(w.frame, pose).stats;
       if (stats.pose_rejected || stats.time_rejected) {
         drop(stats_.rejected_by_mapper, "the mapper refused the scan's pose or time");

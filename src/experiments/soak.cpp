@@ -63,6 +63,17 @@ class PlannerThread {
   std::thread thread_;
 };
 
+// The publisher's buffers get every layer the pipeline's map holds, those
+// it adds itself (the foothold layers) too: copying a snapshot into a buffer
+// then never allocates, however late the run first uses that buffer.
+GridOptions grid_with_every_layer(const ElevationMap& map, GridOptions grid) {
+  const ElevationMap declared(grid);
+  for (std::size_t k = 0; k < map.layer_count(); ++k) {
+    if (!declared.find_layer(map.layer_spec(k).name)) grid.extra_layers.push_back(map.layer_spec(k));
+  }
+  return grid;
+}
+
 class SoakRun {
  public:
   SoakRun(const Scene& scene, const SoakMotion& motion, const SoakOptions& options)
@@ -70,7 +81,7 @@ class SoakRun {
         motion_(motion),
         simulator_(scene, options.urg, options.sim, options.seed),
         pipeline_(pipeline_options(options)),
-        publisher_(options.mapper.grid),
+        publisher_(grid_with_every_layer(pipeline_.mapper().map(), options.mapper.grid)),
         fill_(options.fill) {
     result_.motion = motion.describe();
     // The only growth of the run, up front: one record per checkpoint.

@@ -42,6 +42,13 @@ ScanOutcome MappingPipeline::updated(ScanOutcome outcome) {
   return outcome;
 }
 
+ScanStats MappingPipeline::add_planar(const PlanarScan& scan, const TrunkPose& pose) {
+  ++stream_.scans;
+  const ScanStats stats = mapper_.integrate(scan, pose);
+  if (foothold_) foothold_->update(mapper_.map(), mapper_.take_changed_cells());
+  return stats;
+}
+
 void MappingPipeline::recompute_foothold() {
   (void)mapper_.take_changed_cells();
   if (foothold_) foothold_->recompute_all(mapper_.map());

@@ -44,6 +44,10 @@ class MappingPipeline {
   ScanOutcome add(const PointFrame& frame, const TrunkPose& pose);
   /// A sensor model of the caller's holding its next scan (SensorKind::custom).
   ScanOutcome add(SensorModel& model, double time_s, const TrunkPose& pose);
+  /// A scan already in its scan plane (a ROS LaserScan from any scanner):
+  /// the mapper's own planar path (eq. 6, as for the URG), no scan filters,
+  /// the foothold layers kept current as for every other scan.
+  ScanStats add_planar(const PlanarScan& scan, const TrunkPose& pose);
 
   // A pose stream: scans wait in a queue until their pose is known. The
   // scan's time must be on the poses' clock; `arrival_s` is when it arrived
