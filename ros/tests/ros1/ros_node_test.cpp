@@ -183,7 +183,7 @@ TEST_F(RosNodeTest, BadMessagesAreCountedAndReportedNeverFatal) {
     std::ofstream(user_file) << "a user's file, not the node's\n";
   }
   std::unique_ptr<Child> node = start_node(
-      "stridemap_bad", {{"pose_wait_s", "1.0"}, {"publish_every_s", "0.2"}, {"map_file", user_file}});
+      "stridemap_bad", {{"pose_wait_s", "5.0"}, {"publish_every_s", "0.2"}, {"map_file", user_file}});  // see ros_cloud_test
   listen_to_diagnostics("stridemap_bad");
   play(*nh_, bag, "stridemap_bad");
   ASSERT_TRUE(wait_for([&] { return diag("scans") >= 13 && diag("dropped_pose_timeout") >= 1; }, 120.0, pump))
