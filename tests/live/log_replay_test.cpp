@@ -84,7 +84,7 @@ void expect_same_layers(const ExportedMap& a, const ExportedMap& b) {
     ASSERT_EQ(x.spec.name, y.spec.name);
     ASSERT_EQ(x.f32.size(), y.f32.size());
     // Bit for bit, NaN included (memcmp of an empty layer's null data is undefined).
-    if (!x.f32.empty()) {
+    if (x.f32.size() > 0) {
       EXPECT_EQ(0, std::memcmp(x.f32.data(), y.f32.data(), sizeof(float) * static_cast<std::size_t>(x.f32.size())))
           << x.spec.name;
     }
