@@ -44,9 +44,9 @@ ScanOutcome MappingPipeline::updated(ScanOutcome outcome) {
 
 ScanStats MappingPipeline::add_planar(const PlanarScan& scan, const TrunkPose& pose) {
   ++stream_.scans;
-  const ScanStats stats = mapper_.integrate(scan, pose);
-  if (foothold_) foothold_->update(mapper_.map(), mapper_.take_changed_cells());
-  return stats;
+  ScanOutcome outcome;
+  outcome.stats = mapper_.integrate(scan, pose);
+  return updated(outcome).stats;
 }
 
 void MappingPipeline::recompute_foothold() {

@@ -289,11 +289,7 @@ TEST(LiveMapping, RunsOnAUrgDriverReadingTheEmulator) {
   server.pose_clock = PoseClock::sensor;
   test_emulator::RunningEmulator emulator(sim, server);
   UrgDriver driver(io::SerialPort::opener(server.link_path));
-  UrgDriverEvent event;
-  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-  while (std::chrono::steady_clock::now() < deadline) {
-    if (driver.next(event, 0.1) && event.kind == UrgDriverEvent::Kind::connected) break;
-  }
+  const UrgDriverEvent event = test_emulator::wait_until_connected(driver);
   ASSERT_EQ(event.kind, UrgDriverEvent::Kind::connected) << event.message;
   UrgDriverSource scans(driver);
   PoseStreamSource poses(server.poses_path);

@@ -13,6 +13,7 @@
 
 #include "stridemap/io/scene_yaml.hpp"
 #include "stridemap/live/emulator_server.hpp"
+#include "stridemap/sensors/urg_driver.hpp"
 #include "stridemap/sim/urg_scan_source.hpp"
 
 namespace stridemap::test_emulator {
@@ -78,5 +79,16 @@ class RunningEmulator {
   std::thread thread_;
 };
 
+
+// Reads the driver's events until it reports the sensor connected, for at
+// most 10 s; returns the last event for the test to check.
+inline UrgDriverEvent wait_until_connected(UrgDriver& driver) {
+  UrgDriverEvent event;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+  while (std::chrono::steady_clock::now() < deadline) {
+    if (driver.next(event, 0.1) && event.kind == UrgDriverEvent::Kind::connected) break;
+  }
+  return event;
+}
 
 }  // namespace stridemap::test_emulator
