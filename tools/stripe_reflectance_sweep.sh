@@ -7,6 +7,11 @@
 # Usage: tools/stripe_reflectance_sweep.sh BUILD_BIN OUT_DIR [SEEDS]
 set -euo pipefail
 bin=${1:?stridemap binary}; out=${2:?output folder}; seeds=${3:-1}
+# Never write over what a user already has: the folder must be new or empty.
+if [ -e "$out" ] && [ -n "$(ls -A "$out" 2>/dev/null)" ]; then
+  echo "stripe_reflectance_sweep: $out: the output folder exists and is not empty; give a new one" >&2
+  exit 2
+fi
 mkdir -p "$out"
 scene_src="$(dirname "$0")/../scenes/cart_rail_narrow.yaml"
 printf "%-10s %-11s %6s %5s %10s %10s\n" exposure reflectance lux seed detected worst_ext
