@@ -2,6 +2,7 @@
 // PointCloud2) and poses (TF or a pose topic) in, through MessageMapper to
 // the library's MappingPipeline; the map out as images, a cloud, a marker
 // and diagnostics; services to save and clear the map.
+#include <cstdint>
 #include <memory>
 #include <set>
 #include <sstream>
@@ -55,10 +56,17 @@ class Node {
     pnh.param<std::string>("layers", layers, "elevation,certainty,mean_elevation,state");
     double publish_every_s = 0.5;
     pnh.param("publish_every_s", publish_every_s, publish_every_s);
+    // roscpp drops the oldest message past a subscriber's queue without a
+    // word, so these are the node's only say in what a busy host loses.
+    int scan_queue_size = 200, cloud_queue_size = 50;
+    pnh.param("scan_queue_size", scan_queue_size, scan_queue_size);
+    pnh.param("cloud_queue_size", cloud_queue_size, cloud_queue_size);
     pnh.param<std::string>("map_file", map_file_, "stridemap_map.smap");
     layer_names_ = split_names(layers);
     if (scan_topic.empty() && cloud_topic.empty()) throw InputError("~scan_topic and ~cloud_topic: both empty");
     if (publish_every_s <= 0.0) throw InputError("~publish_every_s: must be positive");
+    if (scan_queue_size < 1) throw InputError("~scan_queue_size: must be at least 1");
+    if (cloud_queue_size < 1) throw InputError("~cloud_queue_size: must be at least 1");
 
     if (pose_topic.empty()) {
       poses_ = std::make_unique<TfPoseSource>(tf_, options.map_frame);
@@ -71,8 +79,8 @@ class Node {
     mapper_ = std::make_unique<MessageMapper>(options, *poses_);
     // The map is checked against the layer names once, so a typo fails at start.
     (void)mapper_->layers(layer_names_);
-    if (!scan_topic.empty()) scan_sub_ = nh.subscribe(scan_topic, 200, &Node::on_scan, this);
-    if (!cloud_topic.empty()) cloud_sub_ = nh.subscribe(cloud_topic, 50, &Node::on_cloud, this);
+    if (!scan_topic.empty()) scan_sub_ = nh.subscribe(scan_topic, static_cast<std::uint32_t>(scan_queue_size), &Node::on_scan, this);
+    if (!cloud_topic.empty()) cloud_sub_ = nh.subscribe(cloud_topic, static_cast<std::uint32_t>(cloud_queue_size), &Node::on_cloud, this);
     for (const std::string& name : layer_names_) {
       image_pubs_.push_back(pnh.advertise<sensor_msgs::Image>("layers/" + name, 1, true));
     }

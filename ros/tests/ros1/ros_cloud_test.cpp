@@ -94,6 +94,8 @@ TEST_F(RosNodeTest, MapsStripeCloudsLikeTheTruthAndLikeMapBagBitForBit) {
   const std::string node_map = *folder_ + "/stripe_node.smap";
   std::unique_ptr<Child> node =
       start_node("stridemap_stripe", {{"config", config}, {"cloud_topic", "/stripe"}, {"pose_wait_s", "30.0"},
+                                      // every frame may wait: a loaded CI host must lose none
+                                      {"cloud_queue_size", std::to_string(run.frames.size() + 10)},
                                       {"publish_every_s", "0.2"}, {"map_file", node_map}});
   listen_to_diagnostics("stridemap_stripe");
   sensor_msgs::Image::ConstPtr elevation;

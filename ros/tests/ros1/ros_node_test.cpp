@@ -268,5 +268,15 @@ TEST_F(RosNodeTest, PosesFromAnOdometryTopicGiveMapBagsMapBitForBit) {
   EXPECT_FALSE(std::filesystem::exists(*folder_ + "/never"));
 }
 
+TEST_F(RosNodeTest, ABadQueueSizeStopsTheNodeNamingTheParameter) {
+  for (const char* name : {"scan_queue_size", "cloud_queue_size"}) {
+    std::unique_ptr<Child> node = start_node("stridemap_bad_queue", {{name, "0"}, {"cloud_topic", "/stripe"}});
+    ASSERT_TRUE(wait_for([&] { return !node->running(); }, 60.0)) << name << " 0 was taken";
+    EXPECT_TRUE(WIFEXITED(node->exit_status()) && WEXITSTATUS(node->exit_status()) == 2) << name;
+    EXPECT_NE(read_text(log_).find(std::string("~") + name + ": must be at least 1"), std::string::npos)
+        << read_text(log_);
+  }
+}
+
 }  // namespace
 }  // namespace stridemap::ros_test
