@@ -5,9 +5,11 @@
 // ends in a readable message in #view-message, never a blank view; the
 // browser test reads document.body.dataset.view ("ready" or "error").
 // Performance marks (measured from navigation, docs/performance.md):
-// stridemap-data-read, stridemap-three-loaded, stridemap-mesh-built,
-// stridemap-render-issued (the first render's calls made), and
-// stridemap-first-frame (the frame after it reached the screen).
+// stridemap-data-read, stridemap-three-loaded (and the data read),
+// stridemap-mesh-built (the coarse level), stridemap-render-issued (the
+// first render's calls made), stridemap-first-frame (the frame after it
+// reached the screen) and stridemap-full-frame (the same for the full
+// level; body.dataset.detail is then "full").
 
 const messageBox = document.getElementById('view-message');
 
@@ -32,16 +34,18 @@ async function loadThree() {
 
 // ---- data -----------------------------------------------------------------
 
+// Native base64 (Uint8Array.fromBase64) where the browser has it: a
+// character loop over a megabyte of text was a visible part of the opening.
 function bytesOf(base64, what) {
-  let binary;
   try {
-    binary = atob(base64);
+    if (Uint8Array.fromBase64) return Uint8Array.fromBase64(base64);
+    const binary = atob(base64);
+    const bytes = new Uint8Array(binary.length);
+    for (let k = 0; k < binary.length; ++k) bytes[k] = binary.charCodeAt(k);
+    return bytes;
   } catch (e) {
     throw new Error(`${what}: the embedded data is not valid base64 (the page was cut or edited)`);
   }
-  const bytes = new Uint8Array(binary.length);
-  for (let k = 0; k < binary.length; ++k) bytes[k] = binary.charCodeAt(k);
-  return bytes;
 }
 
 function halfToFloat(h) {
@@ -51,6 +55,20 @@ function halfToFloat(h) {
   if (exponent === 0) return sign * fraction * 2 ** -24;
   if (exponent === 31) return fraction ? NaN : sign * Infinity;
   return sign * (1 + fraction / 1024) * 2 ** (exponent - 15);
+}
+
+// Browsers without Float16Array get a table of all 65536 halves, made once,
+// instead of a function call per cell.
+let halfTable = null;
+function halvesToFloats(halves) {
+  if (typeof Float16Array !== 'undefined') return Float32Array.from(new Float16Array(halves.buffer, halves.byteOffset, halves.length));
+  if (!halfTable) {
+    halfTable = new Float32Array(65536);
+    for (let h = 0; h < 65536; ++h) halfTable[h] = halfToFloat(h);
+  }
+  const out = new Float32Array(halves.length);
+  for (let k = 0; k < halves.length; ++k) out[k] = halfTable[halves[k]];
+  return out;
 }
 
 const bytesPerCell = { f32: 4, f16: 2, u16: 2, u8: 1 };
@@ -76,17 +94,12 @@ async function decodeLayer(layer, cells, mapName) {
   if (bytes.length !== cells * size) {
     throw new Error(`${what}: ${bytes.length} bytes where ${cells} cells need ${cells * size}`);
   }
-  if (layer.encoding === 'f32') return new Float32Array(bytes.buffer);
-  const out = new Float32Array(cells);
-  if (layer.encoding === 'f16') {
-    const halves = new Uint16Array(bytes.buffer);
-    for (let k = 0; k < cells; ++k) out[k] = halfToFloat(halves[k]);
-  } else if (layer.encoding === 'u16') {
-    out.set(new Uint16Array(bytes.buffer));
-  } else {
-    out.set(bytes);
-  }
-  return out;
+  // A fresh buffer: the typed views below need their byte offset aligned.
+  const aligned = bytes.byteOffset % size === 0 ? bytes : bytes.slice();
+  if (layer.encoding === 'f32') return new Float32Array(aligned.buffer, aligned.byteOffset, cells);
+  if (layer.encoding === 'f16') return halvesToFloats(new Uint16Array(aligned.buffer, aligned.byteOffset, cells));
+  if (layer.encoding === 'u16') return Float32Array.from(new Uint16Array(aligned.buffer, aligned.byteOffset, cells));
+  return Float32Array.from(aligned);
 }
 
 async function readMap(raw, index) {
@@ -97,12 +110,14 @@ async function readMap(raw, index) {
   }
   if (!(cell > 0)) throw new Error(`map '${name}': cell size ${cell} is not positive`);
   const cells = rows * cols;
-  const layers = new Map();
-  for (const layer of raw.layers ?? []) layers.set(layer.name, { units: layer.units ?? '', values: await decodeLayer(layer, cells, name) });
+  // All layers unpack at once: DecompressionStream works beside the script.
+  const rawLayers = raw.layers ?? [];
+  const [truth, ...decoded] = await Promise.all([raw.truth ? decodeLayer(raw.truth, cells, name) : null,
+                                                  ...rawLayers.map((layer) => decodeLayer(layer, cells, name))]);
+  const layers = new Map(rawLayers.map((layer, k) => [layer.name, { units: layer.units ?? '', values: decoded[k] }]));
   if (!layers.has('elevation')) throw new Error(`map '${name}': has no elevation layer`);
   const elevation = layers.get('elevation').values;
-  if (raw.truth) {
-    const truth = await decodeLayer(raw.truth, cells, name);
+  if (truth) {
     const error = new Float32Array(cells);
     for (let k = 0; k < cells; ++k) error[k] = elevation[k] - truth[k];
     layers.set('error vs truth', { units: 'm', values: error, signed: true });
@@ -169,16 +184,32 @@ function percentile(sorted, p) {
 // 2nd to 98th percentile, so that a few outlier cells do not wash the map
 // into one colour; signed layers get a range symmetric about zero.
 function robustRange(layer) {
-  const finite = Array.from(layer.values).filter(Number.isFinite);
+  const values = layer.values, finite = new Float32Array(values.length);
+  let n = 0;
+  for (let k = 0; k < values.length; ++k) {
+    const v = values[k];
+    if (Number.isFinite(v)) finite[n++] = layer.signed ? Math.abs(v) : v;
+  }
+  const sorted = finite.subarray(0, n).sort();
   if (layer.signed) {
-    const magnitudes = Float32Array.from(finite, Math.abs).sort();
-    const m = percentile(magnitudes, 0.98) || 0.01;
+    const m = percentile(sorted, 0.98) || 0.01;
     return [-m, m];
   }
-  const sorted = Float32Array.from(finite).sort();
   let low = percentile(sorted, 0.02), high = percentile(sorted, 0.98);
   if (!(high > low)) { low = (low || 0) - 0.01; high = low + 0.02; }
   return [low, high];
+}
+
+// Each scale as 256 colours of three bytes, made once: colouring a cell is
+// then a table look-up, not an interpolation.
+const colourTables = {};
+function colourTable(scale) {
+  if (!colourTables[scale]) {
+    const table = new Uint8Array(256 * 3);
+    for (let k = 0; k < 256; ++k) table.set(colourAt(scale, k / 255).map((c) => Math.round(255 * c)), 3 * k);
+    colourTables[scale] = table;
+  }
+  return colourTables[scale];
 }
 
 function niceStep(span) {
@@ -190,43 +221,105 @@ function formatLength(m) { return m < 1 ? `${+(m * 1000).toPrecision(3)} mm` : `
 
 // ---- scene ----------------------------------------------------------------
 
-function buildSurface(THREE, map, exaggeration) {
-  const { rows, cols, cell, ox, oy, elevation } = map;
-  const positions = new Float32Array(rows * cols * 3);
-  for (let i = 0; i < rows; ++i) {
-    for (let j = 0; j < cols; ++j) {
-      const k = i * cols + j, z = elevation[k];
-      positions.set([ox + i * cell, oy + j * cell, Number.isFinite(z) ? z * exaggeration : 0], 3 * k);
+// The coarse level drawn first has at most this many vertices a side; the
+// full map (a vertex per cell) follows once the first frame is on screen.
+// Software WebGL (no GPU) draws the half million triangles of a 500 x 500
+// map in seconds, the coarse level in a fraction (docs/performance.md).
+const coarseSide = 128;
+
+// One level of detail of a map's surface: a vertex at every step-th row and
+// column (and the last ones), so the outline stays. Its x, y and triangle
+// index are made once; heights, normals and colours are rewritten in place
+// when the exaggeration or the colour layer changes.
+function buildLevel(THREE, map, step) {
+  const pick = (n) => { const at = []; for (let k = 0; k < n - 1; k += step) at.push(k); at.push(n - 1); return at; };
+  const rowsAt = pick(map.rows), colsAt = pick(map.cols);
+  const nr = rowsAt.length, nc = colsAt.length, vertices = nr * nc;
+  const cellOf = new Uint32Array(vertices), positions = new Float32Array(vertices * 3);
+  for (let r = 0; r < nr; ++r) {
+    for (let c = 0; c < nc; ++c) {
+      const v = r * nc + c;
+      cellOf[v] = rowsAt[r] * map.cols + colsAt[c];
+      positions[3 * v] = map.ox + rowsAt[r] * map.cell;
+      positions[3 * v + 1] = map.oy + colsAt[c] * map.cell;
     }
   }
   // A triangle only where all its corners are known: unknown cells are holes.
-  const index = [];
-  const known = (k) => Number.isFinite(elevation[k]);
-  for (let i = 0; i + 1 < rows; ++i) {
-    for (let j = 0; j + 1 < cols; ++j) {
-      const a = i * cols + j, b = a + cols, c = b + 1, d = a + 1;
-      const ka = known(a), kb = known(b), kc = known(c), kd = known(d);
-      if (ka && kb && kc) index.push(a, b, c);
-      if (ka && kc && kd) index.push(a, c, d);
-      if (!kc && ka && kb && kd) index.push(a, b, d);
-      if (!ka && kb && kc && kd) index.push(b, c, d);
+  const elevation = map.elevation;
+  const known = (v) => Number.isFinite(elevation[cellOf[v]]);
+  const index = new Uint32Array(6 * (nr - 1) * (nc - 1));
+  let n = 0;
+  const triangle = (a, b, c) => { index[n++] = a; index[n++] = b; index[n++] = c; };
+  for (let r = 0; r + 1 < nr; ++r) {
+    for (let c = 0; c + 1 < nc; ++c) {
+      const a = r * nc + c, b = a + nc, cc = b + 1, d = a + 1;
+      const ka = known(a), kb = known(b), kc = known(cc), kd = known(d);
+      if (ka && kb && kc) triangle(a, b, cc);
+      if (ka && kc && kd) triangle(a, cc, d);
+      if (!kc && ka && kb && kd) triangle(a, b, d);
+      if (!ka && kb && kc && kd) triangle(b, cc, d);
     }
   }
   const geometry = new THREE.BufferGeometry();
   geometry.setAttribute('position', new THREE.BufferAttribute(positions, 3));
-  geometry.setAttribute('color', new THREE.BufferAttribute(new Float32Array(rows * cols * 3), 3));
-  geometry.setIndex(index);
-  geometry.computeVertexNormals();
-  const mesh = new THREE.Mesh(geometry, new THREE.MeshLambertMaterial({ vertexColors: true, side: THREE.DoubleSide }));
-  return mesh;
+  geometry.setAttribute('normal', new THREE.BufferAttribute(new Float32Array(vertices * 3), 3));
+  geometry.setAttribute('color', new THREE.BufferAttribute(new Uint8Array(vertices * 3), 3, true));
+  geometry.setIndex(new THREE.BufferAttribute(index.slice(0, n), 1));
+  return { step, nr, nc, cellOf, geometry };
 }
 
-function paint(mesh, values, range, scale) {
-  const colours = mesh.geometry.getAttribute('color');
-  const [low, high] = range;
-  for (let k = 0; k < values.length; ++k) {
-    const v = values[k];
-    colours.array.set(Number.isFinite(v) ? colourAt(scale, (v - low) / (high - low)) : unknownColour, 3 * k);
+// Heights and normals for an exaggeration. Normals come from the heights of
+// the grid neighbours (central differences, one-sided at holes and edges):
+// the same surface as the triangles' own normals, without a pass over them.
+function setHeights(level, map, exaggeration) {
+  const { nr, nc, cellOf, geometry } = level;
+  const positions = geometry.getAttribute('position'), normals = geometry.getAttribute('normal');
+  const p = positions.array, out = normals.array, elevation = map.elevation;
+  const z = new Float32Array(nr * nc);
+  for (let v = 0; v < z.length; ++v) {
+    const h = elevation[cellOf[v]] * exaggeration;
+    z[v] = h;
+    p[3 * v + 2] = Number.isFinite(h) ? h : 0;
+  }
+  // Slope along one grid direction at v: neighbours at v - stride and
+  // v + stride when they exist (has*) and are known.
+  const slope = (v, stride, hasBefore, hasAfter, axis) => {
+    const before = hasBefore && Number.isFinite(z[v - stride]) ? v - stride : v;
+    const after = hasAfter && Number.isFinite(z[v + stride]) ? v + stride : v;
+    return after === before ? 0 : (z[after] - z[before]) / (p[3 * after + axis] - p[3 * before + axis]);
+  };
+  for (let r = 0; r < nr; ++r) {
+    for (let c = 0; c < nc; ++c) {
+      const v = r * nc + c;
+      let nx = 0, ny = 0, nz = 1;
+      if (Number.isFinite(z[v])) {
+        nx = -slope(v, nc, r > 0, r + 1 < nr, 0);
+        ny = -slope(v, 1, c > 0, c + 1 < nc, 1);
+        const length = Math.hypot(nx, ny, 1);
+        nx /= length; ny /= length; nz = 1 / length;
+      }
+      out[3 * v] = nx; out[3 * v + 1] = ny; out[3 * v + 2] = nz;
+    }
+  }
+  positions.needsUpdate = true;
+  normals.needsUpdate = true;
+  geometry.boundingSphere = null;
+  geometry.boundingBox = null;
+}
+
+function paint(level, values, range, scale) {
+  const colours = level.geometry.getAttribute('color');
+  const out = colours.array, table = colourTable(scale), cellOf = level.cellOf;
+  const [low, high] = range, toIndex = 255 / (high - low);
+  const grey = Math.round(255 * unknownColour[0]);
+  for (let v = 0; v < cellOf.length; ++v) {
+    const value = values[cellOf[v]];
+    if (Number.isFinite(value)) {
+      const t = 3 * Math.min(255, Math.max(0, Math.round((value - low) * toIndex)));
+      out[3 * v] = table[t]; out[3 * v + 1] = table[t + 1]; out[3 * v + 2] = table[t + 2];
+    } else {
+      out[3 * v] = out[3 * v + 1] = out[3 * v + 2] = grey;
+    }
   }
   colours.needsUpdate = true;
 }
@@ -322,6 +415,9 @@ function drawLegend(state, range, layerName, units, scale, scaleLength) {
 }
 
 async function main() {
+  // three.js compiles while the data unpacks; a failure of either is
+  // reported in its turn, never as an unhandled rejection.
+  const three = loadThree().then((loaded) => ({ loaded }), (error) => ({ error }));
   let maps;
   try {
     maps = await readData();
@@ -330,14 +426,13 @@ async function main() {
     showMessage(e.message);
     return;
   }
-  let THREE, OrbitControls;
-  try {
-    ({ THREE, OrbitControls } = await loadThree());
-    performance.mark('stridemap-three-loaded');
-  } catch (e) {
-    showMessage(`The 3D library could not be loaded (${e.message}).`);
+  const { loaded, error } = await three;
+  if (error) {
+    showMessage(`The 3D library could not be loaded (${error.message}).`);
     return;
   }
+  const { THREE, OrbitControls } = loaded;
+  performance.mark('stridemap-three-loaded');
   const canvas = document.getElementById('canvas3d');
   let renderer;
   try {
@@ -359,14 +454,36 @@ async function main() {
     const sun = new THREE.DirectionalLight(0xffffff, 1.6);
     sun.position.set(-0.4, -0.6, 1.0);
     scene.add(sun);
-    return { map, scene, mesh: null, marks: null };
+    scene.add(buildScale(THREE, map, scaleLength));
+    return { map, scene, levels: [], mesh: null, marks: null };
   });
-  const rebuild = () => {
+  const material = new THREE.MeshLambertMaterial({ vertexColors: true, side: THREE.DoubleSide });
+  const colourLevel = (view, level) => {
+    // A map without this layer (the truth has no certainty) is drawn grey.
+    const own = view.map.layers.get(state.layer)?.values ?? new Float32Array(view.map.elevation.length).fill(NaN);
+    paint(level, own, state.range, state.signed ? 'diverging' : 'viridis');
+  };
+  // Shows a level (made now if new) of every view, in the current heights
+  // and colours.
+  const showLevel = (step) => {
     for (const view of views) {
-      for (const old of [view.mesh, view.marks]) if (old) view.scene.remove(old);
-      view.mesh = buildSurface(THREE, view.map, state.exaggeration);
+      let level = view.levels.find((l) => l.step === step);
+      if (!level) {
+        level = buildLevel(THREE, view.map, step);
+        setHeights(level, view.map, state.exaggeration);
+        if (state.range) colourLevel(view, level);
+        view.levels.push(level);
+      }
+      if (view.mesh) view.scene.remove(view.mesh);
+      view.mesh = new THREE.Mesh(level.geometry, material);
+      view.scene.add(view.mesh);
+    }
+  };
+  const placeMarks = () => {
+    for (const view of views) {
+      if (view.marks) view.scene.remove(view.marks);
       view.marks = buildMarks(THREE, view.map, state.exaggeration, size);
-      view.scene.add(view.mesh, view.marks, buildScale(THREE, view.map, scaleLength));
+      view.scene.add(view.marks);
     }
   };
 
@@ -414,11 +531,7 @@ async function main() {
     state.signed = !!layer.signed;
     if (!keepRange) state.range = robustRange(layer);
     const scale = state.signed ? 'diverging' : 'viridis';
-    for (const view of views) {
-      // A map without this layer (the truth has no certainty) is drawn grey.
-      const own = view.map.layers.get(state.layer)?.values ?? new Float32Array(view.map.elevation.length).fill(NaN);
-      paint(view.mesh, own, state.range, scale);
-    }
+    for (const view of views) for (const level of view.levels) colourLevel(view, level);
     minInput.value = +state.range[0].toPrecision(4);
     maxInput.value = +state.range[1].toPrecision(4);
     drawLegend(state, state.range, state.layer, layer.units, scale, scaleLength);
@@ -434,24 +547,47 @@ async function main() {
   minInput.addEventListener('change', typedRange);
   maxInput.addEventListener('change', typedRange);
   autoButton.addEventListener('click', () => recolour(false));
-  exaggerationSelect.addEventListener('change', () => { state.exaggeration = +exaggerationSelect.value; rebuild(); recolour(true); });
+  exaggerationSelect.addEventListener('change', () => {
+    state.exaggeration = +exaggerationSelect.value;
+    for (const view of views) for (const level of view.levels) setHeights(level, view.map, state.exaggeration);
+    placeMarks();
+    render();
+  });
   if (sideBox) {
     sideBox.addEventListener('change', () => { state.sideBySide = sideBox.checked; render(); });
     secondSelect.addEventListener('change', () => { state.second = +secondSelect.value; render(); });
   }
   controls.addEventListener('change', render);
   window.addEventListener('resize', render);
-  rebuild();
+  // The coarse level first, so that the view is on screen quickly; the full
+  // one after that frame, in a task of its own.
+  const coarseStep = Math.max(1, Math.ceil(Math.max(main.rows, main.cols) / coarseSide));
+  showLevel(coarseStep);
+  placeMarks();
   performance.mark('stridemap-mesh-built');
   recolour(false);
   performance.mark('stridemap-render-issued');
   document.body.dataset.readyMs = Math.round(performance.now());
   document.body.dataset.view = 'ready';
-  // Two frames on: the first render's frame has been composited.
-  requestAnimationFrame(() => requestAnimationFrame(() => {
+  const fullShown = () => {
+    performance.mark('stridemap-full-frame');
+    document.body.dataset.detail = 'full';
+  };
+  // Two frames on: the render's frame has been composited.
+  const afterNextFrame = (then) => requestAnimationFrame(() => requestAnimationFrame(then));
+  afterNextFrame(() => {
     performance.mark('stridemap-first-frame');
     document.body.dataset.firstFrameMs = Math.round(performance.now());
-  }));
+    if (coarseStep === 1) {
+      fullShown();
+      return;
+    }
+    setTimeout(() => {
+      showLevel(1);
+      render();
+      afterNextFrame(fullShown);
+    }, 0);
+  });
 }
 
 main().catch((e) => showMessage(`The 3D view failed: ${e.message}`));

@@ -107,7 +107,7 @@ const pixelStats = (page) => page.evaluate(() => {
 
 // Milliseconds from navigation to the page's performance marks (web/report.js).
 const marks = (page) => page.evaluate(() => Object.fromEntries(
-  ['stridemap-data-read', 'stridemap-three-loaded', 'stridemap-mesh-built', 'stridemap-render-issued', 'stridemap-first-frame'].map((n) => [n.replace('stridemap-', ''), performance.getEntriesByName(n)[0]?.startTime])));
+  ['stridemap-data-read', 'stridemap-three-loaded', 'stridemap-mesh-built', 'stridemap-render-issued', 'stridemap-first-frame', 'stridemap-full-frame'].map((n) => [n.replace('stridemap-', ''), performance.getEntriesByName(n)[0]?.startTime])));
 
 try {
   {
@@ -120,10 +120,10 @@ try {
     const times = [];
     for (let k = 0; k < 3; ++k) {
       const big = await open(bigPage);
-      await big.page.waitForFunction(() => performance.getEntriesByName('stridemap-first-frame').length > 0, null, { timeout: 20000 });
+      await big.page.waitForSelector('body[data-detail="full"]', { timeout: 30000 });
       const m = await marks(big.page);
       times.push(m['first-frame']);
-      console.log(`500 x 500 page, opening ${k + 1}: data read ${m['data-read'].toFixed(0)} ms, three.js loaded ${m['three-loaded'].toFixed(0)} ms, mesh built ${m['mesh-built'].toFixed(0)} ms, render issued ${m['render-issued'].toFixed(0)} ms, first frame ${m['first-frame'].toFixed(0)} ms after navigation`);
+      console.log(`500 x 500 page, opening ${k + 1}: data read ${m['data-read'].toFixed(0)} ms, three.js loaded ${m['three-loaded'].toFixed(0)} ms, mesh built ${m['mesh-built'].toFixed(0)} ms, render issued ${m['render-issued'].toFixed(0)} ms, first frame ${m['first-frame'].toFixed(0)} ms, full detail ${m['full-frame'].toFixed(0)} ms after navigation`);
       check(big.errors.length === 0, `  no console error${big.errors.length ? ': ' + big.errors.join(' | ') : ''}`);
       await big.page.close();
     }
@@ -135,6 +135,8 @@ try {
   const good = await open(goodPage);
   console.log(`report page ${(fs.statSync(goodPage).size / 1e6).toFixed(2)} MB, ready in ${good.ms} ms`);
   check(await good.page.evaluate(() => document.body.dataset.view) === 'ready', 'the 3D view is ready');
+  // The coarse level comes first; compare pictures of the full one.
+  await good.page.waitForSelector('body[data-detail="full"]', { timeout: 30000 });
   check(good.errors.length === 0, `no console error${good.errors.length ? ': ' + good.errors.join(' | ') : ''}`);
   const before = await pixelStats(good.page);
   check(before.differ > 0.05, `the canvas is not blank: ${(100 * before.differ).toFixed(1)} % of its pixels differ from the background`);
@@ -147,6 +149,13 @@ try {
   changed /= before.pixels.length;
   check(changed > 5, `switching to 'error vs truth' changes the picture (mean channel change ${changed.toFixed(1)})`);
   check(await good.page.$eval('#stage', (s) => s.dataset.split) === 'yes', 'the truth is shown side by side');
+  // Heights are rewritten in place (the triangles stay): the relief must change.
+  await good.page.selectOption('#exaggeration', '10');
+  const raised = await pixelStats(good.page);
+  let moved = 0;
+  for (let k = 0; k < after.pixels.length; ++k) moved += Math.abs(after.pixels[k] - raised.pixels[k]);
+  moved /= after.pixels.length;
+  check(moved > 2 && raised.differ > 0.05, `heights x 10 changes the picture (mean channel change ${moved.toFixed(1)}) and it stays drawn`);
   check(good.errors.length === 0, 'still no console error after switching');
   for (const [file, expected] of [[path.join(damaged, 'report.html'), /checksum|damaged/i],
                                   [path.join(work, 'empty.html'), /no known cell/],
