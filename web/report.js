@@ -110,13 +110,18 @@ async function readMap(raw, index) {
   }
   if (!(cell > 0)) throw new Error(`map '${name}': cell size ${cell} is not positive`);
   const cells = rows * cols;
-  // All layers unpack at once: DecompressionStream works beside the script.
+  // The first frame needs the elevation (and the truth) only; the other
+  // layers (a dozen on a mapped run) unpack after it (loadLayers).
   const rawLayers = raw.layers ?? [];
-  const [truth, ...decoded] = await Promise.all([raw.truth ? decodeLayer(raw.truth, cells, name) : null,
-                                                  ...rawLayers.map((layer) => decodeLayer(layer, cells, name))]);
-  const layers = new Map(rawLayers.map((layer, k) => [layer.name, { units: layer.units ?? '', values: decoded[k] }]));
-  if (!layers.has('elevation')) throw new Error(`map '${name}': has no elevation layer`);
-  const elevation = layers.get('elevation').values;
+  const rawElevation = rawLayers.find((layer) => layer.name === 'elevation');
+  if (!rawElevation) throw new Error(`map '${name}': has no elevation layer`);
+  const [elevation, truth] = await Promise.all([decodeLayer(rawElevation, cells, name),
+                                                raw.truth ? decodeLayer(raw.truth, cells, name) : null]);
+  const layers = new Map(rawLayers.map((layer) => [layer.name, {
+    units: layer.units ?? '',
+    values: layer === rawElevation ? elevation : null,
+    load: () => decodeLayer(layer, cells, name),
+  }]));
   if (truth) {
     const error = new Float32Array(cells);
     for (let k = 0; k < cells; ++k) error[k] = elevation[k] - truth[k];
@@ -128,6 +133,20 @@ async function readMap(raw, index) {
   if (known === 0) throw new Error(`map '${name}': holds no known cell, so there is nothing to draw (was anything mapped?)`);
   return { name, rows, cols, cell, ox: raw.origin_x_m ?? 0, oy: raw.origin_y_m ?? 0, layers, elevation, known,
            path: raw.path ?? [], lastPose: raw.last_pose ?? null, mount: raw.mount ?? null, truth: raw.truthValues ?? null };
+}
+
+// Unpacks the layers readMap left for later (all at once: DecompressionStream
+// works beside the script).
+function loadLayers(maps) {
+  const pending = [];
+  for (const map of maps) {
+    for (const layer of map.layers.values()) {
+      if (layer.values || !layer.load) continue;
+      layer.loading ??= layer.load().then((values) => { layer.values = values; });
+      pending.push(layer.loading);
+    }
+  }
+  return Promise.all(pending);
 }
 
 async function readData() {
@@ -539,7 +558,16 @@ async function main() {
     document.body.dataset.layer = state.layer;
   };
 
-  layerSelect.addEventListener('change', () => { state.layer = layerSelect.value; recolour(false); });
+  layerSelect.addEventListener('change', async () => {
+    state.layer = layerSelect.value;
+    try {
+      await loadLayers(maps);
+    } catch (e) {
+      showMessage(e.message);
+      return;
+    }
+    if (state.layer === layerSelect.value) recolour(false);
+  });
   const typedRange = () => {
     const low = parseFloat(minInput.value), high = parseFloat(maxInput.value);
     if (Number.isFinite(low) && Number.isFinite(high) && high > low) { state.range = [low, high]; recolour(true); }
@@ -579,14 +607,14 @@ async function main() {
     performance.mark('stridemap-first-frame');
     document.body.dataset.firstFrameMs = Math.round(performance.now());
     if (coarseStep === 1) {
-      fullShown();
+      loadLayers(maps).then(fullShown, (e) => showMessage(e.message));
       return;
     }
-    setTimeout(() => {
+    loadLayers(maps).then(() => {
       showLevel(1);
       render();
       afterNextFrame(fullShown);
-    }, 0);
+    }, (e) => showMessage(e.message));
   });
 }
 

@@ -61,11 +61,14 @@ const loadAverage = () => os.loadavg().map((v) => v.toFixed(2)).join(' ');
 
 console.log(`chromium ${browser.version()}, ${os.cpus().length} cores, load average before: ${loadAverage()}`);
 console.log(`${'page'.padEnd(40)} ${'MB'.padStart(5)} ${markNames.map((n) => n.padStart(13)).join('')}  non-background`);
+// Round robin over the pages, so that a change in the machine's load hits
+// all of them alike (pages made by two versions compare fairly).
 const all = Object.fromEntries(markNames.map((n) => [n, []]));
+const perPage = new Map(pages.map((file) => [file, Object.fromEntries(markNames.map((n) => [n, []]))]));
 try {
-  for (const file of pages) {
-    const mb = fs.statSync(file).size / 1e6;
-    for (let k = 0; k < loads; ++k) {
+  for (let k = 0; k < loads; ++k) {
+    for (const file of pages) {
+      const mb = fs.statSync(file).size / 1e6;
       const context = await browser.newContext({ viewport: { width: 1200, height: 900 } });
       const page = await context.newPage();
       const errors = [];
@@ -86,10 +89,13 @@ try {
         for (let i = 0; i < p.length; i += 4) differ += Math.abs(p[i] - 244) + Math.abs(p[i + 1] - 244) + Math.abs(p[i + 2] - 244) > 24;
         return differ / (p.length / 4);
       });
-      await page.waitForFunction(() => performance.getEntriesByName('stridemap-full-frame').length > 0 || document.body.dataset.view === 'error',
-                                 null, { timeout: 60000 }).catch(() => {});
+      // Pages made before the coarse level existed have no full-frame mark.
+      if (await page.evaluate(() => document.querySelector('script[type=module]').textContent.includes('stridemap-full-frame'))) {
+        await page.waitForFunction(() => performance.getEntriesByName('stridemap-full-frame').length > 0 || document.body.dataset.view === 'error',
+                                   null, { timeout: 60000 });
+      }
       const marks = await page.evaluate((names) => names.map((n) => performance.getEntriesByName(`stridemap-${n}`)[0]?.startTime), markNames);
-      marks.forEach((v, i) => all[markNames[i]].push(v));
+      marks.forEach((v, i) => { all[markNames[i]].push(v); perPage.get(file)[markNames[i]].push(v); });
       const name = path.relative(process.cwd(), file);
       console.log(`${name.slice(-40).padEnd(40)} ${mb.toFixed(2).padStart(5)} ${marks.map((v) => fmt(v).padStart(13)).join('')}  ${(100 * drawn).toFixed(1)} %` +
                   (errors.length ? `  errors: ${errors.join(' | ')}` : ''));
@@ -98,6 +104,11 @@ try {
   }
 } finally {
   await browser.close();
+}
+if (pages.length > 1) {
+  for (const [file, marks] of perPage) {
+    console.log(`${('median ' + path.relative(process.cwd(), file)).slice(-46).padEnd(46)} ${markNames.map((n) => fmt(median(marks[n])).padStart(13)).join('')}`);
+  }
 }
 console.log(`${'median [ms from navigation start]'.padEnd(46)} ${markNames.map((n) => fmt(median(all[n])).padStart(13)).join('')}`);
 console.log(`load average after: ${loadAverage()}`);
