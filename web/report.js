@@ -496,6 +496,9 @@ async function main() {
       if (view.mesh) view.scene.remove(view.mesh);
       view.mesh = new THREE.Mesh(level.geometry, material);
       view.scene.add(view.mesh);
+      // A coarser level is not shown again: no more repainting it.
+      for (const old of view.levels) if (old.step > step) old.geometry.dispose();
+      view.levels = view.levels.filter((l) => l.step <= step);
     }
   };
   const placeMarks = () => {
