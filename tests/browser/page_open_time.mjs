@@ -55,12 +55,15 @@ const browser = await chromium.launch({
   args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
 });
 const markNames = ['data-read', 'three-loaded', 'mesh-built', 'render-issued', 'first-frame', 'full-frame'];
-const median = (values) => { const s = values.filter(Number.isFinite).sort((a, b) => a - b); return s.length ? s[(s.length - 1) >> 1] : NaN; };
+const median = (values) => {
+  const s = values.filter(Number.isFinite).sort((a, b) => a - b), h = s.length >> 1;
+  return s.length === 0 ? NaN : s.length % 2 ? s[h] : (s[h - 1] + s[h]) / 2;
+};
 const fmt = (v) => (Number.isFinite(v) ? v.toFixed(0).padStart(6) : '     -');
 const loadAverage = () => os.loadavg().map((v) => v.toFixed(2)).join(' ');
 
 console.log(`chromium ${browser.version()}, ${os.cpus().length} cores, load average before: ${loadAverage()}`);
-console.log(`${'page'.padEnd(40)} ${'MB'.padStart(5)} ${markNames.map((n) => n.padStart(13)).join('')}  non-background`);
+console.log(`${'page'.padEnd(40)} ${'MB'.padStart(5)} ${markNames.map((n) => n.padStart(14)).join('')}  non-background`);
 // Round robin over the pages, so that a change in the machine's load hits
 // all of them alike (pages made by two versions compare fairly).
 const all = Object.fromEntries(markNames.map((n) => [n, []]));
@@ -97,7 +100,7 @@ try {
       const marks = await page.evaluate((names) => names.map((n) => performance.getEntriesByName(`stridemap-${n}`)[0]?.startTime), markNames);
       marks.forEach((v, i) => { all[markNames[i]].push(v); perPage.get(file)[markNames[i]].push(v); });
       const name = path.relative(process.cwd(), file);
-      console.log(`${name.slice(-40).padEnd(40)} ${mb.toFixed(2).padStart(5)} ${marks.map((v) => fmt(v).padStart(13)).join('')}  ${(100 * drawn).toFixed(1)} %` +
+      console.log(`${name.slice(-40).padEnd(40)} ${mb.toFixed(2).padStart(5)} ${marks.map((v) => fmt(v).padStart(14)).join('')}  ${(100 * drawn).toFixed(1)} %` +
                   (errors.length ? `  errors: ${errors.join(' | ')}` : ''));
       await context.close();
     }
@@ -107,8 +110,8 @@ try {
 }
 if (pages.length > 1) {
   for (const [file, marks] of perPage) {
-    console.log(`${('median ' + path.relative(process.cwd(), file)).slice(-46).padEnd(46)} ${markNames.map((n) => fmt(median(marks[n])).padStart(13)).join('')}`);
+    console.log(`${('median ' + path.relative(process.cwd(), file)).slice(-46).padEnd(46)} ${markNames.map((n) => fmt(median(marks[n])).padStart(14)).join('')}`);
   }
 }
-console.log(`${'median [ms from navigation start]'.padEnd(46)} ${markNames.map((n) => fmt(median(all[n])).padStart(13)).join('')}`);
+console.log(`${'median [ms from navigation start]'.padEnd(46)} ${markNames.map((n) => fmt(median(all[n])).padStart(14)).join('')}`);
 console.log(`load average after: ${loadAverage()}`);
