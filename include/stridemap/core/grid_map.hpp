@@ -208,7 +208,6 @@ class ElevationMap {
     const std::int64_t m = v % n_;
     return m < 0 ? m + n_ : m;
   }
-  void reset_rows_leaving(std::int64_t old_min, std::int64_t new_min, bool along_x);
 
   void set_min_cell(CellIndex c) {
     min_cell_ = c;
