@@ -54,6 +54,7 @@ namespace {
 // true, and subtracting it counts. `values` has room for `Blocks` vectors.
 using Floats = float __attribute__((vector_size(16)));
 using Counts = std::int32_t __attribute__((vector_size(16)));
+using Masks = std::uint32_t __attribute__((vector_size(16)));
 template <std::size_t Blocks>
 void count_ranks_fixed(const float* values, std::size_t count, std::uint32_t* ranks) {
   // A fixed number of blocks stays in registers; the blocks past the
@@ -96,6 +97,16 @@ template <typename Candidate>
 bool sort_distinct(const Candidate* in, std::size_t count, const float* values, std::uint32_t* ranks,
                    Candidate* out) {
   count_ranks(values, count, ranks);
+  if (count <= 64) {
+    // The ranks are a permutation exactly when the values are distinct and
+    // none is NaN (equal values share a rank; a NaN has rank 0 and leaves
+    // the others fewer places than values): one bit per rank tells.
+    std::uint64_t seen = 0;
+    for (std::size_t k = 0; k < count; ++k) seen |= std::uint64_t{1} << ranks[k];
+    if (seen != (count == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << count) - 1)) return false;
+    for (std::size_t k = 0; k < count; ++k) out[ranks[k]] = in[k];
+    return true;
+  }
   for (std::size_t k = 0; k < count; ++k) out[k].value = std::numeric_limits<float>::quiet_NaN();
   for (std::size_t k = 0; k < count; ++k) out[ranks[k]] = in[k];
   for (std::size_t k = 0; k + 1 < count; ++k) {
@@ -122,9 +133,10 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
   const int p = n + 2 * w;
   const auto padded_cells = static_cast<std::size_t>(p) * static_cast<std::size_t>(p);
   known_.assign(padded_cells, 0);
-  known_mask_.assign(padded_cells, 0u);
+  // Room past the end for the row pass's last group of four cells.
+  known_mask_.assign(padded_cells + 4, 0u);
   value_.assign(padded_cells, 0.0f);
-  weight_.assign(padded_cells, 0.0f);
+  weight_.assign(padded_cells + 4, 0.0f);
   slot_.resize(cells);
   for (int i = 0; i < n; ++i) {
     const std::size_t row = map.slot(map.cell_at_local(i, 0)) / static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
@@ -171,35 +183,43 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
   // the compiler works on many cells side by side. Only cells that pass are
   // gathered and sorted.
   const auto un = static_cast<std::size_t>(n);
-  count_.resize(un);
-  quadrants_.resize(un);
-  total_.resize(un);
+  const std::size_t groups = (un + 3) / 4 * 4;
+  count_.resize(groups);
+  quadrants_.resize(groups);
+  total_.resize(groups);
   std::array<Candidate, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1)> candidates{}, gathered{};
   alignas(64) std::array<float, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1) + 8> scratch{};
   alignas(64) std::array<std::uint32_t, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1) + 8> ranks{};
   for (int i = 0; i < n; ++i) {
     const std::size_t row_start = static_cast<std::size_t>(i + w) * static_cast<std::size_t>(p) + static_cast<std::size_t>(w);
-    std::fill(count_.begin(), count_.end(), 0u);
-    std::fill(quadrants_.begin(), quadrants_.end(), 0u);
-    std::fill(total_.begin(), total_.end(), 0.0f);
-    std::uint32_t* __restrict count_row = count_.data();
-    std::uint32_t* __restrict quadrant_row = quadrants_.data();
-    float* __restrict total_row = total_.data();
-    for (std::size_t k = 0; k < neighbour_count; ++k) {
-      const Neighbour nb = neighbours[k];
-      const std::uint32_t* __restrict known = known_mask_.data() + static_cast<std::ptrdiff_t>(row_start) + nb.offset;
-      const float* __restrict weight = weight_.data() + static_cast<std::ptrdiff_t>(row_start) + nb.offset;
-      for (std::size_t j = 0; j < un; ++j) {
-        const std::uint32_t mask = known[j];
-        const float add = weight[j] * nb.factor;
-        count_row[j] += mask & 1u;
+    // Four cells at a time, their sums kept in registers over all the
+    // neighbours; the arrays have room for the last group of four.
+    for (std::size_t j = 0; j < un; j += 4) {
+      Masks count = {0, 0, 0, 0}, quadrants = {0, 0, 0, 0};
+      Floats total = {0.0f, 0.0f, 0.0f, 0.0f};
+      for (std::size_t k = 0; k < neighbour_count; ++k) {
+        const Neighbour& nb = neighbours[k];
+        const std::size_t t = row_start + j + static_cast<std::size_t>(nb.offset);
+        Masks known;
+        Floats weight;
+        std::memcpy(&known, known_mask_.data() + t, sizeof known);
+        std::memcpy(&weight, weight_.data() + t, sizeof weight);
+        const Floats add = weight * nb.factor;
         // A select by bits: the sum is formed for every cell (a conditional
         // float add is a branch to the compiler) and kept only where known.
-        const std::uint32_t sum = std::bit_cast<std::uint32_t>(total_row[j] + add);
-        total_row[j] = std::bit_cast<float>((sum & mask) | (std::bit_cast<std::uint32_t>(total_row[j]) & ~mask));
-        quadrant_row[j] |= mask & nb.quadrant_bit;
+        const Floats sum = total + add;
+        total = reinterpret_cast<Floats>((reinterpret_cast<Masks>(sum) & known) |
+                                         (reinterpret_cast<Masks>(total) & ~known));
+        count -= known;  // all ones is -1
+        quadrants |= known & nb.quadrant_bit;
       }
+      std::memcpy(count_.data() + j, &count, sizeof count);
+      std::memcpy(quadrants_.data() + j, &quadrants, sizeof quadrants);
+      std::memcpy(total_.data() + j, &total, sizeof total);
     }
+    const std::uint32_t* count_row = count_.data();
+    const std::uint32_t* quadrant_row = quadrants_.data();
+    const float* total_row = total_.data();
     for (std::size_t j = 0; j < un; ++j) {
       const std::size_t centre = row_start + j;
       if (known_[centre] != 0) continue;
