@@ -68,20 +68,21 @@ int wrapped(int first, int offset, int n) {
   return s >= n ? s - n : s;
 }
 
-// Columns `columns` of the rows `rows` of one layer back to `value`: per
-// row a contiguous fill, no modulo per cell.
+// Columns `columns` of the rows `rows` of one layer back to `value`. A
+// column is one element per row, N elements apart: a plain strided store
+// (a fill call per row would cost ten times the store).
 template <typename T>
 void reset_columns(std::vector<T>& values, T value, std::size_t n, const Runs& rows, const Runs& columns) {
   T* data = values.data();
-  for (int r = 0; r < rows.count; ++r) {
-    for (std::size_t row = rows.begin[r]; row < rows.end[r]; ++row) {
-      T* line = data + row * n;
-      for (int c = 0; c < columns.count; ++c) {
-        // A one-cell move is one element per row: a store, not a fill call.
-        if (columns.end[c] - columns.begin[c] == 1) {
-          line[columns.begin[c]] = value;
-        } else {
-          std::fill(line + columns.begin[c], line + columns.end[c], value);
+  for (int c = 0; c < columns.count; ++c) {
+    const std::size_t first = columns.begin[c], width = columns.end[c] - first;
+    for (int r = 0; r < rows.count; ++r) {
+      std::size_t at = rows.begin[r] * n + first;
+      if (width == 1) {
+        for (std::size_t row = rows.begin[r]; row < rows.end[r]; ++row, at += n) data[at] = value;
+      } else {
+        for (std::size_t row = rows.begin[r]; row < rows.end[r]; ++row, at += n) {
+          for (std::size_t k = 0; k < width; ++k) data[at + k] = value;
         }
       }
     }
@@ -226,8 +227,9 @@ void ElevationMap::clear() {
   for (Layer& layer : layers_) fill_with_reset(layer);
 }
 
-void ElevationMap::reset_slots(std::size_t begin, std::size_t end) {
+void ElevationMap::reset_rows(std::size_t begin_row, std::size_t end_row) {
   // Layer by layer: one fill each rather than a type switch per slot.
+  const std::size_t begin = begin_row * static_cast<std::size_t>(n_), end = end_row * static_cast<std::size_t>(n_);
   for (Layer& layer : layers_) {
     switch (layer.spec.type) {
       case LayerType::f32: std::fill(layer.f32.begin() + begin, layer.f32.begin() + end, layer.reset_f32); break;
@@ -266,7 +268,7 @@ std::size_t ElevationMap::move_corner_to(CellIndex new_min) {
   // one fill per layer for each run of them.
   const Runs rows = runs_from(sx > 0 ? min_slot_x_ : new_slot_x, std::abs(sx), n_);
   for (int r = 0; r < rows.count; ++r) {
-    reset_slots(rows.begin[r] * n, rows.end[r] * n);
+    reset_rows(rows.begin[r], rows.end[r]);
     reset += (rows.end[r] - rows.begin[r]) * n;
   }
   // Columns that leave along y, in the rows both windows cover (the others

@@ -238,7 +238,7 @@ class ElevationMap {
     else return layer.u8;
   }
   std::size_t checked_layer(std::string_view name, LayerType type) const;
-  void reset_slots(std::size_t begin, std::size_t end);
+  void reset_rows(std::size_t begin_row, std::size_t end_row);
   void fill_with_reset(Layer& layer);
 
   int n_;
