@@ -41,43 +41,51 @@ void check_cell_size(double cell_size_m) {
   }
 }
 
-// The slot rows (or columns) of `count` consecutive global indices from
-// `first` in a circular window of n: one run, or two where they wrap.
+// The slots of `count` consecutive rows (or columns) of a circular window
+// of n whose first has slot `first` (0 <= first < n): one run, or two where
+// they wrap. No modulo: a move costs tens of nanoseconds, and a 64-bit
+// division is a good part of that.
 struct Runs {
   std::size_t begin[2] = {0, 0}, end[2] = {0, 0};
   int count = 0;
 };
-Runs runs_of(std::int64_t first, std::int64_t count, std::int64_t n) {
+Runs runs_from(int first, int count, int n) {
   Runs runs;
   if (count <= 0) return runs;
-  const std::int64_t m = first % n;
-  const std::int64_t start = m < 0 ? m + n : m;
-  runs.begin[0] = static_cast<std::size_t>(start);
-  runs.end[0] = static_cast<std::size_t>(std::min(start + count, n));
+  runs.begin[0] = static_cast<std::size_t>(first);
+  runs.end[0] = static_cast<std::size_t>(std::min(first + count, n));
   runs.count = 1;
-  if (start + count > n) {
-    runs.end[1] = static_cast<std::size_t>(start + count - n);
+  if (first + count > n) {
+    runs.end[1] = static_cast<std::size_t>(first + count - n);
     runs.count = 2;
   }
   return runs;
 }
 
-// Columns `columns` of the rows `rows` of one layer back to `value`: per
-// row a contiguous fill, no modulo per cell.
+// Slot of local position `offset` (0 <= offset < n) from slot `first`.
+int wrapped(int first, int offset, int n) {
+  const int s = first + offset;
+  return s >= n ? s - n : s;
+}
+
+// Columns `columns` of the rows `rows` of one layer back to `value`. A
+// one-cell move is one element per row, N elements apart: a plain strided
+// store (the general loop below costs three times its instructions). Wider
+// moves fill each row's runs while the row is in cache.
 template <typename T>
 void reset_columns(std::vector<T>& values, T value, std::size_t n, const Runs& rows, const Runs& columns) {
   T* data = values.data();
+  if (columns.count == 1 && columns.end[0] - columns.begin[0] == 1) {
+    for (int r = 0; r < rows.count; ++r) {
+      std::size_t at = rows.begin[r] * n + columns.begin[0];
+      for (std::size_t row = rows.begin[r]; row < rows.end[r]; ++row, at += n) data[at] = value;
+    }
+    return;
+  }
   for (int r = 0; r < rows.count; ++r) {
     for (std::size_t row = rows.begin[r]; row < rows.end[r]; ++row) {
       T* line = data + row * n;
-      for (int c = 0; c < columns.count; ++c) {
-        // A one-cell move is one element per row: a store, not a fill call.
-        if (columns.end[c] - columns.begin[c] == 1) {
-          line[columns.begin[c]] = value;
-        } else {
-          std::fill(line + columns.begin[c], line + columns.end[c], value);
-        }
-      }
+      for (int c = 0; c < columns.count; ++c) std::fill(line + columns.begin[c], line + columns.end[c], value);
     }
   }
 }
@@ -220,8 +228,9 @@ void ElevationMap::clear() {
   for (Layer& layer : layers_) fill_with_reset(layer);
 }
 
-void ElevationMap::reset_slots(std::size_t begin, std::size_t end) {
+void ElevationMap::reset_rows(std::size_t begin_row, std::size_t end_row) {
   // Layer by layer: one fill each rather than a type switch per slot.
+  const std::size_t begin = begin_row * static_cast<std::size_t>(n_), end = end_row * static_cast<std::size_t>(n_);
   for (Layer& layer : layers_) {
     switch (layer.spec.type) {
       case LayerType::f32: std::fill(layer.f32.begin() + begin, layer.f32.begin() + end, layer.reset_f32); break;
@@ -249,22 +258,25 @@ std::size_t ElevationMap::move_corner_to(CellIndex new_min) {
     set_min_cell(new_min);
     return static_cast<std::size_t>(n_) * static_cast<std::size_t>(n_);
   }
+  // |dx|, |dy| < n: the new corner's slots follow from the old ones by one
+  // addition and one correction.
+  const int sx = static_cast<int>(dx), sy = static_cast<int>(dy);
+  const int new_slot_x = wrapped(min_slot_x_, sx < 0 ? sx + n_ : sx, n_);
+  const int new_slot_y = wrapped(min_slot_y_, sy < 0 ? sy + n_ : sy, n_);
   std::size_t reset = 0;
   const auto n = static_cast<std::size_t>(n_);
   // Rows (constant x) that leave along x: their slots become the new rows,
   // one fill per layer for each run of them.
-  const Runs rows = runs_of(dx > 0 ? min_cell_.x : new_min.x + n_, std::abs(dx), n_);
+  const Runs rows = runs_from(sx > 0 ? min_slot_x_ : new_slot_x, std::abs(sx), n_);
   for (int r = 0; r < rows.count; ++r) {
-    reset_slots(rows.begin[r] * n, rows.end[r] * n);
+    reset_rows(rows.begin[r], rows.end[r]);
     reset += (rows.end[r] - rows.begin[r]) * n;
   }
   // Columns that leave along y, in the rows both windows cover (the others
   // were reset above).
-  const std::int64_t kept_lo = std::max(min_cell_.x, new_min.x);
-  const std::int64_t kept_hi = std::min(min_cell_.x, new_min.x) + n_;
-  const Runs columns = runs_of(dy > 0 ? min_cell_.y : new_min.y + n_, std::abs(dy), n_);
-  const Runs kept = runs_of(kept_lo, kept_hi - kept_lo, n_);
-  if (columns.count > 0) {
+  if (sy != 0) {
+    const Runs columns = runs_from(sy > 0 ? min_slot_y_ : new_slot_y, std::abs(sy), n_);
+    const Runs kept = runs_from(sx > 0 ? new_slot_x : min_slot_x_, n_ - std::abs(sx), n_);
     for (Layer& layer : layers_) {
       switch (layer.spec.type) {
         case LayerType::f32: reset_columns(layer.f32, layer.reset_f32, n, kept, columns); break;
@@ -272,9 +284,11 @@ std::size_t ElevationMap::move_corner_to(CellIndex new_min) {
         case LayerType::u8: reset_columns(layer.u8, layer.reset_u8, n, kept, columns); break;
       }
     }
-    reset += static_cast<std::size_t>(kept_hi - kept_lo) * static_cast<std::size_t>(std::abs(dy));
+    reset += static_cast<std::size_t>(n_ - std::abs(sx)) * static_cast<std::size_t>(std::abs(sy));
   }
-  set_min_cell(new_min);
+  min_cell_ = new_min;
+  min_slot_x_ = new_slot_x;
+  min_slot_y_ = new_slot_y;
   return reset;
 }
 

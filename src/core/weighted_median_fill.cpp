@@ -4,6 +4,7 @@
 #include <array>
 #include <bit>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -48,23 +49,66 @@ WeightedMedianFill::WeightedMedianFill(const FillOptions& options) : options_(op
 
 namespace {
 
-// Sorts by value through ranks: a candidate's place is the number of
-// smaller values, counted without branches (the compiler vectorises the
-// count), and it is written there. Returns false when two values are equal
-// or one is NaN (two candidates share a place, or a place stays NaN):
-// std::sort may order such values otherwise, and the order of the weights
-// summed decides the float result, so the caller sorts those with
-// std::sort as the fill always did. Distinct values have one sorted order.
-template <typename Candidate>
-bool sort_distinct(const Candidate* in, std::size_t count, float* values, Candidate* out) {
-  for (std::size_t k = 0; k < count; ++k) values[k] = in[k].value;
-  for (std::size_t k = 0; k < count; ++k) out[k].value = std::numeric_limits<float>::quiet_NaN();
-  for (std::size_t k = 0; k < count; ++k) {
-    const float v = values[k];
-    unsigned rank = 0;
-    for (std::size_t m = 0; m < count; ++m) rank += values[m] < v ? 1u : 0u;
-    out[rank] = in[k];
+// Four ranks per vector (GCC's vector extension: any target with 128-bit
+// vectors, or plain code where there are none): a comparison gives -1 where
+// true, and subtracting it counts. `values` has room for `Blocks` vectors.
+using Floats = float __attribute__((vector_size(16)));
+using Counts = std::int32_t __attribute__((vector_size(16)));
+using Masks = std::uint32_t __attribute__((vector_size(16)));
+template <std::size_t Blocks>
+void count_ranks_fixed(const float* values, std::size_t count, std::uint32_t* ranks) {
+  // A fixed number of blocks stays in registers; the blocks past the
+  // candidates compare values nobody reads.
+  Floats block_values[Blocks];
+  Counts block_ranks[Blocks];
+  std::memcpy(block_values, values, sizeof block_values);
+  for (std::size_t b = 0; b < Blocks; ++b) block_ranks[b] = Counts{0, 0, 0, 0};
+  for (std::size_t m = 0; m < count; ++m) {
+    const float v = values[m];
+    const Floats broadcast = {v, v, v, v};
+    for (std::size_t b = 0; b < Blocks; ++b) block_ranks[b] -= broadcast < block_values[b];
   }
+  std::memcpy(ranks, block_ranks, sizeof block_ranks);
+}
+
+// ranks[k] = how many of values[0..count) are smaller than values[k];
+// `values` and `ranks` have room up to a multiple of 4 past `count` (and
+// 24 at least: the default window's 24 neighbours).
+void count_ranks(const float* values, std::size_t count, std::uint32_t* ranks) {
+  if (count <= 8) return count_ranks_fixed<2>(values, count, ranks);
+  if (count <= 24) return count_ranks_fixed<6>(values, count, ranks);
+  for (std::size_t k = 0; k < count; ++k) ranks[k] = 0;
+  for (std::size_t m = 0; m < count; ++m) {
+    const float v = values[m];
+    for (std::size_t k = 0; k < count; ++k) ranks[k] += v < values[k] ? 1u : 0u;
+  }
+}
+
+// Sorts by value through ranks: a candidate's place is the number of
+// smaller values, and it is written there. The ranks are counted for all
+// candidates at once, one compared value at a time (no sum across a
+// register per candidate).
+// Returns false when two values are equal or one is NaN (two candidates
+// share a place, or a place stays NaN): std::sort may order such values
+// otherwise, and the order of the weights summed decides the float result,
+// so the caller sorts those with std::sort as the fill always did. Distinct
+// values have one sorted order. `values` holds the candidates' values.
+template <typename Candidate>
+bool sort_distinct(const Candidate* in, std::size_t count, const float* values, std::uint32_t* ranks,
+                   Candidate* out) {
+  count_ranks(values, count, ranks);
+  if (count <= 64) {
+    // The ranks are a permutation exactly when the values are distinct and
+    // none is NaN (equal values share a rank; a NaN has rank 0 and leaves
+    // the others fewer places than values): one bit per rank tells.
+    std::uint64_t seen = 0;
+    for (std::size_t k = 0; k < count; ++k) seen |= std::uint64_t{1} << ranks[k];
+    if (seen != (count == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << count) - 1)) return false;
+    for (std::size_t k = 0; k < count; ++k) out[ranks[k]] = in[k];
+    return true;
+  }
+  for (std::size_t k = 0; k < count; ++k) out[k].value = std::numeric_limits<float>::quiet_NaN();
+  for (std::size_t k = 0; k < count; ++k) out[ranks[k]] = in[k];
   for (std::size_t k = 0; k + 1 < count; ++k) {
     if (!(out[k].value < out[k + 1].value)) return false;
   }
@@ -89,8 +133,10 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
   const int p = n + 2 * w;
   const auto padded_cells = static_cast<std::size_t>(p) * static_cast<std::size_t>(p);
   known_.assign(padded_cells, 0);
+  // Room past the end for the row pass's last group of four cells.
+  known_mask_.assign(padded_cells + 4, 0u);
   value_.assign(padded_cells, 0.0f);
-  weight_.assign(padded_cells, 0.0f);
+  weight_.assign(padded_cells + 4, 0.0f);
   slot_.resize(cells);
   for (int i = 0; i < n; ++i) {
     const std::size_t row = map.slot(map.cell_at_local(i, 0)) / static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
@@ -103,6 +149,7 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
       if (state[s] != measured) continue;
       const std::size_t q = static_cast<std::size_t>(i + w) * static_cast<std::size_t>(p) + static_cast<std::size_t>(j + w);
       known_[q] = 1;
+      known_mask_[q] = ~0u;
       value_[q] = elevation[s];
       weight_[q] = certainty[s];
     }
@@ -111,63 +158,101 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
   // di = -w..w, in each dj = -w..w): the sums of the weights keep their order.
   struct Neighbour {
     std::ptrdiff_t offset;
-    bool near;
+    float factor;
     unsigned quadrant_bit;
   };
+  const auto near_factor = static_cast<float>(options_.near_weight);
   std::array<Neighbour, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1)> neighbours{};
   std::size_t neighbour_count = 0;
   for (int di = -w; di <= w; ++di) {
     for (int dj = -w; dj <= w; ++dj) {
       if (di == 0 && dj == 0) continue;
-      neighbours[neighbour_count++] = {static_cast<std::ptrdiff_t>(di) * p + dj,
-                                       std::max(std::abs(di), std::abs(dj)) == 1, 1u << quadrant_of(di, dj)};
+      // certainty * 1.0f is the certainty itself: the far weight as before.
+      const bool near = std::max(std::abs(di), std::abs(dj)) == 1;
+      neighbours[neighbour_count++] = {static_cast<std::ptrdiff_t>(di) * p + dj, near ? near_factor : 1.0f,
+                                       1u << quadrant_of(di, dj)};
     }
   }
-  const auto near_factor = static_cast<float>(options_.near_weight);
   const float spread = static_cast<float>(options_.max_quartile_spread_m);
   const bool test_spread = options_.max_quartile_spread_m > 0.0;
+  constexpr unsigned kQuadrantsIn[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
 
+  // Per row, the admission tests of every cell at once: for each neighbour
+  // in turn, one pass along the row's contiguous arrays, so that each cell's
+  // total weight adds its known neighbours in the same order as ever while
+  // the compiler works on many cells side by side. Only cells that pass are
+  // gathered and sorted.
+  const auto un = static_cast<std::size_t>(n);
+  const std::size_t groups = (un + 3) / 4 * 4;
+  count_.resize(groups);
+  quadrants_.resize(groups);
+  total_.resize(groups);
   std::array<Candidate, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1)> candidates{}, gathered{};
-  std::array<float, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1)> scratch{};
+  alignas(64) std::array<float, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1) + 8> scratch{};
+  alignas(64) std::array<std::uint32_t, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1) + 8> ranks{};
   for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) {
-      const std::size_t centre = static_cast<std::size_t>(i + w) * static_cast<std::size_t>(p) + static_cast<std::size_t>(j + w);
+    const std::size_t row_start = static_cast<std::size_t>(i + w) * static_cast<std::size_t>(p) + static_cast<std::size_t>(w);
+    // Four cells at a time, their sums kept in registers over all the
+    // neighbours; the arrays have room for the last group of four.
+    for (std::size_t j = 0; j < un; j += 4) {
+      Masks count = {0, 0, 0, 0}, quadrants = {0, 0, 0, 0};
+      Floats total = {0.0f, 0.0f, 0.0f, 0.0f};
+      for (std::size_t k = 0; k < neighbour_count; ++k) {
+        const Neighbour& nb = neighbours[k];
+        const std::size_t t = row_start + j + static_cast<std::size_t>(nb.offset);
+        Masks known;
+        Floats weight;
+        std::memcpy(&known, known_mask_.data() + t, sizeof known);
+        std::memcpy(&weight, weight_.data() + t, sizeof weight);
+        const Floats add = weight * nb.factor;
+        // A select by bits: the sum is formed for every cell (a conditional
+        // float add is a branch to the compiler) and kept only where known.
+        const Floats sum = total + add;
+        total = reinterpret_cast<Floats>((reinterpret_cast<Masks>(sum) & known) |
+                                         (reinterpret_cast<Masks>(total) & ~known));
+        count -= known;  // all ones is -1
+        quadrants |= known & nb.quadrant_bit;
+      }
+      std::memcpy(count_.data() + j, &count, sizeof count);
+      std::memcpy(quadrants_.data() + j, &quadrants, sizeof quadrants);
+      std::memcpy(total_.data() + j, &total, sizeof total);
+    }
+    const std::uint32_t* count_row = count_.data();
+    const std::uint32_t* quadrant_row = quadrants_.data();
+    const float* total_row = total_.data();
+    for (std::size_t j = 0; j < un; ++j) {
+      const std::size_t centre = row_start + j;
       if (known_[centre] != 0) continue;
-      std::size_t count = 0;
-      unsigned quadrants = 0;
-      float total_weight = 0.0f;
-      // Without branches on which neighbours are known (a third are not, at
-      // random): each is written at the end and counted only when known;
-      // the total adds the known weights in the same order as ever.
+      const std::uint32_t count = count_row[j];
+      const float total_weight = total_row[j];
+      if (static_cast<int>(count) < options_.min_known_neighbours ||
+          static_cast<int>(kQuadrantsIn[quadrant_row[j]]) < options_.min_quadrants || total_weight <= 0.0f) {
+        continue;
+      }
+      // The known neighbours in visiting order, without branches: each is
+      // written at the end and kept only when known.
+      std::size_t kept = 0;
       for (std::size_t k = 0; k < neighbour_count; ++k) {
         const Neighbour& nb = neighbours[k];
         const std::size_t t = centre + static_cast<std::size_t>(nb.offset);
-        const bool known = known_[t] != 0;
-        // certainty * 1.0f is the certainty itself: the far weight as before.
-        const float weight = weight_[t] * (nb.near ? near_factor : 1.0f);
-        gathered[count] = {value_[t], weight};
-        count += known ? 1 : 0;
-        total_weight = known ? total_weight + weight : total_weight;
-        quadrants |= known ? nb.quadrant_bit : 0u;
+        gathered[kept] = {value_[t], weight_[t] * nb.factor};
+        scratch[kept] = value_[t];
+        kept += known_[t] != 0 ? 1 : 0;
       }
-      if (static_cast<int>(count) < options_.min_known_neighbours ||
-          std::popcount(quadrants) < options_.min_quadrants || total_weight <= 0.0f) {
-        continue;
-      }
-      if (!sort_distinct(gathered.data(), count, scratch.data(), candidates.data())) {
-        std::copy(gathered.begin(), gathered.begin() + static_cast<std::ptrdiff_t>(count), candidates.begin());
-        std::sort(candidates.begin(), candidates.begin() + static_cast<std::ptrdiff_t>(count),
+      if (!sort_distinct(gathered.data(), kept, scratch.data(), ranks.data(), candidates.data())) {
+        std::copy(gathered.begin(), gathered.begin() + static_cast<std::ptrdiff_t>(kept), candidates.begin());
+        std::sort(candidates.begin(), candidates.begin() + static_cast<std::ptrdiff_t>(kept),
                   [](const Candidate& a, const Candidate& b) { return a.value < b.value; });
       }
       // Weighted quantiles q: the smallest value at which the cumulative
       // weight reaches q of the total; the three in one pass over the same sums.
       const float at_quarter = 0.25f * total_weight, at_half = 0.5f * total_weight,
                   at_three_quarters = 0.75f * total_weight;
-      const float last = candidates[count - 1].value;
+      const float last = candidates[kept - 1].value;
       float quarter = last, half = last, three_quarters = last;
       bool have_quarter = false, have_half = false;
       float cumulative = 0.0f;
-      for (std::size_t k = 0; k < count; ++k) {
+      for (std::size_t k = 0; k < kept; ++k) {
         cumulative += candidates[k].weight;
         if (!have_quarter && cumulative >= at_quarter) {
           quarter = candidates[k].value;
@@ -183,7 +268,7 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
         }
       }
       if (test_spread && three_quarters - quarter > spread) continue;
-      result_[slot_[static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)]] = half;
+      result_[slot_[static_cast<std::size_t>(i) * un + j]] = half;
     }
   }
 

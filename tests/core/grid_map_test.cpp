@@ -1,6 +1,8 @@
 #include "stridemap/core/grid_map.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <functional>
 #include <string>
 #include <map>
@@ -134,6 +136,76 @@ TEST(ElevationMap, RandomWalkKeepsEveryCellConsistent) {
           ASSERT_EQ(map.elevation(c), found->second);
         }
       }
+    }
+  }
+}
+
+// Every layer's bytes of `map` equal those of a map built at its corner and
+// given, cell by cell, what `before` held there (cells outside `before`'s
+// window keep their reset values): a move is a rebuild, on every layer.
+void expect_move_equals_rebuild(const ElevationMap& map, const ElevationMap& before, const GridOptions& options,
+                                const std::string& what) {
+  ElevationMap rebuilt(options);
+  rebuilt.move_corner_to(map.min_cell());
+  const int n = map.cells_per_side();
+  for (std::size_t l = 0; l < map.layer_count(); ++l) {
+    const std::size_t bytes = layer_type_bytes(map.layer_spec(l).type);
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < n; ++j) {
+        const CellIndex c = map.cell_at_local(i, j);
+        if (!before.contains(c)) continue;
+        std::memcpy(static_cast<char*>(rebuilt.layer_bytes(l)) + rebuilt.slot(c) * bytes,
+                    static_cast<const char*>(before.layer_bytes(l)) + before.slot(c) * bytes, bytes);
+      }
+    }
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < n; ++j) {
+        const CellIndex c = map.cell_at_local(i, j);
+        ASSERT_EQ(0, std::memcmp(static_cast<const char*>(map.layer_bytes(l)) + map.slot(c) * bytes,
+                                 static_cast<const char*>(rebuilt.layer_bytes(l)) + rebuilt.slot(c) * bytes, bytes))
+            << what << ": layer " << map.layer_spec(l).name << ", cell " << c.x << "," << c.y;
+      }
+    }
+  }
+}
+
+// Random contents in every layer (the built-in ones and extra layers of each
+// type with reset values other than 0), then moves along x only, along y
+// only and along both, by 1 cell up to more than the window, from corners on
+// either side of the circular buffer's seam: each result is a rebuild.
+TEST(ElevationMap, MoveOnEitherAxisEqualsARebuildOnEveryLayer) {
+  std::mt19937_64 rng(17);
+  std::uniform_real_distribution<float> value(-1.0f, 1.0f);
+  std::uniform_int_distribution<int> byte(0, 255);
+  for (const int n : {1, 2, 7, 16, 33}) {
+    GridOptions options{n, 0.01, {}};
+    options.extra_layers = {{"height_a", LayerType::f32, -2.5, "m", "test", true},
+                            {"count_b", LayerType::u16, 9.0, "", "test", true},
+                            {"flag_c", LayerType::u8, 255.0, "", "test", true}};
+    ElevationMap map(options);
+    std::uniform_int_distribution<int> step(-n - 1, n + 1);
+    for (int k = 0; k < 120; ++k) {
+      for (std::size_t l = 0; l < map.layer_count(); ++l) {
+        auto* bytes = static_cast<unsigned char*>(map.layer_bytes(l));
+        const std::size_t size = static_cast<std::size_t>(n) * static_cast<std::size_t>(n) *
+                                 layer_type_bytes(map.layer_spec(l).type);
+        if (map.layer_spec(l).type == LayerType::f32) {
+          float* f = map.data(LayerId<float>{l});
+          for (std::size_t s = 0; s < size / 4; ++s) f[s] = value(rng);
+        } else {
+          for (std::size_t s = 0; s < size; ++s) bytes[s] = static_cast<unsigned char>(byte(rng));
+        }
+      }
+      const ElevationMap before = map;
+      const int axis = k % 3;  // x only, y only, both
+      const int dx = axis == 1 ? 0 : step(rng), dy = axis == 0 ? 0 : step(rng);
+      const CellIndex old_min = map.min_cell();
+      const std::size_t reset = map.move_corner_to({old_min.x + dx, old_min.y + dy});
+      const int kept_x = std::max(0, n - std::abs(dx)), kept_y = std::max(0, n - std::abs(dy));
+      EXPECT_EQ(reset, static_cast<std::size_t>(n * n - kept_x * kept_y));
+      expect_move_equals_rebuild(map, before, options,
+                                 "n " + std::to_string(n) + ", move " + std::to_string(dx) + "," + std::to_string(dy));
+      if (HasFatalFailure()) return;
     }
   }
 }

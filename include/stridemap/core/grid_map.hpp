@@ -208,7 +208,6 @@ class ElevationMap {
     const std::int64_t m = v % n_;
     return m < 0 ? m + n_ : m;
   }
-  void reset_rows_leaving(std::int64_t old_min, std::int64_t new_min, bool along_x);
 
   void set_min_cell(CellIndex c) {
     min_cell_ = c;
@@ -239,7 +238,7 @@ class ElevationMap {
     else return layer.u8;
   }
   std::size_t checked_layer(std::string_view name, LayerType type) const;
-  void reset_slots(std::size_t begin, std::size_t end);
+  void reset_rows(std::size_t begin_row, std::size_t end_row);
   void fill_with_reset(Layer& layer);
 
   int n_;

@@ -54,8 +54,13 @@ class WeightedMedianFill {
   std::vector<float> result_;  // per slot, NaN = leave unknown
   // The window in local order with a margin (apply()), kept to reuse storage.
   std::vector<std::uint8_t> known_;
+  std::vector<std::uint32_t> known_mask_;  // the same as all ones or zeros: 32-bit lanes for the row pass
   std::vector<float> value_, weight_;
   std::vector<std::size_t> slot_;  // slot of local cell i * n + j
+  // Per cell of the row being filled: known neighbours, their quadrants
+  // (a bit each) and their total weight.
+  std::vector<std::uint32_t> count_, quadrants_;
+  std::vector<float> total_;
 };
 
 }  // namespace stridemap
