@@ -6,7 +6,7 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 SCENE ?= scenes/rocky_mockup.yaml
 OUT ?= out
 
-.PHONY: run test test-sanitize test-tsan fuzz soak deps configure build bench bench-instructions bench-compare clean
+.PHONY: run test test-arm test-sanitize test-tsan fuzz soak deps configure build bench bench-instructions bench-compare clean
 
 # The main job: the walking robot on the rocky mock-up with the URG-04LX
 # (mixed pixels simulated, the paper's scan filters), with its pose-error
@@ -53,6 +53,22 @@ test-sanitize: deps
 	cmake --build $(SAN_DIR) -j $(JOBS)
 	cd $(SAN_DIR) && ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --output-on-failure -j $(JOBS) -E install_and_find_package -LE browser
+
+# The embedded build (docs/install.md, "Embedded build"): the layers that
+# need Eigen alone (core, sensors, preprocess, pipeline, sim) cross-compiled
+# for 64-bit ARM with Debian's crossbuild-essential-arm64, and their tests
+# (labels core, sensors, preprocess, pipeline) run under qemu-aarch64.
+# GoogleTest is compiled for arm64 from Debian's /usr/src/googletest, so no
+# arm64 package comes from apt (tools/install-arm-deps.sh). The layering
+# probes are left out: they run the build tool, not an ARM program, and
+# `make test` runs them.
+ARM_DIR ?= build-arm64
+test-arm:
+	@bash tools/install-arm-deps.sh
+	cmake -S . -B $(ARM_DIR) --toolchain $(CURDIR)/cmake/aarch64-linux-gnu.cmake -DCMAKE_BUILD_TYPE=Release \
+	  -DSTRIDEMAP_CORE_LAYERS_ONLY=ON -DSTRIDEMAP_GTEST_SOURCE_DIR=/usr/src/googletest
+	cmake --build $(ARM_DIR) -j $(JOBS)
+	cd $(ARM_DIR) && ctest --output-on-failure -j $(JOBS) -L '^(core|sensors|preprocess|pipeline)$$'
 
 # Reliability (docs/reliability.md). The test programs that run threads
 # under ThreadSanitizer (clang); any report fails the run. Those are the
