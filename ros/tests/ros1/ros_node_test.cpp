@@ -270,7 +270,8 @@ TEST_F(RosNodeTest, PosesFromAnOdometryTopicGiveMapBagsMapBitForBit) {
 
 TEST_F(RosNodeTest, ABadQueueSizeStopsTheNodeNamingTheParameter) {
   for (const char* name : {"scan_queue_size", "cloud_queue_size"}) {
-    std::unique_ptr<Child> node = start_node("stridemap_bad_queue", {{name, "0"}, {"cloud_topic", "/stripe"}});
+    // One name each: the first node's private parameters stay on the parameter server.
+    std::unique_ptr<Child> node = start_node(std::string("stridemap_bad_") + name, {{name, "0"}, {"cloud_topic", "/stripe"}});
     ASSERT_TRUE(wait_for([&] { return !node->running(); }, 60.0)) << name << " 0 was taken";
     EXPECT_TRUE(WIFEXITED(node->exit_status()) && WEXITSTATUS(node->exit_status()) == 2) << name;
     EXPECT_NE(read_text(log_).find(std::string("~") + name + ": must be at least 1"), std::string::npos)
