@@ -10,6 +10,9 @@ the sensor-height error. Simulated results.
 
   tools/rocky_walk_distribution.py --bin build/bin/stridemap --out /tmp/dist --terrains 10 \\
       --label fused -- --reference map-fused --calibrate-attitude on
+
+With --random, the terrains are `stridemap scene random --kind rocky --seed
+N` for N = 1..terrains instead (their own ground, boulders and path).
 """
 import argparse
 import json
@@ -50,6 +53,7 @@ def main():
     parser.add_argument("--out", required=True, help="a new folder for the scenes and runs")
     parser.add_argument("--terrains", type=int, default=10)
     parser.add_argument("--label", default="run")
+    parser.add_argument("--random", action="store_true", help="terrains from `scene random --kind rocky`")
     parser.add_argument("rest", nargs=argparse.REMAINDER, help="-- then rocky-walk options")
     args = parser.parse_args()
     extra = args.rest[1:] if args.rest[:1] == ["--"] else args.rest
@@ -60,8 +64,12 @@ def main():
     for k in range(args.terrains):
         scene = os.path.join(args.out, "terrain_%02d.yaml" % k)
         if not os.path.exists(scene):
-            with open(scene, "w") as f:
-                f.write(variant(scene_text, k))
+            if args.random:
+                subprocess.run([args.bin, "scene", "random", "--kind", "rocky", "--seed", str(k + 1), "--out", scene],
+                               check=True, stdout=subprocess.DEVNULL)
+            else:
+                with open(scene, "w") as f:
+                    f.write(variant(scene_text, k))
         out = os.path.join(args.out, args.label, "terrain_%02d" % k)
         summary_path = os.path.join(out, "rocky-walk-urg", "summary.json")
         if not os.path.exists(summary_path):

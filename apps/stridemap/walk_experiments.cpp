@@ -38,6 +38,8 @@ struct RockyWalkArgs {
   std::string sweep = "0,0.5,1,2,4";
   std::optional<std::string> reference;           // map-fused (urg), map (structured-light)
   std::optional<std::string> calibrate_attitude;  // on (urg), off (structured-light)
+  std::string feet = "stand";
+  std::optional<double> foothold_map_sigma_m;
   std::string mixed_pixels = "off";
   std::string pipeline = "geometric";
   std::string filters;
@@ -63,6 +65,11 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
       parse_option<ReferenceElevationSource>("--reference", args.reference.value_or(urg_sensor ? "map-fused" : "map"));
   options.calibrate_attitude = parse_on_off("--calibrate-attitude", args.calibrate_attitude.value_or(urg_sensor ? "on" : "off"));
   if (urg_sensor) options.sweep_references.push_back(ReferenceElevationSource::map_fused);
+  if (args.feet != "stand" && args.feet != "slide") {
+    throw InputError("--feet: '" + args.feet + "' is not one of stand, slide");
+  }
+  options.walk.gait.feet_stand_in_stance = args.feet == "stand";
+  if (args.foothold_map_sigma_m) options.walk.pose_errors.foothold_map_sigma_m = *args.foothold_map_sigma_m;
   constexpr double deg = std::numbers::pi / 180.0;
   if (args.imu_pitch_bias_deg) options.walk.pose_errors.imu_pitch_bias_rad = *args.imu_pitch_bias_deg * deg;
   if (args.imu_roll_bias_deg) options.walk.pose_errors.imu_roll_bias_rad = *args.imu_roll_bias_deg * deg;
@@ -158,11 +165,20 @@ void register_walk_experiments(CLI::App& app) {
       ->capture_default_str();
   rocky->add_option("--reference", rw->reference,
                     "h_ref from the map (section 5.2: the elevation layer), map-mean (the cells' means of accepted "
-                    "readings), map-fused (variance-weighted, Mahalanobis-gated layer) or truth; default map-fused (urg), "
+                    "readings), map-fused (variance-weighted, Mahalanobis-gated layer), legs (trunk z from leg kinematics + IMU on footholds "
+                    "fused with that layer) or truth; default map-fused (urg), "
                     "map (structured-light)");
   rocky->add_option("--calibrate-attitude", rw->calibrate_attitude,
                     "on: measure the IMU's pitch and roll biases on a flat floor before each walk and take them off; "
                     "default on (urg), off (structured-light)");
+  rocky->add_option("--feet", rw->feet,
+                    "stand: a stance foot stands still on its foothold and steps in swing; slide: the feet slide with "
+                    "the trunk (the model before issue 13)")
+      ->capture_default_str();
+  rocky->add_option("--foothold-map-sigma-m", rw->foothold_map_sigma_m,
+                    "With --reference legs: the sigma given to the map's height under a landing foot against the leg "
+                    "odometry [m]; default 0.003; a large value (1) all but ignores the map")
+      ->check(number_from_to(0.0, 1000.0, "m"));
   rocky->add_option("--mixed-pixels", rw->mixed_pixels, "on: footprint beam model with mixed pixels at edges")
       ->capture_default_str();
   rocky->add_option("--filters", rw->filters, "Scan filters (as for cart-rail); default none, or paper with mixed pixels");

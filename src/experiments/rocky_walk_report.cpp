@@ -194,7 +194,7 @@ std::string rocky_walk_summary_json(const RockyWalkResult& r, const RockyWalkOpt
         {"invalid_range", w.mapper_totals.invalid_range}}},
       {"pose_error_sweep", sweep}};
   summary["local_map"].erase("unknown_swept_cells");
-  if (e.reference == ReferenceElevationSource::map_fused) {
+  if (reads_fused_layer(e.reference)) {
     const HeightFusionOptions& f = options.walk.height_fusion;
     summary["height_fusion"] = {{"mahalanobis_gate", f.mahalanobis_gate},
                                 {"outlier_variance_m2", f.outlier_variance_m2},

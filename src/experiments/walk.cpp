@@ -85,7 +85,7 @@ WalkRun::WalkRun(const Scene& scene, const WalkPath& path, WalkSensor& sensor, c
     mapper_ = TerrainMapper(fixed, sensor_.mount());
     mapper_.map().move_corner_to(whole.min_cell());
   }
-  if (options_.pose_errors.reference == ReferenceElevationSource::map_fused) {
+  if (reads_fused_layer(options_.pose_errors.reference)) {
     fusion_.emplace(mapper_.map(), options_.height_fusion);
     sensor_.set_collect_points(true);
   }

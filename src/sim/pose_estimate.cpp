@@ -5,6 +5,8 @@
 #include <limits>
 #include <string>
 
+#include <Eigen/Geometry>
+
 #include "stridemap/core/error.hpp"
 #include "stridemap/sim/scene_problem.hpp"
 
@@ -39,6 +41,10 @@ void PoseErrorOptions::validate() const {
                                                    {"leg_height_noise_sigma_m", leg_height_noise_sigma_m}};
   for (const auto& [field, value] : sigmas) {
     if (auto m = non_negative(value)) throw InputError(std::string("pose error options: ") + field + ": " + *m);
+  }
+  if (!(foothold_map_sigma_m >= 0.0)) {
+    throw InputError("pose error options: foothold_map_sigma_m: expected a number >= 0 (or infinity), got " +
+                     format_number(foothold_map_sigma_m));
   }
   for (const auto& [field, value] : {std::pair<const char*, double>{"imu_pitch_bias_rad", imu_pitch_bias_rad},
                                      std::pair<const char*, double>{"imu_roll_bias_rad", imu_roll_bias_rad}}) {
@@ -85,9 +91,100 @@ double PoseEstimator::foot_elevation(const ElevationMap& map, double x_m, double
   return known[static_cast<std::size_t>(count / 2)];
 }
 
+namespace {
+
+Eigen::Matrix3d trunk_rotation(const TrunkPose& p) {
+  return (Eigen::AngleAxisd(p.yaw_rad, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(p.pitch_rad, Eigen::Vector3d::UnitY()) *
+          Eigen::AngleAxisd(p.roll_rad, Eigen::Vector3d::UnitX()))
+      .toRotationMatrix();
+}
+
+/// The trunk's height change between the last scan on one tripod and the
+/// first on the other, which no foot measures (no double support): about
+/// what the gait's bob and a 20 % slope move it in a tenth of a second.
+constexpr double kTripodSwitchSigma_m = 0.002;
+
+}  // namespace
+
+double PoseEstimator::trunk_height_from_legs(const TrunkState& truth, const TrunkPose& e, const ElevationMap& map,
+                                             const float* fused) {
+  const TrunkPose& t = truth.pose;
+  // The trunk reference point sits h_ref + d_z above the map's zero (eq. 9
+  // without the mount); the kinematics measure each foot from it in the
+  // trunk frame, with encoder noise, and the IMU's attitude turns that into
+  // the map frame.
+  const Eigen::Matrix3d true_rotation = trunk_rotation(t), estimated_rotation = trunk_rotation(e);
+  const Eigen::Vector3d trunk(t.x_m, t.y_m, t.reference_elevation_m + t.height_change_m);
+  const double sigma = options_.leg_height_noise_sigma_m;
+  const auto noise = [&] { return sigma > 0.0 ? sigma * gaussian_(rng_) : 0.0; };
+  std::array<double, 6> depth{};
+  std::array<Eigen::Vector2d, 6> sole{};
+  for (std::size_t f = 0; f < 6; ++f) {
+    if (!truth.feet[f].in_stance) {
+      footholds_[f].known = false;  // lifted: it lands on a new foothold
+      continue;
+    }
+    Eigen::Vector3d in_trunk = true_rotation.transpose() * (truth.feet[f].position_m - trunk);
+    in_trunk += Eigen::Vector3d(noise(), noise(), noise());
+    const Eigen::Vector3d in_map = estimated_rotation * in_trunk;
+    depth[f] = -in_map.z();
+    sole[f] = Eigen::Vector2d(e.x_m + in_map.x(), e.y_m + in_map.y());
+  }
+  const double leg_variance = sigma * sigma;
+  const auto trunk_from_known = [&](double& z, double& variance) {
+    double sum = 0.0, variance_sum = 0.0;
+    int n = 0;
+    for (std::size_t f = 0; f < 6; ++f) {
+      if (!truth.feet[f].in_stance || !footholds_[f].known) continue;
+      sum += footholds_[f].z_m + depth[f];
+      variance_sum += footholds_[f].variance_m2;
+      ++n;
+    }
+    if (n == 0) return false;
+    // The footholds of one tripod share the error of the height they were
+    // set from, so their variances do not average down; the encoders' do.
+    z = sum / n;
+    variance = variance_sum / n + leg_variance / n;
+    return true;
+  };
+  double predicted = trunk_z_m_, predicted_variance = trunk_variance_m2_ + kTripodSwitchSigma_m * kTripodSwitchSigma_m;
+  const bool switched = !trunk_from_known(predicted, predicted_variance);
+  if (switched && last_time_s_ > stance_start_time_s_) {
+    // Across the switch the trunk keeps the climb rate it had over the last
+    // stance: a whole step, over which the gait's bob nearly cancels.
+    const double rate = (trunk_z_m_ - stance_start_z_m_) / (last_time_s_ - stance_start_time_s_);
+    predicted += rate * (truth.time_s - last_time_s_);
+  }
+  const double map_variance = options_.foothold_map_sigma_m * options_.foothold_map_sigma_m;
+  for (std::size_t f = 0; f < 6; ++f) {
+    if (!truth.feet[f].in_stance || footholds_[f].known) continue;
+    Foothold& h = footholds_[f];
+    h = {true, predicted - depth[f], predicted_variance + leg_variance};
+    if (!std::isfinite(map_variance)) continue;
+    const double from_map = foot_elevation(map, sole[f].x(), sole[f].y(), std::numeric_limits<double>::quiet_NaN(), fused);
+    if (!std::isfinite(from_map)) continue;
+    ++feet_from_map_;
+    const double gain = h.variance_m2 / (h.variance_m2 + map_variance);
+    h.z_m += gain * (from_map - h.z_m);
+    h.variance_m2 *= 1.0 - gain;
+  }
+  trunk_from_known(trunk_z_m_, trunk_variance_m2_);
+  if (switched) {
+    stance_start_z_m_ = trunk_z_m_;
+    stance_start_time_s_ = truth.time_s;
+  }
+  last_time_s_ = truth.time_s;
+  return trunk_z_m_;
+}
+
 TrunkPose PoseEstimator::estimate(const TrunkState& truth, const ElevationMap& map) {
   const TrunkPose& t = truth.pose;
   if (!started_) {
+    // The map's zero is the ground the robot starts on: the first footholds
+    // are where the trunk truly stands.
+    trunk_z_m_ = t.reference_elevation_m + t.height_change_m;
+    trunk_variance_m2_ = 0.0;
+    stance_start_time_s_ = last_time_s_ = truth.time_s;
     reference_m_ = t.reference_elevation_m;
     started_ = true;
   }
@@ -110,13 +207,18 @@ TrunkPose PoseEstimator::estimate(const TrunkState& truth, const ElevationMap& m
     // last h_ref stays (at the first scan: the true ground the robot starts
     // on, which defines the map's zero).
     const float* fused = nullptr;
-    if (options_.reference == ReferenceElevationSource::map_fused) {
+    if (reads_fused_layer(options_.reference)) {
       const std::optional<std::size_t> layer = map.find_layer("fused_elevation");
       if (!layer || map.layer_spec(*layer).type != LayerType::f32) {
-        throw InputError("pose estimate: h_ref from map-fused needs the map's fused_elevation layer (f32); the map has " +
+        throw InputError("pose estimate: h_ref from " + std::string(name(options_.reference)) + " needs the map's fused_elevation layer (f32); the map has " +
                          map.layer_names());
       }
       fused = map.data(LayerId<float>{*layer});
+    }
+    if (options_.reference == ReferenceElevationSource::legs) {
+      e.reference_elevation_m = trunk_height_from_legs(truth, e, map, fused) - e.height_change_m;
+      reference_m_ = e.reference_elevation_m;
+      return e;
     }
     const auto feet = foot_positions(gait_, e.x_m, e.y_m, e.yaw_rad);
     double sum = 0.0;

@@ -44,6 +44,7 @@ TEST(EnumNames, TheWordsAreTheOnesOutputsAlwaysUsed) {
   EXPECT_EQ(name(ReferenceElevationSource::map_mean), "map-mean");
   EXPECT_EQ(name(ReferenceElevationSource::truth), "truth");
   EXPECT_EQ(name(ReferenceElevationSource::map_fused), "map-fused");
+  EXPECT_EQ(name(ReferenceElevationSource::legs), "legs");
 }
 
 TEST(EnumNames, EveryWordReadsBackToItsValue) {
@@ -58,7 +59,7 @@ TEST(EnumNames, AnUnknownWordIsRefusedWithTheValidOnes) {
   EXPECT_EQ(error_of<SimulatedSensor>("lidar"), "'lidar' is not a sensor; expected one of: urg, structured-light");
   EXPECT_EQ(error_of<StripePipeline>("Image"), "'Image' is not a pipeline; expected one of: image, geometric");
   EXPECT_EQ(error_of<ReferenceElevationSource>(""),
-            "'' is not a reference elevation source; expected one of: map, map-mean, truth, map-fused");
+            "'' is not a reference elevation source; expected one of: map, map-mean, truth, map-fused, legs");
 }
 
 TEST(EnumNames, AValueOutsideTheTableIsNamedUnknown) {

@@ -200,5 +200,77 @@ TEST(PoseEstimate, MapFusedReadsTheFusedLayerAndTakesOffACalibratedBias) {
   EXPECT_NEAR(e.roll_rad, t.pose.roll_rad + 0.002, 1e-12);
 }
 
+// A ramp rising 0.1 m per metre along +X, 4 x 2 m.
+Scene ramp_scene() {
+  Scene ramp;
+  ramp.terrain.resolution_m = 0.05;
+  ramp.terrain.nx = 81;
+  ramp.terrain.ny = 41;
+  ramp.terrain.max_x_m = ramp.terrain.min_x_m + 80 * 0.05;
+  ramp.terrain.max_y_m = ramp.terrain.min_y_m + 40 * 0.05;
+  for (int j = 0; j < ramp.terrain.ny; ++j)
+    for (int i = 0; i < ramp.terrain.nx; ++i)
+      ramp.terrain.samples.push_back(static_cast<float>(0.1 * (ramp.terrain.min_x_m + i * 0.05)));
+  return ramp;
+}
+
+// The `legs` reference: the trunk stands on its stance feet by the leg
+// kinematics, and a landing foot's height comes from the feet still standing
+// (every switch has a scan in double support at 10 Hz), so without errors the
+// odometry climbs the ramp exactly; trusting the map, it stands on the map.
+TEST(PoseEstimate, LegsCarryTheTrunkOnItsStanceFeet) {
+  const Scene ramp = ramp_scene();
+  WalkPath path;
+  path.start_x_m = 0.5;
+  path.segments.push_back({WalkSegment::Kind::straight, 1.0, 0.0, 0.0});
+  const GaitOptions gait;
+  const TrunkMotion motion(ramp, path, gait);
+  const auto walk = [&](double map_sigma_m, float map_offset_m) {
+    PoseErrorOptions o = PoseErrorOptions{}.scaled(0.0);
+    o.reference = ReferenceElevationSource::legs;
+    o.foothold_map_sigma_m = map_sigma_m;
+    PoseEstimator estimator(o, gait, 1);
+    // The fused layer knows the ramp everywhere, map_offset_m too high.
+    ElevationMap map(GridOptions{400, 0.01});
+    map.move_to(1.5, 0.0);
+    const HeightFusion fusion(map);
+    for (int i = 0; i < 400; ++i) {
+      for (int j = 0; j < 400; ++j) {
+        const CellIndex c = map.cell_at_local(i, j);
+        const Eigen::Vector2d centre = map.cell_center(c);
+        map.data(fusion.elevation_layer())[map.slot(c)] =
+            static_cast<float>(ramp.surface_height_at(centre.x(), centre.y())) + map_offset_m;
+      }
+    }
+    double worst = 0.0;
+    for (double t = 0.0; t <= motion.duration_s(); t += 0.1) {
+      const TrunkState truth = motion.at(t);
+      const TrunkPose e = estimator.estimate(truth, map);
+      const double error = e.reference_elevation_m + e.height_change_m -
+                           (truth.pose.reference_elevation_m + truth.pose.height_change_m);
+      worst = std::max(worst, std::abs(error));
+    }
+    return worst;
+  };
+  // The odometry alone, a map 2 cm too high all but ignored.
+  EXPECT_LT(walk(1e6, 0.02f), 1e-6);
+  // Trusting the map: the trunk stands on the map's footholds, 2 cm high.
+  const double trusting = walk(0.0, 0.02f);
+  EXPECT_GT(trusting, 0.018);
+  EXPECT_LT(trusting, 0.022);
+  // Without the fused layer the source cannot work.
+  PoseErrorOptions o = PoseErrorOptions{}.scaled(0.0);
+  o.reference = ReferenceElevationSource::legs;
+  PoseEstimator estimator(o, gait, 1);
+  try {
+    estimator.estimate(motion.at(0.0), ElevationMap(GridOptions{100, 0.01}));
+    FAIL() << "legs read a map without the fused layer";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("legs needs"), std::string::npos) << e.what();
+  }
+  o.foothold_map_sigma_m = -1.0;
+  EXPECT_THROW(o.validate(), InputError);
+}
+
 }  // namespace
 }  // namespace stridemap

@@ -42,15 +42,28 @@ enum class ReferenceElevationSource : std::uint8_t {
   /// variance-weighted readings behind a Mahalanobis gate). The map must
   /// have the layer (the walk declares it and feeds it). Ours.
   map_fused,
+  /// Trunk z from leg kinematics + IMU (ours): the stance feet's soles
+  /// placed with the kinematics and the IMU's attitude; each foot's
+  /// foothold height set when it lands, from the leg odometry's prediction
+  /// (the trunk's height less the foot's kinematic depth) fused with the
+  /// fused layer under the sole; the trunk stands above its stance feet by
+  /// their kinematic depths. Needs the fused layer, like map_fused.
+  legs,
 };
 
-inline constexpr EnumNameTable<ReferenceElevationSource, 4> kReferenceElevationSourceNames{{
+/// True for the sources that read the map's fused_elevation layer.
+constexpr bool reads_fused_layer(ReferenceElevationSource source) {
+  return source == ReferenceElevationSource::map_fused || source == ReferenceElevationSource::legs;
+}
+
+inline constexpr EnumNameTable<ReferenceElevationSource, 5> kReferenceElevationSourceNames{{
     {ReferenceElevationSource::map, "map"},
     {ReferenceElevationSource::map_mean, "map-mean"},
     {ReferenceElevationSource::truth, "truth"},
     {ReferenceElevationSource::map_fused, "map-fused"},
+    {ReferenceElevationSource::legs, "legs"},
 }};
-/// "map", "map-mean", "truth" or "map-fused": the --reference word and summary.json's.
+/// "map", "map-mean", "truth", "map-fused" or "legs": the --reference word and summary.json's.
 constexpr std::string_view name(ReferenceElevationSource source) {
   return enum_name_in(kReferenceElevationSourceNames, source);
 }
@@ -83,6 +96,12 @@ struct PoseErrorOptions {
   /// [m]; 2 mm from joint-encoder resolution over the leg's length.
   double leg_height_noise_sigma_m = 0.002;
   ReferenceElevationSource reference = ReferenceElevationSource::map;
+  /// With the `legs` reference: the standard deviation given to the fused
+  /// layer's height under a foot as it lands, against the leg odometry's
+  /// prediction [m]. Small trusts the map (and its h_ref loop), large the
+  /// odometry (and the random walk of its encoder noise); infinity ignores
+  /// the map. Not an error of the robot: scaled() keeps it.
+  double foothold_map_sigma_m = 0.003;
 
   /// Every noise sigma and bias times `factor` (>= 0); the reference source
   /// is kept.
@@ -121,6 +140,22 @@ class PoseEstimator {
  private:
   double foot_elevation(const ElevationMap& map, double x_m, double y_m, double fallback,
                         const float* fused) const;
+  /// The `legs` reference: the trunk's height (reference point, h_ref + d_z)
+  /// from the stance feet; updates the footholds.
+  double trunk_height_from_legs(const TrunkState& truth, const TrunkPose& estimate, const ElevationMap& map,
+                                const float* fused);
+
+  /// A stance foot's foothold height as the estimator knows it.
+  struct Foothold {
+    bool known = false;
+    double z_m = 0.0;
+    double variance_m2 = 0.0;
+  };
+  std::array<Foothold, 6> footholds_{};
+  double trunk_z_m_ = 0.0, trunk_variance_m2_ = 0.0;
+  /// Where and when the trunk stood at the first scan on the current
+  /// tripod, and the last scan's time: the climb rate across a switch.
+  double stance_start_z_m_ = 0.0, stance_start_time_s_ = 0.0, last_time_s_ = 0.0;
 
   PoseErrorOptions options_;
   GaitOptions gait_;

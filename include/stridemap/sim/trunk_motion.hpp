@@ -10,11 +10,18 @@
 // - The two tripods alternate; each step lasts half a gait cycle. Per step
 //   the trunk bobs (height) and pitches once; per cycle it rolls once, to
 //   the side of the tripod that carries it.
-// - The trunk follows the terrain under its feet: the six feet stand at
-//   their nominal places around the trunk on the scene's surface, the
-//   trunk's reference height is their support plane's height under it, and
-//   the trunk takes terrain_attitude_gain of that plane's slope as pitch and
-//   roll (a gain of 1 lies flat on it, 0 keeps the trunk level).
+// - The feet step (feet_stand_in_stance, the default): each tripod stands
+//   on its footholds for stance_fraction of a cycle while the trunk moves
+//   over them, then swings to the next ones; the tripods overlap briefly. A foothold is the foot's nominal place around
+//   the trunk at mid-stance, on the scene's surface, so a stance foot's
+//   world position does not move. Off: the feet slide with the trunk at
+//   their nominal places (the model before issue 13).
+// - The trunk follows the terrain under its feet: its reference height is
+//   the support plane of the six feet's support heights (a stance foot's
+//   foothold; a swinging foot's blend of the foothold it left and the one it
+//   lands on, so the trunk does not jump at a tripod switch), and the trunk
+//   takes terrain_attitude_gain of that plane's slope as pitch and roll (a
+//   gain of 1 lies flat on it, 0 keeps the trunk level).
 //
 // The sensor rides on the trunk, so its height above the map's zero is
 // ground + SensorMount::height_m + bob: the true TrunkPose carries the
@@ -66,6 +73,18 @@ struct GaitOptions {
   double foot_forward_m = 0.18;
   double foot_lateral_m = 0.17;
   double middle_foot_lateral_m = 0.23;
+  /// On: a stance foot stands still on its foothold and a swinging foot
+  /// steps to the next (a tripod gait). Off: the feet slide along with the
+  /// trunk at their nominal places.
+  bool feet_stand_in_stance = true;
+  /// Share of a gait cycle a foot stands, in (0.5, 1): above a half, both
+  /// tripods stand for a moment at each switch (double support), as a
+  /// tripod gait's duty factor has it. 0.6: 0.12 s at each switch, longer
+  /// than the URG's 0.1 s between scans.
+  double stance_fraction = 0.6;
+  /// How high a swinging foot lifts at mid-swing [m]; only the feet's
+  /// positions show it (the support uses the footholds).
+  double step_height_m = 0.03;
 
   /// The six feet in the trunk frame (x forward, y left): left front, left
   /// middle, left rear, right front, right middle, right rear.
@@ -80,6 +99,15 @@ struct GaitOptions {
 /// The feet of a trunk at (x, y, yaw) in the map frame.
 std::array<Eigen::Vector2d, 6> foot_positions(const GaitOptions& gait, double x_m, double y_m, double yaw_rad);
 
+/// Where a foot is and whether it bears weight. The two tripods are left
+/// front, right middle, left rear (indices 0, 4, 2: stance from the start of
+/// each gait cycle) and right front, left middle, right rear (3, 1, 5: half a
+/// cycle later).
+struct FootState {
+  Eigen::Vector3d position_m = Eigen::Vector3d::Zero();  ///< the sole, map frame [m]
+  bool in_stance = true;
+};
+
 /// The truth at one instant.
 struct TrunkState {
   double time_s = 0.0;
@@ -91,6 +119,9 @@ struct TrunkState {
   std::size_t segment = 0;
   double distance_m = 0.0;  ///< track walked so far [m]
   double turned_rad = 0.0;  ///< heading turned so far, as a magnitude [rad]
+  /// The six feet, in GaitOptions::foot_offsets() order. What leg
+  /// kinematics would measure (pose_estimate.hpp's `legs` reference).
+  std::array<FootState, 6> feet{};
 };
 
 class TrunkMotion {
@@ -117,6 +148,10 @@ class TrunkMotion {
   SupportPlane support_plane(double x_m, double y_m, double yaw_rad) const;
 
  private:
+  PathPoint point_at(double time_s) const;
+  /// The feet at a time (feet_stand_in_stance) and their support heights.
+  void stepping_feet(double time_s, std::array<FootState, 6>& feet, Eigen::Matrix<double, 6, 1>& support_m) const;
+
   Scene scene_;
   WalkPath path_;
   GaitOptions gait_;
