@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include "cli/cli_runner.hpp"
 #include "live/test_folder.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
@@ -255,6 +256,31 @@ TEST(TileStore, ATileThatAppearedDuringTheRunIsNotReplaced) {
   folder.write("tiles/" + std::filesystem::path(intruder).filename().string(), "someone else's");
   EXPECT_THROW(store.flush(mapper.map()), InputError);
   EXPECT_EQ(folder.read("tiles/" + std::filesystem::path(intruder).filename().string()), "someone else's");
+}
+
+TEST(TileStore, TheMergeTilesCommandWritesTheMergedMapAndNoFileOverAnother) {
+  TestFolder folder;
+  TerrainMapper mapper(mapper_options(), SensorMount{});
+  io::TileStore store(tiles_in(folder / "tiles", 8, 2), mapper.map(), {});
+  mapper.set_window_listener(&store);
+  scramble_window(mapper.map(), 11);
+  drive_to(mapper, 1.3, 0.4);
+  store.flush(mapper.map());
+  const std::string out = folder / "all.smap";
+  const test::CommandResult made =
+      test::run_cli("merge-tiles " + test::shell_quoted(folder / "tiles") + " --out " + test::shell_quoted(out));
+  ASSERT_EQ(made.exit_code, 0) << made.output;
+  const io::MapFile merged = io::load_map_file(out);
+  EXPECT_EQ(differing_cells(mapper.map(), merged.map), 0u);
+  const ElevationMap direct = io::merge_tiles(folder / "tiles");
+  EXPECT_EQ(merged.map.min_cell(), direct.min_cell());
+  EXPECT_EQ(differing_cells(direct, merged.map), 0u);
+  const std::string before = folder.read("all.smap");
+  const test::CommandResult again =
+      test::run_cli("merge-tiles " + test::shell_quoted(folder / "tiles") + " --out " + test::shell_quoted(out));
+  EXPECT_NE(again.exit_code, 0);
+  EXPECT_NE(again.output.find("exists"), std::string::npos) << again.output;
+  EXPECT_EQ(folder.read("all.smap"), before);
 }
 
 TEST(TileStore, MergeTilesRefusesAFolderWithoutManifest) {
