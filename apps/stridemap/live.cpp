@@ -22,6 +22,7 @@
 #include "stridemap/io/map_file.hpp"
 #include "stridemap/io/map_outputs.hpp"
 #include "stridemap/io/map_resume_check.hpp"
+#include "stridemap/io/output_folder.hpp"
 #include "stridemap/io/pose_stream.hpp"
 #include "stridemap/io/scan_log.hpp"
 #include "stridemap/live/live_mapping.hpp"
@@ -47,6 +48,7 @@ struct MappingArgs {
   bool report = false;
   std::string range;
   std::string window;
+  std::string global_map;
 };
 
 // --range MIN:MAX: the ends of elevation.png's colour scale [m].
@@ -108,6 +110,9 @@ void add_mapping_options(CLI::App& command, MappingArgs& args) {
   command.add_option("--map-filter", args.map_filter,
                      "What runs on a copy of the map before it is saved: fill (eq. 11), cas or none")
       ->capture_default_str();
+  command.add_option("--global-map", args.global_map,
+                     "Keep the cells that leave the window in tiles in this new or empty folder, and reload them "
+                     "when the robot comes back (docs/global_map.md); overrides the config's global_map.folder");
   command.add_option("--resume", args.resume_path,
                      "Go on mapping from this map file (a map.smap of an earlier run, made with the same --config); "
                      "the new map goes to --out, the file itself is never changed");
@@ -129,6 +134,11 @@ ScanMapperOptions mapper_options(const MappingArgs& args) {
   }
   ScanMapperOptions options;
   if (!args.config_path.empty()) options.config = load_mapper_config(args.config_path);
+  if (!args.global_map.empty()) options.config.global_map.folder = args.global_map;
+  if (!options.config.global_map.folder.empty() &&
+      (options.config.global_map.folder == args.out_dir || io::same_file(options.config.global_map.folder, args.out_dir))) {
+    throw InputError("--global-map: '" + options.config.global_map.folder + "' is the --out folder; give the tiles their own");
+  }
   if (window.mode == WindowChoice::Mode::center) {
     fix_window(options, window_centred_at(options.config.mapper.grid, window.center_m));
   }
@@ -390,6 +400,9 @@ void run_map(const MapArgs& args) {
               s.integrated, s.scans, s.before_first_pose, s.after_last_pose, s.pose_gap,
               100.0 * map_coverage(layers), args.mapping.out_dir.c_str());
   std::fflush(stdout);
+  if (const io::TileStore* tiles = mapper.tile_store()) {
+    note("global map: " + std::to_string(tiles->tiles_on_disk().size()) + " tiles in " + tiles->folder());
+  }
   report_shortfall(s, scan_times, pose_times, args.mapping.clock);
 }
 

@@ -9,12 +9,15 @@
 #include <iterator>
 #include <memory>
 #include <string>
+#include <system_error>
+#include <utility>
 #include <vector>
 
 #include "commands.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/map_export.hpp"
 #include "stridemap/io/map_file.hpp"
+#include "stridemap/io/tile_store.hpp"
 
 namespace stridemap::cli {
 namespace {
@@ -106,6 +109,24 @@ void register_map_file_commands(CLI::App& app) {
   info->callback([info_path] {
     io::load_map_file(*info_path);  // the whole file checked, not only its header
     print_info(*info_path);
+  });
+
+  // The global map's tiles (docs/global_map.md) as one map file.
+  auto merge = std::make_shared<std::pair<std::string, std::string>>();
+  CLI::App* tiles = app.add_subcommand("merge-tiles", "A global map folder's tiles as one map file (docs/global_map.md)");
+  tiles->add_option("folder", merge->first, "Global map folder (--global-map of map or live)")->required();
+  tiles->add_option("--out", merge->second, "Map file to write; must not exist yet")->required();
+  tiles->callback([merge] {
+    std::error_code ec;
+    if (std::filesystem::exists(std::filesystem::symlink_status(merge->second, ec))) {
+      throw InputError("--out: '" + merge->second + "' exists; merge-tiles writes only a new file");
+    }
+    const ElevationMap merged = io::merge_tiles(merge->first);
+    io::MapFileMetadata metadata;
+    metadata.created_by = "merge-tiles " + merge->first;
+    io::save_map_file(merge->second, merged, metadata);
+    std::printf("merge-tiles: %d x %d cells of %g m from %s into %s\n", merged.cells_per_side(),
+                merged.cells_per_side(), merged.cell_size_m(), merge->first.c_str(), merge->second.c_str());
   });
 }
 

@@ -36,6 +36,8 @@ struct SoakCommandOptions {
   double radius_m = 3.0;
   std::string motion = "circuit";
   bool planner_thread = true;
+  std::string global_map;  ///< empty: no global map
+  int tile_cells = GlobalMapOptions{}.tile_cells;
 };
 
 std::string hex(std::uint64_t value) {
@@ -70,6 +72,14 @@ void print_run(const SoakResult& r, const SoakOptions& options) {
                 a.heap_in_use_bytes, a.scan, b.heap_in_use_bytes, b.scan, static_cast<double>(a.resident_bytes) / 1048576.0,
                 static_cast<double>(b.resident_bytes) / 1048576.0);
   }
+  if (r.global_map.enabled) {
+    const SoakGlobalMap& g = r.global_map;
+    std::printf("  global map: %zu tiles on disk (%.1f MiB), %zu written, %zu read back, %zu cells restored; "
+                "%" PRIu64 " measured cells on disk, %" PRIu64 " measured first by the mapper, %" PRIu64
+                " invalid\n",
+                g.tiles_on_disk, static_cast<double>(g.bytes_on_disk) / 1048576.0, g.tiles_written, g.tiles_read,
+                g.cells_restored, g.measured_on_disk, g.first_measured, g.invalid_on_disk);
+  }
   std::printf("  run hash %s (over %zu checkpoints), %.1f s\n", hex(r.run_hash).c_str(), r.checkpoints.size(),
               r.wall_time_s);
 }
@@ -82,7 +92,8 @@ nlohmann::json to_json(const SoakResult& r) {
                            {"snapshot_hash", hex(c.snapshot_hash)},
                            {"measured_cells", c.measured_cells},
                            {"heap_in_use_bytes", c.heap_in_use_bytes},
-                           {"resident_bytes", c.resident_bytes}});
+                           {"resident_bytes", c.resident_bytes},
+                           {"global_map_tiles", c.global_map_tiles}});
   }
   const MapperTotals& t = r.totals;
   return {{"simulated", true},
@@ -105,6 +116,15 @@ nlohmann::json to_json(const SoakResult& r) {
           {"planner_invalid_cells", r.reader_invalid_cells},
           {"path_length_m", r.path_length_m},
           {"path_extent_m", {r.path_extent_x_m, r.path_extent_y_m}},
+          {"global_map", r.global_map.enabled ? nlohmann::json{{"tiles_on_disk", r.global_map.tiles_on_disk},
+                                                                {"bytes_on_disk", r.global_map.bytes_on_disk},
+                                                                {"tiles_written", r.global_map.tiles_written},
+                                                                {"tiles_read", r.global_map.tiles_read},
+                                                                {"cells_restored", r.global_map.cells_restored},
+                                                                {"measured_on_disk", r.global_map.measured_on_disk},
+                                                                {"first_measured", r.global_map.first_measured},
+                                                                {"invalid_on_disk", r.global_map.invalid_on_disk}}
+                                              : nlohmann::json(nullptr)},
           {"run_hash", hex(r.run_hash)},
           {"wall_time_s", r.wall_time_s},
           {"failures", r.failures()},
@@ -120,6 +140,14 @@ void run(const SoakCommandOptions& o) {
     const std::string dir = (std::filesystem::path(o.out_dir) / "soak").string();
     refuse_output_that_is_an_input("--out", dir, {{"--scene", o.scene_path}});
     io::check_output_folder(dir, "--out");
+  }
+  if (!o.global_map.empty()) {
+    std::error_code ec;
+    if (std::filesystem::exists(o.global_map, ec) &&
+        !(std::filesystem::is_directory(o.global_map, ec) && std::filesystem::is_empty(o.global_map, ec))) {
+      throw InputError("--global-map: '" + o.global_map +
+                       "' exists and is not an empty folder; the tiles go only into a new or empty one");
+    }
   }
   std::unique_ptr<SoakMotion> moving;
   if (o.motion == "walk") {
@@ -150,6 +178,11 @@ void run(const SoakCommandOptions& o) {
   }
   for (int k = 0; k < o.repeat; ++k) {
     run_index = k;
+    // Each run its own folder: a store writes only into a new or empty one.
+    if (!o.global_map.empty()) {
+      options.global_map.folder = (std::filesystem::path(o.global_map) / ("run" + std::to_string(k + 1))).string();
+      options.global_map.tile_cells = o.tile_cells;
+    }
     const SoakResult result = run_soak(scene, motion, options);
     bar.clear();
     print_run(result, options);
@@ -198,6 +231,12 @@ void register_soak(CLI::App& app) {
   command->add_option("--radius-m", options->radius_m, "Radius of the circuit [m]")->capture_default_str()
       ->check(number_from_to(0.05, 1000.0, "m"));
   command->add_option("--out", options->out_dir, "Folder for soak/summary.json");
+  command->add_option("--global-map", options->global_map,
+                      "Keep a tiled global map in this new or empty folder (run1/, run2/ per --repeat) and check "
+                      "it at the end (docs/global_map.md)");
+  command->add_option("--tile-cells", options->tile_cells, "Cells per side of a global map tile")
+      ->capture_default_str()
+      ->check(whole_from_to(1, 4096));
   command->add_flag("!--no-planner-thread", options->planner_thread, "Do not read snapshots from a second thread");
   command->callback([options] {
     options->scene_path = resolve_default_data_file("--scene", options->scene_path, SoakCommandOptions::kDefaultScene);

@@ -113,8 +113,25 @@ bool TerrainMapper::accept(const TrunkPose& pose, std::optional<double> time_s, 
 
 void TerrainMapper::follow(const TrunkPose& pose, ScanStats& stats) {
   if (!options_.follow_robot) return;
-  stats.cells_reset_by_move = map_.move_to(pose.x_m + options_.window_ahead_m * std::cos(pose.yaw_rad),
-                                           pose.y_m + options_.window_ahead_m * std::sin(pose.yaw_rad));
+  const double x_m = pose.x_m + options_.window_ahead_m * std::cos(pose.yaw_rad);
+  const double y_m = pose.y_m + options_.window_ahead_m * std::sin(pose.yaw_rad);
+  if (!window_listener_) {
+    stats.cells_reset_by_move = map_.move_to(x_m, y_m);
+    return;
+  }
+  // The listener must see the corner before the move, so it is found here
+  // as move_to() finds it; a target move_to() would refuse moves nothing.
+  const double limit =
+      static_cast<double>(std::numeric_limits<std::int64_t>::max() / 4) * map_.cell_size_m();
+  if (!(std::abs(x_m) <= limit && std::abs(y_m) <= limit)) return;
+  const CellIndex centre = map_.cell_of(x_m, y_m);
+  const int half = map_.cells_per_side() / 2;
+  const CellIndex new_min{centre.x - half, centre.y - half};
+  const CellIndex old_min = map_.min_cell();
+  if (new_min == old_min) return;
+  window_listener_->window_leaving(map_, new_min);
+  stats.cells_reset_by_move = map_.move_corner_to(new_min);
+  window_listener_->window_entered(map_, old_min);
 }
 
 void TerrainMapper::apply(double x_m, double y_m, double h_m, double dz_max, ScanStats& stats) {

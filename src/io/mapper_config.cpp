@@ -19,13 +19,15 @@ class MapperConfigReader : public StrictYamlReader {
   MapperConfig read(const YAML::Node& root) {
     MapperConfig config;
     if (!root.IsDefined() || root.IsNull()) return config;  // an empty file: all defaults
-    const Fields top = read_map(root, "", {"mount", "map", "update", "fill", "range_calibration", "foothold"});
+    const Fields top = read_map(root, "", {"mount", "map", "update", "fill", "range_calibration", "foothold",
+                                                 "global_map"});
     if (const Field* f = find(top, "mount")) read_mount(f->value, config.mount);
     if (const Field* f = find(top, "map")) read_map_section(f->value, config.mapper);
     if (const Field* f = find(top, "update")) read_update(f->value, config.mapper.update);
     if (const Field* f = find(top, "fill")) read_fill(f->value, config.fill);
     if (const Field* f = find(top, "range_calibration")) read_calibration(f->value, config.calibration);
     if (const Field* f = find(top, "foothold")) read_foothold(f->value, config.foothold);
+    if (const Field* f = find(top, "global_map")) read_global_map(f->value, config.global_map);
     return config;
   }
 
@@ -166,6 +168,14 @@ class MapperConfigReader : public StrictYamlReader {
     o.min_known_fraction =
         checked(f, node, p, "min_known_fraction", o.min_known_fraction, fraction, "a fraction from 0 to 1");
     o.safe_score = checked(f, node, p, "safe_score", o.safe_score, fraction, "a score from 0 to 1");
+  }
+
+  void read_global_map(const YAML::Node& node, GlobalMapOptions& o) {
+    const std::string p = "global_map";
+    const Fields f = read_map(node, p, {"folder", "tile_cells", "cached_tiles"});
+    if (find(f, "folder")) o.folder = text(f, node, p, "folder");
+    o.tile_cells = whole(f, node, p, "tile_cells", o.tile_cells, 1, kMaxGridCellsPerSide);
+    o.cached_tiles = whole(f, node, p, "cached_tiles", o.cached_tiles, 1, 1024);
   }
 
   void read_calibration(const YAML::Node& node, RangeCalibration& c) {

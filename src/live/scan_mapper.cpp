@@ -36,6 +36,12 @@ ScanMapper::ScanMapper(const ScanMapperOptions& options, const UrgParameters& se
   if (options_.window_corner) {
     pipeline_.mapper().map().move_corner_to(*options_.window_corner);
   }
+  if (!options_.config.global_map.folder.empty()) {
+    // Made last: it takes the layers of the map as resumed, foothold layers included.
+    tiles_ = std::make_unique<io::TileStore>(options_.config.global_map, pipeline_.mapper().map(),
+                                             io::map_file_metadata(options_.config, "global map"));
+    pipeline_.mapper().set_window_listener(tiles_.get());
+  }
 }
 
 void ScanMapper::add(const UrgRawScan& raw, double arrival_s) {
@@ -62,6 +68,7 @@ std::size_t ScanMapper::expire(double before_s) {
 
 void ScanMapper::finish() {
   pipeline_.finish();
+  if (tiles_) tiles_->flush(pipeline_.mapper().map());
   stats_ = pipeline_.stats();
 }
 

@@ -20,6 +20,7 @@
 #include "stridemap/core/pose.hpp"
 #include "stridemap/core/sensor_point.hpp"
 #include "stridemap/core/sensor_transform.hpp"
+#include "stridemap/core/window_move_listener.hpp"
 
 namespace stridemap {
 
@@ -140,6 +141,12 @@ class TerrainMapper {
     return box;
   }
 
+  /// Told of every move of the window that follow_robot makes (a map larger
+  /// than the window: io/tile_store.hpp); nullptr for none. Not owned: it
+  /// must outlive the mapper or be unset first.
+  void set_window_listener(WindowMoveListener* listener) { window_listener_ = listener; }
+  WindowMoveListener* window_listener() const { return window_listener_; }
+
  private:
   bool accept(const TrunkPose& pose, std::optional<double> time_s, ScanStats& stats);
   void follow(const TrunkPose& pose, ScanStats& stats);
@@ -160,6 +167,7 @@ class TerrainMapper {
   ElevationMap map_;
   MapperTotals totals_;
   CellBox changed_;
+  WindowMoveListener* window_listener_ = nullptr;
   std::optional<TrunkPose> previous_pose_;
   std::optional<double> previous_time_s_;
   std::vector<double> cached_angles_, cos_angle_, sin_angle_;

@@ -19,6 +19,7 @@
 #include "stridemap/core/progress.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/core/weighted_median_fill.hpp"
+#include "stridemap/io/global_map_options.hpp"
 #include "stridemap/preprocess/scan_filter_chain.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
 #include "stridemap/sim/scene.hpp"
@@ -107,6 +108,10 @@ struct SoakOptions {
   /// A planner thread takes snapshots throughout and checks each one.
   bool reader_thread = true;
   SoakFaults faults{};
+  /// With a folder: the cells leaving the window go to a tiled global map
+  /// there (io/tile_store.hpp), which the window reloads on every lap; the
+  /// run then checks the tiles at the end (SoakGlobalMap).
+  GlobalMapOptions global_map{};
   /// Told the scans simulated so far (from the mapping thread).
   ProgressCallback progress{};
 };
@@ -118,6 +123,25 @@ struct SoakCheckpoint {
   std::size_t measured_cells = 0;
   std::size_t heap_in_use_bytes = 0;  ///< process_memory(); 0 when unknown
   std::size_t resident_bytes = 0;
+  std::size_t global_map_tiles = 0;  ///< tiles on disk so far (0 without a global map)
+};
+
+/// The global map's check after a run: every cell the mapper ever measured
+/// for the first time (ScanStats::first, summed) is on disk exactly once,
+/// as a measured cell of a tile that loads (checksum) and holds no invalid
+/// value. A cell lost on its way out or back would be measured "first"
+/// again on the next lap; a cell invented would be on disk unmeasured.
+struct SoakGlobalMap {
+  bool enabled = false;
+  std::size_t tiles_on_disk = 0;
+  std::size_t tiles_written = 0;
+  std::size_t tiles_read = 0;
+  std::size_t cells_restored = 0;    ///< copied back into the window from tiles
+  std::uint64_t first_measured = 0;  ///< ScanStats::first over the run
+  std::uint64_t measured_on_disk = 0;
+  std::uint64_t invalid_on_disk = 0;
+  std::uint64_t bytes_on_disk = 0;
+  std::string first_invalid;
 };
 
 struct SoakResult {
@@ -143,6 +167,7 @@ struct SoakResult {
   double path_extent_x_m = 0.0;  ///< max - min of the true x over the run
   double path_extent_y_m = 0.0;
   std::uint64_t cells_reset_by_moves = 0;
+  SoakGlobalMap global_map{};
   double wall_time_s = 0.0;
 
   /// What went wrong, one sentence each; empty when the run passed: a lost

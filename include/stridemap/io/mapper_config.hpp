@@ -1,6 +1,6 @@
 #pragma once
 // The mapper's settings from a YAML file: sensor mount, map, update rule,
-// fill-in, range calibration and foothold layers (schema and defaults: docs/config.md).
+// fill-in, range calibration, foothold layers and global map (schema and defaults: docs/config.md).
 // Angles are in degrees in the file (`_deg` fields) and radians inside.
 #include <string>
 
@@ -8,6 +8,7 @@
 #include "stridemap/core/pose.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/core/weighted_median_fill.hpp"
+#include "stridemap/io/global_map_options.hpp"
 #include "stridemap/sensors/range_calibration.hpp"
 
 namespace stridemap {
@@ -18,6 +19,10 @@ struct MapperConfig {
   FillOptions fill{};
   RangeCalibration calibration{};
   FootholdOptions foothold{};
+  /// Where cells leaving the window go (io/tile_store.hpp); none by default.
+  /// Not a setting of the map itself: not in the map file's config, and a
+  /// resumed map may use another folder.
+  GlobalMapOptions global_map{};
 };
 
 /// Every section and field is optional (the structs' defaults apply);

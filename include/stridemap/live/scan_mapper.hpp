@@ -20,6 +20,7 @@
 #include "stridemap/io/map_file.hpp"
 #include "stridemap/io/map_outputs.hpp"
 #include "stridemap/io/mapper_config.hpp"
+#include "stridemap/io/tile_store.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
 #include "stridemap/preprocess/scan_filter_chain.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
@@ -68,8 +69,11 @@ class ScanMapper {
   /// Skips the waiting scans that arrived at or before `before_s` (live
   /// mapping: the poses for them are overdue). Returns how many.
   std::size_t expire(double before_s);
-  /// Ends the stream: the scan held by scan-sequence is integrated.
+  /// Ends the stream: the scan held by scan-sequence is integrated, and
+  /// with a global map (config.global_map) every tile is written.
   void finish();
+  /// The global map the window's cells go to; nullptr without one.
+  const io::TileStore* tile_store() const { return tiles_.get(); }
 
   std::size_t waiting() const { return pipeline_.waiting(); }
   /// Room for `scans` scans waiting for their poses at once (no allocation then).
@@ -88,6 +92,7 @@ class ScanMapper {
   ScanMapperOptions options_;
   MappingPipeline pipeline_;
   ScanMapperStats stats_;  // the pipeline's, as of the last call
+  std::unique_ptr<io::TileStore> tiles_;  // on the heap: the mapper points at it
 };
 
 }  // namespace stridemap
