@@ -151,11 +151,13 @@ TEST(VisibilityClearing, AFilledCellIsClearedAtOnceAndUnknownCellsStay) {
 
 TEST(VisibilityClearing, NeighbouringBeamsAreThinnedToOnePerCell) {
   ElevationMap map = flat_map();
-  VisibilityClearing clearing(map, VisibilityOptions{});
+  VisibilityOptions options;
+  options.beam_spacing_cells = 1.0;
+  VisibilityClearing clearing(map, options);
   clearing.begin_scan();
   VisibilityBeam beam = row_beam();
   for (int k = 0; k < 10; ++k) {
-    beam.hit_m.y() = 0.105 + 0.002 * k;  // hits 2 mm apart: every fifth is traced
+    beam.hit_m.y() = 0.105 + 0.002 * k;  // hits 2 mm apart: about every fifth is traced
     clearing.trace(map, beam);
   }
   EXPECT_EQ(clearing.stats().beams_traced, 2u);

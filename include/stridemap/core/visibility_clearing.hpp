@@ -51,8 +51,10 @@ struct VisibilityOptions {
   /// increment a = 3, equal to one plausible reading.
   double certainty_decrement = 3.0;
   /// Trace a beam only when its hit lies at least this many cells from the
-  /// last traced beam's hit (0: every beam).
-  double beam_spacing_cells = 1.0;
+  /// last traced beam's hit (0: every beam). Half a cell keeps the traced
+  /// paths less than a cell apart, so that no cell near the hits falls
+  /// between two of them.
+  double beam_spacing_cells = 0.5;
 };
 
 /// Throws InputError naming the field ("visibility: relief_factor must be
