@@ -19,13 +19,15 @@ class MapperConfigReader : public StrictYamlReader {
   MapperConfig read(const YAML::Node& root) {
     MapperConfig config;
     if (!root.IsDefined() || root.IsNull()) return config;  // an empty file: all defaults
-    const Fields top = read_map(root, "", {"mount", "map", "update", "fill", "range_calibration", "foothold"});
+    const Fields top = read_map(root, "", {"mount", "map", "update", "fill", "range_calibration", "foothold",
+                                            "visibility"});
     if (const Field* f = find(top, "mount")) read_mount(f->value, config.mount);
     if (const Field* f = find(top, "map")) read_map_section(f->value, config.mapper);
     if (const Field* f = find(top, "update")) read_update(f->value, config.mapper.update);
     if (const Field* f = find(top, "fill")) read_fill(f->value, config.fill);
     if (const Field* f = find(top, "range_calibration")) read_calibration(f->value, config.calibration);
     if (const Field* f = find(top, "foothold")) read_foothold(f->value, config.foothold);
+    if (const Field* f = find(top, "visibility")) read_visibility(f->value, config.visibility);
     return config;
   }
 
@@ -166,6 +168,21 @@ class MapperConfigReader : public StrictYamlReader {
     o.min_known_fraction =
         checked(f, node, p, "min_known_fraction", o.min_known_fraction, fraction, "a fraction from 0 to 1");
     o.safe_score = checked(f, node, p, "safe_score", o.safe_score, fraction, "a score from 0 to 1");
+  }
+
+  void read_visibility(const YAML::Node& node, VisibilityOptions& o) {
+    const std::string p = "visibility";
+    const Fields f = read_map(node, p,
+                              {"enabled", "uncertainty_factor", "relief_factor", "certainty_decrement",
+                               "beam_spacing_cells"});
+    o.enabled = boolean(f, node, p, "enabled", o.enabled);
+    o.uncertainty_factor =
+        checked(f, node, p, "uncertainty_factor", o.uncertainty_factor, non_negative, "a factor >= 0");
+    o.relief_factor = checked(f, node, p, "relief_factor", o.relief_factor, non_negative, "a factor >= 0 (cells)");
+    o.certainty_decrement =
+        checked(f, node, p, "certainty_decrement", o.certainty_decrement, positive, "a certainty > 0");
+    o.beam_spacing_cells = checked(f, node, p, "beam_spacing_cells", o.beam_spacing_cells,
+                                   [](double v) { return v >= 0.0 && v <= 1000.0; }, "a spacing from 0 to 1000 cells");
   }
 
   void read_calibration(const YAML::Node& node, RangeCalibration& c) {

@@ -1,12 +1,13 @@
 #pragma once
 // The mapper's settings from a YAML file: sensor mount, map, update rule,
-// fill-in, range calibration and foothold layers (schema and defaults: docs/config.md).
+// fill-in, range calibration, foothold layers and the visibility clean-up (schema and defaults: docs/config.md).
 // Angles are in degrees in the file (`_deg` fields) and radians inside.
 #include <string>
 
 #include "stridemap/core/foothold.hpp"
 #include "stridemap/core/pose.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
+#include "stridemap/core/visibility_clearing.hpp"
 #include "stridemap/core/weighted_median_fill.hpp"
 #include "stridemap/sensors/range_calibration.hpp"
 
@@ -18,6 +19,7 @@ struct MapperConfig {
   FillOptions fill{};
   RangeCalibration calibration{};
   FootholdOptions foothold{};
+  VisibilityOptions visibility{};
 };
 
 /// Every section and field is optional (the structs' defaults apply);
