@@ -30,5 +30,6 @@ void register_map_file_commands(CLI::App& app);  // map_file_commands.cpp: expor
 void register_report(CLI::App& app);              // report_command.cpp
 void register_random_scenes(CLI::App& app);       // random_scenes.cpp: scene random, experiment fidelity
 void register_foothold_experiment(CLI::App& app);  // foothold_command.cpp, after register_experiment
+void register_moved_objects_experiment(CLI::App& app);  // moved_objects_command.cpp, after register_experiment
 
 }  // namespace stridemap::cli

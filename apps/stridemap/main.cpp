@@ -60,6 +60,7 @@ int main(int argc, char** argv) {
   stridemap::cli::register_report(app);
   stridemap::cli::register_random_scenes(app);  // after register_experiment
   stridemap::cli::register_foothold_experiment(app);
+  stridemap::cli::register_moved_objects_experiment(app);
   if (argc <= 1) {
     // Nothing asked: show what can be asked, as --help does.
     std::fputs(app.help().c_str(), stdout);

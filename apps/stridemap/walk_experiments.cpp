@@ -41,6 +41,7 @@ struct RockyWalkArgs {
   std::string feet = "stand";
   std::optional<double> foothold_map_sigma_m;
   std::string mixed_pixels = "off";
+  std::string visibility = "off";
   std::string pipeline = "geometric";
   std::string filters;
   std::optional<std::string> map_filter;
@@ -84,6 +85,8 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   ElevationMap(options.walk.mapper.grid);  // throws for an unusable grid
   options.validate();
   const bool mixed = parse_on_off("--mixed-pixels", args.mixed_pixels);
+  const bool visibility = parse_on_off("--visibility", args.visibility);
+  if (!urg && visibility) throw InputError("--visibility applies to the URG only, not to --sensor structured-light");
   if (!urg && (mixed || !args.filters.empty())) {
     throw InputError("--mixed-pixels and --filters apply to the URG only, not to --sensor structured-light");
   }
@@ -110,6 +113,7 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
     UrgWalkSensorOptions urg_options;
     urg_options.mixed_pixels = mixed;
     urg_options.filters = filters;
+    urg_options.visibility.enabled = visibility;
     factory = [urg_options, seed = args.seed](const Scene& s, const UpdateOptions& update) -> std::unique_ptr<WalkSensor> {
       return std::make_unique<UrgWalkSensor>(s, urg_options, update, seed);
     };
@@ -180,6 +184,10 @@ void register_walk_experiments(CLI::App& app) {
                     "odometry [m]; default 0.003; a large value (1) all but ignores the map")
       ->check(number_from_to(0.0, 1000.0, "m"));
   rocky->add_option("--mixed-pixels", rw->mixed_pixels, "on: footprint beam model with mixed pixels at edges")
+      ->capture_default_str();
+  rocky->add_option("--visibility", rw->visibility,
+                    "on: the visibility clean-up (docs/visibility.md) clears what beams pass below; the walk counts "
+                    "the cells it cleared against the truth")
       ->capture_default_str();
   rocky->add_option("--filters", rw->filters, "Scan filters (as for cart-rail); default none, or paper with mixed pixels");
   rocky->add_option("--map-filter", rw->map_filter, "fill (eq. 11), cas or none; default fill (urg), cas (structured-light)");

@@ -183,6 +183,12 @@ std::string rocky_walk_summary_json(const RockyWalkResult& r, const RockyWalkOpt
       {"pose_rms", pose_json(w.pose_errors)},
       {"map", score_json(w.mosaic_score, w.unknown_swept_cells)},
       {"local_map", score_json(w.local_score, 0)},
+      {"visibility",
+       {{"enabled", w.visibility_enabled},
+        {"cells_contradicted", w.visibility_cells_contradicted},
+        {"cells_cleared", w.visibility_cleared},
+        {"cells_wrongly_cleared", w.visibility_wrongly_cleared},
+        {"artifact_cells_cleared", w.visibility_artifacts_cleared}}},
       {"cell_size_m", w.local.cell_size_m},
       {"map_filter", std::string(map_filter_name(options.walk.map_filter))},
       {"elevation_rule", std::string(name(options.walk.mapper.update.elevation_rule))},
@@ -231,6 +237,14 @@ std::string rocky_walk_table(const RockyWalkResult& r) {
   std::snprintf(line, sizeof line, "final local map: RMS error %.1f mm, max %.1f mm, artifact cells %zu, coverage %.1f %%\n",
                 l.rms_error_m * 1000, l.max_error_m * 1000, l.artifact_cells, l.coverage * 100);
   out += line;
+  if (w.visibility_enabled) {
+    std::snprintf(line, sizeof line,
+                  "visibility clean-up: %zu cells passed below, %zu cleared: %zu wrongly (height within %.0f mm of the "
+                  "truth), %zu artifacts\n",
+                  w.visibility_cells_contradicted, w.visibility_cleared, w.visibility_wrongly_cleared,
+                  w.visibility_correct_m * 1000, w.visibility_artifacts_cleared);
+    out += line;
+  }
   const PoseErrorStats& p = w.pose_errors;
   std::snprintf(line, sizeof line,
                 "pose estimate RMS error: x %.1f mm, y %.1f mm, yaw %.2f deg, pitch %.2f deg, roll %.2f deg, "

@@ -24,6 +24,7 @@ PipelineOptions pipeline_options(const UrgWalkSensorOptions& o) {
   p.filters = o.filters;
   p.filter_options = o.filter_options;
   p.mount = o.mount;
+  p.visibility = o.visibility;
   return p;
 }
 

@@ -149,6 +149,7 @@ void WalkRun::step() {
   estimate_ = estimator_.estimate(truth_, mapper_.map());
   if (std::abs(mapper_.motion_to(estimate_).yaw_change_rad) > kYawChangeCounted_rad) ++yaw_change_scans_;
   last_stats_ = sensor_.measure(truth_.pose, estimate_, time_s, mapper_);
+  count_visibility();
   if (fusion_) {
     for (const ObservedPoint& p : sensor_.last_points()) {
       fusion_->add(mapper_.map(), p.map_m.x(), p.map_m.y(), p.map_m.z(), p.height_uncertainty_m);
@@ -173,8 +174,29 @@ void WalkRun::step() {
   ++next_scan_;
 }
 
+void WalkRun::count_visibility() {
+  const VisibilityClearing* v = sensor_.visibility();
+  if (!v || v->scans() == visibility_scans_) return;
+  visibility_scans_ = v->scans();
+  visibility_cleared_ += v->stats().cells_cleared;
+  visibility_contradicted_ += v->stats().cells_contradicted;
+  if (!options_.score_against_truth) return;
+  const Scene& scene = motion_.scene();
+  const double size = mapper_.map().cell_size_m();
+  for (const ClearedCell& c : v->cleared()) {
+    const double x = static_cast<double>(c.cell.x) * size, y = static_cast<double>(c.cell.y) * size;
+    const double truth = scene.max_height_in_rect(x, y, x + size, y + size);
+    if (static_cast<double>(c.elevation_m) <= truth + options_.visibility_correct_m) {
+      ++visibility_wrong_;
+    } else {
+      ++visibility_artifacts_;
+    }
+  }
+}
+
 WalkResult WalkRun::finish() {
   sensor_.flush(mapper_);
+  count_visibility();
   WalkResult r;
   r.scans = next_scan_;
   r.duration_s = truth_.time_s;
@@ -182,6 +204,12 @@ WalkResult WalkRun::finish() {
   r.turned_rad = truth_.turned_rad;
   r.mapper_totals = mapper_.totals();
   r.scans_with_yaw_change = yaw_change_scans_;
+  r.visibility_enabled = sensor_.visibility() != nullptr;
+  r.visibility_correct_m = options_.visibility_correct_m;
+  r.visibility_cleared = visibility_cleared_;
+  r.visibility_wrongly_cleared = visibility_wrong_;
+  r.visibility_artifacts_cleared = visibility_artifacts_;
+  r.visibility_cells_contradicted = visibility_contradicted_;
   r.trajectory = trajectory_;
   if (next_scan_ > 0) {
     const double n = static_cast<double>(next_scan_);

@@ -20,13 +20,14 @@ class MapperConfigReader : public StrictYamlReader {
     MapperConfig config;
     if (!root.IsDefined() || root.IsNull()) return config;  // an empty file: all defaults
     const Fields top = read_map(root, "", {"mount", "map", "update", "fill", "range_calibration", "foothold",
-                                                 "global_map"});
+                                            "visibility", "global_map"});
     if (const Field* f = find(top, "mount")) read_mount(f->value, config.mount);
     if (const Field* f = find(top, "map")) read_map_section(f->value, config.mapper);
     if (const Field* f = find(top, "update")) read_update(f->value, config.mapper.update);
     if (const Field* f = find(top, "fill")) read_fill(f->value, config.fill);
     if (const Field* f = find(top, "range_calibration")) read_calibration(f->value, config.calibration);
     if (const Field* f = find(top, "foothold")) read_foothold(f->value, config.foothold);
+    if (const Field* f = find(top, "visibility")) read_visibility(f->value, config.visibility);
     if (const Field* f = find(top, "global_map")) read_global_map(f->value, config.global_map);
     return config;
   }
@@ -176,6 +177,21 @@ class MapperConfigReader : public StrictYamlReader {
     if (find(f, "folder")) o.folder = text(f, node, p, "folder");
     o.tile_cells = whole(f, node, p, "tile_cells", o.tile_cells, 1, kMaxGridCellsPerSide);
     o.cached_tiles = whole(f, node, p, "cached_tiles", o.cached_tiles, 1, 1024);
+  }
+
+  void read_visibility(const YAML::Node& node, VisibilityOptions& o) {
+    const std::string p = "visibility";
+    const Fields f = read_map(node, p,
+                              {"enabled", "uncertainty_factor", "relief_factor", "certainty_decrement",
+                               "beam_spacing_cells"});
+    o.enabled = boolean(f, node, p, "enabled", o.enabled);
+    o.uncertainty_factor =
+        checked(f, node, p, "uncertainty_factor", o.uncertainty_factor, non_negative, "a factor >= 0");
+    o.relief_factor = checked(f, node, p, "relief_factor", o.relief_factor, non_negative, "a factor >= 0 (cells)");
+    o.certainty_decrement =
+        checked(f, node, p, "certainty_decrement", o.certainty_decrement, positive, "a certainty > 0");
+    o.beam_spacing_cells = checked(f, node, p, "beam_spacing_cells", o.beam_spacing_cells,
+                                   [](double v) { return v >= 0.0 && v <= 1000.0; }, "a spacing from 0 to 1000 cells");
   }
 
   void read_calibration(const YAML::Node& node, RangeCalibration& c) {

@@ -145,7 +145,8 @@ class SceneReader : public StrictYamlReader {
 
   BoxObject read_box(const YAML::Node& node, const std::string& path) {
     const auto fields = read_map(node, path, {"name", "center_x_m", "center_y_m", "base_elevation_m", "length_m",
-                                              "width_m", "height_m", "yaw_rad", "reflectance"});
+                                              "width_m", "height_m", "yaw_rad", "reflectance", "present_from_s",
+                                              "present_until_s"});
     BoxObject box;
     box.name = text(fields, node, path, "name");
     box.center_x_m = number(fields, node, path, "center_x_m");
@@ -156,6 +157,8 @@ class SceneReader : public StrictYamlReader {
     box.height_m = number(fields, node, path, "height_m");
     box.yaw_rad = number(fields, node, path, "yaw_rad", 0.0);
     box.reflectance = number(fields, node, path, "reflectance", 0.5);
+    box.present_from_s = number(fields, node, path, "present_from_s", box.present_from_s);
+    box.present_until_s = number(fields, node, path, "present_until_s", box.present_until_s);
     return box;
   }
 

@@ -18,6 +18,7 @@ PipelineOptions ScanMapper::pipeline_options(const ScanMapperOptions& options, c
   p.map_filter = {MapFilter::fill, options.config.fill, {}};
   p.mount = options.config.mount;
   p.foothold = options.config.foothold;
+  p.visibility = options.config.visibility;
   return p;
 }
 

@@ -46,6 +46,7 @@ ScanStats MappingPipeline::add_planar(const PlanarScan& scan, const TrunkPose& p
   ++stream_.scans;
   ScanOutcome outcome;
   outcome.stats = mapper_.integrate(scan, pose);
+  if (!outcome.stats.pose_rejected && !outcome.stats.time_rejected) integrator_.clear_visible(scan, pose, mapper_);
   return updated(outcome).stats;
 }
 

@@ -1,11 +1,15 @@
 #include "stridemap/pipeline/scan_integrator.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <string>
 #include <utility>
 
 #include "stridemap/core/error.hpp"
+#include "stridemap/core/planar_scan_points.hpp"
+#include "stridemap/core/sensor_transform.hpp"
 
 namespace stridemap {
 namespace {
@@ -48,6 +52,8 @@ PipelineStats& PipelineStats::operator+=(const PipelineStats& o) {
   after_last_pose += o.after_last_pose;
   pose_gap += o.pose_gap;
   rejected += o.rejected;
+  cells_contradicted += o.cells_contradicted;
+  cells_cleared += o.cells_cleared;
   beams += o.beams;
   stripe += o.stripe;
   points += o.points;
@@ -65,6 +71,7 @@ ScanIntegrator::ScanIntegrator(const PipelineOptions& options)
                      " sensor takes none");
   }
   if (options_.sensor == SensorKind::structured_light) structured_light_.emplace(options_.structured_light);
+  validate_visibility_options(options_.visibility);
 }
 
 void ScanIntegrator::require(SensorKind kind) const {
@@ -111,6 +118,7 @@ ScanOutcome ScanIntegrator::integrate_planar(TerrainMapper& mapper) {
   outcome.stats = collect_ ? mapper.integrate(filtered_, payload.pose, CollectingSink{points_})
                            : mapper.integrate(filtered_, payload.pose);
   ++stats_.integrated;
+  if (!outcome.stats.pose_rejected && !outcome.stats.time_rejected) clear_visible(filtered_, payload.pose, mapper);
   report(payload, filtered_.time_s, outcome.stats, filters_.chain().removed_by_any());
   return outcome;
 }
@@ -150,8 +158,75 @@ ScanOutcome ScanIntegrator::integrate_batch(std::optional<double> time_s, const 
   outcome.stats = collect_ ? mapper.integrate_scan(batch_, pose, time_s, CollectingSink{points_})
                            : mapper.integrate_scan(batch_, pose, time_s);
   ++stats_.integrated;
+  if (!outcome.stats.pose_rejected && !outcome.stats.time_rejected) clear_visible_batch(pose, mapper);
   report(batch_payload_, time_s, outcome.stats, {});
   return outcome;
+}
+
+VisibilityClearing& ScanIntegrator::visibility_for(TerrainMapper& mapper) {
+  // Remade only for a mapper with another window size (a caller's second
+  // mapper); a steady stream allocates nothing here.
+  const ElevationMap& map = mapper.map();
+  const std::size_t cells = static_cast<std::size_t>(map.cells_per_side()) * static_cast<std::size_t>(map.cells_per_side());
+  if (!visibility_ || visibility_->window_cells() != cells) visibility_.emplace(map, options_.visibility);
+  visibility_->begin_scan();
+  return *visibility_;
+}
+
+void ScanIntegrator::finish_visibility(TerrainMapper& mapper) {
+  mapper.note_changed_cells(visibility_->changed());
+  stats_.cells_contradicted += visibility_->stats().cells_contradicted;
+  stats_.cells_cleared += visibility_->stats().cells_cleared;
+}
+
+void ScanIntegrator::clear_visible(const PlanarScan& scan, const TrunkPose& pose, TerrainMapper& mapper) {
+  if (!options_.visibility.enabled) return;
+  VisibilityClearing& clearing = visibility_for(mapper);
+  // A sensor's beam angles rarely change: their sines and cosines are kept.
+  if (scan.angle_rad != visibility_angles_) {
+    visibility_angles_ = scan.angle_rad;
+    visibility_cos_.resize(scan.angle_rad.size());
+    visibility_sin_.resize(scan.angle_rad.size());
+    for (std::size_t i = 0; i < scan.angle_rad.size(); ++i) {
+      visibility_cos_[i] = std::cos(scan.angle_rad[i]);
+      visibility_sin_[i] = std::sin(scan.angle_rad[i]);
+    }
+  }
+  const PlanarBeamGeometry geometry(pose, mapper.mount());
+  VisibilityBeam beam;
+  beam.origin_m = sensor_origin_in_map(pose, mapper.mount());
+  Eigen::Vector3d offset;
+  const std::size_t n = std::min(scan.range_m.size(), scan.range_error_m.size());
+  for (std::size_t i = 0; i < n && i < visibility_cos_.size(); ++i) {
+    const double r = scan.range_m[i], dr = scan.range_error_m[i];
+    if (!(r > 0.0 && std::isfinite(r) && dr >= 0.0 && std::isfinite(dr) && std::isfinite(scan.angle_rad[i]))) continue;
+    geometry.point(r, dr, visibility_cos_[i], visibility_sin_[i], mapper.options().update, offset, beam.height_error_m);
+    beam.hit_m = beam.origin_m + offset;
+    beam.range_error_m = dr;
+    clearing.trace(mapper.map(), beam);
+  }
+  finish_visibility(mapper);
+}
+
+void ScanIntegrator::clear_visible_batch(const TrunkPose& pose, TerrainMapper& mapper) {
+  if (!options_.visibility.enabled) return;
+  VisibilityClearing& clearing = visibility_for(mapper);
+  VisibilityBeam beam;
+  beam.origin_m = sensor_origin_in_map(pose, mapper.mount());
+  SensorPoint p;
+  for (std::size_t i = 0; i < batch_.size(); ++i) {
+    if (batch_.point(i, p) != PointStatus::ok || !std::isfinite(p.height_error_m)) continue;
+    const double length = p.offset_m.norm();
+    if (!(length > 0.0)) continue;
+    // The points carry a height bound, not a range error: the way along the
+    // ray that moves the height by that bound (all of it for a level ray).
+    const double rise = std::abs(p.offset_m.z()) / length;
+    beam.range_error_m = rise > 0.0 ? std::min(length, p.height_error_m / rise) : length;
+    beam.height_error_m = p.height_error_m;
+    beam.hit_m = beam.origin_m + p.offset_m;
+    clearing.trace(mapper.map(), beam);
+  }
+  finish_visibility(mapper);
 }
 
 void ScanIntegrator::report(const ScanPayload& payload, std::optional<double> time_s, const ScanStats& stats,

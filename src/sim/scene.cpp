@@ -122,6 +122,19 @@ std::optional<RayHit> Scene::cast_ray(const Eigen::Vector3d& origin, const Eigen
   return best;
 }
 
+Scene Scene::at_time(double time_s) const {
+  Scene now = *this;
+  now.boxes.clear();
+  for (const BoxObject& box : boxes) {
+    if (box.present_at(time_s)) now.boxes.push_back(box);
+  }
+  return now;
+}
+
+bool Scene::changes_over_time() const {
+  return std::any_of(boxes.begin(), boxes.end(), [](const BoxObject& b) { return !b.always_present(); });
+}
+
 double Scene::surface_height_at(double x_m, double y_m) const {
   double height = terrain.height_at(x_m, y_m);
   if (std::isnan(height)) return height;
@@ -165,6 +178,11 @@ std::optional<SceneProblem> Scene::first_problem() const {
                                        {"base_elevation_m", b.base_elevation_m}, {"yaw_rad", b.yaw_rad}},
                                       {{"length_m", b.length_m}, {"width_m", b.width_m}, {"height_m", b.height_m}})) {
       return problem;
+    }
+    if (std::isnan(b.present_from_s) || std::isnan(b.present_until_s) || !(b.present_from_s < b.present_until_s)) {
+      return SceneProblem{"boxes[" + std::to_string(k) + "].present_until_s", b.name,
+                          "expected a time after present_from_s (" + std::to_string(b.present_from_s) + " s), got " +
+                              std::to_string(b.present_until_s) + " s"};
     }
   }
   for (std::size_t k = 0; k < cylinders.size(); ++k) {

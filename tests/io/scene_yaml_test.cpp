@@ -139,6 +139,35 @@ TEST(SceneYaml, ObjectCountsAreCappedWithFileAndLine) {
             "test.yaml:5: cylinders: expected at most 1000 cylinders, got 100000");
 }
 
+TEST(SceneYaml, BoxesComeAndGo) {
+  const std::string text =
+      "terrain: {kind: flat, extent: {min_x_m: -1, min_y_m: -1, max_x_m: 1, max_y_m: 1}}\n"
+      "boxes:\n"
+      "  - {name: always, center_x_m: 0, center_y_m: 0, length_m: 0.1, width_m: 0.1, height_m: 0.1}\n"
+      "  - {name: gone, center_x_m: 0.5, center_y_m: 0, length_m: 0.1, width_m: 0.1, height_m: 0.1,\n"
+      "     present_until_s: 2.0}\n"
+      "  - {name: step, center_x_m: -0.5, center_y_m: 0, length_m: 0.1, width_m: 0.1, height_m: 0.1,\n"
+      "     present_from_s: 1.0, present_until_s: 1.5}\n";
+  const Scene scene = parse_scene_yaml(text, "test.yaml");
+  EXPECT_TRUE(scene.changes_over_time());
+  const auto names = [](const Scene& s) {
+    std::string out;
+    for (const BoxObject& b : s.boxes) out += b.name + " ";
+    return out;
+  };
+  EXPECT_EQ(names(scene.at_time(0.0)), "always gone ");
+  EXPECT_EQ(names(scene.at_time(1.0)), "always gone step ");
+  EXPECT_EQ(names(scene.at_time(1.5)), "always gone ");
+  EXPECT_EQ(names(scene.at_time(2.0)), "always ");
+  EXPECT_FALSE(scene.at_time(2.0).changes_over_time());
+  std::string bad = text;
+  bad.replace(bad.find("present_from_s: 1.0"), 19, "present_from_s: 1.6");
+  EXPECT_NE(error_of(bad).find("test.yaml:7: boxes[2].present_until_s: expected a time after present_from_s "
+                              "(1.600000 s), got 1.500000 s"),
+            std::string::npos)
+      << error_of(bad);
+}
+
 TEST(SceneYaml, WrongTypesAndMissingFields) {
   EXPECT_EQ(error_of(with_line(8, "    length_m: abc")), "test.yaml:8: boxes[0].length_m: expected a number, got \"abc\"");
   EXPECT_EQ(error_of(with_line(8, "    length_m: \"0.2\"")),
@@ -148,7 +177,7 @@ TEST(SceneYaml, WrongTypesAndMissingFields) {
   EXPECT_EQ(error_of(with_line(8, "")), "test.yaml:5: boxes[0].length_m: required field is missing");
   EXPECT_EQ(error_of(with_line(5, "  - center_z_m: 1")),
             "test.yaml:5: boxes[0].center_z_m: unknown field (expected one of: name, center_x_m, center_y_m, "
-            "base_elevation_m, length_m, width_m, height_m, yaw_rad, reflectance)");
+            "base_elevation_m, length_m, width_m, height_m, yaw_rad, reflectance, present_from_s, present_until_s)");
   EXPECT_EQ(error_of(with_line(12, "  - base_elevation_m: 0.0")), "test.yaml:12: cylinders[0].name: required field is missing");
   EXPECT_EQ(error_of(with_line(5, "  - name: [x]")), "test.yaml:5: boxes[0].name: expected a text, got a list");
   EXPECT_EQ(error_of("terrain: {kind: flat}\nboxes: 3\n"), "test.yaml:2: boxes: expected a list, got \"3\"");

@@ -135,6 +135,9 @@ class TerrainMapper {
   /// last take_changed_cells() (global indices; a window move may have
   /// reset some since). What derived layers (core/foothold.hpp) redo.
   const CellBox& changed_cells() const { return changed_; }
+  /// Adds cells changed other than by readings (the visibility clean-up,
+  /// core/visibility_clearing.hpp), so that derived layers redo them too.
+  void note_changed_cells(const CellBox& box) { changed_.add(box); }
   CellBox take_changed_cells() {
     const CellBox box = changed_;
     changed_.clear();

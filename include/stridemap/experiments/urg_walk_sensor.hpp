@@ -30,6 +30,8 @@ struct UrgWalkSensorOptions {
   /// Scan filters between the sensor model and the mapper (none by default).
   std::vector<ScanFilterKind> filters{};
   ScanFilterChainOptions filter_options{};
+  /// The visibility clean-up (core/visibility_clearing.hpp) after each scan.
+  VisibilityOptions visibility{};
 };
 
 /// The URG's recording: each simulated scan with the true pose and time it
@@ -62,6 +64,7 @@ class UrgWalkSensor final : public WalkSensor {
   bool replay(std::shared_ptr<const WalkRecording> recording) override;
   void set_collect_points(bool collect) override { integrator_.set_collect_points(collect); }
   const std::vector<ObservedPoint>& last_points() const override { return integrator_.last_points(); }
+  const VisibilityClearing* visibility() const override { return integrator_.visibility(); }
   void floor_trace(const TrunkPose& pose, double floor_elevation_m, double max_range_m,
                    std::vector<Eigen::Vector2d>& out) const override;
 

@@ -69,6 +69,10 @@ struct WalkOptions {
   /// only need which cells were seen).
   bool score_against_truth = true;
   MapScoreOptions score{};
+  /// A cleared cell's height at most this far above the truth counts as
+  /// having been right (wrongly lowered); more, as an artifact [m]. Twice
+  /// the URG's 10 mm range error bound seen along a steep beam.
+  double visibility_correct_m = 0.02;
 };
 
 /// RMS of estimate - truth over the walk's scans, per channel.
@@ -106,6 +110,16 @@ struct WalkResult {
   std::size_t unknown_swept_cells = 0;
   std::size_t filled_cells = 0;
   std::size_t cas_removed_cells = 0;
+  /// The visibility clean-up (off unless the sensor has it on): cells it
+  /// cleared, and of those the ones whose height was within
+  /// WalkOptions::visibility_correct_m of the truth (wrongly lowered: the
+  /// scene of a walk does not move) and the ones above it (artifacts).
+  bool visibility_enabled = false;
+  double visibility_correct_m = 0.0;  ///< WalkOptions::visibility_correct_m
+  std::size_t visibility_cleared = 0;
+  std::size_t visibility_wrongly_cleared = 0;
+  std::size_t visibility_artifacts_cleared = 0;
+  std::size_t visibility_cells_contradicted = 0;
   /// The true trunk positions, one per scan (for drawing the path).
   std::vector<Eigen::Vector2d> trajectory;
 };
@@ -160,6 +174,9 @@ class WalkRun {
   double sum_sq_[6] = {0, 0, 0, 0, 0, 0};
   double sum_height_error_ = 0.0;
   std::size_t yaw_change_scans_ = 0;
+  void count_visibility();
+  std::uint64_t visibility_scans_ = 0;  // the clean-up's scans already counted
+  std::size_t visibility_cleared_ = 0, visibility_wrong_ = 0, visibility_artifacts_ = 0, visibility_contradicted_ = 0;
   std::vector<Eigen::Vector2d> trajectory_;
 };
 

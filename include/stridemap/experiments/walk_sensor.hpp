@@ -70,6 +70,10 @@ class WalkSensor {
   /// The points integrated by the last measure() / flush() when collecting.
   virtual const std::vector<ObservedPoint>& last_points() const = 0;
 
+  /// The visibility clean-up of the last measure() (nullptr when the
+  /// sensor has none or it is off): what it cleared, for scoring.
+  virtual const VisibilityClearing* visibility() const { return nullptr; }
+
   /// Where the sensor's rays or stripe meet the plane z = floor_elevation_m
   /// seen from `pose`, within max_range_m: one entry per ray (or stripe
   /// column), always the same count, NaN where a ray misses. Consecutive

@@ -1,12 +1,13 @@
 #pragma once
 // The mapper's settings from a YAML file: sensor mount, map, update rule,
-// fill-in, range calibration, foothold layers and global map (schema and defaults: docs/config.md).
+// fill-in, range calibration, foothold layers, the visibility clean-up and global map (schema and defaults: docs/config.md).
 // Angles are in degrees in the file (`_deg` fields) and radians inside.
 #include <string>
 
 #include "stridemap/core/foothold.hpp"
 #include "stridemap/core/pose.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
+#include "stridemap/core/visibility_clearing.hpp"
 #include "stridemap/core/weighted_median_fill.hpp"
 #include "stridemap/io/global_map_options.hpp"
 #include "stridemap/sensors/range_calibration.hpp"
@@ -23,6 +24,7 @@ struct MapperConfig {
   /// Not a setting of the map itself: not in the map file's config, and a
   /// resumed map may use another folder.
   GlobalMapOptions global_map{};
+  VisibilityOptions visibility{};
 };
 
 /// Every section and field is optional (the structs' defaults apply);

@@ -10,9 +10,10 @@
 //
 // Inside, each scan takes the way of ScanIntegrator: sensor model and error
 // model, scan filters with the scan's pose carried through their delay, the
-// map update with Delta z_max formed in one place. After each, the foothold
-// layers (core/foothold.hpp) are brought up to date around the cells the
-// scan changed.
+// map update with Delta z_max formed in one place, then (when on) the
+// visibility clean-up (core/visibility_clearing.hpp). After each, the
+// foothold layers (core/foothold.hpp) are brought up to date around the
+// cells the scan changed, the cleared ones included.
 #include <cstddef>
 #include <optional>
 #include <span>

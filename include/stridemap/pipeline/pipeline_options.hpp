@@ -2,7 +2,8 @@
 // Everything that configures a mapping pipeline, in one struct: which sensor
 // and its model, the scan filters, the map and update rule, the map filter
 // and the mount. Defaults: a URG-04LX on the paper's Messor mount, no scan
-// filters, the paper's local map and update rule, the fill-in (eq. 11).
+// filters, the paper's local map and update rule, the fill-in (eq. 11),
+// the foothold layers and the visibility clean-up.
 #include <cstdint>
 #include <optional>
 #include <string_view>
@@ -12,6 +13,7 @@
 #include "stridemap/core/map_filter.hpp"
 #include "stridemap/core/pose.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
+#include "stridemap/core/visibility_clearing.hpp"
 #include "stridemap/pipeline/point_cloud_sensor.hpp"
 #include "stridemap/preprocess/scan_filter_chain.hpp"
 #include "stridemap/sensors/range_calibration.hpp"
@@ -60,6 +62,10 @@ struct PipelineOptions {
   /// The foothold layers (core/foothold.hpp), kept current after every
   /// scan; on by default, `enabled = false` leaves the map without them.
   FootholdOptions foothold{};
+  /// The visibility clean-up (core/visibility_clearing.hpp): what a beam
+  /// passes below is cleared, after each scan's readings; `enabled = false`
+  /// keeps eq. (10)'s highest reading however the scene changes.
+  VisibilityOptions visibility{};
 };
 
 }  // namespace stridemap

@@ -3,7 +3,8 @@
 // model (URG-04LX, structured light, generic points, or a SensorModel of the
 // caller's) with its error model, the scan filters with the scan's pose and
 // tags carried through their delay (TaggedScanFilter), then the map update
-// with Delta z_max formed in one place. The mapper is the caller's, so that
+// with Delta z_max formed in one place, and the visibility clean-up
+// (core/visibility_clearing.hpp) with the same beams. The mapper is the caller's, so that
 // a walk simulation can keep reading the map it builds; MappingPipeline
 // owns one and adds the pose stream and the map filter.
 #include <cstddef>
@@ -15,6 +16,7 @@
 #include <Eigen/Core>
 
 #include "stridemap/core/terrain_mapper.hpp"
+#include "stridemap/core/visibility_clearing.hpp"
 #include "stridemap/pipeline/pipeline_options.hpp"
 #include "stridemap/pipeline/point_cloud_sensor.hpp"
 #include "stridemap/pipeline/structured_light_sensor.hpp"
@@ -42,6 +44,8 @@ struct PipelineStats {
   UrgConversionStats beams;            ///< URG raw values
   StripeConversionStats stripe;        ///< structured-light pixels
   PointConversionStats points;         ///< generic points
+  std::size_t cells_contradicted = 0;  ///< visibility clean-up: a scan's beams passed below (once per scan)
+  std::size_t cells_cleared = 0;       ///< visibility clean-up: cleared to unknown
 
   PipelineStats& operator+=(const PipelineStats& other);
 };
@@ -92,6 +96,13 @@ class ScanIntegrator {
   /// Ends the stream: the scan the filters hold, if any, at its own pose.
   ScanOutcome flush(TerrainMapper& mapper);
 
+  /// The visibility clean-up on a planar scan integrated at `pose` (the
+  /// URG's way does it itself; MappingPipeline::add_planar calls this).
+  /// Does nothing when options().visibility.enabled is off.
+  void clear_visible(const PlanarScan& scan, const TrunkPose& pose, TerrainMapper& mapper);
+  /// The last scan's clean-up (nullptr before the first or when off).
+  const VisibilityClearing* visibility() const { return visibility_ ? &*visibility_ : nullptr; }
+
   /// Hand back the points of each integrated scan in last_points() (off by
   /// default: it costs a copy per point).
   void set_collect_points(bool collect) { collect_ = collect; }
@@ -113,6 +124,9 @@ class ScanIntegrator {
   ScanOutcome integrate_planar(TerrainMapper& mapper);
   ScanOutcome integrate_batch(std::optional<double> time_s, const TrunkPose& pose, TerrainMapper& mapper);
   void require(SensorKind kind) const;
+  VisibilityClearing& visibility_for(TerrainMapper& mapper);
+  void clear_visible_batch(const TrunkPose& pose, TerrainMapper& mapper);
+  void finish_visibility(TerrainMapper& mapper);
   void report(const ScanPayload& payload, std::optional<double> time_s, const ScanStats& stats,
               std::span<const std::uint8_t> removed);
 
@@ -128,6 +142,8 @@ class ScanIntegrator {
   bool collect_ = false;
   std::vector<IntegratedPoint> points_;
   std::vector<PipelineObserver*> observers_;
+  std::optional<VisibilityClearing> visibility_;  // made at the first scan, for its mapper's window
+  std::vector<double> visibility_angles_, visibility_cos_, visibility_sin_;  // the scan's beam directions
   PipelineStats stats_;
 };
 

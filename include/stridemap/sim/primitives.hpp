@@ -3,6 +3,8 @@
 // axis and vertical cylinders. Exact ray intersection, point tests and the
 // overlap tests the ground truth of a map cell needs.
 #include <optional>
+#include <cmath>
+#include <limits>
 #include <string>
 
 #include <Eigen/Core>
@@ -20,8 +22,16 @@ struct BoxObject {
   double height_m = 0;  ///< bottom to top [m]
   double yaw_rad = 0;   ///< rotation about +Z, counter-clockwise [rad]
   double reflectance = 0.5;  ///< diffuse reflectance at 785 nm, (0, 1]
+  /// When the box stands in the scene: from present_from_s (inclusive) to
+  /// present_until_s (exclusive), on the simulation's clock [s]. Always by
+  /// default; Scene::at_time() keeps the boxes present at a time (objects
+  /// taken away, or a foot passing through as a series of short stays).
+  double present_from_s = -std::numeric_limits<double>::infinity();
+  double present_until_s = std::numeric_limits<double>::infinity();
 
   double top_m() const { return base_elevation_m + height_m; }
+  bool present_at(double time_s) const { return time_s >= present_from_s && time_s < present_until_s; }
+  bool always_present() const { return std::isinf(present_from_s) && present_from_s < 0 && std::isinf(present_until_s); }
 };
 
 struct CylinderObject {

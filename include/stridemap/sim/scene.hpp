@@ -56,6 +56,11 @@ class Scene {
   /// a coordinate is not finite.
   double max_height_in_rect(double min_x_m, double min_y_m, double max_x_m, double max_y_m) const;
 
+  /// The scene at `time_s`: the boxes present then (BoxObject::present_at).
+  Scene at_time(double time_s) const;
+  /// Whether any box comes or goes (at_time() differs from the scene).
+  bool changes_over_time() const;
+
   /// The first problem found, in the order terrain, boxes, cylinders,
   /// cart_rail, walk_path, duplicate names; nothing when the scene is usable.
   std::optional<SceneProblem> first_problem() const;

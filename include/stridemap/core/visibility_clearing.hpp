@@ -1,0 +1,122 @@
+#pragma once
+// What has moved: a visibility clean-up beyond the paper. Eq. (10) keeps a
+// cell's highest reading, so an object taken away, or a foot that passed
+// through the scan, would stand in the map for ever. A beam that travelled
+// from the sensor to its hit proves the space along its way empty; a cell
+// whose stored height lies above that way by more than the uncertainty is
+// contradicted, and a cell contradicted often enough is cleared (unknown:
+// the next reading there is taken as it is, eq. 9's first case).
+//
+// The rule, per beam with sensor origin o, hit p, range r, range error Dr
+// and the sensor's height-error bound e at the hit (eq. 6's error terms):
+//   - the beam's cells are those its horizontal projection crosses, walked
+//     from o towards p (Amanatides-Woo), and only those whose whole crossing
+//     lies at ranges <= r - Dr: the true surface may be anywhere within Dr
+//     of the hit, so a cell that may hold it is never touched;
+//   - the beam's height over a cell is its highest over the crossing (at the
+//     entry or the exit), z_beam;
+//   - the cell is contradicted when its elevation h > z_beam + margin, with
+//     margin = uncertainty_factor * e + relief_factor * cell_size: the
+//     sensor's bound, plus the relief a cell may hold beside the beam's path
+//     (its height is the highest reading anywhere in it);
+//   - once per scan a contradicted measured cell loses certainty_decrement
+//     of its certainty (eq. 9's scale); at 0 it is cleared. A filled cell
+//     (eq. 11) carries no certainty and is cleared at once.
+// Beams are thinned to one per beam_spacing_cells cells between hits: the
+// fan's neighbouring beams cross the same cells, and a cell counts once per
+// scan anyway. docs/visibility.md has the measurements behind the defaults.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "stridemap/core/cell_box.hpp"
+#include "stridemap/core/grid_map.hpp"
+
+namespace stridemap {
+
+struct VisibilityOptions {
+  /// Clear what beams pass below (MappingPipeline, ScanIntegrator). Off by
+  /// default: docs/visibility.md has what it costs and what it lowers.
+  bool enabled = false;
+  /// Factor on the sensor's height-error bound e in the margin. The bound
+  /// is already a worst case (eq. 6), so 1.
+  double uncertainty_factor = 1.0;
+  /// The margin's share from the cell's extent, in cell sizes: a cell's
+  /// height is its highest reading, which may lie beside the beam's path
+  /// inside the cell; 1 allows a 45 deg face across the whole cell.
+  double relief_factor = 1.0;
+  /// Certainty a contradicted cell loses per scan; with the paper's
+  /// increment a = 3, equal to one plausible reading.
+  double certainty_decrement = 3.0;
+  /// Trace a beam only when its hit lies at least this many cells from the
+  /// last traced beam's hit (0: every beam). Half a cell keeps the traced
+  /// paths less than a cell apart, so that no cell near the hits falls
+  /// between two of them.
+  double beam_spacing_cells = 0.5;
+};
+
+/// Throws InputError naming the field ("visibility: relief_factor must be
+/// ...") for a non-finite or negative value or a decrement of 0.
+void validate_visibility_options(const VisibilityOptions& options);
+
+/// One beam as the clean-up needs it: all in the map frame.
+struct VisibilityBeam {
+  Eigen::Vector3d origin_m = Eigen::Vector3d::Zero();
+  Eigen::Vector3d hit_m = Eigen::Vector3d::Zero();
+  double range_error_m = 0.0;   ///< Dr: the hit may lie this much nearer [m]
+  double height_error_m = 0.0;  ///< e: the sensor's height-error bound at the hit [m]
+};
+
+/// A cell the clean-up cleared, with the height it had.
+struct ClearedCell {
+  CellIndex cell;
+  float elevation_m = 0.0f;
+};
+
+/// What one scan's clean-up did.
+struct VisibilityStats {
+  std::size_t beams_traced = 0;
+  std::size_t cells_crossed = 0;       ///< window cells walked (a cell once per beam)
+  std::size_t cells_contradicted = 0;  ///< distinct cells the scan's beams passed below
+  std::size_t cells_cleared = 0;       ///< of those, cleared to unknown
+};
+
+class VisibilityClearing {
+ public:
+  /// Scratch sized for the map's window (allocated here, never per scan).
+  /// Throws InputError for bad options.
+  VisibilityClearing(const ElevationMap& map, const VisibilityOptions& options);
+
+  /// Starts a scan: every cell may be contradicted once again.
+  void begin_scan();
+  /// Traces one beam (after the scan's readings were applied). Beams must
+  /// come in the sensor's order for the thinning to keep the fan covered.
+  void trace(ElevationMap& map, const VisibilityBeam& beam);
+  /// The scan's account since begin_scan(): the cells cleared in cleared()
+  /// (up to a fixed number), the box of every cell it changed in changed().
+  const VisibilityStats& stats() const { return stats_; }
+  const std::vector<ClearedCell>& cleared() const { return cleared_; }
+  const CellBox& changed() const { return changed_; }
+  const VisibilityOptions& options() const { return options_; }
+  /// Scans begun so far: tells a reader whether stats() are new.
+  std::uint64_t scans() const { return scans_; }
+  /// Cells of the window it was made for.
+  std::size_t window_cells() const { return stamp_.size(); }
+
+ private:
+  void contradict(ElevationMap& map, CellIndex cell, std::size_t slot);
+
+  VisibilityOptions options_;
+  std::vector<std::uint32_t> stamp_;  // per slot: the scan that last contradicted it
+  std::uint32_t scan_ = 0;
+  std::uint64_t scans_ = 0;
+  bool have_last_hit_ = false;
+  Eigen::Vector2d last_hit_{0.0, 0.0};
+  std::vector<ClearedCell> cleared_;  // capacity fixed at construction
+  CellBox changed_;
+  VisibilityStats stats_;
+};
+
+}  // namespace stridemap
