@@ -86,8 +86,9 @@ TEST(ReplayAllocation, MapLogLoopAllocatesNothingPerScan) {
 }
 
 // The live loop as `stridemap live` runs it, counted between scan 150 and
-// scan 550 (the emulator sends 100 per second). The periodic save and status
-// line are due only after the run: they are not per scan.
+// scan 550 (later should the driver report a fault; the emulator sends 100
+// per second). The periodic save and status line are due only after the
+// run: they are not per scan.
 TEST(LiveAllocation, LiveLoopOnTheEmulatorAllocatesNothingPerScan) {
   STRIDEMAP_SKIP_UNLESS_COUNTING_ALLOCATIONS();
   test::TestFolder dir;
@@ -108,20 +109,31 @@ TEST(LiveAllocation, LiveLoopOnTheEmulatorAllocatesNothingPerScan) {
   options.status_every_s = 3600.0;
   options.pose_wait_s = 2.0;
   options.duration_s = 60.0;  // a bound should the emulator stall; the scan count ends it
-  constexpr std::uint64_t kWarmUp = 150, kCounted = 400;
+  constexpr std::uint64_t kWarmUp = 150, kCounted = 400, kRestartAfter = 50, kMaxFaults = 3;
+  // A driver fault (on a host starved by a parallel build the emulator's
+  // pseudo-terminal can overflow) is an event, not a scan: its report may
+  // allocate. So the count restarts, after a settling gap, once per fault,
+  // and the 400 counted scans must run without one.
   std::atomic<bool> stop{false};
-  std::uint64_t seen = 0, faults = 0;
+  std::uint64_t seen = 0, faults = 0, count_from = kWarmUp;
+  std::vector<std::string> fault_messages;
+  fault_messages.reserve(kMaxFaults + 1);
   LiveMappingHooks hooks;
   hooks.on_event = [&](const LiveEvent& e) {
-    if (e.kind == LiveEvent::Kind::fault) ++faults;
+    if (e.kind != LiveEvent::Kind::fault) return;
+    allocation_counter().counting = false;
+    ++faults;
+    fault_messages.push_back(e.message);
+    count_from = seen + kRestartAfter;
+    if (faults > kMaxFaults) stop = true;
   };
   hooks.on_scan = [&](const UrgScan&) {
     ++seen;
-    if (seen == kWarmUp) {
+    if (seen == count_from) {
       allocation_counter().only_thread = std::this_thread::get_id();
       allocation_counter().allocations = 0;
       allocation_counter().counting = true;
-    } else if (seen == kWarmUp + kCounted) {
+    } else if (seen == count_from + kCounted) {
       allocation_counter().counting = false;
       stop = true;
     }
@@ -131,9 +143,12 @@ TEST(LiveAllocation, LiveLoopOnTheEmulatorAllocatesNothingPerScan) {
   allocation_counter().counting = false;
   allocation_counter().only_thread = std::thread::id{};
   EXPECT_TRUE(result.fatal.empty()) << result.fatal;
-  ASSERT_GE(seen, kWarmUp + kCounted);
-  EXPECT_EQ(faults, 0u);
-  EXPECT_EQ(allocation_counter().allocations.load(), 0u) << "over " << kCounted << " scans";
+  std::string fault_list;
+  for (const std::string& m : fault_messages) fault_list += "\n  " + m;
+  ASSERT_LE(faults, kMaxFaults) << "driver faults:" << fault_list;
+  ASSERT_GE(seen, count_from + kCounted) << "driver faults:" << fault_list;
+  EXPECT_EQ(allocation_counter().allocations.load(), 0u)
+      << "over " << kCounted << " scans from scan " << count_from << "; driver faults:" << fault_list;
   EXPECT_GT(live.mapper().stats().integrated, kWarmUp + kCounted - 50);
   EXPECT_GT(result.run.latency_samples, kWarmUp);
 }
