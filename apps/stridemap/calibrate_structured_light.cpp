@@ -21,7 +21,6 @@
 namespace stridemap::cli {
 namespace {
 
-constexpr double kDeg = 180.0 / std::numbers::pi;
 
 struct CalibrateArgs {
   std::string config_path;
@@ -75,7 +74,7 @@ void run(const CalibrateArgs& args) {
   const StructuredLightCalibration fit = calibrate_baseline_and_sheet_angle(config.parameters, targets, options);
 
   std::printf("Structured-light calibration, stage 2 (intrinsics from %s: tau_c = %.3f deg, %d x %d px)\n",
-              args.config_path.c_str(), config.parameters.half_fov_vertical_rad * kDeg,
+              args.config_path.c_str(), config.parameters.half_fov_vertical_rad * kDegPerRad,
               config.parameters.image_width_px, config.parameters.image_height_px);
   std::printf("  distance [mm]  points  outliers  row [px]  fitted [px]  residual [px]  scatter [px]  image\n");
   for (const CalibrationTargetFit& t : fit.targets) {
@@ -83,8 +82,8 @@ void run(const CalibrateArgs& args) {
                 t.outliers, t.observed_row_px, t.fitted_row_px, t.residual_px, t.scatter_px, t.name.c_str());
   }
   std::printf("b    = %.3f mm +- %.3f mm (1 sigma)\n", fit.baseline_m * 1000, fit.baseline_sigma_m * 1000);
-  std::printf("beta = %.4f deg +- %.4f deg (1 sigma); correlation with b %.3f\n", fit.sheet_angle_rad * kDeg,
-              fit.sheet_angle_sigma_rad * kDeg, fit.baseline_sheet_angle_correlation);
+  std::printf("beta = %.4f deg +- %.4f deg (1 sigma); correlation with b %.3f\n", fit.sheet_angle_rad * kDegPerRad,
+              fit.sheet_angle_sigma_rad * kDegPerRad, fit.baseline_sheet_angle_correlation);
   if (args.fit_offset) {
     std::printf("distance offset = %.3f mm +- %.3f mm\n", fit.distance_offset_m * 1000,
                 fit.distance_offset_sigma_m * 1000);
@@ -93,7 +92,7 @@ void run(const CalibrateArgs& args) {
               fit.rms_residual_px, fit.targets.size(), fit.residual_sigma_px, fit.degrees_of_freedom, fit.iterations);
   std::printf("configuration: baseline_m: %.5f, sheet_angle_deg: %.4f; errors: baseline_m: %.5f, "
               "sheet_angle_deg: %.4f (3 sigma)\n",
-              fit.baseline_m, fit.sheet_angle_rad * kDeg, 3 * fit.baseline_sigma_m, 3 * fit.sheet_angle_sigma_rad * kDeg);
+              fit.baseline_m, fit.sheet_angle_rad * kDegPerRad, 3 * fit.baseline_sigma_m, 3 * fit.sheet_angle_sigma_rad * kDegPerRad);
 
   if (!args.json_path.empty()) {
     nlohmann::json targets_json = nlohmann::json::array();
@@ -114,8 +113,8 @@ void run(const CalibrateArgs& args) {
     }
     const nlohmann::json out = {{"baseline_m", fit.baseline_m},
                                 {"baseline_sigma_m", fit.baseline_sigma_m},
-                                {"sheet_angle_deg", fit.sheet_angle_rad * kDeg},
-                                {"sheet_angle_sigma_deg", fit.sheet_angle_sigma_rad * kDeg},
+                                {"sheet_angle_deg", fit.sheet_angle_rad * kDegPerRad},
+                                {"sheet_angle_sigma_deg", fit.sheet_angle_sigma_rad * kDegPerRad},
                                 {"distance_offset_m", fit.distance_offset_m},
                                 {"distance_offset_sigma_m", fit.distance_offset_sigma_m},
                                 {"covariance_b_beta_rad", covariance},

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <limits>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -19,6 +20,10 @@
 #include "stridemap/experiments/cart_rail.hpp"
 
 namespace stridemap::cli {
+
+// Degrees for what the tool prints; one definition for every command file,
+// which the single-translation-unit build of the tool needs (apps/CMakeLists.txt).
+inline constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
 inline bool parse_on_off(const std::string& option, const std::string& value) {
   if (value == "on") return true;

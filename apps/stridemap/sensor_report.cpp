@@ -23,7 +23,6 @@
 namespace stridemap::cli {
 namespace {
 
-constexpr double kDeg = 180.0 / std::numbers::pi;
 constexpr double kMm = 1000.0;
 
 struct SensorReportOptions {
@@ -35,14 +34,14 @@ struct SensorReportOptions {
 void print_parameters(const std::string& source, const StructuredLightParameters& p) {
   std::printf("Structured-light sensor: %s\n", source.c_str());
   std::printf("  b = %.1f mm, beta = %.2f deg, tau_c = %.2f deg, gamma_c = %.2f deg, image %d x %d px\n",
-              p.baseline_m * kMm, p.sheet_angle_rad * kDeg, p.half_fov_vertical_rad * kDeg,
-              p.half_fov_horizontal_rad * kDeg, p.image_width_px, p.image_height_px);
+              p.baseline_m * kMm, p.sheet_angle_rad * kDegPerRad, p.half_fov_vertical_rad * kDegPerRad,
+              p.half_fov_horizontal_rad * kDegPerRad, p.image_width_px, p.image_height_px);
   std::printf("  focal length by eq. (2): %.1f px from tau_c, %.1f px from gamma_c\n",
               focal_length_from_half_fov_px(p.image_height_px, p.half_fov_vertical_rad),
               focal_length_from_half_fov_px(p.image_width_px, p.half_fov_horizontal_rad));
   std::printf("  error bounds: Delta b = %.2f mm, Delta beta = %.3f deg, Delta tau_c = %.3f deg, "
               "Delta v = %.2f px, Delta u = %.2f px\n\n",
-              p.baseline_error_m * kMm, p.sheet_angle_error_rad * kDeg, p.half_fov_vertical_error_rad * kDeg,
+              p.baseline_error_m * kMm, p.sheet_angle_error_rad * kDegPerRad, p.half_fov_vertical_error_rad * kDegPerRad,
               p.row_error_px, p.column_error_px);
 }
 
@@ -83,7 +82,7 @@ void print_ground(const StructuredLightModel& model) {
   const StructuredLightParameters& p = model.parameters();
   const GroundStripeReport r = ground_stripe_report(model);
   std::printf("Mount: pitch alpha = %.2f deg (towards the ground), camera %.1f mm above the ground\n",
-              p.mount.pitch_rad * kDeg, p.mount.height_m * kMm);
+              p.mount.pitch_rad * kDegPerRad, p.mount.height_m * kMm);
   std::printf("Flat ground, level trunk (distances horizontal, from the point under the camera):\n");
   std::printf("  stripe at image row v = %.1f of %d (%.1f %% down the image), across the full width\n",
               r.stripe_row_px, p.image_height_px, 100.0 * r.stripe_row_px / p.image_height_px);
@@ -108,8 +107,8 @@ void print_ground(const StructuredLightModel& model) {
   }
   const char* searched = " (still in view where the search stopped)";
   std::printf("  the stripe stays in the image for trunk pitch (positive nose down) %+.2f deg%s to %+.2f deg%s\n",
-              r.min_trunk_pitch_rad * kDeg, r.min_pitch_is_search_limit ? searched : "",
-              r.max_trunk_pitch_rad * kDeg, r.max_pitch_is_search_limit ? searched : "");
+              r.min_trunk_pitch_rad * kDegPerRad, r.min_pitch_is_search_limit ? searched : "",
+              r.max_trunk_pitch_rad * kDegPerRad, r.max_pitch_is_search_limit ? searched : "");
   std::printf("Measurable along the sheet (level trunk):\n");
   std::printf("  near end (top row):     %.1f mm ahead, %+.1f mm above the ground, field %.1f mm wide\n",
               r.near_end.forward_m * kMm, r.near_end.height_above_ground_m * kMm, r.near_end.lateral_field_m * kMm);

@@ -20,7 +20,7 @@
 namespace stridemap::cli {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kDegPerRad = std::numbers::pi / 180.0;
 
 struct SimulateImageArgs {
   std::string config_path;
@@ -60,9 +60,9 @@ void run(const SimulateImageArgs& args) {
   TrunkPose pose;
   pose.x_m = args.x_m;
   pose.y_m = args.y_m;
-  pose.yaw_rad = args.yaw_deg * kDeg;
-  pose.pitch_rad = args.pitch_deg * kDeg;
-  pose.roll_rad = args.roll_deg * kDeg;
+  pose.yaw_rad = args.yaw_deg * kDegPerRad;
+  pose.pitch_rad = args.pitch_deg * kDegPerRad;
+  pose.roll_rad = args.roll_deg * kDegPerRad;
   Scene scene;
   if (wall) {
     if (!config.has_mount) config.parameters.mount = calibration_bench_mount();
