@@ -5,14 +5,17 @@
 // window that never moved (--window fit), where without the global map it
 // does not. A folder that is a file, cannot be made, or holds another run's
 // global map is refused (exit 2) naming it, and nothing in it is changed.
+// `live --global-map` makes the same tiles as replaying its recording.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <string>
 
+#include "cli/background_process.hpp"
 #include "cli/cli_runner.hpp"
 #include "live/test_folder.hpp"
 #include "stridemap/io/map_file.hpp"
@@ -194,6 +197,47 @@ TEST(GlobalMapCli, AFolderThatIsAFileCannotBeMadeOrHoldsAnotherRunIsRefusedNamin
   dir.write("mine/notes.txt", "keep");
   refused(dir / "mine", "is not empty (it holds 'notes.txt')", "out5");
   EXPECT_EQ(dir.read("mine/notes.txt"), "keep");
+}
+
+// The tile files of a folder, loaded, by name.
+std::map<std::string, io::MapFile> tiles_of(const fs::path& folder) {
+  std::map<std::string, io::MapFile> tiles;
+  for (const auto& e : fs::directory_iterator(folder)) {
+    if (e.path().extension() == ".smap") tiles.emplace(e.path().filename().string(), io::load_map_file(e.path().string()));
+  }
+  return tiles;
+}
+
+TEST(GlobalMapCli, LiveMakesTheTilesItsReplayMakesAndRefusesAFile) {
+  test::TestFolder dir;
+  const std::string scene = std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/cart_rail_boxes.yaml";
+  test::BackgroundProcess emulator(shell_quoted(STRIDEMAP_CLI_PATH) + " emulate-urg --link " + shell_quoted(dir / "urg") +
+                                   " --rate-hz 100 --duration-s 60 --scene " + shell_quoted(scene) +
+                                   " --motion cart-rail --poses-clock sensor --poses-out " + shell_quoted(dir / "poses.txt"));
+  ASSERT_TRUE(emulator.wait_for_output("emulating a URG-04LX on", 10.0)) << emulator.output();
+  const std::string device = " --device " + shell_quoted(dir / "urg") + " --poses " + shell_quoted(dir / "poses.txt") +
+                             " --clock sensor --connect-timeout-s 10 ";
+  dir.write("plain", "a user's file");
+  const auto refused = run_cli("live" + device + "--out " + shell_quoted(dir / "refused") + " --max-scans 10 --global-map " +
+                               shell_quoted(dir / "plain"));
+  EXPECT_EQ(refused.exit_code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("global map folder '" + dir / "plain" + "' is a file"), std::string::npos) << refused.output;
+  EXPECT_EQ(dir.read("plain"), "a user's file");
+
+  const auto live = run_cli("live" + device + "--out " + shell_quoted(dir / "live") + " --record " +
+                            shell_quoted(dir / "log.txt") + " --max-scans 200 --global-map " + shell_quoted(dir / "live_tiles"));
+  ASSERT_EQ(live.exit_code, 0) << live.output;
+  const auto replay = run_cli("map --log " + shell_quoted(dir / "log.txt") + " --poses " + shell_quoted(dir / "poses.txt") +
+                              " --clock sensor --out " + shell_quoted(dir / "map") + " --global-map " +
+                              shell_quoted(dir / "map_tiles"));
+  ASSERT_EQ(replay.exit_code, 0) << replay.output;
+  const auto live_tiles = tiles_of(dir / "live_tiles"), map_tiles = tiles_of(dir / "map_tiles");
+  ASSERT_FALSE(live_tiles.empty());
+  ASSERT_EQ(live_tiles.size(), map_tiles.size());
+  for (const auto& [name, tile] : live_tiles) {
+    ASSERT_TRUE(map_tiles.count(name)) << name;
+    EXPECT_EQ(differing_cells(tile.map, map_tiles.at(name).map), 0u) << name;
+  }
 }
 
 }  // namespace
