@@ -173,10 +173,12 @@ class MapperConfigReader : public StrictYamlReader {
 
   void read_global_map(const YAML::Node& node, GlobalMapOptions& o) {
     const std::string p = "global_map";
-    const Fields f = read_map(node, p, {"folder", "tile_cells", "cached_tiles"});
+    const Fields f = read_map(node, p, {"folder", "tile_cells", "cached_tiles", "save_interval_s"});
     if (find(f, "folder")) o.folder = text(f, node, p, "folder");
     o.tile_cells = whole(f, node, p, "tile_cells", o.tile_cells, 1, kMaxGridCellsPerSide);
     o.cached_tiles = whole(f, node, p, "cached_tiles", o.cached_tiles, 1, 1024);
+    o.save_interval_s = checked(f, node, p, "save_interval_s", o.save_interval_s,
+                                [](double v) { return v >= 0.0 && v <= 86400.0; }, "seconds from 0 to 86400");
   }
 
   void read_visibility(const YAML::Node& node, VisibilityOptions& o) {

@@ -26,6 +26,10 @@ void validate_global_map_options(const GlobalMapOptions& o) {
     throw InputError("global_map.cached_tiles: expected a whole number from 1 to 1024, got " +
                      std::to_string(o.cached_tiles));
   }
+  if (!(o.save_interval_s >= 0.0 && o.save_interval_s <= 86400.0)) {
+    throw InputError("global_map.save_interval_s: expected seconds from 0 to 86400, got " +
+                     std::to_string(o.save_interval_s));
+  }
 }
 
 }  // namespace stridemap
@@ -90,6 +94,21 @@ bool parse_tile_name(const std::string& name, TileIndex& out) {
   return true;
 }
 
+// What the manifest of an earlier run in `folder` says, against this
+// run's tiles; empty when the folder has no manifest.
+std::string earlier_global_map(const std::string& folder, int tile_cells, double cell_size_m) {
+  std::ifstream in(fs::path(folder) / kGlobalMapManifest);
+  if (!in) return {};
+  const json manifest = json::parse(in, nullptr, false);
+  const auto field = [&](const char* key) {
+    return manifest.is_object() && manifest.contains(key) ? manifest[key].dump() : std::string("?");
+  };
+  std::ostringstream s;
+  s << kGlobalMapManifest << ": tiles of " << field("tile_cells") << " cells of " << field("cell_size_m")
+    << " m; this run's: " << tile_cells << " cells of " << cell_size_m << " m";
+  return s.str();
+}
+
 }  // namespace
 
 std::string tile_file_name(TileIndex t) {
@@ -113,10 +132,16 @@ TileStore::TileStore(const GlobalMapOptions& options, const ElevationMap& like, 
     fs::directory_iterator it(options_.folder, ec);
     if (ec) throw InputError("global map folder '" + options_.folder + "' cannot be read: " + ec.message());
     if (it != fs::directory_iterator()) {
+      const std::string why =
+          "tiles are written only into a new or empty folder, so that no file this run did not create is ever "
+          "replaced";
+      const std::string earlier = earlier_global_map(options_.folder, options_.tile_cells, like.cell_size_m());
+      if (!earlier.empty()) {
+        throw InputError("global map folder '" + options_.folder + "' already holds a global map (" + earlier +
+                         "); " + why + ": give a new folder, or merge the old one with merge-tiles");
+      }
       throw InputError("global map folder '" + options_.folder + "' is not empty (it holds '" +
-                       it->path().filename().string() +
-                       "'); tiles are written only into a new or empty folder, so that no file this run did "
-                       "not create is ever replaced");
+                       it->path().filename().string() + "'); " + why);
     }
   } else if (!fs::create_directories(options_.folder, ec) && ec) {
     throw InputError("global map folder '" + options_.folder + "' cannot be created: " + ec.message());
@@ -161,6 +186,20 @@ void TileStore::window_leaving(const ElevationMap& map, CellIndex new_min) {
   const auto [rows, columns] = difference(map.min_cell(), new_min);
   if (!rows.empty()) save_rect(map, rows);
   if (!columns.empty()) save_rect(map, columns);
+  write_tiles_left(new_min);
+}
+
+void TileStore::write_tiles_left(CellIndex new_min) {
+  // A tile the new window does not reach cannot change until the window
+  // comes back, so it goes to disk now: what a killed run loses is then
+  // bounded by the tiles the window touches, however long it walked.
+  const std::int64_t t = options_.tile_cells, n = window_cells_;
+  for (Cached& c : cache_) {
+    if (!c.used || !c.dirty) continue;
+    const bool apart = c.index.x * t >= new_min.x + n || (c.index.x + 1) * t <= new_min.x ||
+                       c.index.y * t >= new_min.y + n || (c.index.y + 1) * t <= new_min.y;
+    if (apart) write(c);
+  }
 }
 
 void TileStore::window_entered(ElevationMap& map, CellIndex old_min) {

@@ -58,7 +58,21 @@ void ScanMapper::reserve(std::size_t scans) {
 std::size_t ScanMapper::process(PoseTrack& poses, bool poses_complete) {
   const std::size_t integrated = pipeline_.process(poses, poses_complete);
   stats_ = pipeline_.stats();
+  if (integrated > 0) save_tiles_when_due();
   return integrated;
+}
+
+void ScanMapper::save_tiles_when_due() {
+  const double interval_s = options_.config.global_map.save_interval_s;
+  const std::optional<double> now_s = pipeline_.mapper().last_scan_time_s();
+  if (!tiles_ || interval_s <= 0.0 || !now_s) return;
+  if (!last_tile_save_s_) {
+    last_tile_save_s_ = *now_s;
+  } else if (*now_s - *last_tile_save_s_ >= interval_s) {
+    // Rare (once a save_interval_s of scans): writing files allocates.
+    tiles_->flush(pipeline_.mapper().map());
+    last_tile_save_s_ = *now_s;
+  }
 }
 
 std::size_t ScanMapper::expire(double before_s) {

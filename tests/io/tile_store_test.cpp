@@ -2,9 +2,11 @@
 
 #include <bit>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <memory>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -185,6 +187,71 @@ TEST(TileStore, AfterAFlushTheTilesOnDiskHoldTheWindowAndEverythingThatLeftIt) {
   EXPECT_EQ(merged.layer_count(), window.layer_count());
 }
 
+// A walk far from the start, the window scrambled on the way so that
+// every tile it crosses holds something; the same on every call.
+void walk_and_scramble(TerrainMapper& mapper, std::uint32_t seed) {
+  std::mt19937 random(seed);
+  std::uniform_real_distribution<double> step(-0.2, 0.6);
+  double x = 0.0, y = 0.0;
+  for (int k = 0; k < 80; ++k) {
+    if (k % 4 == 0) scramble_window(mapper.map(), seed * 1000 + static_cast<std::uint32_t>(k));
+    x += step(random);
+    y += step(random) * 0.5;
+    drive_to(mapper, x, y);
+  }
+}
+
+TEST(TileStore, ARunKilledWithoutFlushKeepsEveryTileTheWindowLeft) {
+  // A cache large enough that nothing is ever pushed out of memory: only
+  // writing the tiles the window leaves puts them on disk before the end.
+  for (std::uint32_t seed : {1u, 2u, 3u}) {
+    TestFolder folder;
+    {  // The reference: the same walk, flushed at the end.
+      TerrainMapper mapper(mapper_options(), SensorMount{});
+      io::TileStore store(tiles_in(folder / "flushed", 8, 1024), mapper.map(), {});
+      mapper.set_window_listener(&store);
+      walk_and_scramble(mapper, seed);
+      store.flush(mapper.map());
+    }
+    CellIndex last_min;
+    {  // Stopped abruptly: no flush, the store and mapper simply gone.
+      TerrainMapper mapper(mapper_options(), SensorMount{});
+      auto store = std::make_unique<io::TileStore>(tiles_in(folder / "killed", 8, 1024), mapper.map(),
+                                                   io::MapFileMetadata{});
+      mapper.set_window_listener(store.get());
+      walk_and_scramble(mapper, seed);
+      last_min = mapper.map().min_cell();
+      EXPECT_EQ(store->stats().tiles_read, 0u) << "nothing was pushed out of memory";
+    }
+    // Every tile the last window does not reach is on disk as in the
+    // flushed run; only those it touches (at most 4 x 4 here) may be missing or old.
+    const auto touched = [&](const io::TileIndex& t) {
+      return t.x * 8 < last_min.x + kWindowCells && (t.x + 1) * 8 > last_min.x && t.y * 8 < last_min.y + kWindowCells &&
+             (t.y + 1) * 8 > last_min.y;
+    };
+    std::size_t kept = 0, lost = 0;
+    for (const auto& e : std::filesystem::directory_iterator(folder / "flushed")) {
+      const std::string name = e.path().filename().string();
+      if (name == io::kGlobalMapManifest) continue;
+      long long tx = 0, ty = 0;
+      ASSERT_EQ(std::sscanf(name.c_str(), "tile_%lld_%lld", &tx, &ty), 2) << name;
+      const io::TileIndex t{tx, ty};
+      const std::filesystem::path killed = std::filesystem::path(folder / "killed") / name;
+      if (touched(t)) {
+        lost += !std::filesystem::exists(killed);
+        continue;
+      }
+      ASSERT_TRUE(std::filesystem::exists(killed)) << name << " was left by the window but not written";
+      const io::MapFile a = io::load_map_file(e.path().string());
+      const io::MapFile b = io::load_map_file(killed.string());
+      EXPECT_EQ(differing_cells(a.map, b.map), 0u) << name;
+      ++kept;
+    }
+    EXPECT_GT(kept, 20u) << "seed " << seed;
+    EXPECT_LE(lost, 16u);
+  }
+}
+
 TEST(TileStore, UnseenGroundLeavesNoTiles) {
   TestFolder folder;
   TerrainMapper mapper(mapper_options(), SensorMount{});
@@ -301,10 +368,19 @@ TEST(TileStore, TileIndicesFollowTheCellGridBelowZeroToo) {
 
 TEST(TileStore, TheConfigSectionIsReadAndChecked) {
   const MapperConfig c =
-      parse_mapper_config("global_map:\n  folder: tiles\n  tile_cells: 64\n  cached_tiles: 9\n", "c.yaml");
+      parse_mapper_config("global_map:\n  folder: tiles\n  tile_cells: 64\n  cached_tiles: 9\n  save_interval_s: 12.5\n",
+                          "c.yaml");
   EXPECT_EQ(c.global_map.folder, "tiles");
   EXPECT_EQ(c.global_map.tile_cells, 64);
   EXPECT_EQ(c.global_map.cached_tiles, 9);
+  EXPECT_EQ(c.global_map.save_interval_s, 12.5);
+  EXPECT_EQ(parse_mapper_config("", "c.yaml").global_map.save_interval_s, 60.0);
+  try {
+    parse_mapper_config("global_map:\n  save_interval_s: -1\n", "c.yaml");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("global_map.save_interval_s"), std::string::npos) << e.what();
+  }
   EXPECT_TRUE(parse_mapper_config("", "c.yaml").global_map.folder.empty());
   try {
     parse_mapper_config("global_map:\n  tile_cells: 0\n", "c.yaml");

@@ -3,7 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <filesystem>
 
+#include "live/test_folder.hpp"
 #include "stridemap/live/scan_mapper.hpp"
 
 namespace stridemap {
@@ -75,6 +77,48 @@ TEST(ScanMapper, ScanSequenceLagsOneScanUntilFinish) {
   EXPECT_EQ(mapper.stats().integrated, 4u);
   mapper.finish();
   EXPECT_EQ(mapper.stats().integrated, 5u);
+}
+
+// Measured cells of a map.
+std::size_t measured_cells(const ElevationMap& map) {
+  std::size_t n = 0;
+  for (int i = 0; i < map.cells_per_side(); ++i)
+    for (int j = 0; j < map.cells_per_side(); ++j) n += map.state(map.cell_at_local(i, j)) == CellState::measured;
+  return n;
+}
+
+TEST(ScanMapper, ARunKilledOnTheSameTilesKeepsWhatItMappedUpToTheLastSaveInterval) {
+  // The robot never leaves its first tiles, so only the periodic save puts
+  // them on disk; the run is then stopped without finish(), as by a kill.
+  for (const double interval_s : {0.0, 30.0}) {
+    test::TestFolder folder;
+    ScanMapperOptions options;
+    options.config.global_map.folder = folder / "tiles";
+    options.config.global_map.save_interval_s = interval_s;
+    std::size_t window_measured = 0;
+    {
+      ScanMapper mapper(options, UrgParameters{});
+      PoseTrack poses;
+      for (int k = 0; k <= 200; ++k) poses.append(pose_at(0.5 * k, 0.0));
+      for (int k = 0; k < 200; ++k) {  // 100 s of scans, each integrated as it comes
+        mapper.add(flat_scan(0.5 * k));
+        mapper.process(poses, true);
+      }
+      window_measured = measured_cells(mapper.mapper().map());
+    }
+    ASSERT_GT(window_measured, 100u);
+    std::size_t tiles = 0;
+    for (const auto& e : std::filesystem::directory_iterator(folder / "tiles")) {
+      tiles += e.path().extension() == ".smap";
+    }
+    if (interval_s == 0.0) {
+      EXPECT_EQ(tiles, 0u) << "nothing left the window: without the periodic save nothing is on disk";
+      continue;
+    }
+    ASSERT_GT(tiles, 0u);
+    // Standing still, the ground was all measured long before the last save (at 90 s).
+    EXPECT_EQ(measured_cells(io::merge_tiles(folder / "tiles")), window_measured);
+  }
 }
 
 TEST(ScanMapper, SavingFillsACopyAndLeavesTheMapAsItWas) {

@@ -5,7 +5,10 @@
 // (io/map_file.hpp) of GlobalMapOptions::tile_cells cells a side whose
 // corner cell is (tx, ty) * tile_cells, so tiles line up with the map's
 // cell grid whatever the window does. A few tiles are kept in memory
-// (least recently used written out first); a tile is written atomically
+// (least recently used pushed out first); a changed tile is written as soon
+// as the window no longer reaches it, so a run killed at any time leaves
+// on disk every cell but those of the window and of the few tiles it
+// touches (docs/global_map.md). A tile is written atomically
 // (temporary file, rename) and only ever into a folder the store found new
 // or empty, so it never replaces a file this run did not create.
 //
@@ -64,7 +67,8 @@ class TileStore final : public WindowMoveListener {
   /// Copies every cell of `window` into its tile and writes every tile
   /// changed since it was last written: afterwards the tiles on disk hold
   /// the whole map. Call at the end of a run (and whenever the disk should
-  /// catch up); the store writes nothing on its own but evicted tiles.
+  /// catch up); on its own the store writes a tile when the window leaves
+  /// it (or, with a small cache, when it is pushed out of memory).
   void flush(const ElevationMap& window);
 
   const std::string& folder() const { return options_.folder; }
@@ -99,6 +103,8 @@ class TileStore final : public WindowMoveListener {
   // when the tile holds nothing and `create` is off.
   Cached* tile(TileIndex index, bool create);
   bool holds_data(const ElevationMap& map, const CellRect& rect) const;
+  // Writes every changed tile the window at `new_min` does not reach.
+  void write_tiles_left(CellIndex new_min);
   void write(Cached& tile);
   void read(TileIndex index, ElevationMap& into);
 

@@ -65,6 +65,8 @@ class ScanMapper {
   /// Integrates the waiting scans, oldest first, while their pose is known;
   /// with `poses_complete` a scan after the last pose is skipped instead of
   /// waiting. Returns the scans integrated. Drops poses no longer needed.
+  /// With a global map, saves the window into its tiles every
+  /// global_map.save_interval_s of scan time.
   std::size_t process(PoseTrack& poses, bool poses_complete);
   /// Skips the waiting scans that arrived at or before `before_s` (live
   /// mapping: the poses for them are overdue). Returns how many.
@@ -93,6 +95,8 @@ class ScanMapper {
   MappingPipeline pipeline_;
   ScanMapperStats stats_;  // the pipeline's, as of the last call
   std::unique_ptr<io::TileStore> tiles_;  // on the heap: the mapper points at it
+  std::optional<double> last_tile_save_s_;  // scan time of the last save (global_map.save_interval_s)
+  void save_tiles_when_due();
 };
 
 }  // namespace stridemap
