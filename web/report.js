@@ -412,9 +412,8 @@ function control(html) {
 function drawLegend(state, range, layerName, units, scale, scaleLength) {
   const legend = document.getElementById('legend');
   // The colour bar is a CSS gradient through the scale's anchors (linear in
-  // sRGB, as colourAt). It was a 2D canvas: with the WebGL view on the same
-  // software GPU that canvas cost about a quarter second of GPU-process time
-  // before the first frame (docs/performance.md).
+  // sRGB, as colourAt), not a 2D canvas: one canvas less for the GPU
+  // process to set up before the first frame (docs/performance.md).
   const bar = document.createElement('div');
   bar.style.cssText = 'width: 220px; height: 14px';
   const anchors = scales[scale];
