@@ -5,7 +5,9 @@
 // ends in a readable message in #view-message, never a blank view; the
 // browser test reads document.body.dataset.view ("ready" or "error").
 // Performance marks (measured from navigation, docs/performance.md):
+// stridemap-script-start (the HTML parsed, this script running),
 // stridemap-data-read, stridemap-three-loaded (and the data read),
+// stridemap-context-made (three.js's renderer and its WebGL context),
 // stridemap-mesh-built (the coarse level), stridemap-render-issued (the
 // first render's calls made), stridemap-first-frame (the frame after it
 // reached the screen) and stridemap-full-frame (the same for the full
@@ -409,14 +411,14 @@ function control(html) {
 
 function drawLegend(state, range, layerName, units, scale, scaleLength) {
   const legend = document.getElementById('legend');
-  const bar = document.createElement('canvas');
-  bar.width = 220; bar.height = 14;
-  const g = bar.getContext('2d');
-  for (let x = 0; x < bar.width; ++x) {
-    const [r, gr, b] = colourAt(scale, x / (bar.width - 1));
-    g.fillStyle = `rgb(${255 * r},${255 * gr},${255 * b})`;
-    g.fillRect(x, 0, 1, bar.height);
-  }
+  // The colour bar is a CSS gradient through the scale's anchors (linear in
+  // sRGB, as colourAt), not a 2D canvas: one canvas less for the GPU
+  // process to set up before the first frame (docs/performance.md).
+  const bar = document.createElement('div');
+  bar.style.cssText = 'width: 220px; height: 14px';
+  const anchors = scales[scale];
+  const stops = anchors.map((rgb, k) => `rgb(${rgb.map((c) => Math.round(255 * c)).join(',')}) ${(100 * k / (anchors.length - 1)).toFixed(1)}%`);
+  bar.style.background = `linear-gradient(to right, ${stops.join(', ')})`;
   const digits = Math.max(0, -Math.floor(Math.log10(niceStep(range[1] - range[0]))) + 1);
   const unitText = units ? ` [${units}]` : '';
   legend.replaceChildren();
@@ -434,6 +436,7 @@ function drawLegend(state, range, layerName, units, scale, scaleLength) {
 }
 
 async function main() {
+  performance.mark('stridemap-script-start');
   // three.js compiles while the data unpacks; a failure of either is
   // reported in its turn, never as an unhandled rejection.
   const three = loadThree().then((loaded) => ({ loaded }), (error) => ({ error }));
@@ -460,6 +463,7 @@ async function main() {
     showMessage(`This browser cannot draw the 3D view (WebGL: ${e.message}); the tables and pictures below still show the run.`);
     return;
   }
+  performance.mark('stridemap-context-made');
   messageBox.hidden = true;
   const main = maps[0];
   const size = Math.hypot(main.rows, main.cols) * main.cell;

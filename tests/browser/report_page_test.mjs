@@ -107,7 +107,8 @@ const pixelStats = (page) => page.evaluate(() => {
 
 // Milliseconds from navigation to the page's performance marks (web/report.js).
 const marks = (page) => page.evaluate(() => Object.fromEntries(
-  ['stridemap-data-read', 'stridemap-three-loaded', 'stridemap-mesh-built', 'stridemap-render-issued', 'stridemap-first-frame', 'stridemap-full-frame'].map((n) => [n.replace('stridemap-', ''), performance.getEntriesByName(n)[0]?.startTime])));
+  ['stridemap-script-start', 'stridemap-data-read', 'stridemap-three-loaded', 'stridemap-context-made', 'stridemap-mesh-built', 'stridemap-render-issued',
+   'stridemap-first-frame', 'stridemap-full-frame'].map((n) => [n.replace('stridemap-', ''), performance.getEntriesByName(n)[0]?.startTime])));
 
 try {
   {
@@ -123,7 +124,9 @@ try {
       await big.page.waitForSelector('body[data-detail="full"]', { timeout: 30000 });
       const m = await marks(big.page);
       times.push(m['first-frame']);
-      console.log(`500 x 500 page, opening ${k + 1}: data read ${m['data-read'].toFixed(0)} ms, three.js loaded ${m['three-loaded'].toFixed(0)} ms, mesh built ${m['mesh-built'].toFixed(0)} ms, render issued ${m['render-issued'].toFixed(0)} ms, first frame ${m['first-frame'].toFixed(0)} ms, full detail ${m['full-frame'].toFixed(0)} ms after navigation`);
+      console.log(`500 x 500 page, opening ${k + 1}: script started ${m['script-start'].toFixed(0)} ms, data read ${m['data-read'].toFixed(0)} ms, ` +
+                  `three.js loaded ${m['three-loaded'].toFixed(0)} ms, WebGL context made ${m['context-made'].toFixed(0)} ms, mesh built ${m['mesh-built'].toFixed(0)} ms, ` +
+                  `render issued ${m['render-issued'].toFixed(0)} ms, first frame ${m['first-frame'].toFixed(0)} ms, full detail ${m['full-frame'].toFixed(0)} ms after navigation`);
       check(big.errors.length === 0, `  no console error${big.errors.length ? ': ' + big.errors.join(' | ') : ''}`);
       await big.page.close();
     }
@@ -140,6 +143,14 @@ try {
   check(good.errors.length === 0, `no console error${good.errors.length ? ': ' + good.errors.join(' | ') : ''}`);
   const before = await pixelStats(good.page);
   check(before.differ > 0.05, `the canvas is not blank: ${(100 * before.differ).toFixed(1)} % of its pixels differ from the background`);
+  // The legend's colour bar (a CSS gradient, not a canvas) runs from the
+  // scale's dark violet to its yellow.
+  const bar = await good.page.evaluate(() => {
+    const legend = document.getElementById('legend'), el = legend.querySelector('div[style*="gradient"]');
+    return el ? { image: getComputedStyle(el).backgroundImage, width: el.getBoundingClientRect().width } : null;
+  });
+  check(bar !== null && bar.width > 100 && /^linear-gradient\(to right, rgb\(68, 1, 84\).*rgb\(253, 231, 37\) 100%\)$/.test(bar.image),
+        `the legend has a colour bar from violet to yellow (${bar ? bar.image.slice(0, 60) : 'none'}...)`);
   const layers = await good.page.$$eval('#layer option', (o) => o.map((x) => x.value));
   check(layers.includes('certainty') && layers.includes('error vs truth'), `layers offered: ${layers.join(', ')}`);
   await good.page.selectOption('#layer', 'error vs truth');
