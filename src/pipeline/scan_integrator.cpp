@@ -169,7 +169,7 @@ VisibilityClearing& ScanIntegrator::visibility_for(TerrainMapper& mapper) {
   const ElevationMap& map = mapper.map();
   const std::size_t cells = static_cast<std::size_t>(map.cells_per_side()) * static_cast<std::size_t>(map.cells_per_side());
   if (!visibility_ || visibility_->window_cells() != cells) visibility_.emplace(map, options_.visibility);
-  visibility_->begin_scan();
+  visibility_->begin_scan(map);
   return *visibility_;
 }
 

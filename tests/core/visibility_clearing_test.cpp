@@ -52,7 +52,7 @@ TEST(VisibilityClearing, ABeamBelowATallCellClearsIt) {
   // The beam crosses cell x = 25 (0.25..0.26 m) between 0.0367 and 0.0300 m.
   set_cell(map, {25, 10}, 0.10f, 3.0f);
   VisibilityClearing clearing(map, VisibilityOptions{});
-  clearing.begin_scan();
+  clearing.begin_scan(map);
   clearing.trace(map, row_beam());
   EXPECT_EQ(map.state({25, 10}), CellState::unknown);
   EXPECT_TRUE(std::isnan(map.elevation({25, 10})));
@@ -72,7 +72,7 @@ TEST(VisibilityClearing, CertaintyDecidesHowManyScansItTakes) {
   set_cell(map, {25, 10}, 0.10f, 9.0f);
   VisibilityClearing clearing(map, VisibilityOptions{});
   for (int scan = 1; scan <= 2; ++scan) {
-    clearing.begin_scan();
+    clearing.begin_scan(map);
     // Two beams of one scan over the same cell count once.
     clearing.trace(map, row_beam(0.305));
     clearing.trace(map, row_beam(0.32));
@@ -80,7 +80,7 @@ TEST(VisibilityClearing, CertaintyDecidesHowManyScansItTakes) {
     EXPECT_FLOAT_EQ(map.certainty({25, 10}), 9.0f - 3.0f * scan);
     EXPECT_EQ(map.elevation({25, 10}), 0.10f);
   }
-  clearing.begin_scan();
+  clearing.begin_scan(map);
   clearing.trace(map, row_beam());
   EXPECT_EQ(map.state({25, 10}), CellState::unknown);
 }
@@ -91,7 +91,7 @@ TEST(VisibilityClearing, TheMarginKeepsACellTheBeamPassesJustBelow) {
   set_cell(map, {25, 10}, 0.050f, 3.0f);  // 13.3 mm above: kept
   set_cell(map, {20, 10}, 0.090f, 3.0f);  // beam 0.0700 m there: 20 mm above, cleared
   VisibilityClearing clearing(map, VisibilityOptions{});
-  clearing.begin_scan();
+  clearing.begin_scan(map);
   clearing.trace(map, row_beam());
   EXPECT_EQ(map.elevation({25, 10}), 0.050f);
   EXPECT_EQ(map.state({20, 10}), CellState::unknown);
@@ -106,7 +106,7 @@ TEST(VisibilityClearing, ABeamHittingAStepFaceLeavesTheStepAndItsNeighbours) {
   }
   const ElevationMap before = map;
   VisibilityClearing clearing(map, VisibilityOptions{});
-  clearing.begin_scan();
+  clearing.begin_scan(map);
   clearing.trace(map, row_beam(0.258, 0.010));
   for (int x = 0; x < 40; ++x) {
     for (int y = 0; y < 40; ++y) {
@@ -117,7 +117,7 @@ TEST(VisibilityClearing, ABeamHittingAStepFaceLeavesTheStepAndItsNeighbours) {
   EXPECT_EQ(clearing.stats().cells_contradicted, 0u);
   // Without the range error the same beam would have passed below the
   // step's first cell: the exclusion is what keeps it.
-  clearing.begin_scan();
+  clearing.begin_scan(map);
   clearing.trace(map, row_beam(0.268, 0.0));
   EXPECT_EQ(map.state({25, 10}), CellState::unknown);
 }
@@ -127,11 +127,15 @@ TEST(VisibilityClearing, ACellBesideThePathIsNotTouched) {
   set_cell(map, {25, 9}, 0.10f, 3.0f);
   set_cell(map, {25, 11}, 0.10f, 3.0f);
   VisibilityClearing clearing(map, VisibilityOptions{});
-  clearing.begin_scan();
+  clearing.begin_scan(map);
   clearing.trace(map, row_beam());
   EXPECT_EQ(map.elevation({25, 9}), 0.10f);
   EXPECT_EQ(map.elevation({25, 11}), 0.10f);
-  EXPECT_EQ(clearing.stats().cells_crossed, 30u);  // cells 0..29 of row 10; 30 holds the hit
+  // Cells 0..29 of row 10 lie before the hit (30 holds it), but no cell of
+  // the rows and columns the beam crosses is above 0.10 m, which the beam
+  // (0.20 m at t = 0, falling 0.20 m to the hit) comes down to within the
+  // 15 mm margin at t = 0.575, x = 0.1775 m: the walk starts at cell 17.
+  EXPECT_EQ(clearing.stats().cells_crossed, 13u);
 }
 
 TEST(VisibilityClearing, AFilledCellIsClearedAtOnceAndUnknownCellsStay) {
@@ -142,7 +146,7 @@ TEST(VisibilityClearing, AFilledCellIsClearedAtOnceAndUnknownCellsStay) {
   map.state_data()[filled] = static_cast<std::uint8_t>(CellState::filled);
   map.reset_slot(map.slot({20, 10}));
   VisibilityClearing clearing(map, VisibilityOptions{});
-  clearing.begin_scan();
+  clearing.begin_scan(map);
   clearing.trace(map, row_beam());
   EXPECT_EQ(map.state({25, 10}), CellState::unknown);
   EXPECT_EQ(map.state({20, 10}), CellState::unknown);
@@ -154,7 +158,7 @@ TEST(VisibilityClearing, NeighbouringBeamsAreThinnedToOnePerCell) {
   VisibilityOptions options;
   options.beam_spacing_cells = 1.0;
   VisibilityClearing clearing(map, options);
-  clearing.begin_scan();
+  clearing.begin_scan(map);
   VisibilityBeam beam = row_beam();
   for (int k = 0; k < 10; ++k) {
     beam.hit_m.y() = 0.105 + 0.002 * k;  // hits 2 mm apart: about every fifth is traced
