@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -61,39 +62,58 @@ void VisibilityClearing::begin_scan(const ElevationMap& map) {
   cleared_.clear();
   changed_.clear();
   stats_ = {};
+  // The window stays where it is for the scan: its corner and that
+  // corner's slot are taken once.
+  corner_ = map.min_cell();
+  const auto corner_slot = static_cast<std::int64_t>(map.slot(corner_));
+  slot_x0_ = corner_slot / n_;
+  slot_y0_ = corner_slot % n_;
   take_maxima(map);
 }
 
+namespace {
+
+constexpr float kNoElevation = -std::numeric_limits<float>::infinity();
+
+// `v > m ? v : m` never takes a NaN (unknown) as the maximum.
+inline float known_max(float m, float v) { return v > m ? v : m; }
+
+// The highest known value of a row; -inf when none is known. Eight lanes at
+// a time where the compiler has vector types (GCC, Clang): the reduction
+// would not be vectorised otherwise, and this pass is per scan.
+float row_maximum(const float* row, std::size_t n) {
+  std::size_t j = 0;
+  float m = kNoElevation;
+#if defined(__GNUC__)
+  using Lanes = float __attribute__((vector_size(16)));
+  Lanes a = {kNoElevation, kNoElevation, kNoElevation, kNoElevation}, b = a;
+  for (; j + 8 <= n; j += 8) {
+    Lanes u, v;
+    std::memcpy(&u, row + j, sizeof u);
+    std::memcpy(&v, row + j + 4, sizeof v);
+    a = u > a ? u : a;
+    b = v > b ? v : b;
+  }
+  a = b > a ? b : a;
+  for (int k = 0; k < 4; ++k) m = known_max(m, a[k]);
+#endif
+  for (; j < n; ++j) m = known_max(m, row[j]);
+  return m;
+}
+
+}  // namespace
+
 void VisibilityClearing::take_maxima(const ElevationMap& map) {
-  // Level 0: one pass over the layer. `v > m ? v : m` never takes a NaN
-  // (unknown) and maps to the processor's max instruction, lane by lane.
+  // Level 0: one pass over the elevation layer, row by row.
   const auto n = static_cast<std::size_t>(n_);
   const float* elevation = map.elevation_data();
-  float* rows = row_max_.data();
-  float* columns = column_max_.data();
-  constexpr float kNone = -std::numeric_limits<float>::infinity();
-  std::fill(columns, columns + n, kNone);
-  constexpr std::size_t kLanes = 8;
+  float* __restrict rows = row_max_.data();
+  float* __restrict columns = column_max_.data();
+  std::fill(columns, columns + n, kNoElevation);
   for (std::size_t i = 0; i < n; ++i) {
-    const float* row = elevation + i * n;
-    float lane[kLanes];
-    std::fill(lane, lane + kLanes, kNone);
-    std::size_t j = 0;
-    for (; j + kLanes <= n; j += kLanes) {
-      for (std::size_t k = 0; k < kLanes; ++k) {
-        const float v = row[j + k];
-        lane[k] = v > lane[k] ? v : lane[k];
-        columns[j + k] = v > columns[j + k] ? v : columns[j + k];
-      }
-    }
-    float m = kNone;
-    for (; j < n; ++j) {
-      const float v = row[j];
-      m = v > m ? v : m;
-      columns[j] = v > columns[j] ? v : columns[j];
-    }
-    for (std::size_t k = 0; k < kLanes; ++k) m = lane[k] > m ? lane[k] : m;
-    rows[i] = m;
+    const float* __restrict row = elevation + i * n;
+    for (std::size_t j = 0; j < n; ++j) columns[j] = known_max(columns[j], row[j]);
+    rows[i] = row_maximum(row, n);
   }
   // Higher levels: the maximum of two halves.
   for (float* table : {rows, columns}) {
@@ -126,6 +146,13 @@ float VisibilityClearing::range_max(const std::vector<float>& table, std::int64_
 
 namespace {
 
+// floor() without a call into libm, exact for |x| < 2^63 (the walk keeps
+// its coordinates below 1e15 cells).
+inline std::int64_t floor_index(double x) {
+  const auto t = static_cast<std::int64_t>(x);
+  return t - (x < static_cast<double>(t) ? 1 : 0);
+}
+
 // The walk's crossing parameters, each from its own cell boundary b (an
 // integer, as a double): the same value wherever a walk starts.
 inline double crossing(double b, double o, double inverse_d) { return (b - o) * inverse_d; }
@@ -141,7 +168,7 @@ struct Axis {
   bool moves = false;
 
   Axis(double o_cells, double d_cells) : o(o_cells) {
-    index = static_cast<std::int64_t>(std::floor(o_cells));
+    index = floor_index(o_cells);
     step = d_cells > 0 ? 1 : -1;
     // A direction too small to invert never reaches a boundary in the beam.
     inverse_d = d_cells != 0.0 ? 1.0 / d_cells : 0.0;
@@ -163,7 +190,7 @@ struct Axis {
     // First guess from the line, then set right with the same formula.
     const double at = o + t * d_cells;
     const double first = boundary;
-    double target = step > 0 ? std::floor(at) + 1.0 : std::ceil(at) - 1.0;
+    double target = static_cast<double>(step > 0 ? floor_index(at) + 1 : -floor_index(-at) - 1);
     if ((target - first) * static_cast<double>(step) < 0.0) target = first;
     while ((target - first) * static_cast<double>(step) > 0.0 &&
            crossing(target - static_cast<double>(step), o, inverse_d) > t) {
@@ -188,10 +215,7 @@ void VisibilityClearing::trace(ElevationMap& map, const VisibilityBeam& beam) {
   }
   const double cell = map.cell_size_m();
   const Eigen::Vector2d hit = beam.hit_m.head<2>();
-  if (have_last_hit_ && options_.beam_spacing_cells > 0.0 &&
-      (hit - last_hit_).squaredNorm() < std::pow(options_.beam_spacing_cells * cell, 2)) {
-    return;
-  }
+  if (thinned(hit, cell)) return;
   have_last_hit_ = true;
   last_hit_ = hit;
   ++stats_.beams_traced;
@@ -210,18 +234,17 @@ void VisibilityClearing::trace(ElevationMap& map, const VisibilityBeam& beam) {
         std::abs(oy + dy) < kMaxIndex)) {
     return;
   }
-  const std::int64_t n = map.cells_per_side();
-  const CellIndex corner = map.min_cell();
-  const auto corner_slot = static_cast<std::int64_t>(map.slot(corner));
-  const std::int64_t slot_x0 = corner_slot / n, slot_y0 = corner_slot % n;
+  const std::int64_t n = n_;
+  const CellIndex corner = corner_;
+  const std::int64_t slot_x0 = slot_x0_, slot_y0 = slot_y0_;
   const double z0 = beam.origin_m.z(), dz = d.z();
 
   // The highest known elevation of the rows and columns the walk can reach
   // (its cells lie between the origin's and the stop's, one more each way
   // for rounding): an upper bound for every cell it visits.
   const double end_x = ox + dx * t_stop, end_y = oy + dy * t_stop;
-  const auto cell_lo = [](double a, double b) { return static_cast<std::int64_t>(std::floor(std::min(a, b))) - 1; };
-  const auto cell_hi = [](double a, double b) { return static_cast<std::int64_t>(std::floor(std::max(a, b))) + 1; };
+  const auto cell_lo = [](double a, double b) { return floor_index(std::min(a, b)) - 1; };
+  const auto cell_hi = [](double a, double b) { return floor_index(std::max(a, b)) + 1; };
   const float top_x = range_max(row_max_, cell_lo(ox, end_x), cell_hi(ox, end_x), corner.x, static_cast<int>(slot_x0));
   const float top_y =
       range_max(column_max_, cell_lo(oy, end_y), cell_hi(oy, end_y), corner.y, static_cast<int>(slot_y0));

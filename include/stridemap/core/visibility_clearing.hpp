@@ -109,6 +109,12 @@ class VisibilityClearing {
   /// Traces one beam on the map given to begin_scan(). Beams must come in
   /// the sensor's order for the thinning to keep the fan covered.
   void trace(ElevationMap& map, const VisibilityBeam& beam);
+  /// Whether trace() would leave out a beam ending at `hit_m` (map x, y)
+  /// for the thinning: a caller may skip forming the rest of such a beam.
+  bool thinned(const Eigen::Vector2d& hit_m, double cell_size_m) const {
+    return have_last_hit_ && options_.beam_spacing_cells > 0.0 &&
+           (hit_m - last_hit_).squaredNorm() < spacing_m2(cell_size_m);
+  }
   /// The scan's account since begin_scan(): the cells cleared in cleared()
   /// (up to a fixed number), the box of every cell it changed in changed().
   const VisibilityStats& stats() const { return stats_; }
@@ -122,6 +128,10 @@ class VisibilityClearing {
 
  private:
   void contradict(ElevationMap& map, CellIndex cell, std::size_t slot);
+  double spacing_m2(double cell_size_m) const {
+    const double spacing_m = options_.beam_spacing_cells * cell_size_m;
+    return spacing_m * spacing_m;
+  }
   void take_maxima(const ElevationMap& map);
   /// Highest elevation of the window's cells with a global index from `lo`
   /// to `hi` along one axis (-inf when none is known): `table` is that
@@ -133,6 +143,8 @@ class VisibilityClearing {
   VisibilityOptions options_;
   std::vector<std::uint32_t> stamp_;  // per slot: the scan that last contradicted it
   int n_ = 0;                         // cells per side of the window
+  CellIndex corner_{};                // the window's corner cell and its slot, at begin_scan()
+  std::int64_t slot_x0_ = 0, slot_y0_ = 0;
   // Highest elevation per slot row (one global x index) and per slot
   // column, as sparse tables for range maxima: level l holds the maximum
   // of 2^l consecutive slots from each, so any range is two look-ups.
