@@ -167,6 +167,58 @@ TEST(VisibilityClearing, NeighbouringBeamsAreThinnedToOnePerCell) {
   EXPECT_EQ(clearing.stats().beams_traced, 2u);
 }
 
+TEST(VisibilityClearing, ThinnedTellsWhichBeamsTraceLeavesOut) {
+  ElevationMap map = flat_map();
+  VisibilityOptions options;
+  options.beam_spacing_cells = 1.0;
+  VisibilityClearing clearing(map, options);
+  clearing.begin_scan(map);
+  const VisibilityBeam first = row_beam();
+  EXPECT_FALSE(clearing.thinned(first.hit_m.head<2>(), kCell));  // nothing traced yet this scan
+  clearing.trace(map, first);
+  VisibilityBeam near = first, far = first;
+  near.hit_m.y() += 0.005;  // half a cell from the last traced hit
+  far.hit_m.y() += 0.015;
+  EXPECT_TRUE(clearing.thinned(near.hit_m.head<2>(), kCell));
+  EXPECT_FALSE(clearing.thinned(far.hit_m.head<2>(), kCell));
+  clearing.trace(map, near);
+  EXPECT_EQ(clearing.stats().beams_traced, 1u);
+  clearing.trace(map, far);
+  EXPECT_EQ(clearing.stats().beams_traced, 2u);
+  clearing.begin_scan(map);
+  EXPECT_FALSE(clearing.thinned(near.hit_m.head<2>(), kCell));
+}
+
+TEST(VisibilityClearing, ARisingBeamStopsWhereItIsAboveEveryCell) {
+  ElevationMap map = flat_map();
+  // From 1 cm up along row 10 to 0.21 m at x = 0.305 m: over cell 2 it is
+  // at most 0.0267 m, 7 cm below a 10 cm cell there.
+  set_cell(map, {2, 10}, 0.10f, 3.0f);
+  VisibilityBeam beam = row_beam();
+  beam.origin_m.z() = 0.01;
+  beam.hit_m.z() = 0.21;
+  VisibilityClearing clearing(map, VisibilityOptions{});
+  clearing.begin_scan(map);
+  clearing.trace(map, beam);
+  EXPECT_EQ(map.state({2, 10}), CellState::unknown);
+  // The walk ends where the beam has risen to within the 15 mm margin of
+  // the highest cell of its rows and columns, 0.10 m: at x = 0.1175 m, so
+  // cells 0..10 are walked, not the 30 before the hit.
+  EXPECT_EQ(clearing.stats().cells_crossed, 11u);
+}
+
+TEST(VisibilityClearing, BeginScanRefusesAMapOfAnotherSize) {
+  ElevationMap map = flat_map();
+  VisibilityClearing clearing(map, VisibilityOptions{});
+  const ElevationMap other(GridOptions{20, kCell});
+  try {
+    clearing.begin_scan(other);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("20 cells a side"), std::string::npos) << e.what();
+  }
+}
+
 TEST(VisibilityClearing, BadOptionsAreNamed) {
   const auto message = [](VisibilityOptions o) {
     try {
