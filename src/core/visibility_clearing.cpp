@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 
@@ -35,12 +36,23 @@ void validate_visibility_options(const VisibilityOptions& o) {
 
 VisibilityClearing::VisibilityClearing(const ElevationMap& map, const VisibilityOptions& options)
     : options_(options),
-      stamp_(static_cast<std::size_t>(map.cells_per_side()) * static_cast<std::size_t>(map.cells_per_side()), 0) {
+      stamp_(static_cast<std::size_t>(map.cells_per_side()) * static_cast<std::size_t>(map.cells_per_side()), 0),
+      n_(map.cells_per_side()) {
   validate_visibility_options(options_);
   cleared_.reserve(std::min(stamp_.size(), kMaxRecordedCleared));
+  const auto n = static_cast<std::size_t>(n_);
+  floor_log2_.assign(n + 1, 0);
+  for (std::size_t k = 2; k <= n; ++k) floor_log2_[k] = static_cast<std::uint8_t>(floor_log2_[k / 2] + 1);
+  const std::size_t levels = static_cast<std::size_t>(floor_log2_[n]) + 1;
+  row_max_.assign(levels * n, -std::numeric_limits<float>::infinity());
+  column_max_.assign(levels * n, -std::numeric_limits<float>::infinity());
 }
 
-void VisibilityClearing::begin_scan() {
+void VisibilityClearing::begin_scan(const ElevationMap& map) {
+  if (map.cells_per_side() != n_) {
+    throw InputError("visibility: the map has " + std::to_string(map.cells_per_side()) +
+                     " cells a side, the clean-up was made for " + std::to_string(n_));
+  }
   if (++scan_ == 0) {  // after 2^32 scans: old stamps could match again
     std::fill(stamp_.begin(), stamp_.end(), 0u);
     scan_ = 1;
@@ -50,7 +62,149 @@ void VisibilityClearing::begin_scan() {
   cleared_.clear();
   changed_.clear();
   stats_ = {};
+  // The window stays where it is for the scan: its corner and that
+  // corner's slot are taken once.
+  corner_ = map.min_cell();
+  const auto corner_slot = static_cast<std::int64_t>(map.slot(corner_));
+  slot_x0_ = corner_slot / n_;
+  slot_y0_ = corner_slot % n_;
+  take_maxima(map);
 }
+
+namespace {
+
+constexpr float kNoElevation = -std::numeric_limits<float>::infinity();
+
+// `v > m ? v : m` never takes a NaN (unknown) as the maximum.
+inline float known_max(float m, float v) { return v > m ? v : m; }
+
+// The highest known value of a row; -inf when none is known. Eight lanes at
+// a time where the compiler has vector types (GCC, Clang): the reduction
+// would not be vectorised otherwise, and this pass is per scan.
+float row_maximum(const float* row, std::size_t n) {
+  std::size_t j = 0;
+  float m = kNoElevation;
+#if defined(__GNUC__)
+  using Lanes = float __attribute__((vector_size(16)));
+  Lanes a = {kNoElevation, kNoElevation, kNoElevation, kNoElevation}, b = a;
+  for (; j + 8 <= n; j += 8) {
+    Lanes u, v;
+    std::memcpy(&u, row + j, sizeof u);
+    std::memcpy(&v, row + j + 4, sizeof v);
+    a = u > a ? u : a;
+    b = v > b ? v : b;
+  }
+  a = b > a ? b : a;
+  for (int k = 0; k < 4; ++k) m = known_max(m, a[k]);
+#endif
+  for (; j < n; ++j) m = known_max(m, row[j]);
+  return m;
+}
+
+}  // namespace
+
+void VisibilityClearing::take_maxima(const ElevationMap& map) {
+  // Level 0: one pass over the elevation layer, row by row.
+  const auto n = static_cast<std::size_t>(n_);
+  const float* elevation = map.elevation_data();
+  float* __restrict rows = row_max_.data();
+  float* __restrict columns = column_max_.data();
+  std::fill(columns, columns + n, kNoElevation);
+  for (std::size_t i = 0; i < n; ++i) {
+    const float* __restrict row = elevation + i * n;
+    for (std::size_t j = 0; j < n; ++j) columns[j] = known_max(columns[j], row[j]);
+    rows[i] = row_maximum(row, n);
+  }
+  // Higher levels: the maximum of two halves.
+  for (float* table : {rows, columns}) {
+    for (std::size_t level = 1, half = 1; (half << 1) <= n; ++level, half <<= 1) {
+      const float* below = table + (level - 1) * n;
+      float* here = table + level * n;
+      for (std::size_t s = 0; s + (half << 1) <= n; ++s) here[s] = std::max(below[s], below[s + half]);
+    }
+  }
+}
+
+float VisibilityClearing::range_max(const std::vector<float>& table, std::int64_t lo, std::int64_t hi,
+                                    std::int64_t window_lo, int first_slot) const {
+  const std::int64_t n = n_;
+  lo = std::max(lo, window_lo);
+  hi = std::min(hi, window_lo + n - 1);
+  constexpr float kNone = -std::numeric_limits<float>::infinity();
+  if (lo > hi) return kNone;
+  const auto query = [&](std::int64_t a, std::int64_t b) {  // slots a..b, no wrap
+    const std::size_t level = floor_log2_[static_cast<std::size_t>(b - a + 1)];
+    const float* t = table.data() + level * static_cast<std::size_t>(n);
+    return std::max(t[a], t[b - (std::int64_t{1} << level) + 1]);
+  };
+  const std::int64_t a = lo - window_lo + first_slot;  // < 2n
+  const std::int64_t b = hi - window_lo + first_slot;
+  if (b < n) return query(a, b);
+  if (a >= n) return query(a - n, b - n);
+  return std::max(query(a, n - 1), query(0, b - n));
+}
+
+namespace {
+
+// floor() without a call into libm, exact for |x| < 2^63 (the walk keeps
+// its coordinates below 1e15 cells).
+inline std::int64_t floor_index(double x) {
+  const auto t = static_cast<std::int64_t>(x);
+  return t - (x < static_cast<double>(t) ? 1 : 0);
+}
+
+// The walk's crossing parameters, each from its own cell boundary b (an
+// integer, as a double): the same value wherever a walk starts.
+inline double crossing(double b, double o, double inverse_d) { return (b - o) * inverse_d; }
+
+// One axis of the walk: the cell index, the next boundary, and where the
+// beam crosses it (inf for an axis the beam does not move along).
+struct Axis {
+  std::int64_t index = 0;
+  std::int64_t step = 1;
+  double o = 0.0, inverse_d = 0.0;
+  double boundary = 0.0;  // the next boundary's coordinate [cells]
+  double next = 0.0;      // crossing(boundary)
+  bool moves = false;
+
+  Axis(double o_cells, double d_cells) : o(o_cells) {
+    index = floor_index(o_cells);
+    step = d_cells > 0 ? 1 : -1;
+    // A direction too small to invert never reaches a boundary in the beam.
+    inverse_d = d_cells != 0.0 ? 1.0 / d_cells : 0.0;
+    moves = d_cells != 0.0 && std::isfinite(inverse_d);
+    boundary = static_cast<double>(index + (d_cells > 0 ? 1 : 0));
+    next = moves ? crossing(boundary, o, inverse_d) : std::numeric_limits<double>::infinity();
+  }
+  void advance() {
+    index += step;
+    boundary += static_cast<double>(step);
+    next = crossing(boundary, o, inverse_d);
+  }
+  /// Moves past every boundary crossed at or before t (t finite, within the
+  /// beam), as the full walk would have; returns the last such crossing,
+  /// or -inf when there was none.
+  double skip_to(double t, double d_cells) {
+    constexpr double kNone = -std::numeric_limits<double>::infinity();
+    if (!moves || !(next <= t)) return kNone;
+    // First guess from the line, then set right with the same formula.
+    const double at = o + t * d_cells;
+    const double first = boundary;
+    double target = static_cast<double>(step > 0 ? floor_index(at) + 1 : -floor_index(-at) - 1);
+    if ((target - first) * static_cast<double>(step) < 0.0) target = first;
+    while ((target - first) * static_cast<double>(step) > 0.0 &&
+           crossing(target - static_cast<double>(step), o, inverse_d) > t) {
+      target -= static_cast<double>(step);
+    }
+    while (crossing(target, o, inverse_d) <= t) target += static_cast<double>(step);
+    index += static_cast<std::int64_t>(target - first);  // one cell per boundary, in the step's direction
+    boundary = target;
+    next = crossing(target, o, inverse_d);
+    return crossing(target - static_cast<double>(step), o, inverse_d);
+  }
+};
+
+}  // namespace
 
 void VisibilityClearing::trace(ElevationMap& map, const VisibilityBeam& beam) {
   const Eigen::Vector3d d = beam.hit_m - beam.origin_m;
@@ -61,10 +215,7 @@ void VisibilityClearing::trace(ElevationMap& map, const VisibilityBeam& beam) {
   }
   const double cell = map.cell_size_m();
   const Eigen::Vector2d hit = beam.hit_m.head<2>();
-  if (have_last_hit_ && options_.beam_spacing_cells > 0.0 &&
-      (hit - last_hit_).squaredNorm() < std::pow(options_.beam_spacing_cells * cell, 2)) {
-    return;
-  }
+  if (thinned(hit, cell)) return;
   have_last_hit_ = true;
   last_hit_ = hit;
   ++stats_.beams_traced;
@@ -83,24 +234,50 @@ void VisibilityClearing::trace(ElevationMap& map, const VisibilityBeam& beam) {
         std::abs(oy + dy) < kMaxIndex)) {
     return;
   }
-  auto ix = static_cast<std::int64_t>(std::floor(ox)), iy = static_cast<std::int64_t>(std::floor(oy));
-  const std::int64_t step_x = dx > 0 ? 1 : -1, step_y = dy > 0 ? 1 : -1;
-  constexpr double kInf = std::numeric_limits<double>::infinity();
-  double next_x = dx != 0.0 ? (static_cast<double>(ix + (dx > 0 ? 1 : 0)) - ox) / dx : kInf;
-  double next_y = dy != 0.0 ? (static_cast<double>(iy + (dy > 0 ? 1 : 0)) - oy) / dy : kInf;
-  const double delta_x = dx != 0.0 ? 1.0 / std::abs(dx) : kInf, delta_y = dy != 0.0 ? 1.0 / std::abs(dy) : kInf;
-
-  const std::int64_t n = map.cells_per_side();
-  const CellIndex corner = map.min_cell();
-  const auto corner_slot = static_cast<std::int64_t>(map.slot(corner));
-  const std::int64_t slot_x0 = corner_slot / n, slot_y0 = corner_slot % n;
+  const std::int64_t n = n_;
+  const CellIndex corner = corner_;
+  const std::int64_t slot_x0 = slot_x0_, slot_y0 = slot_y0_;
   const double z0 = beam.origin_m.z(), dz = d.z();
-  const float* elevation = map.elevation_data();
+
+  // The highest known elevation of the rows and columns the walk can reach
+  // (its cells lie between the origin's and the stop's, one more each way
+  // for rounding): an upper bound for every cell it visits.
+  const double end_x = ox + dx * t_stop, end_y = oy + dy * t_stop;
+  const auto cell_lo = [](double a, double b) { return floor_index(std::min(a, b)) - 1; };
+  const auto cell_hi = [](double a, double b) { return floor_index(std::max(a, b)) + 1; };
+  const float top_x = range_max(row_max_, cell_lo(ox, end_x), cell_hi(ox, end_x), corner.x, static_cast<int>(slot_x0));
+  const float top_y =
+      range_max(column_max_, cell_lo(oy, end_y), cell_hi(oy, end_y), corner.y, static_cast<int>(slot_y0));
+  const double top = std::min(top_x, top_y);
+  if (!(top > -std::numeric_limits<double>::infinity())) return;  // nothing known there
+
+  // Where a cell of that height can first (falling beam) or last (rising
+  // beam) lie above the beam by more than the margin. `slack` outweighs the
+  // rounding of both this and the walk's own comparison, so that no cell the
+  // full walk would contradict is skipped.
+  const double slack = 1e-9 * (1.0 + std::abs(z0) + std::abs(dz) + std::abs(margin) + std::abs(top));
+  const double clearance = z0 + margin - (top + slack);  // beam's height over the bound at t = 0
+  double t_skip = -1.0;                                  // cells ending at or before it cannot be contradicted
+  double t_last = std::numeric_limits<double>::infinity();  // nor cells ending at or after it
+  if (dz < 0.0) {
+    t_skip = clearance / -dz;
+    if (!(t_skip < t_stop)) return;
+  } else if (dz > 0.0) {
+    if (!(clearance < 0.0)) return;
+    t_last = -clearance / dz;
+  } else if (!(clearance < 0.0)) {
+    return;
+  }
+
+  Axis ax(ox, dx), ay(oy, dy);
   double t_in = 0.0;
+  if (t_skip > 0.0) t_in = std::max({0.0, ax.skip_to(t_skip, dx), ay.skip_to(t_skip, dy)});
+
+  const float* elevation = map.elevation_data();
   while (true) {
-    const double t_out = std::min(next_x, next_y);
-    if (t_out > t_stop) break;
-    const std::int64_t i = ix - corner.x, j = iy - corner.y;
+    const double t_out = std::min(ax.next, ay.next);
+    if (t_out > t_stop || t_out >= t_last) break;
+    const std::int64_t i = ax.index - corner.x, j = ay.index - corner.y;
     if (i >= 0 && i < n && j >= 0 && j < n) {
       ++stats_.cells_crossed;
       std::int64_t si = slot_x0 + i, sj = slot_y0 + j;
@@ -109,15 +286,13 @@ void VisibilityClearing::trace(ElevationMap& map, const VisibilityBeam& beam) {
       const auto s = static_cast<std::size_t>(si * n + sj);
       const double z_beam_max = z0 + dz * (dz > 0 ? t_out : t_in);
       // NaN (unknown) fails the comparison: nothing to clear.
-      if (elevation[s] > z_beam_max + margin) contradict(map, {ix, iy}, s);
+      if (elevation[s] > z_beam_max + margin) contradict(map, {ax.index, ay.index}, s);
     }
     t_in = t_out;
-    if (next_x < next_y) {
-      ix += step_x;
-      next_x += delta_x;
+    if (ax.next < ay.next) {
+      ax.advance();
     } else {
-      iy += step_y;
-      next_y += delta_y;
+      ay.advance();
     }
   }
 }

@@ -169,7 +169,7 @@ VisibilityClearing& ScanIntegrator::visibility_for(TerrainMapper& mapper) {
   const ElevationMap& map = mapper.map();
   const std::size_t cells = static_cast<std::size_t>(map.cells_per_side()) * static_cast<std::size_t>(map.cells_per_side());
   if (!visibility_ || visibility_->window_cells() != cells) visibility_.emplace(map, options_.visibility);
-  visibility_->begin_scan();
+  visibility_->begin_scan(map);
   return *visibility_;
 }
 
@@ -200,8 +200,11 @@ void ScanIntegrator::clear_visible(const PlanarScan& scan, const TrunkPose& pose
   for (std::size_t i = 0; i < n && i < visibility_cos_.size(); ++i) {
     const double r = scan.range_m[i], dr = scan.range_error_m[i];
     if (!(r > 0.0 && std::isfinite(r) && dr >= 0.0 && std::isfinite(dr) && std::isfinite(scan.angle_rad[i]))) continue;
-    geometry.point(r, dr, visibility_cos_[i], visibility_sin_[i], mapper.options().update, offset, beam.height_error_m);
+    // A beam the fan's thinning leaves out needs no error bound.
+    offset = geometry.offset(r, visibility_cos_[i], visibility_sin_[i]);
     beam.hit_m = beam.origin_m + offset;
+    if (clearing.thinned(beam.hit_m.head<2>(), mapper.map().cell_size_m())) continue;
+    geometry.point(r, dr, visibility_cos_[i], visibility_sin_[i], mapper.options().update, offset, beam.height_error_m);
     beam.range_error_m = dr;
     clearing.trace(mapper.map(), beam);
   }

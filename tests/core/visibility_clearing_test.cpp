@@ -52,7 +52,7 @@ TEST(VisibilityClearing, ABeamBelowATallCellClearsIt) {
   // The beam crosses cell x = 25 (0.25..0.26 m) between 0.0367 and 0.0300 m.
   set_cell(map, {25, 10}, 0.10f, 3.0f);
   VisibilityClearing clearing(map, VisibilityOptions{});
-  clearing.begin_scan();
+  clearing.begin_scan(map);
   clearing.trace(map, row_beam());
   EXPECT_EQ(map.state({25, 10}), CellState::unknown);
   EXPECT_TRUE(std::isnan(map.elevation({25, 10})));
@@ -72,7 +72,7 @@ TEST(VisibilityClearing, CertaintyDecidesHowManyScansItTakes) {
   set_cell(map, {25, 10}, 0.10f, 9.0f);
   VisibilityClearing clearing(map, VisibilityOptions{});
   for (int scan = 1; scan <= 2; ++scan) {
-    clearing.begin_scan();
+    clearing.begin_scan(map);
     // Two beams of one scan over the same cell count once.
     clearing.trace(map, row_beam(0.305));
     clearing.trace(map, row_beam(0.32));
@@ -80,7 +80,7 @@ TEST(VisibilityClearing, CertaintyDecidesHowManyScansItTakes) {
     EXPECT_FLOAT_EQ(map.certainty({25, 10}), 9.0f - 3.0f * scan);
     EXPECT_EQ(map.elevation({25, 10}), 0.10f);
   }
-  clearing.begin_scan();
+  clearing.begin_scan(map);
   clearing.trace(map, row_beam());
   EXPECT_EQ(map.state({25, 10}), CellState::unknown);
 }
@@ -91,7 +91,7 @@ TEST(VisibilityClearing, TheMarginKeepsACellTheBeamPassesJustBelow) {
   set_cell(map, {25, 10}, 0.050f, 3.0f);  // 13.3 mm above: kept
   set_cell(map, {20, 10}, 0.090f, 3.0f);  // beam 0.0700 m there: 20 mm above, cleared
   VisibilityClearing clearing(map, VisibilityOptions{});
-  clearing.begin_scan();
+  clearing.begin_scan(map);
   clearing.trace(map, row_beam());
   EXPECT_EQ(map.elevation({25, 10}), 0.050f);
   EXPECT_EQ(map.state({20, 10}), CellState::unknown);
@@ -106,7 +106,7 @@ TEST(VisibilityClearing, ABeamHittingAStepFaceLeavesTheStepAndItsNeighbours) {
   }
   const ElevationMap before = map;
   VisibilityClearing clearing(map, VisibilityOptions{});
-  clearing.begin_scan();
+  clearing.begin_scan(map);
   clearing.trace(map, row_beam(0.258, 0.010));
   for (int x = 0; x < 40; ++x) {
     for (int y = 0; y < 40; ++y) {
@@ -117,7 +117,7 @@ TEST(VisibilityClearing, ABeamHittingAStepFaceLeavesTheStepAndItsNeighbours) {
   EXPECT_EQ(clearing.stats().cells_contradicted, 0u);
   // Without the range error the same beam would have passed below the
   // step's first cell: the exclusion is what keeps it.
-  clearing.begin_scan();
+  clearing.begin_scan(map);
   clearing.trace(map, row_beam(0.268, 0.0));
   EXPECT_EQ(map.state({25, 10}), CellState::unknown);
 }
@@ -127,11 +127,15 @@ TEST(VisibilityClearing, ACellBesideThePathIsNotTouched) {
   set_cell(map, {25, 9}, 0.10f, 3.0f);
   set_cell(map, {25, 11}, 0.10f, 3.0f);
   VisibilityClearing clearing(map, VisibilityOptions{});
-  clearing.begin_scan();
+  clearing.begin_scan(map);
   clearing.trace(map, row_beam());
   EXPECT_EQ(map.elevation({25, 9}), 0.10f);
   EXPECT_EQ(map.elevation({25, 11}), 0.10f);
-  EXPECT_EQ(clearing.stats().cells_crossed, 30u);  // cells 0..29 of row 10; 30 holds the hit
+  // Cells 0..29 of row 10 lie before the hit (30 holds it), but no cell of
+  // the rows and columns the beam crosses is above 0.10 m, which the beam
+  // (0.20 m at t = 0, falling 0.20 m to the hit) comes down to within the
+  // 15 mm margin at t = 0.575, x = 0.1775 m: the walk starts at cell 17.
+  EXPECT_EQ(clearing.stats().cells_crossed, 13u);
 }
 
 TEST(VisibilityClearing, AFilledCellIsClearedAtOnceAndUnknownCellsStay) {
@@ -142,7 +146,7 @@ TEST(VisibilityClearing, AFilledCellIsClearedAtOnceAndUnknownCellsStay) {
   map.state_data()[filled] = static_cast<std::uint8_t>(CellState::filled);
   map.reset_slot(map.slot({20, 10}));
   VisibilityClearing clearing(map, VisibilityOptions{});
-  clearing.begin_scan();
+  clearing.begin_scan(map);
   clearing.trace(map, row_beam());
   EXPECT_EQ(map.state({25, 10}), CellState::unknown);
   EXPECT_EQ(map.state({20, 10}), CellState::unknown);
@@ -154,13 +158,65 @@ TEST(VisibilityClearing, NeighbouringBeamsAreThinnedToOnePerCell) {
   VisibilityOptions options;
   options.beam_spacing_cells = 1.0;
   VisibilityClearing clearing(map, options);
-  clearing.begin_scan();
+  clearing.begin_scan(map);
   VisibilityBeam beam = row_beam();
   for (int k = 0; k < 10; ++k) {
     beam.hit_m.y() = 0.105 + 0.002 * k;  // hits 2 mm apart: about every fifth is traced
     clearing.trace(map, beam);
   }
   EXPECT_EQ(clearing.stats().beams_traced, 2u);
+}
+
+TEST(VisibilityClearing, ThinnedTellsWhichBeamsTraceLeavesOut) {
+  ElevationMap map = flat_map();
+  VisibilityOptions options;
+  options.beam_spacing_cells = 1.0;
+  VisibilityClearing clearing(map, options);
+  clearing.begin_scan(map);
+  const VisibilityBeam first = row_beam();
+  EXPECT_FALSE(clearing.thinned(first.hit_m.head<2>(), kCell));  // nothing traced yet this scan
+  clearing.trace(map, first);
+  VisibilityBeam near = first, far = first;
+  near.hit_m.y() += 0.005;  // half a cell from the last traced hit
+  far.hit_m.y() += 0.015;
+  EXPECT_TRUE(clearing.thinned(near.hit_m.head<2>(), kCell));
+  EXPECT_FALSE(clearing.thinned(far.hit_m.head<2>(), kCell));
+  clearing.trace(map, near);
+  EXPECT_EQ(clearing.stats().beams_traced, 1u);
+  clearing.trace(map, far);
+  EXPECT_EQ(clearing.stats().beams_traced, 2u);
+  clearing.begin_scan(map);
+  EXPECT_FALSE(clearing.thinned(near.hit_m.head<2>(), kCell));
+}
+
+TEST(VisibilityClearing, ARisingBeamStopsWhereItIsAboveEveryCell) {
+  ElevationMap map = flat_map();
+  // From 1 cm up along row 10 to 0.21 m at x = 0.305 m: over cell 2 it is
+  // at most 0.0267 m, 7 cm below a 10 cm cell there.
+  set_cell(map, {2, 10}, 0.10f, 3.0f);
+  VisibilityBeam beam = row_beam();
+  beam.origin_m.z() = 0.01;
+  beam.hit_m.z() = 0.21;
+  VisibilityClearing clearing(map, VisibilityOptions{});
+  clearing.begin_scan(map);
+  clearing.trace(map, beam);
+  EXPECT_EQ(map.state({2, 10}), CellState::unknown);
+  // The walk ends where the beam has risen to within the 15 mm margin of
+  // the highest cell of its rows and columns, 0.10 m: at x = 0.1175 m, so
+  // cells 0..10 are walked, not the 30 before the hit.
+  EXPECT_EQ(clearing.stats().cells_crossed, 11u);
+}
+
+TEST(VisibilityClearing, BeginScanRefusesAMapOfAnotherSize) {
+  ElevationMap map = flat_map();
+  VisibilityClearing clearing(map, VisibilityOptions{});
+  const ElevationMap other(GridOptions{20, kCell});
+  try {
+    clearing.begin_scan(other);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("20 cells a side"), std::string::npos) << e.what();
+  }
 }
 
 TEST(VisibilityClearing, BadOptionsAreNamed) {

@@ -38,7 +38,7 @@ struct PlanarBeamGeometry {
   /// PlanarScanPoints and the packed path (TerrainMapper) both call it.
   void point(double r, double dr, double ct, double st, const UpdateOptions& options, Eigen::Vector3d& offset_m,
              double& height_error_m) const {
-    offset_m = r * (ct * forward + st * left);
+    offset_m = offset(r, ct, st);
     ElevationPartials partials;
     partials.d_range = ct * at_front.d_range + st * at_left.d_range;
     partials.d_pitch_m_per_rad = lever.d_pitch_m_per_rad + r * (ct * at_front.d_pitch_m_per_rad + st * at_left.d_pitch_m_per_rad);
@@ -46,6 +46,10 @@ struct PlanarBeamGeometry {
     partials.d_alpha_m_per_rad = r * (ct * at_front.d_alpha_m_per_rad + st * at_left.d_alpha_m_per_rad);
     height_error_m = elevation_error_bound_m(partials, dr, options);
   }
+
+  /// The beam's offset alone, as point() forms it (the visibility clean-up
+  /// thins the fan by it before it needs the error bound).
+  Eigen::Vector3d offset(double r, double ct, double st) const { return r * (ct * forward + st * left); }
 
   ElevationPartials at_front, at_left, lever;
   double gamma_rad;

@@ -25,6 +25,19 @@
 // Beams are thinned to one per beam_spacing_cells cells between hits: the
 // fan's neighbouring beams cross the same cells, and a cell counts once per
 // scan anyway. docs/visibility.md has the measurements behind the defaults.
+//
+// The walk is pruned, exactly: a cell can only be contradicted where the
+// beam runs lower than the cell's height, so each beam's walk starts where
+// the beam has come down to the highest elevation the rows and columns it
+// crosses hold (and a rising beam's walk ends where it has risen above it).
+// Those maxima are taken from the map at begin_scan() and are upper bounds
+// for the whole scan (the clean-up itself only lowers cells). Every
+// crossing parameter of the walk is computed from its cell boundary, not
+// summed step by step, so a walk started part-way reaches the very cells
+// and values the whole walk would: the pruning changes nothing. (Against
+// the summed crossings of the walk before it, which may differ from these
+// in the last bit, the results were the same bit for bit on every random
+// and simulated run: tests/core/visibility_pruning_test.cpp.)
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -89,11 +102,21 @@ class VisibilityClearing {
   /// Throws InputError for bad options.
   VisibilityClearing(const ElevationMap& map, const VisibilityOptions& options);
 
-  /// Starts a scan: every cell may be contradicted once again.
-  void begin_scan();
-  /// Traces one beam (after the scan's readings were applied). Beams must
-  /// come in the sensor's order for the thinning to keep the fan covered.
+  /// Starts a scan on `map` (after the scan's readings were applied): every
+  /// cell may be contradicted once again, and the highest elevation of each
+  /// row and column of the window is taken (one pass over the elevation
+  /// layer). Until the scan's last trace() the map must change only by the
+  /// clean-up. Throws InputError for a map of another window size.
+  void begin_scan(const ElevationMap& map);
+  /// Traces one beam on the map given to begin_scan(). Beams must come in
+  /// the sensor's order for the thinning to keep the fan covered.
   void trace(ElevationMap& map, const VisibilityBeam& beam);
+  /// Whether trace() would leave out a beam ending at `hit_m` (map x, y)
+  /// for the thinning: a caller may skip forming the rest of such a beam.
+  bool thinned(const Eigen::Vector2d& hit_m, double cell_size_m) const {
+    return have_last_hit_ && options_.beam_spacing_cells > 0.0 &&
+           (hit_m - last_hit_).squaredNorm() < spacing_m2(cell_size_m);
+  }
   /// The scan's account since begin_scan(): the cells cleared in cleared()
   /// (up to a fixed number), the box of every cell it changed in changed().
   const VisibilityStats& stats() const { return stats_; }
@@ -107,9 +130,28 @@ class VisibilityClearing {
 
  private:
   void contradict(ElevationMap& map, CellIndex cell, std::size_t slot);
+  double spacing_m2(double cell_size_m) const {
+    const double spacing_m = options_.beam_spacing_cells * cell_size_m;
+    return spacing_m * spacing_m;
+  }
+  void take_maxima(const ElevationMap& map);
+  /// Highest elevation of the window's cells with a global index from `lo`
+  /// to `hi` along one axis (-inf when none is known): `table` is that
+  /// axis's range-maximum table, `first_slot` the slot of the window's
+  /// lowest index on it.
+  float range_max(const std::vector<float>& table, std::int64_t lo, std::int64_t hi, std::int64_t window_lo,
+                  int first_slot) const;
 
   VisibilityOptions options_;
   std::vector<std::uint32_t> stamp_;  // per slot: the scan that last contradicted it
+  int n_ = 0;                         // cells per side of the window
+  CellIndex corner_{};                // the window's corner cell and its slot, at begin_scan()
+  std::int64_t slot_x0_ = 0, slot_y0_ = 0;
+  // Highest elevation per slot row (one global x index) and per slot
+  // column, as sparse tables for range maxima: level l holds the maximum
+  // of 2^l consecutive slots from each, so any range is two look-ups.
+  std::vector<float> row_max_, column_max_;
+  std::vector<std::uint8_t> floor_log2_;  // of 1..n
   std::uint32_t scan_ = 0;
   std::uint64_t scans_ = 0;
   bool have_last_hit_ = false;
