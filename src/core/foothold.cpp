@@ -1,9 +1,11 @@
 #include "stridemap/core/foothold.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <span>
 #include <string>
 
 #include <Eigen/Dense>
@@ -324,12 +326,19 @@ void FootholdLayers::geometry_of(ElevationMap& map, const LocalSlots& slots, Cel
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
   double lo = 0.0, hi = 0.0;
   std::size_t count = 0;
+  // The known cells' relative elevations and offsets, kept for the
+  // residuals so that the second pass does not look them up again (the
+  // same values in the same order: the same bits).
+  constexpr std::size_t kKept = 64;
+  std::array<std::array<double, 3>, kKept> kept;
+  const bool keep = footprint_.size() <= kKept;
   for (const CellIndex& o : footprint_) {
     const CellIndex q{cell.x + o.x, cell.y + o.y};
     if (!slots.inside(q)) continue;
     const std::size_t t = slots.of(q);
     if (!known(elevation, state, t)) continue;
     const double z = elevation[t] - z0;
+    if (keep) kept[count] = {z, static_cast<double>(o.x), static_cast<double>(o.y)};
     const double x = static_cast<double>(o.x) * cell_size_m_, y = static_cast<double>(o.y) * cell_size_m_;
     sx += x;
     sy += y;
@@ -358,7 +367,14 @@ void FootholdLayers::geometry_of(ElevationMap& map, const LocalSlots& slots, Cel
   }
   const Eigen::Vector3d plane = inverse * b;
   double residual2 = 0.0;
-  for (const CellIndex& o : footprint_) {
+  if (keep) {
+    for (std::size_t k = 0; k < count; ++k) {
+      const double fit = plane[0] + plane[1] * kept[k][1] * cell_size_m_ + plane[2] * kept[k][2] * cell_size_m_;
+      const double r = kept[k][0] - fit;
+      residual2 += r * r;
+    }
+  }
+  for (const CellIndex& o : keep ? std::span<const CellIndex>() : std::span<const CellIndex>(footprint_)) {
     const CellIndex q{cell.x + o.x, cell.y + o.y};
     if (!slots.inside(q)) continue;
     const std::size_t t = slots.of(q);

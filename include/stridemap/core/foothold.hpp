@@ -2,7 +2,8 @@
 // Foothold layers: where a foot can go, derived from the elevation map and
 // kept up to date incrementally (only around the cells a scan changed).
 // Beyond the paper, which stops at elevation and certainty; docs/foothold.md.
-// The work is done lazily, when the layers are read (refresh()).
+// Each scan is noted (cheap); the values are computed at refresh(), for
+// all the scans noted since (MappingPipeline: after every scan by default).
 //
 // Definitions, for a cell p with centre c_p. The footprint F(p) is every
 // known cell (finite elevation, state not unknown) of the window whose
