@@ -1,7 +1,9 @@
 // The foothold layers' cost per scan against the map update they follow
 // (docs/performance.md, docs/foothold.md): the same walking, turning URG
-// scans as core_bench's BM_IntegrateScan, with and without the incremental
-// foothold update, and a recomputation of the whole window for scale.
+// scans as core_bench's BM_IntegrateScan, without the foothold layers, with
+// them read after every scan and read after every 10th, and a
+// recomputation of the whole window for scale.
+#include <algorithm>
 #include <cmath>
 #include <random>
 
@@ -29,17 +31,21 @@ PlanarScan urg_like_scan(const SensorMount& mount) {
   return scan;
 }
 
-void walk(benchmark::State& state, bool with_foothold, double turn_rad_per_scan) {
+// read_every: 0 for no foothold layers; k to note every scan's changed rows
+// and bring the layers up to date after every k-th scan (1: eagerly, as
+// update_every_scan; 10: a 1 Hz planner reading a 10 Hz URG's map).
+void walk(benchmark::State& state, int read_every, double turn_rad_per_scan) {
   MapperOptions options;
   options.window_ahead_m = 0.3;
   const SensorMount mount;
   TerrainMapper mapper(options, mount);
   FootholdLayers foothold(mapper.map(), FootholdOptions{});
+  foothold.recompute_all(mapper.map());
   PlanarScan scan = urg_like_scan(mount);
   std::mt19937_64 rng(1);
   std::normal_distribution<double> tilt(0.0, 0.02);
   TrunkPose pose;
-  // Warm up: a map with history, as in a walk.
+  std::size_t scans = 0, geometry_cells = 0, score_cells = 0;
   const auto step = [&] {
     pose.x_m += 0.003;  // a slow walk: the window moves every few scans
     pose.yaw_rad += turn_rad_per_scan;
@@ -47,37 +53,50 @@ void walk(benchmark::State& state, bool with_foothold, double turn_rad_per_scan)
     pose.roll_rad = tilt(rng);
     scan.time_s += 0.1;
     benchmark::DoNotOptimize(mapper.integrate(scan, pose));
-    if (with_foothold) foothold.update(mapper.map(), mapper.take_changed_cells());
+    if (read_every > 0) {
+      foothold.note(mapper.map(), mapper.changed_rows());
+      if (++scans % static_cast<std::size_t>(read_every) == 0) {
+        foothold.refresh(mapper.map());
+        geometry_cells += foothold.last_geometry_cells();
+        score_cells += foothold.last_score_cells();
+      }
+    }
+    mapper.clear_changed_cells();
   };
+  // Warm up: a map with history, as in a walk.
   for (int k = 0; k < 50; ++k) step();
-  std::size_t geometry_cells = 0;
-  for (auto _ : state) {
-    step();
-    geometry_cells += foothold.last_geometry_cells();
-  }
+  scans = geometry_cells = score_cells = 0;
+  for (auto _ : state) step();
   state.counters["scans_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
-  if (with_foothold) {
-    state.counters["geometry_cells_per_scan"] =
-        static_cast<double>(geometry_cells) / static_cast<double>(state.iterations());
+  if (read_every > 0) {
+    const double reads = std::max(1.0, static_cast<double>(scans / static_cast<std::size_t>(read_every)));
+    state.counters["geometry_cells_per_read"] = static_cast<double>(geometry_cells) / reads;
+    state.counters["score_cells_per_read"] = static_cast<double>(score_cells) / reads;
   }
 }
 
 // Turning as core_bench's BM_IntegrateScan: the heading sweeps round, so the
-// scan line lies diagonally across the window most of the time and its
-// bounding box covers most of it.
-void BM_ScanMapUpdateOnly(benchmark::State& state) { walk(state, false, 0.002); }
+// scan line lies diagonally across the window most of the time.
+void BM_ScanMapUpdateOnly(benchmark::State& state) { walk(state, 0, 0.002); }
 BENCHMARK(BM_ScanMapUpdateOnly);
 
-void BM_ScanMapUpdateWithFoothold(benchmark::State& state) { walk(state, true, 0.002); }
+// The layers read (brought up to date) after every scan.
+void BM_ScanMapUpdateWithFoothold(benchmark::State& state) { walk(state, 1, 0.002); }
 BENCHMARK(BM_ScanMapUpdateWithFoothold);
 
-// Walking straight ahead: the scan line stays across the heading, its box
-// a band a few cells deep.
-void BM_ScanMapUpdateOnlyStraight(benchmark::State& state) { walk(state, false, 0.0); }
+// Read after every 10th scan: the per-scan cost amortised.
+void BM_ScanMapUpdateWithFootholdRead10(benchmark::State& state) { walk(state, 10, 0.002); }
+BENCHMARK(BM_ScanMapUpdateWithFootholdRead10);
+
+// Walking straight ahead: the scan line stays across the heading.
+void BM_ScanMapUpdateOnlyStraight(benchmark::State& state) { walk(state, 0, 0.0); }
 BENCHMARK(BM_ScanMapUpdateOnlyStraight);
 
-void BM_ScanMapUpdateWithFootholdStraight(benchmark::State& state) { walk(state, true, 0.0); }
+void BM_ScanMapUpdateWithFootholdStraight(benchmark::State& state) { walk(state, 1, 0.0); }
 BENCHMARK(BM_ScanMapUpdateWithFootholdStraight);
+
+void BM_ScanMapUpdateWithFootholdRead10Straight(benchmark::State& state) { walk(state, 10, 0.0); }
+BENCHMARK(BM_ScanMapUpdateWithFootholdRead10Straight);
 
 // Every cell of the paper's 100 x 100 window, mostly known: what an update
 // would cost without the changed box.

@@ -1,9 +1,11 @@
 #include "stridemap/core/foothold.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <span>
 #include <string>
 
 #include <Eigen/Dense>
@@ -120,46 +122,192 @@ FootholdLayers::FootholdLayers(ElevationMap& map, const FootholdOptions& options
   }
   full_inverse_ = Eigen::Matrix3d::Zero();
   if (footprint_.size() >= 3) full_inverse_ = full.inverse();
-  ring_rows_.assign(static_cast<std::size_t>(2 * edge_cells_ + 1), nullptr);
-  row_distance_.assign(static_cast<std::size_t>(2 * edge_cells_ + 1) * static_cast<std::size_t>(n_), 0);
+  // The same predicates as the footprint's and the edge search's.
+  for (std::int64_t dx = -foot_cells_; dx <= foot_cells_; ++dx) {
+    int w = 0;
+    while (w + 1 <= foot_cells_ && static_cast<double>(dx * dx + (w + 1) * (w + 1)) <= foot_cells * foot_cells) ++w;
+    foot_widths_.push_back(static_cast<double>(dx * dx) <= foot_cells * foot_cells ? w : -1);
+  }
+  for (std::int64_t dx = -edge_cells_; dx <= edge_cells_; ++dx) {
+    int w = 0;
+    while (w + 1 <= edge_cells_ && dx * dx + (w + 1) * (w + 1) <= edge_cells_ * edge_cells_) ++w;
+    edge_widths_.push_back(w);
+  }
+  const auto n = static_cast<std::size_t>(n_);
+  pending_.resize(n_);
+  seeds_.assign(n + 2 * static_cast<std::size_t>(foot_cells_), Span{1, 0});
+  geometry_rows_.assign(n, Span{1, 0});
+  score_rows_.assign(n, Span{1, 0});
+  distance_rows_.assign(n, Span{1, 0});
+  flips_.assign(n, Span{1, 0});
+  distance2_.assign(n * n, 0);
+  best2_.assign(n, 0);
 }
 
-void FootholdLayers::recompute_all(ElevationMap& map) {
-  const CellBox all = CellBox::window_of(map);
-  last_geometry_cells_ = 0;
-  geometry_in(map, all);
-  edges_and_score_in(map, all);
-  corner_ = map.min_cell();
-  has_corner_ = true;
+void FootholdLayers::note(const ElevationMap& map, const ChangedRows& changed) {
+  if (!computed_) return;  // the first refresh computes everything
+  stable_ = stable_.intersected(CellBox::window_of(map));
+  pending_.add(changed);
+}
+
+void FootholdLayers::note(const ElevationMap& map, const CellBox& changed) {
+  if (!computed_) return;
+  stable_ = stable_.intersected(CellBox::window_of(map));
+  pending_.add(changed);
 }
 
 void FootholdLayers::update(ElevationMap& map, const CellBox& changed) {
-  // The cells that left with a move of the window were neighbours of cells
-  // that stayed: those lose them, as if the cells had become unknown.
-  std::array<CellBox, 3> sources{changed, {}, {}};
-  const CellIndex now = map.min_cell();
-  if (has_corner_ && !(now == corner_)) {
-    const std::int64_t n = n_;
-    const CellBox before{corner_, {corner_.x + n - 1, corner_.y + n - 1}};
-    if (now.x > corner_.x) sources[1] = {before.min, {std::min(before.max.x, now.x - 1), before.max.y}};
-    if (now.x < corner_.x) sources[1] = {{std::max(before.min.x, now.x + n), before.min.y}, before.max};
-    if (now.y > corner_.y) sources[2] = {before.min, {before.max.x, std::min(before.max.y, now.y - 1)}};
-    if (now.y < corner_.y) sources[2] = {{before.min.x, std::max(before.min.y, now.y + n)}, before.max};
-  }
-  corner_ = now;
-  has_corner_ = true;
-  last_geometry_cells_ = 0;
-  for (const CellBox& b : sources) geometry_in(map, b.grown(foot_cells_).clipped_to(map));
-  for (const CellBox& b : sources) edges_and_score_in(map, b.grown(foot_cells_ + edge_cells_).clipped_to(map));
+  note(map, changed);
+  refresh(map);
 }
 
-void FootholdLayers::geometry_in(ElevationMap& map, const CellBox& box) {
-  if (box.empty()) return;
-  const LocalSlots slots(map);
-  for (std::int64_t x = box.min.x; x <= box.max.x; ++x) {
-    for (std::int64_t y = box.min.y; y <= box.max.y; ++y) geometry_of(map, slots, {x, y});
+void FootholdLayers::update(ElevationMap& map, const ChangedRows& changed) {
+  note(map, changed);
+  refresh(map);
+}
+
+void FootholdLayers::recompute_all(ElevationMap& map) {
+  std::fill(geometry_rows_.begin(), geometry_rows_.end(), Span{0, n_ - 1});
+  std::fill(score_rows_.begin(), score_rows_.end(), Span{0, n_ - 1});
+  compute(map);
+  pending_.clear();
+  window_ = stable_ = CellBox::window_of(map);
+  computed_ = true;
+}
+
+void FootholdLayers::seed_box(const CellBox& box, CellIndex corner) {
+  // Local rows -f .. n - 1 + f, columns clipped the same: a change farther
+  // out reaches no cell of the window.
+  const std::int64_t f = foot_cells_, n = n_;
+  const std::int64_t x0 = std::max(box.min.x - corner.x, -f), x1 = std::min(box.max.x - corner.x, n - 1 + f);
+  const std::int64_t y0 = std::max(box.min.y - corner.y, -f), y1 = std::min(box.max.y - corner.y, n - 1 + f);
+  if (y0 > y1) return;
+  for (std::int64_t x = x0; x <= x1; ++x) {
+    Span& s = seeds_[static_cast<std::size_t>(x + f)];
+    s.lo = std::min(s.lo, static_cast<int>(y0));
+    s.hi = std::max(s.hi, static_cast<int>(y1));
   }
-  last_geometry_cells_ += static_cast<std::size_t>((box.max.x - box.min.x + 1) * (box.max.y - box.min.y + 1));
+}
+
+// to[x] covers from[x + dx] widened by widths[dx + r] for |dx| <= r (the
+// rows' hulls: a bound of the disc around every cell of `from`), for the
+// window's rows. from[i] is row i - from_offset.
+void FootholdLayers::grow(const std::vector<Span>& from, int from_offset, std::vector<Span>& to,
+                          const std::vector<int>& widths) {
+  const int r = static_cast<int>(widths.size() / 2);
+  std::fill(to.begin(), to.end(), Span{n_, -1});
+  for (int i = 0; i < static_cast<int>(from.size()); ++i) {
+    const Span s = from[static_cast<std::size_t>(i)];
+    if (s.lo > s.hi) continue;
+    const int x = i - from_offset;
+    for (int dx = std::max(-r, -x); dx <= r && x + dx < n_; ++dx) {
+      const int w = widths[static_cast<std::size_t>(dx + r)];
+      if (w < 0) continue;
+      Span& t = to[static_cast<std::size_t>(x + dx)];
+      t.lo = std::min(t.lo, std::max(s.lo - w, 0));
+      t.hi = std::max(t.hi, std::min(s.hi + w, n_ - 1));
+    }
+  }
+}
+
+void FootholdLayers::refresh(ElevationMap& map) {
+  if (!computed_) {
+    recompute_all(map);
+    return;
+  }
+  const CellBox window = CellBox::window_of(map);
+  stable_ = stable_.intersected(window);
+  last_geometry_cells_ = last_score_cells_ = 0;
+  if (pending_.empty() && stable_ == window_ && window_ == window) return;
+  if (stable_.empty()) {  // the window jumped by a whole window or more
+    recompute_all(map);
+    return;
+  }
+  const CellIndex corner = window.min;
+  std::fill(seeds_.begin(), seeds_.end(), Span{std::numeric_limits<int>::max(), std::numeric_limits<int>::min()});
+  // Changed cells still in the window. One that left since is among the
+  // cells that left, below; one that came and went never was a neighbour.
+  if (!pending_.empty()) {
+    const CellBox rows = pending_.bounds().intersected(window);
+    std::int64_t lo = 0, hi = 0;
+    for (std::int64_t x = rows.min.x; !rows.empty() && x <= rows.max.x; ++x) {
+      if (pending_.span(x, lo, hi)) seed_box({{x, lo}, {x, hi}}, corner);
+    }
+  }
+  // Cells of the last refresh's window outside every window since: they
+  // left (and may have come back reset), so their neighbours lost them.
+  // Cells that entered were unknown before and after: no change.
+  std::array<CellBox, 4> left{};
+  if (!(stable_ == window_)) {
+    const CellBox& w = window_;
+    const CellBox& s = stable_;
+    if (w.min.x < s.min.x) left[0] = {w.min, {s.min.x - 1, w.max.y}};
+    if (s.max.x < w.max.x) left[1] = {{s.max.x + 1, w.min.y}, w.max};
+    if (w.min.y < s.min.y) left[2] = {{s.min.x, w.min.y}, {s.max.x, s.min.y - 1}};
+    if (s.max.y < w.max.y) left[3] = {{s.min.x, s.max.y + 1}, {s.max.x, w.max.y}};
+    for (const CellBox& b : left) {
+      if (!b.empty()) seed_box(b, corner);
+    }
+  }
+  grow(seeds_, static_cast<int>(foot_cells_), geometry_rows_, foot_widths_);
+  const LocalSlots slots(map);
+  geometry_rows(map, slots);
+  // A score changes with its own cell's geometry and certainty (both
+  // within the geometry rows) and with the edge distance, which changes
+  // only within the search radius of a cell that became or stopped being
+  // an edge: one whose step crossed max_step_m, or one that left (its
+  // step layer may since have been reset, so no crossing shows). A cell
+  // outside the window stands in as its nearest window cell, which is no
+  // farther from any window cell.
+  for (const CellBox& b : left) {
+    if (b.empty()) continue;
+    const auto clamp = [&](std::int64_t v) { return static_cast<int>(std::clamp<std::int64_t>(v, 0, n_ - 1)); };
+    const int y0 = clamp(b.min.y - corner.y), y1 = clamp(b.max.y - corner.y);
+    for (int x = clamp(b.min.x - corner.x); x <= clamp(b.max.x - corner.x); ++x) {
+      Span& f = flips_[static_cast<std::size_t>(x)];
+      f.lo = std::min(f.lo, y0);
+      f.hi = std::max(f.hi, y1);
+    }
+  }
+  grow(flips_, 0, score_rows_, edge_widths_);
+  for (std::size_t i = 0; i < score_rows_.size(); ++i) {
+    const Span g = geometry_rows_[i];
+    if (g.lo > g.hi) continue;
+    score_rows_[i].lo = std::min(score_rows_[i].lo, g.lo);
+    score_rows_[i].hi = std::max(score_rows_[i].hi, g.hi);
+  }
+  edges_and_score_rows(map, slots);
+  pending_.clear();
+  window_ = stable_ = window;
+}
+
+void FootholdLayers::compute(ElevationMap& map) {
+  const LocalSlots slots(map);
+  geometry_rows(map, slots);
+  edges_and_score_rows(map, slots);
+}
+
+void FootholdLayers::geometry_rows(ElevationMap& map, const LocalSlots& slots) {
+  std::size_t cells = 0;
+  const float* step = map.data(step_);
+  const auto max_step = static_cast<float>(options_.max_step_m);
+  for (int i = 0; i < n_; ++i) {
+    const Span s = geometry_rows_[static_cast<std::size_t>(i)];
+    Span& flip = flips_[static_cast<std::size_t>(i)];
+    flip = Span{n_, -1};
+    for (int j = s.lo; j <= s.hi; ++j) {
+      const CellIndex c{slots.corner.x + i, slots.corner.y + j};
+      const std::size_t t = slots.of(c);
+      const bool was_edge = step[t] > max_step;
+      geometry_of(map, slots, c);
+      if ((step[t] > max_step) != was_edge) {
+        flip.lo = std::min(flip.lo, j);
+        flip.hi = std::max(flip.hi, j);
+      }
+    }
+    if (s.lo <= s.hi) cells += static_cast<std::size_t>(s.hi - s.lo + 1);
+  }
+  last_geometry_cells_ = cells;
 }
 
 void FootholdLayers::geometry_of(ElevationMap& map, const LocalSlots& slots, CellIndex cell) const {
@@ -178,12 +326,19 @@ void FootholdLayers::geometry_of(ElevationMap& map, const LocalSlots& slots, Cel
   Eigen::Vector3d b = Eigen::Vector3d::Zero();
   double lo = 0.0, hi = 0.0;
   std::size_t count = 0;
+  // The known cells' relative elevations and offsets, kept for the
+  // residuals so that the second pass does not look them up again (the
+  // same values in the same order: the same bits).
+  constexpr std::size_t kKept = 64;
+  std::array<std::array<double, 3>, kKept> kept;
+  const bool keep = footprint_.size() <= kKept;
   for (const CellIndex& o : footprint_) {
     const CellIndex q{cell.x + o.x, cell.y + o.y};
     if (!slots.inside(q)) continue;
     const std::size_t t = slots.of(q);
     if (!known(elevation, state, t)) continue;
     const double z = elevation[t] - z0;
+    if (keep) kept[count] = {z, static_cast<double>(o.x), static_cast<double>(o.y)};
     const double x = static_cast<double>(o.x) * cell_size_m_, y = static_cast<double>(o.y) * cell_size_m_;
     sx += x;
     sy += y;
@@ -212,7 +367,14 @@ void FootholdLayers::geometry_of(ElevationMap& map, const LocalSlots& slots, Cel
   }
   const Eigen::Vector3d plane = inverse * b;
   double residual2 = 0.0;
-  for (const CellIndex& o : footprint_) {
+  if (keep) {
+    for (std::size_t k = 0; k < count; ++k) {
+      const double fit = plane[0] + plane[1] * kept[k][1] * cell_size_m_ + plane[2] * kept[k][2] * cell_size_m_;
+      const double r = kept[k][0] - fit;
+      residual2 += r * r;
+    }
+  }
+  for (const CellIndex& o : keep ? std::span<const CellIndex>() : std::span<const CellIndex>(footprint_)) {
     const CellIndex q{cell.x + o.x, cell.y + o.y};
     if (!slots.inside(q)) continue;
     const std::size_t t = slots.of(q);
@@ -226,9 +388,7 @@ void FootholdLayers::geometry_of(ElevationMap& map, const LocalSlots& slots, Cel
   roughness[s] = static_cast<float>(std::sqrt(residual2 / static_cast<double>(count)));
 }
 
-void FootholdLayers::edges_and_score_in(ElevationMap& map, const CellBox& box) {
-  if (box.empty()) return;
-  const LocalSlots slots(map);
+void FootholdLayers::edges_and_score_rows(ElevationMap& map, const LocalSlots& slots) {
   const float* elevation = map.elevation_data();
   const std::uint8_t* state = map.state_data();
   const float* certainty = map.certainty_data();
@@ -237,52 +397,74 @@ void FootholdLayers::edges_and_score_in(ElevationMap& map, const CellBox& box) {
   const float* roughness = map.data(roughness_);
   float* edge_distance = map.data(edge_distance_);
   float* score = map.data(score_);
-  const std::int64_t r = edge_cells_, none = r + 1, ring = 2 * r + 1;
-  const std::int64_t width = box.max.y - box.min.y + 1;
+  const int r = static_cast<int>(edge_cells_), none = r + 1;
+  // Far beyond any r * r + r * r, and no overflow when dx * dx is added.
+  constexpr std::int32_t kFar = 1 << 29;
   const auto max_step = static_cast<float>(options_.max_step_m);
-  const CellBox window = CellBox::window_of(map);
-  // Per row of the search band: the distance in cells along the row to the
-  // nearest edge within r (none beyond), for the box's columns. Rows are
-  // kept in a ring of 2r + 1, so each is computed once.
-  const auto fill_row = [&](std::int64_t x) {
-    int* out = row_distance_.data() + ((x - box.min.x + r) % ring) * n_;
-    std::fill(out, out + width, static_cast<int>(none));
-    if (x < window.min.x || x > window.max.x) return;
-    const std::int64_t lo = std::max(box.min.y - r, window.min.y), hi = std::min(box.max.y + r, window.max.y);
-    std::int64_t last = std::numeric_limits<std::int64_t>::min() / 2;
-    for (std::int64_t y = lo; y <= hi; ++y) {
-      if (step[slots.of({x, y})] > max_step) last = y;
-      if (y >= box.min.y && y <= box.max.y) out[y - box.min.y] = static_cast<int>(std::min(none, y - last));
+  const auto n = static_cast<std::size_t>(n_);
+  // The along-row distances a row must supply: its columns wherever a row
+  // within r of it has cells to redo.
+  std::fill(distance_rows_.begin(), distance_rows_.end(), Span{n_, -1});
+  for (int x = 0; x < n_; ++x) {
+    const Span e = score_rows_[static_cast<std::size_t>(x)];
+    if (e.lo > e.hi) continue;
+    for (int k = std::max(0, x - r); k <= std::min(n_ - 1, x + r); ++k) {
+      Span& d = distance_rows_[static_cast<std::size_t>(k)];
+      d.lo = std::min(d.lo, e.lo);
+      d.hi = std::max(d.hi, e.hi);
     }
-    std::int64_t next = std::numeric_limits<std::int64_t>::max() / 2;
-    for (std::int64_t y = hi; y >= lo; --y) {
-      if (step[slots.of({x, y})] > max_step) next = y;
-      if (y >= box.min.y && y <= box.max.y) {
-        int& d = out[y - box.min.y];
-        d = static_cast<int>(std::min<std::int64_t>(d, std::min(none, next - y)));
-      }
+  }
+  // Per row: the squared distance along the row to the nearest edge within
+  // r (kFar beyond), two sweeps over the needed columns and r either side.
+  for (int x = 0; x < n_; ++x) {
+    const Span need = distance_rows_[static_cast<std::size_t>(x)];
+    if (need.lo > need.hi) continue;
+    std::int32_t* out = distance2_.data() + static_cast<std::size_t>(x) * n;
+    const int lo = std::max(need.lo - r, 0), hi = std::min(need.hi + r, n_ - 1);
+    const std::size_t row_slot = slots.of({slots.corner.x + x, slots.corner.y});
+    const std::size_t row_start = row_slot - row_slot % n;
+    const auto step_at = [&](int y) {
+      std::size_t j = row_slot % n + static_cast<std::size_t>(y);
+      if (j >= n) j -= n;
+      return step[row_start + j];
+    };
+    int last = std::numeric_limits<int>::min() / 2;
+    for (int y = lo; y <= hi; ++y) {
+      if (step_at(y) > max_step) last = y;
+      out[y] = std::min(none, y - last);
     }
-  };
-  for (std::int64_t x = box.min.x - r; x < box.min.x + r; ++x) fill_row(x);
+    int next = std::numeric_limits<int>::max() / 2;
+    for (int y = hi; y >= lo; --y) {
+      if (step_at(y) > max_step) next = y;
+      const int d = std::min(out[y], std::min(none, next - y));
+      out[y] = d <= r ? d * d : kFar;
+    }
+  }
   const double cap_m = options_.edge_search_radius_m;
-  for (std::int64_t x = box.min.x; x <= box.max.x; ++x) {
-    fill_row(x + r);
-    // The rows x - r .. x + r of the ring, in order: no modulo per cell.
-    for (std::int64_t k = 0; k < ring; ++k) ring_rows_[static_cast<std::size_t>(k)] = row_distance_.data() + ((x + k - box.min.x) % ring) * n_;
-    for (std::int64_t y = box.min.y; y <= box.max.y; ++y) {
-      const std::size_t s = slots.of({x, y});
+  std::size_t cells = 0;
+  for (int x = 0; x < n_; ++x) {
+    const Span e = score_rows_[static_cast<std::size_t>(x)];
+    if (e.lo > e.hi) continue;
+    cells += static_cast<std::size_t>(e.hi - e.lo + 1);
+    // min over the rows within r of dx^2 + (along-row distance)^2: exact
+    // within the search disc (the nearest edge in Euclidean distance is the
+    // nearest along its own row). Contiguous, so it vectorises.
+    std::int32_t* best = best2_.data();
+    std::fill(best + e.lo, best + e.hi + 1, kFar);
+    for (int k = std::max(0, x - r); k <= std::min(n_ - 1, x + r); ++k) {
+      const std::int32_t dx2 = (k - x) * (k - x);
+      const std::int32_t* row = distance2_.data() + static_cast<std::size_t>(k) * n;
+      for (int y = e.lo; y <= e.hi; ++y) best[y] = std::min(best[y], dx2 + row[y]);
+    }
+    for (int y = e.lo; y <= e.hi; ++y) {
+      const std::size_t s = slots.of({slots.corner.x + x, slots.corner.y + y});
       if (!known(elevation, state, s)) {
         edge_distance[s] = score[s] = kNaN;
         continue;
       }
-      std::int64_t best = std::numeric_limits<std::int64_t>::max();
-      const std::int64_t column = y - box.min.y;
-      for (std::int64_t k = 0; k < ring; ++k) {
-        const std::int64_t d = ring_rows_[static_cast<std::size_t>(k)][column], dx = k - r;
-        if (d <= r) best = std::min(best, dx * dx + d * d);
-      }
+      const std::int64_t b = best[y];
       const double distance_m =
-          best <= r * r ? std::sqrt(static_cast<double>(best)) * cell_size_m_ : cap_m;
+          b <= static_cast<std::int64_t>(r) * r ? std::sqrt(static_cast<double>(b)) * cell_size_m_ : cap_m;
       edge_distance[s] = static_cast<float>(distance_m);
       if (std::isnan(slope[s]) || std::isnan(step[s]) || std::isnan(roughness[s])) {
         score[s] = kNaN;
@@ -295,6 +477,7 @@ void FootholdLayers::edges_and_score_in(ElevationMap& map, const CellBox& box) {
                                     ramp_down(roughness[s], options_.max_roughness_m) * edge_factor * certainty_factor);
     }
   }
+  last_score_cells_ = cells;
 }
 
 }  // namespace stridemap

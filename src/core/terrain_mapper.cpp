@@ -58,7 +58,7 @@ bool pose_is_finite(const TrunkPose& p) {
 }
 
 TerrainMapper::TerrainMapper(const MapperOptions& options, const SensorMount& mount)
-    : options_(options), mount_(mount), map_(options.grid) {
+    : options_(options), mount_(mount), map_(options.grid), changed_rows_(options.grid.cells_per_side) {
   const UpdateOptions& u = options.update;
   if (!std::isfinite(u.certainty_increment) || u.certainty_increment <= 0.0) {
     throw InputError("mapper options: certainty_increment must be a positive number, got " +
@@ -152,7 +152,9 @@ void TerrainMapper::apply(double x_m, double y_m, double h_m, double dz_max, Sca
                                          map_.mean_elevation_data()[s], map_.mean_count_data()[s]},
                                         static_cast<float>(h_m), static_cast<float>(dz_max), options_.update);
   ++stats.integrated;
-  changed_.add(map_.cell_of(x_m, y_m));
+  const CellIndex cell = map_.cell_of(x_m, y_m);
+  changed_.add(cell);
+  changed_rows_.add(cell);
   switch (result) {
     case CellUpdate::first: ++stats.first; break;
     case CellUpdate::plausible: ++stats.plausible; break;

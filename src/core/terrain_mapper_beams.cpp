@@ -130,6 +130,11 @@ void TerrainMapper::update_located(std::size_t count, ScanStats& stats) {
   const auto corner_slot = static_cast<double>(map_.slot(map_.min_cell()));
   const double row0 = std::floor((corner_slot + 0.5) * inverse_n), col0 = corner_slot - row0 * n;
   double lo_i = n, lo_j = n, hi_i = -1.0, hi_j = -1.0;
+  const auto rows = static_cast<std::size_t>(map_.cells_per_side());
+  if (row_lo_.size() != rows) {  // once per window size
+    row_lo_.assign(rows, std::numeric_limits<std::int32_t>::max());
+    row_hi_.assign(rows, -1);
+  }
   for (std::size_t k = 0; k < count; ++k) {
     const auto s = static_cast<std::size_t>(located_slot_[k]);
     if (s >= cells) {
@@ -144,6 +149,10 @@ void TerrainMapper::update_located(std::size_t count, ScanStats& stats) {
     hi_i = std::max(hi_i, i);
     lo_j = std::min(lo_j, j);
     hi_j = std::max(hi_j, j);
+    const auto ii = static_cast<std::size_t>(i);
+    const auto jj = static_cast<std::int32_t>(j);
+    row_lo_[ii] = std::min(row_lo_[ii], jj);
+    row_hi_[ii] = std::max(row_hi_[ii], jj);
     const CellUpdate result = update_cell({elevation[s], certainty[s], state[s], pending[s], contradictions[s], mean[s],
                                            mean_count[s]},
                                           located_h_m_[k], located_dz_max_m_[k], options);
@@ -153,6 +162,13 @@ void TerrainMapper::update_located(std::size_t count, ScanStats& stats) {
     const CellIndex corner = map_.min_cell();
     changed_.add(CellIndex{corner.x + static_cast<std::int64_t>(lo_i), corner.y + static_cast<std::int64_t>(lo_j)});
     changed_.add(CellIndex{corner.x + static_cast<std::int64_t>(hi_i), corner.y + static_cast<std::int64_t>(hi_j)});
+    for (auto ii = static_cast<std::size_t>(lo_i); ii <= static_cast<std::size_t>(hi_i); ++ii) {
+      if (row_lo_[ii] <= row_hi_[ii]) {
+        changed_rows_.add_span(corner.x + static_cast<std::int64_t>(ii), corner.y + row_lo_[ii], corner.y + row_hi_[ii]);
+      }
+      row_lo_[ii] = std::numeric_limits<std::int32_t>::max();
+      row_hi_[ii] = -1;
+    }
   }
   stats.outside_map += outside;
   stats.integrated += count - outside;

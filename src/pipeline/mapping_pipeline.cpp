@@ -38,7 +38,11 @@ MappingPipeline::MappingPipeline(const PipelineOptions& options)
 }
 
 ScanOutcome MappingPipeline::updated(ScanOutcome outcome) {
-  if (foothold_) foothold_->update(mapper_.map(), mapper_.take_changed_cells());
+  if (foothold_) {
+    foothold_->note(mapper_.map(), mapper_.changed_rows());
+    if (options_.foothold.update_every_scan) foothold_->refresh(mapper_.map());
+  }
+  mapper_.clear_changed_cells();
   return outcome;
 }
 
@@ -50,8 +54,12 @@ ScanStats MappingPipeline::add_planar(const PlanarScan& scan, const TrunkPose& p
   return updated(outcome).stats;
 }
 
+void MappingPipeline::refresh_foothold() {
+  if (foothold_) foothold_->refresh(mapper_.map());
+}
+
 void MappingPipeline::recompute_foothold() {
-  (void)mapper_.take_changed_cells();
+  mapper_.clear_changed_cells();
   if (foothold_) foothold_->recompute_all(mapper_.map());
 }
 

@@ -252,7 +252,10 @@ void expect_same_layers(const ElevationMap& a, const ElevationMap& b, const Foot
   }
 }
 
-TEST(Foothold, IncrementalUpdatesEqualARecomputationAfterRandomScansAndWindowMoves) {
+// How a walk hands its changes to the layers.
+enum class Feed { box_every_scan, rows_every_scan, rows_read_now_and_then };
+
+void random_walk_equals_recomputation(Feed feed) {
   MapperOptions options;
   options.grid = GridOptions{50, kCell};
   options.reject_stale_scans = false;
@@ -263,15 +266,21 @@ TEST(Foothold, IncrementalUpdatesEqualARecomputationAfterRandomScansAndWindowMov
   foothold.recompute_all(mapper.map());
   std::mt19937 rng(18);
   std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  std::uniform_int_distribution<int> gap(1, 9);
   const auto ground = [](double x, double y) {
     return 0.04 * std::sin(9 * x) * std::cos(7 * y) + (std::fmod(std::abs(x + 3 * y), 0.3) < 0.1 ? 0.06 : 0.0);
   };
   double x = 0.0, y = 0.0;
   std::vector<MapPoint> points;
-  for (int step = 0; step < 80; ++step) {
-    // Wander so that the window moves in both directions, now and then by a lot.
+  int next_read = gap(rng), checks = 0;
+  for (int step = 0; step < 120; ++step) {
+    // Wander so that the window moves in both directions, now and then by
+    // a lot, once by more than the window, and back and forth in a row.
     x += step % 17 == 16 ? 0.4 * unit(rng) : 0.03 * unit(rng);
     y += step % 23 == 22 ? 0.4 * unit(rng) : 0.03 * unit(rng);
+    if (step == 61) x += 0.7;
+    if (step % 31 == 30) y -= 0.06;
+    if (step % 31 == 0 && step > 0) y += 0.06;
     TrunkPose pose;
     pose.x_m = x;
     pose.y_m = y;
@@ -285,14 +294,70 @@ TEST(Foothold, IncrementalUpdatesEqualARecomputationAfterRandomScansAndWindowMov
       points.push_back({px, py, ground(px, py) + 0.002 * unit(rng), 0.02});
     }
     mapper.integrate_points(points, pose);
-    foothold.update(mapper.map(), mapper.take_changed_cells());
-    if (step % 10 == 9 || step == 79) {
+    bool read = true;
+    switch (feed) {
+      case Feed::box_every_scan: foothold.update(mapper.map(), mapper.take_changed_cells()); break;
+      case Feed::rows_every_scan:
+        foothold.update(mapper.map(), mapper.changed_rows());
+        mapper.clear_changed_cells();
+        break;
+      case Feed::rows_read_now_and_then:
+        foothold.note(mapper.map(), mapper.changed_rows());
+        mapper.clear_changed_cells();
+        read = --next_read == 0;
+        if (read) {
+          next_read = gap(rng);
+          foothold.refresh(mapper.map());
+        }
+        break;
+    }
+    if (read && (feed == Feed::rows_read_now_and_then || step % 10 == 9 || step == 119)) {
+      ASSERT_TRUE(foothold.current());
       ElevationMap scratch = mapper.map();
       FootholdLayers fresh(scratch, foothold_options);
       fresh.recompute_all(scratch);
       expect_same_layers(mapper.map(), scratch, foothold, step);
+      ++checks;
     }
   }
+  EXPECT_GE(checks, 12);
+}
+
+TEST(Foothold, IncrementalUpdatesEqualARecomputationAfterRandomScansAndWindowMoves) {
+  random_walk_equals_recomputation(Feed::box_every_scan);
+}
+
+TEST(Foothold, PerRowUpdatesEqualARecomputationAfterRandomScansAndWindowMoves) {
+  random_walk_equals_recomputation(Feed::rows_every_scan);
+}
+
+TEST(Foothold, LazyRefreshAfterSeveralScansEqualsARecomputation) {
+  random_walk_equals_recomputation(Feed::rows_read_now_and_then);
+}
+
+TEST(Foothold, ADiagonalScanLineRedoesFarFewerCellsByRowsThanByBox) {
+  MapperOptions options;
+  options.grid = GridOptions{100, kCell};
+  TerrainMapper mapper(options, SensorMount{});
+  FootholdLayers by_box(mapper.map(), FootholdOptions{});
+  by_box.recompute_all(mapper.map());
+  std::vector<MapPoint> points;
+  for (int k = 0; k < 200; ++k) {
+    const double t = -0.4 + 0.8 * k / 199.0;  // the window's diagonal
+    points.push_back({t, t, 0.01, 0.02});
+  }
+  mapper.integrate_points(points, TrunkPose{});
+  ElevationMap copy = mapper.map();
+  FootholdLayers by_rows(copy, FootholdOptions{});
+  by_rows.recompute_all(copy);
+  by_box.update(mapper.map(), mapper.changed_cells());
+  by_rows.update(copy, mapper.changed_rows());
+  ASSERT_GT(by_box.last_geometry_cells(), 2000u);
+  EXPECT_LT(by_rows.last_geometry_cells(), by_box.last_geometry_cells() / 5);
+  EXPECT_LT(by_rows.last_score_cells(), by_box.last_score_cells() / 3);
+  EXPECT_TRUE(by_rows.current());
+  by_rows.refresh(copy);  // nothing noted since: nothing redone
+  EXPECT_EQ(by_rows.last_geometry_cells(), 0u);
 }
 
 TEST(Foothold, TheMappersChangedBoxCoversTheCellsItWrote) {
@@ -329,6 +394,46 @@ TEST(Foothold, TheMappersChangedBoxCoversTheCellsItWrote) {
   // Exactly the written cells' bounds: every side touches a written cell.
   EXPECT_EQ(box.min, tight.min);
   EXPECT_EQ(box.max, tight.max);
+  EXPECT_TRUE(mapper.changed_rows().empty());  // cleared with the box
+}
+
+TEST(Foothold, TheMappersChangedRowsAreTheWrittenCellsRowByRow) {
+  MapperOptions options;
+  options.grid = GridOptions{80, kCell};
+  SensorMount mount;
+  TerrainMapper mapper(options, mount);
+  PlanarScan scan;
+  scan.resize(40);
+  for (std::size_t i = 0; i < 40; ++i) {
+    const double t = -0.6 + 1.2 * static_cast<double>(i) / 39.0;
+    scan.angle_rad[i] = t;
+    scan.range_m[i] = mount.height_m / (std::cos(t) * std::sin(mount.pitch_rad));
+    scan.range_error_m[i] = 0.01;
+  }
+  TrunkPose pose;
+  pose.yaw_rad = 0.7;  // a diagonal line through the wrapped window
+  pose.x_m = 0.137;
+  ASSERT_GT(mapper.integrate(scan, pose).integrated, 0u);
+  // The per-point path adds its cells too.
+  const Eigen::Vector2d far = mapper.map().cell_center(mapper.map().cell_at_local(3, 70));
+  mapper.integrate_points(std::vector<MapPoint>{{far.x(), far.y(), 0.0, 0.02}}, pose);
+  const ChangedRows& rows = mapper.changed_rows();
+  std::size_t rows_seen = 0;
+  for (int i = 0; i < 80; ++i) {
+    CellBox tight;
+    for (int j = 0; j < 80; ++j) {
+      const CellIndex c = mapper.map().cell_at_local(i, j);
+      if (mapper.map().state(c) != CellState::unknown) tight.add(c);
+    }
+    std::int64_t lo = 0, hi = 0;
+    const CellIndex first = mapper.map().cell_at_local(i, 0);
+    ASSERT_EQ(rows.span(first.x, lo, hi), !tight.empty()) << "row " << i;
+    if (tight.empty()) continue;
+    ++rows_seen;
+    EXPECT_EQ(lo, tight.min.y) << "row " << i;
+    EXPECT_EQ(hi, tight.max.y) << "row " << i;
+  }
+  EXPECT_GT(rows_seen, 5u);
 }
 
 }  // namespace

@@ -58,6 +58,31 @@ TEST(PipelineAllocation, UrgScansThroughTheFiltersAllocateNothing) {
   EXPECT_EQ(pipeline.stats().integrated, 49u);
 }
 
+TEST(PipelineAllocation, FootholdLayersNotedPerScanAndRefreshedAllocateNothing) {
+  STRIDEMAP_SKIP_UNLESS_COUNTING_ALLOCATIONS();
+  for (const bool every_scan : {true, false}) {
+    PipelineOptions options;
+    options.foothold.update_every_scan = every_scan;
+    MappingPipeline pipeline(options);
+    ASSERT_NE(pipeline.foothold(), nullptr);
+    UrgRawScan raw = floor_scan(0.0);
+    for (int k = 0; k < 5; ++k) pipeline.add(floor_scan(0.1 * k), pose_at(0.01 * k, 0.02 * k));
+    pipeline.refresh_foothold();
+    std::size_t allocations = 0;
+    {
+      Counting counting;
+      for (int k = 5; k < 60; ++k) {
+        raw.time_s = 0.1 * k;
+        pipeline.add(raw, pose_at(0.01 * k, 0.02 * k));  // walking and turning: the window moves
+        if (k % 10 == 0) pipeline.refresh_foothold();
+      }
+      allocations = counting.allocations();
+    }
+    EXPECT_EQ(allocations, 0u) << (every_scan ? "every scan" : "lazy");
+    EXPECT_GT(pipeline.foothold()->last_geometry_cells() + (every_scan ? 1u : 0u), 0u);
+  }
+}
+
 TEST(PipelineAllocation, StripeAndPointFramesAllocateNothing) {
   STRIDEMAP_SKIP_UNLESS_COUNTING_ALLOCATIONS();
   PipelineOptions sl_options;

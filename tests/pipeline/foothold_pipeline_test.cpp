@@ -56,6 +56,39 @@ TEST(PipelineFoothold, ScansUpdateTheLayersAsARecomputationWould) {
   EXPECT_GT(scored, 50u);
 }
 
+TEST(PipelineFoothold, LazyLayersReadEveryFewScansEqualThoseUpdatedEveryScan) {
+  PipelineOptions eager_options, lazy_options;
+  lazy_options.foothold.update_every_scan = false;
+  MappingPipeline eager(eager_options), lazy(lazy_options);
+  const auto bytes_equal = [](const ElevationMap& a, const ElevationMap& b) {
+    const std::size_t cells = static_cast<std::size_t>(a.cells_per_side()) * static_cast<std::size_t>(a.cells_per_side());
+    for (const LayerSpec& spec : foothold_layer_specs()) {
+      const std::size_t k = *a.find_layer(spec.name);
+      if (std::memcmp(a.layer_bytes(k), b.layer_bytes(k), cells * sizeof(float)) != 0) return false;
+    }
+    return true;
+  };
+  bool stale_seen = false;
+  for (int k = 0; k < 60; ++k) {
+    const TrunkPose pose = pose_at(0.01 * k, 0.03 * k);
+    eager.add(floor_scan(0.1 * k), pose);
+    lazy.add(floor_scan(0.1 * k), pose);
+    ASSERT_TRUE(eager.foothold()->current());
+    if (k % 7 != 6) {
+      stale_seen = stale_seen || !bytes_equal(eager.mapper().map(), lazy.mapper().map());
+      continue;
+    }
+    EXPECT_FALSE(lazy.foothold()->current());
+    lazy.refresh_foothold();
+    EXPECT_TRUE(lazy.foothold()->current());
+    ASSERT_TRUE(bytes_equal(eager.mapper().map(), lazy.mapper().map())) << "after scan " << k;
+  }
+  // Before a refresh the lazy layers lag: the test can tell them apart.
+  EXPECT_TRUE(stale_seen);
+  lazy.refresh_foothold();
+  expect_as_recomputed(lazy.mapper().map(), lazy_options.foothold);
+}
+
 TEST(PipelineFoothold, TheFilteredMapCarriesLayersOfTheFilledMap) {
   MappingPipeline pipeline(PipelineOptions{});
   for (int k = 0; k < 10; ++k) pipeline.add(floor_scan(0.1 * k), pose_at(0.01 * k));

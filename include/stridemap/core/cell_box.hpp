@@ -41,6 +41,12 @@ struct CellBox {
     CellBox out{{std::max(min.x, lo.x), std::max(min.y, lo.y)}, {std::min(max.x, lo.x + n - 1), std::min(max.y, lo.y + n - 1)}};
     return out.empty() ? CellBox{} : out;
   }
+  /// The cells in both (may be empty).
+  CellBox intersected(const CellBox& b) const {
+    CellBox out{{std::max(min.x, b.min.x), std::max(min.y, b.min.y)}, {std::min(max.x, b.max.x), std::min(max.y, b.max.y)}};
+    return out.empty() ? CellBox{} : out;
+  }
+  friend bool operator==(const CellBox&, const CellBox&) = default;
   /// The map's whole window.
   static CellBox window_of(const ElevationMap& map) {
     const CellIndex lo = map.min_cell();

@@ -2,6 +2,8 @@
 // Foothold layers: where a foot can go, derived from the elevation map and
 // kept up to date incrementally (only around the cells a scan changed).
 // Beyond the paper, which stops at elevation and certainty; docs/foothold.md.
+// Each scan is noted (cheap); the values are computed at refresh(), for
+// all the scans noted since (MappingPipeline: after every scan by default).
 //
 // Definitions, for a cell p with centre c_p. The footprint F(p) is every
 // known cell (finite elevation, state not unknown) of the window whose
@@ -30,14 +32,22 @@
 #include <Eigen/Core>
 
 #include "stridemap/core/cell_box.hpp"
+#include "stridemap/core/changed_rows.hpp"
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/core/map_layer.hpp"
 
 namespace stridemap {
 
 struct FootholdOptions {
-  /// Compute the layers at all (MappingPipeline: after every scan).
+  /// Compute the layers at all.
   bool enabled = true;
+  /// MappingPipeline: bring the layers up to date after every scan (true,
+  /// the default: every reader of the map sees them current), or only note
+  /// what each scan changed and compute when the caller asks
+  /// (MappingPipeline::refresh_foothold()) before reading them. Both give
+  /// the same values bit for bit; false costs less when the layers are read
+  /// less often than scans arrive (a planner at 1 Hz, a URG at 10 Hz).
+  bool update_every_scan = true;
   /// Radius of the foot's footprint [m]: a small hexapod's foot (2 cm);
   /// the paper gives none.
   double foot_radius_m = 0.02;
@@ -70,16 +80,33 @@ std::array<LayerSpec, 5> foothold_layer_specs();
 
 /// Keeps a map's foothold layers current. Owns scratch space sized for the
 /// map's window (allocated here, never per update).
+///
+/// Two steps, so that a reader slower than the scans pays once: note() what
+/// a scan changed (cheap: row spans merged, window moves tracked), then
+/// refresh() recomputes what all the noted changes can have changed. The
+/// values after refresh() are those of recompute_all(), bit for bit,
+/// however many notes came before it.
 class FootholdLayers {
  public:
   /// Adds the layers to `map` unless it has them (a loaded map file may);
   /// throws InputError for bad options or a same-named layer of another type.
+  /// The values are computed by the first refresh() or recompute_all().
   FootholdLayers(ElevationMap& map, const FootholdOptions& options);
 
-  /// Recomputes what cells in `changed` (global indices, any part outside
-  /// the window ignored) can have changed, and what a move of the window
-  /// since the last update changed. Allocates nothing.
+  /// Records cells a scan changed (global indices; any part outside the
+  /// window is ignored) and any move of the window since the last note or
+  /// refresh. Allocates nothing, computes nothing.
+  void note(const ElevationMap& map, const ChangedRows& changed);
+  void note(const ElevationMap& map, const CellBox& changed);
+  /// Recomputes what the noted changes can have changed; nothing when
+  /// current(). Allocates nothing.
+  void refresh(ElevationMap& map);
+  /// Nothing noted since the last refresh (a window move not yet noted is
+  /// found by refresh(), not here).
+  bool current() const { return computed_ && pending_.empty() && stable_ == window_; }
+  /// note() then refresh().
   void update(ElevationMap& map, const CellBox& changed);
+  void update(ElevationMap& map, const ChangedRows& changed);
   /// Every cell from scratch (after a map filter, a resume, or edits that
   /// did not report their cells).
   void recompute_all(ElevationMap& map);
@@ -90,14 +117,22 @@ class FootholdLayers {
   LayerId<float> step_height() const { return step_; }
   LayerId<float> edge_distance() const { return edge_distance_; }
   LayerId<float> score() const { return score_; }
-  /// Cells whose geometry (slope, roughness, step) the last update
+  /// Cells whose geometry (slope, roughness, step) the last refresh
   /// recomputed: the cost measure of the benchmark.
   std::size_t last_geometry_cells() const { return last_geometry_cells_; }
+  /// Cells whose edge distance and score the last refresh recomputed.
+  std::size_t last_score_cells() const { return last_score_cells_; }
 
  private:
-  void geometry_in(ElevationMap& map, const CellBox& box);
-  void edges_and_score_in(ElevationMap& map, const CellBox& box);
   struct LocalSlots;
+  struct Span {  // columns lo..hi of a window-local row; lo > hi: none
+    int lo, hi;
+  };
+  void seed_box(const CellBox& box, CellIndex corner);
+  void grow(const std::vector<Span>& from, int from_offset, std::vector<Span>& to, const std::vector<int>& widths);
+  void compute(ElevationMap& map);
+  void geometry_rows(ElevationMap& map, const LocalSlots& slots);
+  void edges_and_score_rows(ElevationMap& map, const LocalSlots& slots);
   void geometry_of(ElevationMap& map, const LocalSlots& slots, CellIndex cell) const;
 
   FootholdOptions options_;
@@ -109,11 +144,25 @@ class FootholdLayers {
   std::size_t min_known_ = 3;
   std::vector<CellIndex> footprint_;  // offsets of the footprint's cells
   Eigen::Matrix3d full_inverse_;      // the plane fit's for a whole footprint
-  std::vector<int> row_distance_;     // edge search scratch, cells
-  std::vector<const int*> ring_rows_; // its rows x - r .. x + r for the row x at hand
-  CellIndex corner_{};                // window corner at the last update
-  bool has_corner_ = false;
+  // Half-widths of the footprint disc and of the edge search disc per row
+  // offset -r..r (index dx + r): how far a change reaches along a row.
+  std::vector<int> foot_widths_, edge_widths_;
+  // What changed since the last refresh, and the intersection of the
+  // windows since then (cells outside it may have left and come back reset).
+  ChangedRows pending_;
+  CellBox window_;  // the window at the last refresh
+  CellBox stable_;
+  bool computed_ = false;
+  // Per window-local row, scratch of refresh(): the changed columns (rows
+  // -foot_cells .. n + foot_cells, for cells that left), the cells whose
+  // geometry, the cells whose step crossed max_step_m (edges that came or
+  // went), whose edge distance and score, and whose along-row edge
+  // distances are redone.
+  std::vector<Span> seeds_, geometry_rows_, flips_, score_rows_, distance_rows_;
+  std::vector<std::int32_t> distance2_;  // n x n: squared along-row distance to an edge, or kFar
+  std::vector<std::int32_t> best2_;      // one row of squared edge distances
   std::size_t last_geometry_cells_ = 0;
+  std::size_t last_score_cells_ = 0;
 };
 
 }  // namespace stridemap

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "stridemap/core/cell_box.hpp"
+#include "stridemap/core/changed_rows.hpp"
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/core/map_update.hpp"
 #include "stridemap/core/max_elevation_change.hpp"
@@ -137,10 +138,22 @@ class TerrainMapper {
   const CellBox& changed_cells() const { return changed_; }
   /// Adds cells changed other than by readings (the visibility clean-up,
   /// core/visibility_clearing.hpp), so that derived layers redo them too.
-  void note_changed_cells(const CellBox& box) { changed_.add(box); }
+  void note_changed_cells(const CellBox& box) {
+    changed_.add(box);
+    changed_rows_.add(box);
+  }
+  /// The same cells row by row (core/changed_rows.hpp): per row of cells
+  /// the smallest and largest column written, finer than the box for a
+  /// diagonal scan line. Cleared with the box.
+  const ChangedRows& changed_rows() const { return changed_rows_; }
+  /// Forgets the changed cells (box and rows); allocates nothing.
+  void clear_changed_cells() {
+    changed_.clear();
+    changed_rows_.clear();
+  }
   CellBox take_changed_cells() {
     const CellBox box = changed_;
-    changed_.clear();
+    clear_changed_cells();
     return box;
   }
 
@@ -170,6 +183,10 @@ class TerrainMapper {
   ElevationMap map_;
   MapperTotals totals_;
   CellBox changed_;
+  ChangedRows changed_rows_;
+  // update_located()'s changed columns per window-local row, int32 so the
+  // per-reading update stays two loads and two stores (reset after use).
+  std::vector<std::int32_t> row_lo_, row_hi_;
   WindowMoveListener* window_listener_ = nullptr;
   std::optional<TrunkPose> previous_pose_;
   std::optional<double> previous_time_s_;

@@ -12,8 +12,10 @@
 // model, scan filters with the scan's pose carried through their delay, the
 // map update with Delta z_max formed in one place, then (when on) the
 // visibility clean-up (core/visibility_clearing.hpp). After each, the
-// foothold layers (core/foothold.hpp) are brought up to date around the
-// cells the scan changed, the cleared ones included.
+// foothold layers (core/foothold.hpp) note the cells the scan changed, the
+// cleared ones included, and are brought up to date around them (after
+// every scan by default; foothold.update_every_scan off: at
+// refresh_foothold()).
 #include <cstddef>
 #include <optional>
 #include <span>
@@ -80,6 +82,11 @@ class MappingPipeline {
   /// The foothold layers' keeper; nullptr when options().foothold.enabled
   /// is off. Their values are the map's layers (foothold->score() etc.).
   const FootholdLayers* foothold() const { return foothold_ ? &*foothold_ : nullptr; }
+  /// Brings the foothold layers up to date with every scan so far (nothing
+  /// to do after each scan with foothold.update_every_scan, the default).
+  /// With update_every_scan off, call this before reading the layers from
+  /// mapper().map(): until then they hold the values of the last refresh.
+  void refresh_foothold();
   /// Recomputes the foothold layers everywhere: after the map was changed
   /// other than by scans (mapper().map() edited, resume_from_map()).
   void recompute_foothold();

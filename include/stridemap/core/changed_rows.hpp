@@ -1,0 +1,107 @@
+#pragma once
+// The cells a scan changed, row by row: for each row of cells (global x
+// index) the smallest and largest changed column (global y). Finer than one
+// CellBox: a scan line lying diagonally across the window has a box of half
+// the window but only a few cells per row. Like a box it is a bound, never
+// smaller than what changed, which is all incremental updates need
+// (core/foothold.hpp).
+//
+// Rows are kept in a ring of one window's rows (row x in x mod rows), each
+// with its global row index: a row written after the window moved on by a
+// whole window replaces the one that shared its place, which by then has
+// left the window. Storage is sized once (constructor or resize()); adding
+// and clearing allocate nothing.
+#include <algorithm>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "stridemap/core/cell_box.hpp"
+#include "stridemap/core/grid_map.hpp"
+
+namespace stridemap {
+
+class ChangedRows {
+ public:
+  ChangedRows() = default;
+  /// Room for `rows` rows: a map's cells_per_side().
+  explicit ChangedRows(int rows) { resize(rows); }
+
+  /// Allocates; forgets every row.
+  void resize(int rows) {
+    rows_.assign(static_cast<std::size_t>(std::max(rows, 1)), Row{});
+    bounds_.clear();
+  }
+  int rows() const { return static_cast<int>(rows_.size()); }
+
+  void add(CellIndex c) { add_span(c.x, c.y, c.y); }
+  /// Columns lo..hi of row x (inclusive; lo > hi adds nothing).
+  void add_span(std::int64_t x, std::int64_t lo, std::int64_t hi) {
+    if (lo > hi) return;
+    Row& r = row_for(x);
+    r.lo = std::min(r.lo, lo);
+    r.hi = std::max(r.hi, hi);
+    bounds_.add(CellIndex{x, lo});
+    bounds_.add(CellIndex{x, hi});
+  }
+  /// Every cell of `box` (its last rows() rows when it has more).
+  void add(const CellBox& box) {
+    if (box.empty()) return;
+    const std::int64_t first = std::max(box.min.x, box.max.x - static_cast<std::int64_t>(rows_.size()) + 1);
+    for (std::int64_t x = first; x <= box.max.x; ++x) add_span(x, box.min.y, box.max.y);
+  }
+  void add(const ChangedRows& other) {
+    if (other.empty()) return;
+    const CellBox& b = other.bounds_;
+    const std::int64_t first = std::max(b.min.x, b.max.x - static_cast<std::int64_t>(other.rows_.size()) + 1);
+    std::int64_t lo = 0, hi = 0;
+    for (std::int64_t x = first; x <= b.max.x; ++x) {
+      if (other.span(x, lo, hi)) add_span(x, lo, hi);
+    }
+  }
+
+  bool empty() const { return bounds_.empty(); }
+  /// Bounding box of what was added (may include rows since replaced).
+  const CellBox& bounds() const { return bounds_; }
+  /// The changed columns of row x; false when none are recorded.
+  bool span(std::int64_t x, std::int64_t& lo, std::int64_t& hi) const {
+    if (rows_.empty()) return false;
+    const Row& r = rows_[place(x)];
+    if (r.x != x || r.lo > r.hi) return false;
+    lo = r.lo;
+    hi = r.hi;
+    return true;
+  }
+  void clear() {
+    if (bounds_.empty()) return;
+    const auto n = static_cast<std::int64_t>(rows_.size());
+    if (bounds_.max.x - bounds_.min.x + 1 >= n) {
+      std::fill(rows_.begin(), rows_.end(), Row{});
+    } else {
+      for (std::int64_t x = bounds_.min.x; x <= bounds_.max.x; ++x) rows_[place(x)] = Row{};
+    }
+    bounds_.clear();
+  }
+
+ private:
+  struct Row {
+    std::int64_t x = std::numeric_limits<std::int64_t>::min();
+    std::int64_t lo = std::numeric_limits<std::int64_t>::max();
+    std::int64_t hi = std::numeric_limits<std::int64_t>::min();
+  };
+  std::size_t place(std::int64_t x) const {
+    const auto n = static_cast<std::int64_t>(rows_.size());
+    const std::int64_t m = x % n;
+    return static_cast<std::size_t>(m < 0 ? m + n : m);
+  }
+  Row& row_for(std::int64_t x) {
+    Row& r = rows_[place(x)];
+    if (r.x != x) r = Row{x, std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::min()};
+    return r;
+  }
+
+  std::vector<Row> rows_;
+  CellBox bounds_;
+};
+
+}  // namespace stridemap
