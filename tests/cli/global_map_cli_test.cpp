@@ -17,6 +17,7 @@
 
 #include "cli/background_process.hpp"
 #include "cli/cli_runner.hpp"
+#include "cli/straight_run_log.hpp"
 #include "live/test_folder.hpp"
 #include "stridemap/io/map_file.hpp"
 #include "stridemap/io/scan_log.hpp"
@@ -28,48 +29,24 @@ namespace fs = std::filesystem;
 using test::run_cli;
 using test::shell_quoted;
 
-constexpr double kStart_s = 1733065200.0;
-constexpr int kScans = 400;         // 40 s at 10 Hz
-constexpr double kSpeed_mps = 0.2;  // 4 m out in 20 s, 4 m back in 20 s
+constexpr int kOutAndBackScans = 400;         // 40 s at 10 Hz
+constexpr double kOutAndBackSpeed_mps = 0.2;  // 4 m out in 20 s, 4 m back in 20 s
 constexpr double kTurn_s = 20.0;
 
 double robot_x_m(double t_s) {
   const double t = std::clamp(t_s, 0.0, 2.0 * kTurn_s);
-  return kSpeed_mps * (t < kTurn_s ? t : 2.0 * kTurn_s - t);
+  return kOutAndBackSpeed_mps * (t < kTurn_s ? t : 2.0 * kTurn_s - t);
 }
 
 // Short beams, so every point falls inside the window around the robot:
 // the run with the following window and the one with a window holding the
 // whole run then integrate the same readings.
 void write_out_and_back(const test::TestFolder& dir) {
-  {
-    io::ScanLogWriter writer(dir / "run.log", "/dev/ttyACM0");
-    const scip::VersionInfo version{"Hokuyo Automatic Co.,Ltd.", "SOKUIKI Sensor URG-04LX", "3.3.00", "SCIP 2.0", "H0"};
-    writer.write_sensor(kStart_s, version, scip::ScipParameters{});
-    for (int k = 0; k < kScans; ++k) {
-      UrgScan s;
-      s.sequence = static_cast<std::uint64_t>(k);
-      s.sensor_time_ms = static_cast<std::uint64_t>(100 * k);
-      s.sensor_timestamp_ms = static_cast<std::uint32_t>(100 * k);
-      s.host_time_s = kStart_s + 0.1 * k;
-      s.host_receive_time_s = s.host_time_s + 0.1;
-      s.raw.time_s = s.host_time_s;
-      s.raw.values_mm.assign(682, 300);
-      writer.write_scan(s);
-    }
-  }
-  std::ofstream poses(dir / "poses.txt");
-  for (int k = -2; k <= 2 * kScans + 2; ++k) {
-    const double t = 0.05 * k;
-    char line[128];
-    std::snprintf(line, sizeof line, "%.3f %.4f 0 0 0 0\n", kStart_s + t, robot_x_m(t));
-    poses << line;
-  }
+  test::write_straight_run(dir, "run.log", kOutAndBackScans, 300, robot_x_m);
 }
 
-test::CommandResult map_run(const test::TestFolder& dir, const std::string& out, const std::string& extra) {
-  return run_cli("map --log " + shell_quoted(dir / "run.log") + " --poses " + shell_quoted(dir / "poses.txt") +
-                 " --out " + shell_quoted(dir / out) + " " + extra);
+test::CommandResult map_out_and_back(const test::TestFolder& dir, const std::string& out, const std::string& extra) {
+  return test::map_straight_run(dir, "run.log", out, extra);
 }
 
 bool same_value(float a, float b) { return a == b || (std::isnan(a) && std::isnan(b)); }
@@ -96,11 +73,11 @@ std::size_t differing_cells(const ElevationMap& a, const ElevationMap& b, std::s
 TEST(GlobalMapCli, TheWindowGetsBackTheCellsItLeftAndTheTilesAreMapFiles) {
   test::TestFolder dir;
   write_out_and_back(dir);
-  const auto with = map_run(dir, "with", "--global-map " + shell_quoted(dir / "tiles"));
+  const auto with = map_out_and_back(dir, "with", "--global-map " + shell_quoted(dir / "tiles"));
   ASSERT_EQ(with.exit_code, 0) << with.output;
-  const auto without = map_run(dir, "without", "");
+  const auto without = map_out_and_back(dir, "without", "");
   ASSERT_EQ(without.exit_code, 0) << without.output;
-  const auto fit = map_run(dir, "fit", "--window fit");  // a window that never moves: the truth here
+  const auto fit = map_out_and_back(dir, "fit", "--window fit");  // a window that never moves: the truth here
   ASSERT_EQ(fit.exit_code, 0) << fit.output;
   ASSERT_NE(fit.output.find("grown from 100"), std::string::npos) << fit.output;
 
@@ -160,7 +137,7 @@ TEST(GlobalMapCli, AFolderThatIsAFileCannotBeMadeOrHoldsAnotherRunIsRefusedNamin
   test::TestFolder dir;
   write_out_and_back(dir);
   const auto refused = [&](const std::string& folder, const std::string& reason, const std::string& out) {
-    const auto r = map_run(dir, out, "--global-map " + shell_quoted(folder));
+    const auto r = map_out_and_back(dir, out, "--global-map " + shell_quoted(folder));
     EXPECT_EQ(r.exit_code, 2) << folder << ": " << r.output;
     EXPECT_NE(r.output.find("stridemap: error: "), std::string::npos) << r.output;
     EXPECT_NE(r.output.find(folder), std::string::npos) << r.output;
@@ -177,7 +154,7 @@ TEST(GlobalMapCli, AFolderThatIsAFileCannotBeMadeOrHoldsAnotherRunIsRefusedNamin
   // Another run's global map, at 2 cm cells: named with both resolutions,
   // and not one of its files replaced.
   dir.write("coarse.yaml", "map:\n  cell_size_m: 0.02\n");
-  const auto coarse = map_run(dir, "coarse", "--config " + shell_quoted(dir / "coarse.yaml") + " --global-map " +
+  const auto coarse = map_out_and_back(dir, "coarse", "--config " + shell_quoted(dir / "coarse.yaml") + " --global-map " +
                                                  shell_quoted(dir / "old"));
   ASSERT_EQ(coarse.exit_code, 0) << coarse.output;
   const std::string before = folder_listing(dir / "old");
@@ -187,7 +164,7 @@ TEST(GlobalMapCli, AFolderThatIsAFileCannotBeMadeOrHoldsAnotherRunIsRefusedNamin
           "out4");
   EXPECT_EQ(folder_listing(dir / "old"), before);
   // Also with the same settings: an earlier run's tiles are never replaced.
-  const auto again = map_run(dir, "again", "--config " + shell_quoted(dir / "coarse.yaml") + " --global-map " +
+  const auto again = map_out_and_back(dir, "again", "--config " + shell_quoted(dir / "coarse.yaml") + " --global-map " +
                                                 shell_quoted(dir / "old"));
   EXPECT_EQ(again.exit_code, 2) << again.output;
   EXPECT_NE(again.output.find("already holds a global map"), std::string::npos) << again.output;

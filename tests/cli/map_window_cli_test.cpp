@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/cli_runner.hpp"
+#include "cli/straight_run_log.hpp"
 #include "live/test_folder.hpp"
 #include "stridemap/io/map_file.hpp"
 #include "stridemap/io/scan_log.hpp"
@@ -22,41 +23,17 @@ namespace {
 using test::run_cli;
 using test::shell_quoted;
 
-constexpr double kStart_s = 1733065200.0;
 constexpr int kScans = 200;          // 20 s at 10 Hz
 constexpr double kSpeed_mps = 0.2;   // 4 m in all: four times the 1 m window
 
 // A robot driving straight along +x with every beam at 0.8 m: the points
 // form a band around the path, far longer than the default window.
 void write_long_run(const test::TestFolder& dir) {
-  {
-    io::ScanLogWriter writer(dir / "long.log", "/dev/ttyACM0");
-    const scip::VersionInfo version{"Hokuyo Automatic Co.,Ltd.", "SOKUIKI Sensor URG-04LX", "3.3.00", "SCIP 2.0", "H0"};
-    writer.write_sensor(kStart_s, version, scip::ScipParameters{});
-    for (int k = 0; k < kScans; ++k) {
-      UrgScan s;
-      s.sequence = static_cast<std::uint64_t>(k);
-      s.sensor_time_ms = static_cast<std::uint64_t>(100 * k);
-      s.sensor_timestamp_ms = static_cast<std::uint32_t>(100 * k);
-      s.host_time_s = kStart_s + 0.1 * k;
-      s.host_receive_time_s = s.host_time_s + 0.1;
-      s.raw.time_s = s.host_time_s;
-      s.raw.values_mm.assign(682, 800);
-      writer.write_scan(s);
-    }
-  }
-  std::ofstream poses(dir / "poses.txt");
-  for (int k = -2; k <= 2 * kScans + 2; ++k) {
-    const double t = 0.05 * k;
-    char line[128];
-    std::snprintf(line, sizeof line, "%.3f %.4f 0 0 0 0\n", kStart_s + t, kSpeed_mps * std::max(0.0, t));
-    poses << line;
-  }
+  test::write_straight_run(dir, "long.log", kScans, 800, [](double t_s) { return kSpeed_mps * std::max(0.0, t_s); });
 }
 
-test::CommandResult map_run(const test::TestFolder& dir, const std::string& out, const std::string& extra) {
-  return run_cli("map --log " + shell_quoted(dir / "long.log") + " --poses " + shell_quoted(dir / "poses.txt") +
-                 " --out " + shell_quoted(dir / out) + " " + extra);
+test::CommandResult map_long_run(const test::TestFolder& dir, const std::string& out, const std::string& extra) {
+  return test::map_straight_run(dir, "long.log", out, extra);
 }
 
 nlohmann::json summary_of(const test::TestFolder& dir, const std::string& out) {
@@ -81,7 +58,7 @@ TEST(MapWindowCli, FitHoldsEveryPointOfALogTheFollowingWindowCutsOff) {
   test::TestFolder dir;
   write_long_run(dir);
 
-  const auto follow = map_run(dir, "follow", "");
+  const auto follow = map_long_run(dir, "follow", "");
   ASSERT_EQ(follow.exit_code, 0) << follow.output;
   const auto followed = summary_of(dir, "follow");
   // Today's behaviour, the reason for fit: most of the run is lost.
@@ -89,7 +66,7 @@ TEST(MapWindowCli, FitHoldsEveryPointOfALogTheFollowingWindowCutsOff) {
   const auto [follow_lo, follow_hi] = measured_x_extent(io::load_map_file(dir / "follow/map.smap"));
   EXPECT_GT(follow_lo, 2.0) << "the window followed the robot to the end of the run";
 
-  const auto fit = map_run(dir, "fit", "--window fit");
+  const auto fit = map_long_run(dir, "fit", "--window fit");
   ASSERT_EQ(fit.exit_code, 0) << fit.output;
   EXPECT_NE(fit.output.find("--window fit:"), std::string::npos) << fit.output;
   EXPECT_NE(fit.output.find("grown from 100"), std::string::npos) << fit.output;
@@ -111,7 +88,7 @@ TEST(MapWindowCli, FitHoldsEveryPointOfALogTheFollowingWindowCutsOff) {
 TEST(MapWindowCli, CentrePutsTheWindowWhereAsked) {
   test::TestFolder dir;
   write_long_run(dir);
-  const auto result = map_run(dir, "centre", "--window 1.5,-0.2");
+  const auto result = map_long_run(dir, "centre", "--window 1.5,-0.2");
   ASSERT_EQ(result.exit_code, 0) << result.output;
   const io::MapFile file = io::load_map_file(dir / "centre/map.smap");
   EXPECT_EQ(file.map.cells_per_side(), 100);
@@ -128,20 +105,20 @@ TEST(MapWindowCli, BadValuesAreRefusedNamingTheOption) {
   test::TestFolder dir;
   write_long_run(dir);
   for (const char* bad : {"1.5", "fit2", "a,b", "1,2,3", "nan,0", "1e9,0", ",1"}) {
-    const auto result = map_run(dir, "bad", std::string("--window ") + shell_quoted(bad));
+    const auto result = map_long_run(dir, "bad", std::string("--window ") + shell_quoted(bad));
     EXPECT_NE(result.exit_code, 0) << bad;
     EXPECT_NE(result.output.find("--window"), std::string::npos) << bad << ": " << result.output;
     EXPECT_FALSE(std::filesystem::exists(dir / "bad")) << bad;
   }
-  const auto fine = map_run(dir, "first", "");
+  const auto fine = map_long_run(dir, "first", "");
   ASSERT_EQ(fine.exit_code, 0) << fine.output;
-  const auto resumed = map_run(dir, "second", "--window 0,0 --resume " + shell_quoted(dir / "first/map.smap"));
+  const auto resumed = map_long_run(dir, "second", "--window 0,0 --resume " + shell_quoted(dir / "first/map.smap"));
   EXPECT_EQ(resumed.exit_code, 2) << resumed.output;
   EXPECT_NE(resumed.output.find("--window: a resumed map keeps the window of its map file"), std::string::npos)
       << resumed.output;
   // Finer cells than any map may hold for this run: said, with what to do.
   dir.write("fine.yaml", "map:\n  cell_size_m: 0.0005\n");
-  const auto too_large = map_run(dir, "large", "--window fit --config " + shell_quoted(dir / "fine.yaml"));
+  const auto too_large = map_long_run(dir, "large", "--window fit --config " + shell_quoted(dir / "fine.yaml"));
   EXPECT_EQ(too_large.exit_code, 2) << too_large.output;
   EXPECT_NE(too_large.output.find("--window fit: the run's points span"), std::string::npos) << too_large.output;
   EXPECT_NE(too_large.output.find("beyond the limit of 4096"), std::string::npos) << too_large.output;
