@@ -47,6 +47,10 @@ Decoder::Decoder(const DecoderOptions& options) : options_(options) {
   // decodes it: room for a frame's worth from the start, so that a bigger
   // read later (a host that fell behind) does not allocate mid-stream.
   input_.reserve(options_.max_frame_bytes);
+  // A read that ends inside a line leaves its start here until the rest
+  // comes (a loaded host reads in smaller pieces); it never grows past a
+  // line's limit, so that much room now means no allocation mid-stream.
+  partial_line_.reserve(options_.max_line_bytes);
 }
 
 void Decoder::feed(std::string_view bytes) {
