@@ -50,10 +50,10 @@ void run_map_bag(const MapBagArgs& args, const std::string& config_path, const s
     std::set<std::string> written;
     ros_adapter::save_map(mapper, dir + "/map.smap", "map --bag " + args.bag_path, written);
   });
-  std::printf("map: %zu scans mapped of %zu (dropped: %zu wrong frame, %zu stamp not increasing, %zu unreadable, "
+  std::printf("map: %zu scans mapped of %zu, %zu before the first pose (dropped: %zu wrong frame, %zu stamp not increasing, %zu unreadable, "
               "%zu no valid beams, %zu pose timeout, %zu pose unavailable, %zu other), %zu NaN ranges; "
               "coverage %.1f %%; outputs: %s\n",
-              s.mapped, s.scans, s.wrong_frame, s.stamp_not_increasing, s.unreadable, s.no_valid_beams, s.pose_timeout,
+              s.mapped, s.scans, s.before_first_pose, s.wrong_frame, s.stamp_not_increasing, s.unreadable, s.no_valid_beams, s.pose_timeout,
               s.pose_unavailable, s.bad_geometry + s.queue_full + s.rejected_by_mapper, s.beams_not_finite,
               100.0 * map_coverage(layers), out_dir.c_str());
   std::fflush(stdout);

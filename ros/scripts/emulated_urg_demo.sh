@@ -11,6 +11,7 @@ build="${1:-$here/build}"
 work="$(mktemp -d "${TMPDIR:-/tmp}/stridemap_demo_XXXXXX")"
 pids=()
 stop() {
+  trap - EXIT INT TERM  # a signal then the exit would stop everything twice
   for ((i = ${#pids[@]} - 1; i >= 0; i--)); do kill "${pids[i]}" 2>/dev/null || true; done
   wait 2>/dev/null || true
   echo "stopped; logs and the saved map in $work"

@@ -267,18 +267,23 @@ std::size_t MessageMapper::process(double now_s, bool end_of_stream) {
     TrunkPose pose;
     std::string why;
     PoseAnswer answer = PoseAnswer::never;
+    bool older_than_first_pose = false;
     if (topic) {
       switch (topic->track_->track.interpolate(w.time_s, pose)) {
         case PoseLookup::ok: answer = PoseAnswer::ok; break;
         case PoseLookup::empty:
         case PoseLookup::after_last: answer = PoseAnswer::not_yet; break;
         case PoseLookup::before_first:
+          answer = PoseAnswer::never;
+          older_than_first_pose = true;
+          break;
         case PoseLookup::gap_too_large: answer = PoseAnswer::never; break;
       }
       why = "the pose topic has no pose at that time";
     } else {
       Eigen::Isometry3d sensor;
       answer = poses_.sensor_in_map(w.frame_id, w.time_s, sensor, why);
+      older_than_first_pose = answer == PoseAnswer::never && why.find("into the past") != std::string::npos;
       if (answer == PoseAnswer::ok) {
         if (!sensor.matrix().allFinite()) {
           answer = PoseAnswer::never;
@@ -292,6 +297,8 @@ std::size_t MessageMapper::process(double now_s, bool end_of_stream) {
     if (answer == PoseAnswer::not_yet) {
       drop(stats_.pose_timeout, "no pose for the scan at " + std::to_string(w.time_s) + " within " +
                                     std::to_string(options_.pose_wait_s) + " s: " + why);
+    } else if (answer == PoseAnswer::never && older_than_first_pose && stats_.mapped == 0) {
+      ++stats_.before_first_pose;
     } else if (answer == PoseAnswer::never) {
       drop(stats_.pose_unavailable, "no pose for the scan at " + std::to_string(w.time_s) + ": " + why);
     } else {

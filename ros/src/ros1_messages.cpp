@@ -271,9 +271,16 @@ diagnostic_msgs::DiagnosticArray diagnostics(const MessageMapperStats& s, const 
   status.name = node_name + ": mapping";
   status.hardware_id = "stridemap";
   const std::size_t dropped = s.dropped();
-  status.level = dropped == 0 ? diagnostic_msgs::DiagnosticStatus::OK : diagnostic_msgs::DiagnosticStatus::WARN;
-  status.message = dropped == 0 ? "every scan mapped"
-                                : std::to_string(dropped) + " scans dropped; last: " + last_drop;
+  status.level = dropped == 0 && (s.mapped > 0 || s.scans == 0) ? diagnostic_msgs::DiagnosticStatus::OK
+                                                                 : diagnostic_msgs::DiagnosticStatus::WARN;
+  if (dropped > 0) {
+    status.message = std::to_string(dropped) + " scans dropped; last: " + last_drop;
+  } else if (s.mapped == 0) {
+    status.message = s.scans == 0 ? "no scan yet" : "no scan mapped yet: waiting for the first pose";
+  } else {
+    status.message = "every scan mapped";
+    if (s.before_first_pose > 0) status.message += " since the first pose";
+  }
   auto add = [&](const std::string& key, double value) {
     diagnostic_msgs::KeyValue kv;
     kv.key = key;
@@ -296,6 +303,7 @@ diagnostic_msgs::DiagnosticArray diagnostics(const MessageMapperStats& s, const 
   count("dropped_no_valid_beams", s.no_valid_beams);
   count("dropped_pose_timeout", s.pose_timeout);
   count("dropped_pose_unavailable", s.pose_unavailable);
+  count("before_first_pose", s.before_first_pose);
   count("dropped_queue_full", s.queue_full);
   count("dropped_rejected_by_mapper", s.rejected_by_mapper);
   count("beams", s.beams);

@@ -91,7 +91,11 @@ struct MessageMapperStats {
   std::size_t unreadable = 0;            ///< a cloud without float x, y, z fields, or sizes not matching its data
   std::size_t no_valid_beams = 0;
   std::size_t pose_timeout = 0;      ///< the pose (TF or topic) did not come within pose_wait_s
-  std::size_t pose_unavailable = 0;  ///< the pose can never come (before the first pose, in a gap)
+  std::size_t pose_unavailable = 0;  ///< the pose can never come (a gap, a transform not finite)
+  /// Scans older than the pose source's first pose while no scan has been
+  /// mapped yet: the usual start-up, where the sensor starts before TF or
+  /// odometry. Counted apart from the drops, which mean something is wrong.
+  std::size_t before_first_pose = 0;
   std::size_t queue_full = 0;
   std::size_t rejected_by_mapper = 0;  ///< pose or time refused by the mapper
   std::size_t beams = 0;

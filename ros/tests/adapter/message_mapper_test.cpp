@@ -36,11 +36,12 @@ TEST(TrunkPoseFromSensor, PutsTheSensorWhereTheTransformSays) {
 class FixedPose final : public PoseSource {
  public:
   PoseAnswer answer = PoseAnswer::ok;
+  std::string why_not = "test";
   PoseAnswer sensor_in_map(const std::string&, double, Eigen::Isometry3d& out, std::string& why) override {
     out = Eigen::Isometry3d::Identity();
     out.linear() = Eigen::AngleAxisd(0.6, Eigen::Vector3d::UnitY()).toRotationMatrix();
     out.translation() = Eigen::Vector3d(0, 0, 0.3);
-    why = "test";
+    why = why_not;
     return answer;
   }
 };
@@ -112,6 +113,48 @@ TEST(MessageMapper, AScanWaitsForItsPoseWithinTheBoundOnly) {
   mapper.add(good.data(3.0), 12.0);
   EXPECT_EQ(mapper.process(12.1, false), 1u);
   EXPECT_NEAR(mapper.stats().latency_max_s, 0.1, 1e-9);
+}
+
+// TF's own words for a stamp older than everything it holds.
+constexpr const char* kOlderThanTf = "Lookup would require extrapolation 0.07s into the past.";
+
+TEST(MessageMapper, ScansBeforeTheFirstPoseAreStartUpNotDrops) {
+  FixedPose poses;
+  poses.answer = PoseAnswer::never;
+  poses.why_not = kOlderThanTf;
+  MessageMapper mapper({}, poses);
+  Scan good;
+  mapper.add(good.data(1.0), 1.0);
+  mapper.add(good.data(1.1), 1.1);
+  mapper.process(1.1, false);
+  EXPECT_EQ(mapper.stats().before_first_pose, 2u);
+  EXPECT_EQ(mapper.stats().dropped(), 0u);
+  poses.answer = PoseAnswer::ok;
+  mapper.add(good.data(1.2), 1.2);
+  EXPECT_EQ(mapper.process(1.2, false), 1u);
+  // Once a scan was mapped, a scan TF has forgotten is a real loss.
+  poses.answer = PoseAnswer::never;
+  mapper.add(good.data(1.3), 1.3);
+  mapper.process(1.3, false);
+  EXPECT_EQ(mapper.stats().before_first_pose, 2u);
+  EXPECT_EQ(mapper.stats().pose_unavailable, 1u);
+  EXPECT_EQ(mapper.stats().dropped(), 1u);
+}
+
+TEST(MessageMapper, APoseTopicStartingLateIsStartUpNotDrops) {
+  TopicPoseSource poses(1.0);
+  MessageMapper mapper({}, poses);
+  Scan good;
+  mapper.add(good.data(1.0), 1.0);
+  Eigen::Isometry3d trunk = Eigen::Isometry3d::Identity();
+  trunk.translation().z() = 0.3;
+  ASSERT_TRUE(poses.add(1.05, trunk));
+  ASSERT_TRUE(poses.add(1.25, trunk));
+  mapper.process(1.05, false);
+  EXPECT_EQ(mapper.stats().before_first_pose, 1u);
+  EXPECT_EQ(mapper.stats().dropped(), 0u);
+  mapper.add(good.data(1.2), 1.2);
+  EXPECT_EQ(mapper.process(1.25, false), 1u);
 }
 
 TEST(MessageMapper, ClearEmptiesTheMapAndAcceptsAnyStampAfter) {

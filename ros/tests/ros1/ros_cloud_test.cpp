@@ -236,7 +236,7 @@ TEST_F(RosNodeTest, BadCloudsAreCountedAndReportedNeverFatal) {
                          "--pose-wait-s 1 --config " + config + " --out " + out, log),
             0)
       << read_text(log);
-  EXPECT_NE(read_text(log).find("9 scans mapped of 15 (dropped: 1 wrong frame, 1 stamp not increasing, 2 unreadable, "
+  EXPECT_NE(read_text(log).find("9 scans mapped of 15, 0 before the first pose (dropped: 1 wrong frame, 1 stamp not increasing, 2 unreadable, "
                                 "1 no valid beams, 1 pose timeout"),
             std::string::npos)
       << read_text(log);
