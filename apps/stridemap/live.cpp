@@ -25,6 +25,7 @@
 #include "stridemap/io/output_folder.hpp"
 #include "stridemap/io/pose_stream.hpp"
 #include "stridemap/io/scan_log.hpp"
+#include "stridemap/io/tile_store.hpp"
 #include "stridemap/live/live_mapping.hpp"
 #include "stridemap/live/log_replay.hpp"
 #include "stridemap/live/map_window.hpp"
@@ -202,6 +203,14 @@ void run_live(const LiveArgs& args) {
   refuse_output_that_is_an_input("--out", args.mapping.out_dir, out_inputs);
   io::check_output_folder(args.mapping.out_dir, "--out");
   if (args.mapping.report) report_assets_dir();  // before the run, not after it
+  const GlobalMapOptions& global_map = options.mapper.config.global_map;
+  if (!global_map.folder.empty()) {
+    // A resumed map's cell size is its file's, read only when the mapper is made.
+    const std::optional<double> cell_size_m =
+        args.mapping.resume_path.empty() ? std::optional<double>(options.mapper.config.mapper.grid.cell_size_m)
+                                         : std::nullopt;
+    io::check_global_map_folder(global_map, cell_size_m);
+  }
   PoseStreamSource poses(args.mapping.poses_path);
 
   UrgDriverEvent event;

@@ -96,7 +96,7 @@ bool parse_tile_name(const std::string& name, TileIndex& out) {
 
 // What the manifest of an earlier run in `folder` says, against this
 // run's tiles; empty when the folder has no manifest.
-std::string earlier_global_map(const std::string& folder, int tile_cells, double cell_size_m) {
+std::string earlier_global_map(const std::string& folder, int tile_cells, std::optional<double> cell_size_m) {
   std::ifstream in(fs::path(folder) / kGlobalMapManifest);
   if (!in) return {};
   const json manifest = json::parse(in, nullptr, false);
@@ -104,12 +104,33 @@ std::string earlier_global_map(const std::string& folder, int tile_cells, double
     return manifest.is_object() && manifest.contains(key) ? manifest[key].dump() : std::string("?");
   };
   std::ostringstream s;
-  s << kGlobalMapManifest << ": tiles of " << field("tile_cells") << " cells of " << field("cell_size_m")
-    << " m; this run's: " << tile_cells << " cells of " << cell_size_m << " m";
+  s << kGlobalMapManifest << ": tiles of " << field("tile_cells") << " cells of " << field("cell_size_m") << " m";
+  if (cell_size_m) s << "; this run's: " << tile_cells << " cells of " << *cell_size_m << " m";
   return s.str();
 }
 
 }  // namespace
+
+void check_global_map_folder(const GlobalMapOptions& options, std::optional<double> cell_size_m) {
+  validate_global_map_options(options);
+  if (options.folder.empty()) throw InputError("global map: no folder given");
+  std::error_code ec;
+  const fs::file_status status = fs::status(options.folder, ec);
+  if (!fs::exists(status)) return;
+  if (!fs::is_directory(status)) throw InputError("global map folder '" + options.folder + "' is a file, not a folder");
+  fs::directory_iterator it(options.folder, ec);
+  if (ec) throw InputError("global map folder '" + options.folder + "' cannot be read: " + ec.message());
+  if (it == fs::directory_iterator()) return;
+  const std::string why =
+      "tiles are written only into a new or empty folder, so that no file this run did not create is ever replaced";
+  const std::string earlier = earlier_global_map(options.folder, options.tile_cells, cell_size_m);
+  if (!earlier.empty()) {
+    throw InputError("global map folder '" + options.folder + "' already holds a global map (" + earlier + "); " +
+                     why + ": give a new folder, or merge the old one with merge-tiles");
+  }
+  throw InputError("global map folder '" + options.folder + "' is not empty (it holds '" +
+                   it->path().filename().string() + "'); " + why);
+}
 
 std::string tile_file_name(TileIndex t) {
   return "tile_" + std::to_string(t.x) + "_" + std::to_string(t.y) + ".smap";
@@ -121,29 +142,9 @@ TileStore::TileStore(const GlobalMapOptions& options, const ElevationMap& like, 
       tile_grid_(grid_like(like, options.tile_cells)),
       window_cells_(like.cells_per_side()),
       reset_cell_(grid_like(like, 1)) {
-  validate_global_map_options(options_);
-  if (options_.folder.empty()) throw InputError("global map: no folder given");
+  check_global_map_folder(options_, like.cell_size_m());
   std::error_code ec;
-  const fs::file_status status = fs::status(options_.folder, ec);
-  if (fs::exists(status)) {
-    if (!fs::is_directory(status)) {
-      throw InputError("global map folder '" + options_.folder + "' is a file, not a folder");
-    }
-    fs::directory_iterator it(options_.folder, ec);
-    if (ec) throw InputError("global map folder '" + options_.folder + "' cannot be read: " + ec.message());
-    if (it != fs::directory_iterator()) {
-      const std::string why =
-          "tiles are written only into a new or empty folder, so that no file this run did not create is ever "
-          "replaced";
-      const std::string earlier = earlier_global_map(options_.folder, options_.tile_cells, like.cell_size_m());
-      if (!earlier.empty()) {
-        throw InputError("global map folder '" + options_.folder + "' already holds a global map (" + earlier +
-                         "); " + why + ": give a new folder, or merge the old one with merge-tiles");
-      }
-      throw InputError("global map folder '" + options_.folder + "' is not empty (it holds '" +
-                       it->path().filename().string() + "'); " + why);
-    }
-  } else if (!fs::create_directories(options_.folder, ec) && ec) {
+  if (!fs::exists(options_.folder, ec) && !fs::create_directories(options_.folder, ec) && ec) {
     throw InputError("global map folder '" + options_.folder + "' cannot be created: " + ec.message());
   }
   for (std::size_t l = 0; l < like.layer_count(); ++l) layer_bytes_.push_back(layer_type_bytes(like.layer_spec(l).type));

@@ -200,10 +200,23 @@ TEST(GlobalMapCli, LiveMakesTheTilesItsReplayMakesAndRefusesAFile) {
   EXPECT_EQ(refused.exit_code, 2) << refused.output;
   EXPECT_NE(refused.output.find("global map folder '" + dir / "plain" + "' is a file"), std::string::npos) << refused.output;
   EXPECT_EQ(dir.read("plain"), "a user's file");
+  // Refused before the sensor is opened, not after it streams.
+  EXPECT_EQ(refused.output.find("connected:"), std::string::npos) << refused.output;
+  // Refused before the sensor is opened, not after it streams.
+  EXPECT_EQ(refused.output.find("connected:"), std::string::npos) << refused.output;
 
   const auto live = run_cli("live" + device + "--out " + shell_quoted(dir / "live") + " --record " +
                             shell_quoted(dir / "log.txt") + " --max-scans 200 --global-map " + shell_quoted(dir / "live_tiles"));
   ASSERT_EQ(live.exit_code, 0) << live.output;
+  const auto again = run_cli("live" + device + "--out " + shell_quoted(dir / "again") + " --max-scans 10 --global-map " +
+                             shell_quoted(dir / "live_tiles"));
+  EXPECT_EQ(again.exit_code, 2) << again.output;
+  EXPECT_NE(again.output.find("already holds a global map (global_map.json: tiles of 100 cells of 0.01 m; this run's: "
+                              "100 cells of 0.01 m)"),
+            std::string::npos)
+      << again.output;
+  EXPECT_EQ(again.output.find("connected:"), std::string::npos) << again.output;
+  EXPECT_FALSE(fs::exists(dir / "again"));
   const auto replay = run_cli("map --log " + shell_quoted(dir / "log.txt") + " --poses " + shell_quoted(dir / "poses.txt") +
                               " --clock sensor --out " + shell_quoted(dir / "map") + " --global-map " +
                               shell_quoted(dir / "map_tiles"));

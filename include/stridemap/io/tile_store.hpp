@@ -20,6 +20,7 @@
 #include <cstdint>
 #include <memory>
 #include <set>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -38,6 +39,14 @@ struct TileIndex {
   std::int64_t y = 0;
   friend auto operator<=>(const TileIndex&, const TileIndex&) = default;
 };
+
+/// Throws InputError naming `options.folder` when a TileStore would refuse
+/// it (a file, a folder that cannot be read or holds anything: an earlier
+/// run's global map is named with its tile and cell sizes, beside this
+/// run's `cell_size_m` when known), and for bad options. Creates nothing:
+/// a command calls it before it connects to a sensor or writes an output,
+/// so that a refused run has done neither.
+void check_global_map_folder(const GlobalMapOptions& options, std::optional<double> cell_size_m);
 
 /// "tile_<x>_<y>.smap": a tile's file name in the folder.
 std::string tile_file_name(TileIndex tile);
