@@ -35,6 +35,19 @@ CasFilter::CasFilter(const CasOptions& o) : options_(o), fill_(o.fill) {
           "max_removable_certainty must be a number >= 0");
 }
 
+// Whether the median of `values` (the element at position size / 2 of the
+// sorted order, as median_of picks it) satisfies `holds`, for a test that
+// holds on a lower set of the sorted values (holds(v) and v' <= v give
+// holds(v')): then it holds for the median exactly when it holds for at
+// least size / 2 + 1 values. A count without a sort or a branch per value;
+// only for values that compare in a total order (no NaN).
+template <typename Test>
+bool holds_below_median(const std::vector<float>& values, Test holds) {
+  std::size_t count = 0;
+  for (float v : values) count += holds(v) ? 1 : 0;
+  return count >= values.size() / 2 + 1;
+}
+
 CasResult CasFilter::apply(ElevationMap& map) {
   const int n = map.cells_per_side();
   const int w = options_.window_radius_cells;
@@ -44,58 +57,83 @@ CasResult CasFilter::apply(ElevationMap& map) {
   const std::uint8_t* state = map.state_data();
   const auto tolerance = static_cast<float>(options_.elevation_tolerance_m);
   to_remove_.clear();
-  // Slot = row_[i] + column_[j]: the circular buffer's modulo once per row
-  // and column, not twice per neighbour.
+  // The map in local order with a margin of w unknown cells: a neighbour
+  // is a fixed offset, no modulo and no bounds test (cells outside the map
+  // are unknown, as the reference's bounds tests treat them).
   const auto un = static_cast<std::size_t>(n);
-  row_.resize(un);
-  column_.resize(un);
-  for (int k = 0; k < n; ++k) {
-    const std::size_t corner = map.slot(map.cell_at_local(k, k));
-    row_[static_cast<std::size_t>(k)] = corner / un * un;
-    column_[static_cast<std::size_t>(k)] = corner % un;
+  const auto p = static_cast<std::size_t>(n + 2 * w);
+  const auto uw = static_cast<std::size_t>(w);
+  known_.assign(p * p, 0);
+  height_.assign(p * p, 0.0f);
+  certainty_.assign(p * p, 0.0f);
+  slot_.resize(un * un);
+  const std::size_t first_column = map.slot(map.cell_at_local(0, 0)) % un;
+  for (std::size_t i = 0; i < un; ++i) {
+    const std::size_t row = map.slot(map.cell_at_local(static_cast<int>(i), 0)) / un * un;
+    for (std::size_t j = 0; j < un; ++j) {
+      std::size_t column = first_column + j;
+      if (column >= un) column -= un;
+      const std::size_t s = row + column;
+      slot_[i * un + j] = s;
+      const std::size_t q = (i + uw) * p + j + uw;
+      known_[q] = state[s] == measured ? 1 : 0;
+      height_[q] = h[s];
+      certainty_[q] = c[s];
+    }
   }
-
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) {
-      const std::size_t s = row_[static_cast<std::size_t>(i)] + column_[static_cast<std::size_t>(j)];
-      if (state[s] != measured || c[s] > options_.max_removable_certainty) continue;
+  const auto sp = static_cast<std::ptrdiff_t>(p);
+  const std::ptrdiff_t ring[8] = {-sp - 1, -sp, -sp + 1, -1, 1, sp - 1, sp, sp + 1};
+  const auto max_removable = options_.max_removable_certainty;
+  for (std::size_t i = 0; i < un; ++i) {
+    for (std::size_t j = 0; j < un; ++j) {
+      const std::size_t q = (i + uw) * p + j + uw;
+      if (known_[q] == 0 || certainty_[q] > max_removable) continue;
+      const float hs = height_[q];
       // Elevation continuity: a cell with enough agreeing 8-neighbours is no
       // isolated peak, whatever the window's median: the window is only
       // gathered for the others.
       int agreeing = 0;
-      for (int di = -1; di <= 1; ++di) {
-        for (int dj = -1; dj <= 1; ++dj) {
-          const int ii = i + di, jj = j + dj;
-          if ((di == 0 && dj == 0) || ii < 0 || jj < 0 || ii >= n || jj >= n) continue;
-          const std::size_t t = row_[static_cast<std::size_t>(ii)] + column_[static_cast<std::size_t>(jj)];
-          if (state[t] == measured && std::abs(h[t] - h[s]) <= tolerance) ++agreeing;
-        }
+      for (std::ptrdiff_t offset : ring) {
+        const std::size_t t = q + static_cast<std::size_t>(offset);
+        agreeing += known_[t] & (std::abs(height_[t] - hs) <= tolerance ? 1 : 0);
       }
       if (agreeing >= options_.min_agreeing_neighbours) continue;
       window_values_.clear();
       window_certainties_.clear();
       double certainty_sum = 0.0;
-      for (int di = -w; di <= w; ++di) {
-        const int ii = i + di;
-        if (ii < 0 || ii >= n) continue;
-        const std::size_t row = row_[static_cast<std::size_t>(ii)];
-        for (int dj = -w; dj <= w; ++dj) {
-          const int jj = j + dj;
-          if (jj < 0 || jj >= n) continue;
-          const std::size_t t = row + column_[static_cast<std::size_t>(jj)];
-          if (state[t] != measured) continue;
-          certainty_sum += c[t];
+      bool ordered = true;  // no NaN height, no certainty but a finite one
+      for (std::ptrdiff_t di = -w; di <= w; ++di) {
+        const std::size_t row = q + static_cast<std::size_t>(di * sp);
+        for (std::ptrdiff_t dj = -w; dj <= w; ++dj) {
+          const std::size_t t = row + static_cast<std::size_t>(dj);
+          if (known_[t] == 0) continue;
+          certainty_sum += certainty_[t];
           if (di == 0 && dj == 0) continue;
-          window_values_.push_back(h[t]);
-          window_certainties_.push_back(c[t]);
+          window_values_.push_back(height_[t]);
+          window_certainties_.push_back(certainty_[t]);
+          ordered = ordered && !std::isnan(height_[t]) && std::isfinite(certainty_[t]);
         }
       }
       if (window_values_.empty()) continue;
-      const bool isolated_peak = h[s] > median_of(window_values_) + tolerance;
+      // The median's tests as counts where the values are totally ordered
+      // (fl(v + tolerance) and ratio * v do not decrease with v); the sort
+      // where a NaN would make the median depend on nth_element's order.
+      const double ratio = options_.certainty_ratio;
+      const double cs = certainty_[q];
+      const bool isolated_peak =
+          ordered ? holds_below_median(window_values_, [&](float v) { return hs > v + tolerance; })
+                  : hs > median_of(window_values_) + tolerance;
       if (!isolated_peak) continue;
-      const bool weak = certainty_sum < options_.min_window_certainty ||
-                        c[s] < options_.certainty_ratio * median_of(window_certainties_);
-      if (weak) to_remove_.push_back(s);
+      bool weak = certainty_sum < options_.min_window_certainty;
+      if (!weak) {
+        if (ordered) {
+          // cs < ratio * v holds on an upper set: its negation on a lower one.
+          weak = !holds_below_median(window_certainties_, [&](float v) { return !(cs < ratio * v); });
+        } else {
+          weak = cs < ratio * median_of(window_certainties_);
+        }
+      }
+      if (weak) to_remove_.push_back(slot_[i * un + j]);
     }
   }
   for (std::size_t s : to_remove_) map.reset_slot(s);
