@@ -201,26 +201,37 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
   const float sixteenths_limit = static_cast<float>((1 << 24) / window_neighbours);
   const auto whole_sixteenths = [sixteenths_limit](float weight) {
     const float sixteenths = weight * 16.0f;
-    return sixteenths >= 0.0f && sixteenths <= sixteenths_limit &&
-           static_cast<float>(static_cast<std::int32_t>(sixteenths)) == sixteenths;
+    const bool in_range = (sixteenths >= 0.0f) & (sixteenths <= sixteenths_limit);  // false for NaN
+    const float converted = in_range ? sixteenths : 0.0f;  // the cast below is defined
+    return in_range & (static_cast<float>(static_cast<std::int32_t>(converted)) == converted);
   };
-  bool exact_sums = true;
+  // Without a branch per cell (measured or not is as random as the map).
+  std::uint8_t* known_out = known_.data();
+  std::uint32_t* known_mask_out = known_mask_.data();
+  float* value_out = value_.data();
+  float* weight_out = weight_.data();
+  std::size_t* slot = slot_.data();
+  const auto first_column = static_cast<int>(map.slot(map.cell_at_local(0, 0)) % static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) {
     const std::size_t row = map.slot(map.cell_at_local(i, 0)) / static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
-    const auto first_column = static_cast<int>(map.slot(map.cell_at_local(0, 0)) % static_cast<std::size_t>(n));
+    std::size_t* slot_row = slot + static_cast<std::size_t>(i) * static_cast<std::size_t>(n);
+    const std::size_t q_row = static_cast<std::size_t>(i + w) * static_cast<std::size_t>(p) + static_cast<std::size_t>(w);
     for (int j = 0; j < n; ++j) {
       int column = first_column + j;
       if (column >= n) column -= n;
       const std::size_t s = row + static_cast<std::size_t>(column);
-      slot_[static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)] = s;
-      if (state[s] != measured) continue;
-      const std::size_t q = static_cast<std::size_t>(i + w) * static_cast<std::size_t>(p) + static_cast<std::size_t>(j + w);
-      known_[q] = 1;
-      known_mask_[q] = ~0u;
-      value_[q] = elevation[s];
-      weight_[q] = certainty[s];
-      exact_sums = exact_sums && whole_sixteenths(certainty[s]) && whole_sixteenths(certainty[s] * near_factor);
+      slot_row[j] = s;
+      const bool is_known = state[s] == measured;
+      const std::size_t q = q_row + static_cast<std::size_t>(j);
+      known_out[q] = is_known ? 1 : 0;
+      known_mask_out[q] = is_known ? ~0u : 0u;
+      value_out[q] = is_known ? elevation[s] : 0.0f;
+      weight_out[q] = is_known ? certainty[s] : 0.0f;
     }
+  }
+  bool exact_sums = true;
+  for (std::size_t q = 0; q < padded_cells; ++q) {
+    exact_sums = exact_sums & whole_sixteenths(weight_out[q]) & whole_sixteenths(weight_out[q] * near_factor);
   }
   // The neighbours in the order the fill has always visited them (rows
   // di = -w..w, in each dj = -w..w): the sums of the weights keep their order.
@@ -254,6 +265,7 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
   count_.resize(groups);
   quadrants_.resize(groups);
   total_.resize(groups);
+  unknown_columns_.resize(un);
   std::array<Candidate, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1)> candidates{}, gathered{};
   alignas(64) std::array<float, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1) + 8> scratch{};
   alignas(64) std::array<std::uint32_t, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1) + 8> ranks{};
@@ -322,9 +334,16 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
     const std::uint32_t* count_row = count_.data();
     const std::uint32_t* quadrant_row = quadrants_.data();
     const float* total_row = total_.data();
+    // The row's unknown cells listed first, without a branch: measured or
+    // not is as random as the map, a loop over the list is not.
+    std::size_t unknown_count = 0;
     for (std::size_t j = 0; j < un; ++j) {
+      unknown_columns_[unknown_count] = j;
+      unknown_count += known_[row_start + j] == 0 ? 1 : 0;
+    }
+    for (std::size_t u = 0; u < unknown_count; ++u) {
+      const std::size_t j = unknown_columns_[u];
       const std::size_t centre = row_start + j;
-      if (known_[centre] != 0) continue;
       std::int32_t count;
       int quadrants;
       float total_weight;
@@ -353,9 +372,10 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
       const float at_quarter = 0.25f * total_weight, at_half = 0.5f * total_weight,
                   at_three_quarters = 0.75f * total_weight;
       if (exact_blocks != 0) {
-        for (std::size_t k = 0; k < exact_blocks * 4; ++k) {
-          exact_values[k] = kInf;
-          exact_weights[k] = 0.0f;
+        for (std::size_t b = 0; b < exact_blocks; ++b) {
+          const Floats inf = {kInf, kInf, kInf, kInf}, zero = {0.0f, 0.0f, 0.0f, 0.0f};
+          std::memcpy(exact_values.data() + 4 * b, &inf, sizeof inf);
+          std::memcpy(exact_weights.data() + 4 * b, &zero, sizeof zero);
         }
         std::size_t kept = 0;
         for (std::size_t k = 0; k < neighbour_count; ++k) {
@@ -434,15 +454,17 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
   std::size_t filled = 0;
   float* out_elevation = map.elevation_data();
   std::uint8_t* out_state = map.state_data();
+  const auto filled_state = static_cast<std::uint8_t>(CellState::filled);
   for (std::size_t s = 0; s < result_.size(); ++s) {
-    if (out_state[s] == measured) continue;
-    if (std::isnan(result_[s])) {
-      map.reset_slot(s);
-    } else {
-      out_elevation[s] = result_[s];
-      out_state[s] = static_cast<std::uint8_t>(CellState::filled);
-      ++filled;
-    }
+    // Selects, not branches, for the cells that keep or take a value; the
+    // cells left unknown come in runs (occlusions) in real maps.
+    const bool is_measured = out_state[s] == measured;
+    const float r = result_[s];
+    const bool gets_value = !is_measured & !std::isnan(r);
+    if (!is_measured & std::isnan(r)) map.reset_slot(s);
+    out_elevation[s] = gets_value ? r : out_elevation[s];
+    out_state[s] = gets_value ? filled_state : out_state[s];
+    filled += gets_value ? 1 : 0;
   }
   return filled;
 }
