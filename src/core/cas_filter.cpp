@@ -84,10 +84,19 @@ CasResult CasFilter::apply(ElevationMap& map) {
   const auto sp = static_cast<std::ptrdiff_t>(p);
   const std::ptrdiff_t ring[8] = {-sp - 1, -sp, -sp + 1, -1, 1, sp - 1, sp, sp + 1};
   const auto max_removable = options_.max_removable_certainty;
+  candidates_.resize(un);
   for (std::size_t i = 0; i < un; ++i) {
+    // The row's removable cells listed first, without a branch per cell
+    // (which cells are measured and weak is as random as the map).
+    std::size_t candidate_count = 0;
     for (std::size_t j = 0; j < un; ++j) {
       const std::size_t q = (i + uw) * p + j + uw;
-      if (known_[q] == 0 || certainty_[q] > max_removable) continue;
+      candidates_[candidate_count] = j;
+      candidate_count += (known_[q] != 0) & !(certainty_[q] > max_removable) ? 1 : 0;
+    }
+    for (std::size_t k = 0; k < candidate_count; ++k) {
+      const std::size_t j = candidates_[k];
+      const std::size_t q = (i + uw) * p + j + uw;
       const float hs = height_[q];
       // Elevation continuity: a cell with enough agreeing 8-neighbours is no
       // isolated peak, whatever the window's median: the window is only

@@ -64,6 +64,7 @@ class CasFilter {
   std::vector<std::uint8_t> known_;
   std::vector<float> height_, certainty_;
   std::vector<std::size_t> slot_;
+  std::vector<std::size_t> candidates_;  // removable columns of the row being tested
 };
 
 }  // namespace stridemap
