@@ -7,6 +7,7 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 #include "stridemap/core/error.hpp"
 
@@ -398,12 +399,18 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
         }
         if ((special[0] | special[1] | special[2] | special[3]) == 0) {
           float quarter, half, three_quarters;
-          if (exact_blocks == 2) {
-            exact_quantiles<2>(exact_values.data(), exact_weights.data(), kept, at_quarter, at_half,
-                               at_three_quarters, quarter, half, three_quarters);
-          } else {
-            exact_quantiles<6>(exact_values.data(), exact_weights.data(), kept, at_quarter, at_half,
-                               at_three_quarters, quarter, half, three_quarters);
+          // As many vectors as the candidates fill (the lanes past them hold
+          // +inf with weight 0 up to exact_blocks).
+          const auto quantiles = [&](auto blocks) {
+            exact_quantiles<decltype(blocks)::value>(exact_values.data(), exact_weights.data(), kept, at_quarter,
+                                                     at_half, at_three_quarters, quarter, half, three_quarters);
+          };
+          switch ((kept + 3) / 4) {
+            case 0: case 1: case 2: quantiles(std::integral_constant<std::size_t, 2>{}); break;
+            case 3: quantiles(std::integral_constant<std::size_t, 3>{}); break;
+            case 4: quantiles(std::integral_constant<std::size_t, 4>{}); break;
+            case 5: quantiles(std::integral_constant<std::size_t, 5>{}); break;
+            default: quantiles(std::integral_constant<std::size_t, 6>{}); break;
           }
           if (test_spread && three_quarters - quarter > spread) continue;
           result_[slot_[static_cast<std::size_t>(i) * un + j]] = half;
