@@ -222,12 +222,13 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
       if (column >= n) column -= n;
       const std::size_t s = row + static_cast<std::size_t>(column);
       slot_row[j] = s;
-      const bool is_known = state[s] == measured;
+      // Masks, not selects (which the compiler turns back into branches).
+      const std::uint32_t mask = 0u - static_cast<std::uint32_t>(state[s] == measured);
       const std::size_t q = q_row + static_cast<std::size_t>(j);
-      known_out[q] = is_known ? 1 : 0;
-      known_mask_out[q] = is_known ? ~0u : 0u;
-      value_out[q] = is_known ? elevation[s] : 0.0f;
-      weight_out[q] = is_known ? certainty[s] : 0.0f;
+      known_out[q] = static_cast<std::uint8_t>(mask & 1u);
+      known_mask_out[q] = mask;
+      value_out[q] = std::bit_cast<float>(std::bit_cast<std::uint32_t>(elevation[s]) & mask);
+      weight_out[q] = std::bit_cast<float>(std::bit_cast<std::uint32_t>(certainty[s]) & mask);
     }
   }
   bool exact_sums = true;
