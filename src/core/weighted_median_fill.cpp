@@ -200,12 +200,7 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
   // multiples of the increment a in the mapper, so this is the usual case.
   const int window_neighbours = (2 * w + 1) * (2 * w + 1) - 1;
   const float sixteenths_limit = static_cast<float>((1 << 24) / window_neighbours);
-  const auto whole_sixteenths = [sixteenths_limit](float weight) {
-    const float sixteenths = weight * 16.0f;
-    const bool in_range = (sixteenths >= 0.0f) & (sixteenths <= sixteenths_limit);  // false for NaN
-    const float converted = in_range ? sixteenths : 0.0f;  // the cast below is defined
-    return in_range & (static_cast<float>(static_cast<std::int32_t>(converted)) == converted);
-  };
+
   // Without a branch per cell (measured or not is as random as the map).
   std::uint8_t* known_out = known_.data();
   std::uint32_t* known_mask_out = known_mask_.data();
@@ -231,10 +226,22 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
       weight_out[q] = std::bit_cast<float>(std::bit_cast<std::uint32_t>(certainty[s]) & mask);
     }
   }
-  bool exact_sums = true;
-  for (std::size_t q = 0; q < padded_cells; ++q) {
-    exact_sums = exact_sums & whole_sixteenths(weight_out[q]) & whole_sixteenths(weight_out[q] * near_factor);
+  // whole_sixteenths over the padded copy (unknown cells weigh 0), four at
+  // a time; weight_ has room for the last group.
+  Masks inexact = {0, 0, 0, 0};
+  const Floats limit = {sixteenths_limit, sixteenths_limit, sixteenths_limit, sixteenths_limit};
+  for (std::size_t q = 0; q < padded_cells; q += 4) {
+    Floats far;
+    std::memcpy(&far, weight_out + q, sizeof far);
+    const Floats near = far * near_factor;
+    for (const Floats sixteenths : {far * 16.0f, near * 16.0f}) {
+      const Masks in_range = reinterpret_cast<Masks>(sixteenths >= 0.0f) & reinterpret_cast<Masks>(sixteenths <= limit);
+      const Floats converted = reinterpret_cast<Floats>(reinterpret_cast<Masks>(sixteenths) & in_range);
+      const Floats back = __builtin_convertvector(__builtin_convertvector(converted, Counts), Floats);
+      inexact |= ~in_range | reinterpret_cast<Masks>(back != converted);
+    }
   }
+  const bool exact_sums = (inexact[0] | inexact[1] | inexact[2] | inexact[3]) == 0;
   // The neighbours in the order the fill has always visited them (rows
   // di = -w..w, in each dj = -w..w): the sums of the weights keep their order.
   struct Neighbour {
