@@ -170,6 +170,30 @@ void exact_quantiles(const float* values, const float* weights, std::size_t coun
   three_quarters = lane_min(l3);
 }
 
+// The known neighbours of `centre` in a window of radius W (1 or 2) of the
+// padded copy, written without a branch: each at the end, kept when known.
+// W fixed at compile time unrolls the window (fixed offsets within a row).
+// Returns how many were kept; the slot past the last may hold an unknown
+// neighbour's value. The near weights are the certainty times near_factor,
+// the far ones the certainty itself, as the fill's weights have always been.
+template <int W>
+std::size_t gather_known(const float* value, const float* weight, const std::uint8_t* known, std::size_t centre,
+                         std::size_t stride, float near_factor, float* values_out, float* weights_out) {
+  std::size_t kept = 0;
+  for (int di = -W; di <= W; ++di) {
+    const std::size_t row = centre + static_cast<std::size_t>(di) * stride;
+    for (int dj = -W; dj <= W; ++dj) {
+      if (di == 0 && dj == 0) continue;
+      const std::size_t t = row + static_cast<std::size_t>(dj);
+      const bool near = di >= -1 && di <= 1 && dj >= -1 && dj <= 1;
+      values_out[kept] = value[t];
+      weights_out[kept] = near ? weight[t] * near_factor : weight[t];
+      kept += known[t];
+    }
+  }
+  return kept;
+}
+
 }  // namespace
 
 std::size_t WeightedMedianFill::apply(ElevationMap& map) {
@@ -386,14 +410,12 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
           std::memcpy(exact_values.data() + 4 * b, &inf, sizeof inf);
           std::memcpy(exact_weights.data() + 4 * b, &zero, sizeof zero);
         }
-        std::size_t kept = 0;
-        for (std::size_t k = 0; k < neighbour_count; ++k) {
-          const Neighbour& nb = neighbours[k];
-          const std::size_t t = centre + static_cast<std::size_t>(nb.offset);
-          exact_values[kept] = value_[t];
-          exact_weights[kept] = weight_[t] * nb.factor;
-          kept += known_[t] != 0 ? 1 : 0;
-        }
+        // The candidates' order does not matter here (exact sums, minima).
+        const std::size_t kept =
+            w == 1 ? gather_known<1>(value_.data(), weight_.data(), known_.data(), centre,
+                                     static_cast<std::size_t>(p), near_factor, exact_values.data(), exact_weights.data())
+                   : gather_known<2>(value_.data(), weight_.data(), known_.data(), centre,
+                                     static_cast<std::size_t>(p), near_factor, exact_values.data(), exact_weights.data());
         // The last write may be an unknown neighbour's (value 0): past the end.
         exact_values[kept] = kInf;
         exact_weights[kept] = 0.0f;
