@@ -492,11 +492,13 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
   float* out_elevation = map.elevation_data();
   std::uint8_t* out_state = map.state_data();
   const auto filled_state = static_cast<std::uint8_t>(CellState::filled);
-  for (std::size_t s = 0; s < result_.size(); ++s) {
+  // Locals: the stores below could alias the members' storage otherwise.
+  const float* result = result_.data();
+  for (std::size_t s = 0; s < cells; ++s) {
     // Selects, not branches, for the cells that keep or take a value; the
     // cells left unknown come in runs (occlusions) in real maps.
     const bool is_measured = out_state[s] == measured;
-    const float r = result_[s];
+    const float r = result[s];
     const bool gets_value = !is_measured & !std::isnan(r);
     if (!is_measured & std::isnan(r)) map.reset_slot(s);
     out_elevation[s] = gets_value ? r : out_elevation[s];
