@@ -1,6 +1,7 @@
 #include "stridemap/core/cas_filter.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <string>
 
@@ -84,6 +85,8 @@ CasResult CasFilter::apply(ElevationMap& map) {
   const auto sp = static_cast<std::ptrdiff_t>(p);
   const std::ptrdiff_t ring[8] = {-sp - 1, -sp, -sp + 1, -1, 1, sp - 1, sp, sp + 1};
   const auto max_removable = options_.max_removable_certainty;
+  // A whole window, and room for the write past the last kept cell.
+  const auto window_cells = static_cast<std::size_t>((2 * w + 1) * (2 * w + 1));
   candidates_.resize(un);
   for (std::size_t i = 0; i < un; ++i) {
     // The row's removable cells listed first, without a branch per cell
@@ -107,23 +110,35 @@ CasResult CasFilter::apply(ElevationMap& map) {
         agreeing += known_[t] & (std::abs(height_[t] - hs) <= tolerance ? 1 : 0);
       }
       if (agreeing >= options_.min_agreeing_neighbours) continue;
-      window_values_.clear();
-      window_certainties_.clear();
+      // The window's measured cells in the reference's order, without a
+      // branch per cell (which are measured is random): each is written at
+      // the end and kept when measured and not the centre. The others add
+      // +0.0 to the double sum, which leaves it as it was (it starts at +0.0).
+      window_values_.resize(window_cells);
+      window_certainties_.resize(window_cells);
+      float* values = window_values_.data();
+      float* certainties = window_certainties_.data();
       double certainty_sum = 0.0;
-      bool ordered = true;  // no NaN height, no certainty but a finite one
+      std::uint32_t unordered = 0;  // a NaN height or a certainty not finite
+      std::size_t kept = 0;
       for (std::ptrdiff_t di = -w; di <= w; ++di) {
         const std::size_t row = q + static_cast<std::size_t>(di * sp);
         for (std::ptrdiff_t dj = -w; dj <= w; ++dj) {
           const std::size_t t = row + static_cast<std::size_t>(dj);
-          if (known_[t] == 0) continue;
-          certainty_sum += certainty_[t];
-          if (di == 0 && dj == 0) continue;
-          window_values_.push_back(height_[t]);
-          window_certainties_.push_back(certainty_[t]);
-          ordered = ordered && !std::isnan(height_[t]) && std::isfinite(certainty_[t]);
+          const std::uint32_t known = known_[t];
+          const std::uint32_t mask = 0u - known;
+          const float ht = height_[t], ct = certainty_[t];
+          certainty_sum += static_cast<double>(std::bit_cast<float>(std::bit_cast<std::uint32_t>(ct) & mask));
+          values[kept] = ht;
+          certainties[kept] = ct;
+          unordered |= known & static_cast<std::uint32_t>(std::isnan(ht) | !std::isfinite(ct));
+          kept += known & static_cast<std::uint32_t>(t != q);
         }
       }
-      if (window_values_.empty()) continue;
+      const bool ordered = unordered == 0;
+      window_values_.resize(kept);
+      window_certainties_.resize(kept);
+      if (kept == 0) continue;
       // The median's tests as counts where the values are totally ordered
       // (fl(v + tolerance) and ratio * v do not decrease with v); the sort
       // where a NaN would make the median depend on nth_element's order.
