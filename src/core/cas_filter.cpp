@@ -20,6 +20,19 @@ float median_of(std::vector<float>& values) {
   return *mid;
 }
 
+// Whether the median of `values` (the element at position size / 2 of the
+// sorted order, as median_of picks it) satisfies `holds`, for a test that
+// holds on a lower set of the sorted values (holds(v) and v' <= v give
+// holds(v')): then it holds for the median exactly when it holds for at
+// least size / 2 + 1 values. A count without a sort or a branch per value;
+// only for values that compare in a total order (no NaN).
+template <typename Test>
+bool holds_below_median(const std::vector<float>& values, Test holds) {
+  std::size_t count = 0;
+  for (float v : values) count += holds(v) ? 1 : 0;
+  return count >= values.size() / 2 + 1;
+}
+
 }  // namespace
 
 CasFilter::CasFilter(const CasOptions& o) : options_(o), fill_(o.fill) {
@@ -34,19 +47,6 @@ CasFilter::CasFilter(const CasOptions& o) : options_(o), fill_(o.fill) {
           "min_window_certainty must be a number >= 0");
   require(std::isfinite(o.max_removable_certainty) && o.max_removable_certainty >= 0.0,
           "max_removable_certainty must be a number >= 0");
-}
-
-// Whether the median of `values` (the element at position size / 2 of the
-// sorted order, as median_of picks it) satisfies `holds`, for a test that
-// holds on a lower set of the sorted values (holds(v) and v' <= v give
-// holds(v')): then it holds for the median exactly when it holds for at
-// least size / 2 + 1 values. A count without a sort or a branch per value;
-// only for values that compare in a total order (no NaN).
-template <typename Test>
-bool holds_below_median(const std::vector<float>& values, Test holds) {
-  std::size_t count = 0;
-  for (float v : values) count += holds(v) ? 1 : 0;
-  return count >= values.size() / 2 + 1;
 }
 
 CasResult CasFilter::apply(ElevationMap& map) {

@@ -3,7 +3,8 @@
 // random maps: several seeds and sizes, windows moved so that the circular
 // buffer wraps, holes, spikes, steps, filled cells from an earlier pass,
 // elevations on a coarse grid so that equal values (the tie-breaking path)
-// are common, and non-default options.
+// are common, certainties that keep every sum exact (the sort-free path) or
+// not, zeros of either sign and NaN heights, and non-default options.
 #include <gtest/gtest.h>
 
 #include <cstring>
