@@ -1,6 +1,7 @@
 #include "stridemap/core/cas_filter.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <string>
 
@@ -17,6 +18,19 @@ float median_of(std::vector<float>& values) {
   const auto mid = values.begin() + static_cast<std::ptrdiff_t>(values.size() / 2);
   std::nth_element(values.begin(), mid, values.end());
   return *mid;
+}
+
+// Whether the median of `values` (the element at position size / 2 of the
+// sorted order, as median_of picks it) satisfies `holds`, for a test that
+// holds on a lower set of the sorted values (holds(v) and v' <= v give
+// holds(v')): then it holds for the median exactly when it holds for at
+// least size / 2 + 1 values. A count without a sort or a branch per value;
+// only for values that compare in a total order (no NaN).
+template <typename Test>
+bool holds_below_median(const std::vector<float>& values, Test holds) {
+  std::size_t count = 0;
+  for (float v : values) count += holds(v) ? 1 : 0;
+  return count >= values.size() / 2 + 1;
 }
 
 }  // namespace
@@ -44,58 +58,106 @@ CasResult CasFilter::apply(ElevationMap& map) {
   const std::uint8_t* state = map.state_data();
   const auto tolerance = static_cast<float>(options_.elevation_tolerance_m);
   to_remove_.clear();
-  // Slot = row_[i] + column_[j]: the circular buffer's modulo once per row
-  // and column, not twice per neighbour.
+  // The map in local order with a margin of w unknown cells: a neighbour
+  // is a fixed offset, no modulo and no bounds test (cells outside the map
+  // are unknown, as the reference's bounds tests treat them).
   const auto un = static_cast<std::size_t>(n);
-  row_.resize(un);
-  column_.resize(un);
-  for (int k = 0; k < n; ++k) {
-    const std::size_t corner = map.slot(map.cell_at_local(k, k));
-    row_[static_cast<std::size_t>(k)] = corner / un * un;
-    column_[static_cast<std::size_t>(k)] = corner % un;
+  const auto p = static_cast<std::size_t>(n + 2 * w);
+  const auto uw = static_cast<std::size_t>(w);
+  known_.assign(p * p, 0);
+  height_.assign(p * p, 0.0f);
+  certainty_.assign(p * p, 0.0f);
+  slot_.resize(un * un);
+  const std::size_t first_column = map.slot(map.cell_at_local(0, 0)) % un;
+  for (std::size_t i = 0; i < un; ++i) {
+    const std::size_t row = map.slot(map.cell_at_local(static_cast<int>(i), 0)) / un * un;
+    for (std::size_t j = 0; j < un; ++j) {
+      std::size_t column = first_column + j;
+      if (column >= un) column -= un;
+      const std::size_t s = row + column;
+      slot_[i * un + j] = s;
+      const std::size_t q = (i + uw) * p + j + uw;
+      known_[q] = state[s] == measured ? 1 : 0;
+      height_[q] = h[s];
+      certainty_[q] = c[s];
+    }
   }
-
-  for (int i = 0; i < n; ++i) {
-    for (int j = 0; j < n; ++j) {
-      const std::size_t s = row_[static_cast<std::size_t>(i)] + column_[static_cast<std::size_t>(j)];
-      if (state[s] != measured || c[s] > options_.max_removable_certainty) continue;
+  const auto sp = static_cast<std::ptrdiff_t>(p);
+  const std::ptrdiff_t ring[8] = {-sp - 1, -sp, -sp + 1, -1, 1, sp - 1, sp, sp + 1};
+  const auto max_removable = options_.max_removable_certainty;
+  // A whole window, and room for the write past the last kept cell.
+  const auto window_cells = static_cast<std::size_t>((2 * w + 1) * (2 * w + 1));
+  candidates_.resize(un);
+  for (std::size_t i = 0; i < un; ++i) {
+    // The row's removable cells listed first, without a branch per cell
+    // (which cells are measured and weak is as random as the map).
+    std::size_t candidate_count = 0;
+    for (std::size_t j = 0; j < un; ++j) {
+      const std::size_t q = (i + uw) * p + j + uw;
+      candidates_[candidate_count] = j;
+      candidate_count += (known_[q] != 0) & !(certainty_[q] > max_removable) ? 1 : 0;
+    }
+    for (std::size_t k = 0; k < candidate_count; ++k) {
+      const std::size_t j = candidates_[k];
+      const std::size_t q = (i + uw) * p + j + uw;
+      const float hs = height_[q];
       // Elevation continuity: a cell with enough agreeing 8-neighbours is no
       // isolated peak, whatever the window's median: the window is only
       // gathered for the others.
       int agreeing = 0;
-      for (int di = -1; di <= 1; ++di) {
-        for (int dj = -1; dj <= 1; ++dj) {
-          const int ii = i + di, jj = j + dj;
-          if ((di == 0 && dj == 0) || ii < 0 || jj < 0 || ii >= n || jj >= n) continue;
-          const std::size_t t = row_[static_cast<std::size_t>(ii)] + column_[static_cast<std::size_t>(jj)];
-          if (state[t] == measured && std::abs(h[t] - h[s]) <= tolerance) ++agreeing;
-        }
+      for (std::ptrdiff_t offset : ring) {
+        const std::size_t t = q + static_cast<std::size_t>(offset);
+        agreeing += known_[t] & (std::abs(height_[t] - hs) <= tolerance ? 1 : 0);
       }
       if (agreeing >= options_.min_agreeing_neighbours) continue;
-      window_values_.clear();
-      window_certainties_.clear();
+      // The window's measured cells in the reference's order, without a
+      // branch per cell (which are measured is random): each is written at
+      // the end and kept when measured and not the centre. The others add
+      // +0.0 to the double sum, which leaves it as it was (it starts at +0.0).
+      window_values_.resize(window_cells);
+      window_certainties_.resize(window_cells);
+      float* values = window_values_.data();
+      float* certainties = window_certainties_.data();
       double certainty_sum = 0.0;
-      for (int di = -w; di <= w; ++di) {
-        const int ii = i + di;
-        if (ii < 0 || ii >= n) continue;
-        const std::size_t row = row_[static_cast<std::size_t>(ii)];
-        for (int dj = -w; dj <= w; ++dj) {
-          const int jj = j + dj;
-          if (jj < 0 || jj >= n) continue;
-          const std::size_t t = row + column_[static_cast<std::size_t>(jj)];
-          if (state[t] != measured) continue;
-          certainty_sum += c[t];
-          if (di == 0 && dj == 0) continue;
-          window_values_.push_back(h[t]);
-          window_certainties_.push_back(c[t]);
+      std::uint32_t unordered = 0;  // a NaN height or a certainty not finite
+      std::size_t kept = 0;
+      for (std::ptrdiff_t di = -w; di <= w; ++di) {
+        const std::size_t row = q + static_cast<std::size_t>(di * sp);
+        for (std::ptrdiff_t dj = -w; dj <= w; ++dj) {
+          const std::size_t t = row + static_cast<std::size_t>(dj);
+          const std::uint32_t known = known_[t];
+          const std::uint32_t mask = 0u - known;
+          const float ht = height_[t], ct = certainty_[t];
+          certainty_sum += static_cast<double>(std::bit_cast<float>(std::bit_cast<std::uint32_t>(ct) & mask));
+          values[kept] = ht;
+          certainties[kept] = ct;
+          unordered |= known & static_cast<std::uint32_t>(std::isnan(ht) | !std::isfinite(ct));
+          kept += known & static_cast<std::uint32_t>(t != q);
         }
       }
-      if (window_values_.empty()) continue;
-      const bool isolated_peak = h[s] > median_of(window_values_) + tolerance;
+      const bool ordered = unordered == 0;
+      window_values_.resize(kept);
+      window_certainties_.resize(kept);
+      if (kept == 0) continue;
+      // The median's tests as counts where the values are totally ordered
+      // (fl(v + tolerance) and ratio * v do not decrease with v); the sort
+      // where a NaN would make the median depend on nth_element's order.
+      const double ratio = options_.certainty_ratio;
+      const double cs = certainty_[q];
+      const bool isolated_peak =
+          ordered ? holds_below_median(window_values_, [&](float v) { return hs > v + tolerance; })
+                  : hs > median_of(window_values_) + tolerance;
       if (!isolated_peak) continue;
-      const bool weak = certainty_sum < options_.min_window_certainty ||
-                        c[s] < options_.certainty_ratio * median_of(window_certainties_);
-      if (weak) to_remove_.push_back(s);
+      bool weak = certainty_sum < options_.min_window_certainty;
+      if (!weak) {
+        if (ordered) {
+          // cs < ratio * v holds on an upper set: its negation on a lower one.
+          weak = !holds_below_median(window_certainties_, [&](float v) { return !(cs < ratio * v); });
+        } else {
+          weak = cs < ratio * median_of(window_certainties_);
+        }
+      }
+      if (weak) to_remove_.push_back(slot_[i * un + j]);
     }
   }
   for (std::size_t s : to_remove_) map.reset_slot(s);

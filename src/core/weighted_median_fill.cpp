@@ -7,6 +7,7 @@
 #include <cstring>
 #include <limits>
 #include <string>
+#include <type_traits>
 
 #include "stridemap/core/error.hpp"
 
@@ -115,6 +116,84 @@ bool sort_distinct(const Candidate* in, std::size_t count, const float* values, 
   return count == 0 || !std::isnan(out[count - 1].value);
 }
 
+// The three weighted quantiles when every sum of weights is exact (integer
+// multiples of 1/16 whose window totals stay below 2^24 sixteenths): the
+// cumulative weight up to a value is then the same in any order of addition,
+// so the quantile q is the smallest value whose weight of values at or
+// below it, C(v), reaches q of the total; ties share one C(v), and with no
+// zero (+0 against -0) and no NaN among the values, equal values have equal
+// bits, so the result is the one of the sorted walk. No sort: C for all
+// candidates at once, four lanes a vector, one compared candidate at a time.
+// `values` and `weights` hold `Blocks` vectors; lanes past `count` hold
+// +inf with weight 0 (never the smallest qualifying value).
+template <std::size_t Blocks>
+void exact_quantiles(const float* values, const float* weights, std::size_t count, float at_quarter,
+                     float at_half, float at_three_quarters, float& quarter, float& half,
+                     float& three_quarters) {
+  Floats block_values[Blocks];
+  Floats below[Blocks];
+  std::memcpy(block_values, values, sizeof block_values);
+  for (std::size_t b = 0; b < Blocks; ++b) below[b] = Floats{0.0f, 0.0f, 0.0f, 0.0f};
+  for (std::size_t m = 0; m < count; ++m) {
+    const float v = values[m], wt = weights[m];
+    const Floats value = {v, v, v, v};
+    const Masks weight = reinterpret_cast<Masks>(Floats{wt, wt, wt, wt});
+    for (std::size_t b = 0; b < Blocks; ++b) {
+      // value <= block value: the compared candidate lies at or below.
+      below[b] += reinterpret_cast<Floats>(reinterpret_cast<Masks>(value <= block_values[b]) & weight);
+    }
+  }
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  const Floats none = {kInf, kInf, kInf, kInf};
+  const Floats tq = {at_quarter, at_quarter, at_quarter, at_quarter};
+  const Floats th = {at_half, at_half, at_half, at_half};
+  const Floats t3 = {at_three_quarters, at_three_quarters, at_three_quarters, at_three_quarters};
+  Floats lq = none, lh = none, l3 = none;
+  const auto select_min = [&](Floats current, Floats reached_mask_source, Floats threshold, Floats candidate) {
+    const Masks reached = reinterpret_cast<Masks>(reached_mask_source >= threshold);
+    const Floats kept = reinterpret_cast<Floats>((reinterpret_cast<Masks>(candidate) & reached) |
+                                                 (reinterpret_cast<Masks>(none) & ~reached));
+    return kept < current ? kept : current;
+  };
+  for (std::size_t b = 0; b < Blocks; ++b) {
+    lq = select_min(lq, below[b], tq, block_values[b]);
+    lh = select_min(lh, below[b], th, block_values[b]);
+    l3 = select_min(l3, below[b], t3, block_values[b]);
+  }
+  const auto lane_min = [](Floats x) {
+    const float a = x[0] < x[1] ? x[0] : x[1];
+    const float c = x[2] < x[3] ? x[2] : x[3];
+    return a < c ? a : c;
+  };
+  quarter = lane_min(lq);
+  half = lane_min(lh);
+  three_quarters = lane_min(l3);
+}
+
+// The known neighbours of `centre` in a window of radius W (1 or 2) of the
+// padded copy, written without a branch: each at the end, kept when known.
+// W fixed at compile time unrolls the window (fixed offsets within a row).
+// Returns how many were kept; the slot past the last may hold an unknown
+// neighbour's value. The near weights are the certainty times near_factor,
+// the far ones the certainty itself, as the fill's weights have always been.
+template <int W>
+std::size_t gather_known(const float* value, const float* weight, const std::uint8_t* known, std::size_t centre,
+                         std::size_t stride, float near_factor, float* values_out, float* weights_out) {
+  std::size_t kept = 0;
+  for (int di = -W; di <= W; ++di) {
+    const std::size_t row = centre + static_cast<std::size_t>(di) * stride;
+    for (int dj = -W; dj <= W; ++dj) {
+      if (di == 0 && dj == 0) continue;
+      const std::size_t t = row + static_cast<std::size_t>(dj);
+      const bool near = di >= -1 && di <= 1 && dj >= -1 && dj <= 1;
+      values_out[kept] = value[t];
+      weights_out[kept] = near ? weight[t] * near_factor : weight[t];
+      kept += known[t];
+    }
+  }
+  return kept;
+}
+
 }  // namespace
 
 std::size_t WeightedMedianFill::apply(ElevationMap& map) {
@@ -138,22 +217,55 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
   value_.assign(padded_cells, 0.0f);
   weight_.assign(padded_cells + 4, 0.0f);
   slot_.resize(cells);
+  const auto near_factor = static_cast<float>(options_.near_weight);
+  // Whether every sum of weights is exact (see exact_quantiles): each
+  // weight, with the near factor or without, a whole number of sixteenths
+  // and a full window of them at most 2^24 sixteenths. Certainties are whole
+  // multiples of the increment a in the mapper, so this is the usual case.
+  const int window_neighbours = (2 * w + 1) * (2 * w + 1) - 1;
+  const float sixteenths_limit = static_cast<float>((1 << 24) / window_neighbours);
+
+  // Without a branch per cell (measured or not is as random as the map).
+  std::uint8_t* known_out = known_.data();
+  std::uint32_t* known_mask_out = known_mask_.data();
+  float* value_out = value_.data();
+  float* weight_out = weight_.data();
+  std::size_t* slot = slot_.data();
+  const auto first_column = static_cast<int>(map.slot(map.cell_at_local(0, 0)) % static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) {
     const std::size_t row = map.slot(map.cell_at_local(i, 0)) / static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
-    const auto first_column = static_cast<int>(map.slot(map.cell_at_local(0, 0)) % static_cast<std::size_t>(n));
+    std::size_t* slot_row = slot + static_cast<std::size_t>(i) * static_cast<std::size_t>(n);
+    const std::size_t q_row = static_cast<std::size_t>(i + w) * static_cast<std::size_t>(p) + static_cast<std::size_t>(w);
     for (int j = 0; j < n; ++j) {
       int column = first_column + j;
       if (column >= n) column -= n;
       const std::size_t s = row + static_cast<std::size_t>(column);
-      slot_[static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)] = s;
-      if (state[s] != measured) continue;
-      const std::size_t q = static_cast<std::size_t>(i + w) * static_cast<std::size_t>(p) + static_cast<std::size_t>(j + w);
-      known_[q] = 1;
-      known_mask_[q] = ~0u;
-      value_[q] = elevation[s];
-      weight_[q] = certainty[s];
+      slot_row[j] = s;
+      // Masks, not selects (which the compiler turns back into branches).
+      const std::uint32_t mask = 0u - static_cast<std::uint32_t>(state[s] == measured);
+      const std::size_t q = q_row + static_cast<std::size_t>(j);
+      known_out[q] = static_cast<std::uint8_t>(mask & 1u);
+      known_mask_out[q] = mask;
+      value_out[q] = std::bit_cast<float>(std::bit_cast<std::uint32_t>(elevation[s]) & mask);
+      weight_out[q] = std::bit_cast<float>(std::bit_cast<std::uint32_t>(certainty[s]) & mask);
     }
   }
+  // whole_sixteenths over the padded copy (unknown cells weigh 0), four at
+  // a time; weight_ has room for the last group.
+  Masks inexact = {0, 0, 0, 0};
+  const Floats limit = {sixteenths_limit, sixteenths_limit, sixteenths_limit, sixteenths_limit};
+  for (std::size_t q = 0; q < padded_cells; q += 4) {
+    Floats far;
+    std::memcpy(&far, weight_out + q, sizeof far);
+    const Floats near = far * near_factor;
+    for (const Floats sixteenths : {far * 16.0f, near * 16.0f}) {
+      const Masks in_range = reinterpret_cast<Masks>(sixteenths >= 0.0f) & reinterpret_cast<Masks>(sixteenths <= limit);
+      const Floats converted = reinterpret_cast<Floats>(reinterpret_cast<Masks>(sixteenths) & in_range);
+      const Floats back = __builtin_convertvector(__builtin_convertvector(converted, Counts), Floats);
+      inexact |= ~in_range | reinterpret_cast<Masks>(back != converted);
+    }
+  }
+  const bool exact_sums = (inexact[0] | inexact[1] | inexact[2] | inexact[3]) == 0;
   // The neighbours in the order the fill has always visited them (rows
   // di = -w..w, in each dj = -w..w): the sums of the weights keep their order.
   struct Neighbour {
@@ -161,7 +273,6 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
     float factor;
     unsigned quadrant_bit;
   };
-  const auto near_factor = static_cast<float>(options_.near_weight);
   std::array<Neighbour, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1)> neighbours{};
   std::size_t neighbour_count = 0;
   for (int di = -w; di <= w; ++di) {
@@ -187,14 +298,50 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
   count_.resize(groups);
   quadrants_.resize(groups);
   total_.resize(groups);
+  unknown_columns_.resize(un);
   std::array<Candidate, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1)> candidates{}, gathered{};
   alignas(64) std::array<float, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1) + 8> scratch{};
   alignas(64) std::array<std::uint32_t, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1) + 8> ranks{};
+  // The exact-sum path for windows of up to 24 neighbours (w <= 2): two or
+  // six vectors of candidates, room for the +inf written past the last.
+  const std::size_t exact_blocks = !exact_sums || neighbour_count > 24 ? 0 : neighbour_count <= 8 ? 2 : 6;
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  alignas(16) std::array<float, 28> exact_values{}, exact_weights{};
+  // With exact sums the admission tests need no order either: box sums of
+  // running totals (known cells, certainty and the near weights' extra, in
+  // sixteenths) over the padded window, for the cells that ask only.
+  const std::size_t stride = static_cast<std::size_t>(p) + 1;
+  if (exact_sums) {
+    known_sum_.assign(stride * stride, 0);
+    far_sum_.assign(stride * stride, 0);
+    near_sum_.assign(stride * stride, 0);
+    for (std::size_t r = 0; r < static_cast<std::size_t>(p); ++r) {
+      std::int32_t known_run = 0;
+      std::int64_t far_run = 0, near_run = 0;
+      for (std::size_t col = 0; col < static_cast<std::size_t>(p); ++col) {
+        const std::size_t q = r * static_cast<std::size_t>(p) + col;
+        const auto far = static_cast<std::int64_t>(weight_[q] * 16.0f);
+        known_run += known_[q];
+        far_run += far;
+        near_run += static_cast<std::int64_t>(weight_[q] * near_factor * 16.0f) - far;
+        const std::size_t at = (r + 1) * stride + col + 1, above = r * stride + col + 1;
+        known_sum_[at] = known_sum_[above] + known_run;
+        far_sum_[at] = far_sum_[above] + far_run;
+        near_sum_[at] = near_sum_[above] + near_run;
+      }
+    }
+  }
+  // Sum over padded rows r0..r1 and columns c0..c1 (inclusive).
+  const auto box = [stride](const auto& sums, std::size_t r0, std::size_t r1, std::size_t c0, std::size_t c1) {
+    return sums[(r1 + 1) * stride + c1 + 1] - sums[r0 * stride + c1 + 1] - sums[(r1 + 1) * stride + c0] +
+           sums[r0 * stride + c0];
+  };
+  const auto uw = static_cast<std::size_t>(w);
   for (int i = 0; i < n; ++i) {
     const std::size_t row_start = static_cast<std::size_t>(i + w) * static_cast<std::size_t>(p) + static_cast<std::size_t>(w);
     // Four cells at a time, their sums kept in registers over all the
     // neighbours; the arrays have room for the last group of four.
-    for (std::size_t j = 0; j < un; j += 4) {
+    for (std::size_t j = 0; j < (exact_sums ? 0 : un); j += 4) {
       Masks count = {0, 0, 0, 0}, quadrants = {0, 0, 0, 0};
       Floats total = {0.0f, 0.0f, 0.0f, 0.0f};
       for (std::size_t k = 0; k < neighbour_count; ++k) {
@@ -220,14 +367,85 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
     const std::uint32_t* count_row = count_.data();
     const std::uint32_t* quadrant_row = quadrants_.data();
     const float* total_row = total_.data();
+    // The row's unknown cells listed first, without a branch: measured or
+    // not is as random as the map, a loop over the list is not.
+    std::size_t unknown_count = 0;
     for (std::size_t j = 0; j < un; ++j) {
+      unknown_columns_[unknown_count] = j;
+      unknown_count += known_[row_start + j] == 0 ? 1 : 0;
+    }
+    for (std::size_t u = 0; u < unknown_count; ++u) {
+      const std::size_t j = unknown_columns_[u];
       const std::size_t centre = row_start + j;
-      if (known_[centre] != 0) continue;
-      const std::uint32_t count = count_row[j];
-      const float total_weight = total_row[j];
-      if (static_cast<int>(count) < options_.min_known_neighbours ||
-          static_cast<int>(kQuadrantsIn[quadrant_row[j]]) < options_.min_quadrants || total_weight <= 0.0f) {
+      std::int32_t count;
+      int quadrants;
+      float total_weight;
+      if (exact_sums) {
+        const std::size_t r = static_cast<std::size_t>(i) + uw, c = j + uw;
+        count = box(known_sum_, r - uw, r + uw, c - uw, c + uw);
+        if (count < options_.min_known_neighbours) continue;
+        // The four quadrants of quadrant_of as rectangles of the window.
+        quadrants = (box(known_sum_, r + 1, r + uw, c, c + uw) > 0 ? 1 : 0) +
+                    (box(known_sum_, r - uw, r, c + 1, c + uw) > 0 ? 1 : 0) +
+                    (box(known_sum_, r - uw, r - 1, c - uw, c) > 0 ? 1 : 0) +
+                    (box(known_sum_, r, r + uw, c - uw, c - 1) > 0 ? 1 : 0);
+        // At most 2^24 sixteenths: the float is the exact sum, as the row
+        // pass's sum in visiting order is.
+        total_weight = static_cast<float>(box(far_sum_, r - uw, r + uw, c - uw, c + uw) +
+                                          box(near_sum_, r - 1, r + 1, c - 1, c + 1)) *
+                       0.0625f;
+      } else {
+        count = static_cast<std::int32_t>(count_row[j]);
+        quadrants = static_cast<int>(kQuadrantsIn[quadrant_row[j]]);
+        total_weight = total_row[j];
+      }
+      if (count < options_.min_known_neighbours || quadrants < options_.min_quadrants || total_weight <= 0.0f) {
         continue;
+      }
+      const float at_quarter = 0.25f * total_weight, at_half = 0.5f * total_weight,
+                  at_three_quarters = 0.75f * total_weight;
+      if (exact_blocks != 0) {
+        for (std::size_t b = 0; b < exact_blocks; ++b) {
+          const Floats inf = {kInf, kInf, kInf, kInf}, zero = {0.0f, 0.0f, 0.0f, 0.0f};
+          std::memcpy(exact_values.data() + 4 * b, &inf, sizeof inf);
+          std::memcpy(exact_weights.data() + 4 * b, &zero, sizeof zero);
+        }
+        // The candidates' order does not matter here (exact sums, minima).
+        const std::size_t kept =
+            w == 1 ? gather_known<1>(value_.data(), weight_.data(), known_.data(), centre,
+                                     static_cast<std::size_t>(p), near_factor, exact_values.data(), exact_weights.data())
+                   : gather_known<2>(value_.data(), weight_.data(), known_.data(), centre,
+                                     static_cast<std::size_t>(p), near_factor, exact_values.data(), exact_weights.data());
+        // The last write may be an unknown neighbour's (value 0): past the end.
+        exact_values[kept] = kInf;
+        exact_weights[kept] = 0.0f;
+        // A zero (whose sign the sorted walk's order decides) or a NaN (which
+        // std::sort places where its input order puts it) takes the sorted walk.
+        Masks special = {0, 0, 0, 0};
+        for (std::size_t b = 0; b < exact_blocks; ++b) {
+          Floats v;
+          std::memcpy(&v, exact_values.data() + 4 * b, sizeof v);
+          special |= reinterpret_cast<Masks>(v == 0.0f) | reinterpret_cast<Masks>(v != v);
+        }
+        if ((special[0] | special[1] | special[2] | special[3]) == 0) {
+          float quarter, half, three_quarters;
+          // As many vectors as the candidates fill (the lanes past them hold
+          // +inf with weight 0 up to exact_blocks).
+          const auto quantiles = [&](auto blocks) {
+            exact_quantiles<decltype(blocks)::value>(exact_values.data(), exact_weights.data(), kept, at_quarter,
+                                                     at_half, at_three_quarters, quarter, half, three_quarters);
+          };
+          switch ((kept + 3) / 4) {
+            case 0: case 1: case 2: quantiles(std::integral_constant<std::size_t, 2>{}); break;
+            case 3: quantiles(std::integral_constant<std::size_t, 3>{}); break;
+            case 4: quantiles(std::integral_constant<std::size_t, 4>{}); break;
+            case 5: quantiles(std::integral_constant<std::size_t, 5>{}); break;
+            default: quantiles(std::integral_constant<std::size_t, 6>{}); break;
+          }
+          if (test_spread && three_quarters - quarter > spread) continue;
+          result_[slot_[static_cast<std::size_t>(i) * un + j]] = half;
+          continue;
+        }
       }
       // The known neighbours in visiting order, without branches: each is
       // written at the end and kept only when known.
@@ -246,8 +464,6 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
       }
       // Weighted quantiles q: the smallest value at which the cumulative
       // weight reaches q of the total; the three in one pass over the same sums.
-      const float at_quarter = 0.25f * total_weight, at_half = 0.5f * total_weight,
-                  at_three_quarters = 0.75f * total_weight;
       const float last = candidates[kept - 1].value;
       float quarter = last, half = last, three_quarters = last;
       bool have_quarter = false, have_half = false;
@@ -275,15 +491,19 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
   std::size_t filled = 0;
   float* out_elevation = map.elevation_data();
   std::uint8_t* out_state = map.state_data();
-  for (std::size_t s = 0; s < result_.size(); ++s) {
-    if (out_state[s] == measured) continue;
-    if (std::isnan(result_[s])) {
-      map.reset_slot(s);
-    } else {
-      out_elevation[s] = result_[s];
-      out_state[s] = static_cast<std::uint8_t>(CellState::filled);
-      ++filled;
-    }
+  const auto filled_state = static_cast<std::uint8_t>(CellState::filled);
+  // Locals: the stores below could alias the members' storage otherwise.
+  const float* result = result_.data();
+  for (std::size_t s = 0; s < cells; ++s) {
+    // Selects, not branches, for the cells that keep or take a value; the
+    // cells left unknown come in runs (occlusions) in real maps.
+    const bool is_measured = out_state[s] == measured;
+    const float r = result[s];
+    const bool gets_value = !is_measured & !std::isnan(r);
+    if (!is_measured & std::isnan(r)) map.reset_slot(s);
+    out_elevation[s] = gets_value ? r : out_elevation[s];
+    out_state[s] = gets_value ? filled_state : out_state[s];
+    filled += gets_value ? 1 : 0;
   }
   return filled;
 }

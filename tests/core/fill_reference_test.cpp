@@ -3,10 +3,12 @@
 // random maps: several seeds and sizes, windows moved so that the circular
 // buffer wraps, holes, spikes, steps, filled cells from an earlier pass,
 // elevations on a coarse grid so that equal values (the tie-breaking path)
-// are common, and non-default options.
+// are common, certainties that keep every sum exact (the sort-free path) or
+// not, zeros of either sign and NaN heights, and non-default options.
 #include <gtest/gtest.h>
 
 #include <cstring>
+#include <limits>
 #include <random>
 
 #include "core/fill_reference.hpp"
@@ -16,7 +18,19 @@
 namespace stridemap {
 namespace {
 
-ElevationMap random_map(int n, std::uint64_t seed, bool coarse_values) {
+// How the certainties and elevations of a random map are drawn: the fast
+// fill takes a sort-free path when every sum of weights is exact (whole
+// sixteenths) and no value is a zero or NaN, the sorted walk otherwise.
+enum class Draw {
+  whole,        // certainties 1..12: exact sums
+  sixteenths,   // certainties k / 16: exact sums with fractions
+  arbitrary,    // any float certainty: sums rounded, the sorted walk
+  huge,         // certainties near 2^20: whole, but a window's sum is not exact
+  special,      // whole certainties with zeros (+0 and -0) and NaN elevations,
+                // zero and infinite certainties among them
+};
+
+ElevationMap random_map(int n, std::uint64_t seed, bool coarse_values, Draw draw = Draw::whole) {
   ElevationMap map({n, 0.01});
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
@@ -31,8 +45,25 @@ ElevationMap random_map(int n, std::uint64_t seed, bool coarse_values) {
       if (u(rng) < 0.03) h += 0.1;                                               // a spike
       if (coarse_values) h = std::round(h * 200.0) / 200.0;                     // 5 mm steps: many ties
       const bool filled = u(rng) < 0.05;
-      map.elevation_data()[s] = static_cast<float>(h);
-      map.certainty_data()[s] = filled ? 0.0f : static_cast<float>(1 + static_cast<int>(u(rng) * 12));
+      float certainty = static_cast<float>(1 + static_cast<int>(u(rng) * 12));
+      auto height = static_cast<float>(h);
+      switch (draw) {
+        case Draw::whole: break;
+        case Draw::sixteenths: certainty = static_cast<float>(1 + static_cast<int>(u(rng) * 200)) / 16.0f; break;
+        case Draw::arbitrary: certainty = static_cast<float>(0.01 + 12.0 * u(rng)); break;
+        case Draw::huge: certainty = static_cast<float>(1 << 20) + static_cast<float>(static_cast<int>(u(rng) * 8)); break;
+        case Draw::special: {
+          const double x = u(rng);
+          if (x < 0.04) height = 0.0f;
+          else if (x < 0.08) height = -0.0f;
+          else if (x < 0.09) height = std::numeric_limits<float>::quiet_NaN();
+          else if (x < 0.11) certainty = 0.0f;
+          else if (x < 0.115) certainty = std::numeric_limits<float>::infinity();
+          break;
+        }
+      }
+      map.elevation_data()[s] = height;
+      map.certainty_data()[s] = filled ? 0.0f : certainty;
       map.state_data()[s] = static_cast<std::uint8_t>(filled ? CellState::filled : CellState::measured);
     }
   }
@@ -68,7 +99,7 @@ TEST(FillReference, FastFillMatchesTheReferenceBitForBit) {
   for (std::uint64_t seed = 1; seed <= 12; ++seed) {
     for (const bool coarse : {false, true}) {
       const int n = seed % 3 == 0 ? 37 : 100;
-      const ElevationMap original = random_map(n, seed, coarse);
+      const ElevationMap original = random_map(n, seed, coarse, seed <= 6 ? Draw::whole : Draw::sixteenths);
       for (const FillOptions& options : fill_options()) {
         ElevationMap fast = original, reference = original;
         WeightedMedianFill fill(options);
@@ -86,11 +117,36 @@ TEST(FillReference, FastFillMatchesTheReferenceBitForBit) {
   EXPECT_GT(filled, 1000u);  // the maps do exercise the fill
 }
 
+// The sorted walk (rounded sums, huge sums) and the values that decide the
+// path per window (zeros of either sign, NaN) against the reference.
+TEST(FillReference, FastFillMatchesTheReferenceOnEveryPath) {
+  std::size_t filled = 0;
+  for (const Draw draw : {Draw::arbitrary, Draw::huge, Draw::special}) {
+    for (std::uint64_t seed = 41; seed <= 46; ++seed) {
+      const bool coarse = seed % 2 == 0;
+      const ElevationMap original = random_map(seed % 3 == 0 ? 23 : 60, seed, coarse, draw);
+      for (const FillOptions& options : fill_options()) {
+        ElevationMap fast = original, reference = original;
+        WeightedMedianFill fill(options);
+        const std::size_t a = fill.apply(fast);
+        EXPECT_EQ(a, reference::reference_fill(reference, options));
+        filled += a;
+        expect_identical(fast, reference,
+                         "draw " + std::to_string(static_cast<int>(draw)) + ", seed " + std::to_string(seed));
+      }
+    }
+  }
+  EXPECT_GT(filled, 1000u);
+}
+
 TEST(FillReference, FastCasMatchesTheReferenceBitForBit) {
   std::size_t removed = 0;
   for (std::uint64_t seed = 21; seed <= 32; ++seed) {
     for (const bool coarse : {false, true}) {
-      const ElevationMap original = random_map(seed % 3 == 0 ? 41 : 100, seed, coarse);
+      // Every third seed with zeros, NaN heights and infinite certainties:
+      // the median by nth_element, not by a count.
+      const ElevationMap original =
+          random_map(seed % 3 == 0 ? 41 : 100, seed, coarse, seed % 3 == 1 ? Draw::special : Draw::whole);
       std::vector<CasOptions> all(3);
       all[0].max_removable_certainty = 6.0;  // more candidates than the default
       all[1].window_radius_cells = 1;

@@ -8,6 +8,7 @@
 // (../shared/research/algorithms.md 1.6, 1.8), free of the datum dependence
 // of the authors' implementation.
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "stridemap/core/grid_map.hpp"
@@ -58,7 +59,12 @@ class CasFilter {
   std::vector<std::size_t> to_remove_;
   std::vector<float> window_values_;
   std::vector<float> window_certainties_;
-  std::vector<std::size_t> row_, column_;  // slot = row_[i] + column_[j] (apply())
+  // The map in local order with a margin of w unknown cells (apply()),
+  // kept to reuse storage; slot_ maps local cell i * n + j to its slot.
+  std::vector<std::uint8_t> known_;
+  std::vector<float> height_, certainty_;
+  std::vector<std::size_t> slot_;
+  std::vector<std::size_t> candidates_;  // removable columns of the row being tested
 };
 
 }  // namespace stridemap

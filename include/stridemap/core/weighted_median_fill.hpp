@@ -61,6 +61,11 @@ class WeightedMedianFill {
   // (a bit each) and their total weight.
   std::vector<std::uint32_t> count_, quadrants_;
   std::vector<float> total_;
+  std::vector<std::size_t> unknown_columns_;  // of the row being filled
+  // Running sums over the padded window when sums are exact: known cells,
+  // certainty and the near weights' extra, in sixteenths ((p + 1)^2 each).
+  std::vector<std::int32_t> known_sum_;
+  std::vector<std::int64_t> far_sum_, near_sum_;
 };
 
 }  // namespace stridemap
