@@ -40,6 +40,7 @@ struct RockyWalkArgs {
   std::optional<std::string> calibrate_attitude;  // on (urg), off (structured-light)
   std::string feet = "stand";
   std::optional<double> foothold_map_sigma_m;
+  std::optional<double> foothold_gate_sigmas;
   std::string mixed_pixels = "off";
   std::string visibility = "off";
   std::string pipeline = "geometric";
@@ -71,6 +72,7 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   }
   options.walk.gait.feet_stand_in_stance = args.feet == "stand";
   if (args.foothold_map_sigma_m) options.walk.pose_errors.foothold_map_sigma_m = *args.foothold_map_sigma_m;
+  if (args.foothold_gate_sigmas) options.walk.pose_errors.foothold_gate_sigmas = *args.foothold_gate_sigmas;
   constexpr double deg = std::numbers::pi / 180.0;
   if (args.imu_pitch_bias_deg) options.walk.pose_errors.imu_pitch_bias_rad = *args.imu_pitch_bias_deg * deg;
   if (args.imu_roll_bias_deg) options.walk.pose_errors.imu_roll_bias_rad = *args.imu_roll_bias_deg * deg;
@@ -183,6 +185,10 @@ void register_walk_experiments(CLI::App& app) {
                     "With --reference legs: the sigma given to the map's height under a landing foot against the leg "
                     "odometry [m]; default 0.003; a large value (1) all but ignores the map")
       ->check(number_from_to(0.0, 1000.0, "m"));
+  rocky->add_option("--foothold-gate-sigmas", rw->foothold_gate_sigmas,
+                    "With --reference map-footholds: a stance foot whose trunk height is this many sigmas from the "
+                    "other feet's is left out; default 2.5; a large value (1e9) keeps every foot")
+      ->check(number_from_to(1e-3, 1e12));
   rocky->add_option("--mixed-pixels", rw->mixed_pixels, "on: footprint beam model with mixed pixels at edges")
       ->capture_default_str();
   rocky->add_option("--visibility", rw->visibility,

@@ -45,6 +45,7 @@ TEST(EnumNames, TheWordsAreTheOnesOutputsAlwaysUsed) {
   EXPECT_EQ(name(ReferenceElevationSource::truth), "truth");
   EXPECT_EQ(name(ReferenceElevationSource::map_fused), "map-fused");
   EXPECT_EQ(name(ReferenceElevationSource::legs), "legs");
+  EXPECT_EQ(name(ReferenceElevationSource::map_footholds), "map-footholds");
 }
 
 TEST(EnumNames, EveryWordReadsBackToItsValue) {
