@@ -60,7 +60,8 @@ TEST(EnumNames, AnUnknownWordIsRefusedWithTheValidOnes) {
   EXPECT_EQ(error_of<SimulatedSensor>("lidar"), "'lidar' is not a sensor; expected one of: urg, structured-light");
   EXPECT_EQ(error_of<StripePipeline>("Image"), "'Image' is not a pipeline; expected one of: image, geometric");
   EXPECT_EQ(error_of<ReferenceElevationSource>(""),
-            "'' is not a reference elevation source; expected one of: map, map-mean, truth, map-fused, legs");
+            "'' is not a reference elevation source; expected one of: map, map-mean, truth, map-fused, legs, "
+            "map-footholds");
 }
 
 TEST(EnumNames, AValueOutsideTheTableIsNamedUnknown) {

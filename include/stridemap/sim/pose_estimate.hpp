@@ -55,7 +55,8 @@ enum class ReferenceElevationSource : std::uint8_t {
   /// each foothold by that foot's kinematic depth. The feet are weighted by
   /// the layer's variance and the spread of heights under the sole, and a
   /// foot that disagrees with the others beyond a Mahalanobis gate is left
-  /// out. No chain from one foothold to the next (unlike `legs`). Needs the
+  /// out; so is a sole under which fewer than half the cells are known (a
+  /// shadow). No chain from one foothold to the next (unlike `legs`). Needs the
   /// fused_elevation and fused_variance layers.
   map_footholds,
 };
