@@ -149,7 +149,10 @@ std::optional<SoleReading> read_sole(const ElevationMap& map, const float* eleva
   std::array<float, kMaxCells> sorted = heights;
   std::nth_element(sorted.begin(), sorted.begin() + count / 2, sorted.begin() + count);
   r.height_m = sorted[static_cast<std::size_t>(count / 2)];
-  for (int k = 0; k < count; ++k) spread += (heights[static_cast<std::size_t>(k)] - r.height_m) * (heights[static_cast<std::size_t>(k)] - r.height_m);
+  for (int k = 0; k < count; ++k) {
+    const double d = heights[static_cast<std::size_t>(k)] - r.height_m;
+    spread += d * d;
+  }
   r.spread_m2 = spread / count;
   std::nth_element(variances.begin(), variances.begin() + count / 2, variances.begin() + count);
   r.variance_m2 = variances[static_cast<std::size_t>(count / 2)];
@@ -185,7 +188,8 @@ double PoseEstimator::trunk_height_from_footholds(const TrunkState& truth, const
     sole.sum_m += Eigen::Vector2d(e.x_m + in_map.x(), e.y_m + in_map.y());
     ++sole.scans;
     const Eigen::Vector2d at = sole.sum_m / sole.scans;
-    const std::optional<SoleReading> r = read_sole(map, fused, fused_variance, at.x(), at.y(), kFootRadius_m, kMaxFootReach);
+    const std::optional<SoleReading> r =
+        read_sole(map, fused, fused_variance, at.x(), at.y(), kFootRadius_m, kMaxFootReach);
     // A sole mostly on unknown cells is likely in a shadow, and what is
     // known there is the top of what cast it: no say, as for an unknown foot.
     if (!r || r->known_share < kMinKnownSoleShare) continue;
@@ -344,8 +348,8 @@ TrunkPose PoseEstimator::estimate(const TrunkState& truth, const ElevationMap& m
     if (options_.reference == ReferenceElevationSource::map_footholds) {
       const std::optional<std::size_t> variance = map.find_layer("fused_variance");
       if (!variance || map.layer_spec(*variance).type != LayerType::f32) {
-        throw InputError("pose estimate: h_ref from map-footholds needs the map's fused_variance layer (f32); the map has " +
-                         map.layer_names());
+        throw InputError("pose estimate: h_ref from map-footholds needs the map's fused_variance layer (f32); "
+                         "the map has " + map.layer_names());
       }
       const double trunk = trunk_height_from_footholds(truth, e, map, fused, map.data(LayerId<float>{*variance}));
       // No stance foot on known cells: the last h_ref stays.

@@ -138,7 +138,8 @@ class PoseEstimator {
 
   /// The estimate for a scan taken in `truth`. `map` is the map built so
   /// far (read for h_ref when the source is one of the map's; for
-  /// `map_fused` it must hold the fused_elevation layer, else InputError). The noise comes from
+  /// `map_fused` and `legs` it must hold the fused_elevation layer, for
+  /// `map_footholds` fused_variance too, else InputError). The noise comes from
   /// one generator seeded at construction, so the same seed and the same
   /// sequence of calls give the same estimates. Allocates nothing.
   TrunkPose estimate(const TrunkState& truth, const ElevationMap& map);
