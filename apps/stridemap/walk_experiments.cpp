@@ -36,10 +36,11 @@ struct RockyWalkArgs {
   double pose_error_scale = 1.0;
   std::optional<double> imu_pitch_bias_deg, imu_roll_bias_deg;
   std::string sweep = "0,0.5,1,2,4";
-  std::optional<std::string> reference;           // map-fused (urg), map (structured-light)
+  std::optional<std::string> reference;           // map-footholds (urg), map (structured-light)
   std::optional<std::string> calibrate_attitude;  // on (urg), off (structured-light)
   std::string feet = "stand";
   std::optional<double> foothold_map_sigma_m;
+  std::optional<double> foothold_gate_sigmas;
   std::string mixed_pixels = "off";
   std::string visibility = "off";
   std::string pipeline = "geometric";
@@ -57,13 +58,13 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   RockyWalkOptions options;
   options.walk.seed = args.seed;
   options.pose_error_scales = parse_number_list("--sweep", args.sweep);
-  // Ours for the URG: h_ref from the fused layer, the IMU biases
+  // Ours for the URG: h_ref from the fused layer where the stance feet stand, the IMU biases
   // calibrated on a flat floor first (docs/walking.md). Structured light on
   // Ragno's mount sees too little of the ground under the feet for any
   // map-based h_ref and no floor from a pitched-up stance: the paper's.
   const bool urg_sensor = sensor == SimulatedSensor::urg;
   options.walk.pose_errors.reference =
-      parse_option<ReferenceElevationSource>("--reference", args.reference.value_or(urg_sensor ? "map-fused" : "map"));
+      parse_option<ReferenceElevationSource>("--reference", args.reference.value_or(urg_sensor ? "map-footholds" : "map"));
   options.calibrate_attitude = parse_on_off("--calibrate-attitude", args.calibrate_attitude.value_or(urg_sensor ? "on" : "off"));
   if (urg_sensor) options.sweep_references.push_back(ReferenceElevationSource::map_fused);
   if (args.feet != "stand" && args.feet != "slide") {
@@ -71,6 +72,7 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   }
   options.walk.gait.feet_stand_in_stance = args.feet == "stand";
   if (args.foothold_map_sigma_m) options.walk.pose_errors.foothold_map_sigma_m = *args.foothold_map_sigma_m;
+  if (args.foothold_gate_sigmas) options.walk.pose_errors.foothold_gate_sigmas = *args.foothold_gate_sigmas;
   constexpr double deg = std::numbers::pi / 180.0;
   if (args.imu_pitch_bias_deg) options.walk.pose_errors.imu_pitch_bias_rad = *args.imu_pitch_bias_deg * deg;
   if (args.imu_roll_bias_deg) options.walk.pose_errors.imu_roll_bias_rad = *args.imu_roll_bias_deg * deg;
@@ -169,8 +171,9 @@ void register_walk_experiments(CLI::App& app) {
       ->capture_default_str();
   rocky->add_option("--reference", rw->reference,
                     "h_ref from the map (section 5.2: the elevation layer), map-mean (the cells' means of accepted "
-                    "readings), map-fused (variance-weighted, Mahalanobis-gated layer), legs (trunk z from leg kinematics + IMU on footholds "
-                    "fused with that layer) or truth; default map-fused (urg), "
+                    "readings), map-fused (variance-weighted, Mahalanobis-gated layer, at the feet's nominal places), "
+                    "map-footholds (that layer where the stance feet stand, by leg kinematics), legs (trunk z from leg "
+                    "kinematics + IMU on footholds fused with that layer) or truth; default map-footholds (urg), "
                     "map (structured-light)");
   rocky->add_option("--calibrate-attitude", rw->calibrate_attitude,
                     "on: measure the IMU's pitch and roll biases on a flat floor before each walk and take them off; "
@@ -183,6 +186,10 @@ void register_walk_experiments(CLI::App& app) {
                     "With --reference legs: the sigma given to the map's height under a landing foot against the leg "
                     "odometry [m]; default 0.003; a large value (1) all but ignores the map")
       ->check(number_from_to(0.0, 1000.0, "m"));
+  rocky->add_option("--foothold-gate-sigmas", rw->foothold_gate_sigmas,
+                    "With --reference map-footholds: a stance foot whose trunk height is this many sigmas from the "
+                    "other feet's is left out; default 2.5; a large value (1e9) keeps every foot")
+      ->check(number_from_to(1e-3, 1e12));
   rocky->add_option("--mixed-pixels", rw->mixed_pixels, "on: footprint beam model with mixed pixels at edges")
       ->capture_default_str();
   rocky->add_option("--visibility", rw->visibility,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 
 #include <Eigen/Geometry>
@@ -45,6 +46,10 @@ void PoseErrorOptions::validate() const {
   if (!(foothold_map_sigma_m >= 0.0)) {
     throw InputError("pose error options: foothold_map_sigma_m: expected a number >= 0 (or infinity), got " +
                      format_number(foothold_map_sigma_m));
+  }
+  if (!(foothold_gate_sigmas > 0.0)) {
+    throw InputError("pose error options: foothold_gate_sigmas: expected a number > 0 (or infinity), got " +
+                     format_number(foothold_gate_sigmas));
   }
   for (const auto& [field, value] : {std::pair<const char*, double>{"imu_pitch_bias_rad", imu_pitch_bias_rad},
                                      std::pair<const char*, double>{"imu_roll_bias_rad", imu_roll_bias_rad}}) {
@@ -104,7 +109,132 @@ Eigen::Matrix3d trunk_rotation(const TrunkPose& p) {
 /// what the gait's bob and a 20 % slope move it in a tenth of a second.
 constexpr double kTripodSwitchSigma_m = 0.002;
 
+/// The fused layer under a sole: the median height of the known cells
+/// within `radius_m`, the median of their variances, and the variance of
+/// the heights about that median (how much the sole's place matters: large
+/// on a rock's flank, small on flat ground).
+struct SoleReading {
+  double height_m = 0.0, variance_m2 = 0.0, spread_m2 = 0.0;
+  double known_share = 0.0;  ///< of the cells under the sole, the share the layer knows
+};
+
+/// Below this share of known cells under a sole, the foot has no say.
+constexpr double kMinKnownSoleShare = 0.5;
+
+std::optional<SoleReading> read_sole(const ElevationMap& map, const float* elevation, const float* variance,
+                                     double x_m, double y_m, double radius_m, int max_reach) {
+  const CellIndex centre = map.cell_of(x_m, y_m);
+  const int reach = std::clamp(static_cast<int>(std::lround(radius_m / map.cell_size_m())), 1, max_reach);
+  constexpr int kMaxCells = 17 * 17;
+  std::array<float, kMaxCells> heights{}, variances{};
+  int count = 0, cells = 0;
+  for (int dx = -reach; dx <= reach; ++dx) {
+    for (int dy = -reach; dy <= reach; ++dy) {
+      if (dx * dx + dy * dy > reach * reach || count == kMaxCells) continue;
+      ++cells;
+      const CellIndex c{centre.x + dx, centre.y + dy};
+      if (!map.contains(c)) continue;
+      const std::size_t slot = map.slot(c);
+      const float h = elevation[slot], v = variance[slot];
+      if (!(h == h && v == v)) continue;
+      heights[static_cast<std::size_t>(count)] = h;
+      variances[static_cast<std::size_t>(count)] = v;
+      ++count;
+    }
+  }
+  if (count == 0) return std::nullopt;
+  SoleReading r;
+  r.known_share = static_cast<double>(count) / cells;
+  double spread = 0.0;
+  std::array<float, kMaxCells> sorted = heights;
+  std::nth_element(sorted.begin(), sorted.begin() + count / 2, sorted.begin() + count);
+  r.height_m = sorted[static_cast<std::size_t>(count / 2)];
+  for (int k = 0; k < count; ++k) {
+    const double d = heights[static_cast<std::size_t>(k)] - r.height_m;
+    spread += d * d;
+  }
+  r.spread_m2 = spread / count;
+  std::nth_element(variances.begin(), variances.begin() + count / 2, variances.begin() + count);
+  r.variance_m2 = variances[static_cast<std::size_t>(count / 2)];
+  return r;
+}
+
 }  // namespace
+
+double PoseEstimator::trunk_height_from_footholds(const TrunkState& truth, const TrunkPose& e,
+                                                  const ElevationMap& map, const float* fused,
+                                                  const float* fused_variance) {
+  const TrunkPose& t = truth.pose;
+  const Eigen::Matrix3d true_rotation = trunk_rotation(t), estimated_rotation = trunk_rotation(e);
+  const Eigen::Vector3d trunk(t.x_m, t.y_m, t.reference_elevation_m + t.height_change_m);
+  const double sigma = options_.leg_height_noise_sigma_m;
+  const auto noise = [&] { return sigma > 0.0 ? sigma * gaussian_(rng_) : 0.0; };
+  // Per stance foot: the trunk's height above the map's zero as that foot
+  // gives it (foothold height + kinematic depth), and its variance.
+  std::array<double, 6> z{}, v{};
+  std::array<bool, 6> use{};
+  int n = 0;
+  for (std::size_t f = 0; f < 6; ++f) {
+    if (!truth.feet[f].in_stance) {
+      soles_[f] = {};  // lifted: it lands on a new foothold
+      continue;
+    }
+    // The kinematics measure the foot from the trunk with encoder noise; the
+    // estimated attitude and position place it in the map frame.
+    Eigen::Vector3d in_trunk = true_rotation.transpose() * (truth.feet[f].position_m - trunk);
+    in_trunk += Eigen::Vector3d(noise(), noise(), noise());
+    const Eigen::Vector3d in_map = estimated_rotation * in_trunk;
+    SoleAverage& sole = soles_[f];
+    sole.sum_m += Eigen::Vector2d(e.x_m + in_map.x(), e.y_m + in_map.y());
+    ++sole.scans;
+    const Eigen::Vector2d at = sole.sum_m / sole.scans;
+    const std::optional<SoleReading> r =
+        read_sole(map, fused, fused_variance, at.x(), at.y(), kFootRadius_m, kMaxFootReach);
+    // A sole mostly on unknown cells is likely in a shadow, and what is
+    // known there is the top of what cast it: no say, as for an unknown foot.
+    if (!r || r->known_share < kMinKnownSoleShare) continue;
+    z[f] = r->height_m - in_map.z();
+    v[f] = r->variance_m2 + r->spread_m2 + sigma * sigma;
+    use[f] = true;
+    ++n;
+  }
+  feet_from_map_ = n;
+  if (n == 0) return std::numeric_limits<double>::quiet_NaN();
+  const auto weighted_mean = [&](std::size_t skip, double& mean, double& variance) {
+    double weight_sum = 0.0, sum = 0.0;
+    for (std::size_t f = 0; f < 6; ++f) {
+      if (!use[f] || f == skip) continue;
+      weight_sum += 1.0 / v[f];
+      sum += z[f] / v[f];
+    }
+    mean = sum / weight_sum;
+    variance = 1.0 / weight_sum;
+  };
+  // Leave-one-out gate, as elevation_mapping gates a reading against its
+  // cell: drop the foot that disagrees most with the rest while it is
+  // beyond the gate and two feet remain.
+  const double gate2 = options_.foothold_gate_sigmas * options_.foothold_gate_sigmas;
+  while (n > 2) {
+    std::size_t worst = 6;
+    double worst_d2 = gate2;
+    for (std::size_t f = 0; f < 6; ++f) {
+      if (!use[f]) continue;
+      double mean = 0.0, variance = 0.0;
+      weighted_mean(f, mean, variance);
+      const double d2 = (z[f] - mean) * (z[f] - mean) / (v[f] + variance);
+      if (d2 > worst_d2) {
+        worst_d2 = d2;
+        worst = f;
+      }
+    }
+    if (worst == 6) break;
+    use[worst] = false;
+    --n;
+  }
+  double mean = 0.0, variance = 0.0;
+  weighted_mean(6, mean, variance);
+  return mean;
+}
 
 double PoseEstimator::trunk_height_from_legs(const TrunkState& truth, const TrunkPose& e, const ElevationMap& map,
                                              const float* fused) {
@@ -214,6 +344,18 @@ TrunkPose PoseEstimator::estimate(const TrunkState& truth, const ElevationMap& m
                          map.layer_names());
       }
       fused = map.data(LayerId<float>{*layer});
+    }
+    if (options_.reference == ReferenceElevationSource::map_footholds) {
+      const std::optional<std::size_t> variance = map.find_layer("fused_variance");
+      if (!variance || map.layer_spec(*variance).type != LayerType::f32) {
+        throw InputError("pose estimate: h_ref from map-footholds needs the map's fused_variance layer (f32); "
+                         "the map has " + map.layer_names());
+      }
+      const double trunk = trunk_height_from_footholds(truth, e, map, fused, map.data(LayerId<float>{*variance}));
+      // No stance foot on known cells: the last h_ref stays.
+      if (std::isfinite(trunk)) reference_m_ = trunk - e.height_change_m;
+      e.reference_elevation_m = reference_m_;
+      return e;
     }
     if (options_.reference == ReferenceElevationSource::legs) {
       e.reference_elevation_m = trunk_height_from_legs(truth, e, map, fused) - e.height_change_m;

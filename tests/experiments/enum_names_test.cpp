@@ -45,6 +45,7 @@ TEST(EnumNames, TheWordsAreTheOnesOutputsAlwaysUsed) {
   EXPECT_EQ(name(ReferenceElevationSource::truth), "truth");
   EXPECT_EQ(name(ReferenceElevationSource::map_fused), "map-fused");
   EXPECT_EQ(name(ReferenceElevationSource::legs), "legs");
+  EXPECT_EQ(name(ReferenceElevationSource::map_footholds), "map-footholds");
 }
 
 TEST(EnumNames, EveryWordReadsBackToItsValue) {
@@ -59,7 +60,8 @@ TEST(EnumNames, AnUnknownWordIsRefusedWithTheValidOnes) {
   EXPECT_EQ(error_of<SimulatedSensor>("lidar"), "'lidar' is not a sensor; expected one of: urg, structured-light");
   EXPECT_EQ(error_of<StripePipeline>("Image"), "'Image' is not a pipeline; expected one of: image, geometric");
   EXPECT_EQ(error_of<ReferenceElevationSource>(""),
-            "'' is not a reference elevation source; expected one of: map, map-mean, truth, map-fused, legs");
+            "'' is not a reference elevation source; expected one of: map, map-mean, truth, map-fused, legs, "
+            "map-footholds");
 }
 
 TEST(EnumNames, AValueOutsideTheTableIsNamedUnknown) {

@@ -272,5 +272,122 @@ TEST(PoseEstimate, LegsCarryTheTrunkOnItsStanceFeet) {
   EXPECT_THROW(o.validate(), InputError);
 }
 
+
+// A floor with a 4 cm step up at x = 1 m, 4 x 2 m, sampled every 1 cm.
+Scene step_scene() {
+  Scene step;
+  step.terrain.resolution_m = 0.01;
+  step.terrain.nx = 401;
+  step.terrain.ny = 201;
+  step.terrain.max_x_m = step.terrain.min_x_m + 400 * 0.01;
+  step.terrain.max_y_m = step.terrain.min_y_m + 200 * 0.01;
+  for (int j = 0; j < step.terrain.ny; ++j)
+    for (int i = 0; i < step.terrain.nx; ++i)
+      step.terrain.samples.push_back(step.terrain.min_x_m + i * 0.01 >= 1.0 ? 0.04f : 0.0f);
+  return step;
+}
+
+// The `map_footholds` reference reads the map where the stance feet stand
+// (the kinematics place them), not at their nominal places around the trunk:
+// walking over a step with a perfect map and no pose error, it gives the
+// trunk's true height, where `map_fused` (the nominal places) is off by a
+// sixth of the step whenever a foot has landed beyond the step while its
+// nominal place is still before it, or the reverse.
+TEST(PoseEstimate, MapFootholdsReadsTheMapWhereTheFeetLanded) {
+  const Scene step = step_scene();
+  WalkPath path;
+  path.start_x_m = 0.3;
+  path.segments.push_back({WalkSegment::Kind::straight, 1.2, 0.0, 0.0});
+  const GaitOptions gait;
+  const TrunkMotion motion(step, path, gait);
+  ElevationMap map(GridOptions{400, 0.01});
+  map.move_to(1.0, 0.0);
+  const HeightFusion fusion(map);
+  for (int i = 0; i < 400; ++i) {
+    for (int j = 0; j < 400; ++j) {
+      const CellIndex c = map.cell_at_local(i, j);
+      const Eigen::Vector2d centre = map.cell_center(c);
+      map.data(fusion.elevation_layer())[map.slot(c)] = static_cast<float>(step.surface_height_at(centre.x(), centre.y()));
+      map.data(fusion.variance_layer())[map.slot(c)] = 0.0015f * 0.0015f;
+    }
+  }
+  const auto worst_error = [&](ReferenceElevationSource source) {
+    PoseErrorOptions o = PoseErrorOptions{}.scaled(0.0);
+    o.reference = source;
+    PoseEstimator estimator(o, gait, 1);
+    double worst = 0.0;
+    for (double t = 0.0; t <= motion.duration_s(); t += 0.1) {
+      const TrunkState truth = motion.at(t);
+      const TrunkPose e = estimator.estimate(truth, map);
+      worst = std::max(worst, std::abs(e.reference_elevation_m + e.height_change_m -
+                                       (truth.pose.reference_elevation_m + truth.pose.height_change_m)));
+    }
+    return worst;
+  };
+  const double footholds = worst_error(ReferenceElevationSource::map_footholds);
+  const double nominal = worst_error(ReferenceElevationSource::map_fused);
+  EXPECT_LT(footholds, 0.001);
+  EXPECT_GT(nominal, 0.005);
+
+  // Without the variance layer the source cannot work: said so.
+  ElevationMap bare(GridOptions{100, 0.01});
+  bare.add_layer(fused_elevation_layer());
+  PoseErrorOptions o = PoseErrorOptions{}.scaled(0.0);
+  o.reference = ReferenceElevationSource::map_footholds;
+  PoseEstimator estimator(o, gait, 1);
+  try {
+    estimator.estimate(motion.at(0.0), bare);
+    FAIL() << "map-footholds read a map without the fused_variance layer";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("fused_variance"), std::string::npos) << e.what();
+  }
+  o.foothold_gate_sigmas = 0.0;
+  EXPECT_THROW(o.validate(), InputError);
+}
+
+
+// A sole mostly on unknown cells (a shadow behind a rock, say) has no say in
+// map_footholds, even when the few cells known there are high and no gate
+// would stop them; nor does a foot in swing.
+TEST(PoseEstimate, MapFootholdsIgnoresASoleInAShadowAndASwingingFoot) {
+  const GaitOptions gait;
+  ElevationMap map(GridOptions{100, 0.01});
+  map.move_to(0.0, 0.0);
+  const HeightFusion fusion(map);
+  for (int i = 0; i < 100; ++i) {
+    for (int j = 0; j < 100; ++j) {
+      const std::size_t s = map.slot(map.cell_at_local(i, j));
+      map.data(fusion.elevation_layer())[s] = 0.0f;
+      map.data(fusion.variance_layer())[s] = 0.0015f * 0.0015f;
+    }
+  }
+  TrunkState t = truth_at(0.0, 0.0);
+  t.pose = TrunkPose{};
+  t.pose.height_change_m = 0.1;  // the trunk 10 cm above flat ground
+  const auto feet = foot_positions(gait, 0.0, 0.0, 0.0);
+  for (std::size_t f = 0; f < 6; ++f) t.feet[f] = {Eigen::Vector3d(feet[f].x(), feet[f].y(), 0.0), true};
+  // Under the left front foot only the cell at its centre is known, 5 cm high.
+  for (int dx = -2; dx <= 2; ++dx) {
+    for (int dy = -2; dy <= 2; ++dy) {
+      const std::size_t s = map.slot(map.cell_of(feet[0].x() + 0.01 * dx, feet[0].y() + 0.01 * dy));
+      map.data(fusion.elevation_layer())[s] = (dx == 0 && dy == 0) ? 0.05f : NAN;
+    }
+  }
+  // Under the right rear foot, swinging, the ground is 5 cm high everywhere.
+  t.feet[5].in_stance = false;
+  for (int dx = -2; dx <= 2; ++dx) {
+    for (int dy = -2; dy <= 2; ++dy) {
+      map.data(fusion.elevation_layer())[map.slot(map.cell_of(feet[5].x() + 0.01 * dx, feet[5].y() + 0.01 * dy))] = 0.05f;
+    }
+  }
+  PoseErrorOptions o = PoseErrorOptions{}.scaled(0.0);
+  o.reference = ReferenceElevationSource::map_footholds;
+  o.foothold_gate_sigmas = 1e9;  // no gate: the share of known cells alone decides
+  PoseEstimator estimator(o, gait, 1);
+  const TrunkPose e = estimator.estimate(t, map);
+  EXPECT_EQ(estimator.feet_read_from_map(), 4);
+  EXPECT_NEAR(e.reference_elevation_m, 0.0, 1e-6);
+}
+
 }  // namespace
 }  // namespace stridemap

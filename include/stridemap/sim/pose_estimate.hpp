@@ -49,21 +49,34 @@ enum class ReferenceElevationSource : std::uint8_t {
   /// fused layer under the sole; the trunk stands above its stance feet by
   /// their kinematic depths. Needs the fused layer, like map_fused.
   legs,
+  /// The fused layer read where the stance feet really stand (ours): each
+  /// stance foot's sole placed with the leg kinematics (encoder noise) and
+  /// the estimated pose, averaged over the stance; the trunk stands above
+  /// each foothold by that foot's kinematic depth. The feet are weighted by
+  /// the layer's variance and the spread of heights under the sole, and a
+  /// foot that disagrees with the others beyond a Mahalanobis gate is left
+  /// out; so is a sole under which fewer than half the cells are known (a
+  /// shadow). No chain from one foothold to the next (unlike `legs`). Needs the
+  /// fused_elevation and fused_variance layers.
+  map_footholds,
 };
 
 /// True for the sources that read the map's fused_elevation layer.
 constexpr bool reads_fused_layer(ReferenceElevationSource source) {
-  return source == ReferenceElevationSource::map_fused || source == ReferenceElevationSource::legs;
+  return source == ReferenceElevationSource::map_fused || source == ReferenceElevationSource::legs ||
+         source == ReferenceElevationSource::map_footholds;
 }
 
-inline constexpr EnumNameTable<ReferenceElevationSource, 5> kReferenceElevationSourceNames{{
+inline constexpr EnumNameTable<ReferenceElevationSource, 6> kReferenceElevationSourceNames{{
     {ReferenceElevationSource::map, "map"},
     {ReferenceElevationSource::map_mean, "map-mean"},
     {ReferenceElevationSource::truth, "truth"},
     {ReferenceElevationSource::map_fused, "map-fused"},
     {ReferenceElevationSource::legs, "legs"},
+    {ReferenceElevationSource::map_footholds, "map-footholds"},
 }};
-/// "map", "map-mean", "truth", "map-fused" or "legs": the --reference word and summary.json's.
+/// "map", "map-mean", "truth", "map-fused", "legs" or "map-footholds": the --reference word and
+/// summary.json's.
 constexpr std::string_view name(ReferenceElevationSource source) {
   return enum_name_in(kReferenceElevationSourceNames, source);
 }
@@ -102,6 +115,11 @@ struct PoseErrorOptions {
   /// odometry (and the random walk of its encoder noise); infinity ignores
   /// the map. Not an error of the robot: scaled() keeps it.
   double foothold_map_sigma_m = 0.003;
+  /// With the `map_footholds` reference: a stance foot whose trunk height
+  /// differs from the other stance feet's by more than this many standard
+  /// deviations is left out (> 0; infinity keeps every foot). Not an error
+  /// of the robot: scaled() keeps it.
+  double foothold_gate_sigmas = 2.5;
 
   /// Every noise sigma and bias times `factor` (>= 0); the reference source
   /// is kept.
@@ -120,7 +138,8 @@ class PoseEstimator {
 
   /// The estimate for a scan taken in `truth`. `map` is the map built so
   /// far (read for h_ref when the source is one of the map's; for
-  /// `map_fused` it must hold the fused_elevation layer, else InputError). The noise comes from
+  /// `map_fused` and `legs` it must hold the fused_elevation layer, for
+  /// `map_footholds` fused_variance too, else InputError). The noise comes from
   /// one generator seeded at construction, so the same seed and the same
   /// sequence of calls give the same estimates. Allocates nothing.
   TrunkPose estimate(const TrunkState& truth, const ElevationMap& map);
@@ -144,6 +163,20 @@ class PoseEstimator {
   /// from the stance feet; updates the footholds.
   double trunk_height_from_legs(const TrunkState& truth, const TrunkPose& estimate, const ElevationMap& map,
                                 const float* fused);
+
+  /// The `map_footholds` reference: the trunk's height (h_ref + d_z) from
+  /// the fused layer at the stance feet's soles, or NaN when no stance foot
+  /// stands on known cells.
+  double trunk_height_from_footholds(const TrunkState& truth, const TrunkPose& estimate, const ElevationMap& map,
+                                     const float* fused, const float* fused_variance);
+
+  /// A stance foot's sole as the kinematics place it, averaged over the
+  /// scans of its stance (the foot does not move while it stands).
+  struct SoleAverage {
+    int scans = 0;
+    Eigen::Vector2d sum_m = Eigen::Vector2d::Zero();
+  };
+  std::array<SoleAverage, 6> soles_{};
 
   /// A stance foot's foothold height as the estimator knows it.
   struct Foothold {
