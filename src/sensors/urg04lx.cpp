@@ -1,5 +1,6 @@
 #include "stridemap/sensors/urg04lx.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -209,13 +210,17 @@ UrgConversionStats UrgModel::pack_beams(const UrgRawScan& raw, PlanarBeams& out)
   const auto& c = calibration_.coefficients;
   constexpr double kInf = std::numeric_limits<double>::infinity();
   std::size_t count = 0, beyond = 0, valid = 0;
+  if (!any_valid) {  // DMIN above DMAX (a made-up sensor): nothing is valid
+    for (std::size_t i = 0; i < n; ++i) beyond += static_cast<std::size_t>(values[i] > highest);
+  }
+  const std::size_t scanned = any_valid ? n : 0;
   // Valid and invalid values come in long runs (ground, then sky), so the
   // branch is well predicted. A beam is kept when the mapper would use it
   // from to_planar_scan: a valid value whose calibrated range is finite and
   // positive (its error, 1 cm or 1 %, and its angle are then finite too).
-  for (std::size_t i = 0, step = 0; i < n; ++i, step += cluster) {
+  for (std::size_t i = 0; i < scanned; ++i) {
     const std::uint64_t value = values[i];
-    if (value - lowest > span || !any_valid) {
+    if (value - lowest > span) {
       beyond += static_cast<std::size_t>(value > highest);
       continue;
     }
@@ -228,8 +233,11 @@ UrgConversionStats UrgModel::pack_beams(const UrgRawScan& raw, PlanarBeams& out)
     } else if (value == 0) {
       continue;  // a DMIN below 1 mm lets 0 through; the mapper takes no zero range
     }
+    const std::size_t step = i * cluster;
     range[count] = r;
-    error[count] = r <= 1.0 ? 0.010 : 0.01 * r;  // spec_range_error_m
+    // spec_range_error_m (1 cm up to 1 m, then 1 %) as a max: for a finite
+    // r > 0, 0.01 r rounds to at most 0.01 exactly when r <= 1.
+    error[count] = std::max(0.010, 0.01 * r);
     out_cos[count] = cos_t[step];
     out_sin[count] = sin_t[step];
     ++count;
