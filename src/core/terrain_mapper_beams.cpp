@@ -29,9 +29,9 @@
 namespace stridemap {
 namespace {
 
-// Added to an outside point's row: beyond the largest window's rows.
+// An outside point's row: beyond the largest window's rows.
 constexpr double kOutsideRow = 1.0e9;
-static_assert(2.0 * kOutsideRow + kMaxGridCellsPerSide < 2147483647.0, "an outside row must fit in int32");
+static_assert(kOutsideRow >= kMaxGridCellsPerSide && kOutsideRow < 2147483647.0, "an outside row must fit in int32");
 
 }  // namespace
 
@@ -57,9 +57,8 @@ STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beam
   const double inverse_cell = 1.0 / map_.cell_size_m();
   const auto n = static_cast<double>(map_.cells_per_side());
   const auto lo_x = static_cast<double>(map_.min_cell().x), lo_y = static_cast<double>(map_.min_cell().y);
-  const double hi_x = lo_x + n, hi_y = lo_y + n;
   constexpr double kMaxCoordinate_m = 1.0e6;  // as apply()
-  constexpr double kInf = std::numeric_limits<double>::infinity();
+  constexpr double kInf = std::numeric_limits<double>::infinity();  // a NaN turning term's bound
   constexpr double kRound = 6755399441055744.0;  // 1.5 * 2^52
 
   const double* __restrict range = beams.range_m.data();
@@ -89,26 +88,27 @@ STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beam
       const double turn = turn_per_m * (std::sqrt(ox * ox + oy * oy) + turn_offset);
       dz += turn != turn ? kInf : turn;
       const double lateral = -sin_yaw * ox + cos_yaw * oy + mount_lateral;
-      dz += lateral_per_m * (lateral < 0 ? -lateral : lateral);
+      // fabs: only a zero's sign differs, and dz >= +0 here absorbs it.
+      dz += lateral_per_m * std::fabs(lateral);
     }
     const double x = x0 + ox, y = y0 + oy, h = z0 + oz;
     // apply()'s range check and ElevationMap::slot_at, in doubles so that
-    // the loop stays one vector type: a point that fails a range check gets
-    // -inf, which fails the window's bounds; floor() is round-to-nearest by
-    // the 1.5 * 2^52 trick, less one where that rounded up (exact for cell
-    // indices below 2^51; integrate() checked the window's fit in 2^30).
-    const double cx = x * inverse_cell, cy = y * inverse_cell;
-    const double mx = (std::fabs(x) < kMaxCoordinate_m ? cx : -kInf) + (std::fabs(h) < kMaxCoordinate_m ? 0.0 : -kInf);
-    const double my = std::fabs(y) < kMaxCoordinate_m ? cy : -kInf;
-    const double bx = mx >= lo_x ? mx : kInf, by = my >= lo_y ? my : kInf;
-    const double outside = (bx < hi_x ? 0.0 : 1.0) + (by < hi_y ? 0.0 : 1.0);
-    const double sx = bx < hi_x ? cx : lo_x, sy = by < hi_y ? cy : lo_y;
-    const double rx = (sx + kRound) - kRound, ry = (sy + kRound) - kRound;
+    // the loop stays one vector type. floor() is round-to-nearest by the
+    // 1.5 * 2^52 trick, less one where that rounded up: exact for cell
+    // indices below 2^51, which every point within the range check has
+    // (integrate() checked the window's fit in 2^30). A point is in the
+    // window when its floored cell is (the corner is a whole cell, so that is
+    // slot_at's cx >= lo_x && cx < lo_x + n); NaN fails every comparison.
     // The cell's row and column from the window's corner (exact integers
     // below n); update_located() turns them into the slot. Outside: a row
-    // beyond every window's (at most 2e9 + n, within int32).
-    row_out[k] = static_cast<std::int32_t>(rx - (rx > sx ? 1.0 : 0.0) - lo_x + outside * kOutsideRow);
-    column_out[k] = static_cast<std::int32_t>(ry - (ry > sy ? 1.0 : 0.0) - lo_y);
+    // beyond every window's.
+    const double cx = x * inverse_cell, cy = y * inverse_cell;
+    const double rx = (cx + kRound) - kRound, ry = (cy + kRound) - kRound;
+    const double i = rx - (rx > cx ? 1.0 : 0.0) - lo_x, j = ry - (ry > cy ? 1.0 : 0.0) - lo_y;
+    const bool inside = (std::fabs(x) < kMaxCoordinate_m) & (std::fabs(y) < kMaxCoordinate_m) &
+                        (std::fabs(h) < kMaxCoordinate_m) & (i >= 0.0) & (i < n) & (j >= 0.0) & (j < n);
+    row_out[k] = static_cast<std::int32_t>(inside ? i : kOutsideRow);
+    column_out[k] = static_cast<std::int32_t>(inside ? j : 0.0);
     // Such a point's h_m and Delta z_max are never read; beyond float's
     // range their conversion gives an infinity (IEEE 754; no sanitizer
     // checks a conversion between floating types), and a select here would
