@@ -127,10 +127,10 @@ void TerrainMapper::update_located(std::size_t count, ScanStats& stats) {
   if (row_slot_.size() != un || corner_slot != tables_corner_slot_) {
     row_slot_.resize(un);
     column_slot_.resize(un);
-    const auto slot_x = static_cast<std::int32_t>(corner_slot / un), slot_y = static_cast<std::int32_t>(corner_slot % un);
-    for (std::int32_t i = 0; i < n; ++i) {
-      row_slot_[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>((i + slot_x) % n) * static_cast<std::uint32_t>(n);
-      column_slot_[static_cast<std::size_t>(i)] = static_cast<std::uint32_t>((i + slot_y) % n);
+    const std::size_t slot_x = corner_slot / un, slot_y = corner_slot % un;
+    for (std::size_t i = 0; i < un; ++i) {
+      row_slot_[i] = static_cast<std::uint32_t>((i + slot_x) % un * un);
+      column_slot_[i] = static_cast<std::uint32_t>((i + slot_y) % un);
     }
     tables_corner_slot_ = corner_slot;
   }

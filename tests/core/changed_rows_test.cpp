@@ -38,7 +38,7 @@ TEST(ChangedRows, KeepsEachRowsSmallestAndLargestColumn) {
 // adding them row by row does: rows across the ring's wrap and below zero,
 // rows without a span, and rows already holding a span or an older row.
 TEST(ChangedRows, SpansAddedAtOnceMatchSpansAddedRowByRow) {
-  for (const std::int64_t first : {std::int64_t{-13}, std::int64_t{-1}, std::int64_t{0}, std::int64_t{7}, std::int64_t{98}}) {
+  for (const std::int64_t first : {-13, -1, 0, 7, 98}) {
     ChangedRows one_by_one(10), at_once(10);
     for (ChangedRows* rows : {&one_by_one, &at_once}) {
       rows->add_span(first + 1, 3, 4);    // widened below
@@ -48,7 +48,9 @@ TEST(ChangedRows, SpansAddedAtOnceMatchSpansAddedRowByRow) {
     const std::int32_t hi[] = {8, -1, 1, 0, 6, 9, 2, 8, 4, 7, 6, 9};
     const std::size_t count = sizeof lo / sizeof lo[0];  // more than the ring: later rows replace earlier ones
     const std::int64_t y0 = -40;
-    for (std::size_t k = 0; k < count; ++k) one_by_one.add_span(first + static_cast<std::int64_t>(k), y0 + lo[k], y0 + hi[k]);
+    for (std::size_t k = 0; k < count; ++k) {
+      one_by_one.add_span(first + static_cast<std::int64_t>(k), y0 + lo[k], y0 + hi[k]);
+    }
     at_once.add_spans(first, count, lo, hi, y0);
     EXPECT_EQ(at_once.bounds().min, one_by_one.bounds().min) << first;
     EXPECT_EQ(at_once.bounds().max, one_by_one.bounds().max) << first;
