@@ -3,7 +3,9 @@
 // calibrated beams -> the map), 1 cm cells, 100 x 100 window, the robot
 // walking and turning. Run under callgrind, which counts the instructions
 // of the conversion and the integration separately; it prints the valid
-// points so that the script can divide.
+// points so that the script can divide, and a digest of every layer's bytes
+// and of the changed rows after each scan, so that two builds' maps can be
+// compared bit for bit.
 //
 //   point_path_workload [packed|planar] [scans]
 //     packed: UrgModel::to_beams + TerrainMapper::integrate(PlanarBeams) (default)
@@ -14,6 +16,7 @@
 #include <cstdlib>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
@@ -61,6 +64,11 @@ int main(int argc, char** argv) {
   PlanarBeams beams;
   TrunkPose pose;
   std::size_t valid = 0;
+  std::uint64_t digest = 1469598103934665603ull;  // FNV-1a, 64 bits
+  const auto mix = [&digest](const void* bytes, std::size_t size) {
+    const auto* b = static_cast<const unsigned char*>(bytes);
+    for (std::size_t i = 0; i < size; ++i) digest = (digest ^ b[i]) * 1099511628211ull;
+  };
   for (int k = 0; k < scans; ++k) {
     UrgRawScan& raw = raw_scans[static_cast<std::size_t>(k) % raw_scans.size()];
     pose.x_m += 0.003;
@@ -71,14 +79,31 @@ int main(int argc, char** argv) {
     const ScanStats stats = mode == "packed" ? (model.to_beams(raw, beams), mapper.integrate(beams, pose))
                                              : (model.to_planar_scan(raw, planar), mapper.integrate(planar, pose));
     valid += stats.integrated + stats.outside_map;
+    const CellBox& rows = mapper.changed_rows().bounds();
+    if (!rows.empty()) {
+      std::int64_t lo = 0, hi = 0;
+      for (std::int64_t x = rows.min.x; x <= rows.max.x; ++x) {
+        if (mapper.changed_rows().span(x, lo, hi)) mix(&lo, sizeof lo), mix(&hi, sizeof hi);
+      }
+    }
+    const std::size_t counts[] = {stats.integrated, stats.outside_map, stats.first, stats.plausible,
+                                  stats.implausible, stats.replaced};
+    mix(counts, sizeof counts);
+    mapper.clear_changed_cells();
   }
-  std::printf("scans %d valid_points %zu cells_measured_certainty_sum %.1f\n", scans, valid,
+  const ElevationMap& map = mapper.map();
+  const std::size_t cells = static_cast<std::size_t>(map.cells_per_side()) * map.cells_per_side();
+  for (std::size_t layer = 0; layer < map.layer_count(); ++layer) {
+    mix(map.layer_bytes(layer), cells * layer_type_bytes(map.layer_spec(layer).type));
+  }
+  std::printf("scans %d valid_points %zu cells_measured_certainty_sum %.1f map_digest %016llx\n", scans, valid,
               [&] {
                 double sum = 0.0;
                 const ElevationMap& map = mapper.map();
                 const std::size_t n = static_cast<std::size_t>(map.cells_per_side()) * map.cells_per_side();
                 for (std::size_t s = 0; s < n; ++s) sum += map.certainty_data()[s];
                 return sum;
-              }());
+              }(),
+              static_cast<unsigned long long>(digest));
   return 0;
 }

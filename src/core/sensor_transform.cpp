@@ -46,8 +46,10 @@ Eigen::Matrix3d tilt_rotation(double pitch_rad, double roll_rad, const SensorMou
 }
 
 Eigen::Matrix3d sensor_to_map_rotation(const TrunkPose& pose, const SensorMount& mount) {
-  return about_z(pose.yaw_rad) * tilt_rotation(pose.pitch_rad, pose.roll_rad, mount);
+  return sensor_to_map_rotation(pose.yaw_rad, tilt_rotation(pose.pitch_rad, pose.roll_rad, mount));
 }
+
+Eigen::Matrix3d sensor_to_map_rotation(double yaw_rad, const Eigen::Matrix3d& tilt) { return about_z(yaw_rad) * tilt; }
 
 Eigen::Vector3d sensor_origin_in_map(const TrunkPose& pose, const SensorMount& mount) {
   if (pose.z_m) {
@@ -79,9 +81,10 @@ double scan_plane_inclination_rad(double pitch_rad, double roll_rad, double alph
 }
 
 double scan_plane_inclination_rad(double pitch_rad, double roll_rad, const SensorMount& mount) {
-  const Eigen::Matrix3d t = tilt_rotation(pitch_rad, roll_rad, mount);
-  return std::atan2(t(0, 2), t(2, 2));
+  return scan_plane_inclination_rad(tilt_rotation(pitch_rad, roll_rad, mount));
 }
+
+double scan_plane_inclination_rad(const Eigen::Matrix3d& tilt) { return std::atan2(tilt(0, 2), tilt(2, 2)); }
 
 ElevationPartials beam_elevation_partials(double range_m, double beam_angle_rad, double pitch_rad,
                                           double roll_rad, double alpha_rad) {

@@ -16,16 +16,27 @@
 
 #include "stridemap/core/terrain_mapper.hpp"
 
+// x86-64's baseline (SSE2) holds two doubles per vector and has no blend;
+// where the CPU has AVX2 the first pass runs a copy built for it (4 lanes,
+// blends), chosen once when the library loads. No FMA is enabled, so every
+// operation rounds as in the baseline copy and the maps stay bit-identical.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+#define STRIDEMAP_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define STRIDEMAP_VECTOR_CLONES
+#endif
+
 namespace stridemap {
 namespace {
 
-// Added to an outside point's slot: beyond the largest window's cells.
-constexpr double kOutsideSlot = 1.0e9;
+// An outside point's row: beyond the largest window's rows.
+constexpr double kOutsideRow = 1.0e9;
+static_assert(kOutsideRow >= kMaxGridCellsPerSide && kOutsideRow < 2147483647.0, "an outside row must fit in int32");
 
 }  // namespace
 
 template <bool kTurning>
-void TerrainMapper::locate_beams(const PlanarBeams& beams, const PlanarBeamGeometry& g,
+STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beams, const PlanarBeamGeometry& g,
                                  const MaxElevationChange& bound, const Eigen::Vector3d& origin) {
   // Everything the loop reads lives in locals, so that the compiler sees
   // that the output arrays alias none of it.
@@ -44,21 +55,18 @@ void TerrainMapper::locate_beams(const PlanarBeams& beams, const PlanarBeamGeome
                mount_lateral = bound.mount_lateral_m();
   const double x0 = origin.x(), y0 = origin.y(), z0 = origin.z();
   const double inverse_cell = 1.0 / map_.cell_size_m();
-  const auto cells_per_side = static_cast<std::size_t>(map_.cells_per_side());
-  const auto n = static_cast<double>(cells_per_side);
-  const auto slot_x = static_cast<double>(map_.slot(map_.min_cell()) / cells_per_side);
-  const auto slot_y = static_cast<double>(map_.slot(map_.min_cell()) % cells_per_side);
+  const auto n = static_cast<double>(map_.cells_per_side());
   const auto lo_x = static_cast<double>(map_.min_cell().x), lo_y = static_cast<double>(map_.min_cell().y);
-  const double hi_x = lo_x + n, hi_y = lo_y + n;
   constexpr double kMaxCoordinate_m = 1.0e6;  // as apply()
-  constexpr double kInf = std::numeric_limits<double>::infinity();
+  constexpr double kInf = std::numeric_limits<double>::infinity();  // a NaN turning term's bound
   constexpr double kRound = 6755399441055744.0;  // 1.5 * 2^52
 
   const double* __restrict range = beams.range_m.data();
   const double* __restrict range_error = beams.range_error_m.data();
   const double* __restrict cos_t = beams.cos_angle.data();
   const double* __restrict sin_t = beams.sin_angle.data();
-  double* __restrict slot = located_slot_.data();
+  std::int32_t* __restrict row_out = located_row_.data();
+  std::int32_t* __restrict column_out = located_column_.data();
   float* __restrict h_out = located_h_m_.data();
   float* __restrict dz_out = located_dz_max_m_.data();
   const std::size_t count = beams.count;
@@ -80,37 +88,101 @@ void TerrainMapper::locate_beams(const PlanarBeams& beams, const PlanarBeamGeome
       const double turn = turn_per_m * (std::sqrt(ox * ox + oy * oy) + turn_offset);
       dz += turn != turn ? kInf : turn;
       const double lateral = -sin_yaw * ox + cos_yaw * oy + mount_lateral;
-      dz += lateral_per_m * (lateral < 0 ? -lateral : lateral);
+      // fabs: only a zero's sign differs, and dz >= +0 here absorbs it.
+      dz += lateral_per_m * std::fabs(lateral);
     }
     const double x = x0 + ox, y = y0 + oy, h = z0 + oz;
     // apply()'s range check and ElevationMap::slot_at, in doubles so that
-    // the loop stays one vector type: a point that fails a range check gets
-    // -inf, which fails the window's bounds; floor() is round-to-nearest by
-    // the 1.5 * 2^52 trick, less one where that rounded up (exact for cell
-    // indices below 2^51; integrate() checked the window's fit in 2^30).
+    // the loop stays one vector type. floor() is round-to-nearest by the
+    // 1.5 * 2^52 trick, less one where that rounded up: exact for cell
+    // indices below 2^51, which every point within the range check has
+    // (integrate() checked the window's fit in 2^30). A point is in the
+    // window when its floored cell is (the corner is a whole cell, so that is
+    // slot_at's cx >= lo_x && cx < lo_x + n); NaN fails every comparison.
+    // The cell's row and column from the window's corner (exact integers
+    // below n); update_located() turns them into the slot. Outside: a row
+    // beyond every window's.
     const double cx = x * inverse_cell, cy = y * inverse_cell;
-    const double mx = (std::fabs(x) < kMaxCoordinate_m ? cx : -kInf) + (std::fabs(h) < kMaxCoordinate_m ? 0.0 : -kInf);
-    const double my = std::fabs(y) < kMaxCoordinate_m ? cy : -kInf;
-    const double bx = mx >= lo_x ? mx : kInf, by = my >= lo_y ? my : kInf;
-    const double outside = (bx < hi_x ? 0.0 : 1.0) + (by < hi_y ? 0.0 : 1.0);
-    const double sx = bx < hi_x ? cx : lo_x, sy = by < hi_y ? cy : lo_y;
-    const double rx = (sx + kRound) - kRound, ry = (sy + kRound) - kRound;
-    double i = rx - (rx > sx ? 1.0 : 0.0) - lo_x + slot_x;
-    double j = ry - (ry > sy ? 1.0 : 0.0) - lo_y + slot_y;
-    i -= i >= n ? n : 0.0;
-    j -= j >= n ? n : 0.0;
-    // Outside: beyond every slot (update_located() checks the bound). Such
-    // a point's h_m and Delta z_max are never read; beyond float's range
-    // their conversion gives an infinity (IEEE 754; no sanitizer checks a
-    // conversion between floating types), and a select here would keep
-    // the loop from vectorising.
-    slot[k] = i * n + j + outside * kOutsideSlot;
+    const double rx = (cx + kRound) - kRound, ry = (cy + kRound) - kRound;
+    const double i = rx - (rx > cx ? 1.0 : 0.0) - lo_x, j = ry - (ry > cy ? 1.0 : 0.0) - lo_y;
+    const bool inside = (std::fabs(x) < kMaxCoordinate_m) & (std::fabs(y) < kMaxCoordinate_m) &
+                        (std::fabs(h) < kMaxCoordinate_m) & (i >= 0.0) & (i < n) & (j >= 0.0) & (j < n);
+    row_out[k] = static_cast<std::int32_t>(inside ? i : kOutsideRow);
+    column_out[k] = static_cast<std::int32_t>(inside ? j : 0.0);
+    // Such a point's h_m and Delta z_max are never read; beyond float's
+    // range their conversion gives an infinity (IEEE 754; no sanitizer
+    // checks a conversion between floating types), and a select here would
+    // keep the loop from vectorising.
     h_out[k] = static_cast<float>(h);
     dz_out[k] = static_cast<float>(dz);
   }
 }
 
 void TerrainMapper::update_located(std::size_t count, ScanStats& stats) {
+  const std::int32_t n = map_.cells_per_side();
+  const auto un = static_cast<std::size_t>(n);
+  // Slot of a window-local row and column: the circular buffer's wrap as
+  // two tables, remade only when the window's corner slot changes.
+  const std::size_t corner_slot = map_.slot(map_.min_cell());
+  if (row_slot_.size() != un || corner_slot != tables_corner_slot_) {
+    row_slot_.resize(un);
+    column_slot_.resize(un);
+    const std::size_t slot_x = corner_slot / un, slot_y = corner_slot % un;
+    for (std::size_t i = 0; i < un; ++i) {
+      row_slot_[i] = static_cast<std::uint32_t>((i + slot_x) % un * un);
+      column_slot_[i] = static_cast<std::uint32_t>((i + slot_y) % un);
+    }
+    tables_corner_slot_ = corner_slot;
+  }
+  if (row_lo_.size() != un) {  // once per window size
+    row_lo_.assign(un, std::numeric_limits<std::int32_t>::max());
+    row_hi_.assign(un, -1);
+  }
+  // Two loops, so that neither runs out of registers: the slots and the
+  // changed rows first (the slot replaces the row in place; an outside
+  // point gets a slot beyond the window's), then the cell updates.
+  std::int32_t* rows = located_row_.data();
+  const std::int32_t* columns = located_column_.data();
+  const std::uint32_t* row_slot = row_slot_.data();
+  const std::uint32_t* column_slot = column_slot_.data();
+  std::int32_t* row_lo = row_lo_.data();
+  std::int32_t* row_hi = row_hi_.data();
+  std::size_t outside = 0;
+  // The changed rows, window-local (a box in slot rows would break where
+  // the circular window wraps); their columns are in row_lo/row_hi.
+  std::int32_t lo_i = n, hi_i = -1;
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::int32_t i = rows[k];
+    if (i >= n) {
+      ++outside;
+      rows[k] = -1;
+      continue;
+    }
+    const std::int32_t j = columns[k];
+    const auto ii = static_cast<std::size_t>(i);
+    rows[k] = static_cast<std::int32_t>(row_slot[ii] + column_slot[static_cast<std::size_t>(j)]);
+    lo_i = std::min(lo_i, i);
+    hi_i = std::max(hi_i, i);
+    row_lo[ii] = std::min(row_lo[ii], j);
+    row_hi[ii] = std::max(row_hi[ii], j);
+  }
+  if (hi_i >= 0) {
+    const CellIndex corner = map_.min_cell();
+    const auto first = static_cast<std::size_t>(lo_i), rows_changed = static_cast<std::size_t>(hi_i - lo_i + 1);
+    changed_rows_.add_spans(corner.x + lo_i, rows_changed, row_lo + first, row_hi + first, corner.y);
+    std::int32_t lo_j = n, hi_j = -1;
+    for (std::size_t ii = first; ii < first + rows_changed; ++ii) {
+      lo_j = std::min(lo_j, row_lo[ii]);  // a row without a span holds (max, -1)
+      hi_j = std::max(hi_j, row_hi[ii]);
+      row_lo[ii] = std::numeric_limits<std::int32_t>::max();
+      row_hi[ii] = -1;
+    }
+    changed_.add(CellIndex{corner.x + lo_i, corner.y + lo_j});
+    changed_.add(CellIndex{corner.x + hi_i, corner.y + hi_j});
+  }
+
+  // Everything the loop reads lives in locals: the cell updates store
+  // bytes (state, contradictions), which could alias any member.
   float* elevation = map_.elevation_data();
   float* certainty = map_.certainty_data();
   std::uint8_t* state = map_.state_data();
@@ -118,57 +190,18 @@ void TerrainMapper::update_located(std::size_t count, ScanStats& stats) {
   std::uint8_t* contradictions = map_.contradiction_data();
   float* mean = map_.mean_elevation_data();
   std::uint16_t* mean_count = map_.mean_count_data();
-  const UpdateOptions& options = options_.update;
+  const std::int32_t* slots = located_row_.data();
+  const float* h_m = located_h_m_.data();
+  const float* dz_max_m = located_dz_max_m_.data();
+  const UpdateOptions options = options_.update;
   std::size_t outcomes[4] = {0, 0, 0, 0};
-  std::size_t outside = 0;
-  const std::size_t cells = static_cast<std::size_t>(map_.cells_per_side()) * static_cast<std::size_t>(map_.cells_per_side());
-  // The changed cells' box, in window-local rows and columns (a box in
-  // slot rows would break where the circular window wraps). Floating-point
-  // division keeps this cheap; the half cell keeps floor() off a boundary.
-  const auto n = static_cast<double>(map_.cells_per_side());
-  const double inverse_n = 1.0 / n;
-  const auto corner_slot = static_cast<double>(map_.slot(map_.min_cell()));
-  const double row0 = std::floor((corner_slot + 0.5) * inverse_n), col0 = corner_slot - row0 * n;
-  double lo_i = n, lo_j = n, hi_i = -1.0, hi_j = -1.0;
-  const auto rows = static_cast<std::size_t>(map_.cells_per_side());
-  if (row_lo_.size() != rows) {  // once per window size
-    row_lo_.assign(rows, std::numeric_limits<std::int32_t>::max());
-    row_hi_.assign(rows, -1);
-  }
   for (std::size_t k = 0; k < count; ++k) {
-    const auto s = static_cast<std::size_t>(located_slot_[k]);
-    if (s >= cells) {
-      ++outside;
-      continue;
-    }
-    const double row = std::floor((located_slot_[k] + 0.5) * inverse_n);
-    double i = row - row0, j = located_slot_[k] - row * n - col0;
-    i += i < 0.0 ? n : 0.0;
-    j += j < 0.0 ? n : 0.0;
-    lo_i = std::min(lo_i, i);
-    hi_i = std::max(hi_i, i);
-    lo_j = std::min(lo_j, j);
-    hi_j = std::max(hi_j, j);
-    const auto ii = static_cast<std::size_t>(i);
-    const auto jj = static_cast<std::int32_t>(j);
-    row_lo_[ii] = std::min(row_lo_[ii], jj);
-    row_hi_[ii] = std::max(row_hi_[ii], jj);
+    if (slots[k] < 0) continue;
+    const auto s = static_cast<std::size_t>(slots[k]);
     const CellUpdate result = update_cell({elevation[s], certainty[s], state[s], pending[s], contradictions[s], mean[s],
                                            mean_count[s]},
-                                          located_h_m_[k], located_dz_max_m_[k], options);
+                                          h_m[k], dz_max_m[k], options);
     ++outcomes[static_cast<std::size_t>(result)];
-  }
-  if (hi_i >= 0.0) {
-    const CellIndex corner = map_.min_cell();
-    changed_.add(CellIndex{corner.x + static_cast<std::int64_t>(lo_i), corner.y + static_cast<std::int64_t>(lo_j)});
-    changed_.add(CellIndex{corner.x + static_cast<std::int64_t>(hi_i), corner.y + static_cast<std::int64_t>(hi_j)});
-    for (auto ii = static_cast<std::size_t>(lo_i); ii <= static_cast<std::size_t>(hi_i); ++ii) {
-      if (row_lo_[ii] <= row_hi_[ii]) {
-        changed_rows_.add_span(corner.x + static_cast<std::int64_t>(ii), corner.y + row_lo_[ii], corner.y + row_hi_[ii]);
-      }
-      row_lo_[ii] = std::numeric_limits<std::int32_t>::max();
-      row_hi_[ii] = -1;
-    }
   }
   stats.outside_map += outside;
   stats.integrated += count - outside;
@@ -207,8 +240,9 @@ ScanStats TerrainMapper::integrate(const PlanarBeams& beams, const TrunkPose& po
   if (std::abs(corner.x) >= kIndexLimit || std::abs(corner.y) >= kIndexLimit) {
     integrate_far(beams, geometry, bound, origin, stats);
   } else {
-    if (located_slot_.size() < beams.count) {  // grows once, as the beams did
-      located_slot_.resize(beams.range_m.size());
+    if (located_row_.size() < beams.count) {  // grows once, as the beams did
+      located_row_.resize(beams.range_m.size());
+      located_column_.resize(beams.range_m.size());
       located_h_m_.resize(beams.range_m.size());
       located_dz_max_m_.resize(beams.range_m.size());
     }

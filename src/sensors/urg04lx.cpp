@@ -1,11 +1,16 @@
 #include "stridemap/sensors/urg04lx.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <numbers>
 #include <sstream>
 #include <string>
+
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
 
 #include "stridemap/core/error.hpp"
 
@@ -188,6 +193,78 @@ UrgConversionStats UrgModel::to_planar_scan(const UrgRawScan& raw, PlanarScan& o
   return stats;
 }
 
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+#define STRIDEMAP_URG_AVX2 1
+namespace {
+// pack_beams' loop four beams at a time where the CPU has AVX2 (chosen at
+// run time; x86-64's baseline has no blend and no lane permute). The same
+// operations in the same order as the scalar loop, without FMA, so every
+// kept beam is the scalar loop's bit for bit; the kept lanes are moved to
+// the front by one permute per array and stored at `count` (the lanes
+// beyond are overwritten by the next block or left beyond out.count).
+// Returns the beams consumed (a multiple of 4); the caller finishes the rest.
+template <bool kCalibrated>
+__attribute__((target("avx2"))) std::size_t pack_blocks_avx2(const std::uint32_t* values, std::size_t n,
+                                                              const double* cos_t, const double* sin_t,
+                                                              double lowest, double highest, const double* c,
+                                                              double* range, double* error, double* out_cos,
+                                                              double* out_sin, std::size_t& count, std::size_t& valid,
+                                                              std::size_t& beyond) {
+  // For each mask of kept lanes, the 32-bit lane indices that bring the
+  // kept 64-bit lanes to the front in order.
+  alignas(32) static const std::int32_t kFront[16][8] = {
+      {0, 1, 2, 3, 4, 5, 6, 7}, {0, 1, 2, 3, 4, 5, 6, 7}, {2, 3, 0, 1, 4, 5, 6, 7}, {0, 1, 2, 3, 4, 5, 6, 7},
+      {4, 5, 0, 1, 2, 3, 6, 7}, {0, 1, 4, 5, 2, 3, 6, 7}, {2, 3, 4, 5, 0, 1, 6, 7}, {0, 1, 2, 3, 4, 5, 6, 7},
+      {6, 7, 0, 1, 2, 3, 4, 5}, {0, 1, 6, 7, 2, 3, 4, 5}, {2, 3, 6, 7, 0, 1, 4, 5}, {0, 1, 2, 3, 6, 7, 4, 5},
+      {4, 5, 6, 7, 0, 1, 2, 3}, {0, 1, 4, 5, 6, 7, 2, 3}, {2, 3, 4, 5, 6, 7, 0, 1}, {0, 1, 2, 3, 4, 5, 6, 7}};
+  const __m256d lo = _mm256_set1_pd(lowest), hi = _mm256_set1_pd(highest);
+  const __m256d milli = _mm256_set1_pd(0.001), centi = _mm256_set1_pd(0.01), zero = _mm256_setzero_pd();
+  const __m256d inf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
+  const __m128i sign = _mm_set1_epi32(static_cast<int>(0x80000000u));
+  const __m256d two_31 = _mm256_set1_pd(2147483648.0);
+  std::size_t i = 0;
+  for (; i + 4 <= n; i += 4) {
+    // uint32 -> double exactly: flip the sign bit, convert as int32, add 2^31.
+    const __m128i v = _mm_xor_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(values + i)), sign);
+    const __m256d value = _mm256_add_pd(_mm256_cvtepi32_pd(v), two_31);
+    const __m256d in_range = _mm256_and_pd(_mm256_cmp_pd(value, lo, _CMP_GE_OQ), _mm256_cmp_pd(value, hi, _CMP_LE_OQ));
+    const auto in_mask = static_cast<unsigned>(_mm256_movemask_pd(in_range));
+    const auto beyond_mask = static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(value, hi, _CMP_GT_OQ)));
+    valid += static_cast<std::size_t>(__builtin_popcount(in_mask));
+    beyond += static_cast<std::size_t>(__builtin_popcount(beyond_mask));
+    if (in_mask == 0) continue;
+    const __m256d raw_m = _mm256_mul_pd(value, milli);
+    __m256d r = raw_m;
+    __m256d keep = in_range;
+    if constexpr (kCalibrated) {
+      // raw + (c0 + raw (c1 + raw (c2 + raw c3))), as the scalar loop.
+      __m256d poly = _mm256_mul_pd(raw_m, _mm256_set1_pd(c[3]));
+      poly = _mm256_mul_pd(raw_m, _mm256_add_pd(_mm256_set1_pd(c[2]), poly));
+      poly = _mm256_mul_pd(raw_m, _mm256_add_pd(_mm256_set1_pd(c[1]), poly));
+      r = _mm256_add_pd(raw_m, _mm256_add_pd(_mm256_set1_pd(c[0]), poly));
+      keep = _mm256_and_pd(keep, _mm256_and_pd(_mm256_cmp_pd(r, zero, _CMP_GT_OQ), _mm256_cmp_pd(r, inf, _CMP_LT_OQ)));
+    } else {
+      keep = _mm256_and_pd(keep, _mm256_cmp_pd(value, zero, _CMP_NEQ_OQ));
+    }
+    const auto mask = static_cast<unsigned>(_mm256_movemask_pd(keep));
+    const __m256i front = _mm256_load_si256(reinterpret_cast<const __m256i*>(kFront[mask]));
+    // max(0.01, 0.01 r) as the scalar loop's std::max (r is finite here).
+    const __m256d err = _mm256_max_pd(centi, _mm256_mul_pd(centi, r));
+    const __m256 kept_r = _mm256_permutevar8x32_ps(_mm256_castpd_ps(r), front);
+    const __m256 kept_err = _mm256_permutevar8x32_ps(_mm256_castpd_ps(err), front);
+    const __m256 kept_cos = _mm256_permutevar8x32_ps(_mm256_castpd_ps(_mm256_loadu_pd(cos_t + i)), front);
+    const __m256 kept_sin = _mm256_permutevar8x32_ps(_mm256_castpd_ps(_mm256_loadu_pd(sin_t + i)), front);
+    _mm256_storeu_pd(range + count, _mm256_castps_pd(kept_r));
+    _mm256_storeu_pd(error + count, _mm256_castps_pd(kept_err));
+    _mm256_storeu_pd(out_cos + count, _mm256_castps_pd(kept_cos));
+    _mm256_storeu_pd(out_sin + count, _mm256_castps_pd(kept_sin));
+    count += static_cast<std::size_t>(__builtin_popcount(mask));
+  }
+  return i;
+}
+}  // namespace
+#endif
+
 template <bool kCalibrated>
 UrgConversionStats UrgModel::pack_beams(const UrgRawScan& raw, PlanarBeams& out) const {
   const std::size_t n = raw.values_mm.size();
@@ -209,13 +286,28 @@ UrgConversionStats UrgModel::pack_beams(const UrgRawScan& raw, PlanarBeams& out)
   const auto& c = calibration_.coefficients;
   constexpr double kInf = std::numeric_limits<double>::infinity();
   std::size_t count = 0, beyond = 0, valid = 0;
+  if (!any_valid) {  // DMIN above DMAX (a made-up sensor): nothing is valid
+    for (std::size_t i = 0; i < n; ++i) beyond += static_cast<std::size_t>(values[i] > highest);
+  }
+  const std::size_t scanned = any_valid ? n : 0;
+  std::size_t i = 0;
+#ifdef STRIDEMAP_URG_AVX2
+  // The blocks need each beam's own direction next to the last (no
+  // clusters) and the thresholds as doubles (exact: both below 2^33).
+  static const bool has_avx2 = __builtin_cpu_supports("avx2");
+  if (has_avx2 && cluster == 1 && any_valid) {
+    const auto lowest_mm = static_cast<double>(lowest), highest_mm = static_cast<double>(highest);
+    i = pack_blocks_avx2<kCalibrated>(values, n, cos_t, sin_t, lowest_mm, highest_mm, c.data(), range, error, out_cos,
+                                      out_sin, count, valid, beyond);
+  }
+#endif
   // Valid and invalid values come in long runs (ground, then sky), so the
   // branch is well predicted. A beam is kept when the mapper would use it
   // from to_planar_scan: a valid value whose calibrated range is finite and
   // positive (its error, 1 cm or 1 %, and its angle are then finite too).
-  for (std::size_t i = 0, step = 0; i < n; ++i, step += cluster) {
+  for (; i < scanned; ++i) {
     const std::uint64_t value = values[i];
-    if (value - lowest > span || !any_valid) {
+    if (value - lowest > span) {
       beyond += static_cast<std::size_t>(value > highest);
       continue;
     }
@@ -228,8 +320,11 @@ UrgConversionStats UrgModel::pack_beams(const UrgRawScan& raw, PlanarBeams& out)
     } else if (value == 0) {
       continue;  // a DMIN below 1 mm lets 0 through; the mapper takes no zero range
     }
+    const std::size_t step = i * cluster;
     range[count] = r;
-    error[count] = r <= 1.0 ? 0.010 : 0.01 * r;  // spec_range_error_m
+    // spec_range_error_m (1 cm up to 1 m, then 1 %) as a max: for a finite
+    // r > 0, 0.01 r rounds to at most 0.01 exactly when r <= 1.
+    error[count] = std::max(0.010, 0.01 * r);
     out_cos[count] = cos_t[step];
     out_sin[count] = sin_t[step];
     ++count;

@@ -2,6 +2,9 @@
 // in a ring of one window's rows.
 #include <gtest/gtest.h>
 
+#include <cstdint>
+#include <limits>
+
 #include "stridemap/core/changed_rows.hpp"
 
 namespace stridemap {
@@ -29,6 +32,42 @@ TEST(ChangedRows, KeepsEachRowsSmallestAndLargestColumn) {
   EXPECT_TRUE(rows.empty());
   EXPECT_FALSE(rows.span(-3, lo, hi));
   EXPECT_FALSE(rows.span(4, lo, hi));
+}
+
+// The mapper's spans of one scan, added at once, must leave exactly what
+// adding them row by row does: rows across the ring's wrap and below zero,
+// rows without a span, and rows already holding a span or an older row.
+TEST(ChangedRows, SpansAddedAtOnceMatchSpansAddedRowByRow) {
+  for (const std::int64_t first : {-13, -1, 0, 7, 98}) {
+    ChangedRows one_by_one(10), at_once(10);
+    for (ChangedRows* rows : {&one_by_one, &at_once}) {
+      rows->add_span(first + 1, 3, 4);    // widened below
+      rows->add_span(first + 2 - 10, 0, 9);  // an older row at a place reused below
+    }
+    const std::int32_t lo[] = {5, std::numeric_limits<std::int32_t>::max(), -2, 0, 6, 1, 2, 3, 4, 5, 6, 7};
+    const std::int32_t hi[] = {8, -1, 1, 0, 6, 9, 2, 8, 4, 7, 6, 9};
+    const std::size_t count = sizeof lo / sizeof lo[0];  // more than the ring: later rows replace earlier ones
+    const std::int64_t y0 = -40;
+    for (std::size_t k = 0; k < count; ++k) {
+      one_by_one.add_span(first + static_cast<std::int64_t>(k), y0 + lo[k], y0 + hi[k]);
+    }
+    at_once.add_spans(first, count, lo, hi, y0);
+    EXPECT_EQ(at_once.bounds().min, one_by_one.bounds().min) << first;
+    EXPECT_EQ(at_once.bounds().max, one_by_one.bounds().max) << first;
+    for (std::int64_t x = first - 12; x < first + 24; ++x) {
+      std::int64_t lo_a = 0, hi_a = 0, lo_b = 0, hi_b = 0;
+      const bool a = at_once.span(x, lo_a, hi_a), b = one_by_one.span(x, lo_b, hi_b);
+      ASSERT_EQ(a, b) << "row " << x << ", first " << first;
+      if (a) {
+        EXPECT_EQ(lo_a, lo_b) << "row " << x << ", first " << first;
+        EXPECT_EQ(hi_a, hi_b) << "row " << x << ", first " << first;
+      }
+    }
+  }
+  ChangedRows none(10);
+  const std::int32_t lo[] = {1}, hi[] = {0};
+  none.add_spans(3, 1, lo, hi, 0);
+  EXPECT_TRUE(none.empty());
 }
 
 TEST(ChangedRows, ARowAWindowLaterReplacesTheOneThatLeft) {

@@ -88,6 +88,43 @@ TEST(UrgPackedBeams, SameMapAsThePlanarScanPath) {
   // A calibration that drives short ranges negative: those beams are
   // invalid ranges on both ways.
   run(RangeCalibration{{-0.3, 0.0, 0.0, 0.0}}, 60, 2, 4);
+  run(RangeCalibration{{-0.3, 0.0, 0.0, 0.0}}, 44, 1, 5);  // unclustered: four beams at a time where AVX2 is
+}
+
+// Every packed beam is the planar scan's valid beam, bit for bit and in
+// order: the four-beams-at-a-time conversion (x86-64 with AVX2) and the
+// beam-by-beam one alike, over every kind of raw value, with and without
+// calibration, clustered or not, scans of every length modulo 4.
+TEST(UrgPackedBeams, PackedBeamsAreThePlanarScansValidBeamsBitForBit) {
+  const UrgParameters p;
+  const RangeCalibration calibrations[] = {RangeCalibration{}, RangeCalibration{{0.004, -0.01, 0.002, -0.0005}},
+                                           RangeCalibration{{-0.3, 0.0, 0.0, 0.0}}};
+  std::mt19937_64 rng(7);
+  PlanarBeams beams;
+  PlanarScan scan;
+  for (const RangeCalibration& calibration : calibrations) {
+    const UrgModel model(p, calibration);
+    for (const int cluster : {1, 2}) {
+      for (const int first_step : {44, 45, 46, 47, 300}) {
+        const UrgRawScan raw = random_scan(rng, p, first_step, cluster);
+        model.to_beams(raw, beams);
+        model.to_planar_scan(raw, scan);
+        std::size_t k = 0;
+        for (std::size_t i = 0; i < scan.range_m.size(); ++i) {
+          if (!(scan.range_m[i] > 0.0 && std::isfinite(scan.range_m[i]))) continue;
+          ASSERT_LT(k, beams.count) << "beam " << i << ", cluster " << cluster << ", first step " << first_step;
+          EXPECT_EQ(beams.range_m[k], scan.range_m[i]) << "beam " << i;
+          EXPECT_EQ(beams.range_error_m[k], scan.range_error_m[i]) << "beam " << i;
+          EXPECT_EQ(beams.cos_angle[k], std::cos(scan.angle_rad[i])) << "beam " << i;
+          EXPECT_EQ(beams.sin_angle[k], std::sin(scan.angle_rad[i])) << "beam " << i;
+          ++k;
+        }
+        EXPECT_EQ(k, beams.count) << "cluster " << cluster << ", first step " << first_step;
+        EXPECT_EQ(beams.invalid_range, raw.values_mm.size() - k);
+        if (::testing::Test::HasFailure()) return;
+      }
+    }
+  }
 }
 
 TEST(UrgPackedBeams, BadScansAreRefusedAsByTheConversion) {

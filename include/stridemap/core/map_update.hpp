@@ -2,6 +2,7 @@
 // The update rule of section 5.2: the predicted maximum elevation change
 // Delta z_max (eq. 6 with gamma of eq. 7 and the turning extension of
 // Fig. 10), then certainty (eq. 9) and elevation (eq. 10) of one cell.
+#include <cmath>
 #include <cstdint>
 #include <numbers>
 
@@ -128,7 +129,9 @@ inline CellUpdate update_cell(CellRef cell, float h_m, float dz_max, const Updat
     return CellUpdate::first;
   }
   const float difference = h_m - cell.elevation;
-  const bool plausible = (difference < 0 ? -difference : difference) <= (dz_max < 0 ? -dz_max : dz_max);
+  // fabs differs from v < 0 ? -v : v only in the sign of a zero, which a
+  // comparison does not see; it is one instruction, not a branch.
+  const bool plausible = std::fabs(difference) <= std::fabs(dz_max);
   if (plausible) {
     const float raised = cell.certainty + a;
     cell.certainty = raised > ceiling ? ceiling : raised;

@@ -31,6 +31,9 @@ Eigen::Matrix3d tilt_rotation(double pitch_rad, double roll_rad, const SensorMou
 
 /// Full sensor-to-map rotation Rz(yaw) * T.
 Eigen::Matrix3d sensor_to_map_rotation(const TrunkPose& pose, const SensorMount& mount);
+/// The same from T = tilt_rotation(pitch, roll, mount) already made (a
+/// scan's geometry needs T for gamma too): the same matrix, bit for bit.
+Eigen::Matrix3d sensor_to_map_rotation(double yaw_rad, const Eigen::Matrix3d& tilt);
 
 /// Sensor origin in the map frame.
 /// Pose without z (the paper): trunk position plus the mount offset turned
@@ -51,6 +54,8 @@ Eigen::Vector3d sensor_point_to_map(const Eigen::Vector3d& point_in_sensor, cons
 double scan_plane_inclination_rad(double pitch_rad, double roll_rad, double alpha_rad);
 /// The same for the full mount (T with mount roll and yaw).
 double scan_plane_inclination_rad(double pitch_rad, double roll_rad, const SensorMount& mount);
+/// The same from T = tilt_rotation(pitch, roll, mount) already made.
+double scan_plane_inclination_rad(const Eigen::Matrix3d& tilt);
 
 /// z_m of a beam hit relative to the sensor, and its analytic partial
 /// derivatives (eq. 6's terms).

@@ -192,11 +192,15 @@ class TerrainMapper {
   std::optional<double> previous_time_s_;
   std::vector<double> cached_angles_, cos_angle_, sin_angle_;
   PlanarBeams packed_;  // integrate(PlanarScan)'s beams
-  // Per valid beam of the scan being integrated: its slot (beyond the
-  // window's cells when outside it; a double, as the pass computing it)
+  // Per valid beam of the scan being integrated: its cell's row and column
+  // from the window's corner (a row beyond the window's when outside it)
   // and h_m, Delta z_max as the map stores them.
-  std::vector<double> located_slot_;
+  std::vector<std::int32_t> located_row_, located_column_;
   std::vector<float> located_h_m_, located_dz_max_m_;
+  // update_located()'s slot of a window-local row (times n) and column, for
+  // the window's corner slot tables_corner_slot_.
+  std::vector<std::uint32_t> row_slot_, column_slot_;
+  std::size_t tables_corner_slot_ = 0;
 };
 
 /// True when every field of the pose is finite.
