@@ -164,7 +164,7 @@ LiveRunStats LiveMapping::run_stats() const {
     for (std::size_t b = 0; b < latency_bins_.size(); ++b) {
       seen += latency_bins_[b];
       if (seen > rank) {
-        run.latency_p99_s = std::min(latency_max_s_, kLatencyFloorS * std::pow(kLatencyBinRatio, b + 1.0));
+        run.latency_p99_s = std::min(latency_max_s_, kLatencyFloorS * std::pow(kLatencyBinRatio, static_cast<double>(b) + 1.0));
         break;
       }
     }
