@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "option_checks.hpp"
 #include "stridemap/preprocess/range_clustering.hpp"
@@ -11,7 +12,6 @@
 namespace stridemap {
 namespace {
 
-constexpr double pi = 3.14159265358979323846;
 constexpr std::size_t none = static_cast<std::size_t>(-1);
 
 }  // namespace
@@ -171,7 +171,7 @@ void LineExtractor::fit(std::size_t first, std::size_t last, LineSegment& line) 
   double rho = mean_x * std::cos(alpha) + mean_y * std::sin(alpha);
   if (rho < 0.0) {
     rho = -rho;
-    alpha += pi;
+    alpha += std::numbers::pi;
   }
   const double nx = std::cos(alpha);
   const double ny = std::sin(alpha);
