@@ -40,7 +40,10 @@ function(stridemap_add_layer name)
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   target_link_libraries(stridemap_${name} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
   stridemap_set_warnings(stridemap_${name})
-  stridemap_precompile_common_headers(stridemap_${name})
+  stridemap_unity_build_library(stridemap_${name})
+  if(NOT STRIDEMAP_UNITY_BUILD)
+    stridemap_precompile_common_headers(stridemap_${name})
+  endif()
 endfunction()
 
 # Eigen and the standard headers every layer uses are parsed once per target
@@ -71,5 +74,28 @@ endfunction()
 function(stridemap_unity_build target)
   if(STRIDEMAP_UNITY_BUILD)
     set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 0)
+  endif()
+endfunction()
+
+# A library in batches of STRIDEMAP_UNITY_BATCH_SIZE files (STRIDEMAP_UNITY_BUILD):
+# the layers build one after another (each links the one below), so one
+# translation unit per layer would leave the second core of a 2-core build
+# idle; batches keep both busy. No precompiled header: a batch parses Eigen
+# and the standard headers once anyway, and building the header cost more
+# than it saved (docs/performance.md). A file whose file-local names clash
+# with another file of its layer is marked SKIP_UNITY_BUILD_INCLUSION where
+# its layer is declared (src/CMakeLists.txt); CMake also compiles alone any
+# file with its own COMPILE_OPTIONS or COMPILE_DEFINITIONS.
+set(STRIDEMAP_UNITY_BATCH_SIZE 8 CACHE STRING "Library files per translation unit with STRIDEMAP_UNITY_BUILD")
+function(stridemap_unity_build_library target)
+  if(NOT STRIDEMAP_UNITY_BUILD)
+    return()
+  endif()
+  set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE ${STRIDEMAP_UNITY_BATCH_SIZE})
+  # g++ takes every file of a batch but the generated one for a header, and
+  # warns that a class of it (ScanLogReader::State, say) holds a type from
+  # the file's anonymous namespace; the class is defined in that file only.
+  if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    target_compile_options(${target} PRIVATE -Wno-subobject-linkage)
   endif()
 endfunction()

@@ -9,7 +9,7 @@
 namespace stridemap {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kFootholdNaN = std::numeric_limits<double>::quiet_NaN();
 
 void count(FootholdConfusion& c, float map_score, bool truth_safe, double threshold) {
   ++c.scored_cells;
@@ -25,12 +25,12 @@ void count(FootholdConfusion& c, float map_score, bool truth_safe, double thresh
 
 double FootholdConfusion::precision() const {
   const std::size_t called = true_safe + false_safe;
-  return called ? static_cast<double>(true_safe) / static_cast<double>(called) : kNaN;
+  return called ? static_cast<double>(true_safe) / static_cast<double>(called) : kFootholdNaN;
 }
 
 double FootholdConfusion::recall() const {
   const std::size_t safe = true_safe + false_unsafe;
-  return safe ? static_cast<double>(true_safe) / static_cast<double>(safe) : kNaN;
+  return safe ? static_cast<double>(true_safe) / static_cast<double>(safe) : kFootholdNaN;
 }
 
 FootholdConfusion& FootholdConfusion::operator+=(const FootholdConfusion& o) {
@@ -106,7 +106,7 @@ FootholdRun score_footholds(const ElevationMap& map, const ElevationMap& truth, 
     run.mean_step_error_m = step_error / k;
     run.mean_score_error = score_error / k;
   } else {
-    run.mean_slope_error_deg = run.mean_step_error_m = run.mean_score_error = kNaN;
+    run.mean_slope_error_deg = run.mean_step_error_m = run.mean_score_error = kFootholdNaN;
   }
   return run;
 }

@@ -10,7 +10,7 @@
 namespace stridemap {
 namespace {
 
-constexpr double kDeg = std::numbers::pi / 180.0;
+constexpr double kRadPerDeg = std::numbers::pi / 180.0;
 
 // Per-mount sums over all measurements of all fields.
 struct Tally {
@@ -103,22 +103,22 @@ void walk_one_field(const NamedMount& mount, const Scene& scene, const MountSens
 
 std::string sweep_name(double height_m, double pitch_rad) {
   char name[48];
-  std::snprintf(name, sizeof name, "h%.0fcm_p%.0fdeg", height_m * 100.0, pitch_rad / kDeg);
+  std::snprintf(name, sizeof name, "h%.0fcm_p%.0fdeg", height_m * 100.0, pitch_rad / kRadPerDeg);
   return name;
 }
 
 }  // namespace
 
 std::vector<NamedMount> paper_urg_mounts() {
-  return {{"fig7a", SensorMount{0.16, 15.0 * kDeg, 0.0, 0.0}, std::nullopt},
-          {"fig7b", SensorMount{0.26, 20.0 * kDeg, 0.0, 0.0}, std::nullopt},
-          {"fig7c", SensorMount{0.26, 35.0 * kDeg, 0.0, 0.0}, std::nullopt}};
+  return {{"fig7a", SensorMount{0.16, 15.0 * kRadPerDeg, 0.0, 0.0}, std::nullopt},
+          {"fig7b", SensorMount{0.26, 20.0 * kRadPerDeg, 0.0, 0.0}, std::nullopt},
+          {"fig7c", SensorMount{0.26, 35.0 * kRadPerDeg, 0.0, 0.0}, std::nullopt}};
 }
 
 std::vector<NamedMount> paper_structured_light_mounts() {
-  return {{"fig5a", SensorMount{0.174, 0.0, 0.0, 0.0}, 60.0 * kDeg},
-          {"fig5b", SensorMount{0.174, 0.0, 0.0, 0.0}, 50.0 * kDeg},
-          {"fig5c", SensorMount{0.174, 10.0 * kDeg, 0.0, 0.0}, 60.0 * kDeg}};
+  return {{"fig5a", SensorMount{0.174, 0.0, 0.0, 0.0}, 60.0 * kRadPerDeg},
+          {"fig5b", SensorMount{0.174, 0.0, 0.0, 0.0}, 50.0 * kRadPerDeg},
+          {"fig5c", SensorMount{0.174, 10.0 * kRadPerDeg, 0.0, 0.0}, 60.0 * kRadPerDeg}};
 }
 
 void MountAnalysisOptions::validate() const {
@@ -132,7 +132,7 @@ void MountAnalysisOptions::validate() const {
   }
   for (double p : sweep_pitches_rad) {
     if (!(std::isfinite(p) && std::abs(p) < std::numbers::pi / 2)) {
-      fail("sweep pitch " + std::to_string(p / kDeg) + " deg: pitches must lie strictly between -90 and 90 deg");
+      fail("sweep pitch " + std::to_string(p / kRadPerDeg) + " deg: pitches must lie strictly between -90 and 90 deg");
     }
   }
   if (sweep_heights_m.size() * sweep_pitches_rad.size() > 10000) fail("the sweep grid has more than 10000 mounts");

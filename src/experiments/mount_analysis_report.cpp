@@ -19,12 +19,12 @@ namespace stridemap {
 namespace {
 
 using nlohmann::json;
-constexpr double kDeg = 180.0 / std::numbers::pi;
+constexpr double kMountDegPerRad = 180.0 / std::numbers::pi;
 
 json metrics_json(const MountMetrics& m) {
   json j = {{"name", m.mount.name},
             {"height_m", m.mount.mount.height_m},
-            {"pitch_deg", m.mount.mount.pitch_rad * kDeg},
+            {"pitch_deg", m.mount.mount.pitch_rad * kMountDegPerRad},
             {"sees_ground", m.sees_ground},
             {"unobserved_fraction", m.unobserved_fraction},
             {"mean_height_uncertainty_m", m.mean_height_uncertainty_m},
@@ -32,7 +32,7 @@ json metrics_json(const MountMetrics& m) {
             {"look_ahead_m", m.look_ahead_m},
             {"ground_cells", m.ground_cells},
             {"score", m.score}};
-  j["sheet_angle_deg"] = m.mount.sheet_angle_rad ? json(*m.mount.sheet_angle_rad * kDeg) : json(nullptr);
+  j["sheet_angle_deg"] = m.mount.sheet_angle_rad ? json(*m.mount.sheet_angle_rad * kMountDegPerRad) : json(nullptr);
   j["favourable_range_share"] = m.favourable_range_share ? json(*m.favourable_range_share) : json(nullptr);
   return j;
 }
@@ -43,11 +43,11 @@ std::string row_text(const MountMetrics& m) {
   if (m.favourable_range_share) std::snprintf(share, sizeof share, "%.1f", *m.favourable_range_share * 100);
   if (!m.sees_ground) {
     std::snprintf(line, sizeof line, "%-16s %5.1f %6.1f   cannot see the ground\n", m.mount.name.c_str(),
-                  m.mount.mount.height_m * 100, m.mount.mount.pitch_rad * kDeg);
+                  m.mount.mount.height_m * 100, m.mount.mount.pitch_rad * kMountDegPerRad);
     return line;
   }
   std::snprintf(line, sizeof line, "%-16s %5.1f %6.1f %10.1f %11.1f %9.2f %9.2f %9s %7.3f\n", m.mount.name.c_str(),
-                m.mount.mount.height_m * 100, m.mount.mount.pitch_rad * kDeg, m.unobserved_fraction * 100,
+                m.mount.mount.height_m * 100, m.mount.mount.pitch_rad * kMountDegPerRad, m.unobserved_fraction * 100,
                 m.mean_height_uncertainty_m * 1000, m.stripe_width_m, m.look_ahead_m, share, m.score);
   return line;
 }
@@ -118,7 +118,7 @@ void write_mount_analysis_outputs(const MountAnalysisResult& r, const MountAnaly
   }
   for (double p : o.sweep_pitches_rad) {
     char t[16];
-    std::snprintf(t, sizeof t, "%.0f", p * kDeg);
+    std::snprintf(t, sizeof t, "%.0f", p * kMountDegPerRad);
     style.y_ticks.emplace_back(t);
   }
   const int best_row = static_cast<int>(r.best / r.heights), best_col = static_cast<int>(r.best % r.heights);
@@ -131,7 +131,7 @@ void write_mount_analysis_outputs(const MountAnalysisResult& r, const MountAnaly
   if (!r.sweep.empty()) {
     char t[200];
     std::snprintf(t, sizeof t, "\nframed: the best mount, %.0f cm, %.0f deg", r.sweep[r.best].mount.mount.height_m * 100,
-                  r.sweep[r.best].mount.mount.pitch_rad * kDeg);
+                  r.sweep[r.best].mount.mount.pitch_rad * kMountDegPerRad);
     best_text = t;
     if (on_edge && r.sweep.size() > 1) best_text += "\nWARNING: it lies on the sweep's edge; widen the sweep";
   }
@@ -175,7 +175,7 @@ void write_mount_analysis_outputs(const MountAnalysisResult& r, const MountAnaly
       char share[24] = "";
       if (m.favourable_range_share) std::snprintf(share, sizeof share, "%.6g", *m.favourable_range_share);
       std::snprintf(line, sizeof line, "%s,%.6g,%.6g,%d,%.6g,%.6g,%.6g,%.6g,%s,%.6g\n", m.mount.name.c_str(),
-                    m.mount.mount.height_m, m.mount.mount.pitch_rad * kDeg, m.sees_ground ? 1 : 0, m.unobserved_fraction,
+                    m.mount.mount.height_m, m.mount.mount.pitch_rad * kMountDegPerRad, m.sees_ground ? 1 : 0, m.unobserved_fraction,
                     m.mean_height_uncertainty_m, m.stripe_width_m, m.look_ahead_m, share, m.score);
       csv += line;
     }

@@ -24,7 +24,7 @@ namespace stridemap {
 namespace {
 
 using nlohmann::json;
-constexpr double kDeg = 180.0 / std::numbers::pi;
+constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
 // The error with the map's mean height offset taken out: what a drifting
 // h_ref leaves of the shapes once the whole map is shifted back.
@@ -51,8 +51,8 @@ json score_json(const MapScore& s, std::size_t unknown_swept) {
 
 json pose_json(const PoseErrorStats& p) {
   return {{"x_m", p.x_m},           {"y_m", p.y_m},
-          {"yaw_deg", p.yaw_rad * kDeg}, {"pitch_deg", p.pitch_rad * kDeg},
-          {"roll_deg", p.roll_rad * kDeg}, {"sensor_height_m", p.sensor_height_m},
+          {"yaw_deg", p.yaw_rad * kDegPerRad}, {"pitch_deg", p.pitch_rad * kDegPerRad},
+          {"roll_deg", p.roll_rad * kDegPerRad}, {"sensor_height_m", p.sensor_height_m},
           {"mean_sensor_height_m", p.mean_sensor_height_m}};
 }
 
@@ -169,15 +169,15 @@ std::string rocky_walk_summary_json(const RockyWalkResult& r, const RockyWalkOpt
        {{"scans", w.scans},
         {"duration_s", w.duration_s},
         {"distance_m", w.distance_m},
-        {"turned_deg", w.turned_rad * kDeg},
+        {"turned_deg", w.turned_rad * kDegPerRad},
         {"scans_with_yaw_change", w.scans_with_yaw_change}}},
       {"pose_error_options",
-       {{"imu_pitch_noise_sigma_deg", e.imu_pitch_noise_sigma_rad * kDeg},
-        {"imu_pitch_bias_deg", e.imu_pitch_bias_rad * kDeg},
-        {"imu_roll_noise_sigma_deg", e.imu_roll_noise_sigma_rad * kDeg},
-        {"imu_roll_bias_deg", e.imu_roll_bias_rad * kDeg},
+       {{"imu_pitch_noise_sigma_deg", e.imu_pitch_noise_sigma_rad * kDegPerRad},
+        {"imu_pitch_bias_deg", e.imu_pitch_bias_rad * kDegPerRad},
+        {"imu_roll_noise_sigma_deg", e.imu_roll_noise_sigma_rad * kDegPerRad},
+        {"imu_roll_bias_deg", e.imu_roll_bias_rad * kDegPerRad},
         {"camera_position_noise_sigma_m", e.camera_position_noise_sigma_m},
-        {"camera_yaw_noise_sigma_deg", e.camera_yaw_noise_sigma_rad * kDeg},
+        {"camera_yaw_noise_sigma_deg", e.camera_yaw_noise_sigma_rad * kDegPerRad},
         {"leg_height_noise_sigma_m", e.leg_height_noise_sigma_m},
         {"reference", std::string(name(e.reference))}}},
       {"pose_rms", pose_json(w.pose_errors)},
@@ -209,8 +209,8 @@ std::string rocky_walk_summary_json(const RockyWalkResult& r, const RockyWalkOpt
   }
   if (r.calibration) {
     const AttitudeCalibration& c = *r.calibration;
-    summary["attitude_calibration"] = {{"pitch_bias_deg", c.pitch_bias_rad * kDeg},
-                                       {"roll_bias_deg", c.roll_bias_rad * kDeg},
+    summary["attitude_calibration"] = {{"pitch_bias_deg", c.pitch_bias_rad * kDegPerRad},
+                                       {"roll_bias_deg", c.roll_bias_rad * kDegPerRad},
                                        {"height_offset_m", c.height_offset_m},
                                        {"points", c.points},
                                        {"residual_rms_m", c.residual_rms_m}};
@@ -224,7 +224,7 @@ std::string rocky_walk_table(const RockyWalkResult& r) {
   const WalkResult& w = r.main;
   std::snprintf(line, sizeof line,
                 "rocky-walk, sensor %s (simulated): %zu scans, %.2f m walked, %.0f deg turned, %.0f mm cells\n",
-                r.sensor.c_str(), w.scans, w.distance_m, w.turned_rad * kDeg, w.local.cell_size_m * 1000);
+                r.sensor.c_str(), w.scans, w.distance_m, w.turned_rad * kDegPerRad, w.local.cell_size_m * 1000);
   out += line;
   const MapScore& s = w.mosaic_score;
   std::snprintf(line, sizeof line,
@@ -249,14 +249,14 @@ std::string rocky_walk_table(const RockyWalkResult& r) {
   std::snprintf(line, sizeof line,
                 "pose estimate RMS error: x %.1f mm, y %.1f mm, yaw %.2f deg, pitch %.2f deg, roll %.2f deg, "
                 "sensor height %.1f mm (mean %+.1f mm)\n",
-                p.x_m * 1000, p.y_m * 1000, p.yaw_rad * kDeg, p.pitch_rad * kDeg, p.roll_rad * kDeg,
+                p.x_m * 1000, p.y_m * 1000, p.yaw_rad * kDegPerRad, p.pitch_rad * kDegPerRad, p.roll_rad * kDegPerRad,
                 p.sensor_height_m * 1000, p.mean_sensor_height_m * 1000);
   out += line;
   if (r.calibration) {
     std::snprintf(line, sizeof line,
                   "attitude calibration on a flat floor: pitch bias %+.3f deg, roll bias %+.3f deg (%zu points, "
                   "residual %.1f mm)\n",
-                  r.calibration->pitch_bias_rad * kDeg, r.calibration->roll_bias_rad * kDeg, r.calibration->points,
+                  r.calibration->pitch_bias_rad * kDegPerRad, r.calibration->roll_bias_rad * kDegPerRad, r.calibration->points,
                   r.calibration->residual_rms_m * 1000);
     out += line;
   }
@@ -264,7 +264,7 @@ std::string rocky_walk_table(const RockyWalkResult& r) {
   out += "                          [deg]      [mm]        [mm]     RMS [mm]     [mm]              [%]       obstacles\n";
   for (const PoseSweepRow& row : r.sweep) {
     std::snprintf(line, sizeof line, "%-12s %-9s %9.2f %11.1f %8.1f %12.1f %7.1f %10zu %9.1f %10zu\n", row.label.c_str(),
-                  std::string(name(row.reference)).c_str(), row.pose.pitch_rad * kDeg, row.pose.sensor_height_m * 1000,
+                  std::string(name(row.reference)).c_str(), row.pose.pitch_rad * kDegPerRad, row.pose.sensor_height_m * 1000,
                   row.score.rms_error_m * 1000, offset_free_rms_m(row.score) * 1000, row.score.max_error_m * 1000,
                   row.score.artifact_cells,
                   row.score.coverage * 100, row.unknown_swept_cells);

@@ -20,7 +20,7 @@
 namespace stridemap {
 namespace {
 
-constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kSoakNaN = std::numeric_limits<double>::quiet_NaN();
 
 void validate(const SoakOptions& o) {
   if (o.scans == 0) throw InputError("soak: scans must be at least 1");
@@ -127,7 +127,7 @@ class SoakRun {
     TrunkPose truth, estimate;
     motion_.pose_at(k, truth, estimate);
     track_path(truth);
-    if (due(k, options_.faults.nan_pose_every)) estimate.roll_rad = kNaN;
+    if (due(k, options_.faults.nan_pose_every)) estimate.roll_rad = kSoakNaN;
     simulator_.scan(truth, options_.mount, static_cast<double>(k) * options_.urg.scan_period_s, raw_);
     const ScanOutcome out = pipeline_.add(raw_, estimate);
     if (!out.integrated) return;  // the scan-sequence filter holds the first scan
@@ -202,7 +202,7 @@ class SoakRun {
     if (snapshot == nullptr) return;  // counted by the publisher
     snapshot->map = pipeline_.mapper().map();
     snapshot->scans = pipeline_.mapper().totals().scans;
-    snapshot->time_s = pipeline_.mapper().last_scan_time_s().value_or(kNaN);
+    snapshot->time_s = pipeline_.mapper().last_scan_time_s().value_or(kSoakNaN);
     snapshot->pose = pipeline_.mapper().last_pose().value_or(TrunkPose{});
     fill_.apply(snapshot->map);
     check(snapshot->map);

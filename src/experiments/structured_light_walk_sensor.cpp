@@ -10,7 +10,7 @@
 namespace stridemap {
 namespace {
 
-PipelineOptions pipeline_options(const StructuredLightParameters& parameters) {
+PipelineOptions sl_pipeline_options(const StructuredLightParameters& parameters) {
   PipelineOptions p;
   p.sensor = SensorKind::structured_light;
   p.structured_light = parameters;
@@ -28,7 +28,7 @@ StructuredLightWalkSensor::StructuredLightWalkSensor(const Scene& scene, const S
       floor_geometry_(Scene{}, options.parameters, options.geometry, seed),
       detector_(options.detector),
       image_(options.parameters.image_width_px, options.parameters.image_height_px),
-      integrator_(pipeline_options(options.parameters)) {
+      integrator_(sl_pipeline_options(options.parameters)) {
   if (!(std::isfinite(options_.frame_period_s) && options_.frame_period_s > 0.0)) {
     throw InputError("structured-light walk sensor: frame_period_s must be a positive number");
   }

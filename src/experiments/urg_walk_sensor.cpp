@@ -16,7 +16,7 @@ std::unique_ptr<BeamModel> beam_model_for(const UrgWalkSensorOptions& o) {
   return std::make_unique<SingleRayBeamModel>();
 }
 
-PipelineOptions pipeline_options(const UrgWalkSensorOptions& o) {
+PipelineOptions urg_pipeline_options(const UrgWalkSensorOptions& o) {
   PipelineOptions p;
   p.sensor = SensorKind::urg;
   p.urg = o.urg;
@@ -41,7 +41,7 @@ UrgWalkSensor::UrgWalkSensor(const Scene& scene, const UrgWalkSensorOptions& opt
                              std::uint64_t seed)
     : options_(options),
       simulator_(scene, options.urg, options.sim, seed, beam_model_for(options)),
-      integrator_(pipeline_options(options)) {
+      integrator_(urg_pipeline_options(options)) {
   const int beams = options_.urg.beam_count();
   for (int i = 0; i < beams; ++i) {
     const double t = options_.urg.step_angle_rad(options_.urg.first_step + i);

@@ -11,12 +11,11 @@
 #include <utility>
 
 #include "stridemap/core/error.hpp"
+#include "errno_text.hpp"
 #include "temporary_registry.hpp"
 
 namespace stridemap::io::detail {
 namespace {
-
-std::string errno_text(int error_number) { return std::generic_category().message(error_number); }
 
 std::string parent_folder(const std::string& path) {
   const auto slash = path.find_last_of('/');

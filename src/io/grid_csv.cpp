@@ -20,7 +20,7 @@ constexpr std::string_view kHeaderTag = "# stridemap grid";
 // Shortest text that reads back to the same value; to_chars ignores the
 // locale, so a German locale cannot turn the decimal point into a comma.
 template <typename T>
-void append_number(std::string& line, T value) {
+void append_cell_number(std::string& line, T value) {
   if (std::isnan(value)) {
     line += "nan";
     return;
@@ -45,10 +45,10 @@ void append_option(const std::string& path, std::string& header, const char* key
   header += "; ";
   header += key;
   header += '=';
-  append_number(header, *value);
+  append_cell_number(header, *value);
 }
 
-std::string_view trim(std::string_view text) {
+std::string_view trim_cell(std::string_view text) {
   const auto first = text.find_first_not_of(" \t");
   if (first == std::string_view::npos) return {};
   const auto last = text.find_last_not_of(" \t");
@@ -70,13 +70,13 @@ class CsvReader {
     line.remove_prefix(kHeaderTag.size());
     while (!line.empty()) {
       const auto end = line.find(';');
-      const std::string_view item = trim(line.substr(0, end));
+      const std::string_view item = trim_cell(line.substr(0, end));
       line = end == std::string_view::npos ? std::string_view{} : line.substr(end + 1);
       if (item.empty()) continue;
       const auto equals = item.find('=');
       if (equals == std::string_view::npos) fail(line_number, "header item '" + std::string(item) + "' is not key=value");
-      const std::string_view key = trim(item.substr(0, equals));
-      const std::string_view value = trim(item.substr(equals + 1));
+      const std::string_view key = trim_cell(item.substr(0, equals));
+      const std::string_view value = trim_cell(item.substr(equals + 1));
       if (key == "rows") header_rows_ = parse_count(value, key, line_number);
       if (key == "cols") header_cols_ = parse_count(value, key, line_number);
       if (key == "layer") metadata_.layer_name = value;
@@ -93,7 +93,7 @@ class CsvReader {
     std::size_t start = 0;
     while (true) {
       const auto comma = line.find(',', start);
-      const std::string_view field = trim(line.substr(start, comma == std::string_view::npos ? line.npos : comma - start));
+      const std::string_view field = trim_cell(line.substr(start, comma == std::string_view::npos ? line.npos : comma - start));
       ++fields;
       values_.push_back(parse_field(field, fields, line_number));
       if (comma == std::string_view::npos) break;
@@ -199,7 +199,7 @@ void write_grid_csv(const std::string& path, const Eigen::MatrixXf& values, cons
     line.clear();
     for (Eigen::Index j = 0; j < values.cols(); ++j) {
       if (j > 0) line += ',';
-      append_number(line, values(i, j));
+      append_cell_number(line, values(i, j));
     }
     line += '\n';
     out.write(line.data(), line.size());
@@ -230,7 +230,7 @@ Eigen::MatrixXf read_grid_csv(std::istream& input, const std::string& source_nam
   while (std::getline(input, line)) {
     ++line_number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    const std::string_view text = trim(line);
+    const std::string_view text = trim_cell(line);
     if (text.empty()) {
       if (reader.rows() > 0 && blank_line == 0) blank_line = line_number;
       continue;

@@ -10,13 +10,13 @@
 namespace stridemap::io {
 namespace {
 
-constexpr int kFont = cv::FONT_HERSHEY_SIMPLEX;
+constexpr int kHeatMapFont = cv::FONT_HERSHEY_SIMPLEX;
 constexpr double kScale = 0.45;
-const cv::Scalar kInk(30, 30, 30);
+const cv::Scalar kHeatMapInk(30, 30, 30);
 
 int text_width(const std::string& s) {
   int baseline = 0;
-  return cv::getTextSize(s, kFont, kScale, 1, &baseline).width;
+  return cv::getTextSize(s, kHeatMapFont, kScale, 1, &baseline).width;
 }
 
 }  // namespace
@@ -57,16 +57,16 @@ RgbImage render_heat_map(const Eigen::MatrixXf& values, const HeatMapOptions& o)
   for (int i = 0; i < rows; ++i) {
     const std::string& t = o.y_ticks[static_cast<std::size_t>(i)];
     const int y = gy + (rows - 1 - i) * ppc + ppc / 2 + 5;
-    cv::putText(canvas, t, cv::Point(gx - 6 - text_width(t), y), kFont, kScale, kInk, 1, cv::LINE_AA);
+    cv::putText(canvas, t, cv::Point(gx - 6 - text_width(t), y), kHeatMapFont, kScale, kHeatMapInk, 1, cv::LINE_AA);
   }
   for (int k = 0; k < cols; ++k) {
     const std::string& t = o.x_ticks[static_cast<std::size_t>(k)];
     const int x = gx + k * ppc + ppc / 2 - text_width(t) / 2;
-    cv::putText(canvas, t, cv::Point(x, gy + rows * ppc + 18), kFont, kScale, kInk, 1, cv::LINE_AA);
+    cv::putText(canvas, t, cv::Point(x, gy + rows * ppc + 18), kHeatMapFont, kScale, kHeatMapInk, 1, cv::LINE_AA);
   }
   cv::putText(canvas, o.x_label, cv::Point(gx + cols * ppc / 2 - text_width(o.x_label) / 2, gy + rows * ppc + 40),
-              kFont, kScale, kInk, 1, cv::LINE_AA);
-  cv::putText(canvas, o.y_label, cv::Point(4, gy - 8), kFont, kScale, kInk, 1, cv::LINE_AA);
+              kHeatMapFont, kScale, kHeatMapInk, 1, cv::LINE_AA);
+  cv::putText(canvas, o.y_label, cv::Point(4, gy - 8), kHeatMapFont, kScale, kHeatMapInk, 1, cv::LINE_AA);
   if (o.highlight) {
     const auto [row, col] = *o.highlight;
     if (row >= 0 && row < rows && col >= 0 && col < cols) {

@@ -12,9 +12,9 @@
 namespace stridemap::io {
 namespace {
 
-constexpr int kFont = cv::FONT_HERSHEY_SIMPLEX;
+constexpr int kPlotFont = cv::FONT_HERSHEY_SIMPLEX;
 constexpr double kText = 0.45;
-const cv::Scalar kInk(30, 30, 30), kGrid(225, 225, 225);
+const cv::Scalar kPlotInk(30, 30, 30), kGrid(225, 225, 225);
 
 std::string tick_text(double value) {
   char text[32];
@@ -80,7 +80,7 @@ RgbImage render_line_plot(const std::vector<PlotSeries>& series, const LinePlotO
     const double clamped = std::clamp(y, y_low, y_high);
     return top + plot_h - static_cast<int>(std::lround((clamped - y_low) / (y_high - y_low) * plot_h));
   };
-  if (!options.title.empty()) cv::putText(canvas, options.title, {left, 28}, kFont, 0.6, kInk, 1, cv::LINE_AA);
+  if (!options.title.empty()) cv::putText(canvas, options.title, {left, 28}, kPlotFont, 0.6, kPlotInk, 1, cv::LINE_AA);
 
   std::vector<double> x_ticks;
   if (options.log_x) {
@@ -96,25 +96,25 @@ RgbImage render_line_plot(const std::vector<PlotSeries>& series, const LinePlotO
   for (double t : x_ticks) {
     const int x = px(t);
     cv::line(canvas, {x, top}, {x, top + plot_h}, kGrid);
-    cv::line(canvas, {x, top + plot_h}, {x, top + plot_h + 4}, kInk);
+    cv::line(canvas, {x, top + plot_h}, {x, top + plot_h + 4}, kPlotInk);
     int baseline = 0;
-    const cv::Size size = cv::getTextSize(tick_text(t), kFont, kText, 1, &baseline);
-    cv::putText(canvas, tick_text(t), {x - size.width / 2, top + plot_h + 18}, kFont, kText, kInk, 1, cv::LINE_AA);
+    const cv::Size size = cv::getTextSize(tick_text(t), kPlotFont, kText, 1, &baseline);
+    cv::putText(canvas, tick_text(t), {x - size.width / 2, top + plot_h + 18}, kPlotFont, kText, kPlotInk, 1, cv::LINE_AA);
   }
   for (double t : linear_ticks(y_low, y_high)) {
     const int y = py(t);
     cv::line(canvas, {left, y}, {left + plot_w, y}, kGrid);
-    cv::line(canvas, {left - 4, y}, {left, y}, kInk);
+    cv::line(canvas, {left - 4, y}, {left, y}, kPlotInk);
     int baseline = 0;
-    const cv::Size size = cv::getTextSize(tick_text(t), kFont, kText, 1, &baseline);
-    cv::putText(canvas, tick_text(t), {left - 8 - size.width, y + 5}, kFont, kText, kInk, 1, cv::LINE_AA);
+    const cv::Size size = cv::getTextSize(tick_text(t), kPlotFont, kText, 1, &baseline);
+    cv::putText(canvas, tick_text(t), {left - 8 - size.width, y + 5}, kPlotFont, kText, kPlotInk, 1, cv::LINE_AA);
   }
-  cv::rectangle(canvas, cv::Rect(left, top, plot_w, plot_h), kInk);
+  cv::rectangle(canvas, cv::Rect(left, top, plot_w, plot_h), kPlotInk);
   int baseline = 0;
-  const cv::Size xl = cv::getTextSize(options.x_label, kFont, kText, 1, &baseline);
-  cv::putText(canvas, options.x_label, {left + (plot_w - xl.width) / 2, options.height_px - 12}, kFont, kText, kInk, 1,
+  const cv::Size xl = cv::getTextSize(options.x_label, kPlotFont, kText, 1, &baseline);
+  cv::putText(canvas, options.x_label, {left + (plot_w - xl.width) / 2, options.height_px - 12}, kPlotFont, kText, kPlotInk, 1,
               cv::LINE_AA);
-  cv::putText(canvas, options.y_label, {8, top - 8 > 12 ? top - 8 : 12}, kFont, kText, kInk, 1, cv::LINE_AA);
+  cv::putText(canvas, options.y_label, {8, top - 8 > 12 ? top - 8 : 12}, kPlotFont, kText, kPlotInk, 1, cv::LINE_AA);
 
   int legend_y = top + 10;
   for (const PlotSeries& s : series) {
@@ -132,7 +132,7 @@ RgbImage render_line_plot(const std::vector<PlotSeries>& series, const LinePlotO
     }
     cv::line(canvas, {left + plot_w + 14, legend_y}, {left + plot_w + 38, legend_y}, colour, 2, cv::LINE_AA);
     cv::circle(canvas, {left + plot_w + 26, legend_y}, 4, colour, cv::FILLED, cv::LINE_AA);
-    cv::putText(canvas, s.label, {left + plot_w + 44, legend_y + 5}, kFont, 0.4, kInk, 1, cv::LINE_AA);
+    cv::putText(canvas, s.label, {left + plot_w + 44, legend_y + 5}, kPlotFont, 0.4, kPlotInk, 1, cv::LINE_AA);
     legend_y += 22;
   }
   RgbImage image(canvas.cols, canvas.rows);

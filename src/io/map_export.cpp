@@ -86,7 +86,7 @@ bool known(const ElevationMap& map, std::size_t slot) {
 void append_float(std::string& out, float value) { append_le(out, std::bit_cast<std::uint32_t>(value), 4); }
 
 // Shortest text that reads back to the same float.
-void append_number(std::string& out, float value) {
+void append_export_number(std::string& out, float value) {
   if (std::isnan(value)) {
     out += "nan";
     return;
@@ -265,7 +265,7 @@ std::string export_cells_csv(const ElevationMap& map, const std::string& directo
         if (c > 0) out.push_back(',');
         const std::size_t k = selected[c];
         switch (map.layer_spec(k).type) {
-          case LayerType::f32: append_number(out, map.data(LayerId<float>{k})[s]); break;
+          case LayerType::f32: append_export_number(out, map.data(LayerId<float>{k})[s]); break;
           case LayerType::u16: out += std::to_string(map.data(LayerId<std::uint16_t>{k})[s]); break;
           case LayerType::u8: out += std::to_string(map.data(LayerId<std::uint8_t>{k})[s]); break;
         }

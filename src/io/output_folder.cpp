@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "stridemap/core/error.hpp"
+#include "errno_text.hpp"
 #include "temporary_registry.hpp"
 
 namespace stridemap::io {
@@ -21,7 +22,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string errno_text(int error_number) { return std::generic_category().message(error_number); }
 
 // A target given with a trailing slash ("map/") names the same folder.
 std::string without_trailing_slashes(std::string path) {
@@ -73,7 +73,7 @@ void check_output_folder(const std::string& raw_target, const std::string& optio
   struct stat info {};
   if (::lstat(target.c_str(), &info) != 0) {
     if (errno == ENOENT) return;  // created by commit(); a parent that cannot be made is found when staging
-    throw InputError(raw_target + ": cannot create the output folder: " + errno_text(errno));
+    throw InputError(raw_target + ": cannot create the output folder: " + detail::errno_text(errno));
   }
   if (!S_ISDIR(info.st_mode)) {
     throw InputError(raw_target + ": cannot create the output folder: it exists and is not a folder");
@@ -108,7 +108,7 @@ OutputFolder::OutputFolder(std::string target, std::string option)
       return;
     }
     if (errno != EEXIST) {
-      throw InputError(target_ + ": cannot create the output folder (staging beside it): " + errno_text(errno));
+      throw InputError(target_ + ": cannot create the output folder (staging beside it): " + detail::errno_text(errno));
     }
   }
   throw InputError(option_ + ": no free staging folder name beside '" + target_ + "'");
@@ -133,20 +133,20 @@ void OutputFolder::commit() {
   if (ec) fail(ec.message());
   std::sort(names.begin(), names.end());
   for (const std::string& name : names) {
-    if (const int error = detail::sync_path(file(name)); error != 0) fail("fsync " + name + ": " + errno_text(error));
+    if (const int error = detail::sync_path(file(name)); error != 0) fail("fsync " + name + ": " + detail::errno_text(error));
     manifest += name + "\n";
   }
   {
     const std::string manifest_path = file(kOutputManifest);
     std::FILE* out = std::fopen(manifest_path.c_str(), "wb");
-    if (out == nullptr) fail("cannot write the manifest: " + errno_text(errno));
+    if (out == nullptr) fail("cannot write the manifest: " + detail::errno_text(errno));
     const bool written = std::fwrite(manifest.data(), 1, manifest.size(), out) == manifest.size();
     const bool flushed = std::fflush(out) == 0 && ::fsync(::fileno(out)) == 0;
     const int error = errno;
     const bool closed = std::fclose(out) == 0;
-    if (!written || !flushed || !closed) fail("cannot write the manifest: " + errno_text(error));
+    if (!written || !flushed || !closed) fail("cannot write the manifest: " + detail::errno_text(error));
   }
-  if (const int error = detail::sync_path(staging_); error != 0) fail("fsync: " + errno_text(error));
+  if (const int error = detail::sync_path(staging_); error != 0) fail("fsync: " + detail::errno_text(error));
 
   struct stat info {};
   const bool replacing = ::lstat(target_.c_str(), &info) == 0;
@@ -158,10 +158,10 @@ void OutputFolder::commit() {
       fail(e.what());
     }
     if (::renameat2(AT_FDCWD, staging_.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) != 0) {
-      fail(errno_text(errno));
+      fail(detail::errno_text(errno));
     }
   } else if (::rename(staging_.c_str(), target_.c_str()) != 0) {
-    fail(errno_text(errno));
+    fail(detail::errno_text(errno));
   }
   committed_ = true;
   (void)detail::sync_path(parent_of(target_));

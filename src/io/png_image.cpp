@@ -11,6 +11,7 @@
 #include <system_error>
 
 #include "atomic_output_file.hpp"
+#include "errno_text.hpp"
 #include "stridemap/core/error.hpp"
 
 namespace stridemap::io {
@@ -152,12 +153,11 @@ bool decode_pixels(png_structp png, png_bytepp rows) {
   return true;
 }
 
-std::string errno_text(int error_number) { return std::generic_category().message(error_number); }
 
 std::string decode_failure(const std::string& path, const PngContext& context) {
   std::string reason;
   if (context.saved_errno != 0) {
-    reason = "read failed (" + errno_text(context.saved_errno) + ")";
+    reason = "read failed (" + detail::errno_text(context.saved_errno) + ")";
   } else if (context.truncated) {
     reason = "the file is truncated (it ends before the image is complete)";
   } else {
@@ -276,7 +276,7 @@ void write_png(const std::string& path, const RgbImage& image) {
     if (guard.info == nullptr) out.fail("libpng could not be initialised");
     png_set_write_fn(guard.png, &context, write_to_file, flush_file);
     if (!encode(guard.png, guard.info, image)) {
-      out.fail(context.saved_errno != 0 ? "write failed (" + errno_text(context.saved_errno) + ")"
+      out.fail(context.saved_errno != 0 ? "write failed (" + detail::errno_text(context.saved_errno) + ")"
                                         : std::string("libpng: ") + context.message);
     }
   }
@@ -296,12 +296,12 @@ RgbImage read_png(const std::string& path, PngSourceFormat& source, const PngRea
     const int error_number = errno;
     throw InputError("cannot read PNG '" + path + "': " +
                      (error_number == ENOENT ? std::string("the file does not exist")
-                                             : "cannot open it (" + errno_text(error_number) + ")"));
+                                             : "cannot open it (" + detail::errno_text(error_number) + ")"));
   }
   png_byte signature[8] = {};
   const std::size_t signature_size = std::fread(signature, 1, sizeof signature, file.file);
   if (signature_size < sizeof signature && std::ferror(file.file) != 0) {
-    throw InputError("cannot read PNG '" + path + "': read failed (" + errno_text(errno) + ")");
+    throw InputError("cannot read PNG '" + path + "': read failed (" + detail::errno_text(errno) + ")");
   }
   if (signature_size < sizeof signature || png_sig_cmp(signature, 0, sizeof signature) != 0) {
     throw InputError("cannot read PNG '" + path + "': not a PNG file (" +

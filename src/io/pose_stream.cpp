@@ -27,7 +27,7 @@ std::string located(const std::string& source, std::size_t line, const std::stri
   return source + ":" + std::to_string(line) + ": " + what;
 }
 
-void append_number(double value, std::string& out) {
+void append_pose_number(double value, std::string& out) {
   char text[32];
   const auto [end, error] = std::to_chars(text, text + sizeof text, value);
   out.append(text, error == std::errc() ? end : text);
@@ -87,7 +87,7 @@ std::string format_pose_line(const TimedPose& p) {
     if (i == 6 && fields[6] == 0.0 && fields[7] == 0.0 && !p.pose.z_m) break;
     if (i == 8 && !p.pose.z_m) break;
     if (i) line += ' ';
-    append_number(fields[i], line);
+    append_pose_number(fields[i], line);
   }
   return line;
 }

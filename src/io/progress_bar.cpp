@@ -9,7 +9,7 @@
 namespace stridemap::io {
 namespace {
 
-constexpr int kBarWidth = 20;
+constexpr int kProgressBarWidth = 20;
 constexpr double kRedrawEveryS = 0.1;
 
 }  // namespace
@@ -32,11 +32,11 @@ std::string progress_line(const std::string& label, std::size_t done, std::size_
   const double rate = elapsed_s > 0.0 ? static_cast<double>(done) / elapsed_s : 0.0;
   if (total > 0) {
     const double fraction = std::min(1.0, static_cast<double>(done) / static_cast<double>(total));
-    const int filled = static_cast<int>(fraction * kBarWidth);
+    const int filled = static_cast<int>(fraction * kProgressBarWidth);
     char percent[16];
     std::snprintf(percent, sizeof percent, " %3d%% [", static_cast<int>(fraction * 100.0));
     line += percent;
-    line += std::string(static_cast<std::size_t>(filled), '#') + std::string(static_cast<std::size_t>(kBarWidth - filled), ' ');
+    line += std::string(static_cast<std::size_t>(filled), '#') + std::string(static_cast<std::size_t>(kProgressBarWidth - filled), ' ');
     line += "] " + std::to_string(done) + "/" + std::to_string(total) + " " + unit;
   } else {
     line += " " + std::to_string(done) + " " + unit;

@@ -25,7 +25,7 @@ std::string read_recording(const std::string& path) {
 }
 
 // The emulator sends the values in SCIP's 3-character encoding (18 bits).
-const std::uint32_t kLargestValue = scip::max_encodable_value(3);
+const std::uint32_t kLargestRecordedValue = scip::max_encodable_value(3);
 
 bool is_blank(char c) { return c == ' ' || c == '\t' || c == '\r'; }
 
@@ -54,10 +54,10 @@ RecordedScans parse_breezyslam_scans(std::string_view text, const std::string& s
       if (token >= kFirstValueToken) {
         std::uint32_t v = 0;
         const auto [stop, error] = std::from_chars(line.data() + pos, line.data() + end, v);
-        if (error != std::errc() || stop != line.data() + end || v > kLargestValue) {
+        if (error != std::errc() || stop != line.data() + end || v > kLargestRecordedValue) {
           throw InputError(source_name + ":" + std::to_string(number) + ": token " + std::to_string(token + 1) + " '" +
                            std::string(line.substr(pos, end - pos)) +
-                           "' is not a raw URG value (a whole number of mm, at most " + std::to_string(kLargestValue) +
+                           "' is not a raw URG value (a whole number of mm, at most " + std::to_string(kLargestRecordedValue) +
                            ", what SCIP's 3 characters hold)");
         }
         // A line longer than a scan is an error whatever follows; stopping

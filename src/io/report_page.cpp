@@ -26,7 +26,7 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string read_whole_file(const fs::path& path, const std::string& what) {
+std::string read_asset_file(const fs::path& path, const std::string& what) {
   refuse_folder(path.string(), what);
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path.string() + ": cannot read " + what);
@@ -117,7 +117,7 @@ bool constant(const ExportedLayer& layer) {
   return true;
 }
 
-json pose_json(const TrunkPose& p) { return {{"x_m", p.x_m}, {"y_m", p.y_m}, {"yaw_rad", p.yaw_rad}}; }
+json pose_summary_json(const TrunkPose& p) { return {{"x_m", p.x_m}, {"y_m", p.y_m}, {"yaw_rad", p.yaw_rad}}; }
 
 json map_json(const std::string& name, const MapFile& file) {
   std::vector<std::string> names;
@@ -153,7 +153,7 @@ json map_json(const std::string& name, const MapFile& file) {
       }
     }
   }
-  if (file.metadata.last_pose) out["last_pose"] = pose_json(*file.metadata.last_pose);
+  if (file.metadata.last_pose) out["last_pose"] = pose_summary_json(*file.metadata.last_pose);
   if (file.metadata.mount) {
     const SensorMount& m = *file.metadata.mount;
     out["mount"] = {{"height_m", m.height_m},
@@ -225,10 +225,10 @@ ReportPage build_report_page(const std::string& directory, const ReportPageOptio
                        "docs/outputs.md); rebuild or reinstall stridemap");
     }
   }
-  parts.three_js = read_whole_file(assets / kReportThreeFile, "three.js");
-  parts.orbit_js = read_whole_file(assets / kReportOrbitFile, "OrbitControls");
-  parts.script_js = read_whole_file(assets / kReportScriptFile, "the page's script");
-  parts.style_css = read_whole_file(assets / kReportStyleFile, "the page's style");
+  parts.three_js = read_asset_file(assets / kReportThreeFile, "three.js");
+  parts.orbit_js = read_asset_file(assets / kReportOrbitFile, "OrbitControls");
+  parts.script_js = read_asset_file(assets / kReportScriptFile, "the page's script");
+  parts.style_css = read_asset_file(assets / kReportStyleFile, "the page's style");
 
   ReportPage page;
   json data = {{"maps", json::array()}, {"messages", json::array()}};
@@ -239,13 +239,13 @@ ReportPage build_report_page(const std::string& directory, const ReportPageOptio
   }
   std::sort(pictures.begin(), pictures.end());
   for (const fs::path& picture : pictures) {
-    parts.pictures.push_back({picture.filename().string(), read_whole_file(picture, "picture")});
+    parts.pictures.push_back({picture.filename().string(), read_asset_file(picture, "picture")});
   }
   const fs::path summary_path = dir / "summary.json";
   if (fs::is_regular_file(summary_path, ec)) {
     has_summary = true;
     try {
-      parts.summary = json::parse(read_whole_file(summary_path, "summary"));
+      parts.summary = json::parse(read_asset_file(summary_path, "summary"));
     } catch (const json::exception& e) {
       page.warnings.push_back(summary_path.string() + ": not JSON: " + e.what());
     }

@@ -11,7 +11,7 @@
 namespace stridemap::io {
 namespace {
 
-constexpr std::string_view kMagic = "stridemap-urg-log";
+constexpr std::string_view kLogMagic = "stridemap-urg-log";
 
 void append_number(double value, std::string& out) {
   char text[32];
@@ -41,7 +41,7 @@ ScanLogWriter::ScanLogWriter(const std::string& path, const std::string& device,
   }
   std::string body;
   if (empty) {
-    body = std::string(kMagic) + " " + std::to_string(kScanLogVersion);
+    body = std::string(kLogMagic) + " " + std::to_string(kScanLogVersion);
     write_line(body);
   }
   body = "device " + device;

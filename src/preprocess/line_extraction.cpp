@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "option_checks.hpp"
 #include "stridemap/preprocess/range_clustering.hpp"
@@ -11,8 +12,7 @@
 namespace stridemap {
 namespace {
 
-constexpr double pi = 3.14159265358979323846;
-constexpr std::size_t none = static_cast<std::size_t>(-1);
+constexpr std::size_t kNoIndex = static_cast<std::size_t>(-1);
 
 }  // namespace
 
@@ -88,25 +88,25 @@ void LineExtractor::extract(const PlanarScan& scan, std::vector<LineSegment>& se
     emit(current, merged);
   };
 
-  std::size_t first = none;
+  std::size_t first = kNoIndex;
   for (std::size_t i = 0; i < n; ++i) {
     if (!is_usable_range(range[i])) {
-      if (first != none) process_cluster(first, i - 1);
-      first = none;
+      if (first != kNoIndex) process_cluster(first, i - 1);
+      first = kNoIndex;
       continue;
     }
-    if (first != none) {
+    if (first != kNoIndex) {
       const double tolerance =
           options_.break_noise_sigmas * options_.sigma.sigma_m(range[i - 1], scan.range_error_m[i - 1]);
       if (!ranges_on_one_surface(range[i - 1], range[i], tolerance,
                                  bands.band(scan.angle_rad[i] - scan.angle_rad[i - 1]))) {
         process_cluster(first, i - 1);
-        first = none;
+        first = kNoIndex;
       }
     }
-    if (first == none) first = i;
+    if (first == kNoIndex) first = i;
   }
-  if (first != none) process_cluster(first, n - 1);
+  if (first != kNoIndex) process_cluster(first, n - 1);
 }
 
 void LineExtractor::split_cluster(std::size_t first, std::size_t last, double split_distance_m) {
@@ -124,7 +124,7 @@ void LineExtractor::split_cluster(std::size_t first, std::size_t last, double sp
       const double dx = x_m_[piece.last] - ax;
       const double dy = y_m_[piece.last] - ay;
       const double chord = std::hypot(dx, dy);
-      std::size_t farthest = none;
+      std::size_t farthest = kNoIndex;
       double farthest_distance = split_distance_m;
       for (std::size_t i = piece.first + 1; i < piece.last; ++i) {
         const double px = x_m_[i] - ax;
@@ -136,7 +136,7 @@ void LineExtractor::split_cluster(std::size_t first, std::size_t last, double sp
           farthest = i;
         }
       }
-      if (farthest != none) {
+      if (farthest != kNoIndex) {
         stack_.push_back({farthest, piece.last});
         stack_.push_back({piece.first, farthest});
         continue;
@@ -171,7 +171,7 @@ void LineExtractor::fit(std::size_t first, std::size_t last, LineSegment& line) 
   double rho = mean_x * std::cos(alpha) + mean_y * std::sin(alpha);
   if (rho < 0.0) {
     rho = -rho;
-    alpha += pi;
+    alpha += std::numbers::pi;
   }
   const double nx = std::cos(alpha);
   const double ny = std::sin(alpha);

@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "option_checks.hpp"
 
@@ -9,8 +10,7 @@ namespace stridemap {
 namespace {
 
 constexpr double half_pi = 1.57079632679489661923;
-constexpr double pi = 3.14159265358979323846;
-constexpr const char* filter_name = "range clustering";
+constexpr const char* clustering_filter_name = "range clustering";
 
 }  // namespace
 
@@ -21,7 +21,7 @@ RangeRatioBand range_ratio_band(double angle_step_rad, double max_incidence_angl
   if (messorsim_swapped_bounds) {
     // MessorSim's formula with its angle of 180 deg - beta_max; cos of that
     // angle is negative, which is what swaps the two factors.
-    const double theta = pi - max_incidence_angle_rad;
+    const double theta = std::numbers::pi - max_incidence_angle_rad;
     band.lower_factor = std::cos(theta + step) / std::cos(theta);
     band.upper_factor = std::cos(theta - step) / std::cos(theta);
     return band;
@@ -48,7 +48,7 @@ RangeClusteringFilter::RangeClusteringFilter(const RangeClusteringOptions& optio
 }
 
 ScanFilterStats RangeClusteringFilter::apply(PlanarScan& scan, std::vector<std::uint8_t>& removed) {
-  ScanFilterStats stats = prepare_scan_for_filter(scan, removed, filter_name);
+  ScanFilterStats stats = prepare_scan_for_filter(scan, removed, clustering_filter_name);
   const std::size_t n = scan.size();
   labels_.assign(n, -1);
   const std::vector<double>& range = scan.range_m;

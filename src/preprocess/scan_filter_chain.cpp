@@ -4,6 +4,7 @@
 #include <stdexcept>
 #include <utility>
 
+#include "scan_copy.hpp"
 #include "stridemap/core/error.hpp"
 
 namespace stridemap {
@@ -24,14 +25,6 @@ std::string_view trim(std::string_view text) {
   while (!text.empty() && blank(text.front())) text.remove_prefix(1);
   while (!text.empty() && blank(text.back())) text.remove_suffix(1);
   return text;
-}
-
-void copy_scan(const PlanarScan& from, PlanarScan& to) {
-  if (&from == &to) return;
-  to.time_s = from.time_s;
-  to.angle_rad.assign(from.angle_rad.begin(), from.angle_rad.end());
-  to.range_m.assign(from.range_m.begin(), from.range_m.end());
-  to.range_error_m.assign(from.range_error_m.begin(), from.range_error_m.end());
 }
 
 }  // namespace
@@ -154,14 +147,14 @@ void ScanFilterChain::run_stateless(std::size_t stage, PlanarScan& scan, StageMa
 }
 
 bool ScanFilterChain::push(const PlanarScan& scan, PlanarScan& out) {
-  copy_scan(scan, work_);
+  detail::copy_scan(scan, work_);
   // Every chain, also an empty one, hands out scans whose only invalid value is NaN.
   prepare_scan_for_filter(work_, normalize_mask_, "scan filter chain");
   const std::size_t before_sequence = has_scan_sequence_ ? scan_sequence_stage_ : stages_.size();
   for (std::size_t stage = 0; stage < before_sequence; ++stage) run_stateless(stage, work_, incoming_);
   if (!has_scan_sequence_) {
     std::swap(output_, incoming_);
-    copy_scan(work_, out);
+    detail::copy_scan(work_, out);
     finish_output(out);
     return true;
   }

@@ -6,20 +6,13 @@
 #include <utility>
 
 #include "option_checks.hpp"
+#include "scan_copy.hpp"
 #include "stridemap/core/error.hpp"
 
 namespace stridemap {
 namespace {
 
 constexpr const char* filter_name = "scan-sequence filter";
-
-void copy_scan(const PlanarScan& from, PlanarScan& to) {
-  if (&from == &to) return;
-  to.time_s = from.time_s;
-  to.angle_rad.assign(from.angle_rad.begin(), from.angle_rad.end());
-  to.range_m.assign(from.range_m.begin(), from.range_m.end());
-  to.range_error_m.assign(from.range_error_m.begin(), from.range_error_m.end());
-}
 
 struct Spread {
   std::size_t points = 0;
@@ -91,7 +84,7 @@ bool ScanSequenceFilter::push(const PlanarScan& next_scan, PlanarScan& out, std:
                      "; all scans of one stream must have the same beam count (flush() or reset() starts a "
                      "new stream)");
   }
-  copy_scan(next_scan, incoming_);
+  detail::copy_scan(next_scan, incoming_);
   const std::size_t incoming_invalid =
       prepare_scan_for_filter(incoming_, normalize_mask_, filter_name, index).invalid_input;
   ++scans_in_stream_;
@@ -196,7 +189,7 @@ void ScanSequenceFilter::judge_held_scan(std::vector<std::uint8_t>& removed) {
 }
 
 void ScanSequenceFilter::emit_held_scan(PlanarScan& out, const std::vector<std::uint8_t>& removed) {
-  copy_scan(held_, out);
+  detail::copy_scan(held_, out);
   ScanFilterStats& stats = last_stats_;
   stats.beams = held_.size();
   stats.invalid_input = held_invalid_input_;

@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 
 #include "option_checks.hpp"
 
 namespace stridemap {
 namespace {
 
-constexpr double pi = 3.14159265358979323846;
 
 }  // namespace
 
@@ -23,7 +23,7 @@ void ShadowFilterOptions::validate() const {
 ShadowFilter::ShadowFilter(const ShadowFilterOptions& options) : options_(options) {
   options_.validate();
   tan_min_angle_ = std::tan(options_.min_angle_rad);
-  tan_supplement_max_angle_ = std::tan(pi - options_.max_angle_rad);
+  tan_supplement_max_angle_ = std::tan(std::numbers::pi - options_.max_angle_rad);
   const std::size_t offsets = 2 * options_.window + 1;
   cached_delta_rad_.assign(offsets, std::numeric_limits<double>::quiet_NaN());
   cached_abs_sin_.assign(offsets, 0.0);

@@ -4,6 +4,7 @@
 // is a well-formed echo where the frame cannot go on starts the next frame.
 #include <string>
 
+#include "scip_line_grammar.hpp"
 #include "stridemap/sensors/scip_decoder.hpp"
 #include "stridemap/sensors/scip_encoding.hpp"
 #include "stridemap/sensors/scip_status.hpp"
@@ -12,11 +13,11 @@ namespace stridemap::scip {
 
 namespace {
 
-constexpr std::size_t kDataCharsPerLine = 64;
-constexpr std::size_t kTimestampChars = 4;
+using detail::is_status_char;
+using detail::kDataCharsPerLine;
+using detail::kTimestampChars;
 
 bool is_upper(char c) { return c >= 'A' && c <= 'Z'; }
-bool is_status_char(char c) { return (c >= '0' && c <= '9') || is_upper(c); }
 bool is_printable(char c) { return c >= 0x20 && c <= 0x7E; }
 
 bool looks_like_echo(std::string_view line) {

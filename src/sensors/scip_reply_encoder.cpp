@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "scip_line_grammar.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/sensors/scip_decoder.hpp"
 #include "stridemap/sensors/scip_encoding.hpp"
@@ -10,11 +11,8 @@ namespace stridemap::scip {
 
 namespace {
 
-constexpr std::size_t kDataCharsPerLine = 64;
-constexpr int kTimestampChars = 4;
+constexpr int kTimestampCharCount = static_cast<int>(detail::kTimestampChars);
 constexpr std::size_t kMaxInfoLineBytes = DecoderOptions{}.max_line_bytes;
-
-bool is_status_char(char c) { return (c >= '0' && c <= '9') || (c >= 'A' && c <= 'Z'); }
 
 void require_printable(std::string_view text, std::string_view what) {
   for (std::size_t i = 0; i < text.size(); ++i) {
@@ -27,8 +25,8 @@ void require_printable(std::string_view text, std::string_view what) {
 
 void append_echo_and_status(std::string_view echo, std::string_view status, std::string& out) {
   require_printable(echo, "echo");
-  if (status.empty() || status.size() > 2 || !is_status_char(status[0]) ||
-      (status.size() == 2 && !is_status_char(status[1]))) {
+  if (status.empty() || status.size() > 2 || !detail::is_status_char(status[0]) ||
+      (status.size() == 2 && !detail::is_status_char(status[1]))) {
     throw InputError("SCIP reply encoder: status '" + std::string(status) +
                      "' is not 2 characters of 0-9/A-Z (or 1 for SCIP 1.1)");
   }
@@ -46,11 +44,11 @@ void append_checked_line(std::string_view payload, std::string& out) {
 }
 
 void append_timestamp_line(std::uint32_t time_ms, std::string& out) {
-  if (time_ms > max_encodable_value(kTimestampChars)) {
+  if (time_ms > max_encodable_value(kTimestampCharCount)) {
     throw InputError("SCIP reply encoder: time " + std::to_string(time_ms) + " ms does not fit 24 bits");
   }
   const std::size_t start = out.size();
-  append_encoded_value(time_ms, kTimestampChars, out);
+  append_encoded_value(time_ms, kTimestampCharCount, out);
   out += checksum(std::string_view(out).substr(start));
   out += '\n';
 }
@@ -63,8 +61,8 @@ void append_status_reply(std::string_view echo, std::string_view status, std::st
 }
 
 void append_data_lines(std::string_view payload, std::string& out) {
-  for (std::size_t pos = 0; pos < payload.size(); pos += kDataCharsPerLine) {
-    append_checked_line(payload.substr(pos, kDataCharsPerLine), out);
+  for (std::size_t pos = 0; pos < payload.size(); pos += detail::kDataCharsPerLine) {
+    append_checked_line(payload.substr(pos, detail::kDataCharsPerLine), out);
   }
 }
 
@@ -82,7 +80,7 @@ void append_distance_frame(std::string_view echo, std::string_view status, std::
                        " characters (max " + std::to_string(largest) + ")");
     }
   }
-  if (timestamp_ms > max_encodable_value(kTimestampChars)) {
+  if (timestamp_ms > max_encodable_value(kTimestampCharCount)) {
     throw InputError("SCIP reply encoder: timestamp " + std::to_string(timestamp_ms) + " ms does not fit 24 bits");
   }
   append_echo_and_status(echo, status, out);
@@ -95,7 +93,7 @@ void append_distance_frame(std::string_view echo, std::string_view status, std::
   for (const std::uint32_t value : values) {
     for (std::size_t k = width; k-- > 0;) {
       out += static_cast<char>(((value >> (6 * k)) & 0x3Fu) + kFirstDataChar);
-      if (out.size() - line_start == kDataCharsPerLine) {
+      if (out.size() - line_start == detail::kDataCharsPerLine) {
         out += checksum(std::string_view(out).substr(line_start));
         out += '\n';
         line_start = out.size();
@@ -152,7 +150,7 @@ void append_info_reply(std::string_view echo, const std::vector<InfoField>& fiel
 }
 
 void append_time_reply(std::string_view echo, std::uint32_t time_ms, std::string& out) {
-  if (time_ms > max_encodable_value(kTimestampChars)) {
+  if (time_ms > max_encodable_value(kTimestampCharCount)) {
     throw InputError("SCIP reply encoder: time " + std::to_string(time_ms) + " ms does not fit 24 bits");
   }
   append_echo_and_status(echo, "00", out);

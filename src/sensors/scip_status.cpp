@@ -1,10 +1,10 @@
 #include "stridemap/sensors/scip_status.hpp"
 
+#include "scip_line_grammar.hpp"
+
 namespace stridemap::scip {
 
 namespace {
-
-bool is_status_char(char c) { return (c >= '0' && c <= '9') || (c >= 'A' && c <= 'Z'); }
 
 // Status as a number when both characters are decimal digits, else -1.
 int decimal_status(std::string_view status) {
@@ -87,7 +87,7 @@ std::string_view setting_meaning(CommandType command, int code) {
 }  // namespace
 
 bool is_known_status(CommandType command, std::string_view status) {
-  if (status.size() == 1) return is_status_char(status[0]);
+  if (status.size() == 1) return detail::is_status_char(status[0]);
   if (status == "00" || is_generic_error(status)) return true;
   const int code = decimal_status(status);
   return code > 0 && is_command_specific(command, code);

@@ -22,7 +22,7 @@
 namespace stridemap {
 namespace {
 
-constexpr double kRightAngle = std::numbers::pi / 2.0;
+constexpr double kRightAngle_rad = std::numbers::pi / 2.0;
 
 std::string target_label(const CalibrationTargetImage& t, std::size_t index) {
   return "calibration target " + std::to_string(index + 1) + (t.name.empty() ? "" : " (" + t.name + ")");
@@ -166,7 +166,7 @@ StructuredLightCalibration calibrate_baseline_and_sheet_angle(const StructuredLi
   solver.parameters.ftol = 1e-14;
   solver.minimize(x);
   result.iterations = static_cast<int>(solver.iter);
-  if (!x.allFinite() || !(x[0] > 0.0) || !(x[1] > 0.0 && x[1] < kRightAngle)) {
+  if (!x.allFinite() || !(x[0] > 0.0) || !(x[1] > 0.0 && x[1] < kRightAngle_rad)) {
     throw InputError("structured light calibration: the fit left the valid range (b = " + std::to_string(x[0]) +
                      " m, beta = " + std::to_string(x[1] * 180.0 / std::numbers::pi) +
                      " deg); check the distances and that each image shows the target's stripe");

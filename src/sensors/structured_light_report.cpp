@@ -10,7 +10,7 @@
 namespace stridemap {
 namespace {
 
-constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+constexpr double kDegreesPerRadian = 180.0 / std::numbers::pi;
 constexpr double kDegToRadian = std::numbers::pi / 180.0;
 // The pitch search stays within core's mount limit (|tilt| < 90 deg).
 constexpr double kMaxTotalTilt_rad = 89.9 * kDegToRadian;
@@ -115,7 +115,7 @@ GroundStripeReport ground_stripe_report(const StructuredLightModel& model, const
     throw InputError(cannot + text("the laser sheet does not descend ahead of the camera (it lies %.2f deg below the "
                                    "horizontal: alpha + 90 deg - beta); tilt the sensor further down (larger "
                                    "mount pitch alpha) or make the sheet steeper (smaller beta)",
-                                   (alpha + std::numbers::pi / 2 - p.sheet_angle_rad) * kRadToDeg));
+                                   (alpha + std::numbers::pi / 2 - p.sheet_angle_rad) * kDegreesPerRadian));
   }
   if (location->row_px > rows) {
     throw InputError(cannot + text("the laser stripe on flat ground lies %.3f m ahead of the camera (z_c) but would "

@@ -13,7 +13,7 @@
 namespace stridemap {
 namespace {
 
-void check_option(const char* field, std::optional<std::string> problem) {
+void check_footprint_option(const char* field, std::optional<std::string> problem) {
   if (problem) throw InputError(std::string("footprint beam model options: ") + field + ": " + *problem);
 }
 
@@ -38,15 +38,15 @@ double overlap(double a0, double a1, double b0, double b1) { return std::max(0.0
 }  // namespace
 
 void FootprintBeamOptions::validate() const {
-  check_option("beam_divergence_rad", scene_rules::non_negative(beam_divergence_rad));
-  check_option("exit_diameter_m", scene_rules::non_negative(exit_diameter_m));
+  check_footprint_option("beam_divergence_rad", scene_rules::non_negative(beam_divergence_rad));
+  check_footprint_option("exit_diameter_m", scene_rules::non_negative(exit_diameter_m));
   // 30 rings are 2791 sub-rays per instant: far more than any use needs,
   // and a bound that keeps a typo from asking for billions of casts.
-  check_option("footprint_rings", count_in(footprint_rings, 0, 30));
-  check_option("footprint_outer_radius", scene_rules::positive(footprint_outer_radius));
-  check_option("smear_instants", count_in(smear_instants, 1, 64));
-  check_option("fine_frequency_hz", scene_rules::positive(fine_frequency_hz));
-  check_option("coarse_frequency_hz", scene_rules::positive(coarse_frequency_hz));
+  check_footprint_option("footprint_rings", count_in(footprint_rings, 0, 30));
+  check_footprint_option("footprint_outer_radius", scene_rules::positive(footprint_outer_radius));
+  check_footprint_option("smear_instants", count_in(smear_instants, 1, 64));
+  check_footprint_option("fine_frequency_hz", scene_rules::positive(fine_frequency_hz));
+  check_footprint_option("coarse_frequency_hz", scene_rules::positive(coarse_frequency_hz));
   if (!(coarse_frequency_hz < fine_frequency_hz)) {
     throw InputError("footprint beam model options: coarse_frequency_hz: expected below fine_frequency_hz (" +
                      scene_rules::format_number(fine_frequency_hz) + "), got " +
@@ -59,8 +59,8 @@ void FootprintBeamOptions::validate() const {
     throw InputError("footprint beam model options: max_two_wave_amplitude_ratio: expected a number above 1, got " +
                      scene_rules::format_number(max_two_wave_amplitude_ratio));
   }
-  check_option("detection_amplitude", scene_rules::non_negative(detection_amplitude));
-  check_option("mixed_tolerance_m", scene_rules::positive(mixed_tolerance_m));
+  check_footprint_option("detection_amplitude", scene_rules::non_negative(detection_amplitude));
+  check_footprint_option("mixed_tolerance_m", scene_rules::positive(mixed_tolerance_m));
   texture.validate();
 }
 

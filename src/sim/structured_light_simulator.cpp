@@ -9,7 +9,7 @@
 namespace stridemap {
 namespace {
 
-void check_option(const char* field, std::optional<std::string> problem) {
+void check_projector_option(const char* field, std::optional<std::string> problem) {
   if (problem) throw InputError(std::string("structured light simulator options: ") + field + ": " + *problem);
 }
 
@@ -34,14 +34,14 @@ const char* to_string(StripeColumnLabel label) {
 }
 
 void StructuredLightSimOptions::validate() const {
-  check_option("max_range_m", scene_rules::positive(max_range_m));
+  check_projector_option("max_range_m", scene_rules::positive(max_range_m));
   const double fan_deg = fan_half_angle_rad * 180.0 / std::numbers::pi;
   if (!(std::isfinite(fan_half_angle_rad) && fan_deg > 0.0 && fan_deg < 90.0)) {
-    check_option("fan_half_angle_rad",
+    check_projector_option("fan_half_angle_rad",
                  "must lie strictly between 0 and 90 deg, got " + scene_rules::format_number(fan_deg) + " deg");
   }
-  check_option("row_noise_sigma_px", scene_rules::non_negative(row_noise_sigma_px));
-  check_option("occlusion_tolerance_m", scene_rules::non_negative(occlusion_tolerance_m));
+  check_projector_option("row_noise_sigma_px", scene_rules::non_negative(row_noise_sigma_px));
+  check_projector_option("occlusion_tolerance_m", scene_rules::non_negative(occlusion_tolerance_m));
 }
 
 Eigen::Vector3d column_emitter_direction(const StructuredLightModel& model, double u_px) {

@@ -12,15 +12,15 @@
 namespace stridemap {
 namespace {
 
-void check_option(const char* field, const std::optional<std::string>& problem) {
+void check_texture_option(const char* field, const std::optional<std::string>& problem) {
   if (problem) throw InputError(std::string("surface texture options: ") + field + ": " + *problem);
 }
 
 }  // namespace
 
 void SurfaceTextureOptions::validate() const {
-  check_option("log_sigma", scene_rules::non_negative(log_sigma));
-  check_option("grain_m", scene_rules::positive(grain_m));
+  check_texture_option("log_sigma", scene_rules::non_negative(log_sigma));
+  check_texture_option("grain_m", scene_rules::positive(grain_m));
 }
 
 SurfaceTexture::SurfaceTexture(const SurfaceTextureOptions& options) : options_(options) {

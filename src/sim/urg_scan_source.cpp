@@ -35,14 +35,14 @@ RecordedScanSource::RecordedScanSource(std::vector<std::vector<std::uint32_t>> s
 }
 
 void RecordedScanSource::scan(std::uint64_t index, double, std::vector<std::uint32_t>& values_mm) {
-  constexpr std::uint32_t kNonMeasurable = 19;
+  constexpr std::uint32_t kDeadZoneValue = 19;
   const std::vector<std::uint32_t>& recorded = scans_[index % scans_.size()];
   values_mm.resize(static_cast<std::size_t>(parameters_.beam_count()));
   for (int step = parameters_.first_step; step <= parameters_.last_step; ++step) {
     const int offset = step - first_step_;
     const std::size_t k = offset < 0 ? recorded.size() : static_cast<std::size_t>(offset / cluster_);
     values_mm[static_cast<std::size_t>(step - parameters_.first_step)] =
-        k < recorded.size() ? recorded[k] : kNonMeasurable;
+        k < recorded.size() ? recorded[k] : kDeadZoneValue;
   }
 }
 

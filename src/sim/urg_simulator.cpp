@@ -17,21 +17,21 @@ namespace {
 // only with dropouts disabled) gives a large but finite noise.
 constexpr double min_amplitude = 1e-9;
 
-void check_option(const char* field, std::optional<std::string> problem) {
+void check_urg_option(const char* field, std::optional<std::string> problem) {
   if (problem) throw InputError(std::string("URG simulator options: ") + field + ": " + *problem);
 }
 
 }  // namespace
 
 void UrgSimOptions::validate() const {
-  check_option("range_noise_sigma_m", scene_rules::non_negative(range_noise_sigma_m));
-  check_option("noise_reference_amplitude", scene_rules::positive(noise_reference_amplitude));
+  check_urg_option("range_noise_sigma_m", scene_rules::non_negative(range_noise_sigma_m));
+  check_urg_option("noise_reference_amplitude", scene_rules::positive(noise_reference_amplitude));
   for (std::size_t k = 0; k < systematic_error_coefficients.size(); ++k) {
     const std::string field = "systematic_error_coefficients[" + std::to_string(k) + "]";
-    check_option(field.c_str(), scene_rules::finite(systematic_error_coefficients[k]));
+    check_urg_option(field.c_str(), scene_rules::finite(systematic_error_coefficients[k]));
   }
-  check_option("dropout_amplitude_threshold", scene_rules::non_negative(dropout_amplitude_threshold));
-  check_option("amplitude_bias_m_per_decade", scene_rules::finite(amplitude_bias_m_per_decade));
+  check_urg_option("dropout_amplitude_threshold", scene_rules::non_negative(dropout_amplitude_threshold));
+  check_urg_option("amplitude_bias_m_per_decade", scene_rules::finite(amplitude_bias_m_per_decade));
 }
 
 UrgSimulator::UrgSimulator(const Scene& scene, const UrgParameters& params, const UrgSimOptions& options,
