@@ -211,7 +211,9 @@ TEST_F(RosNodeTest, BadCloudsAreCountedAndReportedNeverFatal) {
   listen_to_diagnostics("stridemap_bad_stripe");
   play(*nh_, bag_path, "stridemap_bad_stripe");
   ASSERT_TRUE(wait_for([&] { return diag("scans") >= 15 && diag("dropped_pose_timeout") >= 1; }, 120.0, pump))
-      << "diagnostics never showed the last cloud timed out\n" << read_text(log_);
+      << "diagnostics never showed the last cloud timed out: scans " << diag("scans") << ", mapped "
+      << diag("scans_mapped") << ", pose timeouts " << diag("dropped_pose_timeout") << "\n"
+      << read_text(log_);
   EXPECT_EQ(diag("scans"), 15.0);
   EXPECT_EQ(diag("scans_mapped"), 9.0);
   EXPECT_EQ(diag("dropped_no_valid_beams"), 1.0);
