@@ -105,7 +105,7 @@ TEST_F(RosNodeTest, MapsStripeCloudsLikeTheTruthAndLikeMapBagBitForBit) {
   ros::Subscriber s2 = nh_->subscribe<nav_msgs::MapMetaData>(
       "/stridemap_stripe/map_info", 1, [&](const nav_msgs::MapMetaData::ConstPtr& m) { info = m; });
 
-  play(*nh_, bag_path, "stridemap_stripe");
+  const auto players = play(*nh_, bag_path, "stridemap_stripe");
   // With a cloud topic the node takes no LaserScan from the default `scan`.
   ros::Publisher scan_pub = nh_->advertise<sensor_msgs::LaserScan>("/scan", 1);
   EXPECT_FALSE(wait_for([&] { return scan_pub.getNumSubscribers() > 0; }, 2.0, pump));
@@ -209,7 +209,7 @@ TEST_F(RosNodeTest, BadCloudsAreCountedAndReportedNeverFatal) {
       start_node("stridemap_bad_stripe", {{"config", config}, {"cloud_topic", "/stripe"}, {"pose_wait_s", "5.0"},
                                           {"publish_every_s", "0.2"}, {"map_file", node_map}});
   listen_to_diagnostics("stridemap_bad_stripe");
-  play(*nh_, bag_path, "stridemap_bad_stripe");
+  const auto players = play(*nh_, bag_path, "stridemap_bad_stripe");
   ASSERT_TRUE(wait_for([&] { return diag("scans") >= 15 && diag("dropped_pose_timeout") >= 1; }, 120.0, pump))
       << "diagnostics never showed the last cloud timed out: scans " << diag("scans") << ", mapped "
       << diag("scans_mapped") << ", pose timeouts " << diag("dropped_pose_timeout") << "\n"

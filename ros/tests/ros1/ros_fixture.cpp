@@ -31,7 +31,7 @@ void write_trunk_tf(rosbag::Bag& bag, const Eigen::Isometry3d& trunk_in_map, dou
   }
 }
 
-void play(ros::NodeHandle& nh, const std::string& bag_path, const std::string& node) {
+std::map<std::string, ros::Publisher> play(ros::NodeHandle& nh, const std::string& bag_path, const std::string& node) {
   rosbag::Bag bag(bag_path, rosbag::bagmode::Read);
   std::map<std::string, ros::Publisher> publishers;
   for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
@@ -39,19 +39,21 @@ void play(ros::NodeHandle& nh, const std::string& bag_path, const std::string& n
     const auto message = m.instantiate<topic_tools::ShapeShifter>();
     publishers[m.getTopic()] = message->advertise(nh, m.getTopic(), 1000, m.getTopic() == "/tf_static");
   }
-  ASSERT_TRUE(wait_for(
+  const bool subscribed = wait_for(
       [&] {
         for (const auto& [topic, publisher] : publishers) {
           if (publisher.getNumSubscribers() == 0) return false;
         }
         return true;
       },
-      60.0, [] { ros::spinOnce(); }))
-      << node << " did not subscribe to every topic of " << bag_path << " within 60 s";
+      60.0, [] { ros::spinOnce(); });
+  EXPECT_TRUE(subscribed) << node << " did not subscribe to every topic of " << bag_path << " within 60 s";
+  if (!subscribed) return {};
   for (const rosbag::MessageInstance& m : rosbag::View(bag)) {
     publishers[m.getTopic()].publish(m.instantiate<topic_tools::ShapeShifter>());
     ros::WallDuration(0.003).sleep();
   }
+  return publishers;
 }
 
 std::string* RosNodeTest::folder_ = nullptr;

@@ -33,8 +33,12 @@ void write_trunk_tf(rosbag::Bag& bag, const Eigen::Isometry3d& trunk_in_map, dou
 /// Plays a bag's messages in their recorded order, each on its topic (any
 /// type), once the node subscribes to every topic in the bag. The pacing
 /// keeps the node's queues from overflowing on a loaded machine; the tests
-/// then wait on the node's own counts, not on time.
-void play(ros::NodeHandle& nh, const std::string& bag_path, const std::string& node);
+/// then wait on the node's own counts, not on time. Keep the publishers
+/// returned until the node has counted every message: a publisher dropped
+/// at once takes the messages still queued in its connections with it,
+/// which a slow node on a loaded machine had not read yet.
+[[nodiscard]] std::map<std::string, ros::Publisher> play(ros::NodeHandle& nh, const std::string& bag_path,
+                                                         const std::string& node);
 
 class RosNodeTest : public ::testing::Test {
  protected:

@@ -86,7 +86,7 @@ TEST_F(RosNodeTest, MapsSimulatedScansLikeTheTruthAndLikeMapBagBitForBit) {
   ros::Subscriber s4 = nh_->subscribe<visualization_msgs::Marker>(
       "/stridemap_mapper/marker", 1, [&](const visualization_msgs::Marker::ConstPtr& m) { marker = m; });
 
-  play(*nh_, bag, "stridemap_mapper");
+  const auto players = play(*nh_, bag, "stridemap_mapper");
   const double n = static_cast<double>(run.scans.size());
   ASSERT_TRUE(wait_for([&] { return diag("scans_mapped") + diag("scans_dropped") >= n; }, 120.0, pump))
       << "the node did not account for every scan; diagnostics: scans " << diag("scans") << "\n"
@@ -185,7 +185,7 @@ TEST_F(RosNodeTest, BadMessagesAreCountedAndReportedNeverFatal) {
   std::unique_ptr<Child> node = start_node(
       "stridemap_bad", {{"pose_wait_s", "5.0"}, {"publish_every_s", "0.2"}, {"map_file", user_file}});  // see ros_cloud_test
   listen_to_diagnostics("stridemap_bad");
-  play(*nh_, bag, "stridemap_bad");
+  const auto players = play(*nh_, bag, "stridemap_bad");
   ASSERT_TRUE(wait_for([&] { return diag("scans") >= 13 && diag("dropped_pose_timeout") >= 1; }, 120.0, pump))
       << "diagnostics never showed the last scan timed out\n" << read_text(log_);
   EXPECT_EQ(diag("scans"), 13.0);
@@ -238,7 +238,7 @@ TEST_F(RosNodeTest, PosesFromAnOdometryTopicGiveMapBagsMapBitForBit) {
       start_node("stridemap_odom", {{"pose_topic", "/odom"}, {"pose_wait_s", "30.0"}, {"range_error_m", "0.03"},
                                     {"publish_every_s", "0.2"}, {"map_file", node_map}});
   listen_to_diagnostics("stridemap_odom");
-  play(*nh_, bag, "stridemap_odom");
+  const auto players = play(*nh_, bag, "stridemap_odom");
   const double n = static_cast<double>(run.scans.size());
   ASSERT_TRUE(wait_for([&] { return diag("scans_mapped") + diag("scans_dropped") >= n; }, 120.0, pump))
       << read_text(log_);
