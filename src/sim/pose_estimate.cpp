@@ -161,14 +161,29 @@ std::optional<SoleReading> read_sole(const ElevationMap& map, const float* eleva
 
 }  // namespace
 
+Eigen::Vector3d PoseEstimator::foot_from_trunk_in_map(const TrunkState& truth,
+                                                      const std::pair<Eigen::Matrix3d, Eigen::Matrix3d>& rotations,
+                                                      std::size_t f) {
+  // The trunk reference point sits h_ref + d_z above the map's zero (eq. 9
+  // without the mount); the kinematics measure each foot from it in the
+  // trunk frame, with encoder noise, and the IMU's attitude turns that into
+  // the map frame.
+  const TrunkPose& t = truth.pose;
+  const Eigen::Vector3d trunk(t.x_m, t.y_m, t.reference_elevation_m + t.height_change_m);
+  const double sigma = options_.leg_height_noise_sigma_m;
+  Eigen::Vector3d in_trunk = rotations.first.transpose() * (truth.feet[f].position_m - trunk);
+  // One draw per axis, z first: the order GCC gave the three draws when
+  // they were constructor arguments (unspecified in C++; clang went x
+  // first), so the documented walks stay and every compiler now agrees.
+  for (int axis = 2; axis >= 0; --axis) in_trunk[axis] += sigma > 0.0 ? sigma * gaussian_(rng_) : 0.0;
+  return rotations.second * in_trunk;
+}
+
 double PoseEstimator::trunk_height_from_footholds(const TrunkState& truth, const TrunkPose& e,
                                                   const ElevationMap& map, const float* fused,
                                                   const float* fused_variance) {
-  const TrunkPose& t = truth.pose;
-  const Eigen::Matrix3d true_rotation = trunk_rotation(t), estimated_rotation = trunk_rotation(e);
-  const Eigen::Vector3d trunk(t.x_m, t.y_m, t.reference_elevation_m + t.height_change_m);
+  const std::pair<Eigen::Matrix3d, Eigen::Matrix3d> rotations{trunk_rotation(truth.pose), trunk_rotation(e)};
   const double sigma = options_.leg_height_noise_sigma_m;
-  const auto noise = [&] { return sigma > 0.0 ? sigma * gaussian_(rng_) : 0.0; };
   // Per stance foot: the trunk's height above the map's zero as that foot
   // gives it (foothold height + kinematic depth), and its variance.
   std::array<double, 6> z{}, v{};
@@ -179,11 +194,7 @@ double PoseEstimator::trunk_height_from_footholds(const TrunkState& truth, const
       soles_[f] = {};  // lifted: it lands on a new foothold
       continue;
     }
-    // The kinematics measure the foot from the trunk with encoder noise; the
-    // estimated attitude and position place it in the map frame.
-    Eigen::Vector3d in_trunk = true_rotation.transpose() * (truth.feet[f].position_m - trunk);
-    in_trunk += Eigen::Vector3d(noise(), noise(), noise());
-    const Eigen::Vector3d in_map = estimated_rotation * in_trunk;
+    const Eigen::Vector3d in_map = foot_from_trunk_in_map(truth, rotations, f);
     SoleAverage& sole = soles_[f];
     sole.sum_m += Eigen::Vector2d(e.x_m + in_map.x(), e.y_m + in_map.y());
     ++sole.scans;
@@ -238,15 +249,8 @@ double PoseEstimator::trunk_height_from_footholds(const TrunkState& truth, const
 
 double PoseEstimator::trunk_height_from_legs(const TrunkState& truth, const TrunkPose& e, const ElevationMap& map,
                                              const float* fused) {
-  const TrunkPose& t = truth.pose;
-  // The trunk reference point sits h_ref + d_z above the map's zero (eq. 9
-  // without the mount); the kinematics measure each foot from it in the
-  // trunk frame, with encoder noise, and the IMU's attitude turns that into
-  // the map frame.
-  const Eigen::Matrix3d true_rotation = trunk_rotation(t), estimated_rotation = trunk_rotation(e);
-  const Eigen::Vector3d trunk(t.x_m, t.y_m, t.reference_elevation_m + t.height_change_m);
+  const std::pair<Eigen::Matrix3d, Eigen::Matrix3d> rotations{trunk_rotation(truth.pose), trunk_rotation(e)};
   const double sigma = options_.leg_height_noise_sigma_m;
-  const auto noise = [&] { return sigma > 0.0 ? sigma * gaussian_(rng_) : 0.0; };
   std::array<double, 6> depth{};
   std::array<Eigen::Vector2d, 6> sole{};
   for (std::size_t f = 0; f < 6; ++f) {
@@ -254,9 +258,7 @@ double PoseEstimator::trunk_height_from_legs(const TrunkState& truth, const Trun
       footholds_[f].known = false;  // lifted: it lands on a new foothold
       continue;
     }
-    Eigen::Vector3d in_trunk = true_rotation.transpose() * (truth.feet[f].position_m - trunk);
-    in_trunk += Eigen::Vector3d(noise(), noise(), noise());
-    const Eigen::Vector3d in_map = estimated_rotation * in_trunk;
+    const Eigen::Vector3d in_map = foot_from_trunk_in_map(truth, rotations, f);
     depth[f] = -in_map.z();
     sole[f] = Eigen::Vector2d(e.x_m + in_map.x(), e.y_m + in_map.y());
   }

@@ -17,6 +17,7 @@
 #include <cstdint>
 #include <numbers>
 #include <random>
+#include <utility>
 #include <string>
 
 #include "stridemap/core/enum_names.hpp"
@@ -163,6 +164,13 @@ class PoseEstimator {
   /// from the stance feet; updates the footholds.
   double trunk_height_from_legs(const TrunkState& truth, const TrunkPose& estimate, const ElevationMap& map,
                                 const float* fused);
+
+  /// Where the leg kinematics put stance foot `f` relative to the trunk
+  /// reference point, in the map frame: measured from the true trunk with
+  /// encoder noise (three draws), turned by the estimated attitude.
+  /// `rotations` are the true and the estimated trunk rotation.
+  Eigen::Vector3d foot_from_trunk_in_map(const TrunkState& truth, const std::pair<Eigen::Matrix3d, Eigen::Matrix3d>& rotations,
+                                         std::size_t f);
 
   /// The `map_footholds` reference: the trunk's height (h_ref + d_z) from
   /// the fused layer at the stance feet's soles, or NaN when no stance foot
