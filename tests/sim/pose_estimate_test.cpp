@@ -200,18 +200,24 @@ TEST(PoseEstimate, MapFusedReadsTheFusedLayerAndTakesOffACalibratedBias) {
   EXPECT_NEAR(e.roll_rad, t.pose.roll_rad + 0.002, 1e-12);
 }
 
-// A ramp rising 0.1 m per metre along +X, 4 x 2 m.
+// A 4 x 2 m terrain sampled every `resolution_m`, its height a function of x.
+template <typename HeightOfX>
+Scene terrain_along_x(double resolution_m, HeightOfX height_m) {
+  Scene scene;
+  scene.terrain.resolution_m = resolution_m;
+  scene.terrain.nx = static_cast<int>(std::lround(4.0 / resolution_m)) + 1;
+  scene.terrain.ny = static_cast<int>(std::lround(2.0 / resolution_m)) + 1;
+  scene.terrain.max_x_m = scene.terrain.min_x_m + (scene.terrain.nx - 1) * resolution_m;
+  scene.terrain.max_y_m = scene.terrain.min_y_m + (scene.terrain.ny - 1) * resolution_m;
+  for (int j = 0; j < scene.terrain.ny; ++j)
+    for (int i = 0; i < scene.terrain.nx; ++i)
+      scene.terrain.samples.push_back(static_cast<float>(height_m(scene.terrain.min_x_m + i * resolution_m)));
+  return scene;
+}
+
+// A ramp rising 0.1 m per metre along +X.
 Scene ramp_scene() {
-  Scene ramp;
-  ramp.terrain.resolution_m = 0.05;
-  ramp.terrain.nx = 81;
-  ramp.terrain.ny = 41;
-  ramp.terrain.max_x_m = ramp.terrain.min_x_m + 80 * 0.05;
-  ramp.terrain.max_y_m = ramp.terrain.min_y_m + 40 * 0.05;
-  for (int j = 0; j < ramp.terrain.ny; ++j)
-    for (int i = 0; i < ramp.terrain.nx; ++i)
-      ramp.terrain.samples.push_back(static_cast<float>(0.1 * (ramp.terrain.min_x_m + i * 0.05)));
-  return ramp;
+  return terrain_along_x(0.05, [](double x) { return 0.1 * x; });
 }
 
 // The `legs` reference: the trunk stands on its stance feet by the leg
@@ -273,18 +279,9 @@ TEST(PoseEstimate, LegsCarryTheTrunkOnItsStanceFeet) {
 }
 
 
-// A floor with a 4 cm step up at x = 1 m, 4 x 2 m, sampled every 1 cm.
+// A floor with a 4 cm step up at x = 1 m, sampled every 1 cm.
 Scene step_scene() {
-  Scene step;
-  step.terrain.resolution_m = 0.01;
-  step.terrain.nx = 401;
-  step.terrain.ny = 201;
-  step.terrain.max_x_m = step.terrain.min_x_m + 400 * 0.01;
-  step.terrain.max_y_m = step.terrain.min_y_m + 200 * 0.01;
-  for (int j = 0; j < step.terrain.ny; ++j)
-    for (int i = 0; i < step.terrain.nx; ++i)
-      step.terrain.samples.push_back(step.terrain.min_x_m + i * 0.01 >= 1.0 ? 0.04f : 0.0f);
-  return step;
+  return terrain_along_x(0.01, [](double x) { return x >= 1.0 ? 0.04 : 0.0; });
 }
 
 // The `map_footholds` reference reads the map where the stance feet stand
