@@ -94,6 +94,8 @@ UrgParameters to_urg_parameters(const ScipParameters& p) {
   if (p.last_step >= p.steps_per_turn) {
     inconsistent("AMAX", p.last_step, "is not below ARES = " + std::to_string(p.steps_per_turn));
   }
+  // GD/MD name steps in four digits: a larger AMAX is no URG's.
+  if (p.last_step > 9999) inconsistent("AMAX", p.last_step, "is above 9999, the largest step a scan command can name");
   if (p.front_step < 0 || p.front_step >= p.steps_per_turn) {
     inconsistent("AFRT", p.front_step, "is outside 0..ARES-1 = " + std::to_string(p.steps_per_turn - 1));
   }

@@ -55,6 +55,10 @@ void UrgParameters::validate() const {
   if (last_step >= steps_per_turn) {
     throw_parameter_error("last_step", describe("< steps_per_turn =", last_step, steps_per_turn));
   }
+  // The scan commands (GD, MD) name steps in four digits, so no scan reaches
+  // beyond; the model's beam tables are sized by last_step - first_step.
+  constexpr long long kMaxStep = 9999;
+  if (last_step > kMaxStep) throw_parameter_error("last_step", describe("<=", last_step, kMaxStep));
   require_finite("min_range_m", min_range_m);
   require_finite("max_range_m", max_range_m);
   require_finite("scan_period_s", scan_period_s);

@@ -65,6 +65,11 @@ TEST(ScipParameters, InconsistentValuesAreNamedOnConversion) {
   EXPECT_EQ(bad([](ScipParameters& p) { p.last_step = 40; }), "SCIP PP reply: field AMAX = 40 is below AMIN = 44");
   EXPECT_EQ(bad([](ScipParameters& p) { p.last_step = 1024; }),
             "SCIP PP reply: field AMAX = 1024 is not below ARES = 1024");
+  EXPECT_EQ(bad([](ScipParameters& p) {
+              p.steps_per_turn = 1'024'077'777;
+              p.last_step = 777'777'800;
+            }),
+            "SCIP PP reply: field AMAX = 777777800 is above 9999, the largest step a scan command can name");
   EXPECT_EQ(bad([](ScipParameters& p) { p.front_step = 2000; }),
             "SCIP PP reply: field AFRT = 2000 is outside 0..ARES-1 = 1023");
   EXPECT_EQ(bad([](ScipParameters& p) { p.max_distance_mm = 20; }),

@@ -55,6 +55,10 @@ TEST(UrgParameters, InconsistentFieldsAreNamed) {
       {"front_step", [](UrgParameters& p) { p.front_step = 40; }},
       {"last_step", [](UrgParameters& p) { p.last_step = 300; }},
       {"last_step", [](UrgParameters& p) { p.last_step = 1024; }},
+      {"last_step", [](UrgParameters& p) {
+         p.steps_per_turn = 1'000'000'000;
+         p.last_step = 777'777'800;  // beam tables of gigabytes
+       }},
       {"min_range_m", [](UrgParameters& p) { p.min_range_m = 0.0; }},
       {"min_range_m", [](UrgParameters& p) { p.min_range_m = std::nan(""); }},
       {"max_range_m", [](UrgParameters& p) { p.max_range_m = 0.01; }},
