@@ -17,6 +17,7 @@
 #include "stridemap/experiments/rocky_walk_report.hpp"
 #include "report_command.hpp"
 #include "stridemap/experiments/urg_walk_sensor.hpp"
+#include "stridemap/experiments/wall_range_calibration.hpp"
 #include "stridemap/io/scene_yaml.hpp"
 #include "stridemap/io/walk_path_yaml.hpp"
 #include "cli_parsing.hpp"
@@ -38,6 +39,7 @@ struct RockyWalkArgs {
   std::string sweep = "0,0.5,1,2,4";
   std::optional<std::string> reference;           // map-footholds (urg), map (structured-light)
   std::optional<std::string> calibrate_attitude;  // on (urg), off (structured-light)
+  std::string calibrate_range = "off";  // URG only
   std::string feet = "stand";
   std::optional<double> foothold_map_sigma_m;
   std::optional<double> foothold_gate_sigmas;
@@ -87,6 +89,8 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   ElevationMap(options.walk.mapper.grid);  // throws for an unusable grid
   options.validate();
   const bool mixed = parse_on_off("--mixed-pixels", args.mixed_pixels);
+  const bool calibrate_range = parse_on_off("--calibrate-range", args.calibrate_range);
+  if (!urg && calibrate_range) throw InputError("--calibrate-range applies to the URG only, not to --sensor structured-light");
   const bool visibility = parse_on_off("--visibility", args.visibility);
   if (!urg && visibility) throw InputError("--visibility applies to the URG only, not to --sensor structured-light");
   if (!urg && (mixed || !args.filters.empty())) {
@@ -111,11 +115,18 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   }
 
   WalkSensorFactory factory;
+  std::optional<RangeCalibrationFit> range_calibration;
   if (urg) {
     UrgWalkSensorOptions urg_options;
     urg_options.mixed_pixels = mixed;
     urg_options.filters = filters;
     urg_options.visibility.enabled = visibility;
+    // Before the flat-floor attitude calibration, which would otherwise take
+    // the short readings at the floor's ranges for a pitch bias.
+    if (calibrate_range) {
+      range_calibration = calibrate_range_on_wall(urg_options.urg, urg_options.sim, args.seed ^ 0x3A11CA1BULL);
+      urg_options.calibration = range_calibration->calibration;
+    }
     factory = [urg_options, seed = args.seed](const Scene& s, const UpdateOptions& update) -> std::unique_ptr<WalkSensor> {
       return std::make_unique<UrgWalkSensor>(s, urg_options, update, seed);
     };
@@ -129,9 +140,10 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   if (args.report) report_assets_dir();  // before the run, not after it
   io::ProgressBar bar = progress_bar("rocky-walk", "scans");
   options.progress = bar.callback();
-  const RockyWalkResult result =
+  RockyWalkResult result =
       naming_grid_setting("--cell-size-m " + number_text(options.walk.mapper.grid.cell_size_m),
                           [&] { return run_rocky_walk(scene, path, factory, options); });
+  result.range_calibration = range_calibration;
   const std::string dir = (std::filesystem::path(args.out_dir) / ("rocky-walk-" + result.sensor)).string();
   refuse_output_that_is_an_input("--out", dir, inputs);
   bar.clear();
@@ -178,6 +190,10 @@ void register_walk_experiments(CLI::App& app) {
   rocky->add_option("--calibrate-attitude", rw->calibrate_attitude,
                     "on: measure the IMU's pitch and roll biases on a flat floor before each walk and take them off; "
                     "default on (urg), off (structured-light)");
+  rocky->add_option("--calibrate-range", rw->calibrate_range,
+                    "on: calibrate the URG's range on a wall (Fig. 6's procedure, simulated) before the walk and map with "
+                    "the correction; off: raw ranges (the paper's walk)")
+      ->capture_default_str();
   rocky->add_option("--feet", rw->feet,
                     "stand: a stance foot stands still on its foothold and steps in swing; slide: the feet slide with "
                     "the trunk (the model before issue 13)")

@@ -215,6 +215,13 @@ std::string rocky_walk_summary_json(const RockyWalkResult& r, const RockyWalkOpt
                                        {"points", c.points},
                                        {"residual_rms_m", c.residual_rms_m}};
   }
+  if (r.range_calibration) {
+    const RangeCalibrationFit& f = *r.range_calibration;
+    summary["range_calibration"] = {{"coefficients", f.calibration.coefficients},
+                                    {"pairs", f.residuals_m.size()},
+                                    {"rms_residual_m", f.rms_residual_m},
+                                    {"max_abs_residual_m", f.max_abs_residual_m}};
+  }
   return summary.dump(2) + "\n";
 }
 
@@ -258,6 +265,15 @@ std::string rocky_walk_table(const RockyWalkResult& r) {
                   "residual %.1f mm)\n",
                   r.calibration->pitch_bias_rad * kDegPerRad, r.calibration->roll_bias_rad * kDegPerRad, r.calibration->points,
                   r.calibration->residual_rms_m * 1000);
+    out += line;
+  }
+  if (r.range_calibration) {
+    const RangeCalibrationFit& f = *r.range_calibration;
+    std::snprintf(line, sizeof line,
+                  "range calibration on a wall: correction %+.1f mm at 0.4 m, %+.1f mm at 0.8 m (%zu readings, "
+                  "residual %.1f mm)\n",
+                  f.calibration.correction_m(0.4) * 1000, f.calibration.correction_m(0.8) * 1000, f.residuals_m.size(),
+                  f.rms_residual_m * 1000);
     out += line;
   }
   out += "pose errors  h_ref      pitch RMS  height RMS  map RMS  offset-free  max    artifacts  coverage  unknown behind\n";

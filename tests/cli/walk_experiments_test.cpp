@@ -31,7 +31,7 @@ TEST(RockyWalkCommand, WritesMapsViewsSummaryAndTable) {
   const fs::path out = fresh_dir("rocky_walk");
   const CommandResult r =
       run_cli("experiment rocky-walk --sensor urg --scene " + shell_quoted(kScene) + " --out " + shell_quoted(out.string()) +
-              " --sweep 0,2 --seed 2");
+              " --sweep 0,2 --seed 2 --calibrate-range on");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_NE(r.output.find("whole walk: RMS error"), std::string::npos) << r.output;
   EXPECT_NE(r.output.find("unknown cells behind obstacles"), std::string::npos) << r.output;
@@ -48,6 +48,13 @@ TEST(RockyWalkCommand, WritesMapsViewsSummaryAndTable) {
   EXPECT_EQ(summary["seed"], 2);
   EXPECT_EQ(summary["pose_error_sweep"].size(), 8u);  // 2 levels x 4 h_ref sources
   EXPECT_GT(summary["walk"]["scans"].get<int>(), 400);
+  // With --calibrate-range on the URG's range is calibrated on a wall
+  // first: the correction undoes the simulator's systematic error.
+  ASSERT_TRUE(summary.contains("range_calibration")) << summary.dump(2);
+  EXPECT_EQ(summary["range_calibration"]["coefficients"].size(), 4u);
+  EXPECT_NE(r.output.find("range calibration on a wall: correction"), std::string::npos) << r.output;
+  EXPECT_GT(summary["range_calibration"]["coefficients"][0].get<double>(), -0.008);
+  EXPECT_LT(summary["range_calibration"]["coefficients"][0].get<double>(), -0.004);  // the simulator's c0 is +6 mm
   const CommandResult info = run_cli("map-info " + shell_quoted((dir / "map.smap").string()));
   EXPECT_EQ(info.exit_code, 0) << info.output;
   EXPECT_NE(info.output.find("experiment rocky-walk --sensor urg"), std::string::npos) << info.output;
@@ -68,6 +75,11 @@ TEST(RockyWalkCommand, StructuredLightVariantUsesFineCellsAndCas) {
                                     shell_quoted(out.string()));
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
   EXPECT_NE(bad.output.find("apply to the URG only"), std::string::npos) << bad.output;
+  const CommandResult range = run_cli("experiment rocky-walk --sensor structured-light --calibrate-range on --out " +
+                                      shell_quoted(out.string()));
+  EXPECT_EQ(range.exit_code, 2) << range.output;
+  EXPECT_NE(range.output.find("--calibrate-range applies to the URG only"), std::string::npos) << range.output;
+  EXPECT_FALSE(summary.contains("range_calibration"));
   fs::remove_all(out);
 }
 
@@ -79,6 +91,9 @@ TEST(RockyWalkCommand, BadInputIsAClearErrorBeforeAnyWork) {
   EXPECT_NE(r.output.find("--sweep"), std::string::npos) << r.output;
   r = run_cli("experiment rocky-walk --pose-error-scale -1" + out);
   EXPECT_EQ(r.exit_code, 2) << r.output;
+  r = run_cli("experiment rocky-walk --calibrate-range maybe" + out);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--calibrate-range"), std::string::npos) << r.output;
   r = run_cli("experiment rocky-walk --sensor lidar" + out);
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--sensor: 'lidar' is not a sensor; expected one of: urg, structured-light"), std::string::npos)

@@ -15,6 +15,7 @@
 
 #include "stridemap/core/progress.hpp"
 #include "stridemap/experiments/attitude_calibration.hpp"
+#include "stridemap/sensors/range_calibration.hpp"
 #include "stridemap/experiments/walk.hpp"
 #include "stridemap/experiments/walk_sensor.hpp"
 
@@ -68,6 +69,10 @@ struct RockyWalkResult {
   std::vector<PoseSweepRow> sweep;
   /// The main walk's calibration, with calibrate_attitude.
   std::optional<AttitudeCalibration> calibration;
+  /// The URG's range calibration on a wall before the walk
+  /// (wall_range_calibration.hpp), when the caller made one; the sensor
+  /// factory applies it, run_rocky_walk only reports it.
+  std::optional<RangeCalibrationFit> range_calibration;
 };
 
 /// Runs the main walk and the sweep; deterministic for options.walk.seed.
