@@ -1,0 +1,206 @@
+// The sort-free weighted median of WeightedMedianFill for radius 1 and 2
+// (8 and 24 neighbours), eight lanes a vector. With exact sums the weighted
+// quantile q is the smallest value v whose weight of values at or below v
+// reaches q of the total, in any order of addition; ties share that weight,
+// and with no zero (+0 against -0) and no NaN among the values equal values
+// have equal bits, so the result is the sorted walk's (weighted_median_fill.cpp).
+//
+// A window's neighbours sit in the lanes in visiting order (rows di = -w..w,
+// in each dj = -w..w, the centre left out), 8 or 24 lanes: 1 or 3 vectors
+// made by blending unaligned row loads, no gather per neighbour. An unknown
+// neighbour is a lane with value +inf and weight 0: it adds nothing below any
+// value and is never the smallest value that reaches a quantile unless a
+// known +inf is. Known cells and zeros or NaN come from per-cell row bits.
+#include "fill_exact_windows.hpp"
+
+#include <bit>
+#include <cstring>
+#include <limits>
+
+// x86-64's baseline (SSE2) holds four floats a vector; where the CPU has
+// AVX2 a copy built for it runs (eight), chosen once when the library loads.
+// No FMA is enabled: every operation rounds as in the baseline copy.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+#define STRIDEMAP_FILL_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define STRIDEMAP_FILL_CLONES
+#endif
+
+#if defined(__clang__)
+#define STRIDEMAP_BLEND8(a, b, ...) __builtin_shufflevector(a, b, __VA_ARGS__)
+#else
+#define STRIDEMAP_BLEND8(a, b, ...) __builtin_shuffle(a, b, Lanes8{__VA_ARGS__})
+#endif
+
+// The helpers below are always inlined: no call passes a 32-byte vector,
+// so GCC's note that such calls change the ABI without AVX does not apply.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wpsabi"
+#endif
+
+namespace stridemap::fill_detail {
+namespace {
+
+using Floats8 = float __attribute__((vector_size(32)));
+using Lanes8 = std::int32_t __attribute__((vector_size(32)));
+
+#define STRIDEMAP_INLINE inline __attribute__((always_inline))
+
+STRIDEMAP_INLINE Floats8 load8(const float* at) {
+  Floats8 v;
+  std::memcpy(&v, at, sizeof v);
+  return v;
+}
+
+// The window's cells of padded array `a` around cell q, in visiting order.
+template <int W>
+STRIDEMAP_INLINE void gather(const float* a, std::size_t q, std::size_t p, Floats8* out) {
+  if constexpr (W == 1) {
+    const float *r0 = a + q - p, *r1 = a + q, *r2 = a + q + p;
+    const Floats8 x = STRIDEMAP_BLEND8(load8(r0 - 1), load8(r1 - 4), 0, 1, 2, 11, 4, 5, 6, 7);
+    const Floats8 y = STRIDEMAP_BLEND8(load8(r1 - 3), load8(r2 - 6), 0, 1, 2, 3, 4, 13, 14, 15);
+    out[0] = STRIDEMAP_BLEND8(x, y, 0, 1, 2, 3, 12, 13, 14, 15);
+  } else {
+    const float *r0 = a + q - 2 * p, *r1 = a + q - p, *r2 = a + q, *r3 = a + q + p, *r4 = a + q + 2 * p;
+    out[0] = STRIDEMAP_BLEND8(load8(r0 - 2), load8(r1 - 7), 0, 1, 2, 3, 4, 13, 14, 15);
+    const Floats8 x = STRIDEMAP_BLEND8(load8(r1 + 1), load8(r2 - 4), 0, 1, 10, 11, 4, 5, 6, 7);
+    const Floats8 y = STRIDEMAP_BLEND8(load8(r2 - 3), load8(r3 - 8), 0, 1, 2, 3, 4, 5, 14, 15);
+    out[1] = STRIDEMAP_BLEND8(x, y, 0, 1, 2, 3, 12, 13, 14, 15);
+    out[2] = STRIDEMAP_BLEND8(load8(r3), load8(r4 - 5), 0, 1, 2, 11, 12, 13, 14, 15);
+  }
+}
+
+STRIDEMAP_INLINE float lane_sum(Floats8 x) {
+  x += STRIDEMAP_BLEND8(x, x, 4, 5, 6, 7, 0, 1, 2, 3);
+  x += STRIDEMAP_BLEND8(x, x, 2, 3, 0, 1, 6, 7, 4, 5);
+  return x[0] + x[1];
+}
+
+STRIDEMAP_INLINE Floats8 min8(Floats8 a, Floats8 b) { return a < b ? a : b; }
+
+STRIDEMAP_INLINE float lane_min(Floats8 x) {
+  x = min8(x, STRIDEMAP_BLEND8(x, x, 4, 5, 6, 7, 0, 1, 2, 3));
+  x = min8(x, STRIDEMAP_BLEND8(x, x, 2, 3, 0, 1, 6, 7, 4, 5));
+  return x[0] < x[1] ? x[0] : x[1];
+}
+
+// quadrant_of in weighted_median_fill.cpp, the same split of the window.
+constexpr int quadrant(int di, int dj) {
+  if (di > 0 && dj >= 0) return 0;
+  if (di <= 0 && dj > 0) return 1;
+  if (di < 0 && dj <= 0) return 2;
+  return 3;
+}
+
+// Bits of the window's known pattern (bit (di + w) * (2w + 1) + dj + w) in
+// each quadrant.
+template <int W>
+constexpr std::uint32_t quadrant_bits(int q) {
+  std::uint32_t bits = 0;
+  for (int di = -W; di <= W; ++di) {
+    for (int dj = -W; dj <= W; ++dj) {
+      if ((di != 0 || dj != 0) && quadrant(di, dj) == q) bits |= 1u << ((di + W) * (2 * W + 1) + dj + W);
+    }
+  }
+  return bits;
+}
+
+template <int W>
+STRIDEMAP_FILL_CLONES std::size_t fill_exact_windows(const WindowInput& in) {
+  constexpr int kBlocks = W == 1 ? 1 : 3;
+  constexpr int kSide = 2 * W + 1;
+  constexpr std::uint32_t kField = (1u << kSide) - 1;
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  constexpr std::uint32_t kQuadrant[4] = {quadrant_bits<W>(0), quadrant_bits<W>(1), quadrant_bits<W>(2),
+                                          quadrant_bits<W>(3)};
+  const std::size_t p = in.pitch, n = in.n;
+  const float nf = in.near_factor;
+  // The near factor on the lanes of the 8 nearest neighbours, 1 elsewhere
+  // (certainty * 1.0f is the certainty: the far weight as always).
+  Floats8 factor[kBlocks];
+  if constexpr (W == 1) {
+    factor[0] = Floats8{nf, nf, nf, nf, nf, nf, nf, nf};
+  } else {
+    factor[0] = Floats8{1, 1, 1, 1, 1, 1, nf, nf};
+    factor[1] = Floats8{nf, 1, 1, nf, nf, 1, 1, nf};
+    factor[2] = Floats8{nf, nf, 1, 1, 1, 1, 1, 1};
+  }
+  std::size_t walks = 0;
+  alignas(32) float values[8 * kBlocks], weights[8 * kBlocks];
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::size_t row_start = (i + in.margin) * p + in.margin;
+    // The row's unknown cells listed first, without a branch: measured or
+    // not is as random as the map, a loop over the list is not.
+    std::size_t unknown = 0;
+    for (std::size_t j = 0; j < n; ++j) {
+      in.columns[unknown] = static_cast<std::uint32_t>(j);
+      unknown += ((in.row_bits[row_start + j] >> W) & 1u) ^ 1u;
+    }
+    for (std::size_t u = 0; u < unknown; ++u) {
+      const std::size_t j = in.columns[u];
+      const std::size_t q = row_start + j;
+      std::uint32_t known = 0, rows = 0;
+      for (int di = -W; di <= W; ++di) {
+        const std::uint32_t b = in.row_bits[q + static_cast<std::size_t>(di) * p];
+        known |= (b & kField) << ((di + W) * kSide);
+        rows |= b;
+      }
+      const int count = std::popcount(known);
+      const int quadrants = ((known & kQuadrant[0]) != 0) + ((known & kQuadrant[1]) != 0) +
+                            ((known & kQuadrant[2]) != 0) + ((known & kQuadrant[3]) != 0);
+      if (count < in.min_known || quadrants < in.min_quadrants) continue;
+      Floats8 v[kBlocks], wt[kBlocks];
+      gather<W>(in.value, q, p, v);
+      gather<W>(in.weight, q, p, wt);
+      Floats8 sum = {};
+      for (int b = 0; b < kBlocks; ++b) {
+        wt[b] *= factor[b];
+        sum += wt[b];
+      }
+      // Whole sixteenths below 2^24 of them: exact in any order, the value
+      // the sorted walk's sum in visiting order has.
+      const float total = lane_sum(sum);
+      if (!(total > 0.0f)) continue;
+      if ((rows >> kSpecialShift) != 0) {
+        in.walk_cells[walks] = static_cast<std::uint32_t>(i * n + j);
+        in.walk_totals[walks] = total;
+        ++walks;
+        continue;
+      }
+      std::memcpy(values, v, sizeof values);
+      std::memcpy(weights, wt, sizeof weights);
+      // The weight at or below each lane's value, for all lanes at once, one
+      // compared neighbour at a time.
+      Floats8 below[kBlocks] = {};
+#pragma GCC unroll 24
+      for (int m = 0; m < 8 * kBlocks; ++m) {
+        const float x = values[m];
+        const std::int32_t y = std::bit_cast<std::int32_t>(weights[m]);
+        const Floats8 value = {x, x, x, x, x, x, x, x};
+        const Lanes8 weight = {y, y, y, y, y, y, y, y};
+        for (int b = 0; b < kBlocks; ++b) {
+          below[b] += reinterpret_cast<Floats8>(reinterpret_cast<Lanes8>(value <= v[b]) & weight);
+        }
+      }
+      const float at_quarter = 0.25f * total, at_half = 0.5f * total, at_three_quarters = 0.75f * total;
+      const Floats8 none = {kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf};
+      Floats8 lq = none, lh = none, l3 = none;
+      for (int b = 0; b < kBlocks; ++b) {
+        lq = min8(lq, below[b] >= at_quarter ? v[b] : none);
+        lh = min8(lh, below[b] >= at_half ? v[b] : none);
+        l3 = min8(l3, below[b] >= at_three_quarters ? v[b] : none);
+      }
+      const float half = lane_min(lh);
+      if (in.test_spread && lane_min(l3) - lane_min(lq) > in.spread) continue;
+      in.result[in.slot[i * n + j]] = half;
+    }
+  }
+  return walks;
+}
+
+}  // namespace
+
+std::size_t fill_exact_windows_radius1(const WindowInput& in) { return fill_exact_windows<1>(in); }
+std::size_t fill_exact_windows_radius2(const WindowInput& in) { return fill_exact_windows<2>(in); }
+
+}  // namespace stridemap::fill_detail
