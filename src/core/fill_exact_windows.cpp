@@ -170,18 +170,22 @@ STRIDEMAP_FILL_CLONES std::size_t fill_exact_windows(const WindowInput& in) {
       std::memcpy(values, v, sizeof values);
       std::memcpy(weights, wt, sizeof weights);
       // The weight at or below each lane's value, for all lanes at once, one
-      // compared neighbour at a time.
-      Floats8 below[kBlocks] = {};
+      // compared neighbour at a time; two partial sums a vector (exact sums:
+      // any order), so that the additions do not wait on each other.
+      Floats8 below[kBlocks] = {}, below_odd[kBlocks] = {};
 #pragma GCC unroll 24
-      for (int m = 0; m < 8 * kBlocks; ++m) {
-        const float x = values[m];
-        const std::int32_t y = std::bit_cast<std::int32_t>(weights[m]);
-        const Floats8 value = {x, x, x, x, x, x, x, x};
-        const Lanes8 weight = {y, y, y, y, y, y, y, y};
+      for (int m = 0; m < 8 * kBlocks; m += 2) {
+        const float x0 = values[m], x1 = values[m + 1];
+        const std::int32_t y0 = std::bit_cast<std::int32_t>(weights[m]);
+        const std::int32_t y1 = std::bit_cast<std::int32_t>(weights[m + 1]);
+        const Floats8 value0 = {x0, x0, x0, x0, x0, x0, x0, x0}, value1 = {x1, x1, x1, x1, x1, x1, x1, x1};
+        const Lanes8 weight0 = {y0, y0, y0, y0, y0, y0, y0, y0}, weight1 = {y1, y1, y1, y1, y1, y1, y1, y1};
         for (int b = 0; b < kBlocks; ++b) {
-          below[b] += reinterpret_cast<Floats8>(reinterpret_cast<Lanes8>(value <= v[b]) & weight);
+          below[b] += reinterpret_cast<Floats8>(reinterpret_cast<Lanes8>(value0 <= v[b]) & weight0);
+          below_odd[b] += reinterpret_cast<Floats8>(reinterpret_cast<Lanes8>(value1 <= v[b]) & weight1);
         }
       }
+      for (int b = 0; b < kBlocks; ++b) below[b] += below_odd[b];
       const float at_quarter = 0.25f * total, at_half = 0.5f * total, at_three_quarters = 0.75f * total;
       const Floats8 none = {kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf};
       Floats8 lq = none, lh = none, l3 = none;

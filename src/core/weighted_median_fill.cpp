@@ -118,6 +118,39 @@ bool sort_distinct(const Candidate* in, std::size_t count, const float* values, 
   return count == 0 || !std::isnan(out[count - 1].value);
 }
 
+// One run of `count` consecutive slots of a storage row into the padded
+// copy, without a branch per cell (measured or not is as random as the map):
+// masks, not selects, which the compiler turns back into branches. The
+// pointers do not overlap, so the loop runs on vectors.
+void copy_run(const std::uint8_t* __restrict state, const float* __restrict elevation,
+              const float* __restrict certainty, std::size_t first_slot, std::size_t count,
+              std::uint8_t* __restrict known, std::uint32_t* __restrict known_mask, float* __restrict value,
+              float* __restrict weight, std::size_t* __restrict slot) {
+  const auto measured = static_cast<std::uint8_t>(CellState::measured);
+  const auto inf_bits = std::bit_cast<std::uint32_t>(kInf);
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::size_t s = first_slot + k;
+    slot[k] = s;
+    const std::uint32_t mask = 0u - static_cast<std::uint32_t>(state[s] == measured);
+    known[k] = static_cast<std::uint8_t>(mask & 1u);
+    known_mask[k] = mask;
+    value[k] = std::bit_cast<float>((std::bit_cast<std::uint32_t>(elevation[s]) & mask) | (inf_bits & ~mask));
+    weight[k] = std::bit_cast<float>(std::bit_cast<std::uint32_t>(certainty[s]) & mask);
+  }
+}
+
+// bits[q] = cells[q + dj] << (dj + W) over dj = -W..W, for the cells whose
+// row of 2W + 1 lies inside the array (a window's rows never cross the
+// padded copy's row ends: its margin is at least W).
+template <int W>
+void row_bits_of(const std::uint16_t* __restrict cells, std::size_t count, std::uint16_t* __restrict bits) {
+  for (std::size_t q = W; q + W < count; ++q) {
+    std::uint32_t b = 0;
+    for (int dj = -W; dj <= W; ++dj) b |= static_cast<std::uint32_t>(cells[q + static_cast<std::size_t>(dj)]) << (dj + W);
+    bits[q] = static_cast<std::uint16_t>(b);
+  }
+}
+
 }  // namespace
 
 std::size_t WeightedMedianFill::apply(ElevationMap& map) {
@@ -127,7 +160,6 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
 
 void WeightedMedianFill::prepare(const ElevationMap& map, int margin) {
   const int n = map.cells_per_side();
-  const auto measured = static_cast<std::uint8_t>(CellState::measured);
   const auto cells = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
   const float* elevation = map.elevation_data();
   const float* certainty = map.certainty_data();
@@ -150,31 +182,19 @@ void WeightedMedianFill::prepare(const ElevationMap& map, int margin) {
   weight_.assign(padded_cells + 8, 0.0f);
   slot_.resize(cells);
 
-  // Without a branch per cell (measured or not is as random as the map).
-  std::uint8_t* known_out = known_.data();
-  std::uint32_t* known_mask_out = known_mask_.data();
-  float* value_out = value_.data();
-  float* weight_out = weight_.data();
-  std::size_t* slot = slot_.data();
-  const auto inf_bits = std::bit_cast<std::uint32_t>(kInf);
-  const auto first_column = static_cast<int>(map.slot(map.cell_at_local(0, 0)) % static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) {
-    const std::size_t row = map.slot(map.cell_at_local(i, 0)) / static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
-    std::size_t* slot_row = slot + static_cast<std::size_t>(i) * static_cast<std::size_t>(n);
-    const std::size_t q_row = static_cast<std::size_t>(i + margin) * static_cast<std::size_t>(p) + static_cast<std::size_t>(margin);
-    for (int j = 0; j < n; ++j) {
-      int column = first_column + j;
-      if (column >= n) column -= n;
-      const std::size_t s = row + static_cast<std::size_t>(column);
-      slot_row[j] = s;
-      // Masks, not selects (which the compiler turns back into branches).
-      const std::uint32_t mask = 0u - static_cast<std::uint32_t>(state[s] == measured);
-      const std::size_t q = q_row + static_cast<std::size_t>(j);
-      known_out[q] = static_cast<std::uint8_t>(mask & 1u);
-      known_mask_out[q] = mask;
-      value_out[q] = std::bit_cast<float>((std::bit_cast<std::uint32_t>(elevation[s]) & mask) | (inf_bits & ~mask));
-      weight_out[q] = std::bit_cast<float>(std::bit_cast<std::uint32_t>(certainty[s]) & mask);
-    }
+  // Each row of the window is two runs of the storage row (the circular
+  // buffer wraps at most once).
+  const auto un = static_cast<std::size_t>(n);
+  const std::size_t first_column = map.slot(map.cell_at_local(0, 0)) % un;
+  for (std::size_t i = 0; i < un; ++i) {
+    const std::size_t row = map.slot(map.cell_at_local(static_cast<int>(i), 0)) / un * un;
+    const std::size_t q = (i + margin_) * pitch_ + margin_;
+    const std::size_t head = un - first_column;  // columns first_column..n-1 first
+    copy_run(state, elevation, certainty, row + first_column, head, known_.data() + q, known_mask_.data() + q,
+             value_.data() + q, weight_.data() + q, slot_.data() + i * un);
+    copy_run(state, elevation, certainty, row, first_column, known_.data() + q + head,
+             known_mask_.data() + q + head, value_.data() + q + head, weight_.data() + q + head,
+             slot_.data() + i * un + head);
   }
 }
 
@@ -294,24 +314,17 @@ std::size_t WeightedMedianFill::fill_prepared(ElevationMap& map) {
     // are known, and which of those hold a zero or NaN (the sorted walk's):
     // a window's tests are a few loads and bit operations. Rolled along
     // each row; the margin keeps every window inside.
+    cell_bits_.resize(padded_cells);
     row_bits_.assign(padded_cells, 0);
-    const std::size_t uw = static_cast<std::size_t>(w);
-    for (std::size_t r = 0; r < p; ++r) {
-      const std::size_t row = r * p;
-      std::uint32_t known_run = 0, special_run = 0;
-      for (std::size_t col = 0; col < p + uw; ++col) {
-        std::uint32_t k = 0, z = 0;
-        if (col < p) {
-          const float v = value_[row + col];
-          k = known_[row + col];
-          z = k & static_cast<std::uint32_t>((v == 0.0f) | (v != v));
-        }
-        known_run = (known_run >> 1) | (k << (2 * uw));
-        special_run = (special_run >> 1) | (z << (2 * uw));
-        if (col >= uw) {
-          row_bits_[row + col - uw] = static_cast<std::uint16_t>(known_run | (special_run << fill_detail::kSpecialShift));
-        }
-      }
+    // value_ is +inf where unknown: a zero or NaN is a known one.
+    for (std::size_t q = 0; q < padded_cells; ++q) {
+      const float v = value_[q];
+      cell_bits_[q] = static_cast<std::uint16_t>(known_[q] | (((v == 0.0f) | (v != v)) << fill_detail::kSpecialShift));
+    }
+    if (w == 1) {
+      row_bits_of<1>(cell_bits_.data(), padded_cells, row_bits_.data());
+    } else {
+      row_bits_of<2>(cell_bits_.data(), padded_cells, row_bits_.data());
     }
     walk_cells_.resize(cells);
     walk_totals_.resize(cells);

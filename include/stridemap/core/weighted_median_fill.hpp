@@ -73,10 +73,11 @@ class WeightedMedianFill {
   std::vector<std::uint32_t> count_, quadrants_;
   std::vector<float> total_;
   std::vector<std::size_t> unknown_columns_;  // of the row being filled
-  // The exact path (fill_exact_windows.hpp): row bits per padded cell,
+  // The exact path (fill_exact_windows.hpp): bits per padded cell (known,
+  // zero or NaN) and per row of a window around it,
   // windows left to the sorted walk and their total weights, a row's
   // unknown columns.
-  std::vector<std::uint16_t> row_bits_;
+  std::vector<std::uint16_t> cell_bits_, row_bits_;
   std::vector<std::uint32_t> walk_cells_, columns_;
   std::vector<float> walk_totals_;
 };
