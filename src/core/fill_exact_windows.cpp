@@ -32,12 +32,6 @@
 #define STRIDEMAP_BLEND8(a, b, ...) __builtin_shuffle(a, b, Lanes8{__VA_ARGS__})
 #endif
 
-// The helpers below are always inlined: no call passes a 32-byte vector,
-// so GCC's note that such calls change the ABI without AVX does not apply.
-#if defined(__GNUC__) && !defined(__clang__)
-#pragma GCC diagnostic ignored "-Wpsabi"
-#endif
-
 namespace stridemap::fill_detail {
 namespace {
 
@@ -136,19 +130,30 @@ STRIDEMAP_FILL_CLONES std::size_t fill_exact_windows(const WindowInput& in) {
       in.columns[unknown] = static_cast<std::uint32_t>(j);
       unknown += ((in.row_bits[row_start + j] >> W) & 1u) ^ 1u;
     }
+    // The admission tests (enough known neighbours in enough quadrants),
+    // the passing cells kept in the same list (never ahead of the reading).
+    std::size_t admitted = 0;
     for (std::size_t u = 0; u < unknown; ++u) {
       const std::size_t j = in.columns[u];
       const std::size_t q = row_start + j;
-      std::uint32_t known = 0, rows = 0;
+      std::uint32_t known = 0;
       for (int di = -W; di <= W; ++di) {
-        const std::uint32_t b = in.row_bits[q + static_cast<std::size_t>(di) * p];
-        known |= (b & kField) << ((di + W) * kSide);
-        rows |= b;
+        known |= (in.row_bits[q + static_cast<std::size_t>(di) * p] & kField) << ((di + W) * kSide);
       }
       const int count = std::popcount(known);
       const int quadrants = ((known & kQuadrant[0]) != 0) + ((known & kQuadrant[1]) != 0) +
                             ((known & kQuadrant[2]) != 0) + ((known & kQuadrant[3]) != 0);
-      if (count < in.min_known || quadrants < in.min_quadrants) continue;
+      in.columns[admitted] = static_cast<std::uint32_t>(j);
+      admitted += (count >= in.min_known) & (quadrants >= in.min_quadrants) ? 1 : 0;
+    }
+    // The medians, without a branch: no mispredicted test stops the
+    // processor from starting on the next window while this one finishes.
+    for (std::size_t a = 0; a < admitted; ++a) {
+      const std::size_t j = in.columns[a];
+      const std::size_t q = row_start + j;
+      std::uint32_t rows = 0;
+      for (int di = -W; di <= W; ++di) rows |= in.row_bits[q + static_cast<std::size_t>(di) * p];
+      const bool special = (rows >> kSpecialShift) != 0;
       Floats8 v[kBlocks], wt[kBlocks];
       gather<W>(in.value, q, p, v);
       gather<W>(in.weight, q, p, wt);
@@ -160,13 +165,13 @@ STRIDEMAP_FILL_CLONES std::size_t fill_exact_windows(const WindowInput& in) {
       // Whole sixteenths below 2^24 of them: exact in any order, the value
       // the sorted walk's sum in visiting order has.
       const float total = lane_sum(sum);
-      if (!(total > 0.0f)) continue;
-      if ((rows >> kSpecialShift) != 0) {
-        in.walk_cells[walks] = static_cast<std::uint32_t>(i * n + j);
-        in.walk_totals[walks] = total;
-        ++walks;
-        continue;
-      }
+      const bool positive = total > 0.0f;
+      // A zero or NaN among the values: the sorted walk decides (the
+      // result below is not used).
+      const std::size_t local = i * n + j;
+      in.walk_cells[walks] = static_cast<std::uint32_t>(local);
+      in.walk_totals[walks] = total;
+      walks += positive & special ? 1 : 0;
       std::memcpy(values, v, sizeof values);
       std::memcpy(weights, wt, sizeof weights);
       // The weight at or below each lane's value, for all lanes at once, one
@@ -195,8 +200,10 @@ STRIDEMAP_FILL_CLONES std::size_t fill_exact_windows(const WindowInput& in) {
         l3 = min8(l3, below[b] >= at_three_quarters ? v[b] : none);
       }
       const float half = lane_min(lh);
-      if (in.test_spread && lane_min(l3) - lane_min(lq) > in.spread) continue;
-      in.result[in.slot[i * n + j]] = half;
+      const bool steep = in.test_spread & (lane_min(l3) - lane_min(lq) > in.spread);
+      // result holds NaN (leave unknown) until a value is found.
+      const std::size_t slot = in.slot[local];
+      in.result[slot] = positive & !special & !steep ? half : in.result[slot];
     }
   }
   return walks;
@@ -208,3 +215,4 @@ std::size_t fill_exact_windows_radius1(const WindowInput& in) { return fill_exac
 std::size_t fill_exact_windows_radius2(const WindowInput& in) { return fill_exact_windows<2>(in); }
 
 }  // namespace stridemap::fill_detail
+

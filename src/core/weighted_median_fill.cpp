@@ -151,6 +151,27 @@ void row_bits_of(const std::uint16_t* __restrict cells, std::size_t count, std::
   }
 }
 
+// Writes the fill's results: a cell not measured takes its result where
+// there is one (state filled) and is flagged for a reset where there is
+// none. Returns the number of filled cells. The arrays do not overlap.
+std::size_t write_results(const float* __restrict result, std::size_t cells, float* __restrict elevation,
+                          std::uint8_t* __restrict state, std::uint8_t* __restrict reset) {
+  const auto measured = static_cast<std::uint8_t>(CellState::measured);
+  const auto filled_state = static_cast<std::uint8_t>(CellState::filled);
+  std::size_t filled = 0;
+  for (std::size_t s = 0; s < cells; ++s) {
+    const bool is_measured = state[s] == measured;
+    const float r = result[s];
+    const bool has_value = r == r;  // not NaN
+    const bool gets_value = !is_measured & has_value;
+    reset[s] = static_cast<std::uint8_t>(!is_measured & !has_value);
+    elevation[s] = gets_value ? r : elevation[s];
+    state[s] = gets_value ? filled_state : state[s];
+    filled += gets_value ? 1 : 0;
+  }
+  return filled;
+}
+
 }  // namespace
 
 std::size_t WeightedMedianFill::apply(ElevationMap& map) {
@@ -210,7 +231,6 @@ void WeightedMedianFill::forget(std::size_t local_cell, int n) {
 std::size_t WeightedMedianFill::fill_prepared(ElevationMap& map) {
   const int n = map.cells_per_side();
   const int w = options_.window_radius_cells;
-  const auto measured = static_cast<std::uint8_t>(CellState::measured);
   const auto cells = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
   result_.assign(cells, kNaN);
   const std::size_t p = pitch_;
@@ -411,22 +431,19 @@ std::size_t WeightedMedianFill::fill_prepared(ElevationMap& map) {
     }
   }
 
-  std::size_t filled = 0;
-  float* out_elevation = map.elevation_data();
-  std::uint8_t* out_state = map.state_data();
-  const auto filled_state = static_cast<std::uint8_t>(CellState::filled);
-  // Locals: the stores below could alias the members' storage otherwise.
-  const float* result = result_.data();
-  for (std::size_t s = 0; s < cells; ++s) {
-    // Selects, not branches, for the cells that keep or take a value; the
-    // cells left unknown come in runs (occlusions) in real maps.
-    const bool is_measured = out_state[s] == measured;
-    const float r = result[s];
-    const bool gets_value = !is_measured & !std::isnan(r);
-    if (!is_measured & std::isnan(r)) map.reset_slot(s);
-    out_elevation[s] = gets_value ? r : out_elevation[s];
-    out_state[s] = gets_value ? filled_state : out_state[s];
-    filled += gets_value ? 1 : 0;
+  // The results into the map: a pass on vectors for the cells that keep or
+  // take a value, then every layer reset (reset_slot) for the cells left
+  // without one, found eight flags at a time (few in a map with small holes).
+  reset_.assign((cells + 7) / 8 * 8, 0);
+  const std::size_t filled = write_results(result_.data(), cells, map.elevation_data(), map.state_data(), reset_.data());
+  for (std::size_t s = 0; s < cells; s += 8) {
+    std::uint64_t flags;
+    std::memcpy(&flags, reset_.data() + s, sizeof flags);
+    while (flags != 0) {
+      const auto byte = static_cast<std::size_t>(std::countr_zero(flags)) / 8;
+      map.reset_slot(s + byte);
+      flags &= ~(std::uint64_t{0xff} << (8 * byte));
+    }
   }
   return filled;
 }

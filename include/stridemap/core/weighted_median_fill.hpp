@@ -60,6 +60,7 @@ class WeightedMedianFill {
 
   FillOptions options_;
   std::vector<float> result_;  // per slot, NaN = leave unknown
+  std::vector<std::uint8_t> reset_;  // per slot: no value, every layer reset
   // The padded copy (prepare()), kept to reuse storage: known or not, the
   // same as all ones or zeros (32-bit lanes for the row pass), value (+inf
   // where unknown), weight (0 where unknown).
