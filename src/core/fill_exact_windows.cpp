@@ -174,6 +174,12 @@ STRIDEMAP_FILL_CLONES std::size_t fill_exact_windows(const WindowInput& in) {
       walks += positive & special ? 1 : 0;
       std::memcpy(values, v, sizeof values);
       std::memcpy(weights, wt, sizeof weights);
+      // Each compared neighbour below is broadcast from memory (a load);
+      // without this barrier GCC takes it from the registers with two
+      // shuffles each, on the one port the comparisons also need.
+#if defined(__GNUC__)
+      __asm__ __volatile__("" : : "r"(values), "r"(weights) : "memory");
+#endif
       // The weight at or below each lane's value, for all lanes at once, one
       // compared neighbour at a time; two partial sums a vector (exact sums:
       // any order), so that the additions do not wait on each other.

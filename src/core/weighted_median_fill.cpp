@@ -158,16 +158,19 @@ std::size_t write_results(const float* __restrict result, std::size_t cells, flo
                           std::uint8_t* __restrict state, std::uint8_t* __restrict reset) {
   const auto measured = static_cast<std::uint8_t>(CellState::measured);
   const auto filled_state = static_cast<std::uint8_t>(CellState::filled);
-  std::size_t filled = 0;
+  // Masks, not selects or bools, so that the loop runs on vectors.
+  std::uint32_t filled = 0;
   for (std::size_t s = 0; s < cells; ++s) {
-    const bool is_measured = state[s] == measured;
+    const std::uint32_t not_measured = state[s] != measured ? 1u : 0u;
     const float r = result[s];
-    const bool has_value = r == r;  // not NaN
-    const bool gets_value = !is_measured & has_value;
-    reset[s] = static_cast<std::uint8_t>(!is_measured & !has_value);
-    elevation[s] = gets_value ? r : elevation[s];
-    state[s] = gets_value ? filled_state : state[s];
-    filled += gets_value ? 1 : 0;
+    const std::uint32_t has_value = r == r ? 1u : 0u;  // not NaN
+    const std::uint32_t gets_value = not_measured & has_value;
+    const std::uint32_t mask = 0u - gets_value;
+    reset[s] = static_cast<std::uint8_t>(not_measured & (has_value ^ 1u));
+    elevation[s] = std::bit_cast<float>((std::bit_cast<std::uint32_t>(r) & mask) |
+                                        (std::bit_cast<std::uint32_t>(elevation[s]) & ~mask));
+    state[s] = static_cast<std::uint8_t>((filled_state & mask) | (state[s] & ~mask));
+    filled += gets_value;
   }
   return filled;
 }
