@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "stridemap/core/error.hpp"
@@ -69,7 +70,13 @@ CasResult CasFilter::apply(ElevationMap& map) {
   const auto um = static_cast<std::size_t>(margin);
   const auto sp = static_cast<std::ptrdiff_t>(p);
   const std::ptrdiff_t ring[8] = {-sp - 1, -sp, -sp + 1, -1, 1, sp - 1, sp, sp + 1};
-  const auto max_removable = options_.max_removable_certainty;
+  // The largest float not above the limit: for a float certainty c,
+  // c > limit exactly when c > that float (no float lies between them), a
+  // comparison without a conversion to double per cell.
+  auto max_removable = static_cast<float>(options_.max_removable_certainty);
+  if (static_cast<double>(max_removable) > options_.max_removable_certainty) {
+    max_removable = std::nextafter(max_removable, -std::numeric_limits<float>::infinity());
+  }
   // A whole window, and room for the write past the last kept cell.
   const auto window_cells = static_cast<std::size_t>((2 * w + 1) * (2 * w + 1));
   candidates_.resize(un);

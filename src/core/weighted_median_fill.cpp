@@ -198,13 +198,30 @@ void WeightedMedianFill::prepare(const ElevationMap& map, int margin) {
   margin_ = static_cast<std::size_t>(margin);
   pitch_ = static_cast<std::size_t>(p);
   const auto padded_cells = static_cast<std::size_t>(p) * static_cast<std::size_t>(p);
-  known_.assign(padded_cells, 0);
   // Room past the end for the row pass's last group of four cells and the
-  // exact path's eight-lane loads.
-  known_mask_.assign(padded_cells + 8, 0u);
-  value_.assign(padded_cells + 8, kInf);
-  weight_.assign(padded_cells + 8, 0.0f);
+  // exact path's eight-lane loads. Only the margin is written here (unknown
+  // cells); the runs below write the rest.
+  known_.resize(padded_cells);
+  known_mask_.resize(padded_cells + 8);
+  value_.resize(padded_cells + 8);
+  weight_.resize(padded_cells + 8);
   slot_.resize(cells);
+  const auto unknown_from = [this](std::size_t first, std::size_t count) {
+    std::fill_n(known_.data() + first, count, std::uint8_t{0});
+    std::fill_n(known_mask_.data() + first, count, 0u);
+    std::fill_n(value_.data() + first, count, kInf);
+    std::fill_n(weight_.data() + first, count, 0.0f);
+  };
+  const auto um = static_cast<std::size_t>(margin), un_cells = static_cast<std::size_t>(n);
+  unknown_from(0, um * pitch_ + um);  // the top rows and the first row's left margin
+  for (std::size_t i = 0; i + 1 < un_cells; ++i) {
+    unknown_from((i + um) * pitch_ + um + un_cells, 2 * um);  // right margin, next row's left margin
+  }
+  const std::size_t tail = (un_cells - 1 + um) * pitch_ + um + un_cells;
+  unknown_from(tail, padded_cells - tail);  // the last row's right margin and the bottom rows
+  std::fill_n(known_mask_.data() + padded_cells, 8, 0u);
+  std::fill_n(value_.data() + padded_cells, 8, kInf);
+  std::fill_n(weight_.data() + padded_cells, 8, 0.0f);
 
   // Each row of the window is two runs of the storage row (the circular
   // buffer wraps at most once).
@@ -338,7 +355,7 @@ std::size_t WeightedMedianFill::fill_prepared(ElevationMap& map) {
     // a window's tests are a few loads and bit operations. Rolled along
     // each row; the margin keeps every window inside.
     cell_bits_.resize(padded_cells);
-    row_bits_.assign(padded_cells, 0);
+    row_bits_.resize(padded_cells);  // row_bits_of writes all but the ends, never read
     // value_ is +inf where unknown: a zero or NaN is a known one.
     for (std::size_t q = 0; q < padded_cells; ++q) {
       const float v = value_[q];
