@@ -454,7 +454,8 @@ std::size_t WeightedMedianFill::fill_prepared(ElevationMap& map) {
   // The results into the map: a pass on vectors for the cells that keep or
   // take a value, then every layer reset (reset_slot) for the cells left
   // without one, found eight flags at a time (few in a map with small holes).
-  reset_.assign((cells + 7) / 8 * 8, 0);
+  reset_.resize((cells + 7) / 8 * 8);
+  std::fill(reset_.begin() + static_cast<std::ptrdiff_t>(cells), reset_.end(), std::uint8_t{0});  // write_results writes the rest
   const std::size_t filled = write_results(result_.data(), cells, map.elevation_data(), map.state_data(), reset_.data());
   for (std::size_t s = 0; s < cells; s += 8) {
     std::uint64_t flags;
