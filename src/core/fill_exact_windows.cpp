@@ -121,6 +121,10 @@ STRIDEMAP_FILL_CLONES std::size_t fill_exact_windows(const WindowInput& in) {
   }
   std::size_t walks = 0;
   alignas(32) float values[8 * kBlocks], weights[8 * kBlocks];
+  // A chunk of windows between the two passes below (6 kB at radius 2).
+  constexpr std::size_t kChunk = 32;
+  Floats8 chunk_values[kChunk][kBlocks], chunk_below[kChunk][kBlocks];
+  float totals[kChunk];
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t row_start = (i + in.margin) * p + in.margin;
     // The row's unknown cells listed first, without a branch: measured or
@@ -146,70 +150,86 @@ STRIDEMAP_FILL_CLONES std::size_t fill_exact_windows(const WindowInput& in) {
       in.columns[admitted] = static_cast<std::uint32_t>(j);
       admitted += (count >= in.min_known) & (quadrants >= in.min_quadrants) ? 1 : 0;
     }
-    // The medians, without a branch: no mispredicted test stops the
-    // processor from starting on the next window while this one finishes.
-    for (std::size_t a = 0; a < admitted; ++a) {
-      const std::size_t j = in.columns[a];
-      const std::size_t q = row_start + j;
-      std::uint32_t rows = 0;
-      for (int di = -W; di <= W; ++di) rows |= in.row_bits[q + static_cast<std::size_t>(di) * p];
-      const bool special = (rows >> kSpecialShift) != 0;
-      Floats8 v[kBlocks], wt[kBlocks];
-      gather<W>(in.value, q, p, v);
-      gather<W>(in.weight, q, p, wt);
-      Floats8 sum = {};
-      for (int b = 0; b < kBlocks; ++b) {
-        wt[b] *= factor[b];
-        sum += wt[b];
-      }
-      // Whole sixteenths below 2^24 of them: exact in any order, the value
-      // the sorted walk's sum in visiting order has.
-      const float total = lane_sum(sum);
-      const bool positive = total > 0.0f;
-      // A zero or NaN among the values: the sorted walk decides (the
-      // result below is not used).
-      const std::size_t local = i * n + j;
-      in.walk_cells[walks] = static_cast<std::uint32_t>(local);
-      in.walk_totals[walks] = total;
-      walks += positive & special ? 1 : 0;
-      std::memcpy(values, v, sizeof values);
-      std::memcpy(weights, wt, sizeof weights);
-      // Each compared neighbour below is broadcast from memory (a load);
-      // without this barrier GCC takes it from the registers with two
-      // shuffles each, on the one port the comparisons also need.
-#if defined(__GNUC__)
-      __asm__ __volatile__("" : : "r"(values), "r"(weights) : "memory");
-#endif
-      // The weight at or below each lane's value, for all lanes at once, one
-      // compared neighbour at a time; two partial sums a vector (exact sums:
-      // any order), so that the additions do not wait on each other.
-      Floats8 below[kBlocks] = {}, below_odd[kBlocks] = {};
-#pragma GCC unroll 24
-      for (int m = 0; m < 8 * kBlocks; m += 2) {
-        const float x0 = values[m], x1 = values[m + 1];
-        const std::int32_t y0 = std::bit_cast<std::int32_t>(weights[m]);
-        const std::int32_t y1 = std::bit_cast<std::int32_t>(weights[m + 1]);
-        const Floats8 value0 = {x0, x0, x0, x0, x0, x0, x0, x0}, value1 = {x1, x1, x1, x1, x1, x1, x1, x1};
-        const Lanes8 weight0 = {y0, y0, y0, y0, y0, y0, y0, y0}, weight1 = {y1, y1, y1, y1, y1, y1, y1, y1};
+    // The medians in chunks, each in two passes without a branch: first
+    // the weights below every lane's value, then the quantiles. The second
+    // pass's chain of dependent steps (threshold, minimum across lanes,
+    // spread) then overlaps from one window to the next instead of holding
+    // up the first pass's independent work.
+    for (std::size_t chunk = 0; chunk < admitted; chunk += kChunk) {
+      const std::size_t chunk_size = admitted - chunk < kChunk ? admitted - chunk : kChunk;
+      for (std::size_t c = 0; c < chunk_size; ++c) {
+        const std::size_t j = in.columns[chunk + c];
+        const std::size_t q = row_start + j;
+        Floats8 v[kBlocks], wt[kBlocks];
+        gather<W>(in.value, q, p, v);
+        gather<W>(in.weight, q, p, wt);
+        Floats8 sum = {};
         for (int b = 0; b < kBlocks; ++b) {
-          below[b] += reinterpret_cast<Floats8>(reinterpret_cast<Lanes8>(value0 <= v[b]) & weight0);
-          below_odd[b] += reinterpret_cast<Floats8>(reinterpret_cast<Lanes8>(value1 <= v[b]) & weight1);
+          wt[b] *= factor[b];
+          sum += wt[b];
+        }
+        // Whole sixteenths below 2^24 of them: exact in any order, the
+        // value the sorted walk's sum in visiting order has.
+        totals[c] = lane_sum(sum);
+        std::memcpy(values, v, sizeof values);
+        std::memcpy(weights, wt, sizeof weights);
+        // Each compared neighbour below is broadcast from memory (a load);
+        // without this barrier GCC takes it from the registers with two
+        // shuffles each, on the one port the comparisons also need.
+#if defined(__GNUC__)
+        __asm__ __volatile__("" : : "r"(values), "r"(weights) : "memory");
+#endif
+        // The weight at or below each lane's value, for all lanes at once,
+        // one compared neighbour at a time; two partial sums a vector
+        // (exact sums: any order), so that the additions do not wait on
+        // each other.
+        Floats8 below[kBlocks] = {}, below_odd[kBlocks] = {};
+#pragma GCC unroll 24
+        for (int m = 0; m < 8 * kBlocks; m += 2) {
+          const float x0 = values[m], x1 = values[m + 1];
+          const std::int32_t y0 = std::bit_cast<std::int32_t>(weights[m]);
+          const std::int32_t y1 = std::bit_cast<std::int32_t>(weights[m + 1]);
+          const Floats8 value0 = {x0, x0, x0, x0, x0, x0, x0, x0}, value1 = {x1, x1, x1, x1, x1, x1, x1, x1};
+          const Lanes8 weight0 = {y0, y0, y0, y0, y0, y0, y0, y0}, weight1 = {y1, y1, y1, y1, y1, y1, y1, y1};
+          for (int b = 0; b < kBlocks; ++b) {
+            below[b] += reinterpret_cast<Floats8>(reinterpret_cast<Lanes8>(value0 <= v[b]) & weight0);
+            below_odd[b] += reinterpret_cast<Floats8>(reinterpret_cast<Lanes8>(value1 <= v[b]) & weight1);
+          }
+        }
+        for (int b = 0; b < kBlocks; ++b) {
+          chunk_values[c][b] = v[b];
+          chunk_below[c][b] = below[b] + below_odd[b];
         }
       }
-      for (int b = 0; b < kBlocks; ++b) below[b] += below_odd[b];
-      const float at_quarter = 0.25f * total, at_half = 0.5f * total, at_three_quarters = 0.75f * total;
-      const Floats8 none = {kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf};
-      Floats8 lq = none, lh = none, l3 = none;
-      for (int b = 0; b < kBlocks; ++b) {
-        lq = min8(lq, below[b] >= at_quarter ? v[b] : none);
-        lh = min8(lh, below[b] >= at_half ? v[b] : none);
-        l3 = min8(l3, below[b] >= at_three_quarters ? v[b] : none);
+      for (std::size_t c = 0; c < chunk_size; ++c) {
+        const std::size_t j = in.columns[chunk + c];
+        const std::size_t q = row_start + j;
+        std::uint32_t rows = 0;
+        for (int di = -W; di <= W; ++di) rows |= in.row_bits[q + static_cast<std::size_t>(di) * p];
+        const bool special = (rows >> kSpecialShift) != 0;
+        const float total = totals[c];
+        const bool positive = total > 0.0f;
+        // A zero or NaN among the values: the sorted walk decides (the
+        // result below is not used).
+        const std::size_t local = i * n + j;
+        in.walk_cells[walks] = static_cast<std::uint32_t>(local);
+        in.walk_totals[walks] = total;
+        walks += positive & special ? 1 : 0;
+        const float at_quarter = 0.25f * total, at_half = 0.5f * total, at_three_quarters = 0.75f * total;
+        const Floats8 none = {kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf};
+        Floats8 lq = none, lh = none, l3 = none;
+        for (int b = 0; b < kBlocks; ++b) {
+          const Floats8 below = chunk_below[c][b], v = chunk_values[c][b];
+          lq = min8(lq, below >= at_quarter ? v : none);
+          lh = min8(lh, below >= at_half ? v : none);
+          l3 = min8(l3, below >= at_three_quarters ? v : none);
+        }
+        const float half = lane_min(lh);
+        const bool steep = in.test_spread & (lane_min(l3) - lane_min(lq) > in.spread);
+        // result holds NaN (leave unknown) until a value is found.
+        const std::size_t slot = in.slot[local];
+        in.result[slot] = positive & !special & !steep ? half : in.result[slot];
       }
-      const float half = lane_min(lh);
-      const bool steep = in.test_spread & (lane_min(l3) - lane_min(lq) > in.spread);
-      // result holds NaN (leave unknown) until a value is found.
-      const std::size_t slot = in.slot[local];
-      in.result[slot] = positive & !special & !steep ? half : in.result[slot];
     }
   }
   return walks;
