@@ -18,18 +18,18 @@
 #include <limits>
 
 // x86-64's baseline (SSE2) holds four floats a vector; where the CPU has
-// AVX2 a copy built for it runs (eight), chosen once when the library loads.
-// No FMA is enabled: every operation rounds as in the baseline copy.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
-#define STRIDEMAP_FILL_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define STRIDEMAP_FILL_CLONES
+// AVX2 a copy built for it runs (eight lanes a vector), chosen at run time.
+// Not target_clones: the baseline copy needs other code for its
+// comparisons (bits_where_at_most). No FMA is enabled: every operation
+// rounds as in the baseline copy.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define STRIDEMAP_FILL_AVX2 1
 #endif
 
 #if defined(__clang__)
-#define STRIDEMAP_BLEND8(a, b, ...) __builtin_shufflevector(a, b, __VA_ARGS__)
+#define STRIDEMAP_SHUFFLE8(a, ...) __builtin_shufflevector(a, a, __VA_ARGS__)
 #else
-#define STRIDEMAP_BLEND8(a, b, ...) __builtin_shuffle(a, b, Lanes8{__VA_ARGS__})
+#define STRIDEMAP_SHUFFLE8(a, ...) __builtin_shuffle(a, Lanes8{__VA_ARGS__})
 #endif
 
 namespace stridemap::fill_detail {
@@ -46,35 +46,89 @@ STRIDEMAP_INLINE Floats8 load8(const float* at) {
   return v;
 }
 
+// Lane k from b where bit k of Mask is set, else from a: a blend with a
+// constant, by bits (a general shuffle of eight lanes goes through memory
+// without AVX).
+template <unsigned Mask>
+STRIDEMAP_INLINE Floats8 select8(Floats8 a, Floats8 b) {
+  const Lanes8 take_b = {Mask & 1 ? -1 : 0,  Mask & 2 ? -1 : 0,  Mask & 4 ? -1 : 0,  Mask & 8 ? -1 : 0,
+                         Mask & 16 ? -1 : 0, Mask & 32 ? -1 : 0, Mask & 64 ? -1 : 0, Mask & 128 ? -1 : 0};
+  return reinterpret_cast<Floats8>((reinterpret_cast<Lanes8>(a) & ~take_b) | (reinterpret_cast<Lanes8>(b) & take_b));
+}
+
+// The two comparisons of the kernel producing masks. GCC compares eight
+// lanes one at a time where the target has no 32-byte vectors (SSE2), so
+// there the halves are compared as four-lane vectors.
+using Floats4 = float __attribute__((vector_size(16)));
+using Lanes4 = std::int32_t __attribute__((vector_size(16)));
+
+// (x <= v) & bits: `bits` where x <= v, else zero.
+template <bool kWide>
+STRIDEMAP_INLINE Floats8 bits_where_at_most(Floats8 x, Floats8 v, Lanes8 bits) {
+  if constexpr (kWide) {
+    return reinterpret_cast<Floats8>(reinterpret_cast<Lanes8>(x <= v) & bits);
+  } else {
+    Floats4 xh[2], vh[2];
+    Lanes4 bh[2], out[2];
+    std::memcpy(xh, &x, sizeof xh);
+    std::memcpy(vh, &v, sizeof vh);
+    std::memcpy(bh, &bits, sizeof bh);
+    for (int h = 0; h < 2; ++h) out[h] = reinterpret_cast<Lanes4>(xh[h] <= vh[h]) & bh[h];
+    Floats8 r;
+    std::memcpy(&r, out, sizeof r);
+    return r;
+  }
+}
+
+// below >= threshold ? v : otherwise, lane by lane.
+template <bool kWide>
+STRIDEMAP_INLINE Floats8 where_at_least(Floats8 below, float threshold, Floats8 v, Floats8 otherwise) {
+  if constexpr (kWide) {
+    return below >= threshold ? v : otherwise;
+  } else {
+    Floats4 bh[2], vh[2], oh[2], out[2];
+    std::memcpy(bh, &below, sizeof bh);
+    std::memcpy(vh, &v, sizeof vh);
+    std::memcpy(oh, &otherwise, sizeof oh);
+    for (int h = 0; h < 2; ++h) {
+      const Lanes4 m = reinterpret_cast<Lanes4>(bh[h] >= threshold);
+      out[h] = reinterpret_cast<Floats4>((reinterpret_cast<Lanes4>(vh[h]) & m) | (reinterpret_cast<Lanes4>(oh[h]) & ~m));
+    }
+    Floats8 r;
+    std::memcpy(&r, out, sizeof r);
+    return r;
+  }
+}
+
 // The window's cells of padded array `a` around cell q, in visiting order.
 template <int W>
 STRIDEMAP_INLINE void gather(const float* a, std::size_t q, std::size_t p, Floats8* out) {
   if constexpr (W == 1) {
     const float *r0 = a + q - p, *r1 = a + q, *r2 = a + q + p;
-    const Floats8 x = STRIDEMAP_BLEND8(load8(r0 - 1), load8(r1 - 4), 0, 1, 2, 11, 4, 5, 6, 7);
-    const Floats8 y = STRIDEMAP_BLEND8(load8(r1 - 3), load8(r2 - 6), 0, 1, 2, 3, 4, 13, 14, 15);
-    out[0] = STRIDEMAP_BLEND8(x, y, 0, 1, 2, 3, 12, 13, 14, 15);
+    const Floats8 x = select8<0x08>(load8(r0 - 1), load8(r1 - 4));
+    const Floats8 y = select8<0xe0>(load8(r1 - 3), load8(r2 - 6));
+    out[0] = select8<0xf0>(x, y);
   } else {
     const float *r0 = a + q - 2 * p, *r1 = a + q - p, *r2 = a + q, *r3 = a + q + p, *r4 = a + q + 2 * p;
-    out[0] = STRIDEMAP_BLEND8(load8(r0 - 2), load8(r1 - 7), 0, 1, 2, 3, 4, 13, 14, 15);
-    const Floats8 x = STRIDEMAP_BLEND8(load8(r1 + 1), load8(r2 - 4), 0, 1, 10, 11, 4, 5, 6, 7);
-    const Floats8 y = STRIDEMAP_BLEND8(load8(r2 - 3), load8(r3 - 8), 0, 1, 2, 3, 4, 5, 14, 15);
-    out[1] = STRIDEMAP_BLEND8(x, y, 0, 1, 2, 3, 12, 13, 14, 15);
-    out[2] = STRIDEMAP_BLEND8(load8(r3), load8(r4 - 5), 0, 1, 2, 11, 12, 13, 14, 15);
+    out[0] = select8<0xe0>(load8(r0 - 2), load8(r1 - 7));
+    const Floats8 x = select8<0x0c>(load8(r1 + 1), load8(r2 - 4));
+    const Floats8 y = select8<0xc0>(load8(r2 - 3), load8(r3 - 8));
+    out[1] = select8<0xf0>(x, y);
+    out[2] = select8<0xf8>(load8(r3), load8(r4 - 5));
   }
 }
 
 STRIDEMAP_INLINE float lane_sum(Floats8 x) {
-  x += STRIDEMAP_BLEND8(x, x, 4, 5, 6, 7, 0, 1, 2, 3);
-  x += STRIDEMAP_BLEND8(x, x, 2, 3, 0, 1, 6, 7, 4, 5);
+  x += STRIDEMAP_SHUFFLE8(x, 4, 5, 6, 7, 0, 1, 2, 3);
+  x += STRIDEMAP_SHUFFLE8(x, 2, 3, 0, 1, 6, 7, 4, 5);
   return x[0] + x[1];
 }
 
 STRIDEMAP_INLINE Floats8 min8(Floats8 a, Floats8 b) { return a < b ? a : b; }
 
 STRIDEMAP_INLINE float lane_min(Floats8 x) {
-  x = min8(x, STRIDEMAP_BLEND8(x, x, 4, 5, 6, 7, 0, 1, 2, 3));
-  x = min8(x, STRIDEMAP_BLEND8(x, x, 2, 3, 0, 1, 6, 7, 4, 5));
+  x = min8(x, STRIDEMAP_SHUFFLE8(x, 4, 5, 6, 7, 0, 1, 2, 3));
+  x = min8(x, STRIDEMAP_SHUFFLE8(x, 2, 3, 0, 1, 6, 7, 4, 5));
   return x[0] < x[1] ? x[0] : x[1];
 }
 
@@ -99,8 +153,10 @@ constexpr std::uint32_t quadrant_bits(int q) {
   return bits;
 }
 
-template <int W>
-STRIDEMAP_FILL_CLONES std::size_t fill_exact_windows(const WindowInput& in) {
+// kWide: built for a target with 32-byte vectors (AVX2, no FMA: every
+// operation rounds as in the baseline build).
+template <int W, bool kWide>
+STRIDEMAP_INLINE std::size_t fill_exact_windows(const WindowInput& in) {
   constexpr int kBlocks = W == 1 ? 1 : 3;
   constexpr int kSide = 2 * W + 1;
   constexpr std::uint32_t kField = (1u << kSide) - 1;
@@ -192,8 +248,8 @@ STRIDEMAP_FILL_CLONES std::size_t fill_exact_windows(const WindowInput& in) {
           const Floats8 value0 = {x0, x0, x0, x0, x0, x0, x0, x0}, value1 = {x1, x1, x1, x1, x1, x1, x1, x1};
           const Lanes8 weight0 = {y0, y0, y0, y0, y0, y0, y0, y0}, weight1 = {y1, y1, y1, y1, y1, y1, y1, y1};
           for (int b = 0; b < kBlocks; ++b) {
-            below[b] += reinterpret_cast<Floats8>(reinterpret_cast<Lanes8>(value0 <= v[b]) & weight0);
-            below_odd[b] += reinterpret_cast<Floats8>(reinterpret_cast<Lanes8>(value1 <= v[b]) & weight1);
+            below[b] += bits_where_at_most<kWide>(value0, v[b], weight0);
+            below_odd[b] += bits_where_at_most<kWide>(value1, v[b], weight1);
           }
         }
         for (int b = 0; b < kBlocks; ++b) {
@@ -220,9 +276,9 @@ STRIDEMAP_FILL_CLONES std::size_t fill_exact_windows(const WindowInput& in) {
         Floats8 lq = none, lh = none, l3 = none;
         for (int b = 0; b < kBlocks; ++b) {
           const Floats8 below = chunk_below[c][b], v = chunk_values[c][b];
-          lq = min8(lq, below >= at_quarter ? v : none);
-          lh = min8(lh, below >= at_half ? v : none);
-          l3 = min8(l3, below >= at_three_quarters ? v : none);
+          lq = min8(lq, where_at_least<kWide>(below, at_quarter, v, none));
+          lh = min8(lh, where_at_least<kWide>(below, at_half, v, none));
+          l3 = min8(l3, where_at_least<kWide>(below, at_three_quarters, v, none));
         }
         const float half = lane_min(lh);
         const bool steep = in.test_spread & (lane_min(l3) - lane_min(lq) > in.spread);
@@ -235,10 +291,39 @@ STRIDEMAP_FILL_CLONES std::size_t fill_exact_windows(const WindowInput& in) {
   return walks;
 }
 
+#if defined(STRIDEMAP_FILL_AVX2)
+__attribute__((target("avx2"))) std::size_t radius1_avx2(const WindowInput& in) {
+  return fill_exact_windows<1, true>(in);
+}
+__attribute__((target("avx2"))) std::size_t radius2_avx2(const WindowInput& in) {
+  return fill_exact_windows<2, true>(in);
+}
+#endif
+
+// Whether this CPU runs the AVX2 copy (asked once).
+bool use_avx2() {
+#if defined(STRIDEMAP_FILL_AVX2)
+  static const bool avx2 = __builtin_cpu_supports("avx2");
+  return avx2;
+#else
+  return false;
+#endif
+}
+
 }  // namespace
 
-std::size_t fill_exact_windows_radius1(const WindowInput& in) { return fill_exact_windows<1>(in); }
-std::size_t fill_exact_windows_radius2(const WindowInput& in) { return fill_exact_windows<2>(in); }
+std::size_t fill_exact_windows_radius1(const WindowInput& in) {
+#if defined(STRIDEMAP_FILL_AVX2)
+  if (use_avx2()) return radius1_avx2(in);
+#endif
+  return fill_exact_windows<1, false>(in);
+}
+std::size_t fill_exact_windows_radius2(const WindowInput& in) {
+#if defined(STRIDEMAP_FILL_AVX2)
+  if (use_avx2()) return radius2_avx2(in);
+#endif
+  return fill_exact_windows<2, false>(in);
+}
 
 }  // namespace stridemap::fill_detail
 
