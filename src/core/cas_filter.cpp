@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <cstring>
+#include <limits>
 #include <string>
 
 #include "stridemap/core/error.hpp"
@@ -33,6 +35,27 @@ bool holds_below_median(const std::vector<float>& values, Test holds) {
   return count >= values.size() / 2 + 1;
 }
 
+// The 8-neighbour test on four-lane vectors (GCC's vector extension: any
+// target with 128-bit vectors).
+using Heights4 = float __attribute__((vector_size(16)));
+using Lanes4 = std::int32_t __attribute__((vector_size(16)));
+
+Heights4 load4(const float* at) {
+  Heights4 v;
+  std::memcpy(&v, at, sizeof v);
+  return v;
+}
+
+// Lane k from b where take_b[k] is -1, else from a.
+Heights4 blend4(Heights4 a, Heights4 b, Lanes4 take_b) {
+  return reinterpret_cast<Heights4>((reinterpret_cast<Lanes4>(a) & ~take_b) | (reinterpret_cast<Lanes4>(b) & take_b));
+}
+
+Heights4 abs4(Heights4 x) {
+  const Lanes4 magnitude = {0x7fffffff, 0x7fffffff, 0x7fffffff, 0x7fffffff};
+  return reinterpret_cast<Heights4>(reinterpret_cast<Lanes4>(x) & magnitude);
+}
+
 }  // namespace
 
 CasFilter::CasFilter(const CasOptions& o) : options_(o), fill_(o.fill) {
@@ -52,39 +75,29 @@ CasFilter::CasFilter(const CasOptions& o) : options_(o), fill_(o.fill) {
 CasResult CasFilter::apply(ElevationMap& map) {
   const int n = map.cells_per_side();
   const int w = options_.window_radius_cells;
-  const auto measured = static_cast<std::uint8_t>(CellState::measured);
-  const float* h = map.elevation_data();
-  const float* c = map.certainty_data();
-  const std::uint8_t* state = map.state_data();
   const auto tolerance = static_cast<float>(options_.elevation_tolerance_m);
   to_remove_.clear();
-  // The map in local order with a margin of w unknown cells: a neighbour
-  // is a fixed offset, no modulo and no bounds test (cells outside the map
-  // are unknown, as the reference's bounds tests treat them).
+  // The map in local order with a margin of unknown cells, shared with the
+  // fill that follows (one copy for both): a neighbour is a fixed offset,
+  // no modulo and no bounds test (cells outside the map are unknown, as the
+  // reference's bounds tests treat them). Heights are +inf and certainties
+  // 0 where unknown; every use below is masked by known.
   const auto un = static_cast<std::size_t>(n);
-  const auto p = static_cast<std::size_t>(n + 2 * w);
-  const auto uw = static_cast<std::size_t>(w);
-  known_.assign(p * p, 0);
-  height_.assign(p * p, 0.0f);
-  certainty_.assign(p * p, 0.0f);
-  slot_.resize(un * un);
-  const std::size_t first_column = map.slot(map.cell_at_local(0, 0)) % un;
-  for (std::size_t i = 0; i < un; ++i) {
-    const std::size_t row = map.slot(map.cell_at_local(static_cast<int>(i), 0)) / un * un;
-    for (std::size_t j = 0; j < un; ++j) {
-      std::size_t column = first_column + j;
-      if (column >= un) column -= un;
-      const std::size_t s = row + column;
-      slot_[i * un + j] = s;
-      const std::size_t q = (i + uw) * p + j + uw;
-      known_[q] = state[s] == measured ? 1 : 0;
-      height_[q] = h[s];
-      certainty_[q] = c[s];
-    }
-  }
+  const int margin = std::max(w, options_.fill.window_radius_cells);
+  fill_.prepare(map, margin);
+  const std::uint8_t* known = fill_.known_.data();
+  const float* height = fill_.value_.data();
+  const float* certainty = fill_.weight_.data();
+  const std::size_t p = fill_.pitch_;
+  const auto um = static_cast<std::size_t>(margin);
   const auto sp = static_cast<std::ptrdiff_t>(p);
-  const std::ptrdiff_t ring[8] = {-sp - 1, -sp, -sp + 1, -1, 1, sp - 1, sp, sp + 1};
-  const auto max_removable = options_.max_removable_certainty;
+  // The largest float not above the limit: for a float certainty c,
+  // c > limit exactly when c > that float (no float lies between them), a
+  // comparison without a conversion to double per cell.
+  auto max_removable = static_cast<float>(options_.max_removable_certainty);
+  if (static_cast<double>(max_removable) > options_.max_removable_certainty) {
+    max_removable = std::nextafter(max_removable, -std::numeric_limits<float>::infinity());
+  }
   // A whole window, and room for the write past the last kept cell.
   const auto window_cells = static_cast<std::size_t>((2 * w + 1) * (2 * w + 1));
   candidates_.resize(un);
@@ -93,22 +106,26 @@ CasResult CasFilter::apply(ElevationMap& map) {
     // (which cells are measured and weak is as random as the map).
     std::size_t candidate_count = 0;
     for (std::size_t j = 0; j < un; ++j) {
-      const std::size_t q = (i + uw) * p + j + uw;
+      const std::size_t q = (i + um) * p + j + um;
       candidates_[candidate_count] = j;
-      candidate_count += (known_[q] != 0) & !(certainty_[q] > max_removable) ? 1 : 0;
+      candidate_count += (known[q] != 0) & !(certainty[q] > max_removable) ? 1 : 0;
     }
     for (std::size_t k = 0; k < candidate_count; ++k) {
       const std::size_t j = candidates_[k];
-      const std::size_t q = (i + uw) * p + j + uw;
-      const float hs = height_[q];
+      const std::size_t q = (i + um) * p + j + um;
+      const float hs = height[q];
       // Elevation continuity: a cell with enough agreeing 8-neighbours is no
       // isolated peak, whatever the window's median: the window is only
       // gathered for the others.
-      int agreeing = 0;
-      for (std::ptrdiff_t offset : ring) {
-        const std::size_t t = q + static_cast<std::size_t>(offset);
-        agreeing += known_[t] & (std::abs(height_[t] - hs) <= tolerance ? 1 : 0);
-      }
+      // Two four-lane vectors of the ring, blended from row loads; unknown
+      // cells hold +inf, which never agrees (nor does a NaN on either side).
+      const float* at = height + q;
+      const Heights4 upper = blend4(load4(at - p - 1), load4(at - 4), Lanes4{0, 0, 0, -1});
+      const Heights4 lower = blend4(load4(at + 1), load4(at + p - 2), Lanes4{0, -1, -1, -1});
+      const Heights4 centre = {hs, hs, hs, hs}, tolerance4 = {tolerance, tolerance, tolerance, tolerance};
+      const Lanes4 agree = reinterpret_cast<Lanes4>(abs4(upper - centre) <= tolerance4) +
+                           reinterpret_cast<Lanes4>(abs4(lower - centre) <= tolerance4);  // -1 per agreeing cell
+      const int agreeing = -(agree[0] + agree[1] + agree[2] + agree[3]);
       if (agreeing >= options_.min_agreeing_neighbours) continue;
       // The window's measured cells in the reference's order, without a
       // branch per cell (which are measured is random): each is written at
@@ -125,14 +142,14 @@ CasResult CasFilter::apply(ElevationMap& map) {
         const std::size_t row = q + static_cast<std::size_t>(di * sp);
         for (std::ptrdiff_t dj = -w; dj <= w; ++dj) {
           const std::size_t t = row + static_cast<std::size_t>(dj);
-          const std::uint32_t known = known_[t];
-          const std::uint32_t mask = 0u - known;
-          const float ht = height_[t], ct = certainty_[t];
+          const std::uint32_t is_known = known[t];
+          const std::uint32_t mask = 0u - is_known;
+          const float ht = height[t], ct = certainty[t];
           certainty_sum += static_cast<double>(std::bit_cast<float>(std::bit_cast<std::uint32_t>(ct) & mask));
           values[kept] = ht;
           certainties[kept] = ct;
-          unordered |= known & static_cast<std::uint32_t>(std::isnan(ht) | !std::isfinite(ct));
-          kept += known & static_cast<std::uint32_t>(t != q);
+          unordered |= is_known & static_cast<std::uint32_t>(std::isnan(ht) | !std::isfinite(ct));
+          kept += is_known & static_cast<std::uint32_t>(t != q);
         }
       }
       const bool ordered = unordered == 0;
@@ -143,7 +160,7 @@ CasResult CasFilter::apply(ElevationMap& map) {
       // (fl(v + tolerance) and ratio * v do not decrease with v); the sort
       // where a NaN would make the median depend on nth_element's order.
       const double ratio = options_.certainty_ratio;
-      const double cs = certainty_[q];
+      const double cs = certainty[q];
       const bool isolated_peak =
           ordered ? holds_below_median(window_values_, [&](float v) { return hs > v + tolerance; })
                   : hs > median_of(window_values_) + tolerance;
@@ -157,13 +174,16 @@ CasResult CasFilter::apply(ElevationMap& map) {
           weak = cs < ratio * median_of(window_certainties_);
         }
       }
-      if (weak) to_remove_.push_back(slot_[i * un + j]);
+      if (weak) to_remove_.push_back(i * un + j);
     }
   }
-  for (std::size_t s : to_remove_) map.reset_slot(s);
+  for (std::size_t local : to_remove_) {
+    map.reset_slot(fill_.slot_[local]);
+    fill_.forget(local, n);
+  }
   CasResult result;
   result.removed = to_remove_.size();
-  result.filled = fill_.apply(map);
+  result.filled = fill_.fill_prepared(map);
   return result;
 }
 

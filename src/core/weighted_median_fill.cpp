@@ -9,6 +9,7 @@
 #include <string>
 #include <type_traits>
 
+#include "fill_exact_windows.hpp"
 #include "stridemap/core/error.hpp"
 
 namespace stridemap {
@@ -16,6 +17,7 @@ namespace {
 
 constexpr int kMaxRadius = 7;
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
+constexpr float kInf = std::numeric_limits<float>::infinity();
 
 int quadrant_of(int di, int dj) {
   if (di > 0 && dj >= 0) return 0;
@@ -116,147 +118,157 @@ bool sort_distinct(const Candidate* in, std::size_t count, const float* values, 
   return count == 0 || !std::isnan(out[count - 1].value);
 }
 
-// The three weighted quantiles when every sum of weights is exact (integer
-// multiples of 1/16 whose window totals stay below 2^24 sixteenths): the
-// cumulative weight up to a value is then the same in any order of addition,
-// so the quantile q is the smallest value whose weight of values at or
-// below it, C(v), reaches q of the total; ties share one C(v), and with no
-// zero (+0 against -0) and no NaN among the values, equal values have equal
-// bits, so the result is the one of the sorted walk. No sort: C for all
-// candidates at once, four lanes a vector, one compared candidate at a time.
-// `values` and `weights` hold `Blocks` vectors; lanes past `count` hold
-// +inf with weight 0 (never the smallest qualifying value).
-template <std::size_t Blocks>
-void exact_quantiles(const float* values, const float* weights, std::size_t count, float at_quarter,
-                     float at_half, float at_three_quarters, float& quarter, float& half,
-                     float& three_quarters) {
-  Floats block_values[Blocks];
-  Floats below[Blocks];
-  std::memcpy(block_values, values, sizeof block_values);
-  for (std::size_t b = 0; b < Blocks; ++b) below[b] = Floats{0.0f, 0.0f, 0.0f, 0.0f};
-  for (std::size_t m = 0; m < count; ++m) {
-    const float v = values[m], wt = weights[m];
-    const Floats value = {v, v, v, v};
-    const Masks weight = reinterpret_cast<Masks>(Floats{wt, wt, wt, wt});
-    for (std::size_t b = 0; b < Blocks; ++b) {
-      // value <= block value: the compared candidate lies at or below.
-      below[b] += reinterpret_cast<Floats>(reinterpret_cast<Masks>(value <= block_values[b]) & weight);
-    }
+// One run of `count` consecutive slots of a storage row into the padded
+// copy, without a branch per cell (measured or not is as random as the map):
+// masks, not selects, which the compiler turns back into branches. The
+// pointers do not overlap, so the loop runs on vectors.
+void copy_run(const std::uint8_t* __restrict state, const float* __restrict elevation,
+              const float* __restrict certainty, std::size_t first_slot, std::size_t count,
+              std::uint8_t* __restrict known, std::uint32_t* __restrict known_mask, float* __restrict value,
+              float* __restrict weight, std::size_t* __restrict slot) {
+  const auto measured = static_cast<std::uint8_t>(CellState::measured);
+  const auto inf_bits = std::bit_cast<std::uint32_t>(kInf);
+  for (std::size_t k = 0; k < count; ++k) {
+    const std::size_t s = first_slot + k;
+    slot[k] = s;
+    const std::uint32_t mask = 0u - static_cast<std::uint32_t>(state[s] == measured);
+    known[k] = static_cast<std::uint8_t>(mask & 1u);
+    known_mask[k] = mask;
+    value[k] = std::bit_cast<float>((std::bit_cast<std::uint32_t>(elevation[s]) & mask) | (inf_bits & ~mask));
+    weight[k] = std::bit_cast<float>(std::bit_cast<std::uint32_t>(certainty[s]) & mask);
   }
-  constexpr float kInf = std::numeric_limits<float>::infinity();
-  const Floats none = {kInf, kInf, kInf, kInf};
-  const Floats tq = {at_quarter, at_quarter, at_quarter, at_quarter};
-  const Floats th = {at_half, at_half, at_half, at_half};
-  const Floats t3 = {at_three_quarters, at_three_quarters, at_three_quarters, at_three_quarters};
-  Floats lq = none, lh = none, l3 = none;
-  const auto select_min = [&](Floats current, Floats reached_mask_source, Floats threshold, Floats candidate) {
-    const Masks reached = reinterpret_cast<Masks>(reached_mask_source >= threshold);
-    const Floats kept = reinterpret_cast<Floats>((reinterpret_cast<Masks>(candidate) & reached) |
-                                                 (reinterpret_cast<Masks>(none) & ~reached));
-    return kept < current ? kept : current;
-  };
-  for (std::size_t b = 0; b < Blocks; ++b) {
-    lq = select_min(lq, below[b], tq, block_values[b]);
-    lh = select_min(lh, below[b], th, block_values[b]);
-    l3 = select_min(l3, below[b], t3, block_values[b]);
-  }
-  const auto lane_min = [](Floats x) {
-    const float a = x[0] < x[1] ? x[0] : x[1];
-    const float c = x[2] < x[3] ? x[2] : x[3];
-    return a < c ? a : c;
-  };
-  quarter = lane_min(lq);
-  half = lane_min(lh);
-  three_quarters = lane_min(l3);
 }
 
-// The known neighbours of `centre` in a window of radius W (1 or 2) of the
-// padded copy, written without a branch: each at the end, kept when known.
-// W fixed at compile time unrolls the window (fixed offsets within a row).
-// Returns how many were kept; the slot past the last may hold an unknown
-// neighbour's value. The near weights are the certainty times near_factor,
-// the far ones the certainty itself, as the fill's weights have always been.
+// bits[q] = cells[q + dj] << (dj + W) over dj = -W..W, for the cells whose
+// row of 2W + 1 lies inside the array (a window's rows never cross the
+// padded copy's row ends: its margin is at least W).
 template <int W>
-std::size_t gather_known(const float* value, const float* weight, const std::uint8_t* known, std::size_t centre,
-                         std::size_t stride, float near_factor, float* values_out, float* weights_out) {
-  std::size_t kept = 0;
-  for (int di = -W; di <= W; ++di) {
-    const std::size_t row = centre + static_cast<std::size_t>(di) * stride;
-    for (int dj = -W; dj <= W; ++dj) {
-      if (di == 0 && dj == 0) continue;
-      const std::size_t t = row + static_cast<std::size_t>(dj);
-      const bool near = di >= -1 && di <= 1 && dj >= -1 && dj <= 1;
-      values_out[kept] = value[t];
-      weights_out[kept] = near ? weight[t] * near_factor : weight[t];
-      kept += known[t];
-    }
+void row_bits_of(const std::uint16_t* __restrict cells, std::size_t count, std::uint16_t* __restrict bits) {
+  for (std::size_t q = W; q + W < count; ++q) {
+    std::uint32_t b = 0;
+    for (int dj = -W; dj <= W; ++dj) b |= static_cast<std::uint32_t>(cells[q + static_cast<std::size_t>(dj)]) << (dj + W);
+    bits[q] = static_cast<std::uint16_t>(b);
   }
-  return kept;
+}
+
+// Writes the fill's results: a cell not measured takes its result where
+// there is one (state filled) and is flagged for a reset where there is
+// none. Returns the number of filled cells. The arrays do not overlap.
+std::size_t write_results(const float* __restrict result, std::size_t cells, float* __restrict elevation,
+                          std::uint8_t* __restrict state, std::uint8_t* __restrict reset) {
+  const auto measured = static_cast<std::uint8_t>(CellState::measured);
+  const auto filled_state = static_cast<std::uint8_t>(CellState::filled);
+  // Masks, not selects or bools, so that the loop runs on vectors.
+  std::uint32_t filled = 0;
+  for (std::size_t s = 0; s < cells; ++s) {
+    const std::uint32_t not_measured = state[s] != measured ? 1u : 0u;
+    const float r = result[s];
+    const std::uint32_t has_value = r == r ? 1u : 0u;  // not NaN
+    const std::uint32_t gets_value = not_measured & has_value;
+    const std::uint32_t mask = 0u - gets_value;
+    reset[s] = static_cast<std::uint8_t>(not_measured & (has_value ^ 1u));
+    elevation[s] = std::bit_cast<float>((std::bit_cast<std::uint32_t>(r) & mask) |
+                                        (std::bit_cast<std::uint32_t>(elevation[s]) & ~mask));
+    state[s] = static_cast<std::uint8_t>((filled_state & mask) | (state[s] & ~mask));
+    filled += gets_value;
+  }
+  return filled;
 }
 
 }  // namespace
 
 std::size_t WeightedMedianFill::apply(ElevationMap& map) {
+  prepare(map, options_.window_radius_cells);
+  return fill_prepared(map);
+}
+
+void WeightedMedianFill::prepare(const ElevationMap& map, int margin) {
   const int n = map.cells_per_side();
-  const int w = options_.window_radius_cells;
-  const auto measured = static_cast<std::uint8_t>(CellState::measured);
   const auto cells = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
-  result_.assign(cells, kNaN);
   const float* elevation = map.elevation_data();
   const float* certainty = map.certainty_data();
   const std::uint8_t* state = map.state_data();
 
   // The window unrolled from the circular buffer into local order with a
-  // margin of w unknown cells: a neighbour is a fixed offset, no modulo and
-  // no bounds test per neighbour. Unknown cells keep value and weight 0.
-  const int p = n + 2 * w;
+  // margin of unknown cells: a neighbour is a fixed offset, no modulo and
+  // no bounds test per neighbour. Unknown cells have value +inf (never the
+  // smallest value that reaches a quantile, fill_exact_windows.cpp) and
+  // weight 0.
+  const int p = n + 2 * margin;
+  margin_ = static_cast<std::size_t>(margin);
+  pitch_ = static_cast<std::size_t>(p);
   const auto padded_cells = static_cast<std::size_t>(p) * static_cast<std::size_t>(p);
-  known_.assign(padded_cells, 0);
-  // Room past the end for the row pass's last group of four cells.
-  known_mask_.assign(padded_cells + 4, 0u);
-  value_.assign(padded_cells, 0.0f);
-  weight_.assign(padded_cells + 4, 0.0f);
+  // Room past the end for the row pass's last group of four cells and the
+  // exact path's eight-lane loads. Only the margin is written here (unknown
+  // cells); the runs below write the rest.
+  known_.resize(padded_cells);
+  known_mask_.resize(padded_cells + 8);
+  value_.resize(padded_cells + 8);
+  weight_.resize(padded_cells + 8);
   slot_.resize(cells);
+  const auto unknown_from = [this](std::size_t first, std::size_t count) {
+    std::fill_n(known_.data() + first, count, std::uint8_t{0});
+    std::fill_n(known_mask_.data() + first, count, 0u);
+    std::fill_n(value_.data() + first, count, kInf);
+    std::fill_n(weight_.data() + first, count, 0.0f);
+  };
+  const auto um = static_cast<std::size_t>(margin), un_cells = static_cast<std::size_t>(n);
+  unknown_from(0, um * pitch_ + um);  // the top rows and the first row's left margin
+  for (std::size_t i = 0; i + 1 < un_cells; ++i) {
+    unknown_from((i + um) * pitch_ + um + un_cells, 2 * um);  // right margin, next row's left margin
+  }
+  const std::size_t tail = (un_cells - 1 + um) * pitch_ + um + un_cells;
+  unknown_from(tail, padded_cells - tail);  // the last row's right margin and the bottom rows
+  std::fill_n(known_mask_.data() + padded_cells, 8, 0u);
+  std::fill_n(value_.data() + padded_cells, 8, kInf);
+  std::fill_n(weight_.data() + padded_cells, 8, 0.0f);
+
+  // Each row of the window is two runs of the storage row (the circular
+  // buffer wraps at most once).
+  const auto un = static_cast<std::size_t>(n);
+  const std::size_t first_column = map.slot(map.cell_at_local(0, 0)) % un;
+  for (std::size_t i = 0; i < un; ++i) {
+    const std::size_t row = map.slot(map.cell_at_local(static_cast<int>(i), 0)) / un * un;
+    const std::size_t q = (i + margin_) * pitch_ + margin_;
+    const std::size_t head = un - first_column;  // columns first_column..n-1 first
+    copy_run(state, elevation, certainty, row + first_column, head, known_.data() + q, known_mask_.data() + q,
+             value_.data() + q, weight_.data() + q, slot_.data() + i * un);
+    copy_run(state, elevation, certainty, row, first_column, known_.data() + q + head,
+             known_mask_.data() + q + head, value_.data() + q + head, weight_.data() + q + head,
+             slot_.data() + i * un + head);
+  }
+}
+
+void WeightedMedianFill::forget(std::size_t local_cell, int n) {
+  const std::size_t un = static_cast<std::size_t>(n);
+  const std::size_t q = (local_cell / un + margin_) * pitch_ + local_cell % un + margin_;
+  known_[q] = 0;
+  known_mask_[q] = 0;
+  value_[q] = kInf;
+  weight_[q] = 0.0f;
+}
+
+std::size_t WeightedMedianFill::fill_prepared(ElevationMap& map) {
+  const int n = map.cells_per_side();
+  const int w = options_.window_radius_cells;
+  const auto cells = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
+  result_.assign(cells, kNaN);
+  const std::size_t p = pitch_;
+  const std::size_t padded_cells = p * p;
   const auto near_factor = static_cast<float>(options_.near_weight);
-  // Whether every sum of weights is exact (see exact_quantiles): each
+  // Whether every sum of weights is exact (fill_exact_windows.cpp): each
   // weight, with the near factor or without, a whole number of sixteenths
   // and a full window of them at most 2^24 sixteenths. Certainties are whole
   // multiples of the increment a in the mapper, so this is the usual case.
   const int window_neighbours = (2 * w + 1) * (2 * w + 1) - 1;
   const float sixteenths_limit = static_cast<float>((1 << 24) / window_neighbours);
-
-  // Without a branch per cell (measured or not is as random as the map).
-  std::uint8_t* known_out = known_.data();
-  std::uint32_t* known_mask_out = known_mask_.data();
-  float* value_out = value_.data();
-  float* weight_out = weight_.data();
-  std::size_t* slot = slot_.data();
-  const auto first_column = static_cast<int>(map.slot(map.cell_at_local(0, 0)) % static_cast<std::size_t>(n));
-  for (int i = 0; i < n; ++i) {
-    const std::size_t row = map.slot(map.cell_at_local(i, 0)) / static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
-    std::size_t* slot_row = slot + static_cast<std::size_t>(i) * static_cast<std::size_t>(n);
-    const std::size_t q_row = static_cast<std::size_t>(i + w) * static_cast<std::size_t>(p) + static_cast<std::size_t>(w);
-    for (int j = 0; j < n; ++j) {
-      int column = first_column + j;
-      if (column >= n) column -= n;
-      const std::size_t s = row + static_cast<std::size_t>(column);
-      slot_row[j] = s;
-      // Masks, not selects (which the compiler turns back into branches).
-      const std::uint32_t mask = 0u - static_cast<std::uint32_t>(state[s] == measured);
-      const std::size_t q = q_row + static_cast<std::size_t>(j);
-      known_out[q] = static_cast<std::uint8_t>(mask & 1u);
-      known_mask_out[q] = mask;
-      value_out[q] = std::bit_cast<float>(std::bit_cast<std::uint32_t>(elevation[s]) & mask);
-      weight_out[q] = std::bit_cast<float>(std::bit_cast<std::uint32_t>(certainty[s]) & mask);
-    }
-  }
   // whole_sixteenths over the padded copy (unknown cells weigh 0), four at
   // a time; weight_ has room for the last group.
   Masks inexact = {0, 0, 0, 0};
   const Floats limit = {sixteenths_limit, sixteenths_limit, sixteenths_limit, sixteenths_limit};
   for (std::size_t q = 0; q < padded_cells; q += 4) {
     Floats far;
-    std::memcpy(&far, weight_out + q, sizeof far);
+    std::memcpy(&far, weight_.data() + q, sizeof far);
     const Floats near = far * near_factor;
     for (const Floats sixteenths : {far * 16.0f, near * 16.0f}) {
       const Masks in_range = reinterpret_cast<Masks>(sixteenths >= 0.0f) & reinterpret_cast<Masks>(sixteenths <= limit);
@@ -280,230 +292,179 @@ std::size_t WeightedMedianFill::apply(ElevationMap& map) {
       if (di == 0 && dj == 0) continue;
       // certainty * 1.0f is the certainty itself: the far weight as before.
       const bool near = std::max(std::abs(di), std::abs(dj)) == 1;
-      neighbours[neighbour_count++] = {static_cast<std::ptrdiff_t>(di) * p + dj, near ? near_factor : 1.0f,
-                                       1u << quadrant_of(di, dj)};
+      neighbours[neighbour_count++] = {static_cast<std::ptrdiff_t>(di) * static_cast<std::ptrdiff_t>(p) + dj,
+                                       near ? near_factor : 1.0f, 1u << quadrant_of(di, dj)};
     }
   }
   const float spread = static_cast<float>(options_.max_quartile_spread_m);
   const bool test_spread = options_.max_quartile_spread_m > 0.0;
   constexpr unsigned kQuadrantsIn[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
-
-  // Per row, the admission tests of every cell at once: for each neighbour
-  // in turn, one pass along the row's contiguous arrays, so that each cell's
-  // total weight adds its known neighbours in the same order as ever while
-  // the compiler works on many cells side by side. Only cells that pass are
-  // gathered and sorted.
   const auto un = static_cast<std::size_t>(n);
-  const std::size_t groups = (un + 3) / 4 * 4;
-  count_.resize(groups);
-  quadrants_.resize(groups);
-  total_.resize(groups);
-  unknown_columns_.resize(un);
   std::array<Candidate, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1)> candidates{}, gathered{};
   alignas(64) std::array<float, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1) + 8> scratch{};
   alignas(64) std::array<std::uint32_t, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1) + 8> ranks{};
-  // The exact-sum path for windows of up to 24 neighbours (w <= 2): two or
-  // six vectors of candidates, room for the +inf written past the last.
-  const std::size_t exact_blocks = !exact_sums || neighbour_count > 24 ? 0 : neighbour_count <= 8 ? 2 : 6;
-  constexpr float kInf = std::numeric_limits<float>::infinity();
-  alignas(16) std::array<float, 28> exact_values{}, exact_weights{};
-  // With exact sums the admission tests need no order either: box sums of
-  // running totals (known cells, certainty and the near weights' extra, in
-  // sixteenths) over the padded window, for the cells that ask only.
-  const std::size_t stride = static_cast<std::size_t>(p) + 1;
-  if (exact_sums) {
-    known_sum_.assign(stride * stride, 0);
-    far_sum_.assign(stride * stride, 0);
-    near_sum_.assign(stride * stride, 0);
-    for (std::size_t r = 0; r < static_cast<std::size_t>(p); ++r) {
-      std::int32_t known_run = 0;
-      std::int64_t far_run = 0, near_run = 0;
-      for (std::size_t col = 0; col < static_cast<std::size_t>(p); ++col) {
-        const std::size_t q = r * static_cast<std::size_t>(p) + col;
-        const auto far = static_cast<std::int64_t>(weight_[q] * 16.0f);
-        known_run += known_[q];
-        far_run += far;
-        near_run += static_cast<std::int64_t>(weight_[q] * near_factor * 16.0f) - far;
-        const std::size_t at = (r + 1) * stride + col + 1, above = r * stride + col + 1;
-        known_sum_[at] = known_sum_[above] + known_run;
-        far_sum_[at] = far_sum_[above] + far_run;
-        near_sum_[at] = near_sum_[above] + near_run;
+
+  // The window's median by sorting its known neighbours (in visiting order,
+  // the order std::sort's result and the float sums depend on); NaN when
+  // the quartiles spread too far.
+  const auto sorted_walk = [&](std::size_t centre, float total_weight) {
+    // The known neighbours in visiting order, without branches: each is
+    // written at the end and kept only when known.
+    std::size_t kept = 0;
+    for (std::size_t k = 0; k < neighbour_count; ++k) {
+      const Neighbour& nb = neighbours[k];
+      const std::size_t t = centre + static_cast<std::size_t>(nb.offset);
+      gathered[kept] = {value_[t], weight_[t] * nb.factor};
+      scratch[kept] = value_[t];
+      kept += known_[t] != 0 ? 1 : 0;
+    }
+    if (!sort_distinct(gathered.data(), kept, scratch.data(), ranks.data(), candidates.data())) {
+      std::copy(gathered.begin(), gathered.begin() + static_cast<std::ptrdiff_t>(kept), candidates.begin());
+      std::sort(candidates.begin(), candidates.begin() + static_cast<std::ptrdiff_t>(kept),
+                [](const Candidate& a, const Candidate& b) { return a.value < b.value; });
+    }
+    // Weighted quantiles q: the smallest value at which the cumulative
+    // weight reaches q of the total; the three in one pass over the same sums.
+    const float at_quarter = 0.25f * total_weight, at_half = 0.5f * total_weight,
+                at_three_quarters = 0.75f * total_weight;
+    const float last = candidates[kept - 1].value;
+    float quarter = last, half = last, three_quarters = last;
+    bool have_quarter = false, have_half = false;
+    float cumulative = 0.0f;
+    for (std::size_t k = 0; k < kept; ++k) {
+      cumulative += candidates[k].weight;
+      if (!have_quarter && cumulative >= at_quarter) {
+        quarter = candidates[k].value;
+        have_quarter = true;
+      }
+      if (!have_half && cumulative >= at_half) {
+        half = candidates[k].value;
+        have_half = true;
+      }
+      if (cumulative >= at_three_quarters) {
+        three_quarters = candidates[k].value;
+        break;
       }
     }
-  }
-  // Sum over padded rows r0..r1 and columns c0..c1 (inclusive).
-  const auto box = [stride](const auto& sums, std::size_t r0, std::size_t r1, std::size_t c0, std::size_t c1) {
-    return sums[(r1 + 1) * stride + c1 + 1] - sums[r0 * stride + c1 + 1] - sums[(r1 + 1) * stride + c0] +
-           sums[r0 * stride + c0];
+    return test_spread && three_quarters - quarter > spread ? kNaN : half;
   };
-  const auto uw = static_cast<std::size_t>(w);
-  for (int i = 0; i < n; ++i) {
-    const std::size_t row_start = static_cast<std::size_t>(i + w) * static_cast<std::size_t>(p) + static_cast<std::size_t>(w);
-    // Four cells at a time, their sums kept in registers over all the
-    // neighbours; the arrays have room for the last group of four.
-    for (std::size_t j = 0; j < (exact_sums ? 0 : un); j += 4) {
-      Masks count = {0, 0, 0, 0}, quadrants = {0, 0, 0, 0};
-      Floats total = {0.0f, 0.0f, 0.0f, 0.0f};
-      for (std::size_t k = 0; k < neighbour_count; ++k) {
-        const Neighbour& nb = neighbours[k];
-        const std::size_t t = row_start + j + static_cast<std::size_t>(nb.offset);
-        Masks known;
-        Floats weight;
-        std::memcpy(&known, known_mask_.data() + t, sizeof known);
-        std::memcpy(&weight, weight_.data() + t, sizeof weight);
-        const Floats add = weight * nb.factor;
-        // A select by bits: the sum is formed for every cell (a conditional
-        // float add is a branch to the compiler) and kept only where known.
-        const Floats sum = total + add;
-        total = reinterpret_cast<Floats>((reinterpret_cast<Masks>(sum) & known) |
-                                         (reinterpret_cast<Masks>(total) & ~known));
-        count -= known;  // all ones is -1
-        quadrants |= known & nb.quadrant_bit;
-      }
-      std::memcpy(count_.data() + j, &count, sizeof count);
-      std::memcpy(quadrants_.data() + j, &quadrants, sizeof quadrants);
-      std::memcpy(total_.data() + j, &total, sizeof total);
+
+  if (exact_sums && w <= 2) {
+    // Per padded cell, which of the 2w + 1 cells of its row centred on it
+    // are known, and which of those hold a zero or NaN (the sorted walk's):
+    // a window's tests are a few loads and bit operations. Rolled along
+    // each row; the margin keeps every window inside.
+    cell_bits_.resize(padded_cells);
+    row_bits_.resize(padded_cells);  // row_bits_of writes all but the ends, never read
+    // value_ is +inf where unknown: a zero or NaN is a known one.
+    for (std::size_t q = 0; q < padded_cells; ++q) {
+      const float v = value_[q];
+      cell_bits_[q] = static_cast<std::uint16_t>(known_[q] | (((v == 0.0f) | (v != v)) << fill_detail::kSpecialShift));
     }
-    const std::uint32_t* count_row = count_.data();
-    const std::uint32_t* quadrant_row = quadrants_.data();
-    const float* total_row = total_.data();
-    // The row's unknown cells listed first, without a branch: measured or
-    // not is as random as the map, a loop over the list is not.
-    std::size_t unknown_count = 0;
-    for (std::size_t j = 0; j < un; ++j) {
-      unknown_columns_[unknown_count] = j;
-      unknown_count += known_[row_start + j] == 0 ? 1 : 0;
+    if (w == 1) {
+      row_bits_of<1>(cell_bits_.data(), padded_cells, row_bits_.data());
+    } else {
+      row_bits_of<2>(cell_bits_.data(), padded_cells, row_bits_.data());
     }
-    for (std::size_t u = 0; u < unknown_count; ++u) {
-      const std::size_t j = unknown_columns_[u];
-      const std::size_t centre = row_start + j;
-      std::int32_t count;
-      int quadrants;
-      float total_weight;
-      if (exact_sums) {
-        const std::size_t r = static_cast<std::size_t>(i) + uw, c = j + uw;
-        count = box(known_sum_, r - uw, r + uw, c - uw, c + uw);
-        if (count < options_.min_known_neighbours) continue;
-        // The four quadrants of quadrant_of as rectangles of the window.
-        quadrants = (box(known_sum_, r + 1, r + uw, c, c + uw) > 0 ? 1 : 0) +
-                    (box(known_sum_, r - uw, r, c + 1, c + uw) > 0 ? 1 : 0) +
-                    (box(known_sum_, r - uw, r - 1, c - uw, c) > 0 ? 1 : 0) +
-                    (box(known_sum_, r, r + uw, c - uw, c - 1) > 0 ? 1 : 0);
-        // At most 2^24 sixteenths: the float is the exact sum, as the row
-        // pass's sum in visiting order is.
-        total_weight = static_cast<float>(box(far_sum_, r - uw, r + uw, c - uw, c + uw) +
-                                          box(near_sum_, r - 1, r + 1, c - 1, c + 1)) *
-                       0.0625f;
-      } else {
-        count = static_cast<std::int32_t>(count_row[j]);
-        quadrants = static_cast<int>(kQuadrantsIn[quadrant_row[j]]);
-        total_weight = total_row[j];
-      }
-      if (count < options_.min_known_neighbours || quadrants < options_.min_quadrants || total_weight <= 0.0f) {
-        continue;
-      }
-      const float at_quarter = 0.25f * total_weight, at_half = 0.5f * total_weight,
-                  at_three_quarters = 0.75f * total_weight;
-      if (exact_blocks != 0) {
-        for (std::size_t b = 0; b < exact_blocks; ++b) {
-          const Floats inf = {kInf, kInf, kInf, kInf}, zero = {0.0f, 0.0f, 0.0f, 0.0f};
-          std::memcpy(exact_values.data() + 4 * b, &inf, sizeof inf);
-          std::memcpy(exact_weights.data() + 4 * b, &zero, sizeof zero);
+    walk_cells_.resize(cells);
+    walk_totals_.resize(cells);
+    columns_.resize(un);
+    fill_detail::WindowInput in{};
+    in.value = value_.data();
+    in.weight = weight_.data();
+    in.row_bits = row_bits_.data();
+    in.pitch = p;
+    in.margin = margin_;
+    in.n = un;
+    in.near_factor = near_factor;
+    in.min_known = options_.min_known_neighbours;
+    in.min_quadrants = options_.min_quadrants;
+    in.spread = spread;
+    in.test_spread = test_spread;
+    in.slot = slot_.data();
+    in.result = result_.data();
+    in.columns = columns_.data();
+    in.walk_cells = walk_cells_.data();
+    in.walk_totals = walk_totals_.data();
+    const std::size_t walks =
+        w == 1 ? fill_detail::fill_exact_windows_radius1(in) : fill_detail::fill_exact_windows_radius2(in);
+    for (std::size_t k = 0; k < walks; ++k) {
+      const std::size_t local = walk_cells_[k];
+      const std::size_t centre = (local / un + margin_) * p + local % un + margin_;
+      result_[slot_[local]] = sorted_walk(centre, walk_totals_[k]);
+    }
+  } else {
+    // Per row, the admission tests of every cell at once: for each neighbour
+    // in turn, one pass along the row's contiguous arrays, so that each
+    // cell's total weight adds its known neighbours in the same order as
+    // ever while the compiler works on many cells side by side. Only cells
+    // that pass are gathered and sorted.
+    const std::size_t groups = (un + 3) / 4 * 4;
+    count_.resize(groups);
+    quadrants_.resize(groups);
+    total_.resize(groups);
+    unknown_columns_.resize(un);
+    for (std::size_t i = 0; i < un; ++i) {
+      const std::size_t row_start = (i + margin_) * p + margin_;
+      // Four cells at a time, their sums kept in registers over all the
+      // neighbours; the arrays have room for the last group of four.
+      for (std::size_t j = 0; j < un; j += 4) {
+        Masks count = {0, 0, 0, 0}, quadrants = {0, 0, 0, 0};
+        Floats total = {0.0f, 0.0f, 0.0f, 0.0f};
+        for (std::size_t k = 0; k < neighbour_count; ++k) {
+          const Neighbour& nb = neighbours[k];
+          const std::size_t t = row_start + j + static_cast<std::size_t>(nb.offset);
+          Masks known;
+          Floats weight;
+          std::memcpy(&known, known_mask_.data() + t, sizeof known);
+          std::memcpy(&weight, weight_.data() + t, sizeof weight);
+          const Floats add = weight * nb.factor;
+          // A select by bits: the sum is formed for every cell (a conditional
+          // float add is a branch to the compiler) and kept only where known.
+          const Floats sum = total + add;
+          total = reinterpret_cast<Floats>((reinterpret_cast<Masks>(sum) & known) |
+                                           (reinterpret_cast<Masks>(total) & ~known));
+          count -= known;  // all ones is -1
+          quadrants |= known & nb.quadrant_bit;
         }
-        // The candidates' order does not matter here (exact sums, minima).
-        const std::size_t kept =
-            w == 1 ? gather_known<1>(value_.data(), weight_.data(), known_.data(), centre,
-                                     static_cast<std::size_t>(p), near_factor, exact_values.data(), exact_weights.data())
-                   : gather_known<2>(value_.data(), weight_.data(), known_.data(), centre,
-                                     static_cast<std::size_t>(p), near_factor, exact_values.data(), exact_weights.data());
-        // The last write may be an unknown neighbour's (value 0): past the end.
-        exact_values[kept] = kInf;
-        exact_weights[kept] = 0.0f;
-        // A zero (whose sign the sorted walk's order decides) or a NaN (which
-        // std::sort places where its input order puts it) takes the sorted walk.
-        Masks special = {0, 0, 0, 0};
-        for (std::size_t b = 0; b < exact_blocks; ++b) {
-          Floats v;
-          std::memcpy(&v, exact_values.data() + 4 * b, sizeof v);
-          special |= reinterpret_cast<Masks>(v == 0.0f) | reinterpret_cast<Masks>(v != v);
-        }
-        if ((special[0] | special[1] | special[2] | special[3]) == 0) {
-          float quarter, half, three_quarters;
-          // As many vectors as the candidates fill (the lanes past them hold
-          // +inf with weight 0 up to exact_blocks).
-          const auto quantiles = [&](auto blocks) {
-            exact_quantiles<decltype(blocks)::value>(exact_values.data(), exact_weights.data(), kept, at_quarter,
-                                                     at_half, at_three_quarters, quarter, half, three_quarters);
-          };
-          switch ((kept + 3) / 4) {
-            case 0: case 1: case 2: quantiles(std::integral_constant<std::size_t, 2>{}); break;
-            case 3: quantiles(std::integral_constant<std::size_t, 3>{}); break;
-            case 4: quantiles(std::integral_constant<std::size_t, 4>{}); break;
-            case 5: quantiles(std::integral_constant<std::size_t, 5>{}); break;
-            default: quantiles(std::integral_constant<std::size_t, 6>{}); break;
-          }
-          if (test_spread && three_quarters - quarter > spread) continue;
-          result_[slot_[static_cast<std::size_t>(i) * un + j]] = half;
+        std::memcpy(count_.data() + j, &count, sizeof count);
+        std::memcpy(quadrants_.data() + j, &quadrants, sizeof quadrants);
+        std::memcpy(total_.data() + j, &total, sizeof total);
+      }
+      // The row's unknown cells listed first, without a branch: measured or
+      // not is as random as the map, a loop over the list is not.
+      std::size_t unknown_count = 0;
+      for (std::size_t j = 0; j < un; ++j) {
+        unknown_columns_[unknown_count] = j;
+        unknown_count += known_[row_start + j] == 0 ? 1 : 0;
+      }
+      for (std::size_t u = 0; u < unknown_count; ++u) {
+        const std::size_t j = unknown_columns_[u];
+        const auto count = static_cast<std::int32_t>(count_[j]);
+        const auto quadrants = static_cast<int>(kQuadrantsIn[quadrants_[j]]);
+        const float total_weight = total_[j];
+        if (count < options_.min_known_neighbours || quadrants < options_.min_quadrants || total_weight <= 0.0f) {
           continue;
         }
+        result_[slot_[i * un + j]] = sorted_walk(row_start + j, total_weight);
       }
-      // The known neighbours in visiting order, without branches: each is
-      // written at the end and kept only when known.
-      std::size_t kept = 0;
-      for (std::size_t k = 0; k < neighbour_count; ++k) {
-        const Neighbour& nb = neighbours[k];
-        const std::size_t t = centre + static_cast<std::size_t>(nb.offset);
-        gathered[kept] = {value_[t], weight_[t] * nb.factor};
-        scratch[kept] = value_[t];
-        kept += known_[t] != 0 ? 1 : 0;
-      }
-      if (!sort_distinct(gathered.data(), kept, scratch.data(), ranks.data(), candidates.data())) {
-        std::copy(gathered.begin(), gathered.begin() + static_cast<std::ptrdiff_t>(kept), candidates.begin());
-        std::sort(candidates.begin(), candidates.begin() + static_cast<std::ptrdiff_t>(kept),
-                  [](const Candidate& a, const Candidate& b) { return a.value < b.value; });
-      }
-      // Weighted quantiles q: the smallest value at which the cumulative
-      // weight reaches q of the total; the three in one pass over the same sums.
-      const float last = candidates[kept - 1].value;
-      float quarter = last, half = last, three_quarters = last;
-      bool have_quarter = false, have_half = false;
-      float cumulative = 0.0f;
-      for (std::size_t k = 0; k < kept; ++k) {
-        cumulative += candidates[k].weight;
-        if (!have_quarter && cumulative >= at_quarter) {
-          quarter = candidates[k].value;
-          have_quarter = true;
-        }
-        if (!have_half && cumulative >= at_half) {
-          half = candidates[k].value;
-          have_half = true;
-        }
-        if (cumulative >= at_three_quarters) {
-          three_quarters = candidates[k].value;
-          break;
-        }
-      }
-      if (test_spread && three_quarters - quarter > spread) continue;
-      result_[slot_[static_cast<std::size_t>(i) * un + j]] = half;
     }
   }
 
-  std::size_t filled = 0;
-  float* out_elevation = map.elevation_data();
-  std::uint8_t* out_state = map.state_data();
-  const auto filled_state = static_cast<std::uint8_t>(CellState::filled);
-  // Locals: the stores below could alias the members' storage otherwise.
-  const float* result = result_.data();
-  for (std::size_t s = 0; s < cells; ++s) {
-    // Selects, not branches, for the cells that keep or take a value; the
-    // cells left unknown come in runs (occlusions) in real maps.
-    const bool is_measured = out_state[s] == measured;
-    const float r = result[s];
-    const bool gets_value = !is_measured & !std::isnan(r);
-    if (!is_measured & std::isnan(r)) map.reset_slot(s);
-    out_elevation[s] = gets_value ? r : out_elevation[s];
-    out_state[s] = gets_value ? filled_state : out_state[s];
-    filled += gets_value ? 1 : 0;
+  // The results into the map: a pass on vectors for the cells that keep or
+  // take a value, then every layer reset (reset_slot) for the cells left
+  // without one, found eight flags at a time (few in a map with small holes).
+  reset_.resize((cells + 7) / 8 * 8);
+  std::fill(reset_.begin() + static_cast<std::ptrdiff_t>(cells), reset_.end(), std::uint8_t{0});  // write_results writes the rest
+  const std::size_t filled = write_results(result_.data(), cells, map.elevation_data(), map.state_data(), reset_.data());
+  for (std::size_t s = 0; s < cells; s += 8) {
+    std::uint64_t flags;
+    std::memcpy(&flags, reset_.data() + s, sizeof flags);
+    while (flags != 0) {
+      const auto byte = static_cast<std::size_t>(std::countr_zero(flags)) / 8;
+      map.reset_slot(s + byte);
+      flags &= ~(std::uint64_t{0xff} << (8 * byte));
+    }
   }
   return filled;
 }

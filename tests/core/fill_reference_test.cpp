@@ -28,6 +28,8 @@ enum class Draw {
   huge,         // certainties near 2^20: whole, but a window's sum is not exact
   special,      // whole certainties with zeros (+0 and -0) and NaN elevations,
                 // zero and infinite certainties among them
+  infinite,     // whole certainties (zeros among them: exact sums) with
+                // +inf and -inf elevations, rows all unknown or all measured
 };
 
 ElevationMap random_map(int n, std::uint64_t seed, bool coarse_values, Draw draw = Draw::whole) {
@@ -37,10 +39,12 @@ ElevationMap random_map(int n, std::uint64_t seed, bool coarse_values, Draw draw
   map.move_corner_to({static_cast<std::int64_t>(u(rng) * 1000) - 500, static_cast<std::int64_t>(u(rng) * 1000) - 500});
   const double unknown = 0.1 + 0.5 * u(rng);
   for (int i = 0; i < n; ++i) {
+    // Whole rows unknown or measured: rows with no window to fill, or all.
+    const int row_kind = draw == Draw::infinite ? static_cast<int>(u(rng) * 6) : 2;
     for (int j = 0; j < n; ++j) {
       const std::size_t s = map.slot(map.cell_at_local(i, j));
       const double r = u(rng);
-      if (r < unknown) continue;
+      if (row_kind == 0 || (row_kind != 1 && r < unknown)) continue;
       double h = 0.002 * i - 0.001 * j + 0.01 * u(rng) + (j > n / 2 ? 0.05 : 0.0);  // a step across the map
       if (u(rng) < 0.03) h += 0.1;                                               // a spike
       if (coarse_values) h = std::round(h * 200.0) / 200.0;                     // 5 mm steps: many ties
@@ -59,6 +63,13 @@ ElevationMap random_map(int n, std::uint64_t seed, bool coarse_values, Draw draw
           else if (x < 0.09) height = std::numeric_limits<float>::quiet_NaN();
           else if (x < 0.11) certainty = 0.0f;
           else if (x < 0.115) certainty = std::numeric_limits<float>::infinity();
+          break;
+        }
+        case Draw::infinite: {
+          const double x = u(rng);
+          if (x < 0.03) height = std::numeric_limits<float>::infinity();
+          else if (x < 0.06) height = -std::numeric_limits<float>::infinity();
+          else if (x < 0.1) certainty = 0.0f;
           break;
         }
       }
@@ -139,6 +150,46 @@ TEST(FillReference, FastFillMatchesTheReferenceOnEveryPath) {
   EXPECT_GT(filled, 1000u);
 }
 
+// The edges of the eight-lane path: maps smaller than a window (every
+// window reaches past the map), infinite heights with exact sums, rows with
+// every cell unknown or every cell measured, and every radius.
+TEST(FillReference, FastFillMatchesTheReferenceAtTheEdges) {
+  std::size_t filled = 0;
+  for (std::uint64_t seed = 61; seed <= 72; ++seed) {
+    const int sizes[] = {1, 2, 3, 4, 5, 7, 9, 16, 31};
+    const int n = sizes[seed % 9];
+    for (const Draw draw : {Draw::whole, Draw::infinite}) {
+      const ElevationMap original = random_map(n, seed, seed % 2 == 0, draw);
+      std::vector<FillOptions> all = fill_options();
+      all.push_back({});
+      all.back().min_known_neighbours = 1;
+      all.back().min_quadrants = 1;  // windows with a single known cell
+      all.push_back(all.back());
+      all.back().window_radius_cells = 1;
+      for (const FillOptions& options : all) {
+        ElevationMap fast = original, reference = original;
+        WeightedMedianFill fill(options);
+        const std::size_t a = fill.apply(fast);
+        EXPECT_EQ(a, reference::reference_fill(reference, options));
+        filled += a;
+        expect_identical(fast, reference, "n " + std::to_string(n) + ", seed " + std::to_string(seed));
+      }
+    }
+  }
+  for (std::uint64_t seed = 81; seed <= 84; ++seed) {
+    const ElevationMap original = random_map(100, seed, seed % 2 == 0, Draw::infinite);
+    for (const FillOptions& options : fill_options()) {
+      ElevationMap fast = original, reference = original;
+      WeightedMedianFill fill(options);
+      const std::size_t a = fill.apply(fast);
+      EXPECT_EQ(a, reference::reference_fill(reference, options));
+      filled += a;
+      expect_identical(fast, reference, "infinite heights, seed " + std::to_string(seed));
+    }
+  }
+  EXPECT_GT(filled, 1000u);
+}
+
 TEST(FillReference, FastCasMatchesTheReferenceBitForBit) {
   std::size_t removed = 0;
   for (std::uint64_t seed = 21; seed <= 32; ++seed) {
@@ -155,6 +206,14 @@ TEST(FillReference, FastCasMatchesTheReferenceBitForBit) {
       all[2].min_agreeing_neighbours = 5;
       all[2].max_removable_certainty = 12.0;
       all[2].fill.window_radius_cells = 3;
+      // Limits that no float equals, just below and above a certainty of 3
+      // (the fast test compares in float), and the fill's radius 1.
+      all.push_back({});
+      all.back().max_removable_certainty = 3.0 - 1e-12;
+      all.back().fill.window_radius_cells = 1;
+      all.push_back({});
+      all.back().max_removable_certainty = 3.0 + 1e-12;
+      all.back().min_agreeing_neighbours = 4;
       for (const CasOptions& options : all) {
         ElevationMap fast = original, reference = original;
         CasFilter cas(options);

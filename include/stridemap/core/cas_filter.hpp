@@ -56,14 +56,9 @@ class CasFilter {
  private:
   CasOptions options_;
   WeightedMedianFill fill_;
-  std::vector<std::size_t> to_remove_;
+  std::vector<std::size_t> to_remove_;  // local cells i * n + j
   std::vector<float> window_values_;
   std::vector<float> window_certainties_;
-  // The map in local order with a margin of w unknown cells (apply()),
-  // kept to reuse storage; slot_ maps local cell i * n + j to its slot.
-  std::vector<std::uint8_t> known_;
-  std::vector<float> height_, certainty_;
-  std::vector<std::size_t> slot_;
   std::vector<std::size_t> candidates_;  // removable columns of the row being tested
 };
 

@@ -46,26 +46,41 @@ class WeightedMedianFill {
   const FillOptions& options() const { return options_; }
 
  private:
+  friend class CasFilter;  // shares the padded copy (prepare, forget)
   struct Candidate {
     float value;
     float weight;
   };
+  // The map in local order with `margin` unknown cells around it.
+  void prepare(const ElevationMap& map, int margin);
+  // Makes local cell i * n + j of the padded copy unknown.
+  void forget(std::size_t local_cell, int n);
+  // apply() on the padded copy of `map` made by prepare().
+  std::size_t fill_prepared(ElevationMap& map);
+
   FillOptions options_;
   std::vector<float> result_;  // per slot, NaN = leave unknown
-  // The window in local order with a margin (apply()), kept to reuse storage.
+  std::vector<std::uint8_t> reset_;  // per slot: no value, every layer reset
+  // The padded copy (prepare()), kept to reuse storage: known or not, the
+  // same as all ones or zeros (32-bit lanes for the row pass), value (+inf
+  // where unknown), weight (0 where unknown).
+  std::size_t margin_ = 0, pitch_ = 0;
   std::vector<std::uint8_t> known_;
-  std::vector<std::uint32_t> known_mask_;  // the same as all ones or zeros: 32-bit lanes for the row pass
+  std::vector<std::uint32_t> known_mask_;
   std::vector<float> value_, weight_;
   std::vector<std::size_t> slot_;  // slot of local cell i * n + j
   // Per cell of the row being filled: known neighbours, their quadrants
-  // (a bit each) and their total weight.
+  // (a bit each) and their total weight (the row pass, inexact sums).
   std::vector<std::uint32_t> count_, quadrants_;
   std::vector<float> total_;
   std::vector<std::size_t> unknown_columns_;  // of the row being filled
-  // Running sums over the padded window when sums are exact: known cells,
-  // certainty and the near weights' extra, in sixteenths ((p + 1)^2 each).
-  std::vector<std::int32_t> known_sum_;
-  std::vector<std::int64_t> far_sum_, near_sum_;
+  // The exact path (fill_exact_windows.hpp): bits per padded cell (known,
+  // zero or NaN) and per row of a window around it,
+  // windows left to the sorted walk and their total weights, a row's
+  // unknown columns.
+  std::vector<std::uint16_t> cell_bits_, row_bits_;
+  std::vector<std::uint32_t> walk_cells_, columns_;
+  std::vector<float> walk_totals_;
 };
 
 }  // namespace stridemap
