@@ -81,6 +81,7 @@ void run_fidelity_command(const FidelityArgs& args) {
   options.kind = parse_option<RandomSceneKind>("--kind", args.kind);
   try {
     options.filters = parse_scan_filter_list(args.filters);
+    (void)ScanFilterChain(options.filters);  // an order the chain refuses fails here, before any run
   } catch (const InputError& e) {
     throw InputError(std::string("--filters: ") + e.what());
   }
