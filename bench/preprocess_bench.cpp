@@ -189,6 +189,10 @@ void run_chain(benchmark::State& state, const char* names) {
 void BM_ChainPaper(benchmark::State& state) { run_chain(state, "paper"); }
 BENCHMARK(BM_ChainPaper);
 
+// The paper's chain with the between-scans test (ours, "urg").
+void BM_ChainUrg(benchmark::State& state) { run_chain(state, "urg"); }
+BENCHMARK(BM_ChainUrg);
+
 void BM_ChainAllFour(benchmark::State& state) {
   run_chain(state, "range-clustering,scan-sequence,shadow,speckle");
 }

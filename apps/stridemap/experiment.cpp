@@ -271,8 +271,9 @@ void register_experiment(CLI::App& app) {
                                                   "cas unless given)")
       ->capture_default_str();
   CLI::Option* filters = cart_rail->add_option("--filters", args->filters,
-                        "Scan filters in order, comma separated: range-clustering, scan-sequence, shadow, "
-                        "speckle; paper = range-clustering,scan-sequence; none. Default: none, or paper "
+                        "Scan filters in order, comma separated: range-clustering, scan-sequence, between-scans, "
+                        "shadow, speckle; paper = range-clustering,scan-sequence; urg = paper,between-scans; "
+                        "none. Default: none, or paper "
                         "with --mixed-pixels on")
       ->capture_default_str();
   auto mp = std::make_shared<MixedPixelsArgs>();

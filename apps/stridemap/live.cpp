@@ -98,7 +98,7 @@ void add_mapping_options(CLI::App& command, MappingArgs& args) {
       });
   command.add_option("--config", args.config_path, "Mapper configuration (YAML, docs/config.md)");
   command.add_option("--filters", args.filters,
-                     "Scan filters in order: range-clustering, scan-sequence, shadow, speckle; paper; none")
+                     "Scan filters in order: range-clustering, scan-sequence, between-scans, shadow, speckle; paper; urg; none")
       ->capture_default_str();
   command.add_option("--clock", args.clock,
                      "Clock of the pose times: host (Unix time of each scan's step 0, estimated by the driver) or "

@@ -70,6 +70,7 @@ struct FidelityArgs {
   std::uint64_t seed = 1;
   std::string kind = "boxes";
   std::string structured_light = "image";
+  std::string filters = "paper";
   std::string out_dir;
 };
 
@@ -78,6 +79,13 @@ void run_fidelity_command(const FidelityArgs& args) {
   options.scenes = args.scenes;
   options.seed = args.seed;
   options.kind = parse_option<RandomSceneKind>("--kind", args.kind);
+  try {
+    options.filters = parse_scan_filter_list(args.filters);
+    (void)ScanFilterChain(options.filters);  // an order the chain refuses fails here, before any run
+  } catch (const InputError& e) {
+    throw InputError(std::string("--filters: ") + e.what());
+  }
+  if (options.filters.empty()) throw InputError("--filters: none leaves nothing to measure; give at least one filter");
   if (options.kind == RandomSceneKind::rocky) {
     throw InputError("--kind: rocky scenes have no cart rail to measure on; use boxes or steps");
   }
@@ -125,6 +133,9 @@ void register_random_scenes(CLI::App& app) {
   fidelity->add_option("--kind", fa->kind, "Scene kind: boxes or steps")->capture_default_str();
   fidelity->add_option("--structured-light", fa->structured_light,
                        "Structured-light runs: image (render and detect), geometric (the true stripe) or off")
+      ->capture_default_str();
+  fidelity->add_option("--filters", fa->filters,
+                       "Scan filters of the URG's filtered run (as for cart-rail): paper, urg (paper + between-scans), ...")
       ->capture_default_str();
   fidelity->add_option("--out", fa->out_dir, "Output folder; results go to OUT/fidelity/")->required();
   fidelity->callback([fa] { run_fidelity_command(*fa); });

@@ -129,8 +129,9 @@ void register_pipeline_options(py::module_& m) {
       .def_property(
           "filters", [](const PipelineOptions& o) { return scan_filter_list_name(o.filters); },
           [](PipelineOptions& o, const std::string& names) { o.filters = parse_scan_filter_list(names); },
-          "Scan filters in order, comma separated: range-clustering, scan-sequence, shadow, speckle; 'paper' "
-          "= range-clustering,scan-sequence; 'none'. URG only.")
+          "Scan filters in order, comma separated: range-clustering, scan-sequence, between-scans, shadow, "
+          "speckle; 'paper' "
+          "= range-clustering,scan-sequence; 'urg' = paper,between-scans; 'none'. URG only.")
       .def_property(
           "map_filter", [](const PipelineOptions& o) { return std::string(map_filter_name(o.map_filter.filter)); },
           [](PipelineOptions& o, const std::string& text) { o.map_filter.filter = parse_map_filter(text); },

@@ -82,6 +82,9 @@ FigureDistribution distribution_of(const std::string& figure, std::vector<double
 
 FidelityResult run_fidelity(const FidelityOptions& options) {
   if (options.scenes == 0) throw InputError("fidelity: the number of scenes must be at least 1");
+  if (options.filters.empty()) {
+    throw InputError("fidelity: the filtered run needs at least one scan filter (the unfiltered run is the reference)");
+  }
   FidelityResult result;
   std::vector<double> urg_all, sl_all, unused;
   const std::size_t runs_per_scene = options.structured_light ? 4 : 3;
@@ -103,7 +106,7 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
     const CartRailResult reference = run(urg);
     urg.mixed_pixels = true;
     const CartRailResult unfiltered = run(urg);
-    urg.filters = {ScanFilterKind::range_clustering, ScanFilterKind::scan_sequence};
+    urg.filters = options.filters;
     const CartRailResult filtered = run(urg);
     row.urg_objects = filtered.objects;
     row.urg_extent_error_pct =
@@ -252,6 +255,7 @@ std::string fidelity_summary_json(const FidelityResult& result, const FidelityOp
       {"kind", std::string(name(options.kind))},
       {"scene_count", options.scenes},
       {"min_scored_extent_m", options.min_scored_extent_m},
+      {"filters", scan_filter_list_name(options.filters)},
       {"structured_light", options.structured_light
                                ? std::string(name(options.structured_light_rail.structured_light.pipeline))
                                : std::string("off")},

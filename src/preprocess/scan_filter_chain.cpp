@@ -10,15 +10,17 @@
 namespace stridemap {
 namespace {
 
-constexpr std::array<std::pair<std::string_view, ScanFilterKind>, 4> kind_names{{
+constexpr std::array<std::pair<std::string_view, ScanFilterKind>, 5> kind_names{{
     {"range-clustering", ScanFilterKind::range_clustering},
     {"scan-sequence", ScanFilterKind::scan_sequence},
     {"shadow", ScanFilterKind::shadow},
     {"speckle", ScanFilterKind::speckle},
+    {"between-scans", ScanFilterKind::between_scans},
 }};
 
 constexpr std::string_view valid_names =
-    "range-clustering, scan-sequence, shadow, speckle, paper (= range-clustering,scan-sequence), none";
+    "range-clustering, scan-sequence, shadow, speckle, paper (= range-clustering,scan-sequence), between-scans, "
+    "urg (= range-clustering,scan-sequence,between-scans), none";
 
 std::string_view trim(std::string_view text) {
   const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; };
@@ -52,7 +54,7 @@ std::vector<ScanFilterKind> parse_scan_filter_list(std::string_view names) {
   const auto add = [&](ScanFilterKind kind) {
     if (std::find(kinds.begin(), kinds.end(), kind) != kinds.end()) {
       throw InputError("scan filter \"" + std::string(scan_filter_name(kind)) + "\" appears twice in \"" +
-                       std::string(names) + "\" (\"paper\" already holds range-clustering and scan-sequence)");
+                       std::string(names) + "\" (\"paper\" already holds range-clustering and scan-sequence, \"urg\" also between-scans)");
     }
     kinds.push_back(kind);
   };
@@ -67,9 +69,10 @@ std::vector<ScanFilterKind> parse_scan_filter_list(std::string_view names) {
     ++tokens;
     if (token == "none") {
       saw_none = true;
-    } else if (token == "paper") {
+    } else if (token == "paper" || token == "urg") {
       add(ScanFilterKind::range_clustering);
       add(ScanFilterKind::scan_sequence);
+      if (token == "urg") add(ScanFilterKind::between_scans);
     } else {
       add(parse_scan_filter_kind(token));
     }
@@ -113,7 +116,23 @@ std::vector<ScanFilterKind> checked_stages(std::vector<ScanFilterKind> stages) {
       }
     }
   }
+  const auto at = [&](ScanFilterKind kind) {
+    return static_cast<std::size_t>(std::find(stages.begin(), stages.end(), kind) - stages.begin());
+  };
+  const std::size_t spread = at(ScanFilterKind::scan_sequence), between = at(ScanFilterKind::between_scans);
+  if (spread < stages.size() && between < stages.size() && spread + 1 != between && between + 1 != spread) {
+    throw InputError("scan filter chain: \"scan-sequence\" (stage " + std::to_string(spread) +
+                     ") and \"between-scans\" (stage " + std::to_string(between) +
+                     ") must be next to each other: they judge the same three scans in one pass");
+  }
   return stages;
+}
+
+ScanSequenceOptions sequence_options(const std::vector<ScanFilterKind>& stages, ScanSequenceOptions options) {
+  const auto has = [&](ScanFilterKind kind) { return std::find(stages.begin(), stages.end(), kind) != stages.end(); };
+  options.spread_test = has(ScanFilterKind::scan_sequence);
+  options.between_scans.enabled = has(ScanFilterKind::between_scans);
+  return options;
 }
 
 }  // namespace
@@ -121,12 +140,43 @@ std::vector<ScanFilterKind> checked_stages(std::vector<ScanFilterKind> stages) {
 ScanFilterChain::ScanFilterChain(std::vector<ScanFilterKind> stages, const ScanFilterChainOptions& options)
     : stages_(checked_stages(std::move(stages))),
       range_clustering_(options.range_clustering),
-      scan_sequence_(options.scan_sequence),
+      scan_sequence_(sequence_options(stages_, options.scan_sequence)),
       shadow_(options.shadow),
       speckle_(options.speckle) {
-  const auto found = std::find(stages_.begin(), stages_.end(), ScanFilterKind::scan_sequence);
-  has_scan_sequence_ = found != stages_.end();
-  scan_sequence_stage_ = static_cast<std::size_t>(found - stages_.begin());
+  for (std::size_t stage = 0; stage < stages_.size(); ++stage) {
+    if (stages_[stage] == ScanFilterKind::scan_sequence) spread_stage_ = stage;
+    if (stages_[stage] == ScanFilterKind::between_scans) between_stage_ = stage;
+  }
+  has_scan_sequence_ = spread_stage_ < max_stages || between_stage_ < max_stages;
+  scan_sequence_stage_ = std::min(spread_stage_, between_stage_);
+  after_sequence_stage_ = 1 + (spread_stage_ < max_stages && between_stage_ < max_stages
+                                   ? std::max(spread_stage_, between_stage_)
+                                   : scan_sequence_stage_);
+}
+
+// The scan-sequence filter's mask holds both tests' removals: split it
+// between the stages, so that each removed beam is marked by one stage.
+void ScanFilterChain::take_sequence_masks() {
+  const std::vector<std::uint8_t>& between = scan_sequence_.last_removed_between_scans();
+  if (between_stage_ < max_stages) output_.removed[between_stage_] = between;
+  if (spread_stage_ < max_stages) {
+    std::vector<std::uint8_t>& spread = output_.removed[spread_stage_];
+    spread = sequence_removed_;
+    for (std::size_t i = 0; i < spread.size() && i < between.size(); ++i) spread[i] &= static_cast<std::uint8_t>(!between[i]);
+  }
+  const ScanFilterStats& all = scan_sequence_.last_stats();
+  for (const std::size_t stage : {spread_stage_, between_stage_}) {
+    if (stage >= max_stages) continue;
+    ScanFilterStats& stats = output_.stats[stage];
+    stats = all;
+    stats.removed = static_cast<std::size_t>(
+        std::count(output_.removed[stage].begin(), output_.removed[stage].end(), std::uint8_t{1}));
+  }
+  // The later of the two stages sees the earlier one's removals as unusable input.
+  if (spread_stage_ < max_stages && between_stage_ < max_stages) {
+    output_.stats[std::max(spread_stage_, between_stage_)].invalid_input +=
+        output_.stats[std::min(spread_stage_, between_stage_)].removed;
+  }
 }
 
 void ScanFilterChain::run_stateless(std::size_t stage, PlanarScan& scan, StageMasks& masks) {
@@ -142,6 +192,7 @@ void ScanFilterChain::run_stateless(std::size_t stage, PlanarScan& scan, StageMa
       masks.stats[stage] = speckle_.apply(scan, removed);
       break;
     case ScanFilterKind::scan_sequence:
+    case ScanFilterKind::between_scans:
       break;  // streaming; handled by push/flush
   }
 }
@@ -163,9 +214,8 @@ bool ScanFilterChain::push(const PlanarScan& scan, PlanarScan& out) {
     // `out` is the scan held since the previous push: its earlier stages'
     // masks were kept in held_.
     std::swap(output_, held_);
-    std::swap(output_.removed[scan_sequence_stage_], sequence_removed_);
-    output_.stats[scan_sequence_stage_] = scan_sequence_.last_stats();
-    for (std::size_t stage = scan_sequence_stage_ + 1; stage < stages_.size(); ++stage) {
+    take_sequence_masks();
+    for (std::size_t stage = after_sequence_stage_; stage < stages_.size(); ++stage) {
       run_stateless(stage, out, output_);
     }
     finish_output(out);
@@ -177,9 +227,8 @@ bool ScanFilterChain::push(const PlanarScan& scan, PlanarScan& out) {
 bool ScanFilterChain::flush(PlanarScan& out) {
   if (!has_scan_sequence_ || !scan_sequence_.flush(out, sequence_removed_)) return false;
   std::swap(output_, held_);
-  std::swap(output_.removed[scan_sequence_stage_], sequence_removed_);
-  output_.stats[scan_sequence_stage_] = scan_sequence_.last_stats();
-  for (std::size_t stage = scan_sequence_stage_ + 1; stage < stages_.size(); ++stage) {
+  take_sequence_masks();
+  for (std::size_t stage = after_sequence_stage_; stage < stages_.size(); ++stage) {
     run_stateless(stage, out, output_);
   }
   finish_output(out);

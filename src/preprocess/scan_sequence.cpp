@@ -52,6 +52,12 @@ Spread spread_along(const PlanarScan& scan, const BeamDirections& directions, st
 
 }  // namespace
 
+void BetweenScansOptions::validate(const char* owner) const {
+  const std::string field = std::string(owner) + ".between_scans";
+  detail::require_in_range(field.c_str(), "min_jump_m", min_jump_m, 0.0, false, 100.0, true, " m");
+  detail::require_in_range(field.c_str(), "margin_sigmas", margin_sigmas, 0.0, true, 1e6, true);
+}
+
 void ScanSequenceOptions::validate() const {
   const char* owner = "ScanSequenceOptions";
   lines.validate(owner);
@@ -59,6 +65,7 @@ void ScanSequenceOptions::validate() const {
   detail::require_in_range(owner, "spread_ratio", spread_ratio, 0.0, true, 1e6, true);
   detail::require_in_range(owner, "spread_floor_sigmas", spread_floor_sigmas, 0.0, true, 1e6, true);
   detail::require_at_least(owner, "min_sector_points", min_sector_points, 2);
+  between_scans.validate(owner);
   if (spread_axis != SpreadAxis::edge_normal && spread_axis != SpreadAxis::sensor_forward &&
       spread_axis != SpreadAxis::line_of_sight) {
     throw InputError(std::string(owner) + ": spread_axis: not one of edge_normal, sensor_forward, line_of_sight");
@@ -112,6 +119,7 @@ bool ScanSequenceFilter::flush(PlanarScan& out, std::vector<std::uint8_t>& remov
   }
   // No scan k+1: nothing to compare with, so the scan is returned as it is.
   removed.assign(held_.size(), 0);
+  between_removed_.assign(held_.size(), 0);
   emit_held_scan(out, removed);
   reset();
   return true;
@@ -127,9 +135,31 @@ void ScanSequenceFilter::reset() {
 void ScanSequenceFilter::judge_held_scan(std::vector<std::uint8_t>& removed) {
   const std::size_t n = held_.size();
   removed.assign(n, 0);
+  between_removed_.assign(n, 0);
   sectors_.clear();
   if (!has_previous_ || n == 0) return;
+  if (options_.spread_test) judge_spread(removed);
+  if (options_.between_scans.enabled) judge_between_scans(removed);
+  apply_removal_mask(held_, removed);
+}
 
+void ScanSequenceFilter::judge_between_scans(std::vector<std::uint8_t>& removed) {
+  // Scan k-1 as returned (its own mixed beams already NaN) and scan k+1 as
+  // pushed: the beam index is the same direction in the sensor frame.
+  const BetweenScansOptions& o = options_.between_scans;
+  const RangeSigmaModel& sigma = options_.lines.sigma;
+  for (std::size_t i = 0; i < held_.size(); ++i) {
+    const double r = held_.range_m[i], before = previous_.range_m[i], after = incoming_.range_m[i];
+    if (removed[i] || !is_usable_range(r) || !is_usable_range(before) || !is_usable_range(after)) continue;
+    const double near = std::min(before, after), far = std::max(before, after);
+    if (far - near <= o.min_jump_m) continue;
+    const double margin = o.margin_sigmas * sigma.sigma_m(r, held_.range_error_m[i]);
+    if (r > near + margin && r < far - margin) removed[i] = between_removed_[i] = 1;
+  }
+}
+
+void ScanSequenceFilter::judge_spread(std::vector<std::uint8_t>& removed) {
+  const std::size_t n = held_.size();
   lines_.extract(previous_, segments_);
   if (sectors_.capacity() < segments_.capacity()) sectors_.reserve(segments_.capacity());
   directions_k_.update(held_.angle_rad);
@@ -185,7 +215,6 @@ void ScanSequenceFilter::judge_held_scan(std::vector<std::uint8_t>& removed) {
     }
     sectors_.push_back(sector);
   }
-  apply_removal_mask(held_, removed);
 }
 
 void ScanSequenceFilter::emit_held_scan(PlanarScan& out, const std::vector<std::uint8_t>& removed) {

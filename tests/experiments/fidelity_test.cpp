@@ -1,6 +1,7 @@
 // Random scenes and the fidelity experiment's distributions.
 #include <cmath>
 #include <set>
+#include <string>
 
 #include <gtest/gtest.h>
 
@@ -83,6 +84,19 @@ TEST(Fidelity, OneSceneGivesEveryFigureAndIsDeterministic) {
   EXPECT_GE(a.figures.size(), 5u);
   options.scenes = 0;
   EXPECT_THROW(run_fidelity(options), InputError);
+}
+
+TEST(Fidelity, RefusesAFilteredRunWithoutFilters) {
+  FidelityOptions options;
+  options.scenes = 1;
+  options.structured_light = false;
+  options.filters.clear();
+  try {
+    run_fidelity(options);
+    ADD_FAILURE() << "no InputError";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("at least one scan filter"), std::string::npos) << e.what();
+  }
 }
 
 }  // namespace

@@ -51,7 +51,7 @@ PlanarScan sequence_scan(int index) {
 
 TEST(Allocation, ChainOfAllFiltersAllocatesNothingOnceWarm) {
   STRIDEMAP_SKIP_UNLESS_COUNTING_ALLOCATIONS();
-  ScanFilterChain chain(parse_scan_filter_list("range-clustering,speckle,scan-sequence,shadow"));
+  ScanFilterChain chain(parse_scan_filter_list("range-clustering,speckle,scan-sequence,between-scans,shadow"));
   std::vector<PlanarScan> scans;
   for (int i = 0; i < 12; ++i) scans.push_back(sequence_scan(i));
   PlanarScan out;

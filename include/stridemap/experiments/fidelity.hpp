@@ -24,6 +24,9 @@ struct FidelityOptions {
   RandomSceneKind kind = RandomSceneKind::boxes;
   /// The URG's runs: every setting but mixed_pixels, filters and seed.
   CartRailOptions urg{};
+  /// The scan filters of the URG's filtered run (the unfiltered and the
+  /// no-mixed-pixels references run without). Must not be empty.
+  std::vector<ScanFilterKind> filters{ScanFilterKind::range_clustering, ScanFilterKind::scan_sequence};
   /// Structured light: off skips it (then nothing is reported for it).
   bool structured_light = true;
   CartRailOptions structured_light_rail = default_structured_light_rail();

@@ -19,9 +19,11 @@
 
 namespace stridemap {
 
-enum class ScanFilterKind : std::uint8_t { range_clustering, scan_sequence, shadow, speckle };
+/// between_scans is the between-scans test of the scan-sequence filter
+/// (BetweenScansOptions): a stream with one scan of delay like scan_sequence.
+enum class ScanFilterKind : std::uint8_t { range_clustering, scan_sequence, shadow, speckle, between_scans };
 
-/// "range-clustering", "scan-sequence", "shadow", "speckle".
+/// "range-clustering", "scan-sequence", "shadow", "speckle", "between-scans".
 std::string_view scan_filter_name(ScanFilterKind kind);
 
 /// One name of scan_filter_name(); throws InputError listing the valid names.
@@ -29,7 +31,8 @@ ScanFilterKind parse_scan_filter_kind(std::string_view name);
 
 /// A comma-separated list of names in order of application, spaces allowed.
 /// "paper" stands for "range-clustering,scan-sequence" (the paper's
-/// combination); "none" alone gives an empty list (no filtering). Throws
+/// combination) and "urg" for "range-clustering,scan-sequence,between-scans"
+/// (ours, docs/preprocess.md); "none" alone gives an empty list (no filtering). Throws
 /// InputError on an unknown or repeated name or an empty list.
 std::vector<ScanFilterKind> parse_scan_filter_list(std::string_view names);
 /// The same for names given as separate words (each may hold commas).
@@ -40,6 +43,10 @@ std::string scan_filter_list_name(const std::vector<ScanFilterKind>& kinds);
 
 struct ScanFilterChainOptions {
   RangeClusteringOptions range_clustering;
+  /// Used by the scan-sequence and between-scans stages. The stage list
+  /// decides which of its tests run: spread_test is on when "scan-sequence"
+  /// is a stage, between_scans.enabled when "between-scans" is; the other
+  /// between_scans fields apply.
   ScanSequenceOptions scan_sequence;
   ShadowFilterOptions shadow;
   SpeckleFilterOptions speckle;
@@ -47,13 +54,14 @@ struct ScanFilterChainOptions {
 
 class ScanFilterChain {
  public:
-  /// Stages apply in the order given. Throws InputError on a repeated kind or
-  /// invalid options.
+  /// Stages apply in the order given. Throws InputError on a repeated kind,
+  /// scan-sequence and between-scans not next to each other (they judge the
+  /// same three scans in one pass), or invalid options.
   explicit ScanFilterChain(std::vector<ScanFilterKind> stages, const ScanFilterChainOptions& options = {});
 
   std::size_t stage_count() const { return stages_.size(); }
   ScanFilterKind stage(std::size_t index) const { return stages_.at(index); }
-  /// 1 when scan-sequence is a stage, else 0.
+  /// 1 when scan-sequence or between-scans is a stage, else 0.
   std::size_t delay_scans() const { return has_scan_sequence_ ? 1 : 0; }
 
   /// Takes the next scan; returns true with a filtered scan in `out` (the same
@@ -74,17 +82,21 @@ class ScanFilterChain {
   const std::vector<std::uint8_t>& removed_by_any() const { return removed_any_; }
 
  private:
-  static constexpr std::size_t max_stages = 4;
+  static constexpr std::size_t max_stages = 5;
   struct StageMasks {
     std::array<std::vector<std::uint8_t>, max_stages> removed;
     std::array<ScanFilterStats, max_stages> stats;
   };
   void run_stateless(std::size_t stage, PlanarScan& scan, StageMasks& masks);
   void finish_output(PlanarScan& out);
+  void take_sequence_masks();
 
   std::vector<ScanFilterKind> stages_;
   bool has_scan_sequence_ = false;
-  std::size_t scan_sequence_stage_ = 0;
+  std::size_t scan_sequence_stage_ = 0;  // the first of scan-sequence and between-scans
+  std::size_t after_sequence_stage_ = 0;    // the first stage after both
+  std::size_t spread_stage_ = max_stages;   // scan-sequence's stage, max_stages when absent
+  std::size_t between_stage_ = max_stages;  // between-scans' stage, max_stages when absent
   RangeClusteringFilter range_clustering_;
   ScanSequenceFilter scan_sequence_;
   ShadowFilter shadow_;
