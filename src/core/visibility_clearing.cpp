@@ -9,6 +9,13 @@
 #if defined(__SSE__)
 #include <xmmintrin.h>
 #endif
+// Where the CPU has AVX, the pass over the window takes eight cells a
+// vector instead of four (chosen at run time; a maximum rounds nothing, so
+// the result is the same either way).
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define STRIDEMAP_AVX_PASS 1
+#endif
 
 #include "stridemap/core/error.hpp"
 
@@ -114,6 +121,33 @@ float take_row(const float* __restrict row, float* __restrict columns, std::size
   return m;
 }
 
+#if defined(STRIDEMAP_AVX_PASS)
+__attribute__((target("avx"))) float take_row_avx(const float* __restrict row, float* __restrict columns,
+                                                  std::size_t n) {
+  std::size_t j = 0;
+  __m256 a = _mm256_set1_ps(kNoElevation);
+  for (; j + 8 <= n; j += 8) {
+    const __m256 u = _mm256_loadu_ps(row + j);
+    _mm256_storeu_ps(columns + j, _mm256_max_ps(u, _mm256_loadu_ps(columns + j)));
+    a = _mm256_max_ps(u, a);
+  }
+  alignas(32) float lanes[8];
+  _mm256_store_ps(lanes, a);
+  float m = kNoElevation;
+  for (const float v : lanes) m = known_max(m, v);
+  for (; j < n; ++j) {
+    columns[j] = known_max(columns[j], row[j]);
+    m = known_max(m, row[j]);
+  }
+  return m;
+}
+
+bool cpu_has_avx() {
+  static const bool has = __builtin_cpu_supports("avx");
+  return has;
+}
+#endif
+
 // here[s] = max(below[s], below[s + half]) for s < count (no NaN in either).
 void halves_max(const float* below, std::size_t half, float* here, std::size_t count) {
   std::size_t s = 0;
@@ -136,8 +170,12 @@ void VisibilityClearing::take_maxima(const ElevationMap& map) {
   float* scratch = column_scratch_.data();
   std::fill(scratch, scratch + n, kNoElevation);
   auto slot_row = static_cast<std::size_t>(slot_x0_);
+  auto pass = take_row;
+#if defined(STRIDEMAP_AVX_PASS)
+  if (cpu_has_avx()) pass = take_row_avx;
+#endif
   for (std::size_t i = 0; i < n; ++i, slot_row = slot_row + 1 == n ? 0 : slot_row + 1) {
-    rows[i] = take_row(elevation + slot_row * n, scratch, n);
+    rows[i] = pass(elevation + slot_row * n, scratch, n);
   }
   const auto y0 = static_cast<std::size_t>(slot_y0_);
   std::copy(scratch + y0, scratch + n, column_max_.begin());
