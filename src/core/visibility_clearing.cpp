@@ -85,6 +85,7 @@ void VisibilityClearing::begin_scan(const ElevationMap& map) {
   relief_m_ = options_.relief_factor * cell;
   spacing_m2_ = spacing_m2(cell);
   take_maxima(map);
+  window_top_ = range_max(row_max_, 0, n_ - 1);
 }
 
 namespace {
@@ -288,35 +289,64 @@ void VisibilityClearing::trace(ElevationMap& map, const VisibilityBeam& beam) {
   const CellIndex corner = corner_;
   const double z0 = beam.origin_m.z(), dz = d.z();
 
-  // The highest known elevation of the window's rows and columns the walk
-  // can reach (its cells lie between the origin's and the stop's, one more
-  // each way for rounding): an upper bound for every cell it visits. None
-  // of them in the window: nothing to walk.
-  const double end_x = ox + dx * t_stop, end_y = oy + dy * t_stop;
-  const std::int64_t lo_i = std::max<std::int64_t>(floor_index(std::min(ox, end_x)) - 1 - corner.x, 0);
-  const std::int64_t hi_i = std::min<std::int64_t>(floor_index(std::max(ox, end_x)) + 1 - corner.x, n - 1);
-  const std::int64_t lo_j = std::max<std::int64_t>(floor_index(std::min(oy, end_y)) - 1 - corner.y, 0);
-  const std::int64_t hi_j = std::min<std::int64_t>(floor_index(std::max(oy, end_y)) + 1 - corner.y, n - 1);
-  if (lo_i > hi_i || lo_j > hi_j) return;
-  const double top = std::min(range_max(row_max_, lo_i, hi_i), range_max(column_max_, lo_j, hi_j));
-  if (!(top > -std::numeric_limits<double>::infinity())) return;  // nothing known there
+  // The highest known elevation of the window's rows and columns the beam
+  // crosses from t0 to t1 (its cells there lie between its places at t0 and
+  // t1, one more each way for rounding): an upper bound for every cell the
+  // walk visits between them; -inf when none of them is in the window or
+  // known.
+  const auto bound = [&](double t0, double t1) {
+    constexpr float kNone = -std::numeric_limits<float>::infinity();
+    const double x0 = ox + dx * t0, x1 = ox + dx * t1, y0 = oy + dy * t0, y1 = oy + dy * t1;
+    const std::int64_t lo_i = std::max<std::int64_t>(floor_index(std::min(x0, x1)) - 1 - corner.x, 0);
+    const std::int64_t hi_i = std::min<std::int64_t>(floor_index(std::max(x0, x1)) + 1 - corner.x, n - 1);
+    const std::int64_t lo_j = std::max<std::int64_t>(floor_index(std::min(y0, y1)) - 1 - corner.y, 0);
+    const std::int64_t hi_j = std::min<std::int64_t>(floor_index(std::max(y0, y1)) + 1 - corner.y, n - 1);
+    if (lo_i > hi_i || lo_j > hi_j) return kNone;
+    return std::min(range_max(row_max_, lo_i, hi_i), range_max(column_max_, lo_j, hi_j));
+  };
+  constexpr double kNoBound = -std::numeric_limits<double>::infinity();
+  double top = window_top_;  // first the whole window's, two look-ups fewer than a beam's rows'
+  if (!(top > kNoBound)) return;  // nothing known there
 
   // Where a cell of that height can first (falling beam) or last (rising
   // beam) lie above the beam by more than the margin. `slack` outweighs the
   // rounding of both this and the walk's own comparison, so that no cell the
   // full walk would contradict is skipped.
-  const double slack = 1e-9 * (1.0 + std::abs(z0) + std::abs(dz) + std::abs(margin) + std::abs(top));
-  const double clearance = z0 + margin - (top + slack);  // beam's height over the bound at t = 0
-  double t_skip = -1.0;                                  // cells ending at or before it cannot be contradicted
+  const auto clearance = [&](double bound_m) {  // beam's height over the bound at t = 0
+    const double slack = 1e-9 * (1.0 + std::abs(z0) + std::abs(dz) + std::abs(margin) + std::abs(bound_m));
+    return z0 + margin - (bound_m + slack);
+  };
+  double t_skip = -1.0;                                     // cells ending at or before it cannot be contradicted
   double t_last = std::numeric_limits<double>::infinity();  // nor cells ending at or after it
   if (dz < 0.0) {
-    t_skip = clearance / -dz;
+    t_skip = clearance(top) / -dz;
     if (!(t_skip < t_stop)) return;
+    // What is left of the walk crosses fewer rows and columns, whose bound
+    // may be lower and move the start on again (four times at most: nearly
+    // every beam is settled by then, its walk ended early or left out).
+    for (int round = 0; round < 4; ++round) {
+      const double lower = bound(std::max(t_skip, 0.0), t_stop);
+      if (!(lower > kNoBound)) return;
+      if (!(lower < top)) break;
+      top = lower;
+      t_skip = clearance(top) / -dz;
+      if (!(t_skip < t_stop)) return;
+    }
   } else if (dz > 0.0) {
-    if (!(clearance < 0.0)) return;
-    t_last = -clearance / dz;
-  } else if (!(clearance < 0.0)) {
-    return;
+    if (!(clearance(top) < 0.0)) return;
+    t_last = -clearance(top) / dz;
+    for (int round = 0; round < 4; ++round) {  // the same for the end of a rising beam's walk
+      const double lower = bound(0.0, std::min(t_last, t_stop));
+      if (!(lower > kNoBound)) return;
+      if (!(lower < top)) break;
+      top = lower;
+      if (!(clearance(top) < 0.0)) return;
+      t_last = -clearance(top) / dz;
+    }
+  } else {  // a level beam: above the window's bound, or above its rows' and columns'
+    if (!(clearance(top) < 0.0)) return;
+    top = bound(0.0, t_stop);
+    if (!(top > kNoBound) || !(clearance(top) < 0.0)) return;
   }
 
   Axis ax(ox, dx), ay(oy, dy);

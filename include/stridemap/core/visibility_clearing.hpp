@@ -160,6 +160,7 @@ class VisibilityClearing {
   // Taken at begin_scan() from the map's cell size: the same values each
   // beam computed before, once a scan.
   double inverse_cell_ = 1.0, relief_m_ = 0.0, spacing_m2_ = 0.0;
+  double window_top_ = 0.0;  // the highest known elevation in the window (-inf: none)
   // Highest elevation per window row (one global x index, counted from the
   // corner) and per window column, as sparse tables for range maxima:
   // level l holds the maximum of 2^l consecutive rows from each, so any
