@@ -29,7 +29,9 @@
 // The walk is pruned, exactly: a cell can only be contradicted where the
 // beam runs lower than the cell's height, so each beam's walk starts where
 // the beam has come down to the highest elevation the rows and columns it
-// crosses hold (and a rising beam's walk ends where it has risen above it).
+// crosses hold (and a rising beam's walk ends where it has risen above it);
+// the bound is taken from the window's highest cell first, then again over
+// the rows and columns left of the walk, a few times, as the start moves on.
 // Those maxima are taken from the map at begin_scan() and are upper bounds
 // for the whole scan (the clean-up itself only lowers cells). A walk also
 // ends where it leaves the window for good: no cell beyond can be touched.
