@@ -6,6 +6,17 @@
 #include <limits>
 #include <string>
 
+#if defined(__SSE__)
+#include <xmmintrin.h>
+#endif
+// Where the CPU has AVX, the pass over the window takes eight cells a
+// vector instead of four (chosen at run time; a maximum rounds nothing, so
+// the result is the same either way).
+#if defined(__x86_64__) && defined(__GNUC__)
+#include <immintrin.h>
+#define STRIDEMAP_AVX_PASS 1
+#endif
+
 #include "stridemap/core/error.hpp"
 
 namespace stridemap {
@@ -46,6 +57,7 @@ VisibilityClearing::VisibilityClearing(const ElevationMap& map, const Visibility
   const std::size_t levels = static_cast<std::size_t>(floor_log2_[n]) + 1;
   row_max_.assign(levels * n, -std::numeric_limits<float>::infinity());
   column_max_.assign(levels * n, -std::numeric_limits<float>::infinity());
+  column_scratch_.assign(n, -std::numeric_limits<float>::infinity());
 }
 
 void VisibilityClearing::begin_scan(const ElevationMap& map) {
@@ -68,7 +80,12 @@ void VisibilityClearing::begin_scan(const ElevationMap& map) {
   const auto corner_slot = static_cast<std::int64_t>(map.slot(corner_));
   slot_x0_ = corner_slot / n_;
   slot_y0_ = corner_slot % n_;
+  const double cell = map.cell_size_m();
+  inverse_cell_ = 1.0 / cell;
+  relief_m_ = options_.relief_factor * cell;
+  spacing_m2_ = spacing_m2(cell);
   take_maxima(map);
+  window_top_ = range_max(row_max_, 0, n_ - 1);
 }
 
 namespace {
@@ -78,70 +95,98 @@ constexpr float kNoElevation = -std::numeric_limits<float>::infinity();
 // `v > m ? v : m` never takes a NaN (unknown) as the maximum.
 inline float known_max(float m, float v) { return v > m ? v : m; }
 
-// The highest known value of a row; -inf when none is known. Eight lanes at
-// a time where the compiler has vector types (GCC, Clang): the reduction
-// would not be vectorised otherwise, and this pass is per scan.
-float row_maximum(const float* row, std::size_t n) {
+// Raises columns[j] to row[j] for j < n and returns the row's highest
+// known value (-inf when none is known): the pass over the window, once a
+// scan, one vector maximum per four cells and per row and column each.
+// MAXPS(v, m) is `v > m ? v : m`, so a NaN (unknown) v is never taken.
+float take_row(const float* __restrict row, float* __restrict columns, std::size_t n) {
   std::size_t j = 0;
   float m = kNoElevation;
-#if defined(__GNUC__)
-  using Lanes = float __attribute__((vector_size(16)));
-  Lanes a = {kNoElevation, kNoElevation, kNoElevation, kNoElevation}, b = a;
+#if defined(__SSE__)
+  __m128 a = _mm_set1_ps(kNoElevation), b = a;
   for (; j + 8 <= n; j += 8) {
-    Lanes u, v;
-    std::memcpy(&u, row + j, sizeof u);
-    std::memcpy(&v, row + j + 4, sizeof v);
-    a = u > a ? u : a;
-    b = v > b ? v : b;
+    const __m128 u = _mm_loadu_ps(row + j), v = _mm_loadu_ps(row + j + 4);
+    _mm_storeu_ps(columns + j, _mm_max_ps(u, _mm_loadu_ps(columns + j)));
+    _mm_storeu_ps(columns + j + 4, _mm_max_ps(v, _mm_loadu_ps(columns + j + 4)));
+    a = _mm_max_ps(u, a);
+    b = _mm_max_ps(v, b);
   }
-  a = b > a ? b : a;
-  for (int k = 0; k < 4; ++k) m = known_max(m, a[k]);
+  alignas(16) float lanes[4];
+  _mm_store_ps(lanes, _mm_max_ps(a, b));
+  for (const float v : lanes) m = known_max(m, v);
 #endif
-  for (; j < n; ++j) m = known_max(m, row[j]);
+  for (; j < n; ++j) {
+    columns[j] = known_max(columns[j], row[j]);
+    m = known_max(m, row[j]);
+  }
   return m;
+}
+
+#if defined(STRIDEMAP_AVX_PASS)
+__attribute__((target("avx"))) float take_row_avx(const float* __restrict row, float* __restrict columns,
+                                                  std::size_t n) {
+  std::size_t j = 0;
+  __m256 a = _mm256_set1_ps(kNoElevation);
+  for (; j + 8 <= n; j += 8) {
+    const __m256 u = _mm256_loadu_ps(row + j);
+    _mm256_storeu_ps(columns + j, _mm256_max_ps(u, _mm256_loadu_ps(columns + j)));
+    a = _mm256_max_ps(u, a);
+  }
+  alignas(32) float lanes[8];
+  _mm256_store_ps(lanes, a);
+  float m = kNoElevation;
+  for (const float v : lanes) m = known_max(m, v);
+  for (; j < n; ++j) {
+    columns[j] = known_max(columns[j], row[j]);
+    m = known_max(m, row[j]);
+  }
+  return m;
+}
+
+bool cpu_has_avx() {
+  static const bool has = __builtin_cpu_supports("avx");
+  return has;
+}
+#endif
+
+// here[s] = max(below[s], below[s + half]) for s < count (no NaN in either).
+void halves_max(const float* below, std::size_t half, float* here, std::size_t count) {
+  std::size_t s = 0;
+#if defined(__SSE__)
+  for (; s + 4 <= count; s += 4) {
+    _mm_storeu_ps(here + s, _mm_max_ps(_mm_loadu_ps(below + s + half), _mm_loadu_ps(below + s)));
+  }
+#endif
+  for (; s < count; ++s) here[s] = std::max(below[s], below[s + half]);
 }
 
 }  // namespace
 
 void VisibilityClearing::take_maxima(const ElevationMap& map) {
-  // Level 0: one pass over the elevation layer, row by row.
+  // Level 0: one pass over the elevation layer, the window's rows in order
+  // from its corner; the columns by slot, then put in order from the corner.
   const auto n = static_cast<std::size_t>(n_);
   const float* elevation = map.elevation_data();
-  float* __restrict rows = row_max_.data();
-  float* __restrict columns = column_max_.data();
-  std::fill(columns, columns + n, kNoElevation);
-  for (std::size_t i = 0; i < n; ++i) {
-    const float* __restrict row = elevation + i * n;
-    for (std::size_t j = 0; j < n; ++j) columns[j] = known_max(columns[j], row[j]);
-    rows[i] = row_maximum(row, n);
+  float* rows = row_max_.data();
+  float* scratch = column_scratch_.data();
+  std::fill(scratch, scratch + n, kNoElevation);
+  auto slot_row = static_cast<std::size_t>(slot_x0_);
+  auto pass = take_row;
+#if defined(STRIDEMAP_AVX_PASS)
+  if (cpu_has_avx()) pass = take_row_avx;
+#endif
+  for (std::size_t i = 0; i < n; ++i, slot_row = slot_row + 1 == n ? 0 : slot_row + 1) {
+    rows[i] = pass(elevation + slot_row * n, scratch, n);
   }
+  const auto y0 = static_cast<std::size_t>(slot_y0_);
+  std::copy(scratch + y0, scratch + n, column_max_.begin());
+  std::copy(scratch, scratch + y0, column_max_.begin() + static_cast<std::ptrdiff_t>(n - y0));
   // Higher levels: the maximum of two halves.
-  for (float* table : {rows, columns}) {
+  for (float* table : {rows, column_max_.data()}) {
     for (std::size_t level = 1, half = 1; (half << 1) <= n; ++level, half <<= 1) {
-      const float* below = table + (level - 1) * n;
-      float* here = table + level * n;
-      for (std::size_t s = 0; s + (half << 1) <= n; ++s) here[s] = std::max(below[s], below[s + half]);
+      halves_max(table + (level - 1) * n, half, table + level * n, n - (half << 1) + 1);
     }
   }
-}
-
-float VisibilityClearing::range_max(const std::vector<float>& table, std::int64_t lo, std::int64_t hi,
-                                    std::int64_t window_lo, int first_slot) const {
-  const std::int64_t n = n_;
-  lo = std::max(lo, window_lo);
-  hi = std::min(hi, window_lo + n - 1);
-  constexpr float kNone = -std::numeric_limits<float>::infinity();
-  if (lo > hi) return kNone;
-  const auto query = [&](std::int64_t a, std::int64_t b) {  // slots a..b, no wrap
-    const std::size_t level = floor_log2_[static_cast<std::size_t>(b - a + 1)];
-    const float* t = table.data() + level * static_cast<std::size_t>(n);
-    return std::max(t[a], t[b - (std::int64_t{1} << level) + 1]);
-  };
-  const std::int64_t a = lo - window_lo + first_slot;  // < 2n
-  const std::int64_t b = hi - window_lo + first_slot;
-  if (b < n) return query(a, b);
-  if (a >= n) return query(a - n, b - n);
-  return std::max(query(a, n - 1), query(0, b - n));
 }
 
 namespace {
@@ -176,6 +221,12 @@ struct Axis {
     boundary = static_cast<double>(index + (d_cells > 0 ? 1 : 0));
     next = moves ? crossing(boundary, o, inverse_d) : std::numeric_limits<double>::infinity();
   }
+  /// Whether the window-local index `local` (0..n-1 inside) lies beyond the
+  /// window on the side this axis moves to, or outside an axis it never
+  /// moves along: no later cell of the walk is then inside.
+  bool left(std::int64_t local, std::int64_t n) const {
+    return local >= n ? (step > 0 || !moves) : local < 0 && (step < 0 || !moves);
+  }
   void advance() {
     index += step;
     boundary += static_cast<double>(step);
@@ -207,25 +258,25 @@ struct Axis {
 }  // namespace
 
 void VisibilityClearing::trace(ElevationMap& map, const VisibilityBeam& beam) {
+  // The thinning first: a beam it leaves out needs nothing else (an invalid
+  // beam is left out either way, and neither changes any state).
+  if (thinned(beam.hit_m.x(), beam.hit_m.y())) return;
   const Eigen::Vector3d d = beam.hit_m - beam.origin_m;
   const double range = d.norm();
   if (!(range > 0.0) || !std::isfinite(range) || !std::isfinite(beam.range_error_m) ||
       !std::isfinite(beam.height_error_m) || !beam.origin_m.allFinite()) {
     return;
   }
-  const double cell = map.cell_size_m();
-  const Eigen::Vector2d hit = beam.hit_m.head<2>();
-  if (thinned(hit, cell)) return;
   have_last_hit_ = true;
-  last_hit_ = hit;
+  last_hit_ = beam.hit_m.head<2>();
   ++stats_.beams_traced;
 
   // Only the part of the beam that cannot hold the true surface.
   const double t_stop = 1.0 - beam.range_error_m / range;
   if (!(t_stop > 0.0)) return;
-  const double margin = options_.uncertainty_factor * beam.height_error_m + options_.relief_factor * cell;
+  const double margin = options_.uncertainty_factor * beam.height_error_m + relief_m_;
 
-  const double inverse_cell = 1.0 / cell;
+  const double inverse_cell = inverse_cell_;
   const double ox = beam.origin_m.x() * inverse_cell, oy = beam.origin_m.y() * inverse_cell;
   const double dx = d.x() * inverse_cell, dy = d.y() * inverse_cell;
   // Far outside any window the index arithmetic below would overflow.
@@ -236,43 +287,73 @@ void VisibilityClearing::trace(ElevationMap& map, const VisibilityBeam& beam) {
   }
   const std::int64_t n = n_;
   const CellIndex corner = corner_;
-  const std::int64_t slot_x0 = slot_x0_, slot_y0 = slot_y0_;
   const double z0 = beam.origin_m.z(), dz = d.z();
 
-  // The highest known elevation of the rows and columns the walk can reach
-  // (its cells lie between the origin's and the stop's, one more each way
-  // for rounding): an upper bound for every cell it visits.
-  const double end_x = ox + dx * t_stop, end_y = oy + dy * t_stop;
-  const auto cell_lo = [](double a, double b) { return floor_index(std::min(a, b)) - 1; };
-  const auto cell_hi = [](double a, double b) { return floor_index(std::max(a, b)) + 1; };
-  const float top_x = range_max(row_max_, cell_lo(ox, end_x), cell_hi(ox, end_x), corner.x, static_cast<int>(slot_x0));
-  const float top_y =
-      range_max(column_max_, cell_lo(oy, end_y), cell_hi(oy, end_y), corner.y, static_cast<int>(slot_y0));
-  const double top = std::min(top_x, top_y);
-  if (!(top > -std::numeric_limits<double>::infinity())) return;  // nothing known there
+  // The highest known elevation of the window's rows and columns the beam
+  // crosses from t0 to t1 (its cells there lie between its places at t0 and
+  // t1, one more each way for rounding): an upper bound for every cell the
+  // walk visits between them; -inf when none of them is in the window or
+  // known.
+  const auto bound = [&](double t0, double t1) {
+    constexpr float kNone = -std::numeric_limits<float>::infinity();
+    const double x0 = ox + dx * t0, x1 = ox + dx * t1, y0 = oy + dy * t0, y1 = oy + dy * t1;
+    const std::int64_t lo_i = std::max<std::int64_t>(floor_index(std::min(x0, x1)) - 1 - corner.x, 0);
+    const std::int64_t hi_i = std::min<std::int64_t>(floor_index(std::max(x0, x1)) + 1 - corner.x, n - 1);
+    const std::int64_t lo_j = std::max<std::int64_t>(floor_index(std::min(y0, y1)) - 1 - corner.y, 0);
+    const std::int64_t hi_j = std::min<std::int64_t>(floor_index(std::max(y0, y1)) + 1 - corner.y, n - 1);
+    if (lo_i > hi_i || lo_j > hi_j) return kNone;
+    return std::min(range_max(row_max_, lo_i, hi_i), range_max(column_max_, lo_j, hi_j));
+  };
+  constexpr double kNoBound = -std::numeric_limits<double>::infinity();
+  double top = window_top_;  // first the whole window's, two look-ups fewer than a beam's rows'
+  if (!(top > kNoBound)) return;  // nothing known there
 
   // Where a cell of that height can first (falling beam) or last (rising
   // beam) lie above the beam by more than the margin. `slack` outweighs the
   // rounding of both this and the walk's own comparison, so that no cell the
   // full walk would contradict is skipped.
-  const double slack = 1e-9 * (1.0 + std::abs(z0) + std::abs(dz) + std::abs(margin) + std::abs(top));
-  const double clearance = z0 + margin - (top + slack);  // beam's height over the bound at t = 0
-  double t_skip = -1.0;                                  // cells ending at or before it cannot be contradicted
+  const auto clearance = [&](double bound_m) {  // beam's height over the bound at t = 0
+    const double slack = 1e-9 * (1.0 + std::abs(z0) + std::abs(dz) + std::abs(margin) + std::abs(bound_m));
+    return z0 + margin - (bound_m + slack);
+  };
+  double t_skip = -1.0;                                     // cells ending at or before it cannot be contradicted
   double t_last = std::numeric_limits<double>::infinity();  // nor cells ending at or after it
   if (dz < 0.0) {
-    t_skip = clearance / -dz;
+    t_skip = clearance(top) / -dz;
     if (!(t_skip < t_stop)) return;
+    // What is left of the walk crosses fewer rows and columns, whose bound
+    // may be lower and move the start on again (four times at most: nearly
+    // every beam is settled by then, its walk ended early or left out).
+    for (int round = 0; round < 4; ++round) {
+      const double lower = bound(std::max(t_skip, 0.0), t_stop);
+      if (!(lower > kNoBound)) return;
+      if (!(lower < top)) break;
+      top = lower;
+      t_skip = clearance(top) / -dz;
+      if (!(t_skip < t_stop)) return;
+    }
   } else if (dz > 0.0) {
-    if (!(clearance < 0.0)) return;
-    t_last = -clearance / dz;
-  } else if (!(clearance < 0.0)) {
-    return;
+    if (!(clearance(top) < 0.0)) return;
+    t_last = -clearance(top) / dz;
+    for (int round = 0; round < 4; ++round) {  // the same for the end of a rising beam's walk
+      const double lower = bound(0.0, std::min(t_last, t_stop));
+      if (!(lower > kNoBound)) return;
+      if (!(lower < top)) break;
+      top = lower;
+      if (!(clearance(top) < 0.0)) return;
+      t_last = -clearance(top) / dz;
+    }
+  } else {  // a level beam: above the window's bound, or above its rows' and columns'
+    if (!(clearance(top) < 0.0)) return;
+    top = bound(0.0, t_stop);
+    if (!(top > kNoBound) || !(clearance(top) < 0.0)) return;
   }
 
   Axis ax(ox, dx), ay(oy, dy);
   double t_in = 0.0;
-  if (t_skip > 0.0) t_in = std::max({0.0, ax.skip_to(t_skip, dx), ay.skip_to(t_skip, dy)});
+  if (t_skip > 0.0) t_in = std::max(0.0, std::max(ax.skip_to(t_skip, dx), ay.skip_to(t_skip, dy)));
 
+  const std::int64_t slot_x0 = slot_x0_, slot_y0 = slot_y0_;
   const float* elevation = map.elevation_data();
   while (true) {
     const double t_out = std::min(ax.next, ay.next);
@@ -287,6 +368,8 @@ void VisibilityClearing::trace(ElevationMap& map, const VisibilityBeam& beam) {
       const double z_beam_max = z0 + dz * (dz > 0 ? t_out : t_in);
       // NaN (unknown) fails the comparison: nothing to clear.
       if (elevation[s] > z_beam_max + margin) contradict(map, {ax.index, ay.index}, s);
+    } else if (ax.left(i, n) || ay.left(j, n)) {
+      break;  // out of the window for good: every cell from here lies outside
     }
     t_in = t_out;
     if (ax.next < ay.next) {

@@ -193,20 +193,20 @@ void ScanIntegrator::clear_visible(const PlanarScan& scan, const TrunkPose& pose
     }
   }
   const PlanarBeamGeometry geometry(pose, mapper.mount());
+  const UpdateOptions& update = mapper.options().update;
+  ElevationMap& map = mapper.map();
   VisibilityBeam beam;
   beam.origin_m = sensor_origin_in_map(pose, mapper.mount());
-  Eigen::Vector3d offset;
-  const std::size_t n = std::min(scan.range_m.size(), scan.range_error_m.size());
-  for (std::size_t i = 0; i < n && i < visibility_cos_.size(); ++i) {
+  const std::size_t n = std::min({scan.range_m.size(), scan.range_error_m.size(), visibility_cos_.size()});
+  for (std::size_t i = 0; i < n; ++i) {
     const double r = scan.range_m[i], dr = scan.range_error_m[i];
     if (!(r > 0.0 && std::isfinite(r) && dr >= 0.0 && std::isfinite(dr) && std::isfinite(scan.angle_rad[i]))) continue;
     // A beam the fan's thinning leaves out needs no error bound.
-    offset = geometry.offset(r, visibility_cos_[i], visibility_sin_[i]);
-    beam.hit_m = beam.origin_m + offset;
-    if (clearing.thinned(beam.hit_m.head<2>(), mapper.map().cell_size_m())) continue;
-    geometry.point(r, dr, visibility_cos_[i], visibility_sin_[i], mapper.options().update, offset, beam.height_error_m);
+    beam.hit_m = beam.origin_m + geometry.offset(r, visibility_cos_[i], visibility_sin_[i]);
+    if (clearing.thinned(beam.hit_m.x(), beam.hit_m.y())) continue;
+    beam.height_error_m = geometry.height_error(r, dr, visibility_cos_[i], visibility_sin_[i], update);
     beam.range_error_m = dr;
-    clearing.trace(mapper.map(), beam);
+    clearing.trace(map, beam);
   }
   finish_visibility(mapper);
 }

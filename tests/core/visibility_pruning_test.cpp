@@ -239,5 +239,42 @@ TEST(VisibilityPruning, SameResultAsTheFullWalkOnRandomTerrainAndBeams) {
   std::printf("contradicted %zu, cleared %zu, cells walked %zu of %zu\n", contradicted, cleared, walked, walked_full);
 }
 
+// A block near the sensor, below the beam, and a floor where the beam ends:
+// the window's bound (the block) puts the walk's start near the end, and
+// the rows and columns left from there hold only floor, so the bound taken
+// again there ends the walk before its first cell. Same result as the full
+// walk, which walks the whole beam.
+TEST(VisibilityPruning, TheBoundNarrowedAlongTheBeamEndsAWalkOverTheFloor) {
+  ElevationMap map(GridOptions{40, 0.01});
+  map.move_corner_to({0, 0});
+  for (int i = 0; i < 40; ++i) {
+    for (int j = 0; j < 40; ++j) {
+      const std::size_t s = map.slot({i, j});
+      const bool block = i >= 8 && i <= 10 && j >= 8 && j <= 10;
+      map.elevation_data()[s] = block ? 0.1f : 0.0f;
+      map.state_data()[s] = static_cast<std::uint8_t>(CellState::measured);
+      map.certainty_data()[s] = 5.0f;
+    }
+  }
+  ElevationMap reference_map = map;
+  VisibilityOptions options;
+  VisibilityClearing pruned(map, options);
+  FullWalk full(map, options);
+  VisibilityBeam beam;
+  beam.origin_m = {0.055, 0.055, 0.3};
+  beam.hit_m = {0.355, 0.355, 0.0};
+  beam.range_error_m = 0.01;
+  beam.height_error_m = 0.005;
+  pruned.begin_scan(map);
+  full.begin_scan();
+  pruned.trace(map, beam);
+  full.trace(reference_map, beam);
+  expect_same_maps(map, reference_map);
+  EXPECT_EQ(full.stats().cells_contradicted, 0u);
+  EXPECT_GT(full.stats().cells_crossed, 40u);
+  EXPECT_EQ(pruned.stats().beams_traced, 1u);
+  EXPECT_EQ(pruned.stats().cells_crossed, 0u);
+}
+
 }  // namespace
 }  // namespace stridemap

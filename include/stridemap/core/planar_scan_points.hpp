@@ -32,17 +32,22 @@ struct PlanarBeamGeometry {
   void point(double r, double dr, double ct, double st, const UpdateOptions& options, Eigen::Vector3d& offset_m,
              double& height_error_m) const {
     offset_m = offset(r, ct, st);
-    ElevationPartials partials;
-    partials.d_range = ct * at_front.d_range + st * at_left.d_range;
-    partials.d_pitch_m_per_rad = lever.d_pitch_m_per_rad + r * (ct * at_front.d_pitch_m_per_rad + st * at_left.d_pitch_m_per_rad);
-    partials.d_roll_m_per_rad = lever.d_roll_m_per_rad + r * (ct * at_front.d_roll_m_per_rad + st * at_left.d_roll_m_per_rad);
-    partials.d_alpha_m_per_rad = r * (ct * at_front.d_alpha_m_per_rad + st * at_left.d_alpha_m_per_rad);
-    height_error_m = elevation_error_bound_m(partials, dr, options);
+    height_error_m = height_error(r, dr, ct, st, options);
   }
 
   /// The beam's offset alone, as point() forms it (the visibility clean-up
   /// thins the fan by it before it needs the error bound).
   Eigen::Vector3d offset(double r, double ct, double st) const { return r * (ct * forward + st * left); }
+
+  /// The sensor's error part of Delta z_max alone, as point() forms it.
+  double height_error(double r, double dr, double ct, double st, const UpdateOptions& options) const {
+    ElevationPartials partials;
+    partials.d_range = ct * at_front.d_range + st * at_left.d_range;
+    partials.d_pitch_m_per_rad = lever.d_pitch_m_per_rad + r * (ct * at_front.d_pitch_m_per_rad + st * at_left.d_pitch_m_per_rad);
+    partials.d_roll_m_per_rad = lever.d_roll_m_per_rad + r * (ct * at_front.d_roll_m_per_rad + st * at_left.d_roll_m_per_rad);
+    partials.d_alpha_m_per_rad = r * (ct * at_front.d_alpha_m_per_rad + st * at_left.d_alpha_m_per_rad);
+    return elevation_error_bound_m(partials, dr, options);
+  }
 
   ElevationPartials at_front, at_left, lever;
   double gamma_rad;

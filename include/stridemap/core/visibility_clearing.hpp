@@ -29,12 +29,15 @@
 // The walk is pruned, exactly: a cell can only be contradicted where the
 // beam runs lower than the cell's height, so each beam's walk starts where
 // the beam has come down to the highest elevation the rows and columns it
-// crosses hold (and a rising beam's walk ends where it has risen above it).
+// crosses hold (and a rising beam's walk ends where it has risen above it);
+// the bound is taken from the window's highest cell first, then again over
+// the rows and columns left of the walk, a few times, as the start moves on.
 // Those maxima are taken from the map at begin_scan() and are upper bounds
-// for the whole scan (the clean-up itself only lowers cells). Every
-// crossing parameter of the walk is computed from its cell boundary, not
-// summed step by step, so a walk started part-way reaches the very cells
-// and values the whole walk would: the pruning changes nothing. (Against
+// for the whole scan (the clean-up itself only lowers cells). A walk also
+// ends where it leaves the window for good: no cell beyond can be touched.
+// Every crossing parameter of the walk is computed from its cell boundary,
+// not summed step by step, so a walk started part-way reaches the very
+// cells and values the whole walk would: the pruning changes nothing. (Against
 // the summed crossings of the walk before it, which may differ from these
 // in the last bit, the results were the same bit for bit on every random
 // and simulated run: tests/core/visibility_pruning_test.cpp.)
@@ -103,9 +106,10 @@ class VisibilityClearing {
   VisibilityClearing(const ElevationMap& map, const VisibilityOptions& options);
 
   /// Starts a scan on `map` (after the scan's readings were applied): every
-  /// cell may be contradicted once again, and the highest elevation of each
-  /// row and column of the window is taken (one pass over the elevation
-  /// layer). Until the scan's last trace() the map must change only by the
+  /// cell may be contradicted once again, the highest elevation of each row
+  /// and column of the window is taken (one pass over the elevation layer),
+  /// and the per-scan constants of the walk (cell size, window corner) are
+  /// kept. Until the scan's last trace() the map must change only by the
   /// clean-up. Throws InputError for a map of another window size.
   void begin_scan(const ElevationMap& map);
   /// Traces one beam on the map given to begin_scan(). Beams must come in
@@ -116,6 +120,11 @@ class VisibilityClearing {
   bool thinned(const Eigen::Vector2d& hit_m, double cell_size_m) const {
     return have_last_hit_ && options_.beam_spacing_cells > 0.0 &&
            (hit_m - last_hit_).squaredNorm() < spacing_m2(cell_size_m);
+  }
+  /// The same for the map given to begin_scan(), its spacing taken there.
+  bool thinned(double hit_x_m, double hit_y_m) const {
+    const double ex = hit_x_m - last_hit_.x(), ey = hit_y_m - last_hit_.y();
+    return have_last_hit_ && ex * ex + ey * ey < spacing_m2_;
   }
   /// The scan's account since begin_scan(): the cells cleared in cleared()
   /// (up to a fixed number), the box of every cell it changed in changed().
@@ -135,22 +144,30 @@ class VisibilityClearing {
     return spacing_m * spacing_m;
   }
   void take_maxima(const ElevationMap& map);
-  /// Highest elevation of the window's cells with a global index from `lo`
-  /// to `hi` along one axis (-inf when none is known): `table` is that
-  /// axis's range-maximum table, `first_slot` the slot of the window's
-  /// lowest index on it.
-  float range_max(const std::vector<float>& table, std::int64_t lo, std::int64_t hi, std::int64_t window_lo,
-                  int first_slot) const;
+  /// Highest elevation of window rows (or columns) lo..hi, counted from the
+  /// window's corner (0 <= lo <= hi < n): `table` is that axis's
+  /// range-maximum table.
+  float range_max(const std::vector<float>& table, std::int64_t lo, std::int64_t hi) const {
+    const std::size_t level = floor_log2_[static_cast<std::size_t>(hi - lo + 1)];
+    const float* t = table.data() + level * static_cast<std::size_t>(n_);
+    const float a = t[lo], b = t[hi - (std::int64_t{1} << level) + 1];
+    return a < b ? b : a;
+  }
 
   VisibilityOptions options_;
   std::vector<std::uint32_t> stamp_;  // per slot: the scan that last contradicted it
   int n_ = 0;                         // cells per side of the window
   CellIndex corner_{};                // the window's corner cell and its slot, at begin_scan()
   std::int64_t slot_x0_ = 0, slot_y0_ = 0;
-  // Highest elevation per slot row (one global x index) and per slot
-  // column, as sparse tables for range maxima: level l holds the maximum
-  // of 2^l consecutive slots from each, so any range is two look-ups.
-  std::vector<float> row_max_, column_max_;
+  // Taken at begin_scan() from the map's cell size: the same values each
+  // beam computed before, once a scan.
+  double inverse_cell_ = 1.0, relief_m_ = 0.0, spacing_m2_ = 0.0;
+  double window_top_ = 0.0;  // the highest known elevation in the window (-inf: none)
+  // Highest elevation per window row (one global x index, counted from the
+  // corner) and per window column, as sparse tables for range maxima:
+  // level l holds the maximum of 2^l consecutive rows from each, so any
+  // range is two look-ups. column_scratch_: per slot column, in the pass.
+  std::vector<float> row_max_, column_max_, column_scratch_;
   std::vector<std::uint8_t> floor_log2_;  // of 1..n
   std::uint32_t scan_ = 0;
   std::uint64_t scans_ = 0;
