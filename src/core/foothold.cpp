@@ -167,6 +167,7 @@ FootholdLayers::FootholdLayers(ElevationMap& map, const FootholdOptions& options
   }
   distance2_.assign(n * n, 0);
   best2_.assign(n, 0);
+  raised_.reserve(n * n);  // a cell is raised at most once a refresh
 }
 
 double FootholdLayers::edge_distance_m_of(std::int64_t b2, std::int64_t none2) const {
@@ -463,6 +464,7 @@ void FootholdLayers::refresh(ElevationMap& map) {
     u = Span{n_, -1};
   }
   edge_rows(map, false);
+  raise_edges();
   score_rows(map);
   pending_.clear();
   window_ = stable_ = window;
@@ -476,6 +478,7 @@ void FootholdLayers::compute(ElevationMap& map) {
   std::fill(flips_.begin(), flips_.end(), Span{n_, -1});
   const LocalSlots slots(map);
   geometry_rows(map, slots);
+  raised_.clear();  // every distance is searched for
   std::fill(edge_rows_.begin(), edge_rows_.end(), Span{0, n_ - 1});
   edge_rows(map, true);
   std::fill(score_mark_.begin(), score_mark_.end(), std::uint8_t{1});
@@ -494,6 +497,7 @@ void FootholdLayers::geometry_rows(ElevationMap& map, const LocalSlots& slots) {
   const auto max_step = static_cast<float>(options_.max_step_m);
   const int f = static_cast<int>(foot_cells_);
   const bool fast = footprint_.size() <= kKept;
+  raised_.clear();
   for (int i = 0; i < n_; ++i) {
     Span& s = geometry_rows_[static_cast<std::size_t>(i)];
     if (s.lo > s.hi) continue;
@@ -515,7 +519,10 @@ void FootholdLayers::geometry_rows(ElevationMap& map, const LocalSlots& slots) {
       if (!same_bits(old_slope, slope[t]) || !same_bits(old_roughness, roughness[t]) || !same_bits(old_step, step[t])) {
         mark_score(i, j);
       }
-      if ((step[t] > max_step) != (old_step > max_step)) {
+      const bool edge = step[t] > max_step;
+      if (edge && !(old_step > max_step)) {
+        raised_.push_back(static_cast<std::int32_t>(i * n_ + j));
+      } else if (!edge && old_step > max_step) {
         flip.lo = std::min(flip.lo, j);
         flip.hi = std::max(flip.hi, j);
       }
@@ -740,6 +747,31 @@ void FootholdLayers::edge_rows(ElevationMap& map, bool all) {
     }
   }
   last_edge_cells_ = cells;
+}
+
+// A cell that became an edge can only shorten the edge distances within
+// the search radius: each becomes the smaller of what it was and the
+// distance to the new edge, which is what the search would find (the
+// edges that went are searched for in edge_rows(), before). A cell not
+// yet known (kEdgeUnknown) is searched for when it is.
+void FootholdLayers::raise_edges() {
+  const int r = static_cast<int>(edge_cells_);
+  for (const std::int32_t cell : raised_) {
+    const int ei = cell / n_, ej = cell % n_;
+    for (int dx = std::max(-r, -ei); dx <= std::min(r, n_ - 1 - ei); ++dx) {
+      const int w = edge_widths_[static_cast<std::size_t>(dx + r)];
+      const std::size_t row = row_slot_[static_cast<std::size_t>(ei + dx)];
+      for (int dy = std::max(-w, -ej); dy <= std::min(w, n_ - 1 - ej); ++dy) {
+        const std::int32_t d2 = dx * dx + dy * dy;
+        std::int32_t& seen = seen_edge2_[row + col_slot_[static_cast<std::size_t>(ej + dy)]];
+        if (d2 < seen) {
+          seen = d2;
+          mark_score(ei + dx, ej + dy);
+        }
+      }
+    }
+  }
+  raised_.clear();
 }
 
 // Edge distance and score of the marked cells (clearing the marks and the

@@ -148,6 +148,7 @@ class FootholdLayers {
   void geometry_rows(ElevationMap& map, const LocalSlots& slots);
   void edge_rows(ElevationMap& map, bool all);
   void score_rows(ElevationMap& map);
+  void raise_edges();
   void geometry_of(ElevationMap& map, const LocalSlots& slots, CellIndex cell) const;
   void geometry_inside(ElevationMap& map, int i, int j) const;
   double edge_distance_m_of(std::int64_t squared_cells, std::int64_t none2) const;
@@ -190,13 +191,14 @@ class FootholdLayers {
   // and score, are to be redone; cleared as they are.
   std::vector<std::uint8_t> geometry_mark_, score_mark_;
   // Per window-local row, scratch of refresh(): the hulls of the marks, the
-  // cells whose step crossed max_step_m (edges that came or went) or that
-  // left, the cells whose edge distance is redone (and of those, the ones
+  // cells that stopped being edges (step no longer above max_step_m) or that
+  // left as edges, the cells whose edge distance is redone (and of those, the ones
   // that became known since they entered the window), and the columns whose
   // along-row edge distances are needed.
   std::vector<Span> geometry_rows_, score_rows_, flips_, edge_rows_, unseen_edge_rows_, distance_rows_;
   std::vector<std::int32_t> distance2_;  // n x n: squared along-row distance to an edge, or kFar
   std::vector<std::int32_t> best2_;      // one row of squared edge distances
+  std::vector<std::int32_t> raised_;     // window-local cells (i * n + j) that became edges
   std::size_t last_geometry_cells_ = 0;
   std::size_t last_score_cells_ = 0;
   std::size_t last_edge_cells_ = 0;
