@@ -168,6 +168,9 @@ FootholdLayers::FootholdLayers(ElevationMap& map, const FootholdOptions& options
   distance2_.assign(n * n, 0);
   best2_.assign(n, 0);
   raised_.reserve(n * n);  // a cell is raised at most once a refresh
+  merged_.assign(n, Span{n_, -1});
+  merged_rows_.assign(n, Span{n_, -1});
+  for (const int w : edge_widths_) edge_disc_cells_ += static_cast<std::size_t>(2 * w + 1);
 }
 
 double FootholdLayers::edge_distance_m_of(std::int64_t b2, std::int64_t none2) const {
@@ -455,6 +458,7 @@ void FootholdLayers::refresh(ElevationMap& map) {
   // any window cell). A cell that became known since it entered gets its
   // first.
   grow(flips_, edge_rows_, edge_widths_);
+  search_or_raise();
   for (std::size_t x = 0; x < edge_rows_.size(); ++x) {
     Span& u = unseen_edge_rows_[x];
     if (u.lo > u.hi) continue;
@@ -747,6 +751,32 @@ void FootholdLayers::edge_rows(ElevationMap& map, bool all) {
     }
   }
   last_edge_cells_ = cells;
+}
+
+// Cells that became edges are cheap one by one (raise_edges(), a pass over
+// the search disc each), but a cluster of them costs less searched for as
+// one region. Whichever costs less by the rough counts below (about ten
+// instructions a disc cell raised, a hundred and fifty a cell searched;
+// callgrind, the benchmark's walks) is taken: the values are the same.
+void FootholdLayers::search_or_raise() {
+  if (raised_.empty()) return;
+  const auto area = [](const std::vector<Span>& rows) {
+    std::size_t cells = 0;
+    for (const Span& r : rows) cells += r.lo <= r.hi ? static_cast<std::size_t>(r.hi - r.lo + 1) : 0;
+    return cells;
+  };
+  merged_ = flips_;
+  for (const std::int32_t cell : raised_) {
+    Span& m = merged_[static_cast<std::size_t>(cell / n_)];
+    m.lo = std::min(m.lo, cell % n_);
+    m.hi = std::max(m.hi, cell % n_);
+  }
+  grow(merged_, merged_rows_, edge_widths_);
+  const std::size_t extra = area(merged_rows_) - area(edge_rows_);
+  if (extra * 15 < raised_.size() * edge_disc_cells_) {
+    edge_rows_.swap(merged_rows_);
+    raised_.clear();
+  }
 }
 
 // A cell that became an edge can only shorten the edge distances within

@@ -149,6 +149,7 @@ class FootholdLayers {
   void edge_rows(ElevationMap& map, bool all);
   void score_rows(ElevationMap& map);
   void raise_edges();
+  void search_or_raise();
   void geometry_of(ElevationMap& map, const LocalSlots& slots, CellIndex cell) const;
   void geometry_inside(ElevationMap& map, int i, int j) const;
   double edge_distance_m_of(std::int64_t squared_cells, std::int64_t none2) const;
@@ -199,6 +200,8 @@ class FootholdLayers {
   std::vector<std::int32_t> distance2_;  // n x n: squared along-row distance to an edge, or kFar
   std::vector<std::int32_t> best2_;      // one row of squared edge distances
   std::vector<std::int32_t> raised_;     // window-local cells (i * n + j) that became edges
+  std::vector<Span> merged_, merged_rows_;  // search_or_raise()'s scratch
+  std::size_t edge_disc_cells_ = 0;         // cells of the edge search disc
   std::size_t last_geometry_cells_ = 0;
   std::size_t last_score_cells_ = 0;
   std::size_t last_edge_cells_ = 0;
