@@ -119,6 +119,8 @@ FootholdLayers::FootholdLayers(ElevationMap& map, const FootholdOptions& options
         footprint_.push_back({dx, dy});
         foot_x_m_.push_back(static_cast<double>(dx) * cell_size_m_);
         foot_y_m_.push_back(static_cast<double>(dy) * cell_size_m_);
+        foot_dx_.push_back(static_cast<double>(dx));
+        foot_dy_.push_back(static_cast<double>(dy));
       }
     }
   }
@@ -573,7 +575,8 @@ void FootholdLayers::geometry_inside(ElevationMap& map, int i, int j) const {
   }
   if (count < min_known_) return;
   step[s] = static_cast<float>(hi - lo);
-  Eigen::Matrix3d inverse = full_inverse_;
+  const Eigen::Matrix3d* inverse = &full_inverse_;
+  Eigen::Matrix3d partial;
   if (count != m) {
     double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0, syy = 0.0;
     for (std::size_t c = 0; c < count; ++c) {
@@ -588,16 +591,17 @@ void FootholdLayers::geometry_inside(ElevationMap& map, int i, int j) const {
     a << static_cast<double>(count), sx, sy, sx, sxx, sxy, sy, sxy, syy;
     bool invertible = false;
     const double scale = cell_size_m_ * cell_size_m_;
-    a.computeInverseWithCheck(inverse, invertible, 1e-9 * scale * scale);
+    a.computeInverseWithCheck(partial, invertible, 1e-9 * scale * scale);
     if (!invertible) return;
+    inverse = &partial;
   }
   const Eigen::Vector3d b(b0, b1, b2);
-  const Eigen::Vector3d plane = inverse * b;
+  const Eigen::Vector3d plane = *inverse * b;
   double residual2 = 0.0;
   for (std::size_t c = 0; c < count; ++c) {
-    const CellIndex& o = footprint_[kept_k[c]];
-    const double fit = plane[0] + plane[1] * static_cast<double>(o.x) * cell_size_m_ +
-                       plane[2] * static_cast<double>(o.y) * cell_size_m_;
+    const std::size_t k = kept_k[c];
+    // (plane * offset in cells) * cell size, as geometry_of(): the same bits.
+    const double fit = plane[0] + plane[1] * foot_dx_[k] * cell_size_m_ + plane[2] * foot_dy_[k] * cell_size_m_;
     const double r = kept_z[c] - fit;
     residual2 += r * r;
   }

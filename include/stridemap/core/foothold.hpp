@@ -165,6 +165,7 @@ class FootholdLayers {
   std::size_t min_known_ = 3;
   std::vector<CellIndex> footprint_;  // offsets of the footprint's cells
   std::vector<double> foot_x_m_, foot_y_m_;  // the same offsets in metres
+  std::vector<double> foot_dx_, foot_dy_;    // and in cells, as doubles
   Eigen::Matrix3d full_inverse_;      // the plane fit's for a whole footprint
   // Half-widths of the footprint disc and of the edge search disc per row
   // offset -r..r (index dx + r): how far a change reaches along a row.
