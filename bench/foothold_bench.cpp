@@ -45,7 +45,7 @@ void walk(benchmark::State& state, int read_every, double turn_rad_per_scan) {
   std::mt19937_64 rng(1);
   std::normal_distribution<double> tilt(0.0, 0.02);
   TrunkPose pose;
-  std::size_t scans = 0, geometry_cells = 0, score_cells = 0;
+  std::size_t scans = 0, geometry_cells = 0, edge_cells = 0, score_cells = 0;
   const auto step = [&] {
     pose.x_m += 0.003;  // a slow walk: the window moves every few scans
     pose.yaw_rad += turn_rad_per_scan;
@@ -58,6 +58,7 @@ void walk(benchmark::State& state, int read_every, double turn_rad_per_scan) {
       if (++scans % static_cast<std::size_t>(read_every) == 0) {
         foothold.refresh(mapper.map());
         geometry_cells += foothold.last_geometry_cells();
+        edge_cells += foothold.last_edge_cells();
         score_cells += foothold.last_score_cells();
       }
     }
@@ -65,12 +66,13 @@ void walk(benchmark::State& state, int read_every, double turn_rad_per_scan) {
   };
   // Warm up: a map with history, as in a walk.
   for (int k = 0; k < 50; ++k) step();
-  scans = geometry_cells = score_cells = 0;
+  scans = geometry_cells = edge_cells = score_cells = 0;
   for (auto _ : state) step();
   state.counters["scans_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
   if (read_every > 0) {
     const double reads = std::max(1.0, static_cast<double>(scans / static_cast<std::size_t>(read_every)));
     state.counters["geometry_cells_per_read"] = static_cast<double>(geometry_cells) / reads;
+    state.counters["edge_cells_per_read"] = static_cast<double>(edge_cells) / reads;
     state.counters["score_cells_per_read"] = static_cast<double>(score_cells) / reads;
   }
 }

@@ -27,6 +27,7 @@
 // window count as unknown, so a value depends only on the window's cells.
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
@@ -122,18 +123,38 @@ class FootholdLayers {
   std::size_t last_geometry_cells() const { return last_geometry_cells_; }
   /// Cells whose edge distance and score the last refresh recomputed.
   std::size_t last_score_cells() const { return last_score_cells_; }
+  /// Cells whose distance to the nearest edge the last refresh searched for.
+  std::size_t last_edge_cells() const { return last_edge_cells_; }
 
  private:
   struct LocalSlots;
   struct Span {  // columns lo..hi of a window-local row; lo > hi: none
     int lo, hi;
   };
-  void seed_box(const CellBox& box, CellIndex corner);
-  void grow(const std::vector<Span>& from, int from_offset, std::vector<Span>& to, const std::vector<int>& widths);
+  // A box of window-local cells (rows i0..i1, columns j0..j1; may reach
+  // outside the window).
+  struct LocalBox {
+    std::int64_t i0, i1, j0, j1;
+  };
+  void set_slots(const ElevationMap& map);
+  void mark_geometry(const LocalBox& b);
+  void mark_score(int i, int j);
+  void mark_edge(int i, int j);
+  void see_left(const ElevationMap& map, const CellBox& b, CellIndex corner);
+  void see_changes(const ElevationMap& map, const CellBox& window);
+  void see_all(const ElevationMap& map, const LocalBox& b, bool mark);
+  void grow(const std::vector<Span>& from, std::vector<Span>& to, const std::vector<int>& widths);
   void compute(ElevationMap& map);
   void geometry_rows(ElevationMap& map, const LocalSlots& slots);
-  void edges_and_score_rows(ElevationMap& map, const LocalSlots& slots);
+  void edge_rows(ElevationMap& map, bool all);
+  void score_rows(ElevationMap& map);
+  void raise_edges();
+  void search_or_raise();
   void geometry_of(ElevationMap& map, const LocalSlots& slots, CellIndex cell) const;
+  void geometry_inside(ElevationMap& map, int i, int j) const;
+  double edge_distance_m_of(std::int64_t squared_cells, std::int64_t none2) const;
+  double edge_factor_of_distance(double distance_m) const;
+  double certainty_factor(float certainty) const;
 
   FootholdOptions options_;
   LayerId<float> slope_, roughness_, step_, edge_distance_, score_;
@@ -143,26 +164,48 @@ class FootholdLayers {
   std::int64_t edge_cells_ = 0;  // edge search radius in whole cells
   std::size_t min_known_ = 3;
   std::vector<CellIndex> footprint_;  // offsets of the footprint's cells
+  std::vector<double> foot_x_m_, foot_y_m_;  // the same offsets in metres
+  std::vector<double> foot_dx_, foot_dy_;    // and in cells, as doubles
   Eigen::Matrix3d full_inverse_;      // the plane fit's for a whole footprint
   // Half-widths of the footprint disc and of the edge search disc per row
   // offset -r..r (index dx + r): how far a change reaches along a row.
   std::vector<int> foot_widths_, edge_widths_;
+  // Per squared edge distance 0..r*r+1 (r*r+1: none within the radius):
+  // the distance [m] and the score's edge factor, as the score computes them.
+  std::vector<double> edge_distance_of_, edge_factor_of_;
   // What changed since the last refresh, and the intersection of the
   // windows since then (cells outside it may have left and come back reset).
   ChangedRows pending_;
   CellBox window_;  // the window at the last refresh
   CellBox stable_;
   bool computed_ = false;
-  // Per window-local row, scratch of refresh(): the changed columns (rows
-  // -foot_cells .. n + foot_cells, for cells that left), the cells whose
-  // geometry, the cells whose step crossed max_step_m (edges that came or
-  // went), whose edge distance and score, and whose along-row edge
-  // distances are redone.
-  std::vector<Span> seeds_, geometry_rows_, flips_, score_rows_, distance_rows_;
+  // What the last refresh saw, per storage slot of the window: the
+  // elevation where known (NaN where unknown), the certainty, and the
+  // squared edge distance in cells (capped at r*r+1). A noted cell whose
+  // elevation and known-ness are unchanged redoes no plane fit; one whose
+  // certainty factor is unchanged too redoes no score.
+  std::vector<float> seen_elevation_, seen_certainty_;
+  std::vector<std::int32_t> seen_edge2_;
+  // Storage slot = row_slot_[local row] + col_slot_[local column], for the
+  // window of the refresh under way.
+  std::vector<std::size_t> row_slot_, col_slot_;
+  // Per window-local cell (i * n + j): its geometry, or its edge distance
+  // and score, are to be redone; cleared as they are.
+  std::vector<std::uint8_t> geometry_mark_, score_mark_;
+  // Per window-local row, scratch of refresh(): the hulls of the marks, the
+  // cells that stopped being edges (step no longer above max_step_m) or that
+  // left as edges, the cells whose edge distance is redone (and of those, the ones
+  // that became known since they entered the window), and the columns whose
+  // along-row edge distances are needed.
+  std::vector<Span> geometry_rows_, score_rows_, flips_, edge_rows_, unseen_edge_rows_, distance_rows_;
   std::vector<std::int32_t> distance2_;  // n x n: squared along-row distance to an edge, or kFar
   std::vector<std::int32_t> best2_;      // one row of squared edge distances
+  std::vector<std::int32_t> raised_;     // window-local cells (i * n + j) that became edges
+  std::vector<Span> merged_, merged_rows_;  // search_or_raise()'s scratch
+  std::size_t edge_disc_cells_ = 0;         // cells of the edge search disc
   std::size_t last_geometry_cells_ = 0;
   std::size_t last_score_cells_ = 0;
+  std::size_t last_edge_cells_ = 0;
 };
 
 }  // namespace stridemap
