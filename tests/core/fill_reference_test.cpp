@@ -90,6 +90,18 @@ void expect_identical(const ElevationMap& a, const ElevationMap& b, const std::s
   }
 }
 
+// Fills a copy of `original` with the library and another with the
+// reference; checks the counts and every layer's bytes agree. Returns the
+// cells filled.
+std::size_t fill_matches_reference(const ElevationMap& original, const FillOptions& options, const std::string& what) {
+  ElevationMap fast = original, reference = original;
+  WeightedMedianFill fill(options);
+  const std::size_t filled = fill.apply(fast);
+  EXPECT_EQ(filled, reference::reference_fill(reference, options)) << what;
+  expect_identical(fast, reference, what);
+  return filled;
+}
+
 std::vector<FillOptions> fill_options() {
   std::vector<FillOptions> all(4);
   all[1].window_radius_cells = 1;
@@ -137,13 +149,8 @@ TEST(FillReference, FastFillMatchesTheReferenceOnEveryPath) {
       const bool coarse = seed % 2 == 0;
       const ElevationMap original = random_map(seed % 3 == 0 ? 23 : 60, seed, coarse, draw);
       for (const FillOptions& options : fill_options()) {
-        ElevationMap fast = original, reference = original;
-        WeightedMedianFill fill(options);
-        const std::size_t a = fill.apply(fast);
-        EXPECT_EQ(a, reference::reference_fill(reference, options));
-        filled += a;
-        expect_identical(fast, reference,
-                         "draw " + std::to_string(static_cast<int>(draw)) + ", seed " + std::to_string(seed));
+        filled += fill_matches_reference(
+            original, options, "draw " + std::to_string(static_cast<int>(draw)) + ", seed " + std::to_string(seed));
       }
     }
   }
@@ -167,24 +174,14 @@ TEST(FillReference, FastFillMatchesTheReferenceAtTheEdges) {
       all.push_back(all.back());
       all.back().window_radius_cells = 1;
       for (const FillOptions& options : all) {
-        ElevationMap fast = original, reference = original;
-        WeightedMedianFill fill(options);
-        const std::size_t a = fill.apply(fast);
-        EXPECT_EQ(a, reference::reference_fill(reference, options));
-        filled += a;
-        expect_identical(fast, reference, "n " + std::to_string(n) + ", seed " + std::to_string(seed));
+        filled += fill_matches_reference(original, options, "n " + std::to_string(n) + ", seed " + std::to_string(seed));
       }
     }
   }
   for (std::uint64_t seed = 81; seed <= 84; ++seed) {
     const ElevationMap original = random_map(100, seed, seed % 2 == 0, Draw::infinite);
     for (const FillOptions& options : fill_options()) {
-      ElevationMap fast = original, reference = original;
-      WeightedMedianFill fill(options);
-      const std::size_t a = fill.apply(fast);
-      EXPECT_EQ(a, reference::reference_fill(reference, options));
-      filled += a;
-      expect_identical(fast, reference, "infinite heights, seed " + std::to_string(seed));
+      filled += fill_matches_reference(original, options, "infinite heights, seed " + std::to_string(seed));
     }
   }
   EXPECT_GT(filled, 1000u);
