@@ -124,7 +124,7 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
     // Before the flat-floor attitude calibration, which would otherwise take
     // the short readings at the floor's ranges for a pitch bias.
     if (calibrate_range) {
-      range_calibration = calibrate_range_on_wall(urg_options.urg, urg_options.sim, args.seed ^ 0x3A11CA1BULL);
+      range_calibration = calibrate_range_on_wall(urg_options.urg, urg_options.sim, wall_calibration_seed(args.seed));
       urg_options.calibration = range_calibration->calibration;
     }
     factory = [urg_options, seed = args.seed](const Scene& s, const UpdateOptions& update) -> std::unique_ptr<WalkSensor> {

@@ -15,6 +15,7 @@
 #include "stridemap/experiments/rocky_walk.hpp"
 #include "stridemap/experiments/rocky_walk_report.hpp"
 #include "stridemap/experiments/urg_walk_sensor.hpp"
+#include "stridemap/experiments/wall_range_calibration.hpp"
 #include "stridemap/io/output_folder.hpp"
 #include "stridemap/io/scene_yaml.hpp"
 
@@ -34,19 +35,29 @@ void write_outputs(const std::optional<std::string>& out_dir, Write&& write) {
 }
 
 py::object run_rocky_walk_py(const std::string& scene_path, std::uint64_t seed, const std::vector<double>& sweep,
-                             const std::string& reference, bool mixed_pixels, const std::string& filters,
-                             const std::string& map_filter, double pose_error_scale,
-                             const std::optional<std::string>& out_dir) {
+                             const std::string& reference, bool calibrate_attitude, bool calibrate_range,
+                             bool mixed_pixels, const std::string& filters, const std::string& map_filter,
+                             double pose_error_scale, const std::optional<std::string>& out_dir) {
   RockyWalkOptions options;
   options.walk.seed = seed;
   options.pose_error_scales = sweep;
+  // The CLI's URG defaults (apps/stridemap/walk_experiments.cpp), so that the
+  // same call gives the same summary from Python and from the shell.
   options.walk.pose_errors.reference = parse_enum_name<ReferenceElevationSource>(reference);
+  options.calibrate_attitude = calibrate_attitude;
+  options.sweep_references.push_back(ReferenceElevationSource::map_fused);
   options.walk.pose_errors = options.walk.pose_errors.scaled(finite_number(pose_error_scale, "pose_error_scale"));
   options.walk.map_filter = parse_map_filter(map_filter);
   options.validate();
   UrgWalkSensorOptions sensor;
   sensor.mixed_pixels = mixed_pixels;
   sensor.filters = parse_scan_filter_list(filters.empty() ? (mixed_pixels ? "paper" : "none") : filters);
+  std::optional<RangeCalibrationFit> range_calibration;
+  // Before the flat-floor attitude calibration, as the CLI does.
+  if (calibrate_range) {
+    range_calibration = calibrate_range_on_wall(sensor.urg, sensor.sim, wall_calibration_seed(seed));
+    sensor.calibration = range_calibration->calibration;
+  }
   if (out_dir) io::check_output_folder(*out_dir, "out_dir");
   const Scene scene = load_scene_yaml(scene_path);
   if (!scene.walk_path) raise_input_error(scene_path + ": the scene has no walk_path section");
@@ -58,6 +69,7 @@ py::object run_rocky_walk_py(const std::string& scene_path, std::uint64_t seed, 
     py::gil_scoped_release release;
     result = run_rocky_walk(scene, *scene.walk_path, factory, options);
   }
+  result.range_calibration = range_calibration;
   const RockyWalkRunInfo info{scene_path, scene_path + ":walk_path"};
   write_outputs(out_dir, [&](const std::string& folder) { write_rocky_walk_outputs(result, options, info, folder); });
   return json_to_dict(rocky_walk_summary_json(result, options, info));
@@ -100,11 +112,13 @@ py::object run_cart_rail_py(const std::string& scene_path, const std::string& se
 
 void register_experiments(py::module_& m) {
   m.def("run_rocky_walk", &run_rocky_walk_py, py::arg("scene_path"), py::kw_only(), py::arg("seed") = 1,
-        py::arg("sweep") = std::vector<double>{0.0, 0.5, 1.0, 2.0, 4.0}, py::arg("reference") = "map",
-        py::arg("mixed_pixels") = false, py::arg("filters") = "", py::arg("map_filter") = "fill",
+        py::arg("sweep") = std::vector<double>{0.0, 0.5, 1.0, 2.0, 4.0}, py::arg("reference") = "map-footholds",
+        py::arg("calibrate_attitude") = true, py::arg("calibrate_range") = false, py::arg("mixed_pixels") = false, py::arg("filters") = "", py::arg("map_filter") = "fill",
         py::arg("pose_error_scale") = 1.0, py::arg("out_dir") = py::none(),
         "`stridemap experiment rocky-walk` with the URG: the walking robot along the scene's walk_path with an "
-        "imperfect pose, then the pose-error sweep (sweep: factors; [] for none). Returns summary.json's content "
+        "imperfect pose, then the pose-error sweep (sweep: factors; [] for none). Defaults as the CLI's for the URG: "
+        "h_ref from the map under the stance feet, the IMU biases calibrated on a flat floor first, no range "
+        "calibration. Returns summary.json's content "
         "as a dict (docs/experiments.md); out_dir: also write the command's outputs there (an existing folder "
         "must hold only an earlier run's outputs). Deterministic for a seed. Minutes with the full sweep.");
   m.def("run_cart_rail", &run_cart_rail_py, py::arg("scene_path"), py::kw_only(), py::arg("sensor") = "urg",

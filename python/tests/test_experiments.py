@@ -29,6 +29,19 @@ def test_rocky_walk_without_sweep_is_deterministic():
     assert stridemap.run_rocky_walk(ROCKY, seed=3, sweep=[]) != summary
 
 
+def test_rocky_walk_defaults_are_the_clis():
+    # The CLI's URG walk: h_ref from the map under the stance feet, the IMU
+    # biases calibrated on a flat floor, no range calibration.
+    summary = stridemap.run_rocky_walk(ROCKY, seed=2, sweep=[])
+    assert summary["pose_error_options"]["reference"] == "map-footholds"
+    assert "attitude_calibration" in summary and "range_calibration" not in summary
+    plain = stridemap.run_rocky_walk(ROCKY, seed=2, sweep=[], reference="map", calibrate_attitude=False)
+    assert plain["pose_error_options"]["reference"] == "map" and "attitude_calibration" not in plain
+    calibrated = stridemap.run_rocky_walk(ROCKY, seed=2, sweep=[], calibrate_range=True)
+    assert len(calibrated["range_calibration"]["coefficients"]) == 4
+    assert calibrated["range_calibration"] != summary.get("range_calibration")
+
+
 def test_experiment_errors_are_input_errors(tmp_path):
     with pytest.raises(stridemap.InputError, match="missing.yaml"):
         stridemap.run_cart_rail(str(tmp_path / "missing.yaml"))

@@ -47,4 +47,8 @@ struct WallRangeCalibrationOptions {
 RangeCalibrationFit calibrate_range_on_wall(const UrgParameters& urg, const UrgSimOptions& sim, std::uint64_t seed,
                                             const WallRangeCalibrationOptions& options = {});
 
+/// The seed of the wall run made before a walk of seed `walk_seed`: the wall
+/// gets noise of its own, not a copy of the walk's first scans' noise.
+inline std::uint64_t wall_calibration_seed(std::uint64_t walk_seed) { return walk_seed ^ 0x3A11CA1BULL; }
+
 }  // namespace stridemap
