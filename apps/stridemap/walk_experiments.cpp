@@ -36,6 +36,8 @@ struct RockyWalkArgs {
   std::uint64_t seed = 1;
   double pose_error_scale = 1.0;
   std::optional<double> imu_pitch_bias_deg, imu_roll_bias_deg;
+  std::optional<double> imu_pitch_noise_deg, imu_roll_noise_deg, camera_yaw_noise_deg;
+  std::optional<double> camera_position_noise_m, leg_height_noise_m;
   std::string sweep = "0,0.5,1,2,4";
   std::optional<std::string> reference;           // map-footholds (urg), map (structured-light)
   std::optional<std::string> calibrate_attitude;  // on (urg), off (structured-light)
@@ -78,6 +80,14 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   constexpr double deg = std::numbers::pi / 180.0;
   if (args.imu_pitch_bias_deg) options.walk.pose_errors.imu_pitch_bias_rad = *args.imu_pitch_bias_deg * deg;
   if (args.imu_roll_bias_deg) options.walk.pose_errors.imu_roll_bias_rad = *args.imu_roll_bias_deg * deg;
+  // One error at a time, to see which one the map answers to (the sweep's
+  // --pose-error-scale multiplies them all).
+  PoseErrorOptions& errors = options.walk.pose_errors;
+  if (args.imu_pitch_noise_deg) errors.imu_pitch_noise_sigma_rad = *args.imu_pitch_noise_deg * deg;
+  if (args.imu_roll_noise_deg) errors.imu_roll_noise_sigma_rad = *args.imu_roll_noise_deg * deg;
+  if (args.camera_yaw_noise_deg) errors.camera_yaw_noise_sigma_rad = *args.camera_yaw_noise_deg * deg;
+  if (args.camera_position_noise_m) errors.camera_position_noise_sigma_m = *args.camera_position_noise_m;
+  if (args.leg_height_noise_m) errors.leg_height_noise_sigma_m = *args.leg_height_noise_m;
   options.walk.pose_errors = options.walk.pose_errors.scaled(checked_non_negative("--pose-error-scale", args.pose_error_scale));
   // The paper's settings per sensor (sections 5.1, 5.3): the URG with 10 mm
   // cells and the fill-in, structured light with 5 mm cells and the CAS
@@ -179,6 +189,18 @@ void register_walk_experiments(CLI::App& app) {
       ->check(number_from_to(-90.0, 90.0, "deg"));
   rocky->add_option("--imu-roll-bias-deg", rw->imu_roll_bias_deg, "IMU roll bias [deg] (default 0.3)")
       ->check(number_from_to(-90.0, 90.0, "deg"));
+  rocky->add_option("--imu-pitch-noise-deg", rw->imu_pitch_noise_deg, "IMU pitch noise sigma, per scan [deg] (default 0.2)")
+      ->check(number_from_to(0.0, 90.0, "deg"));
+  rocky->add_option("--imu-roll-noise-deg", rw->imu_roll_noise_deg, "IMU roll noise sigma, per scan [deg] (default 0.2)")
+      ->check(number_from_to(0.0, 90.0, "deg"));
+  rocky->add_option("--camera-position-noise-m", rw->camera_position_noise_m,
+                    "Camera x and y noise sigma, per scan and axis [m] (default 0.003)")
+      ->check(number_from_to(0.0, 1.0, "m"));
+  rocky->add_option("--camera-yaw-noise-deg", rw->camera_yaw_noise_deg, "Camera yaw noise sigma, per scan [deg] (default 0.3)")
+      ->check(number_from_to(0.0, 90.0, "deg"));
+  rocky->add_option("--leg-height-noise-m", rw->leg_height_noise_m,
+                    "Leg kinematics noise sigma, per scan, foot and axis [m] (default 0.002)")
+      ->check(number_from_to(0.0, 1.0, "m"));
   rocky->add_option("--sweep", rw->sweep, "Pose-error factors of the sweep, comma separated; none for no sweep")
       ->capture_default_str();
   rocky->add_option("--reference", rw->reference,

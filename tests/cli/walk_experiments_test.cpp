@@ -61,6 +61,26 @@ TEST(RockyWalkCommand, WritesMapsViewsSummaryAndTable) {
   fs::remove_all(out);
 }
 
+TEST(RockyWalkCommand, EachPoseErrorCanBeSetAlone) {
+  const fs::path out = fresh_dir("rocky_walk_errors");
+  const CommandResult r = run_cli("experiment rocky-walk --scene " + shell_quoted(kScene) + " --out " +
+                                  shell_quoted(out.string()) +
+                                  " --sweep none --imu-pitch-noise-deg 0.1 --imu-roll-noise-deg 0 "
+                                  "--camera-position-noise-m 0.001 --camera-yaw-noise-deg 0.5 --leg-height-noise-m 0 "
+                                  "--pose-error-scale 2");
+  ASSERT_EQ(r.exit_code, 0) << r.output;
+  std::ifstream in(out / "rocky-walk-urg" / "summary.json");
+  const nlohmann::json e = nlohmann::json::parse(in)["pose_error_options"];
+  // Set first, then scaled with every other error by --pose-error-scale.
+  EXPECT_NEAR(e["imu_pitch_noise_sigma_deg"].get<double>(), 0.2, 1e-12);
+  EXPECT_EQ(e["imu_roll_noise_sigma_deg"].get<double>(), 0.0);
+  EXPECT_NEAR(e["camera_position_noise_sigma_m"].get<double>(), 0.002, 1e-15);
+  EXPECT_NEAR(e["camera_yaw_noise_sigma_deg"].get<double>(), 1.0, 1e-12);
+  EXPECT_EQ(e["leg_height_noise_sigma_m"].get<double>(), 0.0);
+  EXPECT_NEAR(e["imu_pitch_bias_deg"].get<double>(), -0.6, 1e-12);  // the default, scaled
+  fs::remove_all(out);
+}
+
 TEST(RockyWalkCommand, StructuredLightVariantUsesFineCellsAndCas) {
   const fs::path out = fresh_dir("rocky_walk_sl");
   const CommandResult r = run_cli("experiment rocky-walk --sensor structured-light --scene " + shell_quoted(kScene) +
@@ -91,6 +111,15 @@ TEST(RockyWalkCommand, BadInputIsAClearErrorBeforeAnyWork) {
   EXPECT_NE(r.output.find("--sweep"), std::string::npos) << r.output;
   r = run_cli("experiment rocky-walk --pose-error-scale -1" + out);
   EXPECT_EQ(r.exit_code, 2) << r.output;
+  r = run_cli("experiment rocky-walk --camera-position-noise-m -0.001" + out);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--camera-position-noise-m"), std::string::npos) << r.output;
+  r = run_cli("experiment rocky-walk --leg-height-noise-m nan" + out);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--leg-height-noise-m"), std::string::npos) << r.output;
+  r = run_cli("experiment rocky-walk --imu-pitch-noise-deg 91" + out);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--imu-pitch-noise-deg"), std::string::npos) << r.output;
   r = run_cli("experiment rocky-walk --calibrate-range maybe" + out);
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--calibrate-range"), std::string::npos) << r.output;
