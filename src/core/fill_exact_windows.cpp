@@ -47,13 +47,24 @@ STRIDEMAP_INLINE Floats8 load8(const float* at) {
 }
 
 // Lane k from b where bit k of Mask is set, else from a: a blend with a
-// constant, by bits (a general shuffle of eight lanes goes through memory
-// without AVX).
-template <unsigned Mask>
+// constant. With 32-byte vectors one blend instruction (a shuffle of the
+// two vectors); otherwise by bits (a general shuffle of eight lanes goes
+// through memory without AVX).
+template <unsigned Mask, bool kWide>
 STRIDEMAP_INLINE Floats8 select8(Floats8 a, Floats8 b) {
-  const Lanes8 take_b = {Mask & 1 ? -1 : 0,  Mask & 2 ? -1 : 0,  Mask & 4 ? -1 : 0,  Mask & 8 ? -1 : 0,
-                         Mask & 16 ? -1 : 0, Mask & 32 ? -1 : 0, Mask & 64 ? -1 : 0, Mask & 128 ? -1 : 0};
-  return reinterpret_cast<Floats8>((reinterpret_cast<Lanes8>(a) & ~take_b) | (reinterpret_cast<Lanes8>(b) & take_b));
+  constexpr auto lane = [](unsigned k) { return static_cast<std::int32_t>(Mask & (1u << k) ? k + 8 : k); };
+  if constexpr (kWide) {
+#if defined(__clang__)
+    return __builtin_shufflevector(a, b, lane(0), lane(1), lane(2), lane(3), lane(4), lane(5), lane(6), lane(7));
+#else
+    return __builtin_shuffle(a, b, Lanes8{lane(0), lane(1), lane(2), lane(3), lane(4), lane(5), lane(6), lane(7)});
+#endif
+  } else {
+    const Lanes8 take_b = {Mask & 1 ? -1 : 0,  Mask & 2 ? -1 : 0,  Mask & 4 ? -1 : 0,  Mask & 8 ? -1 : 0,
+                           Mask & 16 ? -1 : 0, Mask & 32 ? -1 : 0, Mask & 64 ? -1 : 0, Mask & 128 ? -1 : 0};
+    return reinterpret_cast<Floats8>((reinterpret_cast<Lanes8>(a) & ~take_b) |
+                                     (reinterpret_cast<Lanes8>(b) & take_b));
+  }
 }
 
 // The two comparisons of the kernel producing masks. GCC compares eight
@@ -101,20 +112,20 @@ STRIDEMAP_INLINE Floats8 where_at_least(Floats8 below, float threshold, Floats8 
 }
 
 // The window's cells of padded array `a` around cell q, in visiting order.
-template <int W>
+template <int W, bool kWide>
 STRIDEMAP_INLINE void gather(const float* a, std::size_t q, std::size_t p, Floats8* out) {
   if constexpr (W == 1) {
     const float *r0 = a + q - p, *r1 = a + q, *r2 = a + q + p;
-    const Floats8 x = select8<0x08>(load8(r0 - 1), load8(r1 - 4));
-    const Floats8 y = select8<0xe0>(load8(r1 - 3), load8(r2 - 6));
-    out[0] = select8<0xf0>(x, y);
+    const Floats8 x = select8<0x08, kWide>(load8(r0 - 1), load8(r1 - 4));
+    const Floats8 y = select8<0xe0, kWide>(load8(r1 - 3), load8(r2 - 6));
+    out[0] = select8<0xf0, kWide>(x, y);
   } else {
     const float *r0 = a + q - 2 * p, *r1 = a + q - p, *r2 = a + q, *r3 = a + q + p, *r4 = a + q + 2 * p;
-    out[0] = select8<0xe0>(load8(r0 - 2), load8(r1 - 7));
-    const Floats8 x = select8<0x0c>(load8(r1 + 1), load8(r2 - 4));
-    const Floats8 y = select8<0xc0>(load8(r2 - 3), load8(r3 - 8));
-    out[1] = select8<0xf0>(x, y);
-    out[2] = select8<0xf8>(load8(r3), load8(r4 - 5));
+    out[0] = select8<0xe0, kWide>(load8(r0 - 2), load8(r1 - 7));
+    const Floats8 x = select8<0x0c, kWide>(load8(r1 + 1), load8(r2 - 4));
+    const Floats8 y = select8<0xc0, kWide>(load8(r2 - 3), load8(r3 - 8));
+    out[1] = select8<0xf0, kWide>(x, y);
+    out[2] = select8<0xf8, kWide>(load8(r3), load8(r4 - 5));
   }
 }
 
@@ -186,9 +197,10 @@ STRIDEMAP_INLINE std::size_t fill_exact_windows(const WindowInput& in) {
     // The row's unknown cells listed first, without a branch: measured or
     // not is as random as the map, a loop over the list is not.
     std::size_t unknown = 0;
-    for (std::size_t j = 0; j < n; ++j) {
-      in.columns[unknown] = static_cast<std::uint32_t>(j);
-      unknown += ((in.row_bits[row_start + j] >> W) & 1u) ^ 1u;
+    for (std::size_t j = 0; j < n; j += 8) {
+      const unsigned in_row = n - j >= 8 ? 0xffu : (1u << (n - j)) - 1;  // columns past n are not listed
+      unknown = append_set_flags(~flags_of_bytes(in.known + row_start + j) & in_row, static_cast<std::uint32_t>(j),
+                                 in.columns, unknown);
     }
     // The admission tests (enough known neighbours in enough quadrants),
     // the passing cells kept in the same list (never ahead of the reading).
@@ -217,8 +229,8 @@ STRIDEMAP_INLINE std::size_t fill_exact_windows(const WindowInput& in) {
         const std::size_t j = in.columns[chunk + c];
         const std::size_t q = row_start + j;
         Floats8 v[kBlocks], wt[kBlocks];
-        gather<W>(in.value, q, p, v);
-        gather<W>(in.weight, q, p, wt);
+        gather<W, kWide>(in.value, q, p, v);
+        gather<W, kWide>(in.weight, q, p, wt);
         Floats8 sum = {};
         for (int b = 0; b < kBlocks; ++b) {
           wt[b] *= factor[b];

@@ -201,7 +201,7 @@ void WeightedMedianFill::prepare(const ElevationMap& map, int margin) {
   // Room past the end for the row pass's last group of four cells and the
   // exact path's eight-lane loads. Only the margin is written here (unknown
   // cells); the runs below write the rest.
-  known_.resize(padded_cells);
+  known_.resize(padded_cells + 8);
   known_mask_.resize(padded_cells + 8);
   value_.resize(padded_cells + 8);
   weight_.resize(padded_cells + 8);
@@ -219,6 +219,7 @@ void WeightedMedianFill::prepare(const ElevationMap& map, int margin) {
   }
   const std::size_t tail = (un_cells - 1 + um) * pitch_ + um + un_cells;
   unknown_from(tail, padded_cells - tail);  // the last row's right margin and the bottom rows
+  std::fill_n(known_.data() + padded_cells, 8, std::uint8_t{0});
   std::fill_n(known_mask_.data() + padded_cells, 8, 0u);
   std::fill_n(value_.data() + padded_cells, 8, kInf);
   std::fill_n(weight_.data() + padded_cells, 8, 0.0f);
@@ -368,11 +369,12 @@ std::size_t WeightedMedianFill::fill_prepared(ElevationMap& map) {
     }
     walk_cells_.resize(cells);
     walk_totals_.resize(cells);
-    columns_.resize(un);
+    columns_.resize(un + 8);
     fill_detail::WindowInput in{};
     in.value = value_.data();
     in.weight = weight_.data();
     in.row_bits = row_bits_.data();
+    in.known = known_.data();
     in.pitch = p;
     in.margin = margin_;
     in.n = un;
