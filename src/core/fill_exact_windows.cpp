@@ -172,6 +172,7 @@ STRIDEMAP_INLINE std::size_t fill_exact_windows(const WindowInput& in) {
   constexpr int kSide = 2 * W + 1;
   constexpr std::uint32_t kField = (1u << kSide) - 1;
   constexpr float kInf = std::numeric_limits<float>::infinity();
+  constexpr std::uint32_t kSpecialColumn = 1u << 31;  // a column is below n < 2^31
   constexpr std::uint32_t kQuadrant[4] = {quadrant_bits<W>(0), quadrant_bits<W>(1), quadrant_bits<W>(2),
                                           quadrant_bits<W>(3)};
   const std::size_t p = in.pitch, n = in.n;
@@ -203,19 +204,22 @@ STRIDEMAP_INLINE std::size_t fill_exact_windows(const WindowInput& in) {
                                  in.columns, unknown);
     }
     // The admission tests (enough known neighbours in enough quadrants),
-    // the passing cells kept in the same list (never ahead of the reading).
+    // the passing cells kept in the same list (never ahead of the reading),
+    // each with a flag (kSpecialColumn) for a zero or NaN in its window.
     std::size_t admitted = 0;
     for (std::size_t u = 0; u < unknown; ++u) {
       const std::size_t j = in.columns[u];
       const std::size_t q = row_start + j;
-      std::uint32_t known = 0;
+      std::uint32_t known = 0, rows = 0;
       for (int di = -W; di <= W; ++di) {
-        known |= (in.row_bits[q + static_cast<std::size_t>(di) * p] & kField) << ((di + W) * kSide);
+        const std::uint32_t row = in.row_bits[q + static_cast<std::size_t>(di) * p];
+        known |= (row & kField) << ((di + W) * kSide);
+        rows |= row;
       }
       const int count = std::popcount(known);
       const int quadrants = ((known & kQuadrant[0]) != 0) + ((known & kQuadrant[1]) != 0) +
                             ((known & kQuadrant[2]) != 0) + ((known & kQuadrant[3]) != 0);
-      in.columns[admitted] = static_cast<std::uint32_t>(j);
+      in.columns[admitted] = static_cast<std::uint32_t>(j) | ((rows >> kSpecialShift) != 0 ? kSpecialColumn : 0u);
       admitted += (count >= in.min_known) & (quadrants >= in.min_quadrants) ? 1 : 0;
     }
     // The medians in chunks, each in two passes without a branch: first
@@ -226,7 +230,7 @@ STRIDEMAP_INLINE std::size_t fill_exact_windows(const WindowInput& in) {
     for (std::size_t chunk = 0; chunk < admitted; chunk += kChunk) {
       const std::size_t chunk_size = admitted - chunk < kChunk ? admitted - chunk : kChunk;
       for (std::size_t c = 0; c < chunk_size; ++c) {
-        const std::size_t j = in.columns[chunk + c];
+        const std::size_t j = in.columns[chunk + c] & ~kSpecialColumn;
         const std::size_t q = row_start + j;
         Floats8 v[kBlocks], wt[kBlocks];
         gather<W, kWide>(in.value, q, p, v);
@@ -270,11 +274,8 @@ STRIDEMAP_INLINE std::size_t fill_exact_windows(const WindowInput& in) {
         }
       }
       for (std::size_t c = 0; c < chunk_size; ++c) {
-        const std::size_t j = in.columns[chunk + c];
-        const std::size_t q = row_start + j;
-        std::uint32_t rows = 0;
-        for (int di = -W; di <= W; ++di) rows |= in.row_bits[q + static_cast<std::size_t>(di) * p];
-        const bool special = (rows >> kSpecialShift) != 0;
+        const std::size_t j = in.columns[chunk + c] & ~kSpecialColumn;
+        const bool special = (in.columns[chunk + c] & kSpecialColumn) != 0;
         const float total = totals[c];
         const bool positive = total > 0.0f;
         // A zero or NaN among the values: the sorted walk decides (the
@@ -304,10 +305,10 @@ STRIDEMAP_INLINE std::size_t fill_exact_windows(const WindowInput& in) {
 }
 
 #if defined(STRIDEMAP_FILL_AVX2)
-__attribute__((target("avx2"))) std::size_t radius1_avx2(const WindowInput& in) {
+__attribute__((target("avx2,popcnt"))) std::size_t radius1_avx2(const WindowInput& in) {
   return fill_exact_windows<1, true>(in);
 }
-__attribute__((target("avx2"))) std::size_t radius2_avx2(const WindowInput& in) {
+__attribute__((target("avx2,popcnt"))) std::size_t radius2_avx2(const WindowInput& in) {
   return fill_exact_windows<2, true>(in);
 }
 #endif
@@ -315,7 +316,8 @@ __attribute__((target("avx2"))) std::size_t radius2_avx2(const WindowInput& in) 
 // Whether this CPU runs the AVX2 copy (asked once).
 bool use_avx2() {
 #if defined(STRIDEMAP_FILL_AVX2)
-  static const bool avx2 = __builtin_cpu_supports("avx2");
+  // popcnt (the admission's count) comes with every AVX2 CPU; asked anyway.
+  static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt");
   return avx2;
 #else
   return false;
