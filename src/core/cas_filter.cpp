@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include "fill_exact_windows.hpp"
 #include "stridemap/core/error.hpp"
 
 namespace stridemap {
@@ -100,15 +101,23 @@ CasResult CasFilter::apply(ElevationMap& map) {
   }
   // A whole window, and room for the write past the last kept cell.
   const auto window_cells = static_cast<std::size_t>((2 * w + 1) * (2 * w + 1));
-  candidates_.resize(un);
+  candidates_.resize(un + 8);
+  const Heights4 limit4 = {max_removable, max_removable, max_removable, max_removable};
+  const Lanes4 low_bits = {1, 2, 4, 8}, high_bits = {16, 32, 64, 128};
   for (std::size_t i = 0; i < un; ++i) {
-    // The row's removable cells listed first, without a branch per cell
-    // (which cells are measured and weak is as random as the map).
+    // The row's removable cells listed first, 8 cells a step without a
+    // branch per cell (which cells are measured and weak is as random as
+    // the map). The padded copy has room for the reads past the row.
     std::size_t candidate_count = 0;
-    for (std::size_t j = 0; j < un; ++j) {
-      const std::size_t q = (i + um) * p + j + um;
-      candidates_[candidate_count] = j;
-      candidate_count += (known[q] != 0) & !(certainty[q] > max_removable) ? 1 : 0;
+    const std::size_t row_start = (i + um) * p + um;
+    for (std::size_t j = 0; j < un; j += 8) {
+      const float* c = certainty + row_start + j;
+      const Lanes4 not_above = (~(load4(c) > limit4) & low_bits) | (~(load4(c + 4) > limit4) & high_bits);
+      const auto weak = static_cast<unsigned>(not_above[0] | not_above[1] | not_above[2] | not_above[3]);
+      const unsigned in_row = un - j >= 8 ? 0xffu : (1u << (un - j)) - 1;  // columns past n are not listed
+      candidate_count =
+          fill_detail::append_set_flags(weak & fill_detail::flags_of_bytes(known + row_start + j) & in_row,
+                                        static_cast<std::uint32_t>(j), candidates_.data(), candidate_count);
     }
     for (std::size_t k = 0; k < candidate_count; ++k) {
       const std::size_t j = candidates_[k];

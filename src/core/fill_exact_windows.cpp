@@ -47,13 +47,24 @@ STRIDEMAP_INLINE Floats8 load8(const float* at) {
 }
 
 // Lane k from b where bit k of Mask is set, else from a: a blend with a
-// constant, by bits (a general shuffle of eight lanes goes through memory
-// without AVX).
-template <unsigned Mask>
+// constant. With 32-byte vectors one blend instruction (a shuffle of the
+// two vectors); otherwise by bits (a general shuffle of eight lanes goes
+// through memory without AVX).
+template <unsigned Mask, bool kWide>
 STRIDEMAP_INLINE Floats8 select8(Floats8 a, Floats8 b) {
-  const Lanes8 take_b = {Mask & 1 ? -1 : 0,  Mask & 2 ? -1 : 0,  Mask & 4 ? -1 : 0,  Mask & 8 ? -1 : 0,
-                         Mask & 16 ? -1 : 0, Mask & 32 ? -1 : 0, Mask & 64 ? -1 : 0, Mask & 128 ? -1 : 0};
-  return reinterpret_cast<Floats8>((reinterpret_cast<Lanes8>(a) & ~take_b) | (reinterpret_cast<Lanes8>(b) & take_b));
+  constexpr auto lane = [](unsigned k) { return static_cast<std::int32_t>(Mask & (1u << k) ? k + 8 : k); };
+  if constexpr (kWide) {
+#if defined(__clang__)
+    return __builtin_shufflevector(a, b, lane(0), lane(1), lane(2), lane(3), lane(4), lane(5), lane(6), lane(7));
+#else
+    return __builtin_shuffle(a, b, Lanes8{lane(0), lane(1), lane(2), lane(3), lane(4), lane(5), lane(6), lane(7)});
+#endif
+  } else {
+    const Lanes8 take_b = {Mask & 1 ? -1 : 0,  Mask & 2 ? -1 : 0,  Mask & 4 ? -1 : 0,  Mask & 8 ? -1 : 0,
+                           Mask & 16 ? -1 : 0, Mask & 32 ? -1 : 0, Mask & 64 ? -1 : 0, Mask & 128 ? -1 : 0};
+    return reinterpret_cast<Floats8>((reinterpret_cast<Lanes8>(a) & ~take_b) |
+                                     (reinterpret_cast<Lanes8>(b) & take_b));
+  }
 }
 
 // The two comparisons of the kernel producing masks. GCC compares eight
@@ -101,20 +112,20 @@ STRIDEMAP_INLINE Floats8 where_at_least(Floats8 below, float threshold, Floats8 
 }
 
 // The window's cells of padded array `a` around cell q, in visiting order.
-template <int W>
+template <int W, bool kWide>
 STRIDEMAP_INLINE void gather(const float* a, std::size_t q, std::size_t p, Floats8* out) {
   if constexpr (W == 1) {
     const float *r0 = a + q - p, *r1 = a + q, *r2 = a + q + p;
-    const Floats8 x = select8<0x08>(load8(r0 - 1), load8(r1 - 4));
-    const Floats8 y = select8<0xe0>(load8(r1 - 3), load8(r2 - 6));
-    out[0] = select8<0xf0>(x, y);
+    const Floats8 x = select8<0x08, kWide>(load8(r0 - 1), load8(r1 - 4));
+    const Floats8 y = select8<0xe0, kWide>(load8(r1 - 3), load8(r2 - 6));
+    out[0] = select8<0xf0, kWide>(x, y);
   } else {
     const float *r0 = a + q - 2 * p, *r1 = a + q - p, *r2 = a + q, *r3 = a + q + p, *r4 = a + q + 2 * p;
-    out[0] = select8<0xe0>(load8(r0 - 2), load8(r1 - 7));
-    const Floats8 x = select8<0x0c>(load8(r1 + 1), load8(r2 - 4));
-    const Floats8 y = select8<0xc0>(load8(r2 - 3), load8(r3 - 8));
-    out[1] = select8<0xf0>(x, y);
-    out[2] = select8<0xf8>(load8(r3), load8(r4 - 5));
+    out[0] = select8<0xe0, kWide>(load8(r0 - 2), load8(r1 - 7));
+    const Floats8 x = select8<0x0c, kWide>(load8(r1 + 1), load8(r2 - 4));
+    const Floats8 y = select8<0xc0, kWide>(load8(r2 - 3), load8(r3 - 8));
+    out[1] = select8<0xf0, kWide>(x, y);
+    out[2] = select8<0xf8, kWide>(load8(r3), load8(r4 - 5));
   }
 }
 
@@ -161,6 +172,7 @@ STRIDEMAP_INLINE std::size_t fill_exact_windows(const WindowInput& in) {
   constexpr int kSide = 2 * W + 1;
   constexpr std::uint32_t kField = (1u << kSide) - 1;
   constexpr float kInf = std::numeric_limits<float>::infinity();
+  constexpr std::uint32_t kSpecialColumn = 1u << 31;  // a column is below n < 2^31
   constexpr std::uint32_t kQuadrant[4] = {quadrant_bits<W>(0), quadrant_bits<W>(1), quadrant_bits<W>(2),
                                           quadrant_bits<W>(3)};
   const std::size_t p = in.pitch, n = in.n;
@@ -186,24 +198,28 @@ STRIDEMAP_INLINE std::size_t fill_exact_windows(const WindowInput& in) {
     // The row's unknown cells listed first, without a branch: measured or
     // not is as random as the map, a loop over the list is not.
     std::size_t unknown = 0;
-    for (std::size_t j = 0; j < n; ++j) {
-      in.columns[unknown] = static_cast<std::uint32_t>(j);
-      unknown += ((in.row_bits[row_start + j] >> W) & 1u) ^ 1u;
+    for (std::size_t j = 0; j < n; j += 8) {
+      const unsigned in_row = n - j >= 8 ? 0xffu : (1u << (n - j)) - 1;  // columns past n are not listed
+      unknown = append_set_flags(~flags_of_bytes(in.known + row_start + j) & in_row, static_cast<std::uint32_t>(j),
+                                 in.columns, unknown);
     }
     // The admission tests (enough known neighbours in enough quadrants),
-    // the passing cells kept in the same list (never ahead of the reading).
+    // the passing cells kept in the same list (never ahead of the reading),
+    // each with a flag (kSpecialColumn) for a zero or NaN in its window.
     std::size_t admitted = 0;
     for (std::size_t u = 0; u < unknown; ++u) {
       const std::size_t j = in.columns[u];
       const std::size_t q = row_start + j;
-      std::uint32_t known = 0;
+      std::uint32_t known = 0, rows = 0;
       for (int di = -W; di <= W; ++di) {
-        known |= (in.row_bits[q + static_cast<std::size_t>(di) * p] & kField) << ((di + W) * kSide);
+        const std::uint32_t row = in.row_bits[q + static_cast<std::size_t>(di) * p];
+        known |= (row & kField) << ((di + W) * kSide);
+        rows |= row;
       }
       const int count = std::popcount(known);
       const int quadrants = ((known & kQuadrant[0]) != 0) + ((known & kQuadrant[1]) != 0) +
                             ((known & kQuadrant[2]) != 0) + ((known & kQuadrant[3]) != 0);
-      in.columns[admitted] = static_cast<std::uint32_t>(j);
+      in.columns[admitted] = static_cast<std::uint32_t>(j) | ((rows >> kSpecialShift) != 0 ? kSpecialColumn : 0u);
       admitted += (count >= in.min_known) & (quadrants >= in.min_quadrants) ? 1 : 0;
     }
     // The medians in chunks, each in two passes without a branch: first
@@ -214,11 +230,11 @@ STRIDEMAP_INLINE std::size_t fill_exact_windows(const WindowInput& in) {
     for (std::size_t chunk = 0; chunk < admitted; chunk += kChunk) {
       const std::size_t chunk_size = admitted - chunk < kChunk ? admitted - chunk : kChunk;
       for (std::size_t c = 0; c < chunk_size; ++c) {
-        const std::size_t j = in.columns[chunk + c];
+        const std::size_t j = in.columns[chunk + c] & ~kSpecialColumn;
         const std::size_t q = row_start + j;
         Floats8 v[kBlocks], wt[kBlocks];
-        gather<W>(in.value, q, p, v);
-        gather<W>(in.weight, q, p, wt);
+        gather<W, kWide>(in.value, q, p, v);
+        gather<W, kWide>(in.weight, q, p, wt);
         Floats8 sum = {};
         for (int b = 0; b < kBlocks; ++b) {
           wt[b] *= factor[b];
@@ -258,11 +274,8 @@ STRIDEMAP_INLINE std::size_t fill_exact_windows(const WindowInput& in) {
         }
       }
       for (std::size_t c = 0; c < chunk_size; ++c) {
-        const std::size_t j = in.columns[chunk + c];
-        const std::size_t q = row_start + j;
-        std::uint32_t rows = 0;
-        for (int di = -W; di <= W; ++di) rows |= in.row_bits[q + static_cast<std::size_t>(di) * p];
-        const bool special = (rows >> kSpecialShift) != 0;
+        const std::size_t j = in.columns[chunk + c] & ~kSpecialColumn;
+        const bool special = (in.columns[chunk + c] & kSpecialColumn) != 0;
         const float total = totals[c];
         const bool positive = total > 0.0f;
         // A zero or NaN among the values: the sorted walk decides (the
@@ -292,10 +305,10 @@ STRIDEMAP_INLINE std::size_t fill_exact_windows(const WindowInput& in) {
 }
 
 #if defined(STRIDEMAP_FILL_AVX2)
-__attribute__((target("avx2"))) std::size_t radius1_avx2(const WindowInput& in) {
+__attribute__((target("avx2,popcnt"))) std::size_t radius1_avx2(const WindowInput& in) {
   return fill_exact_windows<1, true>(in);
 }
-__attribute__((target("avx2"))) std::size_t radius2_avx2(const WindowInput& in) {
+__attribute__((target("avx2,popcnt"))) std::size_t radius2_avx2(const WindowInput& in) {
   return fill_exact_windows<2, true>(in);
 }
 #endif
@@ -303,7 +316,8 @@ __attribute__((target("avx2"))) std::size_t radius2_avx2(const WindowInput& in) 
 // Whether this CPU runs the AVX2 copy (asked once).
 bool use_avx2() {
 #if defined(STRIDEMAP_FILL_AVX2)
-  static const bool avx2 = __builtin_cpu_supports("avx2");
+  // popcnt (the admission's count) comes with every AVX2 CPU; asked anyway.
+  static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt");
   return avx2;
 #else
   return false;

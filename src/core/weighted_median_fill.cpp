@@ -12,6 +12,16 @@
 #include "fill_exact_windows.hpp"
 #include "stridemap/core/error.hpp"
 
+// The plain loops over whole maps below (copy, flags, results) in a copy for
+// AVX2 too, chosen at run time (GCC on x86-64): twice the cells a vector.
+// Bit operations, comparisons and single products only, no FMA: every copy
+// gives the same bits.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__ELF__)
+#define STRIDEMAP_MAP_LOOPS __attribute__((target_clones("avx2", "default")))
+#else
+#define STRIDEMAP_MAP_LOOPS
+#endif
+
 namespace stridemap {
 namespace {
 
@@ -122,7 +132,7 @@ bool sort_distinct(const Candidate* in, std::size_t count, const float* values, 
 // copy, without a branch per cell (measured or not is as random as the map):
 // masks, not selects, which the compiler turns back into branches. The
 // pointers do not overlap, so the loop runs on vectors.
-void copy_run(const std::uint8_t* __restrict state, const float* __restrict elevation,
+STRIDEMAP_MAP_LOOPS void copy_run(const std::uint8_t* __restrict state, const float* __restrict elevation,
               const float* __restrict certainty, std::size_t first_slot, std::size_t count,
               std::uint8_t* __restrict known, std::uint32_t* __restrict known_mask, float* __restrict value,
               float* __restrict weight, std::size_t* __restrict slot) {
@@ -143,7 +153,7 @@ void copy_run(const std::uint8_t* __restrict state, const float* __restrict elev
 // row of 2W + 1 lies inside the array (a window's rows never cross the
 // padded copy's row ends: its margin is at least W).
 template <int W>
-void row_bits_of(const std::uint16_t* __restrict cells, std::size_t count, std::uint16_t* __restrict bits) {
+STRIDEMAP_MAP_LOOPS void row_bits_of(const std::uint16_t* __restrict cells, std::size_t count, std::uint16_t* __restrict bits) {
   for (std::size_t q = W; q + W < count; ++q) {
     std::uint32_t b = 0;
     for (int dj = -W; dj <= W; ++dj) b |= static_cast<std::uint32_t>(cells[q + static_cast<std::size_t>(dj)]) << (dj + W);
@@ -151,10 +161,20 @@ void row_bits_of(const std::uint16_t* __restrict cells, std::size_t count, std::
   }
 }
 
+// Per cell, known (bit 0) and a zero or NaN value (bit kSpecialShift);
+// value is +inf where unknown, so a zero or NaN is a known one.
+STRIDEMAP_MAP_LOOPS void cell_bits_of(const std::uint8_t* __restrict known, const float* __restrict value,
+                                      std::size_t count, std::uint16_t* __restrict bits) {
+  for (std::size_t q = 0; q < count; ++q) {
+    const float v = value[q];
+    bits[q] = static_cast<std::uint16_t>(known[q] | (((v == 0.0f) | (v != v)) << fill_detail::kSpecialShift));
+  }
+}
+
 // Writes the fill's results: a cell not measured takes its result where
 // there is one (state filled) and is flagged for a reset where there is
 // none. Returns the number of filled cells. The arrays do not overlap.
-std::size_t write_results(const float* __restrict result, std::size_t cells, float* __restrict elevation,
+STRIDEMAP_MAP_LOOPS std::size_t write_results(const float* __restrict result, std::size_t cells, float* __restrict elevation,
                           std::uint8_t* __restrict state, std::uint8_t* __restrict reset) {
   const auto measured = static_cast<std::uint8_t>(CellState::measured);
   const auto filled_state = static_cast<std::uint8_t>(CellState::filled);
@@ -201,7 +221,7 @@ void WeightedMedianFill::prepare(const ElevationMap& map, int margin) {
   // Room past the end for the row pass's last group of four cells and the
   // exact path's eight-lane loads. Only the margin is written here (unknown
   // cells); the runs below write the rest.
-  known_.resize(padded_cells);
+  known_.resize(padded_cells + 8);
   known_mask_.resize(padded_cells + 8);
   value_.resize(padded_cells + 8);
   weight_.resize(padded_cells + 8);
@@ -219,6 +239,7 @@ void WeightedMedianFill::prepare(const ElevationMap& map, int margin) {
   }
   const std::size_t tail = (un_cells - 1 + um) * pitch_ + um + un_cells;
   unknown_from(tail, padded_cells - tail);  // the last row's right margin and the bottom rows
+  std::fill_n(known_.data() + padded_cells, 8, std::uint8_t{0});
   std::fill_n(known_mask_.data() + padded_cells, 8, 0u);
   std::fill_n(value_.data() + padded_cells, 8, kInf);
   std::fill_n(weight_.data() + padded_cells, 8, 0.0f);
@@ -356,11 +377,7 @@ std::size_t WeightedMedianFill::fill_prepared(ElevationMap& map) {
     // each row; the margin keeps every window inside.
     cell_bits_.resize(padded_cells);
     row_bits_.resize(padded_cells);  // row_bits_of writes all but the ends, never read
-    // value_ is +inf where unknown: a zero or NaN is a known one.
-    for (std::size_t q = 0; q < padded_cells; ++q) {
-      const float v = value_[q];
-      cell_bits_[q] = static_cast<std::uint16_t>(known_[q] | (((v == 0.0f) | (v != v)) << fill_detail::kSpecialShift));
-    }
+    cell_bits_of(known_.data(), value_.data(), padded_cells, cell_bits_.data());
     if (w == 1) {
       row_bits_of<1>(cell_bits_.data(), padded_cells, row_bits_.data());
     } else {
@@ -368,11 +385,12 @@ std::size_t WeightedMedianFill::fill_prepared(ElevationMap& map) {
     }
     walk_cells_.resize(cells);
     walk_totals_.resize(cells);
-    columns_.resize(un);
+    columns_.resize(un + 8);
     fill_detail::WindowInput in{};
     in.value = value_.data();
     in.weight = weight_.data();
     in.row_bits = row_bits_.data();
+    in.known = known_.data();
     in.pitch = p;
     in.margin = margin_;
     in.n = un;

@@ -226,5 +226,33 @@ TEST(FillReference, FastCasMatchesTheReferenceBitForBit) {
   EXPECT_GT(removed, 100u);  // the maps do exercise the removal
 }
 
+// CAS on maps of 1 to 20 cells a side with the narrowest margin (radius 1
+// for CAS and its fill): the removable cells of a row are listed 8 at a
+// time, and the flags read past the row's end (the next row's cells when
+// the margin is narrow) must not be listed.
+TEST(FillReference, FastCasMatchesTheReferenceOnSmallMaps) {
+  std::size_t removed = 0;
+  for (int n = 1; n <= 20; ++n) {
+    for (std::uint64_t seed = 91; seed <= 93; ++seed) {
+      const ElevationMap original = random_map(n, seed + 10 * static_cast<std::uint64_t>(n), seed % 2 == 0);
+      CasOptions options;
+      options.window_radius_cells = 1;
+      options.fill.window_radius_cells = 1;
+      options.min_agreeing_neighbours = 3;
+      options.max_removable_certainty = 12.0;  // every measured cell a candidate
+      options.certainty_ratio = 2.0;
+      ElevationMap fast = original, reference = original;
+      CasFilter cas(options);
+      const CasResult a = cas.apply(fast);
+      const CasResult b = reference::reference_cas(reference, options);
+      EXPECT_EQ(a.removed, b.removed) << "n " << n << ", seed " << seed;
+      EXPECT_EQ(a.filled, b.filled) << "n " << n << ", seed " << seed;
+      removed += a.removed;
+      expect_identical(fast, reference, "CAS, n " + std::to_string(n) + ", seed " + std::to_string(seed));
+    }
+  }
+  EXPECT_GT(removed, 20u);  // the small maps do exercise the removal
+}
+
 }  // namespace
 }  // namespace stridemap

@@ -59,7 +59,7 @@ class CasFilter {
   std::vector<std::size_t> to_remove_;  // local cells i * n + j
   std::vector<float> window_values_;
   std::vector<float> window_certainties_;
-  std::vector<std::size_t> candidates_;  // removable columns of the row being tested
+  std::vector<std::uint32_t> candidates_;  // removable columns of the row being tested
 };
 
 }  // namespace stridemap
