@@ -227,12 +227,17 @@ ScanStats TerrainMapper::integrate(const PlanarBeams& beams, const TrunkPose& po
   ScanStats stats;
   stats.beams = beams.beams;
   if (!accept(pose, beams.time_s, stats)) return stats;
-  follow(pose, stats);
+  // The per-scan trigonometry once: the heading's cosine and sine serve the
+  // window, the sensor origin and Delta z_max's lateral term; M is kept;
+  // the previous scan's origin too. The same doubles as each place made.
+  const double cos_yaw = std::cos(pose.yaw_rad), sin_yaw = std::sin(pose.yaw_rad);
+  follow(pose, cos_yaw, sin_yaw, stats);
   stats.invalid_range = beams.invalid_range;
   stats.invalid_beam = beams.invalid_beam;
-  const PlanarBeamGeometry geometry(pose, mount_);
-  const MaxElevationChange bound(motion_to(pose), geometry.gamma_rad, mount_, options_.update, pose.yaw_rad);
-  const Eigen::Vector3d origin = sensor_origin_in_map(pose, mount_);
+  const PlanarBeamGeometry geometry(pose, mount_, mount_rotation_);
+  const Eigen::Vector3d origin = sensor_origin_in_map(pose, mount_, cos_yaw, sin_yaw);
+  const MaxElevationChange bound(motion_to(pose, origin), geometry.gamma_rad, mount_, options_.update, cos_yaw,
+                                 sin_yaw);
   // The first pass indexes cells in 32 bits; a window beyond that (some
   // 20,000 km of 1 cm cells from the origin) takes the per-point way.
   constexpr std::int64_t kIndexLimit = std::int64_t{1} << 30;
@@ -254,6 +259,8 @@ ScanStats TerrainMapper::integrate(const PlanarBeams& beams, const TrunkPose& po
     update_located(beams.count, stats);
   }
   finish(pose, beams.time_s, stats);
+  previous_origin_ = origin;
+  previous_origin_known_ = true;
   return stats;
 }
 

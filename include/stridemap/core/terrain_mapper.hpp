@@ -165,7 +165,14 @@ class TerrainMapper {
 
  private:
   bool accept(const TrunkPose& pose, std::optional<double> time_s, ScanStats& stats);
-  void follow(const TrunkPose& pose, ScanStats& stats);
+  void follow(const TrunkPose& pose, ScanStats& stats) {
+    follow(pose, std::cos(pose.yaw_rad), std::sin(pose.yaw_rad), stats);
+  }
+  // The same with cos and sin of pose.yaw_rad already made.
+  void follow(const TrunkPose& pose, double cos_yaw, double sin_yaw, ScanStats& stats);
+  // motion_to with the sensor origin of `pose` already made; the previous
+  // scan's is kept when integrate(PlanarBeams) made it.
+  ScanMotion motion_to(const TrunkPose& pose, const Eigen::Vector3d& origin) const;
   void apply(double x_m, double y_m, double h_m, double dz_max, ScanStats& stats);
   void finish(const TrunkPose& pose, std::optional<double> time_s, const ScanStats& stats);
   void refresh_beam_directions(const std::vector<double>& angles);
@@ -189,6 +196,11 @@ class TerrainMapper {
   std::vector<std::int32_t> row_lo_, row_hi_;
   WindowMoveListener* window_listener_ = nullptr;
   std::optional<TrunkPose> previous_pose_;
+  // The sensor origin of previous_pose_, when known (per-scan work kept).
+  Eigen::Vector3d previous_origin_ = Eigen::Vector3d::Zero();
+  bool previous_origin_known_ = false;
+  // mount_rotation(mount_): the mount never changes, so neither does M.
+  Eigen::Matrix3d mount_rotation_;
   std::optional<double> previous_time_s_;
   std::vector<double> cached_angles_, cos_angle_, sin_angle_;
   PlanarBeams packed_;  // integrate(PlanarScan)'s beams
