@@ -139,46 +139,41 @@ void TerrainMapper::update_located(std::size_t count, ScanStats& stats) {
     row_hi_.assign(un, -1);
   }
   // Two loops, so that neither runs out of registers: the slots and the
-  // changed rows first (the slot replaces the row in place; an outside
-  // point gets a slot beyond the window's), then the cell updates.
+  // changed columns per row first, then the cell updates. The first packs
+  // the inside points to the front, in place (m <= k): the slot over the
+  // row, the beam's index over the column, so that the cell loop runs over
+  // inside points only and tests nothing.
   std::int32_t* rows = located_row_.data();
-  const std::int32_t* columns = located_column_.data();
+  std::int32_t* columns = located_column_.data();
   const std::uint32_t* row_slot = row_slot_.data();
   const std::uint32_t* column_slot = column_slot_.data();
   std::int32_t* row_lo = row_lo_.data();
   std::int32_t* row_hi = row_hi_.data();
-  std::size_t outside = 0;
-  // The changed rows, window-local (a box in slot rows would break where
-  // the circular window wraps); their columns are in row_lo/row_hi.
-  std::int32_t lo_i = n, hi_i = -1;
+  std::size_t inside = 0;
   for (std::size_t k = 0; k < count; ++k) {
     const std::int32_t i = rows[k];
-    if (i >= n) {
-      ++outside;
-      rows[k] = -1;
-      continue;
-    }
+    if (i >= n) continue;  // outside the window
     const std::int32_t j = columns[k];
     const auto ii = static_cast<std::size_t>(i);
-    rows[k] = static_cast<std::int32_t>(row_slot[ii] + column_slot[static_cast<std::size_t>(j)]);
-    lo_i = std::min(lo_i, i);
-    hi_i = std::max(hi_i, i);
+    rows[inside] = static_cast<std::int32_t>(row_slot[ii] + column_slot[static_cast<std::size_t>(j)]);
+    columns[inside] = static_cast<std::int32_t>(k);
+    ++inside;
     row_lo[ii] = std::min(row_lo[ii], j);
     row_hi[ii] = std::max(row_hi[ii], j);
   }
-  if (hi_i >= 0) {
+  if (inside > 0) {
+    // The changed rows, window-local (a box in slot rows would break where
+    // the circular window wraps): the first and last rows with a span,
+    // found once per scan rather than tracked per point. A row without a
+    // span holds (max, -1).
+    std::int32_t lo_i = 0, hi_i = n - 1;
+    while (row_hi[lo_i] < 0) ++lo_i;
+    while (row_hi[hi_i] < 0) --hi_i;
     const CellIndex corner = map_.min_cell();
     const auto first = static_cast<std::size_t>(lo_i), rows_changed = static_cast<std::size_t>(hi_i - lo_i + 1);
-    changed_rows_.add_spans(corner.x + lo_i, rows_changed, row_lo + first, row_hi + first, corner.y);
-    std::int32_t lo_j = n, hi_j = -1;
-    for (std::size_t ii = first; ii < first + rows_changed; ++ii) {
-      lo_j = std::min(lo_j, row_lo[ii]);  // a row without a span holds (max, -1)
-      hi_j = std::max(hi_j, row_hi[ii]);
-      row_lo[ii] = std::numeric_limits<std::int32_t>::max();
-      row_hi[ii] = -1;
-    }
-    changed_.add(CellIndex{corner.x + lo_i, corner.y + lo_j});
-    changed_.add(CellIndex{corner.x + hi_i, corner.y + hi_j});
+    changed_.add(changed_rows_.add_spans(corner.x + lo_i, rows_changed, row_lo + first, row_hi + first, corner.y));
+    std::fill(row_lo + first, row_lo + first + rows_changed, std::numeric_limits<std::int32_t>::max());
+    std::fill(row_hi + first, row_hi + first + rows_changed, -1);
   }
 
   // Everything the loop reads lives in locals: the cell updates store
@@ -191,20 +186,21 @@ void TerrainMapper::update_located(std::size_t count, ScanStats& stats) {
   float* mean = map_.mean_elevation_data();
   std::uint16_t* mean_count = map_.mean_count_data();
   const std::int32_t* slots = located_row_.data();
+  const std::int32_t* beam = located_column_.data();
   const float* h_m = located_h_m_.data();
   const float* dz_max_m = located_dz_max_m_.data();
   const UpdateOptions options = options_.update;
   std::size_t outcomes[4] = {0, 0, 0, 0};
-  for (std::size_t k = 0; k < count; ++k) {
-    if (slots[k] < 0) continue;
-    const auto s = static_cast<std::size_t>(slots[k]);
+  for (std::size_t q = 0; q < inside; ++q) {
+    const auto s = static_cast<std::size_t>(slots[q]);
+    const auto k = static_cast<std::size_t>(beam[q]);
     const CellUpdate result = update_cell({elevation[s], certainty[s], state[s], pending[s], contradictions[s], mean[s],
                                            mean_count[s]},
                                           h_m[k], dz_max_m[k], options);
     ++outcomes[static_cast<std::size_t>(result)];
   }
-  stats.outside_map += outside;
-  stats.integrated += count - outside;
+  stats.outside_map += count - inside;
+  stats.integrated += inside;
   stats.first += outcomes[static_cast<std::size_t>(CellUpdate::first)];
   stats.plausible += outcomes[static_cast<std::size_t>(CellUpdate::plausible)];
   stats.implausible += outcomes[static_cast<std::size_t>(CellUpdate::implausible)];

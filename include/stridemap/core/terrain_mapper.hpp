@@ -206,7 +206,8 @@ class TerrainMapper {
   PlanarBeams packed_;  // integrate(PlanarScan)'s beams
   // Per valid beam of the scan being integrated: its cell's row and column
   // from the window's corner (a row beyond the window's when outside it)
-  // and h_m, Delta z_max as the map stores them.
+  // and h_m, Delta z_max as the map stores them. update_located() then
+  // packs the inside beams' slots and indices to the front of the first two.
   std::vector<std::int32_t> located_row_, located_column_;
   std::vector<float> located_h_m_, located_dz_max_m_;
   // update_located()'s slot of a window-local row (times n) and column, for
