@@ -35,7 +35,7 @@ static_assert(kOutsideRow >= kMaxGridCellsPerSide && kOutsideRow < 2147483647.0,
 
 }  // namespace
 
-template <bool kTurning>
+template <bool kTurning, bool kCheckXY>
 STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beams, const PlanarBeamGeometry& g,
                                  const MaxElevationChange& bound, const Eigen::Vector3d& origin) {
   // Everything the loop reads lives in locals, so that the compiler sees
@@ -105,8 +105,11 @@ STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beam
     const double cx = x * inverse_cell, cy = y * inverse_cell;
     const double rx = (cx + kRound) - kRound, ry = (cy + kRound) - kRound;
     const double i = rx - (rx > cx ? 1.0 : 0.0) - lo_x, j = ry - (ry > cy ? 1.0 : 0.0) - lo_y;
-    const bool inside = (std::fabs(x) < kMaxCoordinate_m) & (std::fabs(y) < kMaxCoordinate_m) &
-                        (std::fabs(h) < kMaxCoordinate_m) & (i >= 0.0) & (i < n) & (j >= 0.0) & (j < n);
+    // Without kCheckXY the window lies where every cell's x and y are within
+    // the range check's bound (integrate() made sure), so the cell test
+    // implies theirs.
+    bool inside = (std::fabs(h) < kMaxCoordinate_m) & (i >= 0.0) & (i < n) & (j >= 0.0) & (j < n);
+    if constexpr (kCheckXY) inside = inside & (std::fabs(x) < kMaxCoordinate_m) & (std::fabs(y) < kMaxCoordinate_m);
     row_out[k] = static_cast<std::int32_t>(inside ? i : kOutsideRow);
     column_out[k] = static_cast<std::int32_t>(inside ? j : 0.0);
     // Such a point's h_m and Delta z_max are never read; beyond float's
@@ -247,10 +250,26 @@ ScanStats TerrainMapper::integrate(const PlanarBeams& beams, const TrunkPose& po
       located_h_m_.resize(beams.range_m.size());
       located_dz_max_m_.resize(beams.range_m.size());
     }
-    if (bound.turn_term_per_m() != 0.0) {
-      locate_beams<true>(beams, geometry, bound, origin);
+    // A point the first pass finds in the window has cx = x / cell within
+    // the window's corners give or take 2 (its rounding of cx is off by at
+    // most 1 there); when that reach is below 1e6 m / cell, |x| < 1e6 follows
+    // (rounding is monotonic: |x| >= 1e6 gives |cx| >= 1e6 / cell as
+    // computed), so apply()'s x and y range checks can go. The z check stays.
+    const double inverse_cell = 1.0 / map_.cell_size_m();
+    const auto lo_x = static_cast<double>(corner.x), lo_y = static_cast<double>(corner.y);
+    const auto n = static_cast<double>(map_.cells_per_side());
+    const double reach =
+        std::max(std::max(std::abs(lo_x), std::abs(lo_x + n)), std::max(std::abs(lo_y), std::abs(lo_y + n))) + 2.0;
+    const bool check_xy = !(reach < 1.0e6 * inverse_cell);
+    const bool turning = bound.turn_term_per_m() != 0.0;
+    if (turning && check_xy) {
+      locate_beams<true, true>(beams, geometry, bound, origin);
+    } else if (turning) {
+      locate_beams<true, false>(beams, geometry, bound, origin);
+    } else if (check_xy) {
+      locate_beams<false, true>(beams, geometry, bound, origin);
     } else {
-      locate_beams<false>(beams, geometry, bound, origin);
+      locate_beams<false, false>(beams, geometry, bound, origin);
     }
     update_located(beams.count, stats);
   }

@@ -177,7 +177,7 @@ class TerrainMapper {
   void finish(const TrunkPose& pose, std::optional<double> time_s, const ScanStats& stats);
   void refresh_beam_directions(const std::vector<double>& angles);
   void pack(const PlanarScan& scan);
-  template <bool kTurning>
+  template <bool kTurning, bool kCheckXY>
   void locate_beams(const PlanarBeams& beams, const PlanarBeamGeometry& geometry, const MaxElevationChange& bound,
                     const Eigen::Vector3d& origin);
   void update_located(std::size_t count, ScanStats& stats);
