@@ -226,17 +226,18 @@ __attribute__((target("avx2"))) std::size_t pack_blocks_avx2(const std::uint32_t
   const __m256d inf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
   const __m128i sign = _mm_set1_epi32(static_cast<int>(0x80000000u));
   const __m256d two_31 = _mm256_set1_pd(2147483648.0);
+  // The valid and beyond counts per lane: a true compare is all ones (-1 as
+  // an int64), so subtracting it counts one.
+  __m256i valid_lanes = _mm256_setzero_si256(), beyond_lanes = _mm256_setzero_si256();
   std::size_t i = 0;
   for (; i + 4 <= n; i += 4) {
     // uint32 -> double exactly: flip the sign bit, convert as int32, add 2^31.
     const __m128i v = _mm_xor_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(values + i)), sign);
     const __m256d value = _mm256_add_pd(_mm256_cvtepi32_pd(v), two_31);
     const __m256d in_range = _mm256_and_pd(_mm256_cmp_pd(value, lo, _CMP_GE_OQ), _mm256_cmp_pd(value, hi, _CMP_LE_OQ));
-    const auto in_mask = static_cast<unsigned>(_mm256_movemask_pd(in_range));
-    const auto beyond_mask = static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(value, hi, _CMP_GT_OQ)));
-    valid += static_cast<std::size_t>(__builtin_popcount(in_mask));
-    beyond += static_cast<std::size_t>(__builtin_popcount(beyond_mask));
-    if (in_mask == 0) continue;
+    valid_lanes = _mm256_sub_epi64(valid_lanes, _mm256_castpd_si256(in_range));
+    beyond_lanes = _mm256_sub_epi64(beyond_lanes, _mm256_castpd_si256(_mm256_cmp_pd(value, hi, _CMP_GT_OQ)));
+    if (_mm256_testz_pd(in_range, in_range)) continue;  // no lane in range
     const __m256d raw_m = _mm256_mul_pd(value, milli);
     __m256d r = raw_m;
     __m256d keep = in_range;
@@ -264,6 +265,11 @@ __attribute__((target("avx2"))) std::size_t pack_blocks_avx2(const std::uint32_t
     _mm256_storeu_pd(out_sin + count, _mm256_castps_pd(kept_sin));
     count += static_cast<std::size_t>(__builtin_popcount(mask));
   }
+  alignas(32) std::uint64_t lanes[4];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), valid_lanes);
+  valid += static_cast<std::size_t>(lanes[0] + lanes[1] + lanes[2] + lanes[3]);
+  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), beyond_lanes);
+  beyond += static_cast<std::size_t>(lanes[0] + lanes[1] + lanes[2] + lanes[3]);
   return i;
 }
 }  // namespace
