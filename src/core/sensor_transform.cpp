@@ -59,6 +59,33 @@ ElevationPartials rows_partials(const ElevationRows& rows, double range_m, const
 
 }  // namespace
 
+// AngleAxis forms sin_axis = s u, cos1 = (1 - c) u and the entries
+// cos1_i u_j -/+ sin_axis_k off the diagonal, cos1_i u_i + c on it. For a
+// unit axis most of those terms are zeros of known sign; what remains is
+// written out here in the same order (0 + s is not s when s is -0, and
+// (1 - c) + c is not always 1), and tests compare every bit.
+Eigen::Matrix3d rotation_about_x(double c, double s) {
+  Eigen::Matrix3d m;
+  m << (1.0 - c) + c, 0.0, 0.0,  //
+      0.0, c, 0.0 - s,            //
+      0.0, 0.0 + s, c;
+  return m;
+}
+Eigen::Matrix3d rotation_about_y(double c, double s) {
+  Eigen::Matrix3d m;
+  m << c, 0.0, 0.0 + s,      //
+      0.0, (1.0 - c) + c, 0.0,  //
+      0.0 - s, 0.0, c;
+  return m;
+}
+Eigen::Matrix3d rotation_about_z(double c, double s) {
+  Eigen::Matrix3d m;
+  m << c, 0.0 - s, 0.0,  //
+      0.0 + s, c, 0.0,    //
+      0.0, 0.0, (1.0 - c) + c;
+  return m;
+}
+
 Eigen::Matrix3d mount_rotation(const SensorMount& mount) {
   return about_z(mount.yaw_rad) * about_y(mount.pitch_rad) * about_x(mount.roll_rad);
 }
@@ -174,13 +201,17 @@ ElevationPartials beam_elevation_partials(double range_m, double beam_angle_rad,
 
 void unit_beam_elevation_partials(double pitch_rad, double roll_rad, const SensorMount& mount,
                                   ElevationPartials& at_front, ElevationPartials& at_left) {
+  unit_beam_elevation_partials(pitch_rad, roll_rad, std::sin(pitch_rad), std::cos(pitch_rad), std::sin(roll_rad),
+                               std::cos(roll_rad), mount, at_front, at_left);
+}
+
+void unit_beam_elevation_partials(double pitch_rad, double roll_rad, double sp, double cp, double sr, double cr,
+                                  const SensorMount& mount, ElevationPartials& at_front, ElevationPartials& at_left) {
   // The beam angles' own cosines and sines, as beam_elevation_partials
   // takes them (cos(pi/2) is not 0 in doubles).
   static const double cos_front = std::cos(0.0), sin_front = std::sin(0.0);
   static const double cos_left = std::cos(std::numbers::pi / 2), sin_left = std::sin(std::numbers::pi / 2);
   if (is_paper_mount(mount)) {
-    const double sp = std::sin(pitch_rad), cp = std::cos(pitch_rad);
-    const double sr = std::sin(roll_rad), cr = std::cos(roll_rad);
     const double sa = std::sin(mount.pitch_rad), ca = std::cos(mount.pitch_rad);
     at_front = paper_mount_partials(1.0, cos_front, sin_front, sp, cp, sr, cr, sa, ca);
     at_left = paper_mount_partials(1.0, cos_left, sin_left, sp, cp, sr, cr, sa, ca);

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 
 #include "stridemap/core/terrain_mapper.hpp"
@@ -152,8 +153,22 @@ void TerrainMapper::update_located(std::size_t count, ScanStats& stats) {
   const std::uint32_t* column_slot = column_slot_.data();
   std::int32_t* row_lo = row_lo_.data();
   std::int32_t* row_hi = row_hi_.data();
+  // Outside points come in runs at the scan's ends (beams beyond the
+  // window's sides); skip those four at a time (every outside row is
+  // kOutsideRow exactly), then test each point between.
+  constexpr auto kOutside = static_cast<std::uint32_t>(kOutsideRow);
+  constexpr std::uint64_t kOutsidePair = (std::uint64_t{kOutside} << 32) | kOutside;
+  const auto four_outside = [rows, kOutsidePair](std::size_t k) {
+    std::uint64_t a = 0, b = 0;
+    std::memcpy(&a, rows + k, sizeof a);
+    std::memcpy(&b, rows + k + 2, sizeof b);
+    return ((a ^ kOutsidePair) | (b ^ kOutsidePair)) == 0;
+  };
+  std::size_t begin = 0, end = count;
+  while (begin + 4 <= end && four_outside(begin)) begin += 4;
+  while (end >= begin + 4 && four_outside(end - 4)) end -= 4;
   std::size_t inside = 0;
-  for (std::size_t k = 0; k < count; ++k) {
+  for (std::size_t k = begin; k < end; ++k) {
     const std::int32_t i = rows[k];
     if (i >= n) continue;  // outside the window
     const std::int32_t j = columns[k];
@@ -233,7 +248,7 @@ ScanStats TerrainMapper::integrate(const PlanarBeams& beams, const TrunkPose& po
   follow(pose, cos_yaw, sin_yaw, stats);
   stats.invalid_range = beams.invalid_range;
   stats.invalid_beam = beams.invalid_beam;
-  const PlanarBeamGeometry geometry(pose, mount_, mount_rotation_);
+  const PlanarBeamGeometry geometry(pose, mount_, mount_rotation_, cos_yaw, sin_yaw);
   const Eigen::Vector3d origin = sensor_origin_in_map(pose, mount_, cos_yaw, sin_yaw);
   const MaxElevationChange bound(motion_to(pose, origin), geometry.gamma_rad, mount_, options_.update, cos_yaw,
                                  sin_yaw);

@@ -20,6 +20,14 @@
 
 namespace stridemap {
 
+/// Rx(a), Ry(a) and Rz(a) from cos a and sin a already made: the matrices
+/// of Eigen's AngleAxisd(a, axis).toRotationMatrix(), bit for bit (each
+/// entry rounded as there, zeros' signs included), so that a scan computes
+/// each angle's sine and cosine once for every rotation and partial.
+Eigen::Matrix3d rotation_about_x(double cos_a, double sin_a);
+Eigen::Matrix3d rotation_about_y(double cos_a, double sin_a);
+Eigen::Matrix3d rotation_about_z(double cos_a, double sin_a);
+
 /// M = Rz(mount.yaw_rad) * Ry(mount.pitch_rad) * Rx(mount.roll_rad): the
 /// sensor frame's axes in the trunk frame.
 Eigen::Matrix3d mount_rotation(const SensorMount& mount);
@@ -85,6 +93,10 @@ ElevationPartials beam_elevation_partials(double range_m, double beam_angle_rad,
 /// sines and cosines of pitch, roll and the mount made once: the same
 /// doubles, bit for bit.
 void unit_beam_elevation_partials(double pitch_rad, double roll_rad, const SensorMount& mount,
+                                  ElevationPartials& at_front, ElevationPartials& at_left);
+/// The same with the sines and cosines of pitch and roll already made.
+void unit_beam_elevation_partials(double pitch_rad, double roll_rad, double sin_pitch, double cos_pitch,
+                                  double sin_roll, double cos_roll, const SensorMount& mount,
                                   ElevationPartials& at_front, ElevationPartials& at_left);
 
 /// The third row of T (a sensor-frame vector's height in the map frame) and
