@@ -58,6 +58,7 @@ STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beam
   const double inverse_cell = 1.0 / map_.cell_size_m();
   const auto n = static_cast<double>(map_.cells_per_side());
   const auto lo_x = static_cast<double>(map_.min_cell().x), lo_y = static_cast<double>(map_.min_cell().y);
+  const double lo_x_1 = lo_x + 1.0, lo_y_1 = lo_y + 1.0;
   constexpr double kMaxCoordinate_m = 1.0e6;  // as apply()
   constexpr double kInf = std::numeric_limits<double>::infinity();  // a NaN turning term's bound
   constexpr double kRound = 6755399441055744.0;  // 1.5 * 2^52
@@ -105,7 +106,10 @@ STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beam
     // beyond every window's.
     const double cx = x * inverse_cell, cy = y * inverse_cell;
     const double rx = (cx + kRound) - kRound, ry = (cy + kRound) - kRound;
-    const double i = rx - (rx > cx ? 1.0 : 0.0) - lo_x, j = ry - (ry > cy ? 1.0 : 0.0) - lo_y;
+    // rx - (rx > cx) - lo as rx - (lo or lo + 1): one operation fewer, and
+    // the same number wherever it can fall in the window (integers far
+    // below 2^53 are exact either way; beyond, both are far outside).
+    const double i = rx - (rx > cx ? lo_x_1 : lo_x), j = ry - (ry > cy ? lo_y_1 : lo_y);
     // Without kCheckXY the window lies where every cell's x and y are within
     // the range check's bound (integrate() made sure), so the cell test
     // implies theirs.

@@ -207,7 +207,7 @@ namespace {
 // the front by one permute per array and stored at `count` (the lanes
 // beyond are overwritten by the next block or left beyond out.count).
 // Returns the beams consumed (a multiple of 4); the caller finishes the rest.
-template <bool kCalibrated>
+template <bool kCalibrated, bool kZeroInRange>
 __attribute__((target("avx2"))) std::size_t pack_blocks_avx2(const std::uint32_t* values, std::size_t n,
                                                               const double* cos_t, const double* sin_t,
                                                               double lowest, double highest, const double* c,
@@ -222,7 +222,8 @@ __attribute__((target("avx2"))) std::size_t pack_blocks_avx2(const std::uint32_t
       {6, 7, 0, 1, 2, 3, 4, 5}, {0, 1, 6, 7, 2, 3, 4, 5}, {2, 3, 6, 7, 0, 1, 4, 5}, {0, 1, 2, 3, 6, 7, 4, 5},
       {4, 5, 6, 7, 0, 1, 2, 3}, {0, 1, 4, 5, 6, 7, 2, 3}, {2, 3, 4, 5, 6, 7, 0, 1}, {0, 1, 2, 3, 4, 5, 6, 7}};
   const __m256d lo = _mm256_set1_pd(lowest), hi = _mm256_set1_pd(highest);
-  const __m256d milli = _mm256_set1_pd(0.001), centi = _mm256_set1_pd(0.01), zero = _mm256_setzero_pd();
+  const __m256d milli = _mm256_set1_pd(0.001), centi = _mm256_set1_pd(0.01);
+  [[maybe_unused]] const __m256d zero = _mm256_setzero_pd();
   const __m256d inf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
   const __m128i sign = _mm_set1_epi32(static_cast<int>(0x80000000u));
   const __m256d two_31 = _mm256_set1_pd(2147483648.0);
@@ -248,9 +249,9 @@ __attribute__((target("avx2"))) std::size_t pack_blocks_avx2(const std::uint32_t
       poly = _mm256_mul_pd(raw_m, _mm256_add_pd(_mm256_set1_pd(c[1]), poly));
       r = _mm256_add_pd(raw_m, _mm256_add_pd(_mm256_set1_pd(c[0]), poly));
       keep = _mm256_and_pd(keep, _mm256_and_pd(_mm256_cmp_pd(r, zero, _CMP_GT_OQ), _mm256_cmp_pd(r, inf, _CMP_LT_OQ)));
-    } else {
+    } else if constexpr (kZeroInRange) {
       keep = _mm256_and_pd(keep, _mm256_cmp_pd(value, zero, _CMP_NEQ_OQ));
-    }
+    }  // else a value in range is at least DMIN >= 1: never 0
     const auto mask = static_cast<unsigned>(_mm256_movemask_pd(keep));
     const __m256i front = _mm256_load_si256(reinterpret_cast<const __m256i*>(kFront[mask]));
     // max(0.01, 0.01 r) as the scalar loop's std::max (r is finite here).
@@ -307,8 +308,10 @@ UrgConversionStats UrgModel::pack_beams(const UrgRawScan& raw, PlanarBeams& out)
   static const bool has_avx2 = __builtin_cpu_supports("avx2");
   if (has_avx2 && cluster == 1 && any_valid) {
     const auto lowest_mm = static_cast<double>(lowest), highest_mm = static_cast<double>(highest);
-    i = pack_blocks_avx2<kCalibrated>(values, n, cos_t, sin_t, lowest_mm, highest_mm, c.data(), range, error, out_cos,
-                                      out_sin, count, valid, beyond);
+    i = lowest == 0 ? pack_blocks_avx2<kCalibrated, true>(values, n, cos_t, sin_t, lowest_mm, highest_mm, c.data(), range,
+                                                          error, out_cos, out_sin, count, valid, beyond)
+                    : pack_blocks_avx2<kCalibrated, false>(values, n, cos_t, sin_t, lowest_mm, highest_mm, c.data(),
+                                                           range, error, out_cos, out_sin, count, valid, beyond);
   }
 #endif
   // Valid and invalid values come in long runs (ground, then sky), so the
