@@ -36,7 +36,7 @@ static_assert(kOutsideRow >= kMaxGridCellsPerSide && kOutsideRow < 2147483647.0,
 
 }  // namespace
 
-template <bool kTurning, bool kCheckXY>
+template <TerrainMapper::Turning kTurning, bool kCheckXY>
 STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beams, const PlanarBeamGeometry& g,
                                  const MaxElevationChange& bound, const Eigen::Vector3d& origin) {
   // Everything the loop reads lives in locals, so that the compiler sees
@@ -86,9 +86,16 @@ STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beam
                          std::fabs(d_alpha) * k_alpha;
     // MaxElevationChange::at.
     double dz = travel + error;
-    if constexpr (kTurning) {
+    if constexpr (kTurning != Turning::none) {
+      // A finite turn_per_m (> 0 here) times a sum >= 0 (finite or +inf:
+      // the beam's terms are finite) is never NaN; only an unbounded one
+      // times 0 is.
       const double turn = turn_per_m * (std::sqrt(ox * ox + oy * oy) + turn_offset);
-      dz += turn != turn ? kInf : turn;
+      if constexpr (kTurning == Turning::unbounded) {
+        dz += turn != turn ? kInf : turn;
+      } else {
+        dz += turn;
+      }
       const double lateral = -sin_yaw * ox + cos_yaw * oy + mount_lateral;
       // fabs: only a zero's sign differs, and dz >= +0 here absorbs it.
       dz += lateral_per_m * std::fabs(lateral);
@@ -171,14 +178,15 @@ void TerrainMapper::update_located(std::size_t count, ScanStats& stats) {
   std::size_t begin = 0, end = count;
   while (begin + 4 <= end && four_outside(begin)) begin += 4;
   while (end >= begin + 4 && four_outside(end - 4)) end -= 4;
+  std::int32_t* slot_beam = located_slot_beam_.data();
   std::size_t inside = 0;
   for (std::size_t k = begin; k < end; ++k) {
     const std::int32_t i = rows[k];
     if (i >= n) continue;  // outside the window
     const std::int32_t j = columns[k];
     const auto ii = static_cast<std::size_t>(i);
-    rows[inside] = static_cast<std::int32_t>(row_slot[ii] + column_slot[static_cast<std::size_t>(j)]);
-    columns[inside] = static_cast<std::int32_t>(k);
+    slot_beam[2 * inside] = static_cast<std::int32_t>(row_slot[ii] + column_slot[static_cast<std::size_t>(j)]);
+    slot_beam[2 * inside + 1] = static_cast<std::int32_t>(k);
     ++inside;
     row_lo[ii] = std::min(row_lo[ii], j);
     row_hi[ii] = std::max(row_hi[ii], j);
@@ -207,15 +215,14 @@ void TerrainMapper::update_located(std::size_t count, ScanStats& stats) {
   std::uint8_t* contradictions = map_.contradiction_data();
   float* mean = map_.mean_elevation_data();
   std::uint16_t* mean_count = map_.mean_count_data();
-  const std::int32_t* slots = located_row_.data();
-  const std::int32_t* beam = located_column_.data();
+  const std::int32_t* slots_beams = located_slot_beam_.data();
   const float* h_m = located_h_m_.data();
   const float* dz_max_m = located_dz_max_m_.data();
   const UpdateOptions options = options_.update;
   std::size_t outcomes[4] = {0, 0, 0, 0};
   for (std::size_t q = 0; q < inside; ++q) {
-    const auto s = static_cast<std::size_t>(slots[q]);
-    const auto k = static_cast<std::size_t>(beam[q]);
+    const auto s = static_cast<std::size_t>(slots_beams[2 * q]);
+    const auto k = static_cast<std::size_t>(slots_beams[2 * q + 1]);
     const CellUpdate result = update_cell({elevation[s], certainty[s], state[s], pending[s], contradictions[s], mean[s],
                                            mean_count[s]},
                                           h_m[k], dz_max_m[k], options);
@@ -266,6 +273,7 @@ ScanStats TerrainMapper::integrate(const PlanarBeams& beams, const TrunkPose& po
     if (located_row_.size() < beams.count) {  // grows once, as the beams did
       located_row_.resize(beams.range_m.size());
       located_column_.resize(beams.range_m.size());
+      located_slot_beam_.resize(2 * beams.range_m.size());
       located_h_m_.resize(beams.range_m.size());
       located_dz_max_m_.resize(beams.range_m.size());
     }
@@ -280,15 +288,16 @@ ScanStats TerrainMapper::integrate(const PlanarBeams& beams, const TrunkPose& po
     const double reach =
         std::max(std::max(std::abs(lo_x), std::abs(lo_x + n)), std::max(std::abs(lo_y), std::abs(lo_y + n))) + 2.0;
     const bool check_xy = !(reach < 1.0e6 * inverse_cell);
-    const bool turning = bound.turn_term_per_m() != 0.0;
-    if (turning && check_xy) {
-      locate_beams<true, true>(beams, geometry, bound, origin);
-    } else if (turning) {
-      locate_beams<true, false>(beams, geometry, bound, origin);
-    } else if (check_xy) {
-      locate_beams<false, true>(beams, geometry, bound, origin);
+    const double turn = bound.turn_term_per_m();
+    const Turning turning = turn == 0.0 ? Turning::none : std::isfinite(turn) ? Turning::finite : Turning::unbounded;
+    if (check_xy) {
+      if (turning == Turning::none) locate_beams<Turning::none, true>(beams, geometry, bound, origin);
+      if (turning == Turning::finite) locate_beams<Turning::finite, true>(beams, geometry, bound, origin);
+      if (turning == Turning::unbounded) locate_beams<Turning::unbounded, true>(beams, geometry, bound, origin);
     } else {
-      locate_beams<false, false>(beams, geometry, bound, origin);
+      if (turning == Turning::none) locate_beams<Turning::none, false>(beams, geometry, bound, origin);
+      if (turning == Turning::finite) locate_beams<Turning::finite, false>(beams, geometry, bound, origin);
+      if (turning == Turning::unbounded) locate_beams<Turning::unbounded, false>(beams, geometry, bound, origin);
     }
     update_located(beams.count, stats);
   }

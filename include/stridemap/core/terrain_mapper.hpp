@@ -164,6 +164,9 @@ class TerrainMapper {
   WindowMoveListener* window_listener() const { return window_listener_; }
 
  private:
+  // locate_beams()'s turning terms: none, finite (the turn term is never
+  // NaN), or unbounded (a NaN turn term, inf * 0, becomes infinite).
+  enum class Turning { none, finite, unbounded };
   bool accept(const TrunkPose& pose, std::optional<double> time_s, ScanStats& stats);
   void follow(const TrunkPose& pose, ScanStats& stats) {
     follow(pose, std::cos(pose.yaw_rad), std::sin(pose.yaw_rad), stats);
@@ -177,7 +180,7 @@ class TerrainMapper {
   void finish(const TrunkPose& pose, std::optional<double> time_s, const ScanStats& stats);
   void refresh_beam_directions(const std::vector<double>& angles);
   void pack(const PlanarScan& scan);
-  template <bool kTurning, bool kCheckXY>
+  template <Turning kTurning, bool kCheckXY>
   void locate_beams(const PlanarBeams& beams, const PlanarBeamGeometry& geometry, const MaxElevationChange& bound,
                     const Eigen::Vector3d& origin);
   void update_located(std::size_t count, ScanStats& stats);
@@ -206,9 +209,10 @@ class TerrainMapper {
   PlanarBeams packed_;  // integrate(PlanarScan)'s beams
   // Per valid beam of the scan being integrated: its cell's row and column
   // from the window's corner (a row beyond the window's when outside it)
-  // and h_m, Delta z_max as the map stores them. update_located() then
-  // packs the inside beams' slots and indices to the front of the first two.
-  std::vector<std::int32_t> located_row_, located_column_;
+  // and h_m, Delta z_max as the map stores them; update_located() packs
+  // each inside beam's slot and index side by side in located_slot_beam_
+  // (one pointer for the cell loop, which is short of registers).
+  std::vector<std::int32_t> located_row_, located_column_, located_slot_beam_;
   std::vector<float> located_h_m_, located_dz_max_m_;
   // update_located()'s slot of a window-local row (times n) and column, for
   // the window's corner slot tables_corner_slot_.
