@@ -21,7 +21,10 @@
 // where the CPU has AVX2 the first pass runs a copy built for it (4 lanes,
 // blends), chosen once when the library loads. No FMA is enabled, so every
 // operation rounds as in the baseline copy and the maps stay bit-identical.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+// STRIDEMAP_NO_AVX2_COPIES (a compile definition) leaves the baseline copy
+// alone, to test and count it on a CPU that has AVX2.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__) && \
+    !defined(STRIDEMAP_NO_AVX2_COPIES)
 #define STRIDEMAP_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define STRIDEMAP_VECTOR_CLONES

@@ -197,7 +197,9 @@ UrgConversionStats UrgModel::to_planar_scan(const UrgRawScan& raw, PlanarScan& o
   return stats;
 }
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+// STRIDEMAP_NO_AVX2_COPIES: the scalar loop only (to test it on an AVX2 CPU).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__) && \
+    !defined(STRIDEMAP_NO_AVX2_COPIES)
 #define STRIDEMAP_URG_AVX2 1
 namespace {
 // pack_beams' loop four beams at a time where the CPU has AVX2 (chosen at
