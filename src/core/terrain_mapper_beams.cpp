@@ -158,11 +158,10 @@ void TerrainMapper::update_located(std::size_t count, ScanStats& stats) {
   }
   // Two loops, so that neither runs out of registers: the slots and the
   // changed columns per row first, then the cell updates. The first packs
-  // the inside points to the front, in place (m <= k): the slot over the
-  // row, the beam's index over the column, so that the cell loop runs over
-  // inside points only and tests nothing.
-  std::int32_t* rows = located_row_.data();
-  std::int32_t* columns = located_column_.data();
+  // each inside point's slot and beam index side by side, so that the cell
+  // loop runs over inside points only and tests nothing.
+  const std::int32_t* rows = located_row_.data();
+  const std::int32_t* columns = located_column_.data();
   const std::uint32_t* row_slot = row_slot_.data();
   const std::uint32_t* column_slot = column_slot_.data();
   std::int32_t* row_lo = row_lo_.data();
@@ -172,7 +171,7 @@ void TerrainMapper::update_located(std::size_t count, ScanStats& stats) {
   // kOutsideRow exactly), then test each point between.
   constexpr auto kOutside = static_cast<std::uint32_t>(kOutsideRow);
   constexpr std::uint64_t kOutsidePair = (std::uint64_t{kOutside} << 32) | kOutside;
-  const auto four_outside = [rows, kOutsidePair](std::size_t k) {
+  const auto four_outside = [rows](std::size_t k) {
     std::uint64_t a = 0, b = 0;
     std::memcpy(&a, rows + k, sizeof a);
     std::memcpy(&b, rows + k + 2, sizeof b);
