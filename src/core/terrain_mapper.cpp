@@ -58,7 +58,11 @@ bool pose_is_finite(const TrunkPose& p) {
 }
 
 TerrainMapper::TerrainMapper(const MapperOptions& options, const SensorMount& mount)
-    : options_(options), mount_(mount), map_(options.grid), changed_rows_(options.grid.cells_per_side) {
+    : options_(options),
+      mount_(mount),
+      map_(options.grid),
+      changed_rows_(options.grid.cells_per_side),
+      mount_rotation_(mount_rotation(mount)) {
   const UpdateOptions& u = options.update;
   if (!std::isfinite(u.certainty_increment) || u.certainty_increment <= 0.0) {
     throw InputError("mapper options: certainty_increment must be a positive number, got " +
@@ -90,8 +94,13 @@ TerrainMapper::TerrainMapper(const MapperOptions& options, const SensorMount& mo
 
 ScanMotion TerrainMapper::motion_to(const TrunkPose& pose) const {
   if (!previous_pose_) return {};
-  const Eigen::Vector3d before = sensor_origin_in_map(*previous_pose_, mount_);
-  const Eigen::Vector3d now = sensor_origin_in_map(pose, mount_);
+  return motion_to(pose, sensor_origin_in_map(pose, mount_));
+}
+
+ScanMotion TerrainMapper::motion_to(const TrunkPose& pose, const Eigen::Vector3d& now) const {
+  if (!previous_pose_) return {};
+  const Eigen::Vector3d before =
+      previous_origin_known_ ? previous_origin_ : sensor_origin_in_map(*previous_pose_, mount_);
   return {std::hypot(now.x() - before.x(), now.y() - before.y()), wrap_angle(pose.yaw_rad - previous_pose_->yaw_rad)};
 }
 
@@ -111,10 +120,10 @@ bool TerrainMapper::accept(const TrunkPose& pose, std::optional<double> time_s, 
   return false;
 }
 
-void TerrainMapper::follow(const TrunkPose& pose, ScanStats& stats) {
+void TerrainMapper::follow(const TrunkPose& pose, double cos_yaw, double sin_yaw, ScanStats& stats) {
   if (!options_.follow_robot) return;
-  const double x_m = pose.x_m + options_.window_ahead_m * std::cos(pose.yaw_rad);
-  const double y_m = pose.y_m + options_.window_ahead_m * std::sin(pose.yaw_rad);
+  const double x_m = pose.x_m + options_.window_ahead_m * cos_yaw;
+  const double y_m = pose.y_m + options_.window_ahead_m * sin_yaw;
   if (!window_listener_) {
     stats.cells_reset_by_move = map_.move_to(x_m, y_m);
     return;
@@ -165,6 +174,7 @@ void TerrainMapper::apply(double x_m, double y_m, double h_m, double dz_max, Sca
 
 void TerrainMapper::finish(const TrunkPose& pose, std::optional<double> time_s, const ScanStats& stats) {
   previous_pose_ = pose;
+  previous_origin_known_ = false;
   if (time_s) previous_time_s_ = *time_s;
   MapperTotals scan;
   scan.scans = 1;

@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 
 #include "stridemap/core/terrain_mapper.hpp"
@@ -20,7 +21,10 @@
 // where the CPU has AVX2 the first pass runs a copy built for it (4 lanes,
 // blends), chosen once when the library loads. No FMA is enabled, so every
 // operation rounds as in the baseline copy and the maps stay bit-identical.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+// STRIDEMAP_NO_AVX2_COPIES (a compile definition) leaves the baseline copy
+// alone, to test and count it on a CPU that has AVX2.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__) && \
+    !defined(STRIDEMAP_NO_AVX2_COPIES)
 #define STRIDEMAP_VECTOR_CLONES __attribute__((target_clones("avx2", "default")))
 #else
 #define STRIDEMAP_VECTOR_CLONES
@@ -35,7 +39,7 @@ static_assert(kOutsideRow >= kMaxGridCellsPerSide && kOutsideRow < 2147483647.0,
 
 }  // namespace
 
-template <bool kTurning>
+template <TerrainMapper::Turning kTurning, bool kCheckXY>
 STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beams, const PlanarBeamGeometry& g,
                                  const MaxElevationChange& bound, const Eigen::Vector3d& origin) {
   // Everything the loop reads lives in locals, so that the compiler sees
@@ -57,6 +61,7 @@ STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beam
   const double inverse_cell = 1.0 / map_.cell_size_m();
   const auto n = static_cast<double>(map_.cells_per_side());
   const auto lo_x = static_cast<double>(map_.min_cell().x), lo_y = static_cast<double>(map_.min_cell().y);
+  const double lo_x_1 = lo_x + 1.0, lo_y_1 = lo_y + 1.0;
   constexpr double kMaxCoordinate_m = 1.0e6;  // as apply()
   constexpr double kInf = std::numeric_limits<double>::infinity();  // a NaN turning term's bound
   constexpr double kRound = 6755399441055744.0;  // 1.5 * 2^52
@@ -84,9 +89,16 @@ STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beam
                          std::fabs(d_alpha) * k_alpha;
     // MaxElevationChange::at.
     double dz = travel + error;
-    if constexpr (kTurning) {
+    if constexpr (kTurning != Turning::none) {
+      // A finite turn_per_m (> 0 here) times a sum >= 0 (finite or +inf:
+      // the beam's terms are finite) is never NaN; only an unbounded one
+      // times 0 is.
       const double turn = turn_per_m * (std::sqrt(ox * ox + oy * oy) + turn_offset);
-      dz += turn != turn ? kInf : turn;
+      if constexpr (kTurning == Turning::unbounded) {
+        dz += turn != turn ? kInf : turn;
+      } else {
+        dz += turn;
+      }
       const double lateral = -sin_yaw * ox + cos_yaw * oy + mount_lateral;
       // fabs: only a zero's sign differs, and dz >= +0 here absorbs it.
       dz += lateral_per_m * std::fabs(lateral);
@@ -104,9 +116,15 @@ STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beam
     // beyond every window's.
     const double cx = x * inverse_cell, cy = y * inverse_cell;
     const double rx = (cx + kRound) - kRound, ry = (cy + kRound) - kRound;
-    const double i = rx - (rx > cx ? 1.0 : 0.0) - lo_x, j = ry - (ry > cy ? 1.0 : 0.0) - lo_y;
-    const bool inside = (std::fabs(x) < kMaxCoordinate_m) & (std::fabs(y) < kMaxCoordinate_m) &
-                        (std::fabs(h) < kMaxCoordinate_m) & (i >= 0.0) & (i < n) & (j >= 0.0) & (j < n);
+    // rx - (rx > cx) - lo as rx - (lo or lo + 1): one operation fewer, and
+    // the same number wherever it can fall in the window (integers far
+    // below 2^53 are exact either way; beyond, both are far outside).
+    const double i = rx - (rx > cx ? lo_x_1 : lo_x), j = ry - (ry > cy ? lo_y_1 : lo_y);
+    // Without kCheckXY the window lies where every cell's x and y are within
+    // the range check's bound (integrate() made sure), so the cell test
+    // implies theirs.
+    bool inside = (std::fabs(h) < kMaxCoordinate_m) & (i >= 0.0) & (i < n) & (j >= 0.0) & (j < n);
+    if constexpr (kCheckXY) inside = inside & (std::fabs(x) < kMaxCoordinate_m) & (std::fabs(y) < kMaxCoordinate_m);
     row_out[k] = static_cast<std::int32_t>(inside ? i : kOutsideRow);
     column_out[k] = static_cast<std::int32_t>(inside ? j : 0.0);
     // Such a point's h_m and Delta z_max are never read; beyond float's
@@ -139,46 +157,55 @@ void TerrainMapper::update_located(std::size_t count, ScanStats& stats) {
     row_hi_.assign(un, -1);
   }
   // Two loops, so that neither runs out of registers: the slots and the
-  // changed rows first (the slot replaces the row in place; an outside
-  // point gets a slot beyond the window's), then the cell updates.
-  std::int32_t* rows = located_row_.data();
+  // changed columns per row first, then the cell updates. The first packs
+  // each inside point's slot and beam index side by side, so that the cell
+  // loop runs over inside points only and tests nothing.
+  const std::int32_t* rows = located_row_.data();
   const std::int32_t* columns = located_column_.data();
   const std::uint32_t* row_slot = row_slot_.data();
   const std::uint32_t* column_slot = column_slot_.data();
   std::int32_t* row_lo = row_lo_.data();
   std::int32_t* row_hi = row_hi_.data();
-  std::size_t outside = 0;
-  // The changed rows, window-local (a box in slot rows would break where
-  // the circular window wraps); their columns are in row_lo/row_hi.
-  std::int32_t lo_i = n, hi_i = -1;
-  for (std::size_t k = 0; k < count; ++k) {
+  // Outside points come in runs at the scan's ends (beams beyond the
+  // window's sides); skip those four at a time (every outside row is
+  // kOutsideRow exactly), then test each point between.
+  constexpr auto kOutside = static_cast<std::uint32_t>(kOutsideRow);
+  constexpr std::uint64_t kOutsidePair = (std::uint64_t{kOutside} << 32) | kOutside;
+  const auto four_outside = [rows](std::size_t k) {
+    std::uint64_t a = 0, b = 0;
+    std::memcpy(&a, rows + k, sizeof a);
+    std::memcpy(&b, rows + k + 2, sizeof b);
+    return ((a ^ kOutsidePair) | (b ^ kOutsidePair)) == 0;
+  };
+  std::size_t begin = 0, end = count;
+  while (begin + 4 <= end && four_outside(begin)) begin += 4;
+  while (end >= begin + 4 && four_outside(end - 4)) end -= 4;
+  std::int32_t* slot_beam = located_slot_beam_.data();
+  std::size_t inside = 0;
+  for (std::size_t k = begin; k < end; ++k) {
     const std::int32_t i = rows[k];
-    if (i >= n) {
-      ++outside;
-      rows[k] = -1;
-      continue;
-    }
+    if (i >= n) continue;  // outside the window
     const std::int32_t j = columns[k];
     const auto ii = static_cast<std::size_t>(i);
-    rows[k] = static_cast<std::int32_t>(row_slot[ii] + column_slot[static_cast<std::size_t>(j)]);
-    lo_i = std::min(lo_i, i);
-    hi_i = std::max(hi_i, i);
+    slot_beam[2 * inside] = static_cast<std::int32_t>(row_slot[ii] + column_slot[static_cast<std::size_t>(j)]);
+    slot_beam[2 * inside + 1] = static_cast<std::int32_t>(k);
+    ++inside;
     row_lo[ii] = std::min(row_lo[ii], j);
     row_hi[ii] = std::max(row_hi[ii], j);
   }
-  if (hi_i >= 0) {
+  if (inside > 0) {
+    // The changed rows, window-local (a box in slot rows would break where
+    // the circular window wraps): the first and last rows with a span,
+    // found once per scan rather than tracked per point. A row without a
+    // span holds (max, -1).
+    std::int32_t lo_i = 0, hi_i = n - 1;
+    while (row_hi[lo_i] < 0) ++lo_i;
+    while (row_hi[hi_i] < 0) --hi_i;
     const CellIndex corner = map_.min_cell();
     const auto first = static_cast<std::size_t>(lo_i), rows_changed = static_cast<std::size_t>(hi_i - lo_i + 1);
-    changed_rows_.add_spans(corner.x + lo_i, rows_changed, row_lo + first, row_hi + first, corner.y);
-    std::int32_t lo_j = n, hi_j = -1;
-    for (std::size_t ii = first; ii < first + rows_changed; ++ii) {
-      lo_j = std::min(lo_j, row_lo[ii]);  // a row without a span holds (max, -1)
-      hi_j = std::max(hi_j, row_hi[ii]);
-      row_lo[ii] = std::numeric_limits<std::int32_t>::max();
-      row_hi[ii] = -1;
-    }
-    changed_.add(CellIndex{corner.x + lo_i, corner.y + lo_j});
-    changed_.add(CellIndex{corner.x + hi_i, corner.y + hi_j});
+    changed_.add(changed_rows_.add_spans(corner.x + lo_i, rows_changed, row_lo + first, row_hi + first, corner.y));
+    std::fill(row_lo + first, row_lo + first + rows_changed, std::numeric_limits<std::int32_t>::max());
+    std::fill(row_hi + first, row_hi + first + rows_changed, -1);
   }
 
   // Everything the loop reads lives in locals: the cell updates store
@@ -190,21 +217,21 @@ void TerrainMapper::update_located(std::size_t count, ScanStats& stats) {
   std::uint8_t* contradictions = map_.contradiction_data();
   float* mean = map_.mean_elevation_data();
   std::uint16_t* mean_count = map_.mean_count_data();
-  const std::int32_t* slots = located_row_.data();
+  const std::int32_t* slots_beams = located_slot_beam_.data();
   const float* h_m = located_h_m_.data();
   const float* dz_max_m = located_dz_max_m_.data();
   const UpdateOptions options = options_.update;
   std::size_t outcomes[4] = {0, 0, 0, 0};
-  for (std::size_t k = 0; k < count; ++k) {
-    if (slots[k] < 0) continue;
-    const auto s = static_cast<std::size_t>(slots[k]);
+  for (std::size_t q = 0; q < inside; ++q) {
+    const auto s = static_cast<std::size_t>(slots_beams[2 * q]);
+    const auto k = static_cast<std::size_t>(slots_beams[2 * q + 1]);
     const CellUpdate result = update_cell({elevation[s], certainty[s], state[s], pending[s], contradictions[s], mean[s],
                                            mean_count[s]},
                                           h_m[k], dz_max_m[k], options);
     ++outcomes[static_cast<std::size_t>(result)];
   }
-  stats.outside_map += outside;
-  stats.integrated += count - outside;
+  stats.outside_map += count - inside;
+  stats.integrated += inside;
   stats.first += outcomes[static_cast<std::size_t>(CellUpdate::first)];
   stats.plausible += outcomes[static_cast<std::size_t>(CellUpdate::plausible)];
   stats.implausible += outcomes[static_cast<std::size_t>(CellUpdate::implausible)];
@@ -227,12 +254,17 @@ ScanStats TerrainMapper::integrate(const PlanarBeams& beams, const TrunkPose& po
   ScanStats stats;
   stats.beams = beams.beams;
   if (!accept(pose, beams.time_s, stats)) return stats;
-  follow(pose, stats);
+  // The per-scan trigonometry once: the heading's cosine and sine serve the
+  // window, the sensor origin and Delta z_max's lateral term; M is kept;
+  // the previous scan's origin too. The same doubles as each place made.
+  const double cos_yaw = std::cos(pose.yaw_rad), sin_yaw = std::sin(pose.yaw_rad);
+  follow(pose, cos_yaw, sin_yaw, stats);
   stats.invalid_range = beams.invalid_range;
   stats.invalid_beam = beams.invalid_beam;
-  const PlanarBeamGeometry geometry(pose, mount_);
-  const MaxElevationChange bound(motion_to(pose), geometry.gamma_rad, mount_, options_.update, pose.yaw_rad);
-  const Eigen::Vector3d origin = sensor_origin_in_map(pose, mount_);
+  const PlanarBeamGeometry geometry(pose, mount_, mount_rotation_, cos_yaw, sin_yaw);
+  const Eigen::Vector3d origin = sensor_origin_in_map(pose, mount_, cos_yaw, sin_yaw);
+  const MaxElevationChange bound(motion_to(pose, origin), geometry.gamma_rad, mount_, options_.update, cos_yaw,
+                                 sin_yaw);
   // The first pass indexes cells in 32 bits; a window beyond that (some
   // 20,000 km of 1 cm cells from the origin) takes the per-point way.
   constexpr std::int64_t kIndexLimit = std::int64_t{1} << 30;
@@ -243,17 +275,37 @@ ScanStats TerrainMapper::integrate(const PlanarBeams& beams, const TrunkPose& po
     if (located_row_.size() < beams.count) {  // grows once, as the beams did
       located_row_.resize(beams.range_m.size());
       located_column_.resize(beams.range_m.size());
+      located_slot_beam_.resize(2 * beams.range_m.size());
       located_h_m_.resize(beams.range_m.size());
       located_dz_max_m_.resize(beams.range_m.size());
     }
-    if (bound.turn_term_per_m() != 0.0) {
-      locate_beams<true>(beams, geometry, bound, origin);
+    // A point the first pass finds in the window has cx = x / cell within
+    // the window's corners give or take 2 (its rounding of cx is off by at
+    // most 1 there); when that reach is below 1e6 m / cell, |x| < 1e6 follows
+    // (rounding is monotonic: |x| >= 1e6 gives |cx| >= 1e6 / cell as
+    // computed), so apply()'s x and y range checks can go. The z check stays.
+    const double inverse_cell = 1.0 / map_.cell_size_m();
+    const auto lo_x = static_cast<double>(corner.x), lo_y = static_cast<double>(corner.y);
+    const auto n = static_cast<double>(map_.cells_per_side());
+    const double reach =
+        std::max(std::max(std::abs(lo_x), std::abs(lo_x + n)), std::max(std::abs(lo_y), std::abs(lo_y + n))) + 2.0;
+    const bool check_xy = !(reach < 1.0e6 * inverse_cell);
+    const double turn = bound.turn_term_per_m();
+    const Turning turning = turn == 0.0 ? Turning::none : std::isfinite(turn) ? Turning::finite : Turning::unbounded;
+    if (check_xy) {
+      if (turning == Turning::none) locate_beams<Turning::none, true>(beams, geometry, bound, origin);
+      if (turning == Turning::finite) locate_beams<Turning::finite, true>(beams, geometry, bound, origin);
+      if (turning == Turning::unbounded) locate_beams<Turning::unbounded, true>(beams, geometry, bound, origin);
     } else {
-      locate_beams<false>(beams, geometry, bound, origin);
+      if (turning == Turning::none) locate_beams<Turning::none, false>(beams, geometry, bound, origin);
+      if (turning == Turning::finite) locate_beams<Turning::finite, false>(beams, geometry, bound, origin);
+      if (turning == Turning::unbounded) locate_beams<Turning::unbounded, false>(beams, geometry, bound, origin);
     }
     update_located(beams.count, stats);
   }
   finish(pose, beams.time_s, stats);
+  previous_origin_ = origin;
+  previous_origin_known_ = true;
   return stats;
 }
 

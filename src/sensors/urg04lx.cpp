@@ -197,7 +197,9 @@ UrgConversionStats UrgModel::to_planar_scan(const UrgRawScan& raw, PlanarScan& o
   return stats;
 }
 
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__)
+// STRIDEMAP_NO_AVX2_COPIES: the scalar loop only (to test it on an AVX2 CPU).
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__) && \
+    !defined(STRIDEMAP_NO_AVX2_COPIES)
 #define STRIDEMAP_URG_AVX2 1
 namespace {
 // pack_beams' loop four beams at a time where the CPU has AVX2 (chosen at
@@ -207,7 +209,7 @@ namespace {
 // the front by one permute per array and stored at `count` (the lanes
 // beyond are overwritten by the next block or left beyond out.count).
 // Returns the beams consumed (a multiple of 4); the caller finishes the rest.
-template <bool kCalibrated>
+template <bool kCalibrated, bool kZeroInRange>
 __attribute__((target("avx2"))) std::size_t pack_blocks_avx2(const std::uint32_t* values, std::size_t n,
                                                               const double* cos_t, const double* sin_t,
                                                               double lowest, double highest, const double* c,
@@ -222,21 +224,23 @@ __attribute__((target("avx2"))) std::size_t pack_blocks_avx2(const std::uint32_t
       {6, 7, 0, 1, 2, 3, 4, 5}, {0, 1, 6, 7, 2, 3, 4, 5}, {2, 3, 6, 7, 0, 1, 4, 5}, {0, 1, 2, 3, 6, 7, 4, 5},
       {4, 5, 6, 7, 0, 1, 2, 3}, {0, 1, 4, 5, 6, 7, 2, 3}, {2, 3, 4, 5, 6, 7, 0, 1}, {0, 1, 2, 3, 4, 5, 6, 7}};
   const __m256d lo = _mm256_set1_pd(lowest), hi = _mm256_set1_pd(highest);
-  const __m256d milli = _mm256_set1_pd(0.001), centi = _mm256_set1_pd(0.01), zero = _mm256_setzero_pd();
+  const __m256d milli = _mm256_set1_pd(0.001), centi = _mm256_set1_pd(0.01);
+  [[maybe_unused]] const __m256d zero = _mm256_setzero_pd();
   const __m256d inf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
   const __m128i sign = _mm_set1_epi32(static_cast<int>(0x80000000u));
   const __m256d two_31 = _mm256_set1_pd(2147483648.0);
+  // The valid and beyond counts per lane: a true compare is all ones (-1 as
+  // an int64), so subtracting it counts one.
+  __m256i valid_lanes = _mm256_setzero_si256(), beyond_lanes = _mm256_setzero_si256();
   std::size_t i = 0;
   for (; i + 4 <= n; i += 4) {
     // uint32 -> double exactly: flip the sign bit, convert as int32, add 2^31.
     const __m128i v = _mm_xor_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(values + i)), sign);
     const __m256d value = _mm256_add_pd(_mm256_cvtepi32_pd(v), two_31);
     const __m256d in_range = _mm256_and_pd(_mm256_cmp_pd(value, lo, _CMP_GE_OQ), _mm256_cmp_pd(value, hi, _CMP_LE_OQ));
-    const auto in_mask = static_cast<unsigned>(_mm256_movemask_pd(in_range));
-    const auto beyond_mask = static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(value, hi, _CMP_GT_OQ)));
-    valid += static_cast<std::size_t>(__builtin_popcount(in_mask));
-    beyond += static_cast<std::size_t>(__builtin_popcount(beyond_mask));
-    if (in_mask == 0) continue;
+    valid_lanes = _mm256_sub_epi64(valid_lanes, _mm256_castpd_si256(in_range));
+    beyond_lanes = _mm256_sub_epi64(beyond_lanes, _mm256_castpd_si256(_mm256_cmp_pd(value, hi, _CMP_GT_OQ)));
+    if (_mm256_testz_pd(in_range, in_range)) continue;  // no lane in range
     const __m256d raw_m = _mm256_mul_pd(value, milli);
     __m256d r = raw_m;
     __m256d keep = in_range;
@@ -247,9 +251,9 @@ __attribute__((target("avx2"))) std::size_t pack_blocks_avx2(const std::uint32_t
       poly = _mm256_mul_pd(raw_m, _mm256_add_pd(_mm256_set1_pd(c[1]), poly));
       r = _mm256_add_pd(raw_m, _mm256_add_pd(_mm256_set1_pd(c[0]), poly));
       keep = _mm256_and_pd(keep, _mm256_and_pd(_mm256_cmp_pd(r, zero, _CMP_GT_OQ), _mm256_cmp_pd(r, inf, _CMP_LT_OQ)));
-    } else {
+    } else if constexpr (kZeroInRange) {
       keep = _mm256_and_pd(keep, _mm256_cmp_pd(value, zero, _CMP_NEQ_OQ));
-    }
+    }  // else a value in range is at least DMIN >= 1: never 0
     const auto mask = static_cast<unsigned>(_mm256_movemask_pd(keep));
     const __m256i front = _mm256_load_si256(reinterpret_cast<const __m256i*>(kFront[mask]));
     // max(0.01, 0.01 r) as the scalar loop's std::max (r is finite here).
@@ -264,6 +268,11 @@ __attribute__((target("avx2"))) std::size_t pack_blocks_avx2(const std::uint32_t
     _mm256_storeu_pd(out_sin + count, _mm256_castps_pd(kept_sin));
     count += static_cast<std::size_t>(__builtin_popcount(mask));
   }
+  alignas(32) std::uint64_t lanes[4];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), valid_lanes);
+  valid += static_cast<std::size_t>(lanes[0] + lanes[1] + lanes[2] + lanes[3]);
+  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), beyond_lanes);
+  beyond += static_cast<std::size_t>(lanes[0] + lanes[1] + lanes[2] + lanes[3]);
   return i;
 }
 }  // namespace
@@ -301,8 +310,10 @@ UrgConversionStats UrgModel::pack_beams(const UrgRawScan& raw, PlanarBeams& out)
   static const bool has_avx2 = __builtin_cpu_supports("avx2");
   if (has_avx2 && cluster == 1 && any_valid) {
     const auto lowest_mm = static_cast<double>(lowest), highest_mm = static_cast<double>(highest);
-    i = pack_blocks_avx2<kCalibrated>(values, n, cos_t, sin_t, lowest_mm, highest_mm, c.data(), range, error, out_cos,
-                                      out_sin, count, valid, beyond);
+    i = lowest == 0 ? pack_blocks_avx2<kCalibrated, true>(values, n, cos_t, sin_t, lowest_mm, highest_mm, c.data(), range,
+                                                          error, out_cos, out_sin, count, valid, beyond)
+                    : pack_blocks_avx2<kCalibrated, false>(values, n, cos_t, sin_t, lowest_mm, highest_mm, c.data(),
+                                                           range, error, out_cos, out_sin, count, valid, beyond);
   }
 #endif
   // Valid and invalid values come in long runs (ground, then sky), so the

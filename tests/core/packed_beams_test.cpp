@@ -256,5 +256,45 @@ TEST(PackedBeams, AWindowFarFromTheOriginGivesTheSameMap) {
   EXPECT_GT(packed.totals().integrated, 0u);
 }
 
+// A window across x = 1e6 m and y = -1e6 m (still within 32-bit indices at
+// 1 cm): the first pass keeps its x and y range checks there, so points
+// beyond them stay out of the map as apply() keeps them out.
+TEST(PackedBeams, AWindowAcrossTheCoordinateLimitGivesTheSameMap) {
+  MapperOptions options;
+  options.grid = {100, 0.01};
+  options.window_ahead_m = 0.3;
+  SensorMount mount;
+  TerrainMapper packed(options, mount);
+  ReferenceMapper reference(options, mount);
+  std::mt19937_64 rng(6);
+  PlanarScan scan;
+  TrunkPose pose;
+  pose.x_m = 1.0e6 - 0.45;
+  pose.y_m = -1.0e6 + 0.1;
+  pose.yaw_rad = -0.6;  // the scan line runs across both limits
+  std::size_t outside = 0;
+  for (int k = 0; k < 40; ++k) {
+    fill_scan(scan, rng, mount, k == 0);
+    scan.time_s = k + 1.0;
+    pose.x_m += 0.005;
+    const ScanStats a = packed.integrate(scan, pose);
+    expect_same_stats(a, reference.integrate(scan, pose), k);
+    expect_same_maps(packed.map(), reference.map(), k);
+    outside += a.outside_map;
+    if (HasFailure()) return;
+  }
+  EXPECT_GT(packed.totals().integrated, 1000u);
+  EXPECT_GT(outside, 1000u);
+  // Nothing beyond the limits was written: the cells there stay unknown.
+  const ElevationMap& map = packed.map();
+  for (std::int64_t x = map.min_cell().x; x < map.min_cell().x + map.cells_per_side(); ++x) {
+    for (std::int64_t y = map.min_cell().y; y < map.min_cell().y + map.cells_per_side(); ++y) {
+      if (x >= 100000000 || y < -100000000) {
+        EXPECT_NE(map.state(CellIndex{x, y}), CellState::measured) << x << ", " << y;
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace stridemap

@@ -1,8 +1,10 @@
 #include "stridemap/core/sensor_transform.hpp"
 
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <random>
+#include <vector>
 
 #include <Eigen/Geometry>
 #include <gtest/gtest.h>
@@ -344,6 +346,28 @@ TEST(SensorTransformFullMount, LeverArmPartialsMatchFiniteDifferences) {
     EXPECT_NEAR(p.d_pitch_m_per_rad, (origin_z(h, 0) - origin_z(-h, 0)) / (2 * h), 1e-8);
     EXPECT_NEAR(p.d_roll_m_per_rad, (origin_z(0, h) - origin_z(0, -h)) / (2 * h), 1e-8);
     EXPECT_EQ(p.d_alpha_m_per_rad, 0.0);
+  }
+}
+
+// The rotations made from a cosine and sine are Eigen's AngleAxis matrices
+// bit for bit (memcmp: a zero's sign counts), over angles of every size and
+// sign, so that a scan's geometry made from shared sines moves no map bit.
+TEST(SensorTransform, RotationsFromSinesAreAngleAxisBitForBit) {
+  std::vector<double> angles = {0.0, -0.0, 1e-300, -1e-300, 0.02, -0.02, 1.0, -1.0, std::numbers::pi / 2,
+                                -std::numbers::pi / 2, 2.0, -2.5, std::numbers::pi, -std::numbers::pi, 7.0, 1e6};
+  std::mt19937_64 rng(7);
+  std::uniform_real_distribution<double> u(-4.0, 4.0);
+  for (int k = 0; k < 2000; ++k) angles.push_back(u(rng));
+  for (const double a : angles) {
+    const double c = std::cos(a), s = std::sin(a);
+    const Eigen::Matrix3d x = Eigen::AngleAxisd(a, Eigen::Vector3d::UnitX()).toRotationMatrix();
+    const Eigen::Matrix3d y = Eigen::AngleAxisd(a, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    const Eigen::Matrix3d z = Eigen::AngleAxisd(a, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    const Eigen::Matrix3d mx = rotation_about_x(c, s), my = rotation_about_y(c, s), mz = rotation_about_z(c, s);
+    EXPECT_EQ(std::memcmp(x.data(), mx.data(), sizeof(double) * 9), 0) << "x, angle " << a;
+    EXPECT_EQ(std::memcmp(y.data(), my.data(), sizeof(double) * 9), 0) << "y, angle " << a;
+    EXPECT_EQ(std::memcmp(z.data(), mz.data(), sizeof(double) * 9), 0) << "z, angle " << a;
+    if (HasFailure()) return;
   }
 }
 

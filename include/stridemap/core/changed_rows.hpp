@@ -46,29 +46,37 @@ class ChangedRows {
   }
   /// add_span(first_x + k, y0 + lo[k], y0 + hi[k]) for k = 0..count-1, with
   /// one modulo for all the rows rather than one per row (the mapper's
-  /// per-scan spans, kept window-local in int32).
-  void add_spans(std::int64_t first_x, std::size_t count, const std::int32_t* lo, const std::int32_t* hi,
-                 std::int64_t y0) {
+  /// per-scan spans, kept window-local in int32). Returns the box of the
+  /// spans added (empty when none was), which the caller's own box needs.
+  CellBox add_spans(std::int64_t first_x, std::size_t count, const std::int32_t* lo, const std::int32_t* hi,
+                    std::int64_t y0) {
     const std::size_t n = rows_.size();
     std::size_t p = place(first_x);
-    std::int64_t lo_x = std::numeric_limits<std::int64_t>::max(), hi_x = std::numeric_limits<std::int64_t>::min();
+    Row* rows = rows_.data();
+    std::size_t first_k = count, last_k = 0;
     std::int32_t lo_y = std::numeric_limits<std::int32_t>::max(), hi_y = std::numeric_limits<std::int32_t>::min();
-    for (std::size_t k = 0; k < count; ++k, p = p + 1 == n ? 0 : p + 1) {
-      if (lo[k] > hi[k]) continue;
-      const std::int64_t x = first_x + static_cast<std::int64_t>(k);
-      Row& r = rows_[p];
-      if (r.x != x) r = Row{x, std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::min()};
-      r.lo = std::min(r.lo, y0 + lo[k]);
-      r.hi = std::max(r.hi, y0 + hi[k]);
-      lo_x = std::min(lo_x, x);
-      hi_x = std::max(hi_x, x);
-      lo_y = std::min(lo_y, lo[k]);
-      hi_y = std::max(hi_y, hi[k]);
+    for (std::size_t k = 0; k < count; ++k) {
+      const std::int32_t l = lo[k], h = hi[k];
+      if (l <= h) {
+        const std::int64_t x = first_x + static_cast<std::int64_t>(k);
+        Row& r = rows[p];
+        if (r.x != x) r = Row{x, std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::min()};
+        r.lo = std::min(r.lo, y0 + l);
+        r.hi = std::max(r.hi, y0 + h);
+        first_k = std::min(first_k, k);
+        last_k = k;
+        lo_y = std::min(lo_y, l);
+        hi_y = std::max(hi_y, h);
+      }
+      if (++p == n) p = 0;
     }
-    if (lo_x > hi_x) return;
+    CellBox added;
+    if (first_k == count) return added;
     // A box grows by its corners: these two bound every span's.
-    bounds_.add(CellIndex{lo_x, y0 + lo_y});
-    bounds_.add(CellIndex{hi_x, y0 + hi_y});
+    added.add(CellIndex{first_x + static_cast<std::int64_t>(first_k), y0 + lo_y});
+    added.add(CellIndex{first_x + static_cast<std::int64_t>(last_k), y0 + hi_y});
+    bounds_.add(added);
+    return added;
   }
   /// Every cell of `box` (its last rows() rows when it has more).
   void add(const CellBox& box) {

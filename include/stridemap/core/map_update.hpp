@@ -110,7 +110,7 @@ struct CellRef {
 /// mean_elevation); the count saturates, after which the mean keeps moving
 /// with weight 1/65535.
 inline void add_to_mean(CellRef cell, float h_m) {
-  if (cell.mean_count < 0xFFFF) ++cell.mean_count;
+  cell.mean_count = static_cast<std::uint16_t>(cell.mean_count + (cell.mean_count < 0xFFFF ? 1 : 0));  // no branch
   cell.mean_elevation += (h_m - cell.mean_elevation) / static_cast<float>(cell.mean_count);
 }
 

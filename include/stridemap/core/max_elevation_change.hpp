@@ -29,17 +29,23 @@ class MaxElevationChange {
   /// `trunk_yaw_rad` the heading the lateral distances are measured across.
   MaxElevationChange(const ScanMotion& motion, double gamma_rad, const SensorMount& mount,
                      const UpdateOptions& options, double trunk_yaw_rad)
-      : travel_term_m_(std::abs(motion.horizontal_travel_m * std::tan(gamma_rad))),
-        turn_offset_m_(std::hypot(mount.forward_offset_m, mount.lateral_offset_m)),
+      : MaxElevationChange(motion, gamma_rad, mount, options, std::cos(trunk_yaw_rad), std::sin(trunk_yaw_rad)) {}
+  /// The same with cos and sin of the trunk's heading already made (a scan
+  /// needs them in several places): the same terms, bit for bit.
+  MaxElevationChange(const ScanMotion& motion, double gamma_rad, const SensorMount& mount,
+                     const UpdateOptions& options, double cos_trunk_yaw, double sin_trunk_yaw)
+      : turn_offset_m_(std::hypot(mount.forward_offset_m, mount.lateral_offset_m)),
         mount_lateral_m_(mount.lateral_offset_m),
-        cos_yaw_(std::cos(trunk_yaw_rad)),
-        sin_yaw_(std::sin(trunk_yaw_rad)) {
+        cos_yaw_(cos_trunk_yaw),
+        sin_yaw_(sin_trunk_yaw) {
+    const double tan_gamma = std::tan(gamma_rad);
+    travel_term_m_ = std::abs(motion.horizontal_travel_m * tan_gamma);
     // Fig. 10's travel is (distance + d_s) times a factor of the yaw change.
     const double turn_factor = options.use_turning_term ? turning_travel_m(1.0, 0.0, motion.yaw_change_rad) : 0.0;
-    turn_term_per_m_ = std::isfinite(turn_factor) ? std::abs(std::tan(gamma_rad)) * turn_factor
-                                                  : std::numeric_limits<double>::infinity();
+    turn_term_per_m_ =
+        std::isfinite(turn_factor) ? std::abs(tan_gamma) * turn_factor : std::numeric_limits<double>::infinity();
     if (options.use_turning_term && std::isfinite(turn_factor)) {
-      lateral_term_per_m_ = std::abs(std::tan(gamma_rad) * std::sin(motion.yaw_change_rad));
+      lateral_term_per_m_ = std::abs(tan_gamma * std::sin(motion.yaw_change_rad));
     }
   }
 
@@ -74,7 +80,7 @@ class MaxElevationChange {
   double mount_lateral_m() const { return mount_lateral_m_; }
 
  private:
-  double travel_term_m_;
+  double travel_term_m_ = 0.0;
   double turn_offset_m_;
   double mount_lateral_m_;
   double cos_yaw_, sin_yaw_;

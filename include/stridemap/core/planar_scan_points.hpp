@@ -24,7 +24,24 @@ namespace stridemap {
 /// beam's are a combination of the two), the lever arm's partials and gamma.
 struct PlanarBeamGeometry {
   PlanarBeamGeometry(const TrunkPose& pose, const SensorMount& mount)
-      : PlanarBeamGeometry(pose, mount, tilt_rotation(pose.pitch_rad, pose.roll_rad, mount)) {}
+      : PlanarBeamGeometry(pose, mount, tilt_rotation(pose.pitch_rad, pose.roll_rad, mount), 0) {}
+  /// The same with M = mount_rotation(mount) and the heading's cosine and
+  /// sine already made (a mapper keeps its fixed mount's M; a scan needs the
+  /// heading's elsewhere too); pitch's and roll's are made once for the
+  /// rotations and the partials: the same doubles, bit for bit.
+  PlanarBeamGeometry(const TrunkPose& pose, const SensorMount& mount, const Eigen::Matrix3d& mount_rotation_m,
+                     double cos_yaw, double sin_yaw)
+      : lever(sensor_origin_elevation_partials(pose, mount)) {
+    const double sp = std::sin(pose.pitch_rad), cp = std::cos(pose.pitch_rad);
+    const double sr = std::sin(pose.roll_rad), cr = std::cos(pose.roll_rad);
+    // tilt_rotation(pitch, roll, M) and sensor_to_map_rotation(yaw, T).
+    const Eigen::Matrix3d tilt = rotation_about_y(cp, sp) * rotation_about_x(cr, sr) * mount_rotation_m;
+    gamma_rad = scan_plane_inclination_rad(tilt);
+    const Eigen::Matrix3d rotation = rotation_about_z(cos_yaw, sin_yaw) * tilt;
+    forward = rotation.col(0);
+    left = rotation.col(1);
+    unit_beam_elevation_partials(pose.pitch_rad, pose.roll_rad, sp, cp, sr, cr, mount, at_front, at_left);
+  }
 
   /// A valid beam's offset from the sensor origin (map axes) and the
   /// sensor's error part of Delta z_max. The one formula of the scan path:
@@ -54,12 +71,13 @@ struct PlanarBeamGeometry {
   Eigen::Vector3d forward, left;
 
  private:
-  // T made once for gamma and the rotation (per scan, five rotations fewer).
-  PlanarBeamGeometry(const TrunkPose& pose, const SensorMount& mount, const Eigen::Matrix3d& tilt)
-      : at_front(beam_elevation_partials(1.0, 0.0, pose.pitch_rad, pose.roll_rad, mount)),
-        at_left(beam_elevation_partials(1.0, std::numbers::pi / 2, pose.pitch_rad, pose.roll_rad, mount)),
-        lever(sensor_origin_elevation_partials(pose, mount)),  // zero without pose z
+  // T made once for gamma and the rotation (per scan, five rotations fewer);
+  // the partials at t = 0 and 90 deg share their sines (the int tells this
+  // constructor from the public one taking M).
+  PlanarBeamGeometry(const TrunkPose& pose, const SensorMount& mount, const Eigen::Matrix3d& tilt, int)
+      : lever(sensor_origin_elevation_partials(pose, mount)),  // zero without pose z
         gamma_rad(scan_plane_inclination_rad(tilt)) {
+    unit_beam_elevation_partials(pose.pitch_rad, pose.roll_rad, mount, at_front, at_left);
     const Eigen::Matrix3d rotation = sensor_to_map_rotation(pose.yaw_rad, tilt);
     forward = rotation.col(0);  // map direction of a beam at t = 0
     left = rotation.col(1);     // ... and at t = 90 deg

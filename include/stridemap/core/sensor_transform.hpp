@@ -20,6 +20,14 @@
 
 namespace stridemap {
 
+/// Rx(a), Ry(a) and Rz(a) from cos a and sin a already made: the matrices
+/// of Eigen's AngleAxisd(a, axis).toRotationMatrix(), bit for bit (each
+/// entry rounded as there, zeros' signs included), so that a scan computes
+/// each angle's sine and cosine once for every rotation and partial.
+Eigen::Matrix3d rotation_about_x(double cos_a, double sin_a);
+Eigen::Matrix3d rotation_about_y(double cos_a, double sin_a);
+Eigen::Matrix3d rotation_about_z(double cos_a, double sin_a);
+
 /// M = Rz(mount.yaw_rad) * Ry(mount.pitch_rad) * Rx(mount.roll_rad): the
 /// sensor frame's axes in the trunk frame.
 Eigen::Matrix3d mount_rotation(const SensorMount& mount);
@@ -28,6 +36,9 @@ Eigen::Matrix3d mount_rotation(const SensorMount& mount);
 Eigen::Matrix3d tilt_rotation(double pitch_rad, double roll_rad, double alpha_rad);
 /// T = Ry(pitch) * Rx(roll) * mount_rotation(mount).
 Eigen::Matrix3d tilt_rotation(double pitch_rad, double roll_rad, const SensorMount& mount);
+/// The same from M = mount_rotation(mount) already made (a mapper's mount
+/// is fixed, so it keeps M): the same matrix, bit for bit.
+Eigen::Matrix3d tilt_rotation(double pitch_rad, double roll_rad, const Eigen::Matrix3d& mount_rotation);
 
 /// Full sensor-to-map rotation Rz(yaw) * T.
 Eigen::Matrix3d sensor_to_map_rotation(const TrunkPose& pose, const SensorMount& mount);
@@ -43,6 +54,10 @@ Eigen::Matrix3d sensor_to_map_rotation(double yaw_rad, const Eigen::Matrix3d& ti
 /// Pose with z: (x, y, z) + Rz(yaw) Ry(pitch) Rx(roll) (forward, lateral, d_z),
 /// the mount as a rigid transform; h_ref and the height change are unused.
 Eigen::Vector3d sensor_origin_in_map(const TrunkPose& pose, const SensorMount& mount);
+/// The same with cos and sin of pose.yaw_rad already made (a scan needs
+/// them in several places): the same vector, bit for bit.
+Eigen::Vector3d sensor_origin_in_map(const TrunkPose& pose, const SensorMount& mount, double cos_yaw,
+                                     double sin_yaw);
 
 /// A point of the sensor frame, in the map frame.
 Eigen::Vector3d sensor_point_to_map(const Eigen::Vector3d& point_in_sensor, const TrunkPose& pose,
@@ -73,6 +88,16 @@ ElevationPartials beam_elevation_partials(double range_m, double beam_angle_rad,
 /// trunk roll and the mount's pitch alpha, the mount's roll and yaw held.
 ElevationPartials beam_elevation_partials(double range_m, double beam_angle_rad, double pitch_rad,
                                           double roll_rad, const SensorMount& mount);
+/// beam_elevation_partials(1, 0, ...) and beam_elevation_partials(1, pi/2,
+/// ...) at once (what a planar scan's beams are combinations of), with the
+/// sines and cosines of pitch, roll and the mount made once: the same
+/// doubles, bit for bit.
+void unit_beam_elevation_partials(double pitch_rad, double roll_rad, const SensorMount& mount,
+                                  ElevationPartials& at_front, ElevationPartials& at_left);
+/// The same with the sines and cosines of pitch and roll already made.
+void unit_beam_elevation_partials(double pitch_rad, double roll_rad, double sin_pitch, double cos_pitch,
+                                  double sin_roll, double cos_roll, const SensorMount& mount,
+                                  ElevationPartials& at_front, ElevationPartials& at_left);
 
 /// The third row of T (a sensor-frame vector's height in the map frame) and
 /// its derivatives with respect to trunk pitch, trunk roll and alpha: the

@@ -164,13 +164,23 @@ class TerrainMapper {
   WindowMoveListener* window_listener() const { return window_listener_; }
 
  private:
+  // locate_beams()'s turning terms: none, finite (the turn term is never
+  // NaN), or unbounded (a NaN turn term, inf * 0, becomes infinite).
+  enum class Turning { none, finite, unbounded };
   bool accept(const TrunkPose& pose, std::optional<double> time_s, ScanStats& stats);
-  void follow(const TrunkPose& pose, ScanStats& stats);
+  void follow(const TrunkPose& pose, ScanStats& stats) {
+    follow(pose, std::cos(pose.yaw_rad), std::sin(pose.yaw_rad), stats);
+  }
+  // The same with cos and sin of pose.yaw_rad already made.
+  void follow(const TrunkPose& pose, double cos_yaw, double sin_yaw, ScanStats& stats);
+  // motion_to with the sensor origin of `pose` already made; the previous
+  // scan's is kept when integrate(PlanarBeams) made it.
+  ScanMotion motion_to(const TrunkPose& pose, const Eigen::Vector3d& origin) const;
   void apply(double x_m, double y_m, double h_m, double dz_max, ScanStats& stats);
   void finish(const TrunkPose& pose, std::optional<double> time_s, const ScanStats& stats);
   void refresh_beam_directions(const std::vector<double>& angles);
   void pack(const PlanarScan& scan);
-  template <bool kTurning>
+  template <Turning kTurning, bool kCheckXY>
   void locate_beams(const PlanarBeams& beams, const PlanarBeamGeometry& geometry, const MaxElevationChange& bound,
                     const Eigen::Vector3d& origin);
   void update_located(std::size_t count, ScanStats& stats);
@@ -189,13 +199,20 @@ class TerrainMapper {
   std::vector<std::int32_t> row_lo_, row_hi_;
   WindowMoveListener* window_listener_ = nullptr;
   std::optional<TrunkPose> previous_pose_;
+  // The sensor origin of previous_pose_, when known (per-scan work kept).
+  Eigen::Vector3d previous_origin_ = Eigen::Vector3d::Zero();
+  bool previous_origin_known_ = false;
+  // mount_rotation(mount_): the mount never changes, so neither does M.
+  Eigen::Matrix3d mount_rotation_;
   std::optional<double> previous_time_s_;
   std::vector<double> cached_angles_, cos_angle_, sin_angle_;
   PlanarBeams packed_;  // integrate(PlanarScan)'s beams
   // Per valid beam of the scan being integrated: its cell's row and column
   // from the window's corner (a row beyond the window's when outside it)
-  // and h_m, Delta z_max as the map stores them.
-  std::vector<std::int32_t> located_row_, located_column_;
+  // and h_m, Delta z_max as the map stores them; update_located() packs
+  // each inside beam's slot and index side by side in located_slot_beam_
+  // (one pointer for the cell loop, which is short of registers).
+  std::vector<std::int32_t> located_row_, located_column_, located_slot_beam_;
   std::vector<float> located_h_m_, located_dz_max_m_;
   // update_located()'s slot of a window-local row (times n) and column, for
   // the window's corner slot tables_corner_slot_.
