@@ -136,8 +136,8 @@ void finish_rail_map(const Scene& scene, const CartRailOptions& options, Mapping
   result.score = score_map(result.snapshot, result.swept_area, options.score);
   // The URG looks along the trunk's heading, the rail's yaw, for every
   // scan: the faces turned back against it are the ones its beams met
-  // (BoxEdgeOptions::facing_edge_quantile, chosen on the URG's random
-  // scenes; the structured-light figures were not measured with it).
+  // (BoxEdgeOptions::facing_edge_quantile; only the URG's figures were
+  // measured with it).
   ObjectMeasureOptions objects = options.objects;
   if (options.sensor == CartRailSensor::urg && !std::isfinite(objects.edges.view_heading_rad)) {
     objects.edges.view_heading_rad = result.rail.yaw_rad;

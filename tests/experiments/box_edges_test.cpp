@@ -97,6 +97,7 @@ TEST(BoxEdges, TheFaceTheSensorSawTakesItsReadingsMiddle) {
   }
   const BoxFrame frame{yaw, -length / 2 - 0.004, length / 2 + 0.004, -width / 2 - 0.004, width / 2 + 0.004};
   BoxEdgeOptions unknown_view;
+  unknown_view.facing_edge_quantile = 0.5;
   BoxEdgeOptions seen = unknown_view;
   seen.view_heading_rad = 0.0;  // looking along +x: the u-min side faces the sensor
   const BoxEdgeFit blind = fit_box_edges(readings, frame, 0.01, false, unknown_view);
@@ -174,7 +175,8 @@ TEST(BoxEdges, TopPointLayersLeaveTheHeightsBitIdentical) {
 // long: the readings on the near face that range noise moves towards the
 // sensor are also the higher ones, so eq. (10) keeps them and the face's
 // edge cells hold readings in front of the face. Taking that face's edge
-// at its readings' middle (the view heading the cart rail passes on)
+// at its readings' middle (facing_edge_quantile 0.5, with the view heading
+// the cart rail passes on)
 // shortens every length by at least a millimetre: 5.5-7.7 mm long with the
 // outer envelope, -0.4 to 5.1 mm with the middle. docs/experiments.md
 // reports these figures.
@@ -183,8 +185,9 @@ TEST(BoxEdges, OffGridBoxesMeasureWithinAFewMillimetres) {
     const Scene scene = parse_scene_yaml(off_grid_scene(yaw), "off-grid scene");
     CartRailOptions options;
     options.seed = 5;
+    options.objects.edges.facing_edge_quantile = 0.5;
     const CartRailResult result = run_cart_rail(scene, options);
-    // The same map with every side at the outer envelope.
+    // The same map with every side at the outer envelope (the default).
     ObjectMeasureOptions envelope = options.objects;
     envelope.edges.view_heading_rad = result.rail.yaw_rad;
     envelope.edges.facing_edge_quantile = envelope.edges.edge_quantile;
