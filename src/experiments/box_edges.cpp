@@ -93,20 +93,27 @@ BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const Box
     for (Reading& r : sorted) r.active = r.active || kept[r.side] < 2;
   }
 
-  // Each side's edge: its line moved out to the quantile of its readings.
+  fit.yaw_rad = frame.yaw_rad + std::atan2(normal.y(), normal.x());
+  // Each side's edge: its line moved out to the quantile of its readings
+  // (a lower one on a face the sensor saw).
+  const Eigen::Vector2d u_axis(std::cos(fit.yaw_rad), std::sin(fit.yaw_rad)), v_axis(-u_axis.y(), u_axis.x());
+  const Eigen::Vector2d view(std::cos(options.view_heading_rad), std::sin(options.view_heading_rad));
   std::array<double, 4> edge{};
   for (int k = 0; k < 4; ++k) {
     const double outward = (k == 1 || k == 3) ? 1.0 : -1.0;
+    const Eigen::Vector2d outward_normal = outward * (k < 2 ? u_axis : v_axis);
+    fit.facing[k] = std::isfinite(options.view_heading_rad) && outward_normal.dot(view) < -options.facing_cos;
     std::vector<double> offsets;
     for (const Reading& r : sorted) {
       if (r.active && r.side == k) offsets.push_back(outward * r.residual);
     }
-    edge[k] = normal.dot(centroid[k]) + outward * quantile(offsets, options.edge_quantile);
+    edge[k] = normal.dot(centroid[k]) +
+              outward * quantile(offsets, fit.facing[k] ? options.facing_edge_quantile : options.edge_quantile);
   }
   fit.ok = true;
   fit.length_m = edge[1] - edge[0];
   fit.width_m = edge[3] - edge[2];
-  fit.yaw_rad = frame.yaw_rad + std::atan2(normal.y(), normal.x());
+  fit.edges_m = edge;
   return fit;
 }
 

@@ -134,7 +134,15 @@ void finish_rail_map(const Scene& scene, const CartRailOptions& options, Mapping
   result.map_config.calibration = options.calibration;
   result.swept_area = swept_area(map);
   result.score = score_map(result.snapshot, result.swept_area, options.score);
-  result.objects = measure_objects(result.snapshot, scene, options.objects);
+  // The URG looks along the trunk's heading, the rail's yaw, for every
+  // scan: the faces turned back against it are the ones its beams met
+  // (BoxEdgeOptions::facing_edge_quantile; only the URG's figures were
+  // measured with it).
+  ObjectMeasureOptions objects = options.objects;
+  if (options.sensor == CartRailSensor::urg && !std::isfinite(objects.edges.view_heading_rad)) {
+    objects.edges.view_heading_rad = result.rail.yaw_rad;
+  }
+  result.objects = measure_objects(result.snapshot, scene, objects);
 }
 
 }  // namespace detail

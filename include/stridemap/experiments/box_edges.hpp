@@ -16,6 +16,7 @@
 // Untrimmed: the same fit with every reading.
 #include <array>
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -35,6 +36,19 @@ struct BoxEdgeOptions {
   /// The side's edge is at this quantile of its readings' offsets from the
   /// fitted line, outwards (0.5 = the line itself, 1 = the outermost).
   double edge_quantile = 0.9;
+  /// The heading the sensor looked along while it scanned (map frame)
+  /// [rad]; NaN when unknown, and then every side takes edge_quantile.
+  double view_heading_rad = std::numeric_limits<double>::quiet_NaN();
+  /// A side whose outward normal points back against the view heading
+  /// (cosine below -facing_cos) is a face the beams met: range noise moves
+  /// its readings along the beams, towards the sensor and upwards, so eq.
+  /// (10) keeps the ones in front of the face and its edge cells' readings
+  /// spread outwards past the edge. Its edge is at this quantile instead.
+  /// The default keeps the envelope: 0.5 (the readings' middle) made seed
+  /// 1's random scenes better and seed 2's not (docs/experiments.md,
+  /// "Facing sides"), so it is there to be chosen, not the default.
+  double facing_edge_quantile = 0.9;
+  double facing_cos = 0.5;
 };
 
 /// The rectangle the cells give, in a frame turned by `yaw_rad` (u along
@@ -52,6 +66,11 @@ struct BoxEdgeFit {
   double width_m = 0.0;   ///< between the v sides
   /// Readings used per side (u min, u max, v min, v max), after trimming.
   std::array<std::size_t, 4> points{};
+  /// Each side's edge as a signed offset along its axis from the readings'
+  /// origin (u min, u max, v min, v max) [m].
+  std::array<double, 4> edges_m{};
+  /// Which sides were taken as faces the sensor saw (facing_edge_quantile).
+  std::array<bool, 4> facing{};
 };
 
 /// Fits the four edges to `readings` (map frame, any origin) with the
