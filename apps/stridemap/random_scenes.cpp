@@ -71,6 +71,7 @@ struct FidelityArgs {
   std::string kind = "boxes";
   std::string structured_light = "image";
   std::string filters = "paper";
+  std::string coupling = "off";
   std::string out_dir;
 };
 
@@ -89,6 +90,7 @@ void run_fidelity_command(const FidelityArgs& args) {
   if (options.kind == RandomSceneKind::rocky) {
     throw InputError("--kind: rocky scenes have no cart rail to measure on; use boxes or steps");
   }
+  options.urg.sim.receiver.enabled = parse_on_off("--coupling", args.coupling);
   if (args.structured_light == "off") {
     options.structured_light = false;
   } else {
@@ -136,6 +138,9 @@ void register_random_scenes(CLI::App& app) {
       ->capture_default_str();
   fidelity->add_option("--filters", fa->filters,
                        "Scan filters of the URG's filtered run (as for cart-rail): paper, urg (paper + between-scans), ...")
+      ->capture_default_str();
+  fidelity->add_option("--coupling", fa->coupling,
+                       "Range-intensity coupling through the receiver's gain control (docs/mixed_pixels.md): on or off")
       ->capture_default_str();
   fidelity->add_option("--out", fa->out_dir, "Output folder; results go to OUT/fidelity/")->required();
   fidelity->callback([fa] { run_fidelity_command(*fa); });

@@ -103,7 +103,12 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
     urg.sensor = CartRailSensor::urg;
     urg.mixed_pixels = false;
     urg.filters = {};
+    // The reference is the ideal sensor: no mixed measurement of any kind,
+    // neither the footprint's nor the receiver's (its lagging gain control).
+    const bool coupling = urg.sim.receiver.enabled;
+    urg.sim.receiver.enabled = false;
     const CartRailResult reference = run(urg);
+    urg.sim.receiver.enabled = coupling;
     urg.mixed_pixels = true;
     const CartRailResult unfiltered = run(urg);
     urg.filters = options.filters;

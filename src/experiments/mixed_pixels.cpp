@@ -42,6 +42,9 @@ MixedPixelsResult run_mixed_pixels(const Scene& scene, const CartRailOptions& ba
     CartRailOptions options = base;
     options.progress = progress_of_part(base.progress, result.rows.size(), cases.size());
     options.mixed_pixels = c.mixed_pixels;
+    // The reference case is the sensor without mixed measurements of any
+    // kind: no footprint and no lagging gain control either.
+    if (!c.mixed_pixels) options.sim.receiver.enabled = false;
     options.filters = c.filters;
     options.map_filter = c.map_filter;
     options.drop_labelled_mixed = c.drop_labelled_mixed;

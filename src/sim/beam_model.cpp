@@ -19,9 +19,14 @@ BeamEcho SingleRayBeamModel::trace(const SceneRayCaster& scene, const BeamReques
   if (!hit) return echo;
   echo.has_return = true;
   echo.range_m = hit->range_m;
+  last_range_m_ = hit->range_m;
   echo.amplitude = lambertian_amplitude(hit->reflectance, -hit->normal.dot(beam.direction), hit->range_m);
   echo.label = BeamLabel::clean;
   return echo;
+}
+
+BeamLabel SingleRayBeamModel::label_for_range(double range_m) const {
+  return std::abs(range_m - last_range_m_) > single_ray_mixed_tolerance_m ? BeamLabel::mixed : BeamLabel::clean;
 }
 
 }  // namespace stridemap

@@ -193,10 +193,14 @@ BeamEcho FootprintBeamModel::trace(const SceneRayCaster& scene, const BeamReques
     return echo;
   }
 
-  double nearest_m = std::numeric_limits<double>::infinity();
-  for (const double r : hit_ranges_m_) nearest_m = std::min(nearest_m, std::abs(echo.range_m - r));
-  echo.label = nearest_m > options_.mixed_tolerance_m ? BeamLabel::mixed : BeamLabel::clean;
+  echo.label = label_for_range(echo.range_m);
   return echo;
+}
+
+BeamLabel FootprintBeamModel::label_for_range(double range_m) const {
+  double nearest_m = std::numeric_limits<double>::infinity();
+  for (const double r : hit_ranges_m_) nearest_m = std::min(nearest_m, std::abs(range_m - r));
+  return nearest_m > options_.mixed_tolerance_m ? BeamLabel::mixed : BeamLabel::clean;
 }
 
 }  // namespace stridemap

@@ -21,6 +21,13 @@ void check_urg_option(const char* field, std::optional<std::string> problem) {
   if (problem) throw InputError(std::string("URG simulator options: ") + field + ": " + *problem);
 }
 
+// The AGC cannot settle below the weakest echo the sensor measures; with
+// dropouts off (threshold possibly 0) the floor is a tiny positive number.
+double receiver_floor_amplitude(const UrgSimOptions& options) {
+  options.validate();
+  return std::max(options.dropout_amplitude_threshold, min_amplitude);
+}
+
 }  // namespace
 
 void UrgSimOptions::validate() const {
@@ -32,6 +39,7 @@ void UrgSimOptions::validate() const {
   }
   check_urg_option("dropout_amplitude_threshold", scene_rules::non_negative(dropout_amplitude_threshold));
   check_urg_option("amplitude_bias_m_per_decade", scene_rules::finite(amplitude_bias_m_per_decade));
+  receiver.validate();
 }
 
 UrgSimulator::UrgSimulator(const Scene& scene, const UrgParameters& params, const UrgSimOptions& options,
@@ -40,7 +48,12 @@ UrgSimulator::UrgSimulator(const Scene& scene, const UrgParameters& params, cons
 
 UrgSimulator::UrgSimulator(const Scene& scene, const UrgParameters& params, const UrgSimOptions& options,
                            std::uint64_t seed, std::unique_ptr<BeamModel> beam_model)
-    : caster_(scene), params_(params), options_(options), beam_model_(std::move(beam_model)), seed_(seed) {
+    : caster_(scene),
+      params_(params),
+      options_(options),
+      beam_model_(std::move(beam_model)),
+      seed_(seed),
+      receiver_gain_(options.receiver, receiver_floor_amplitude(options)) {
   params_.validate();
   options_.validate();
   if (!beam_model_) throw InputError("URG simulator: no beam model given");
@@ -101,6 +114,7 @@ void UrgSimulator::scan(const TrunkPose& pose, const SensorMount& mount, double 
   request.max_range_m = params_.max_range_m * 1.02 + 0.05;
   const double min_mm = std::round(params_.min_range_m * 1000.0);
   const double max_mm = std::round(params_.max_range_m * 1000.0);
+  receiver_gain_.begin_scan();
 
   if (!request.origin_m.allFinite() || !rotation.allFinite()) {
     throw InputError("URG simulator: the pose or mount of the scan at t = " + scene_rules::format_number(time_s) +
@@ -110,7 +124,8 @@ void UrgSimulator::scan(const TrunkPose& pose, const SensorMount& mount, double 
     const double c = cos_angle_[i], s = sin_angle_[i];
     request.direction = c * rotation.col(0) + s * rotation.col(1);
     request.sweep_axis = -s * rotation.col(0) + c * rotation.col(1);
-    const BeamEcho echo = beam_model_->trace(caster_, request, rng_);
+    BeamEcho echo = beam_model_->trace(caster_, request, rng_);
+    if (!echo.has_return) receiver_gain_.no_echo();
 
     std::uint32_t value = urg_code_no_return;
     BeamLabel label = BeamLabel::dropped;
@@ -123,9 +138,17 @@ void UrgSimulator::scan(const TrunkPose& pose, const SensorMount& mount, double 
       value = *echo.sensor_error_code;
     } else if (echo.has_return && options_.enable_dropouts &&
                echo.amplitude < options_.dropout_amplitude_threshold) {
+      receiver_gain_.shift_m(echo.amplitude);  // the AGC sees the faint echo too
       value = urg_code_weak_return;
     } else if (echo.has_return) {
-      double range_m = echo.range_m + systematic_error_m(echo.range_m) + amplitude_bias_m(echo.amplitude);
+      const double shift_m = receiver_gain_.shift_m(echo.amplitude);
+      const double phase_range_m = echo.range_m + shift_m;
+      // The beam model labels the range the light's phase says; the AGC's
+      // shift belongs to the same mixed-measurement error, so the label is
+      // asked again for the shifted range.
+      if (shift_m != 0.0 && echo.label != BeamLabel::dropped) echo.label = beam_model_->label_for_range(phase_range_m);
+      double range_m =
+          phase_range_m + systematic_error_m(echo.range_m) + amplitude_bias_m(echo.amplitude);
       if (options_.enable_noise) range_m += noise_sigma_m(echo.amplitude) * gaussian(rng_);
       const double range_mm = range_m * 1000.0;
       const double rounded_mm = options_.quantize_to_mm ? std::round(range_mm) : std::floor(range_mm + dither(rng_));

@@ -21,6 +21,11 @@ AttitudeCalibration calibrate(const PoseErrorOptions& errors, std::uint64_t seed
   const Scene floor = flat_calibration_floor(0.35);
   UrgWalkSensorOptions urg;
   urg.sim.enable_systematic_error = systematic_range_error;
+  // The receiver's lagging gain control reads the floor long on the side
+  // the scan leaves it (the echo weakens beam by beam there) and barely
+  // short on the other: a roll of about -0.046 deg with this floor, which
+  // the fit rightly reports; these tests are about the IMU and the cubic.
+  urg.sim.receiver.enabled = false;
   urg.mixed_pixels = mixed_pixels;
   if (mixed_pixels) urg.filters = {ScanFilterKind::range_clustering, ScanFilterKind::scan_sequence};
   MapperOptions mapper;

@@ -186,6 +186,7 @@ TEST(BoxEdges, OffGridBoxesMeasureWithinAFewMillimetres) {
     CartRailOptions options;
     options.seed = 5;
     options.objects.edges.facing_edge_quantile = 0.5;
+    options.sim.receiver.enabled = false;  // no mixed measurement of either kind: footprint or gain control
     const CartRailResult result = run_cart_rail(scene, options);
     // The same map with every side at the outer envelope (the default).
     ObjectMeasureOptions envelope = options.objects;

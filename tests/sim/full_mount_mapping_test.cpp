@@ -62,6 +62,7 @@ MapCheck map_the_walk(const SensorMount& true_mount, const SensorMount& mapper_m
   ideal.enable_noise = false;
   ideal.enable_systematic_error = false;
   ideal.enable_dropouts = false;
+  ideal.receiver.enabled = false;  // no range-intensity coupling either: an ideal sensor
   UrgSimulator sim(scene, UrgParameters{}, ideal, 7);
   const UrgModel model;
   MapperOptions options;

@@ -51,6 +51,7 @@ UrgSimOptions ideal_options() {
   options.enable_noise = false;
   options.enable_systematic_error = false;
   options.enable_dropouts = false;
+  options.receiver.enabled = false;  // the lagging gain control shifts readings at grazing incidence
   return options;
 }
 
@@ -298,6 +299,7 @@ class ScriptedBeamModel final : public BeamModel {
     if (requests_->size() % 3 == 0) echo.label = BeamLabel::mixed;
     return echo;
   }
+  BeamLabel label_for_range(double) const override { return BeamLabel::clean; }
 
  private:
   BeamEcho echo_;

@@ -66,13 +66,26 @@ class BeamModel {
   /// Implementations may keep scratch storage but must not allocate once it
   /// has grown.
   virtual BeamEcho trace(const SceneRayCaster& scene, const BeamRequest& beam, std::mt19937_64& rng) = 0;
+  /// The label the most recently traced beam would get had its phase read
+  /// range_m instead (UrgSimulator asks it when the receiver shifts a
+  /// reading): mixed when range_m is farther than the model's tolerance
+  /// from every surface the beam touched.
+  virtual BeamLabel label_for_range(double range_m) const = 0;
 };
+
+/// SingleRayBeamModel's tolerance for label_for_range [m]: the footprint
+/// model's default (FootprintBeamOptions::mixed_tolerance_m).
+inline constexpr double single_ray_mixed_tolerance_m = 0.015;
 
 /// The beam as an infinitely thin ray: the echo of the nearest surface on
 /// its axis. Always labels clean.
 class SingleRayBeamModel final : public BeamModel {
  public:
   BeamEcho trace(const SceneRayCaster& scene, const BeamRequest& beam, std::mt19937_64& rng) override;
+  BeamLabel label_for_range(double range_m) const override;
+
+ private:
+  double last_range_m_ = 0.0;
 };
 
 }  // namespace stridemap

@@ -178,6 +178,7 @@ class FootprintBeamModel final : public BeamModel {
 
   /// Deterministic: rng is not used. Allocates nothing.
   BeamEcho trace(const SceneRayCaster& scene, const BeamRequest& beam, std::mt19937_64& rng) override;
+  BeamLabel label_for_range(double range_m) const override;
 
   const FootprintBeamOptions& options() const { return options_; }
   /// Sub-rays per instant (19 with the defaults).

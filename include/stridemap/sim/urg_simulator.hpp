@@ -4,7 +4,8 @@
 // (millimetres, or an error code below 20), with the error model of
 // research/algorithms.md 5.7:
 //
-//   r_out = r + e_sys(r) + b(A) + n,  n ~ N(0, sigma(A)),  quantised to 1 mm
+//   r_out = r + e_sys(r) + b(A) + s_agc + n,  n ~ N(0, sigma(A)),
+//           quantised to 1 mm
 //
 //   A        amplitude of the echo, reflectance * cos(incidence) / r^2,
 //            normalised to 1 for a white target head-on at 1 m
@@ -12,6 +13,12 @@
 //   b(A)     range-intensity coupling, amplitude_bias_m_per_decade per
 //            decade of weakening below noise_reference_amplitude (off by
 //            default: its size for the URG is not published)
+//   s_agc    range-intensity coupling through the receiver's gain control,
+//            which lags one beam behind (sim/receiver_gain.hpp; on by
+//            default): the first beam after an amplitude step reads behind
+//            (weaker) or in front (stronger). A beam it moves farther than
+//            the beam model's tolerance from every surface it touched is
+//            labelled mixed.
 //   sigma(A) range_noise_sigma_m * max(1, (noise_reference_amplitude / A)^0.5):
 //            the phase noise of a shot-noise-limited receiver falls with the
 //            square root of the collected signal, so weak returns (dark,
@@ -31,6 +38,7 @@
 #include "stridemap/core/pose.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
 #include "stridemap/sim/beam_model.hpp"
+#include "stridemap/sim/receiver_gain.hpp"
 #include "stridemap/sim/scene.hpp"
 #include "stridemap/sim/scene_ray_caster.hpp"
 
@@ -67,6 +75,9 @@ struct UrgSimOptions {
   /// b(A) per decade of amplitude below noise_reference_amplitude [m];
   /// positive: weaker echoes read farther. 0 = off.
   double amplitude_bias_m_per_decade = 0.0;
+  /// Range-intensity coupling through the AGC (on by default; enabled =
+  /// false gives the readings of the simulator before issue 13, item 4).
+  ReceiverGainOptions receiver{};
   /// true: round to the nearest millimetre, as the sensor does. false: the
   /// raw values are still whole millimetres (the wire format), but rounded
   /// stochastically (floor(r_mm + U[0, 1))), which is unbiased on average,
@@ -122,6 +133,7 @@ class UrgSimulator {
   std::uint64_t scan_index_ = 0;
   std::vector<double> cos_angle_, sin_angle_;  ///< per beam, sensor frame
   std::mt19937_64 rng_;
+  ReceiverGain receiver_gain_;
 };
 
 }  // namespace stridemap
