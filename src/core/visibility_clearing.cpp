@@ -60,6 +60,8 @@ VisibilityClearing::VisibilityClearing(const ElevationMap& map, const Visibility
   column_max_.assign(levels * n, -std::numeric_limits<float>::infinity());
   slot_row_max_.assign(n, -std::numeric_limits<float>::infinity());
   slot_column_max_.assign(n, -std::numeric_limits<float>::infinity());
+  tables_rows_.assign(n, 0.0f);
+  tables_columns_.assign(n, 0.0f);
   retake_row_.assign(n, 0);
   retake_column_.assign(n, 0);
 }
@@ -328,6 +330,16 @@ void VisibilityClearing::build_tables() {
   // free of the slots' wrap); higher levels: the maximum of two halves.
   const auto n = static_cast<std::size_t>(n_);
   const auto x0 = static_cast<std::size_t>(slot_x0_), y0 = static_cast<std::size_t>(slot_y0_);
+  // The same maxima for the same corner: the tables stand as they are.
+  if (tables_valid_ && tables_corner_ == corner_ &&
+      std::memcmp(tables_rows_.data(), slot_row_max_.data(), n * sizeof(float)) == 0 &&
+      std::memcmp(tables_columns_.data(), slot_column_max_.data(), n * sizeof(float)) == 0) {
+    return;
+  }
+  tables_valid_ = true;
+  tables_corner_ = corner_;
+  std::copy(slot_row_max_.begin(), slot_row_max_.end(), tables_rows_.begin());
+  std::copy(slot_column_max_.begin(), slot_column_max_.end(), tables_columns_.begin());
   std::copy(slot_row_max_.begin() + static_cast<std::ptrdiff_t>(x0), slot_row_max_.end(), row_max_.begin());
   std::copy(slot_row_max_.begin(), slot_row_max_.begin() + static_cast<std::ptrdiff_t>(x0),
             row_max_.begin() + static_cast<std::ptrdiff_t>(n - x0));

@@ -151,9 +151,9 @@ void WalkRun::step() {
   if (std::abs(mapper_.motion_to(estimate_).yaw_change_rad) > kYawChangeCounted_rad) ++yaw_change_scans_;
   last_stats_ = sensor_.measure(truth_.pose, estimate_, time_s, mapper_);
   count_visibility();
-  if (fusion_) {
+  if (fusion_) {  // writes the fused layers only, never the elevation: not counted
     for (const ObservedPoint& p : sensor_.last_points()) {
-      fusion_->add(mapper_.map(), p.map_m.x(), p.map_m.y(), p.map_m.z(), p.height_uncertainty_m);
+      fusion_->add(mapper_.map_without_raising(), p.map_m.x(), p.map_m.y(), p.map_m.z(), p.height_uncertainty_m);
     }
   }
 
@@ -183,7 +183,7 @@ void WalkRun::count_visibility() {
   visibility_contradicted_ += v->stats().cells_contradicted;
   if (!options_.score_against_truth) return;
   const Scene& scene = motion_.scene();
-  const double size = mapper_.map().cell_size_m();
+  const double size = std::as_const(mapper_).map().cell_size_m();
   for (const ClearedCell& c : v->cleared()) {
     const double x = static_cast<double>(c.cell.x) * size, y = static_cast<double>(c.cell.y) * size;
     const double truth = scene.max_height_in_rect(x, y, x + size, y + size);

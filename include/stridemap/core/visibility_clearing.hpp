@@ -196,6 +196,10 @@ class VisibilityClearing {
   // corner the slot maxima were last brought up to date for.
   std::uint64_t seen_mapper_ = 0, seen_unrecorded_ = 0, seen_scans_ = 0;
   CellIndex maxima_corner_{};
+  // The slot maxima and corner the tables were last built from.
+  std::vector<float> tables_rows_, tables_columns_;
+  CellIndex tables_corner_{};
+  bool tables_valid_ = false;
   std::vector<std::uint8_t> floor_log2_;  // of 1..n
   std::uint32_t scan_ = 0;
   std::uint64_t scans_ = 0;
