@@ -24,7 +24,7 @@ double wrap_angle(double a) { return std::remainder(a, 2.0 * std::numbers::pi); 
 }  // namespace
 
 namespace detail {
-std::uint64_t MapperIdentity::next() {
+std::uint64_t MapperIdentity::next() noexcept {
   static std::atomic<std::uint64_t> last{0};
   return ++last;
 }

@@ -111,16 +111,18 @@ namespace detail {
 // A number no other mapper has: a copy or an assignment draws a new one.
 class MapperIdentity {
  public:
-  MapperIdentity() : value_(next()) {}
-  MapperIdentity(const MapperIdentity&) : value_(next()) {}
-  MapperIdentity& operator=(const MapperIdentity&) {
+  // noexcept, so that a mapper still moves without copying its layers
+  // where a container asks for a move that cannot throw.
+  MapperIdentity() noexcept : value_(next()) {}
+  MapperIdentity(const MapperIdentity&) noexcept : value_(next()) {}
+  MapperIdentity& operator=(const MapperIdentity&) noexcept {
     value_ = next();
     return *this;
   }
   std::uint64_t value() const { return value_; }
 
  private:
-  static std::uint64_t next();
+  static std::uint64_t next() noexcept;
   std::uint64_t value_;
 };
 }  // namespace detail
