@@ -1,6 +1,7 @@
 #include "stridemap/core/terrain_mapper.hpp"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -21,6 +22,13 @@ void require_finite_non_negative(double value, const char* name) {
 double wrap_angle(double a) { return std::remainder(a, 2.0 * std::numbers::pi); }
 
 }  // namespace
+
+namespace detail {
+std::uint64_t MapperIdentity::next() noexcept {
+  static std::atomic<std::uint64_t> last{0};
+  return ++last;
+}
+}  // namespace detail
 
 ScanStats& ScanStats::operator+=(const ScanStats& o) {
   beams += o.beams;
@@ -138,6 +146,7 @@ void TerrainMapper::follow(const TrunkPose& pose, double cos_yaw, double sin_yaw
   const CellIndex new_min{centre.x - half, centre.y - half};
   const CellIndex old_min = map_.min_cell();
   if (new_min == old_min) return;
+  ++unrecorded_changes_;  // the listener may write the cells that entered (tiles)
   window_listener_->window_leaving(map_, new_min);
   stats.cells_reset_by_move = map_.move_corner_to(new_min);
   window_listener_->window_entered(map_, old_min);
@@ -176,6 +185,7 @@ void TerrainMapper::finish(const TrunkPose& pose, std::optional<double> time_s, 
   previous_pose_ = pose;
   previous_origin_known_ = false;
   if (time_s) previous_time_s_ = *time_s;
+  ++scans_;  // its cells are in changed_rows_ by now
   MapperTotals scan;
   scan.scans = 1;
   scan.beams = stats.beams;

@@ -18,6 +18,7 @@
 #endif
 
 #include "stridemap/core/error.hpp"
+#include "stridemap/core/terrain_mapper.hpp"
 
 namespace stridemap {
 namespace {
@@ -57,10 +58,43 @@ VisibilityClearing::VisibilityClearing(const ElevationMap& map, const Visibility
   const std::size_t levels = static_cast<std::size_t>(floor_log2_[n]) + 1;
   row_max_.assign(levels * n, -std::numeric_limits<float>::infinity());
   column_max_.assign(levels * n, -std::numeric_limits<float>::infinity());
-  column_scratch_.assign(n, -std::numeric_limits<float>::infinity());
+  slot_row_max_.assign(n, -std::numeric_limits<float>::infinity());
+  slot_column_max_.assign(n, -std::numeric_limits<float>::infinity());
+  tables_rows_.assign(n, 0.0f);
+  tables_columns_.assign(n, 0.0f);
+  retake_row_.assign(n, 0);
+  retake_column_.assign(n, 0);
 }
 
 void VisibilityClearing::begin_scan(const ElevationMap& map) {
+  start(map);
+  seen_mapper_ = 0;  // followed no mapper: the next begin_scan(mapper) looks at the whole map
+  take_maxima(map);
+  build_tables();
+  stats_.maxima_from_whole_map = true;
+}
+
+void VisibilityClearing::begin_scan(const TerrainMapper& mapper) {
+  const ElevationMap& map = mapper.map();
+  if (map.cells_per_side() != n_) start(map);  // throws
+  const MapChanges changes = mapper.changes();
+  // The rows hold every change since the last look when nothing uncounted
+  // happened and they were not cleared of a scan not yet seen here; the
+  // last scan's own clears must all be listed to be accounted for.
+  const bool follow = seen_mapper_ != 0 && changes.mapper == seen_mapper_ &&
+                      changes.unrecorded == seen_unrecorded_ && changes.record_from_scan <= seen_scans_ &&
+                      stats_.cells_cleared == cleared_.size();
+  const bool kept = follow && update_maxima(mapper);  // before start(): it reads the last scan's clears
+  start(map);
+  if (!kept) take_maxima(map);
+  build_tables();
+  stats_.maxima_from_whole_map = !kept;
+  seen_mapper_ = changes.mapper;
+  seen_unrecorded_ = changes.unrecorded;
+  seen_scans_ = changes.scans;
+}
+
+void VisibilityClearing::start(const ElevationMap& map) {
   if (map.cells_per_side() != n_) {
     throw InputError("visibility: the map has " + std::to_string(map.cells_per_side()) +
                      " cells a side, the clean-up was made for " + std::to_string(n_));
@@ -84,8 +118,6 @@ void VisibilityClearing::begin_scan(const ElevationMap& map) {
   inverse_cell_ = 1.0 / cell;
   relief_m_ = options_.relief_factor * cell;
   spacing_m2_ = spacing_m2(cell);
-  take_maxima(map);
-  window_top_ = range_max(row_max_, 0, n_ - 1);
 }
 
 namespace {
@@ -163,30 +195,163 @@ void halves_max(const float* below, std::size_t half, float* here, std::size_t c
 }  // namespace
 
 void VisibilityClearing::take_maxima(const ElevationMap& map) {
-  // Level 0: one pass over the elevation layer, the window's rows in order
-  // from its corner; the columns by slot, then put in order from the corner.
+  // One pass over the elevation layer in slot order: rows and columns by slot.
   const auto n = static_cast<std::size_t>(n_);
   const float* elevation = map.elevation_data();
-  float* rows = row_max_.data();
-  float* scratch = column_scratch_.data();
-  std::fill(scratch, scratch + n, kNoElevation);
-  auto slot_row = static_cast<std::size_t>(slot_x0_);
+  float* columns = slot_column_max_.data();
+  std::fill(columns, columns + n, kNoElevation);
   auto pass = take_row;
 #if defined(STRIDEMAP_AVX_PASS)
   if (cpu_has_avx()) pass = take_row_avx;
 #endif
-  for (std::size_t i = 0; i < n; ++i, slot_row = slot_row + 1 == n ? 0 : slot_row + 1) {
-    rows[i] = pass(elevation + slot_row * n, scratch, n);
+  for (std::size_t i = 0; i < n; ++i) slot_row_max_[i] = pass(elevation + i * n, columns, n);
+  maxima_corner_ = map.min_cell();
+}
+
+namespace {
+
+// Index mod n in 0..n-1, as the grid's slots take it.
+inline std::size_t wrap_index(std::int64_t x, std::int64_t n) {
+  const std::int64_t m = x % n;
+  return static_cast<std::size_t>(m < 0 ? m + n : m);
+}
+
+}  // namespace
+
+bool VisibilityClearing::update_maxima(const TerrainMapper& mapper) {
+  // Called before start(): cleared_ and stats_ are the last scan's, corner_
+  // its corner. Returns false, changing nothing that the whole pass would
+  // not set again, when taking the whole map is the cheaper way.
+  const ElevationMap& map = mapper.map();
+  const std::int64_t n = n_;
+  const auto nn = static_cast<std::size_t>(n);
+  const CellIndex now = map.min_cell(), was = maxima_corner_;
+  const std::int64_t dx = now.x - was.x, dy = now.y - was.y;
+  if (dx >= n || -dx >= n || dy >= n || -dy >= n) return false;
+  const ChangedRows& rows = mapper.changed_rows();
+  // The changed cells of window rows, for the cost and the raise below.
+  const CellBox& b = rows.bounds();
+  const std::int64_t first_x = std::max(b.min.x, now.x), last_x = std::min(b.max.x, now.x + n - 1);
+  std::int64_t written = 0;
+  if (!rows.empty()) {
+    std::int64_t lo = 0, hi = 0;
+    for (std::int64_t x = first_x; x <= last_x; ++x) {
+      if (rows.span(x, lo, hi)) written += std::max<std::int64_t>(0, std::min(hi, now.y + n - 1) - std::max(lo, now.y) + 1);
+    }
   }
-  const auto y0 = static_cast<std::size_t>(slot_y0_);
-  std::copy(scratch + y0, scratch + n, column_max_.begin());
-  std::copy(scratch, scratch + y0, column_max_.begin() + static_cast<std::ptrdiff_t>(n - y0));
-  // Higher levels: the maximum of two halves.
-  for (float* table : {rows, column_max_.data()}) {
+  if (written > n * n / 4) return false;
+
+  float* row_max = slot_row_max_.data();
+  float* column_max = slot_column_max_.data();
+  std::uint8_t* retake_row = retake_row_.data();
+  std::uint8_t* retake_column = retake_column_.data();
+  std::fill(retake_row, retake_row + nn, 0);
+  std::fill(retake_column, retake_column + nn, 0);
+  std::size_t retaken_rows = 0, retaken_columns = 0;
+  const auto mark = [](std::uint8_t& flag, std::size_t& count) {
+    count += flag == 0;
+    flag = 1;
+  };
+  // The last scan's clears: a row or column whose highest value was a
+  // cleared cell's (or lower) may now be lower.
+  for (const ClearedCell& c : cleared_) {
+    const std::size_t sx = wrap_index(c.cell.x, n), sy = wrap_index(c.cell.y, n);
+    if (!(row_max[sx] > c.elevation_m)) mark(retake_row[sx], retaken_rows);
+    if (!(column_max[sy] > c.elevation_m)) mark(retake_column[sy], retaken_columns);
+  }
+  // A window move reset the cells that left (their slots are the entering
+  // cells', unknown): rows that left are empty, and a column (row) whose
+  // highest value was no higher than the rows (columns) that left may have
+  // lost it.
+  const auto leave = [&](std::int64_t from, std::int64_t step, float* lost, float* other, std::uint8_t* retake,
+                         std::size_t& count) {
+    if (step == 0) return;
+    float highest = kNoElevation;
+    const std::int64_t cells = step > 0 ? step : -step;
+    const std::int64_t start = step > 0 ? from : from + n + step;  // global index of the first that left
+    for (std::int64_t k = 0; k < cells; ++k) {
+      float& m = lost[wrap_index(start + k, n)];
+      highest = known_max(highest, m);
+      m = kNoElevation;
+    }
+    if (!(highest > kNoElevation)) return;
+    for (std::size_t s = 0; s < nn; ++s) {
+      if (other[s] > kNoElevation && !(other[s] > highest)) mark(retake[s], count);
+    }
+  };
+  leave(was.x, dx, row_max, column_max, retake_column, retaken_columns);
+  leave(was.y, dy, column_max, row_max, retake_row, retaken_rows);
+  // A column is taken again cell by cell across the rows: past a quarter of
+  // them the whole pass is cheaper.
+  if (retaken_columns > nn / 4) return false;
+
+  // The cells written since: rows and columns raised to them.
+  const float* elevation = map.elevation_data();
+  auto pass = take_row;
+#if defined(STRIDEMAP_AVX_PASS)
+  if (cpu_has_avx()) pass = take_row_avx;
+#endif
+  if (written > 0) {
+    std::int64_t lo = 0, hi = 0;
+    for (std::int64_t x = first_x; x <= last_x; ++x) {
+      if (!rows.span(x, lo, hi)) continue;
+      lo = std::max(lo, now.y);
+      hi = std::min(hi, now.y + n - 1);
+      if (lo > hi) continue;
+      const std::size_t sx = wrap_index(x, n), s0 = wrap_index(lo, n);
+      const auto count = static_cast<std::size_t>(hi - lo + 1);
+      const std::size_t part = std::min(count, nn - s0);  // up to the slots' wrap, then from slot 0
+      const float* row = elevation + sx * nn;
+      float m = pass(row + s0, column_max + s0, part);
+      if (part < count) m = known_max(m, pass(row, column_max, count - part));
+      row_max[sx] = known_max(row_max[sx], m);
+    }
+  }
+  // Rows and columns that may have lost their highest cell, from the map.
+  if (retaken_rows > 0) {
+    for (std::size_t sx = 0; sx < nn; ++sx) {
+      if (retake_row[sx]) row_max[sx] = pass(elevation + sx * nn, column_max, nn);
+    }
+  }
+  if (retaken_columns > 0) {
+    for (std::size_t sy = 0; sy < nn; ++sy) {
+      if (!retake_column[sy]) continue;
+      float m = kNoElevation;
+      for (std::size_t sx = 0; sx < nn; ++sx) m = known_max(m, elevation[sx * nn + sy]);
+      column_max[sy] = m;
+    }
+  }
+  maxima_corner_ = now;
+  return true;
+}
+
+void VisibilityClearing::build_tables() {
+  // Level 0 in the window's order from its corner (the look-ups are then
+  // free of the slots' wrap); higher levels: the maximum of two halves.
+  const auto n = static_cast<std::size_t>(n_);
+  const auto x0 = static_cast<std::size_t>(slot_x0_), y0 = static_cast<std::size_t>(slot_y0_);
+  // The same maxima for the same corner: the tables stand as they are.
+  if (tables_valid_ && tables_corner_ == corner_ &&
+      std::memcmp(tables_rows_.data(), slot_row_max_.data(), n * sizeof(float)) == 0 &&
+      std::memcmp(tables_columns_.data(), slot_column_max_.data(), n * sizeof(float)) == 0) {
+    return;
+  }
+  tables_valid_ = true;
+  tables_corner_ = corner_;
+  std::copy(slot_row_max_.begin(), slot_row_max_.end(), tables_rows_.begin());
+  std::copy(slot_column_max_.begin(), slot_column_max_.end(), tables_columns_.begin());
+  std::copy(slot_row_max_.begin() + static_cast<std::ptrdiff_t>(x0), slot_row_max_.end(), row_max_.begin());
+  std::copy(slot_row_max_.begin(), slot_row_max_.begin() + static_cast<std::ptrdiff_t>(x0),
+            row_max_.begin() + static_cast<std::ptrdiff_t>(n - x0));
+  std::copy(slot_column_max_.begin() + static_cast<std::ptrdiff_t>(y0), slot_column_max_.end(), column_max_.begin());
+  std::copy(slot_column_max_.begin(), slot_column_max_.begin() + static_cast<std::ptrdiff_t>(y0),
+            column_max_.begin() + static_cast<std::ptrdiff_t>(n - y0));
+  for (float* table : {row_max_.data(), column_max_.data()}) {
     for (std::size_t level = 1, half = 1; (half << 1) <= n; ++level, half <<= 1) {
       halves_max(table + (level - 1) * n, half, table + level * n, n - (half << 1) + 1);
     }
   }
+  window_top_ = range_max(row_max_, 0, n_ - 1);
 }
 
 namespace {

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/sensor_transform.hpp"
@@ -101,7 +102,7 @@ void WalkRun::trace_swept(const TrunkPose& truth) {
                              ? truth.reference_elevation_m
                              : motion_.scene().terrain.base_elevation_m;
   sensor_.floor_trace(truth, floor_m, options_.swept_max_range_m, trace_);
-  const ElevationMap& local = mapper_.map();
+  const ElevationMap& local = std::as_const(mapper_).map();
   const ElevationMap& mosaic = *mosaic_;
   const double step = local.cell_size_m() / 4.0;
   const auto mark = [&](const Eigen::Vector2d& p) {
@@ -128,7 +129,7 @@ void WalkRun::trace_swept(const TrunkPose& truth) {
 }
 
 void WalkRun::copy_into_mosaic() {
-  const ElevationMap& local = mapper_.map();
+  const ElevationMap& local = std::as_const(mapper_).map();
   ElevationMap& mosaic = *mosaic_;
   const int n = local.cells_per_side();
   for (int i = 0; i < n; ++i) {
@@ -146,13 +147,13 @@ void WalkRun::copy_into_mosaic() {
 void WalkRun::step() {
   const double time_s = static_cast<double>(next_scan_) * sensor_.frame_period_s();
   truth_ = motion_.at(time_s);
-  estimate_ = estimator_.estimate(truth_, mapper_.map());
+  estimate_ = estimator_.estimate(truth_, std::as_const(mapper_).map());  // a read: not counted (TerrainMapper::changes())
   if (std::abs(mapper_.motion_to(estimate_).yaw_change_rad) > kYawChangeCounted_rad) ++yaw_change_scans_;
   last_stats_ = sensor_.measure(truth_.pose, estimate_, time_s, mapper_);
   count_visibility();
-  if (fusion_) {
+  if (fusion_) {  // writes the fused layers only, never the elevation: not counted
     for (const ObservedPoint& p : sensor_.last_points()) {
-      fusion_->add(mapper_.map(), p.map_m.x(), p.map_m.y(), p.map_m.z(), p.height_uncertainty_m);
+      fusion_->add(mapper_.map_without_raising(), p.map_m.x(), p.map_m.y(), p.map_m.z(), p.height_uncertainty_m);
     }
   }
 
@@ -182,7 +183,7 @@ void WalkRun::count_visibility() {
   visibility_contradicted_ += v->stats().cells_contradicted;
   if (!options_.score_against_truth) return;
   const Scene& scene = motion_.scene();
-  const double size = mapper_.map().cell_size_m();
+  const double size = std::as_const(mapper_).map().cell_size_m();
   for (const ClearedCell& c : v->cleared()) {
     const double x = static_cast<double>(c.cell.x) * size, y = static_cast<double>(c.cell.y) * size;
     const double truth = scene.max_height_in_rect(x, y, x + size, y + size);
@@ -253,7 +254,7 @@ WalkResult WalkRun::finish() {
       r.unknown_swept_cells += swept_(i, j) && static_cast<CellState>(mosaic_states(i, j)) == CellState::unknown;
 
   if (!options_.mapper.follow_robot) return r;
-  const ElevationMap& local = mapper_.map();
+  const ElevationMap& local = std::as_const(mapper_).map();
   const int n = local.cells_per_side();
   r.local_swept = CellMask::Zero(n, n);
   for (int i = 0; i < n; ++i) {

@@ -1,5 +1,7 @@
 #include "stridemap/pipeline/mapping_pipeline.hpp"
 
+#include <utility>
+
 #include "stridemap/core/cas_filter.hpp"
 #include "stridemap/core/weighted_median_fill.hpp"
 
@@ -39,8 +41,10 @@ MappingPipeline::MappingPipeline(const PipelineOptions& options)
 
 ScanOutcome MappingPipeline::updated(ScanOutcome outcome) {
   if (foothold_) {
-    foothold_->note(mapper_.map(), mapper_.changed_rows());
-    if (options_.foothold.update_every_scan) foothold_->refresh(mapper_.map());
+    // The layers only read the elevation: not a change the mapper counts
+    // (TerrainMapper::changes(), which the visibility clean-up follows).
+    foothold_->note(std::as_const(mapper_).map(), mapper_.changed_rows());
+    if (options_.foothold.update_every_scan) foothold_->refresh(mapper_.map_without_raising());
   }
   mapper_.clear_changed_cells();
   return outcome;
@@ -55,7 +59,7 @@ ScanStats MappingPipeline::add_planar(const PlanarScan& scan, const TrunkPose& p
 }
 
 void MappingPipeline::refresh_foothold() {
-  if (foothold_) foothold_->refresh(mapper_.map());
+  if (foothold_) foothold_->refresh(mapper_.map_without_raising());
 }
 
 void MappingPipeline::recompute_foothold() {

@@ -166,10 +166,10 @@ ScanOutcome ScanIntegrator::integrate_batch(std::optional<double> time_s, const 
 VisibilityClearing& ScanIntegrator::visibility_for(TerrainMapper& mapper) {
   // Remade only for a mapper with another window size (a caller's second
   // mapper); a steady stream allocates nothing here.
-  const ElevationMap& map = mapper.map();
+  const ElevationMap& map = std::as_const(mapper).map();
   const std::size_t cells = static_cast<std::size_t>(map.cells_per_side()) * static_cast<std::size_t>(map.cells_per_side());
   if (!visibility_ || visibility_->window_cells() != cells) visibility_.emplace(map, options_.visibility);
-  visibility_->begin_scan(map);
+  visibility_->begin_scan(std::as_const(mapper));
   return *visibility_;
 }
 
@@ -194,7 +194,7 @@ void ScanIntegrator::clear_visible(const PlanarScan& scan, const TrunkPose& pose
   }
   const PlanarBeamGeometry geometry(pose, mapper.mount());
   const UpdateOptions& update = mapper.options().update;
-  ElevationMap& map = mapper.map();
+  ElevationMap& map = mapper.map_without_raising();  // the clean-up only lowers and clears
   VisibilityBeam beam;
   beam.origin_m = sensor_origin_in_map(pose, mapper.mount());
   const std::size_t n = std::min({scan.range_m.size(), scan.range_error_m.size(), visibility_cos_.size()});
@@ -214,6 +214,7 @@ void ScanIntegrator::clear_visible(const PlanarScan& scan, const TrunkPose& pose
 void ScanIntegrator::clear_visible_batch(const TrunkPose& pose, TerrainMapper& mapper) {
   if (!options_.visibility.enabled) return;
   VisibilityClearing& clearing = visibility_for(mapper);
+  ElevationMap& map = mapper.map_without_raising();  // the clean-up only lowers and clears
   VisibilityBeam beam;
   beam.origin_m = sensor_origin_in_map(pose, mapper.mount());
   SensorPoint p;
@@ -227,7 +228,7 @@ void ScanIntegrator::clear_visible_batch(const TrunkPose& pose, TerrainMapper& m
     beam.range_error_m = rise > 0.0 ? std::min(length, p.height_error_m / rise) : length;
     beam.height_error_m = p.height_error_m;
     beam.hit_m = beam.origin_m + p.offset_m;
-    clearing.trace(mapper.map(), beam);
+    clearing.trace(map, beam);
   }
   finish_visibility(mapper);
 }

@@ -88,6 +88,45 @@ struct MapPoint {
   double max_elevation_change_m = 0.0;   ///< Delta z_max of eq. (8) for this point
 };
 
+/// For a reader that keeps its own state up to date from changed_rows()
+/// (the visibility clean-up's row and column maxima): whether the rows hold
+/// every change to the map since it last looked, or something happened they
+/// do not show and it must look at the whole map.
+struct MapChanges {
+  /// Which mapper: a new number for every mapper made, copied or assigned.
+  std::uint64_t mapper = 0;
+  /// Changes changed_rows() does not show: bumped by every call of the
+  /// non-const map() (the caller may write through it) and by every window
+  /// move made with a listener (it may write tiles into the window).
+  std::uint64_t unrecorded = 0;
+  /// Scans accepted so far; each one's cells are in changed_rows() until it
+  /// is cleared.
+  std::uint64_t scans = 0;
+  /// `scans` when changed_rows() was last cleared: the rows hold the cells
+  /// of every later scan.
+  std::uint64_t record_from_scan = 0;
+};
+
+namespace detail {
+// A number no other mapper has: a copy or an assignment draws a new one.
+class MapperIdentity {
+ public:
+  // noexcept, so that a mapper still moves without copying its layers
+  // where a container asks for a move that cannot throw.
+  MapperIdentity() noexcept : value_(next()) {}
+  MapperIdentity(const MapperIdentity&) noexcept : value_(next()) {}
+  MapperIdentity& operator=(const MapperIdentity&) noexcept {
+    value_ = next();
+    return *this;
+  }
+  std::uint64_t value() const { return value_; }
+
+ private:
+  static std::uint64_t next() noexcept;
+  std::uint64_t value_;
+};
+}  // namespace detail
+
 class TerrainMapper {
  public:
   /// Throws InputError for non-finite or negative options or mount.
@@ -127,7 +166,19 @@ class TerrainMapper {
   ScanMotion motion_to(const TrunkPose& pose) const;
 
   const ElevationMap& map() const { return map_; }
-  ElevationMap& map() { return map_; }
+  /// Counted in changes().unrecorded at every call: write through the
+  /// reference it returns before the next scan, or call it again.
+  ElevationMap& map() {
+    ++unrecorded_changes_;
+    return map_;
+  }
+  /// The map for writes that raise no cell's elevation and make no unknown
+  /// cell known: layers derived from it (the foothold layers), the
+  /// visibility clean-up's lowering and clearing. Not counted in changes().
+  ElevationMap& map_without_raising() { return map_; }
+  /// What a reader of changed_rows() needs to know whether they hold every
+  /// change since it last looked.
+  MapChanges changes() const { return {identity_.value(), unrecorded_changes_, scans_, record_from_scan_}; }
   const MapperOptions& options() const { return options_; }
   const SensorMount& mount() const { return mount_; }
   const MapperTotals& totals() const { return totals_; }
@@ -150,6 +201,7 @@ class TerrainMapper {
   void clear_changed_cells() {
     changed_.clear();
     changed_rows_.clear();
+    record_from_scan_ = scans_;
   }
   CellBox take_changed_cells() {
     const CellBox box = changed_;
@@ -198,6 +250,9 @@ class TerrainMapper {
   // per-reading update stays two loads and two stores (reset after use).
   std::vector<std::int32_t> row_lo_, row_hi_;
   WindowMoveListener* window_listener_ = nullptr;
+  // changes(): what changed_rows() may not show.
+  detail::MapperIdentity identity_;
+  std::uint64_t unrecorded_changes_ = 0, scans_ = 0, record_from_scan_ = 0;
   std::optional<TrunkPose> previous_pose_;
   // The sensor origin of previous_pose_, when known (per-scan work kept).
   Eigen::Vector3d previous_origin_ = Eigen::Vector3d::Zero();

@@ -32,8 +32,14 @@
 // crosses hold (and a rising beam's walk ends where it has risen above it);
 // the bound is taken from the window's highest cell first, then again over
 // the rows and columns left of the walk, a few times, as the start moves on.
-// Those maxima are taken from the map at begin_scan() and are upper bounds
-// for the whole scan (the clean-up itself only lowers cells). A walk also
+// Those maxima are upper bounds for the whole scan (the clean-up itself
+// only lowers cells). begin_scan(map) takes them from the whole map;
+// begin_scan(mapper) keeps them up to date from the mapper's changed rows
+// (raised by the cells written since; a row or column that lost its highest
+// cell, to the clean-up or to a window move, taken again) and falls back to
+// the whole map when the mapper counted a change its rows do not show
+// (TerrainMapper::changes()). A bound may stay above its row's highest cell
+// (a reading that lowered a cell), never below it. A walk also
 // ends where it leaves the window for good: no cell beyond can be touched.
 // Every crossing parameter of the walk is computed from its cell boundary,
 // not summed step by step, so a walk started part-way reaches the very
@@ -97,7 +103,13 @@ struct VisibilityStats {
   std::size_t cells_crossed = 0;       ///< window cells walked (a cell once per beam)
   std::size_t cells_contradicted = 0;  ///< distinct cells the scan's beams passed below
   std::size_t cells_cleared = 0;       ///< of those, cleared to unknown
+  /// The row and column maxima were taken from the whole map this scan
+  /// (begin_scan(map), or begin_scan(mapper) when its changed rows did not
+  /// hold every change), not kept up to date from the changed rows.
+  bool maxima_from_whole_map = false;
 };
+
+class TerrainMapper;
 
 class VisibilityClearing {
  public:
@@ -112,6 +124,13 @@ class VisibilityClearing {
   /// kept. Until the scan's last trace() the map must change only by the
   /// clean-up. Throws InputError for a map of another window size.
   void begin_scan(const ElevationMap& map);
+  /// The same on mapper.map(), with the maxima kept up to date from the
+  /// mapper's changed rows since the last begin_scan(mapper) on it, when
+  /// its changes() say they hold every change; from the whole map when not
+  /// (another mapper, a write through map(), a window move with a listener,
+  /// changed rows cleared with cells not yet seen here). The clean-up's
+  /// own writes must go through mapper.map_without_raising().
+  void begin_scan(const TerrainMapper& mapper);
   /// Traces one beam on the map given to begin_scan(). Beams must come in
   /// the sensor's order for the thinning to keep the fan covered.
   void trace(ElevationMap& map, const VisibilityBeam& beam);
@@ -143,7 +162,10 @@ class VisibilityClearing {
     const double spacing_m = options_.beam_spacing_cells * cell_size_m;
     return spacing_m * spacing_m;
   }
+  void start(const ElevationMap& map);
   void take_maxima(const ElevationMap& map);
+  bool update_maxima(const TerrainMapper& mapper);
+  void build_tables();
   /// Highest elevation of window rows (or columns) lo..hi, counted from the
   /// window's corner (0 <= lo <= hi < n): `table` is that axis's
   /// range-maximum table.
@@ -166,8 +188,18 @@ class VisibilityClearing {
   // Highest elevation per window row (one global x index, counted from the
   // corner) and per window column, as sparse tables for range maxima:
   // level l holds the maximum of 2^l consecutive rows from each, so any
-  // range is two look-ups. column_scratch_: per slot column, in the pass.
-  std::vector<float> row_max_, column_max_, column_scratch_;
+  // range is two look-ups. slot_row_max_, slot_column_max_: the same per
+  // slot row and column (x, y mod n), kept from scan to scan.
+  std::vector<float> row_max_, column_max_, slot_row_max_, slot_column_max_;
+  std::vector<std::uint8_t> retake_row_, retake_column_;  // per slot: take it again from the map
+  // What begin_scan(mapper) saw of the mapper (mapper 0: none), and the
+  // corner the slot maxima were last brought up to date for.
+  std::uint64_t seen_mapper_ = 0, seen_unrecorded_ = 0, seen_scans_ = 0;
+  CellIndex maxima_corner_{};
+  // The slot maxima and corner the tables were last built from.
+  std::vector<float> tables_rows_, tables_columns_;
+  CellIndex tables_corner_{};
+  bool tables_valid_ = false;
   std::vector<std::uint8_t> floor_log2_;  // of 1..n
   std::uint32_t scan_ = 0;
   std::uint64_t scans_ = 0;
