@@ -151,20 +151,26 @@ TEST(ReceiverGain, OnlyTheFirstBeamAfterAnAmplitudeStepLeavesTheSurface) {
   // same amplitude as beam 299 and reads true (checked above).
 }
 
+// A white box 0.2 m wide on the rail's line, on a floor of the given reflectance.
+Scene white_box_on_floor(double floor_reflectance, double center_x_m, double length_m, double height_m) {
+  Scene scene;
+  scene.terrain.reflectance = floor_reflectance;
+  BoxObject box;
+  box.name = "box";
+  box.center_x_m = center_x_m;
+  box.length_m = length_m;
+  box.width_m = 0.2;
+  box.height_m = height_m;
+  box.reflectance = 0.9;
+  scene.boxes.push_back(box);
+  return scene;
+}
+
 TEST(ReceiverGain, OffGivesTheReadingsOfASettledReceiver) {
   // With the coupling off every beam reads as if the AGC had settled on it;
   // the same scene with slopes of zero gives the same bits, and so does the
   // coupling on a scene whose amplitude never changes.
-  Scene scene;
-  scene.terrain.reflectance = 0.5;
-  BoxObject box;
-  box.name = "box";
-  box.center_x_m = 0.35;
-  box.length_m = 0.1;
-  box.width_m = 0.2;
-  box.height_m = 0.1;
-  box.reflectance = 0.9;
-  scene.boxes.push_back(box);
+  const Scene scene = white_box_on_floor(0.5, 0.35, 0.1, 0.1);
   UrgSimOptions off;
   off.receiver.enabled = false;
   UrgSimOptions zero = sim_with_coupling();
@@ -195,16 +201,7 @@ TEST(ReceiverGain, AtATerrainEdgeTheFirstWeakBeamReadsBehindTheFloor) {
   // about a decade and the first floor beam reads behind the floor; where
   // it returns, the first top beam reads in front of the top. Elsewhere the
   // amplitude changes little between neighbours and so does the reading.
-  Scene scene;
-  scene.terrain.reflectance = 0.08;
-  BoxObject box;
-  box.name = "box";
-  box.center_x_m = 0.3;
-  box.length_m = 0.3;
-  box.width_m = 0.2;
-  box.height_m = 0.08;
-  box.reflectance = 0.9;
-  scene.boxes.push_back(box);
+  const Scene scene = white_box_on_floor(0.08, 0.3, 0.3, 0.08);
   UrgSimOptions off = exact_sim();
   off.receiver.enabled = false;
   UrgSimulator settled(scene, UrgParameters{}, off, 3);
