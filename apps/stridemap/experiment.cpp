@@ -38,6 +38,7 @@ struct CartRailArgs {
   std::string filters = "none";
   std::string config_path;
   std::string mixed_pixels = "off";
+  std::string coupling = "on";
   std::string map_filter = "fill";
   std::string sensor_config_path;
   std::string pipeline = "image";
@@ -125,6 +126,7 @@ void run_cart_rail_command(const CartRailArgs& args) {
     options.update.elevation_rule = parse_elevation_rule(args.elevation_rule);
   }
   options.mixed_pixels = parse_on_off("--mixed-pixels", args.mixed_pixels);
+  options.sim.receiver.enabled = parse_on_off("--coupling", args.coupling);
   options.map_filter = parse_map_filter(args.map_filter);
   // With mixed pixels the paper pre-processes every scan (section 5.3).
   options.filters = parse_scan_filter_list(args.filters_given || !options.mixed_pixels ? args.filters : "paper");
@@ -265,6 +267,10 @@ void register_experiment(CLI::App& app) {
       ->capture_default_str();
   CLI::Option* mixed_pixels = cart_rail->add_option("--mixed-pixels", args->mixed_pixels,
                         "on: simulate the beam footprint and phase-shift ranging, so edges give mixed pixels")
+      ->capture_default_str();
+  cart_rail->add_option("--coupling", args->coupling,
+                        "With --mixed-pixels on: range-intensity coupling through the receiver's gain control "
+                        "(docs/mixed_pixels.md), on or off")
       ->capture_default_str();
   CLI::Option* map_filter = cart_rail->add_option("--map-filter", args->map_filter,
                                                   "On the finished map: fill (eq. 11), cas, none (structured light: "

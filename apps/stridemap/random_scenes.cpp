@@ -71,7 +71,7 @@ struct FidelityArgs {
   std::string kind = "boxes";
   std::string structured_light = "image";
   std::string filters = "paper";
-  std::string coupling = "off";
+  std::string coupling = "on";
   std::string out_dir;
 };
 

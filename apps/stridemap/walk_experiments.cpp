@@ -46,6 +46,7 @@ struct RockyWalkArgs {
   std::optional<double> foothold_map_sigma_m;
   std::optional<double> foothold_gate_sigmas;
   std::string mixed_pixels = "off";
+  std::string coupling = "on";
   std::string visibility = "off";
   std::string pipeline = "geometric";
   std::string filters;
@@ -99,6 +100,7 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   ElevationMap(options.walk.mapper.grid);  // throws for an unusable grid
   options.validate();
   const bool mixed = parse_on_off("--mixed-pixels", args.mixed_pixels);
+  const bool coupling = parse_on_off("--coupling", args.coupling);
   const bool calibrate_range = parse_on_off("--calibrate-range", args.calibrate_range);
   if (!urg && calibrate_range) throw InputError("--calibrate-range applies to the URG only, not to --sensor structured-light");
   const bool visibility = parse_on_off("--visibility", args.visibility);
@@ -129,6 +131,7 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   if (urg) {
     UrgWalkSensorOptions urg_options;
     urg_options.mixed_pixels = mixed;
+    urg_options.sim.receiver.enabled = coupling;
     urg_options.filters = filters;
     urg_options.visibility.enabled = visibility;
     // Before the flat-floor attitude calibration, which would otherwise take
@@ -229,6 +232,10 @@ void register_walk_experiments(CLI::App& app) {
                     "other feet's is left out; default 2.5; a large value (1e9) keeps every foot")
       ->check(number_from_to(1e-3, 1e12));
   rocky->add_option("--mixed-pixels", rw->mixed_pixels, "on: footprint beam model with mixed pixels at edges")
+      ->capture_default_str();
+  rocky->add_option("--coupling", rw->coupling,
+                    "With --mixed-pixels on: range-intensity coupling through the receiver's gain control "
+                    "(docs/mixed_pixels.md), on or off")
       ->capture_default_str();
   rocky->add_option("--visibility", rw->visibility,
                     "on: the visibility clean-up (docs/visibility.md) clears what beams pass below; the walk counts "

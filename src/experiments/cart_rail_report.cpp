@@ -123,6 +123,8 @@ std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOption
         {"outside_map", r.mapper_totals.outside_map}}},
       {"filters", scan_filter_list_name(options.filters)},
       {"mixed_pixels", options.mixed_pixels},
+      // The receiver's coupling acts only with the footprint model (mixed pixels on).
+      {"coupling", options.mixed_pixels && options.sim.receiver.enabled},
       {"map_filter", std::string(map_filter_name(options.map_filter))},
       {"cas_removed_cells", r.cas_removed_cells},
       {"beam_labels",

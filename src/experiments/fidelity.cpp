@@ -261,6 +261,7 @@ std::string fidelity_summary_json(const FidelityResult& result, const FidelityOp
       {"scene_count", options.scenes},
       {"min_scored_extent_m", options.min_scored_extent_m},
       {"filters", scan_filter_list_name(options.filters)},
+      {"coupling", options.urg.sim.receiver.enabled},
       {"structured_light", options.structured_light
                                ? std::string(name(options.structured_light_rail.structured_light.pipeline))
                                : std::string("off")},

@@ -20,6 +20,7 @@ void ReceiverGainOptions::validate() const {
   check_receiver_option("delay_m_per_decade", scene_rules::non_negative(delay_m_per_decade));
   check_receiver_option("advance_m_per_decade", scene_rules::non_negative(advance_m_per_decade));
   check_receiver_option("max_shift_m", scene_rules::non_negative(max_shift_m));
+  check_receiver_option("headroom_decades", scene_rules::non_negative(headroom_decades));
 }
 
 ReceiverGain::ReceiverGain(const ReceiverGainOptions& options, double floor_amplitude)
@@ -36,8 +37,10 @@ double ReceiverGain::shift_for(double amplitude, double state_amplitude) const {
   const double level = std::max(amplitude, floor_amplitude_);
   const double state = std::max(state_amplitude, floor_amplitude_);
   const double decades = std::log10(level / state);
-  const double slope = decades < 0.0 ? options_.delay_m_per_decade : options_.advance_m_per_decade;
-  return std::clamp(-slope * decades, -options_.max_shift_m, options_.max_shift_m);
+  const double beyond_headroom = std::max(0.0, std::abs(decades) - options_.headroom_decades);
+  const double shift =
+      decades < 0.0 ? options_.delay_m_per_decade * beyond_headroom : -options_.advance_m_per_decade * beyond_headroom;
+  return std::clamp(shift, -options_.max_shift_m, options_.max_shift_m);
 }
 
 double ReceiverGain::shift_m(double amplitude) {

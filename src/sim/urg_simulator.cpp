@@ -28,6 +28,14 @@ double receiver_floor_amplitude(const UrgSimOptions& options) {
   return std::max(options.dropout_amplitude_threshold, min_amplitude);
 }
 
+// The coupling acts only on echoes of a model that takes it (BeamModel::
+// takes_receiver_coupling): the ideal single ray stays ideal.
+ReceiverGainOptions receiver_for(const ReceiverGainOptions& receiver, const BeamModel* model) {
+  ReceiverGainOptions used = receiver;
+  used.enabled = receiver.enabled && model != nullptr && model->takes_receiver_coupling();
+  return used;
+}
+
 }  // namespace
 
 void UrgSimOptions::validate() const {
@@ -53,7 +61,7 @@ UrgSimulator::UrgSimulator(const Scene& scene, const UrgParameters& params, cons
       options_(options),
       beam_model_(std::move(beam_model)),
       seed_(seed),
-      receiver_gain_(options.receiver, receiver_floor_amplitude(options)) {
+      receiver_gain_(receiver_for(options.receiver, beam_model_.get()), receiver_floor_amplitude(options)) {
   params_.validate();
   options_.validate();
   if (!beam_model_) throw InputError("URG simulator: no beam model given");

@@ -169,11 +169,43 @@ TEST(MixedPixelsCommand, ModelAndFilterOptionsAreCheckedBeforeAnyWork) {
       << r.output;
 }
 
+TEST(CartRailCommand, TheReceiverCouplingIsOnWithMixedPixelsUnlessTurnedOff) {
+  const fs::path dir = fs::temp_directory_path() / ("stridemap_cli_coupling_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const fs::path scene = dir / "short.yaml";
+  fs::create_directories(dir);
+  std::ofstream(scene) << "terrain: {kind: flat}\nboxes:\n  - {name: box, center_x_m: 0.6, center_y_m: 0.0, "
+                          "length_m: 0.2, width_m: 0.15, height_m: 0.1}\n"
+                          "cart_rail: {start_x_m: 0.1, end_x_m: 0.4, y_m: 0.0, step_m: 0.01}\n";
+  const auto summary_of = [&](const std::string& options, const std::string& name) {
+    const CommandResult r = run_cli("experiment cart-rail --scene " + scene.string() + " --out " +
+                                    (dir / name).string() + " " + options);
+    EXPECT_EQ(r.exit_code, 0) << r.output;
+    std::ifstream in(dir / name / "cart-rail-urg" / "summary.json");
+    return nlohmann::json::parse(in);
+  };
+  const nlohmann::json on = summary_of("--mixed-pixels on", "on");
+  const nlohmann::json off = summary_of("--mixed-pixels on --coupling off", "off");
+  const nlohmann::json ideal = summary_of("--mixed-pixels off", "ideal");
+  const nlohmann::json ideal_off = summary_of("--mixed-pixels off --coupling off", "ideal_off");
+  EXPECT_EQ(on["coupling"], true);
+  EXPECT_EQ(off["coupling"], false);
+  EXPECT_EQ(ideal["coupling"], false);  // the single ray takes no coupling
+  // The lag moves beams at the box's edges: other readings, other labels.
+  EXPECT_NE(on["beam_labels"], off["beam_labels"]);
+  EXPECT_EQ(ideal["beam_labels"], ideal_off["beam_labels"]);
+  EXPECT_EQ(ideal["map"], ideal_off["map"]);
+  fs::remove_all(dir);
+}
+
 TEST(CartRailCommand, BadOnOffAndMapFilterValuesAreErrors) {
   const std::string scene = std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/cart_rail_boxes.yaml";
   CommandResult r = run_cli("experiment cart-rail --scene " + scene + " --out /tmp --mixed-pixels maybe");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--mixed-pixels"), std::string::npos) << r.output;
+  r = run_cli("experiment cart-rail --scene " + scene + " --out /tmp --mixed-pixels on --coupling sometimes");
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--coupling"), std::string::npos) << r.output;
   r = run_cli("experiment cart-rail --scene " + scene + " --out /tmp --map-filter blur");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("blur"), std::string::npos) << r.output;

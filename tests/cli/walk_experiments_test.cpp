@@ -95,6 +95,10 @@ TEST(RockyWalkCommand, StructuredLightVariantUsesFineCellsAndCas) {
                                     shell_quoted(out.string()));
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
   EXPECT_NE(bad.output.find("apply to the URG only"), std::string::npos) << bad.output;
+  const CommandResult coupling = run_cli("experiment rocky-walk --sensor urg --mixed-pixels on --coupling maybe --out " +
+                                         shell_quoted(out.string()));
+  EXPECT_EQ(coupling.exit_code, 2) << coupling.output;
+  EXPECT_NE(coupling.output.find("--coupling"), std::string::npos) << coupling.output;
   const CommandResult range = run_cli("experiment rocky-walk --sensor structured-light --calibrate-range on --out " +
                                       shell_quoted(out.string()));
   EXPECT_EQ(range.exit_code, 2) << range.output;

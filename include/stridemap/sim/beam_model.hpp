@@ -71,6 +71,12 @@ class BeamModel {
   /// reading): mixed when range_m is farther than the model's tolerance
   /// from every surface the beam touched.
   virtual BeamLabel label_for_range(double range_m) const = 0;
+  /// Whether UrgSimulator applies the receiver's range-intensity coupling
+  /// (UrgSimOptions::receiver) to this model's echoes. The coupling is part
+  /// of the mixed-measurement physics, so a model of the ideal sensor says
+  /// no (SingleRayBeamModel by default): "mixed pixels off" stays free of
+  /// readings off their surface.
+  virtual bool takes_receiver_coupling() const { return true; }
 };
 
 /// SingleRayBeamModel's tolerance for label_for_range [m]: the footprint
@@ -78,13 +84,17 @@ class BeamModel {
 inline constexpr double single_ray_mixed_tolerance_m = 0.015;
 
 /// The beam as an infinitely thin ray: the echo of the nearest surface on
-/// its axis. Always labels clean.
+/// its axis. Labels clean, unless the receiver's coupling (which it takes
+/// only when constructed with_receiver_coupling) moves a reading off it.
 class SingleRayBeamModel final : public BeamModel {
  public:
+  explicit SingleRayBeamModel(bool with_receiver_coupling = false) : with_receiver_coupling_(with_receiver_coupling) {}
   BeamEcho trace(const SceneRayCaster& scene, const BeamRequest& beam, std::mt19937_64& rng) override;
   BeamLabel label_for_range(double range_m) const override;
+  bool takes_receiver_coupling() const override { return with_receiver_coupling_; }
 
  private:
+  bool with_receiver_coupling_ = false;
   double last_range_m_ = 0.0;
 };
 

@@ -14,9 +14,17 @@
 //   x = log10(A_i / A_state)   [decades; A_state = echo amplitude of the
 //                               previous beam, floored at the dropout
 //                               threshold, the end of the AGC's range]
-//   shift = -delay_m_per_decade * x     for x < 0 (weaker: reads farther)
-//   shift = -advance_m_per_decade * x   for x > 0 (stronger: reads nearer)
+//   e = max(0, |x| - headroom_decades)  (the limiter's headroom)
+//   shift = +delay_m_per_decade * e     for x < 0 (weaker: reads farther)
+//   shift = -advance_m_per_decade * e   for x > 0 (stronger: reads nearer)
 //   |shift| <= max_shift_m              (the limiter bounds the phase error)
+//
+// The headroom: the AGC holds the limiter's input above the level where
+// limiting begins, and while the input stays in limiting the phase delay does
+// not depend on it. An echo a little weaker or stronger than the state (a
+// textured surface, the floor weakening towards grazing incidence) is still
+// limited and reads true; only a step larger than the headroom (a depth jump,
+// a change of material) drives the limiter out of its range.
 //
 // b(A) is a smooth monotone function of log A (algorithms.md 4.4) whose
 // reference is the gain state, not an absolute amplitude: inside one surface
@@ -32,24 +40,32 @@
 namespace stridemap {
 
 struct ReceiverGainOptions {
-  /// false (the default): no coupling; the simulator's readings are those
-  /// of a receiver that is always settled. Off by default because the
-  /// calibrated lag also scatters readings on textured surfaces by about
-  /// 7 mm rms, twice the sensor's noise (docs/mixed_pixels.md): turning it
-  /// on for every run would make every other simulated figure worse for a
-  /// reason the real sensor does not show.
-  bool enabled = false;
-  /// Range shift per decade by which an echo is weaker than the gain state
-  /// [m]; the echo reads farther. 0.2: at depth jumps of terrain scans the
-  /// middle beam then reads more than 30 mm behind the far surface at about
-  /// the rate the real logs show behind jumps in scan order (0.2 % of
-  /// jumps; docs/mixed_pixels.md, "Range-intensity coupling").
-  double delay_m_per_decade = 0.2;
-  /// Range shift per decade by which an echo is stronger than the gain
-  /// state [m]; the echo reads nearer. An eighth of the delay: the real
-  /// logs show readings in front of a jump about an eighth as often as
-  /// behind it (fast attack, slow release, as AGCs are built).
-  double advance_m_per_decade = 0.025;
+  /// true (the default): the coupling acts on the echoes of every beam
+  /// model that takes it (the footprint model; not the ideal single ray,
+  /// BeamModel::takes_receiver_coupling). false: the readings of a receiver
+  /// that is always settled, those of the simulator before issue 13, item 4.
+  bool enabled = true;
+  /// Range shift per decade beyond the headroom by which an echo is weaker
+  /// than the gain state [m]; the echo reads farther. 0.4 with the 0.15
+  /// decade headroom: at depth jumps of terrain scans the middle beam then
+  /// reads more than 30 mm behind the far surface at about the rate the
+  /// real logs show behind jumps in scan order (0.20 % of jumps, real 0.29
+  /// %; docs/mixed_pixels.md, "Range-intensity coupling").
+  double delay_m_per_decade = 0.4;
+  /// Range shift per decade beyond the headroom by which an echo is
+  /// stronger than the gain state [m]; the echo reads nearer. An eighth of
+  /// the delay: the real logs show readings in front of a jump about an
+  /// eighth as often as behind it (fast attack, slow release, as AGCs are
+  /// built).
+  double advance_m_per_decade = 0.05;
+  /// The limiter's headroom [decades]: an echo within this of the gain
+  /// state keeps the limiter limiting and reads true. 0.15 (a factor of
+  /// 1.4): the scatter a textured surface's beam-to-beam changes would get
+  /// from the lag falls from 7.1 to 0.7 mm rms, below the sensor's own
+  /// noise, while the steps at terrain edges (0.3 to 1 decade) still read
+  /// off their surface (docs/mixed_pixels.md, "The limiter's headroom"). 0
+  /// gives the plain lag.
+  double headroom_decades = 0.15;
   /// Bound on |shift| [m]: the limiter bounds the phase error. 0.15 m lets
   /// through the 31-137 mm that most readings behind a jump in the real
   /// logs show (24 of 28; whole-period wraps left out).
