@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <utility>
 #include <filesystem>
 #include <memory>
 #include <cmath>
@@ -150,7 +151,7 @@ class SoakRun {
     previous_ = scan;  // same sizes: copies in place
     previous_pose_ = pose;
     previous_accepted_ = accepted;
-    if (due(k, options_.check_every)) check(pipeline_.mapper().map());
+    if (due(k, options_.check_every)) check(std::as_const(pipeline_).mapper().map());
     if (due(k, options_.publish_every)) publish();
   }
 
@@ -167,7 +168,7 @@ class SoakRun {
 
   // Writes the window into the tiles and reads every tile back.
   void check_global_map() {
-    tiles_->flush(pipeline_.mapper().map());
+    tiles_->flush(std::as_const(pipeline_).mapper().map());
     SoakGlobalMap& g = result_.global_map;
     g.enabled = true;
     for (const io::TileIndex& t : tiles_->tiles_on_disk()) {
@@ -200,7 +201,7 @@ class SoakRun {
   void publish() {
     PublishedMap* snapshot = publisher_.begin_publish();
     if (snapshot == nullptr) return;  // counted by the publisher
-    snapshot->map = pipeline_.mapper().map();
+    snapshot->map = std::as_const(pipeline_).mapper().map();
     snapshot->scans = pipeline_.mapper().totals().scans;
     snapshot->time_s = pipeline_.mapper().last_scan_time_s().value_or(kSoakNaN);
     snapshot->pose = pipeline_.mapper().last_pose().value_or(TrunkPose{});
@@ -231,7 +232,7 @@ class SoakRun {
   void checkpoint(std::uint64_t scans, const std::function<void(const SoakCheckpoint&)>& on_checkpoint) {
     SoakCheckpoint c;
     c.scan = scans;
-    c.map_hash = map_layers_hash(pipeline_.mapper().map());
+    c.map_hash = map_layers_hash(std::as_const(pipeline_).mapper().map());
     if (const PublishedMapHandle snapshot = publisher_.latest()) c.snapshot_hash = map_layers_hash(snapshot->map);
     c.measured_cells = measured_cells_;
     const ProcessMemory memory = process_memory();

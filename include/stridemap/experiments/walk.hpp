@@ -120,6 +120,11 @@ struct WalkResult {
   std::size_t visibility_wrongly_cleared = 0;
   std::size_t visibility_artifacts_cleared = 0;
   std::size_t visibility_cells_contradicted = 0;
+  /// Scans the clean-up ran on, and those of them that took the row and
+  /// column maxima from the whole map (the rest kept them from the scan
+  /// before: docs/visibility.md, "What it costs").
+  std::size_t visibility_scans = 0;
+  std::size_t visibility_whole_map_scans = 0;
   /// The true trunk positions, one per scan (for drawing the path).
   std::vector<Eigen::Vector2d> trajectory;
 };
@@ -177,6 +182,7 @@ class WalkRun {
   void count_visibility();
   std::uint64_t visibility_scans_ = 0;  // the clean-up's scans already counted
   std::size_t visibility_cleared_ = 0, visibility_wrong_ = 0, visibility_artifacts_ = 0, visibility_contradicted_ = 0;
+  std::size_t visibility_scans_counted_ = 0, visibility_whole_map_ = 0;
   std::vector<Eigen::Vector2d> trajectory_;
 };
 
