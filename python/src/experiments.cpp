@@ -36,8 +36,9 @@ void write_outputs(const std::optional<std::string>& out_dir, Write&& write) {
 
 py::object run_rocky_walk_py(const std::string& scene_path, std::uint64_t seed, const std::vector<double>& sweep,
                              const std::string& reference, bool calibrate_attitude, bool calibrate_range,
-                             bool mixed_pixels, const std::string& filters, const std::string& map_filter,
-                             double pose_error_scale, const std::optional<std::string>& out_dir) {
+                             bool mixed_pixels, bool coupling, const std::string& filters,
+                             const std::string& map_filter, double pose_error_scale,
+                             const std::optional<std::string>& out_dir) {
   RockyWalkOptions options;
   options.walk.seed = seed;
   options.pose_error_scales = sweep;
@@ -51,6 +52,7 @@ py::object run_rocky_walk_py(const std::string& scene_path, std::uint64_t seed, 
   options.validate();
   UrgWalkSensorOptions sensor;
   sensor.mixed_pixels = mixed_pixels;
+  sensor.sim.receiver.enabled = coupling;
   sensor.filters = parse_scan_filter_list(filters.empty() ? (mixed_pixels ? "paper" : "none") : filters);
   std::optional<RangeCalibrationFit> range_calibration;
   // Before the flat-floor attitude calibration, as the CLI does.
@@ -77,7 +79,7 @@ py::object run_rocky_walk_py(const std::string& scene_path, std::uint64_t seed, 
 
 py::object run_cart_rail_py(const std::string& scene_path, const std::string& sensor, std::uint64_t seed,
                             std::optional<double> cell_size_m, int cells_per_side, bool mixed_pixels,
-                            const std::string& filters, const std::optional<std::string>& map_filter,
+                            bool coupling, const std::string& filters, const std::optional<std::string>& map_filter,
                             const std::string& elevation_rule, const std::string& pipeline,
                             const std::optional<std::string>& out_dir) {
   CartRailOptions options;
@@ -88,6 +90,7 @@ py::object run_cart_rail_py(const std::string& scene_path, const std::string& se
   options.cells_per_side = cells_per_side;
   options.update.elevation_rule = parse_enum_name<ElevationRule>(elevation_rule);
   options.mixed_pixels = mixed_pixels;
+  options.sim.receiver.enabled = coupling;
   options.map_filter = parse_map_filter(map_filter.value_or(urg ? "fill" : "cas"));
   options.filters = parse_scan_filter_list(filters.empty() ? (mixed_pixels ? "paper" : "none") : filters);
   if (!urg) {
@@ -113,21 +116,22 @@ py::object run_cart_rail_py(const std::string& scene_path, const std::string& se
 void register_experiments(py::module_& m) {
   m.def("run_rocky_walk", &run_rocky_walk_py, py::arg("scene_path"), py::kw_only(), py::arg("seed") = 1,
         py::arg("sweep") = std::vector<double>{0.0, 0.5, 1.0, 2.0, 4.0}, py::arg("reference") = "map-footholds",
-        py::arg("calibrate_attitude") = true, py::arg("calibrate_range") = false, py::arg("mixed_pixels") = false, py::arg("filters") = "", py::arg("map_filter") = "fill",
+        py::arg("calibrate_attitude") = true, py::arg("calibrate_range") = false, py::arg("mixed_pixels") = false, py::arg("coupling") = true, py::arg("filters") = "", py::arg("map_filter") = "fill",
         py::arg("pose_error_scale") = 1.0, py::arg("out_dir") = py::none(),
         "`stridemap experiment rocky-walk` with the URG: the walking robot along the scene's walk_path with an "
         "imperfect pose, then the pose-error sweep (sweep: factors; [] for none). Defaults as the CLI's for the URG: "
         "h_ref from the map under the stance feet, the IMU biases calibrated on a flat floor first, no range "
-        "calibration. Returns summary.json's content "
+        "calibration; with mixed_pixels, the receiver's range-intensity coupling unless coupling=False. Returns summary.json's content "
         "as a dict (docs/experiments.md); out_dir: also write the command's outputs there (an existing folder "
         "must hold only an earlier run's outputs). Deterministic for a seed. Minutes with the full sweep.");
   m.def("run_cart_rail", &run_cart_rail_py, py::arg("scene_path"), py::kw_only(), py::arg("sensor") = "urg",
         py::arg("seed") = 1, py::arg("cell_size_m") = py::none(), py::arg("cells_per_side") = 0,
-        py::arg("mixed_pixels") = false, py::arg("filters") = "", py::arg("map_filter") = py::none(),
+        py::arg("mixed_pixels") = false, py::arg("coupling") = true, py::arg("filters") = "", py::arg("map_filter") = py::none(),
         py::arg("elevation_rule") = "paper", py::arg("pipeline") = "image", py::arg("out_dir") = py::none(),
         "`stridemap experiment cart-rail`: the sensor ('urg' or 'structured-light') on a cart along the scene's "
         "rail, the map scored against the scene. Defaults per sensor as the CLI's (URG: 10 mm cells, fill; "
-        "structured light: 5 mm, cas). Returns summary.json's content as a dict; out_dir as for run_rocky_walk.");
+        "structured light: 5 mm, cas; with mixed_pixels, the receiver's coupling unless coupling=False). Returns "
+        "summary.json's content as a dict; out_dir as for run_rocky_walk.");
 }
 
 }  // namespace stridemap::python

@@ -21,6 +21,16 @@ def test_cart_rail_returns_its_summary_and_writes_outputs(tmp_path):
     assert again == summary
 
 
+def test_cart_rail_coupling_is_the_clis():
+    # With mixed pixels the receiver's coupling is on unless turned off, as
+    # with `experiment cart-rail --coupling`; the ideal single ray never has it.
+    on = stridemap.run_cart_rail(RAIL, seed=3, mixed_pixels=True)
+    off = stridemap.run_cart_rail(RAIL, seed=3, mixed_pixels=True, coupling=False)
+    assert on["coupling"] is True and off["coupling"] is False
+    assert on["beam_labels"] != off["beam_labels"]
+    assert stridemap.run_cart_rail(RAIL, seed=3)["coupling"] is False
+
+
 def test_rocky_walk_without_sweep_is_deterministic():
     summary = stridemap.run_rocky_walk(ROCKY, seed=2, sweep=[])
     assert summary["experiment"] == "rocky-walk" and summary["sensor"] == "urg" and summary["seed"] == 2
