@@ -15,10 +15,12 @@
 //            default: its size for the URG is not published)
 //   s_agc    range-intensity coupling through the receiver's gain control,
 //            which lags one beam behind (sim/receiver_gain.hpp; on by
-//            default): the first beam after an amplitude step reads behind
-//            (weaker) or in front (stronger). A beam it moves farther than
-//            the beam model's tolerance from every surface it touched is
-//            labelled mixed.
+//            default, for beam models that take it: the footprint model,
+//            not the ideal single ray): the first beam after an amplitude
+//            step larger than the limiter's headroom reads behind (weaker)
+//            or in front (stronger). A beam it moves farther than the beam
+//            model's tolerance from every surface it touched is labelled
+//            mixed.
 //   sigma(A) range_noise_sigma_m * max(1, (noise_reference_amplitude / A)^0.5):
 //            the phase noise of a shot-noise-limited receiver falls with the
 //            square root of the collected signal, so weak returns (dark,
