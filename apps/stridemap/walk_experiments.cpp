@@ -157,6 +157,7 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
       naming_grid_setting("--cell-size-m " + number_text(options.walk.mapper.grid.cell_size_m),
                           [&] { return run_rocky_walk(scene, path, factory, options); });
   result.range_calibration = range_calibration;
+  if (urg) result.receiver_coupling = mixed && coupling;
   const std::string dir = (std::filesystem::path(args.out_dir) / ("rocky-walk-" + result.sensor)).string();
   refuse_output_that_is_an_input("--out", dir, inputs);
   bar.clear();

@@ -72,6 +72,7 @@ py::object run_rocky_walk_py(const std::string& scene_path, std::uint64_t seed, 
     result = run_rocky_walk(scene, *scene.walk_path, factory, options);
   }
   result.range_calibration = range_calibration;
+  result.receiver_coupling = mixed_pixels && coupling;
   const RockyWalkRunInfo info{scene_path, scene_path + ":walk_path"};
   write_outputs(out_dir, [&](const std::string& folder) { write_rocky_walk_outputs(result, options, info, folder); });
   return json_to_dict(rocky_walk_summary_json(result, options, info));

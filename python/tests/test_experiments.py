@@ -31,6 +31,10 @@ def test_cart_rail_coupling_is_the_clis():
     assert stridemap.run_cart_rail(RAIL, seed=3)["coupling"] is False
 
 
+def test_rocky_walk_records_the_coupling():
+    assert stridemap.run_rocky_walk(ROCKY, seed=2, sweep=[])["coupling"] is False  # no mixed pixels
+
+
 def test_rocky_walk_without_sweep_is_deterministic():
     summary = stridemap.run_rocky_walk(ROCKY, seed=2, sweep=[])
     assert summary["experiment"] == "rocky-walk" and summary["sensor"] == "urg" and summary["seed"] == 2

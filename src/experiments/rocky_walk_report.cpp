@@ -217,6 +217,7 @@ std::string rocky_walk_summary_json(const RockyWalkResult& r, const RockyWalkOpt
                                        {"points", c.points},
                                        {"residual_rms_m", c.residual_rms_m}};
   }
+  if (r.receiver_coupling) summary["coupling"] = *r.receiver_coupling;
   if (r.range_calibration) {
     const RangeCalibrationFit& f = *r.range_calibration;
     summary["range_calibration"] = {{"coefficients", f.calibration.coefficients},

@@ -46,6 +46,7 @@ TEST(RockyWalkCommand, WritesMapsViewsSummaryAndTable) {
   EXPECT_EQ(summary["experiment"], "rocky-walk");
   EXPECT_EQ(summary.value("tool_version", "").rfind("stridemap ", 0), 0u) << "the version that made it";
   EXPECT_EQ(summary["seed"], 2);
+  EXPECT_EQ(summary["coupling"], false);  // mixed pixels off: the ideal single ray
   EXPECT_EQ(summary["pose_error_sweep"].size(), 8u);  // 2 levels x 4 h_ref sources
   EXPECT_GT(summary["walk"]["scans"].get<int>(), 400);
   // With --calibrate-range on the URG's range is calibrated on a wall
@@ -90,6 +91,7 @@ TEST(RockyWalkCommand, StructuredLightVariantUsesFineCellsAndCas) {
   std::ifstream in(out / "rocky-walk-structured-light" / "summary.json");
   const nlohmann::json summary = nlohmann::json::parse(in);
   EXPECT_EQ(summary["sensor"], "structured-light");
+  EXPECT_FALSE(summary.contains("coupling"));  // a URG matter
   EXPECT_EQ(summary["cells_per_side"], 200);
   const CommandResult bad = run_cli("experiment rocky-walk --sensor structured-light --mixed-pixels on --out " +
                                     shell_quoted(out.string()));

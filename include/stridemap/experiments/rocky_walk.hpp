@@ -73,6 +73,10 @@ struct RockyWalkResult {
   /// (wall_range_calibration.hpp), when the caller made one; the sensor
   /// factory applies it, run_rocky_walk only reports it.
   std::optional<RangeCalibrationFit> range_calibration;
+  /// Whether the URG's readings carried the receiver's range-intensity
+  /// coupling (mixed pixels on and UrgSimOptions::receiver.enabled), when
+  /// the caller says; like range_calibration, only reported.
+  std::optional<bool> receiver_coupling;
 };
 
 /// Runs the main walk and the sweep; deterministic for options.walk.seed.
