@@ -6,7 +6,7 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 SCENE ?= scenes/rocky_mockup.yaml
 OUT ?= out
 
-.PHONY: run test test-arm test-sanitize test-tsan fuzz soak deps configure build bench bench-instructions bench-compare clean
+.PHONY: run test check test-arm test-sanitize test-tsan fuzz soak deps configure build bench bench-instructions bench-compare clean
 
 # The main job: the walking robot on the rocky mock-up with the URG-04LX
 # (mixed pixels simulated, the paper's scan filters), with its pose-error
@@ -18,6 +18,12 @@ run: configure
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+# What CI runs (.ci/run), in a fresh clone of HEAD, each stage's wall time
+# printed at the end (tools/check.sh; docs/reliability.md, "The check's time").
+# Start it in the background: `make check > check.out 2>&1 &`.
+check:
+	@bash tools/check.sh
 
 deps:
 	@bash tools/install-deps.sh

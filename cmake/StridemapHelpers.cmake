@@ -58,6 +58,12 @@ function(stridemap_precompile_common_headers target)
   endif()
   target_precompile_headers(${target} PRIVATE <Eigen/Core> <Eigen/Geometry> <algorithm> <array> <cmath>
     <cstdint> <functional> <limits> <memory> <optional> <string> <string_view> <utility> <vector> ${ARGN})
+  # ccache takes a file that uses g++'s precompiled header only with this
+  # flag (its manual, "Precompiled headers"); without it every such compile
+  # bypasses the cache.
+  if(CMAKE_CXX_COMPILER_LAUNCHER AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    target_compile_options(${target} PRIVATE -fpch-preprocess)
+  endif()
 endfunction()
 
 function(stridemap_set_warnings target)
