@@ -58,11 +58,14 @@ function(stridemap_precompile_common_headers target)
   endif()
   target_precompile_headers(${target} PRIVATE <Eigen/Core> <Eigen/Geometry> <algorithm> <array> <cmath>
     <cstdint> <functional> <limits> <memory> <optional> <string> <string_view> <utility> <vector> ${ARGN})
-  # ccache takes a file that uses g++'s precompiled header only with this
-  # flag (its manual, "Precompiled headers"); without it every such compile
-  # bypasses the cache.
+  # Through ccache (its manual, "Precompiled headers"): g++'s users of the
+  # header are cached only with -fpch-preprocess; clang's header must carry
+  # no file times, or one taken from the cache of another clone, whose
+  # cmake_pch.hxx is older, would be refused as out of date.
   if(CMAKE_CXX_COMPILER_LAUNCHER AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
     target_compile_options(${target} PRIVATE -fpch-preprocess)
+  elseif(CMAKE_CXX_COMPILER_LAUNCHER AND CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    target_compile_options(${target} PRIVATE "SHELL:-Xclang -fno-pch-timestamp")
   endif()
 endfunction()
 
