@@ -6,7 +6,7 @@ JOBS ?= $(shell nproc 2>/dev/null || echo 2)
 SCENE ?= scenes/rocky_mockup.yaml
 OUT ?= out
 
-.PHONY: run test test-arm test-sanitize test-tsan fuzz soak deps configure build bench bench-instructions bench-compare clean
+.PHONY: run test check test-arm test-sanitize test-tsan fuzz soak deps configure build bench bench-instructions bench-compare clean
 
 # The main job: the walking robot on the rocky mock-up with the URG-04LX
 # (mixed pixels simulated, the paper's scan filters), with its pose-error
@@ -18,6 +18,12 @@ run: configure
 
 test: build
 	cd $(BUILD_DIR) && ctest --output-on-failure -j $(JOBS)
+
+# What CI runs (.ci/run), in a fresh clone of HEAD, each stage's wall time
+# printed at the end (tools/check.sh; docs/reliability.md, "The check's time").
+# Start it in the background: `make check > check.out 2>&1 &`.
+check:
+	@bash tools/check.sh
 
 deps:
 	@bash tools/install-deps.sh
@@ -40,11 +46,14 @@ build: configure
 SAN_DIR ?= build-sanitize
 SAN_FLAGS = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
 # Line tables are all a sanitizer report needs for file:line stacks; full
-# debug info made every compile and link of these builds slower.
+# debug info made every compile and link of these builds slower. -O1, the
+# level the sanitizers' own documentation suggests, keeps every check and
+# compiles faster than -O2 (docs/reliability.md, "The check's time").
 # ROS is left out of both sanitizer stages (-DSTRIDEMAP_WITH_ROS=OFF): Debian's
 # ROS 1 libraries are not instrumented, and its tests need roscore, a Python
 # process (docs/ros.md); `make test` runs them (ctest label ros).
-SAN_OPT_FLAGS = -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -gline-tables-only -DNDEBUG" -DSTRIDEMAP_WITH_ROS=OFF
+SAN_OPT_LEVEL ?= -O1
+SAN_OPT_FLAGS = -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$(SAN_OPT_LEVEL) -gline-tables-only -DNDEBUG" -DSTRIDEMAP_WITH_ROS=OFF
 SAN_CONFIGURE = CC=clang CXX=clang++ cmake -S . -B $(SAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo $(SAN_OPT_FLAGS) \
 	  -DSTRIDEMAP_BUILD_BENCHMARKS=OFF -DSTRIDEMAP_BUILD_PYTHON=OFF -DSTRIDEMAP_BUILD_FUZZERS=ON -DCMAKE_CXX_FLAGS="$(SAN_FLAGS)" \
 	  -DCMAKE_EXE_LINKER_FLAGS="$(SAN_FLAGS)" -DCMAKE_SHARED_LINKER_FLAGS="$(SAN_FLAGS)"

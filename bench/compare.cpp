@@ -30,6 +30,7 @@
 #include "stridemap/sensors/urg04lx.hpp"
 #include "stridemap/sim/urg_simulator.hpp"
 #include "stridemap/sim/walk_motion.hpp"
+#include "test_paths.hpp"
 
 using namespace stridemap;
 

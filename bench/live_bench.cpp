@@ -14,6 +14,7 @@
 #include "stridemap/sensors/scip_reply_encoder.hpp"
 #include "stridemap/sensors/scip_scan.hpp"
 #include "stridemap/sim/urg_scan_source.hpp"
+#include "test_paths.hpp"
 
 namespace {
 

@@ -9,6 +9,7 @@
 
 #include "stridemap/io/log_import.hpp"
 #include "stridemap/io/map_file.hpp"
+#include "test_paths.hpp"
 
 namespace {
 

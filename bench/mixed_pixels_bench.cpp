@@ -14,11 +14,12 @@
 #include "stridemap/sim/cart_rail.hpp"
 #include "stridemap/sim/footprint_beam_model.hpp"
 #include "stridemap/sim/urg_simulator.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {
 
-Scene boxes_scene() { return load_scene_yaml(STRIDEMAP_SOURCE_DIR "/scenes/cart_rail_boxes.yaml"); }
+Scene boxes_scene() { return load_scene_yaml(std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/cart_rail_boxes.yaml"); }
 
 Scene rocky_scene() {
   ProceduralTerrainOptions options;

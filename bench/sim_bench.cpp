@@ -9,11 +9,12 @@
 #include "stridemap/io/scene_yaml.hpp"
 #include "stridemap/sim/cart_rail.hpp"
 #include "stridemap/sim/urg_simulator.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {
 
-Scene shipped_scene() { return load_scene_yaml(STRIDEMAP_SOURCE_DIR "/scenes/cart_rail_boxes.yaml"); }
+Scene shipped_scene() { return load_scene_yaml(std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/cart_rail_boxes.yaml"); }
 
 Scene rocky_scene() {
   ProceduralTerrainOptions options;

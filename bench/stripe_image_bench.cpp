@@ -11,6 +11,7 @@
 #include "stridemap/io/stripe_detector.hpp"
 #include "stridemap/sensors/structured_light_mapping.hpp"
 #include "stridemap/sim/structured_light_image.hpp"
+#include "test_paths.hpp"
 
 namespace {
 

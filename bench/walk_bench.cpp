@@ -11,12 +11,13 @@
 #include "stridemap/experiments/urg_walk_sensor.hpp"
 #include "stridemap/experiments/walk.hpp"
 #include "stridemap/io/scene_yaml.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {
 
 const Scene& mockup() {
-  static const Scene scene = load_scene_yaml(STRIDEMAP_SOURCE_DIR "/scenes/rocky_mockup.yaml");
+  static const Scene scene = load_scene_yaml(std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/rocky_mockup.yaml");
   return scene;
 }
 

@@ -58,6 +58,15 @@ function(stridemap_precompile_common_headers target)
   endif()
   target_precompile_headers(${target} PRIVATE <Eigen/Core> <Eigen/Geometry> <algorithm> <array> <cmath>
     <cstdint> <functional> <limits> <memory> <optional> <string> <string_view> <utility> <vector> ${ARGN})
+  # Through ccache (its manual, "Precompiled headers"): g++'s users of the
+  # header are cached only with -fpch-preprocess; clang's header must carry
+  # no file times, or one taken from the cache of another clone, whose
+  # cmake_pch.hxx is older, would be refused as out of date.
+  if(CMAKE_CXX_COMPILER_LAUNCHER AND CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
+    target_compile_options(${target} PRIVATE -fpch-preprocess)
+  elseif(CMAKE_CXX_COMPILER_LAUNCHER AND CMAKE_CXX_COMPILER_ID MATCHES "Clang")
+    target_compile_options(${target} PRIVATE "SHELL:-Xclang -fno-pch-timestamp")
+  endif()
 endfunction()
 
 function(stridemap_set_warnings target)
@@ -73,7 +82,7 @@ endfunction()
 # took 49 s of CPU one by one and 24 s as one (docs/reliability.md).
 function(stridemap_unity_build target)
   if(STRIDEMAP_UNITY_BUILD)
-    set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE 0)
+    stridemap_unity_batches(${target} 0)
   endif()
 endfunction()
 
@@ -84,18 +93,107 @@ endfunction()
 # and the standard headers once anyway, and building the header cost more
 # than it saved (docs/performance.md). A file whose file-local names clash
 # with another file of its layer is marked SKIP_UNITY_BUILD_INCLUSION where
-# its layer is declared (src/CMakeLists.txt); CMake also compiles alone any
-# file with its own COMPILE_OPTIONS or COMPILE_DEFINITIONS.
+# its layer is declared (src/CMakeLists.txt); any file with its own
+# COMPILE_OPTIONS or COMPILE_DEFINITIONS is compiled alone too.
 set(STRIDEMAP_UNITY_BATCH_SIZE 8 CACHE STRING "Library files per translation unit with STRIDEMAP_UNITY_BUILD")
 function(stridemap_unity_build_library target)
   if(NOT STRIDEMAP_UNITY_BUILD)
     return()
   endif()
-  set_target_properties(${target} PROPERTIES UNITY_BUILD ON UNITY_BUILD_BATCH_SIZE ${STRIDEMAP_UNITY_BATCH_SIZE})
+  stridemap_unity_batches(${target} ${STRIDEMAP_UNITY_BATCH_SIZE})
   # g++ takes every file of a batch but the generated one for a header, and
   # warns that a class of it (ScanLogReader::State, say) holds a type from
   # the file's anonymous namespace; the class is defined in that file only.
   if(CMAKE_CXX_COMPILER_ID STREQUAL "GNU")
     target_compile_options(${target} PRIVATE -Wno-subobject-linkage)
   endif()
+endfunction()
+
+# The batches are written here rather than by CMake's UNITY_BUILD, whose
+# batch files include every source by its absolute path: the preprocessed
+# text then names the clone's folder, and a compiler cache filled by one
+# clone never hits in another clone of the same commit. Ours include each
+# source by its path relative to the batch file, so with ccache's base
+# directory at the source root (cmake/StridemapCompilerCache.cmake) two
+# clones of one commit compile identical text. The batches are formed once
+# every directory has been read (a deferred call), because the sources'
+# properties (SKIP_UNITY_BUILD_INCLUSION, COMPILE_OPTIONS) and some sources
+# (ros/ adds the tool's --bag files) come after the target is declared.
+function(stridemap_unity_batches target batch_size)
+  cmake_language(EVAL CODE
+    "cmake_language(DEFER DIRECTORY [[${PROJECT_SOURCE_DIR}]] CALL stridemap_write_unity_batches [[${target}]] [[${batch_size}]])")
+endfunction()
+
+function(stridemap_write_unity_batches target batch_size)
+  get_target_property(target_dir ${target} SOURCE_DIR)
+  get_target_property(sources ${target} SOURCES)
+  set(kept_sources)
+  set(batched_sources)
+  foreach(source IN LISTS sources)
+    if(source MATCHES "\\$<" OR NOT source MATCHES "\\.(cpp|cc|cxx)$")
+      list(APPEND kept_sources ${source})
+      continue()
+    endif()
+    cmake_path(ABSOLUTE_PATH source BASE_DIRECTORY ${target_dir} NORMALIZE OUTPUT_VARIABLE path)
+    set(compiled_alone FALSE)
+    foreach(property SKIP_UNITY_BUILD_INCLUSION COMPILE_OPTIONS COMPILE_DEFINITIONS COMPILE_FLAGS INCLUDE_DIRECTORIES
+                     HEADER_FILE_ONLY GENERATED)
+      get_source_file_property(value ${path} DIRECTORY ${target_dir} ${property})
+      if(value)
+        set(compiled_alone TRUE)
+      endif()
+    endforeach()
+    if(compiled_alone)
+      list(APPEND kept_sources ${path})
+    else()
+      list(APPEND batched_sources ${path})
+    endif()
+  endforeach()
+  list(LENGTH batched_sources batched_count)
+  if(batched_count LESS 2)
+    return()  # nothing to gain: the target keeps its sources as they are
+  endif()
+  if(batch_size EQUAL 0)
+    set(batch_size ${batched_count})
+  endif()
+  set(batch_dir ${CMAKE_BINARY_DIR}/unity/${target})
+  set(batch_files)
+  set(content "")
+  set(in_batch 0)
+  set(index 0)
+  foreach(path IN LISTS batched_sources)
+    file(RELATIVE_PATH relative ${batch_dir} ${path})
+    string(APPEND content "#include \"${relative}\"\n")
+    math(EXPR in_batch "${in_batch} + 1")
+    if(in_batch EQUAL batch_size)
+      file(CONFIGURE OUTPUT ${batch_dir}/batch_${index}.cpp CONTENT "${content}" @ONLY)
+      list(APPEND batch_files ${batch_dir}/batch_${index}.cpp)
+      math(EXPR index "${index} + 1")
+      set(content "")
+      set(in_batch 0)
+    endif()
+  endforeach()
+  if(in_batch GREATER 0)
+    file(CONFIGURE OUTPUT ${batch_dir}/batch_${index}.cpp CONTENT "${content}" @ONLY)
+    list(APPEND batch_files ${batch_dir}/batch_${index}.cpp)
+  endif()
+  set_property(TARGET ${target} PROPERTY SOURCES ${kept_sources} ${batch_files})
+endfunction()
+
+# The library behind tests/test_paths.hpp, which tests and benchmarks link.
+# Its one generated file is the only compile of the test programs that names
+# this clone's folder.
+function(stridemap_add_test_paths_library)
+  get_filename_component(shared_data_dir ${PROJECT_SOURCE_DIR}/../shared/data ABSOLUTE)
+  set(source ${CMAKE_BINARY_DIR}/test_paths/test_paths.cpp)
+  file(GENERATE OUTPUT ${source} CONTENT "#include \"test_paths.hpp\"
+namespace stridemap::test_paths {
+const char* source_dir() { return \"${PROJECT_SOURCE_DIR}\"; }
+const char* shared_data_dir() { return \"${shared_data_dir}\"; }
+const char* cli_path() { return \"$<$<TARGET_EXISTS:stridemap_cli>:$<TARGET_FILE:stridemap_cli>>\"; }
+const char* node_path() { return \"$<$<TARGET_EXISTS:stridemap_node>:$<TARGET_FILE:stridemap_node>>\"; }
+}  // namespace stridemap::test_paths
+")
+  add_library(stridemap_test_paths STATIC ${source})
+  target_include_directories(stridemap_test_paths PUBLIC ${PROJECT_SOURCE_DIR}/tests)
 endfunction()

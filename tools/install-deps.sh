@@ -2,7 +2,7 @@
 # Installs the Debian packages stridemap builds with, only those missing.
 set -euo pipefail
 packages=(
-  build-essential cmake pkg-config
+  build-essential cmake pkg-config ccache
   libeigen3-dev libyaml-cpp-dev libcli11-dev nlohmann-json3-dev libpng-dev zlib1g-dev
   libopencv-imgproc-dev
   libgtest-dev libgmock-dev libbenchmark-dev

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include "cli/cli_runner.hpp"
+#include "test_paths.hpp"
 
 #include <array>
 #include <chrono>

@@ -10,6 +10,7 @@
 
 #include "cli/cli_runner.hpp"
 #include "live/test_folder.hpp"
+#include "test_paths.hpp"
 
 namespace {
 

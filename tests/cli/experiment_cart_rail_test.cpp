@@ -14,6 +14,7 @@
 
 #include "cli/cli_runner.hpp"
 #include "stridemap/io/map_file.hpp"
+#include "test_paths.hpp"
 
 namespace {
 

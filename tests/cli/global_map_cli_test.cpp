@@ -21,6 +21,7 @@
 #include "live/test_folder.hpp"
 #include "stridemap/io/map_file.hpp"
 #include "stridemap/io/scan_log.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {

@@ -21,6 +21,7 @@
 #include "stridemap/io/pseudo_terminal.hpp"
 #include "stridemap/io/recorded_scans.hpp"
 #include "stridemap/io/scan_log.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {

@@ -28,6 +28,7 @@
 #include "stridemap/io/output_folder.hpp"
 #include "stridemap/io/png_image.hpp"
 #include "stridemap/io/scan_log.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {

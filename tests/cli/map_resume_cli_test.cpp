@@ -13,6 +13,7 @@
 #include "cli/cli_runner.hpp"
 #include "live/test_folder.hpp"
 #include "stridemap/io/map_file.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {

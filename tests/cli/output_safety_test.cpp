@@ -16,6 +16,7 @@
 #include "live/test_folder.hpp"
 #include "stridemap/io/output_folder.hpp"
 #include "stridemap/io/scan_log.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {

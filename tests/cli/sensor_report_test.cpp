@@ -15,6 +15,7 @@
 #include "cli/cli_runner.hpp"
 #include "stridemap/io/grid_csv.hpp"
 #include "stridemap/io/png_image.hpp"
+#include "test_paths.hpp"
 
 namespace {
 

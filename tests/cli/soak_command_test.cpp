@@ -9,6 +9,7 @@
 #include <gtest/gtest.h>
 
 #include "cli/cli_runner.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {

@@ -9,6 +9,7 @@
 
 #include "cli/cli_runner.hpp"
 #include "live/test_folder.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include "stridemap/io/scene_yaml.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {

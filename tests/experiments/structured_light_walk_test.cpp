@@ -9,6 +9,7 @@
 #include "stridemap/experiments/mount_analysis.hpp"
 #include "stridemap/experiments/rocky_walk.hpp"
 #include "stridemap/io/scene_yaml.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {

@@ -14,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include "fuzz_target.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap::fuzz {
 

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "stridemap/core/error.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {

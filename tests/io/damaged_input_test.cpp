@@ -19,6 +19,7 @@
 #include "stridemap/io/png_image.hpp"
 #include "stridemap/io/scene_yaml.hpp"
 #include "stridemap/io/structured_light_config.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {

@@ -11,8 +11,9 @@
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/foothold.hpp"
 #include "stridemap/io/map_file.hpp"
-#include "stridemap/io/mapper_config.hpp"
 #include "stridemap/io/map_resume_check.hpp"
+#include "stridemap/io/mapper_config.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {

@@ -16,6 +16,7 @@
 #include "stridemap/io/scan_log.hpp"
 #include "stridemap/sensors/scip_parameters.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {

@@ -20,6 +20,7 @@
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/io/map_export.hpp"
 #include "stridemap/io/map_file.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {

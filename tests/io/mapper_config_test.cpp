@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 #include "stridemap/core/error.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {

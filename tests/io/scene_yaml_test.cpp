@@ -11,6 +11,7 @@
 #include "stridemap/sensors/urg04lx.hpp"
 #include "stridemap/sim/cart_rail.hpp"
 #include "stridemap/sim/scene_ray_caster.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {
@@ -260,7 +261,7 @@ TEST(SceneYaml, UnreadableFile) {
 }
 
 TEST(ShippedScene, CartRailBoxesMatchesThePaperSetUp) {
-  const Scene scene = load_scene_yaml(STRIDEMAP_SOURCE_DIR "/scenes/cart_rail_boxes.yaml");
+  const Scene scene = load_scene_yaml(std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/cart_rail_boxes.yaml");
   EXPECT_TRUE(scene.terrain.is_flat());
   ASSERT_EQ(scene.boxes.size(), 2u);
   ASSERT_EQ(scene.cylinders.size(), 1u);

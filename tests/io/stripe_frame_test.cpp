@@ -15,6 +15,7 @@
 #include "live/test_folder.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/stripe_detector.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap::io {
 namespace {

@@ -8,6 +8,7 @@
 
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/structured_light_config.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {

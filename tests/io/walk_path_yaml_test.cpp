@@ -8,6 +8,7 @@
 
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/scene_yaml.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {

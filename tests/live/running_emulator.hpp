@@ -15,6 +15,7 @@
 #include "stridemap/live/emulator_server.hpp"
 #include "stridemap/sensors/urg_driver.hpp"
 #include "stridemap/sim/urg_scan_source.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap::test_emulator {
 

@@ -13,6 +13,7 @@
 #include "stridemap/sensors/scip_decoder.hpp"
 #include "stridemap/sensors/scip_reply_encoder.hpp"
 #include "stridemap/sensors/scip_scan.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap::scip {
 namespace {

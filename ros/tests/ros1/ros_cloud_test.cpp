@@ -26,6 +26,7 @@
 
 #include "ros_fixture.hpp"
 #include "sim_truth.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap::ros_test {
 namespace {

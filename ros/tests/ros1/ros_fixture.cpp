@@ -10,6 +10,7 @@
 #include <topic_tools/shape_shifter.h>
 
 #include "stridemap_ros/ros1_messages.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap::ros_test {
 

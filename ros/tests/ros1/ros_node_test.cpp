@@ -29,6 +29,7 @@
 #include "ros_fixture.hpp"
 #include "sim_truth.hpp"
 #include "stridemap_ros/ros1_messages.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap::ros_test {
 namespace {
