@@ -50,6 +50,7 @@ struct MappingArgs {
   std::string range;
   std::string window;
   std::string global_map;
+  bool overwrite = false;  ///< --overwrite: --out may hold other files, which are kept
 };
 
 // --range MIN:MAX: the ends of elevation.png's colour scale [m].
@@ -201,7 +202,7 @@ void run_live(const LiveArgs& args) {
   std::vector<NamedPath> out_inputs = inputs;
   out_inputs.push_back({"--record", args.record_path});
   refuse_output_that_is_an_input("--out", args.mapping.out_dir, out_inputs);
-  io::check_output_folder(args.mapping.out_dir, "--out");
+  io::check_output_folder(args.mapping.out_dir, "--out", other_files(args.overwrite));
   if (args.mapping.report) report_assets_dir();  // before the run, not after it
   const GlobalMapOptions& global_map = options.mapper.config.global_map;
   if (!global_map.folder.empty()) {
@@ -226,6 +227,7 @@ void run_live(const LiveArgs& args) {
 
   MapRunInfo info;
   info.command = "live";
+  info.other_files = other_files(args.overwrite);
   info.elevation_range_m = parse_range(args.mapping.range);
   if (args.mapping.report) {
     info.extra_outputs = [target = args.mapping.out_dir](const std::string& folder) { write_run_report(folder, target); };
@@ -351,7 +353,7 @@ void run_map(const MapArgs& args) {
                                       {"--config", args.mapping.config_path},
                                       {"--resume", args.mapping.resume_path}};
   refuse_output_that_is_an_input("--out", args.mapping.out_dir, inputs);
-  io::check_output_folder(args.mapping.out_dir, "--out");
+  io::check_output_folder(args.mapping.out_dir, "--out", other_files(args.mapping.overwrite));
   if (args.mapping.report) report_assets_dir();
   // The log is read as a stream: memory stays flat however long it is, and
   // its damage is told after the mapping. Opening it reads up to its first
@@ -389,6 +391,7 @@ void run_map(const MapArgs& args) {
   const TimeRange& scan_times = replay.scan_times();
   MapRunInfo info;
   info.command = "map";
+  info.other_files = other_files(args.mapping.overwrite);
   info.elevation_range_m = parse_range(args.mapping.range);
   if (args.mapping.report) {
     info.extra_outputs = [target = args.mapping.out_dir](const std::string& folder) { write_run_report(folder, target); };
@@ -426,7 +429,9 @@ void register_live(CLI::App& app) {
       ->required();
   add_mapping_options(*live, args->mapping);
   live->add_option("--record", args->record_path, "Also write the scans into this scan log");
-  add_existing_log_flags(*live, args->overwrite, args->append);
+  add_existing_log_flags(*live, args->overwrite, args->append,
+                         "Replace an existing --record log, and stridemap's earlier outputs in --out even when the "
+                         "folder holds other files, which are kept (by default both are refused)");
   live->add_option("--save-every-s", args->save_every_s, "Write the map this often (and at exit)")
       ->capture_default_str()
       ->check(number_from_to(0.01, 86400.0, "s"));
@@ -443,13 +448,15 @@ void register_live(CLI::App& app) {
   CLI::Option* log = map->add_option("--log", map_args->log_path, "Scan log (stridemap record, or live --record)");
   map->add_option("--poses", map_args->mapping.poses_path, "Pose file (docs/live.md)");
   add_mapping_options(*map, map_args->mapping);
+  add_output_folder_overwrite_flag(*map, map_args->mapping.overwrite);
   add_map_bag_options(*map, map_args->bag);  // --bag: a ROS 1 bag instead of --log/--poses (docs/ros.md)
   map->callback([map_args, log] {
     if (!map_args->bag.bag_path.empty()) {
       if (log->count() > 0 || !map_args->mapping.poses_path.empty()) {
         throw InputError("--bag: give either --bag or --log with --poses, not both");
       }
-      map_args->bag.max_pose_gap_s = map_args->mapping.max_pose_gap_s;  // the map command's option serves both
+      map_args->bag.max_pose_gap_s = map_args->mapping.max_pose_gap_s;  // the map command's options serve both
+      map_args->bag.overwrite = map_args->mapping.overwrite;
       if (!map_args->mapping.window.empty()) {
         throw InputError("--window: works with --log; the map of a bag (--bag) follows the robot");
       }

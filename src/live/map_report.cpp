@@ -149,7 +149,7 @@ ExportedMap write_map_outputs(const ScanMapper& mapper, const scip::ScipParamete
     style.elevation_min_m = info.elevation_range_m->first;
     style.elevation_max_m = info.elevation_range_m->second;
   }
-  io::OutputFolder staged(directory, "output folder");
+  io::OutputFolder staged(directory, info.out_option, info.other_files);
   io::write_map_layers(layers, staged.path(), style);
   io::write_text_file(staged.file("summary.json"), map_summary_json(mapper, layers, sensor, info, live), "summary");
   // The mapper's own state (before the fill-in), from which mapping can resume.

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "stridemap/core/map_filter.hpp"
+#include "stridemap/io/output_folder.hpp"
 #include "stridemap/live/scan_mapper.hpp"
 #include "stridemap/sensors/scip_parameters.hpp"
 #include "stridemap/sensors/urg_driver.hpp"
@@ -32,6 +33,11 @@ struct MapRunInfo {
   std::function<void(const std::string&)> extra_outputs;
   /// Ends of elevation.png's colour scale [m]; empty: the 2nd-98th percentile.
   std::optional<std::pair<double, double>> elevation_range_m;
+  /// The option that named the output folder, for its errors.
+  std::string out_option = "--out";
+  /// OtherFiles::keep (`--overwrite`): the user's files in the folder stay
+  /// beside the map's; by default they refuse it.
+  io::OtherFiles other_files = io::OtherFiles::refuse;
 };
 
 /// Live mapping's own figures (not in a replay: they depend on the run).
