@@ -160,6 +160,23 @@ void report_shortfall(const ScanMapperStats& stats, const TimeRange& scans, cons
   if (!why.empty()) throw RunFailed(why);
 }
 
+MapRunChoices run_choices(const MappingArgs& args, const ScanMapperOptions& options, bool window_fit_possible) {
+  MapRunChoices choices;
+  choices.config_path = args.config_path;
+  choices.window = args.window;
+  choices.resume_path = args.resume_path;
+  if (options.resume) choices.resumed_last_scan_time_s = options.resume->metadata.last_scan_time_s;
+  choices.window_fit_possible = window_fit_possible;
+  return choices;
+}
+
+// The scans that reached the mapper but were not used there, for the summary line.
+std::string rejected_text(const ScanMapper& mapper) {
+  const MapperTotals& t = mapper.mapper().totals();
+  return std::to_string(t.scans_rejected_for_time) + " rejected as stale, " +
+         std::to_string(t.scans_rejected_for_pose) + " for a bad pose";
+}
+
 // ---------------------------------------------------------------- live
 
 struct LiveArgs {
@@ -318,16 +335,19 @@ void run_live(const LiveArgs& args) {
   }
   const ScanMapper& mapper = live->mapper();
   const LiveRunStats& run = result.run;
-  std::printf("live: %zu scans mapped of %zu received (%llu lost), %zu pose lines skipped, CPU %.2f %% of one core, "
-              "latency mean %.2f ms max %.2f ms; outputs: %s\n",
-              mapper.stats().integrated, mapper.stats().scans, static_cast<unsigned long long>(run.driver.scans_lost),
-              poses.skipped_lines(), run.duration_s > 0 ? 100.0 * run.cpu_s / run.duration_s : 0.0,
+  std::printf("live: %zu scans mapped of %zu received (%llu lost, %s), %zu pose lines skipped, CPU %.2f %% of one "
+              "core, latency mean %.2f ms max %.2f ms; outputs: %s\n",
+              scans_mapped(mapper), mapper.stats().scans, static_cast<unsigned long long>(run.driver.scans_lost),
+              rejected_text(mapper).c_str(), poses.skipped_lines(), run.duration_s > 0 ? 100.0 * run.cpu_s / run.duration_s : 0.0,
               run.latency_mean_s * 1000.0, run.latency_max_s * 1000.0, args.mapping.out_dir.c_str());
   std::fflush(stdout);
   if (!result.last_save_error.empty()) throw InputError(result.last_save_error + " (the map could not be saved)");
   if (!result.fatal.empty()) throw InputError(args.device.device + ": " + result.fatal + " (the map so far is saved)");
   if (!log_error.empty()) throw InputError(log_error + " (the map is saved; the log stops where writing failed)");
   report_shortfall(mapper.stats(), live->scan_times(), live->pose_times(), args.mapping.clock);
+  const std::string nothing = empty_run_failure(mapper, filtered_map_layers(mapper, MapFilter::none),
+                                                live->scan_times(), run_choices(args.mapping, options.mapper, false));
+  if (!nothing.empty()) throw RunFailed(nothing);
 }
 
 // ---------------------------------------------------------------- map
@@ -407,15 +427,17 @@ void run_map(const MapArgs& args) {
   info.map_filter = parse_map_filter(args.mapping.map_filter);
   const ExportedMap layers = write_map_outputs(mapper, log.parameters, info, nullptr, args.mapping.out_dir);
   const ScanMapperStats& s = mapper.stats();
-  std::printf("map: %zu scans mapped of %zu (%zu before the first pose, %zu after the last, %zu in pose gaps), "
+  std::printf("map: %zu scans mapped of %zu (%zu before the first pose, %zu after the last, %zu in pose gaps, %s), "
               "coverage %.1f %%; outputs: %s\n",
-              s.integrated, s.scans, s.before_first_pose, s.after_last_pose, s.pose_gap,
-              100.0 * map_coverage(layers), args.mapping.out_dir.c_str());
+              scans_mapped(mapper), s.scans, s.before_first_pose, s.after_last_pose, s.pose_gap,
+              rejected_text(mapper).c_str(), 100.0 * map_coverage(layers), args.mapping.out_dir.c_str());
   std::fflush(stdout);
   if (const io::TileStore* tiles = mapper.tile_store()) {
     note("global map: " + std::to_string(tiles->tiles_on_disk().size()) + " tiles in " + tiles->folder());
   }
   report_shortfall(s, scan_times, pose_times, args.mapping.clock);
+  const std::string nothing = empty_run_failure(mapper, layers, scan_times, run_choices(args.mapping, options, true));
+  if (!nothing.empty()) throw RunFailed(nothing);
 }
 
 }  // namespace

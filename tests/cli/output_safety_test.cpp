@@ -130,11 +130,16 @@ std::set<std::string> manifest_of(const fs::path& folder) {
   return names;
 }
 
+// A 4 m window: the points of this run's 0.8 m beams are in it.
+std::string wide_window(const test::TestFolder& dir) {
+  return "--config " + q(dir.write("wide.yaml", "map:\n  cells_per_side: 400\n"));
+}
+
 // The README's own example: a run's folder, then `export` beside the map,
 // then the user's notes and plots. A second run into it must not lose any.
 void make_run_folder_with_the_users_files(const test::TestFolder& dir) {
-  test::write_straight_run(dir, "run.log", 20, 1500, [](double t) { return 0.2 * t; });
-  const auto first = test::map_straight_run(dir, "run.log", "exp1", "");
+  test::write_straight_run(dir, "run.log", 20, 800, [](double t) { return 0.2 * t; });
+  const auto first = test::map_straight_run(dir, "run.log", "exp1", wide_window(dir));
   ASSERT_EQ(first.exit_code, 0) << first.output;
   const auto exported = run_cli("export " + q(dir / "exp1/map.smap") + " --npy " + q(dir / "exp1/npy") + " --ply " +
                                 q(dir / "exp1/map.ply"));
@@ -149,7 +154,7 @@ TEST(OutputSafety, AnOutputFolderHoldingTheUsersFilesIsRefusedAndLeftAsItWas) {
   make_run_folder_with_the_users_files(dir);
   const auto before = tree(dir / "exp1");
   ASSERT_TRUE(before.count("npy") && before.count("map.ply") && before.count("my_plots/fig1.pdf"));
-  const auto again = test::map_straight_run(dir, "run.log", "exp1", "");
+  const auto again = test::map_straight_run(dir, "run.log", "exp1", wide_window(dir));
   EXPECT_EQ(again.exit_code, 2) << again.output;
   // The first foreign entry by name (upper case sorts first).
   EXPECT_NE(again.output.find("stridemap: error: --out: folder '" + dir / "exp1" +
@@ -160,7 +165,7 @@ TEST(OutputSafety, AnOutputFolderHoldingTheUsersFilesIsRefusedAndLeftAsItWas) {
   EXPECT_EQ(tree(dir / "exp1"), before);
   // Each of the others alone refuses the folder too.
   for (const std::string& name : {"NOTES.txt", "my_plots", "map.ply"}) fs::remove_all(dir / ("exp1/" + name));
-  const auto only_npy = test::map_straight_run(dir, "run.log", "exp1", "");
+  const auto only_npy = test::map_straight_run(dir, "run.log", "exp1", wide_window(dir));
   EXPECT_EQ(only_npy.exit_code, 2) << only_npy.output;
   EXPECT_NE(only_npy.output.find("holds 'npy', which stridemap did not write there"), std::string::npos)
       << only_npy.output;
@@ -188,8 +193,8 @@ TEST(OutputSafety, OverwriteReplacesOnlyTheManifestsFilesAndKeepsTheUsers) {
                 users.count("npy/elevation.npy"),
             4u);
   const std::string old_summary = dir.read("exp1/summary.json");
-  test::write_straight_run(dir, "other.log", 30, 1200, [](double t) { return 0.1 * t; });
-  const auto again = test::map_straight_run(dir, "other.log", "exp1", "--overwrite");
+  test::write_straight_run(dir, "other.log", 30, 700, [](double t) { return 0.1 * t; });
+  const auto again = test::map_straight_run(dir, "other.log", "exp1", wide_window(dir) + " --overwrite");
   ASSERT_EQ(again.exit_code, 0) << again.output;
   // The user's entries exactly as they were.
   auto after = tree(dir / "exp1");
@@ -211,17 +216,17 @@ TEST(OutputSafety, OverwriteReplacesOnlyTheManifestsFilesAndKeepsTheUsers) {
     EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos) << entry.path();
   }
   // Once more without --overwrite: the user's files still refuse the folder.
-  const auto third = test::map_straight_run(dir, "other.log", "exp1", "");
+  const auto third = test::map_straight_run(dir, "other.log", "exp1", wide_window(dir));
   EXPECT_EQ(third.exit_code, 2) << third.output;
 }
 
 TEST(OutputSafety, AFolderWithoutAManifestIsTheUsersWhateverItsFilesAreCalled) {
   test::TestFolder dir;
-  test::write_straight_run(dir, "run.log", 20, 1500, [](double t) { return 0.2 * t; });
+  test::write_straight_run(dir, "run.log", 20, 800, [](double t) { return 0.2 * t; });
   fs::create_directories(dir / "analysis");
   dir.write("analysis/results.csv", "trial,error\n1,0.2\n");
   dir.write("analysis/settings.json", "{\"mine\": true}\n");
-  auto r = test::map_straight_run(dir, "run.log", "analysis", "");
+  auto r = test::map_straight_run(dir, "run.log", "analysis", wide_window(dir));
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("holds 'results.csv', which stridemap did not write there (the folder has no "
                           ".stridemap-output); pass --overwrite"),
@@ -229,7 +234,7 @@ TEST(OutputSafety, AFolderWithoutAManifestIsTheUsersWhateverItsFilesAreCalled) {
       << r.output;
   EXPECT_EQ(dir.read("analysis/results.csv"), "trial,error\n1,0.2\n");
   EXPECT_EQ(dir.read("analysis/settings.json"), "{\"mine\": true}\n");
-  r = test::map_straight_run(dir, "run.log", "analysis", "--overwrite");
+  r = test::map_straight_run(dir, "run.log", "analysis", wide_window(dir) + " --overwrite");
   ASSERT_EQ(r.exit_code, 0) << r.output;
   EXPECT_EQ(dir.read("analysis/results.csv"), "trial,error\n1,0.2\n");
   EXPECT_EQ(dir.read("analysis/settings.json"), "{\"mine\": true}\n");
@@ -238,7 +243,7 @@ TEST(OutputSafety, AFolderWithoutAManifestIsTheUsersWhateverItsFilesAreCalled) {
   // A file of the user's with the name of an output is never replaced, not even with --overwrite.
   fs::create_directories(dir / "mine");
   dir.write("mine/elevation.png", "my own picture\n");
-  r = test::map_straight_run(dir, "run.log", "mine", "--overwrite");
+  r = test::map_straight_run(dir, "run.log", "mine", wide_window(dir) + " --overwrite");
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("holds 'elevation.png', which stridemap did not write there, and this run writes a file "
                           "of that name; it is kept and nothing was written"),
