@@ -304,10 +304,20 @@ void OutputFolder::replace_in_place(const std::vector<std::string>& owned, const
   std::error_code ec;
   for (const std::string& name : names) {
     const std::string to = target_ + "/" + name;
+    const bool ours = std::binary_search(owned.begin(), owned.end(), name);
     struct stat info {};
-    if (::lstat(to.c_str(), &info) == 0 && S_ISDIR(info.st_mode)) fs::remove_all(to, ec);  // ours: it is in `owned`
+    // A folder neither is renamed over nor renames over a file: the
+    // previous entry (ours) goes first.
+    struct stat staged {};
+    const bool staged_folder = ::lstat(file(name).c_str(), &staged) == 0 && S_ISDIR(staged.st_mode);
+    if (ours && ::lstat(to.c_str(), &info) == 0 && (S_ISDIR(info.st_mode) || staged_folder)) fs::remove_all(to, ec);
     if (ec) fail(name + ": " + ec.message());
-    if (::rename(file(name).c_str(), to.c_str()) != 0) fail(name + ": " + detail::errno_text(errno));
+    // A name that was not ours when the folder was listed may be the user's
+    // by now: never replaced.
+    const unsigned flags = ours ? 0 : RENAME_NOREPLACE;
+    if (::renameat2(AT_FDCWD, file(name).c_str(), AT_FDCWD, to.c_str(), flags) != 0) {
+      fail(name + ": " + detail::errno_text(errno));
+    }
   }
   for (const std::string& name : owned) {
     if (!std::binary_search(names.begin(), names.end(), name)) fs::remove_all(target_ + "/" + name, ec);
