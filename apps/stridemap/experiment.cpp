@@ -27,6 +27,7 @@ namespace stridemap::cli {
 namespace {
 
 struct CartRailArgs {
+  bool overwrite = false;
   bool report = false;
   std::string sensor = "urg";
   std::string scene_path;
@@ -107,7 +108,7 @@ void run_cart_rail_command(const CartRailArgs& args) {
   const Scene scene = load_scene_yaml(args.scene_path);
   const std::string early_dir = (std::filesystem::path(args.out_dir) / ("cart-rail-" + args.sensor)).string();
   refuse_output_that_is_an_input("--out", early_dir, {{"--scene", args.scene_path}, {"--config", args.config_path}});
-  io::check_output_folder(early_dir, "--out");
+  io::check_output_folder(early_dir, "--out", other_files(args.overwrite));
   if (args.report) report_assets_dir();  // before the run, not after it
   CartRailOptions options;
   if (!args.config_path.empty()) {
@@ -148,13 +149,14 @@ void run_cart_rail_command(const CartRailArgs& args) {
   write_output_set(dir, "--out", [&](const std::string& folder) {
     write_cart_rail_outputs(result, options, info, folder);
     if (args.report) write_run_report(folder, dir);
-  });
+  }, other_files(args.overwrite));
   note("wrote " + dir);
   std::fputs(cart_rail_table(result, info).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
 }
 
 struct MixedPixelsArgs {
+  bool overwrite = false;
   std::string scene_path;
   std::string out_dir;
   std::uint64_t seed = 1;
@@ -177,18 +179,20 @@ void run_mixed_pixels_command(const MixedPixelsArgs& args) {
   const std::string stem = std::filesystem::path(args.scene_path).stem().string();
   const std::string dir = (std::filesystem::path(args.out_dir) / "mixed-pixels" / stem).string();
   refuse_output_that_is_an_input("--out", dir, {{"--scene", args.scene_path}});
-  io::check_output_folder(dir, "--out");
+  io::check_output_folder(dir, "--out", other_files(args.overwrite));
   io::ProgressBar bar = progress_bar("mixed-pixels", "scans");
   options.progress = bar.callback();
   const MixedPixelsResult result = run_mixed_pixels(scene, options);
   bar.clear();
   write_output_set(dir, "--out",
-                   [&](const std::string& folder) { write_mixed_pixels_outputs(result, options, args.scene_path, folder); });
+                   [&](const std::string& folder) { write_mixed_pixels_outputs(result, options, args.scene_path, folder); },
+                   other_files(args.overwrite));
   std::fputs(mixed_pixels_table(result).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
 }
 
 struct LightingArgs {
+  bool overwrite = false;
   static constexpr const char* kDefaultScene = "scenes/cart_rail_boxes.yaml";
   std::string scene_path = kDefaultScene;
   std::string out_dir;
@@ -213,13 +217,14 @@ void run_lighting_command(const LightingArgs& args) {
   }
   const std::string dir = (std::filesystem::path(args.out_dir) / "lighting").string();
   refuse_output_that_is_an_input("--out", dir, {{"--scene", scene_path}, {"--sensor-config", args.sensor_config_path}});
-  io::check_output_folder(dir, "--out");
+  io::check_output_folder(dir, "--out", other_files(args.overwrite));
   io::ProgressBar bar = progress_bar("lighting", "scans");
   options.progress = bar.callback();
   const LightingResult result = run_lighting(scene, options);
   bar.clear();
   write_output_set(dir, "--out",
-                   [&](const std::string& folder) { write_lighting_outputs(result, options, scene_path, folder); });
+                   [&](const std::string& folder) { write_lighting_outputs(result, options, scene_path, folder); },
+                   other_files(args.overwrite));
   std::fputs(lighting_table(result).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
 }
@@ -250,6 +255,7 @@ void register_experiment(CLI::App& app) {
       ->capture_default_str();
   cart_rail->add_option("--scene", args->scene_path, "Scene file (YAML, see docs/scenes.md)")->required();
   cart_rail->add_option("--out", args->out_dir, "Output folder; results go to OUT/cart-rail-<sensor>/")->required();
+  add_output_folder_overwrite_flag(*cart_rail, args->overwrite);
   cart_rail->add_option("--seed", args->seed, "Seed of the simulation")->capture_default_str()
       ->check(seed_value());
   cart_rail->add_option("--config", args->config_path,
@@ -287,6 +293,7 @@ void register_experiment(CLI::App& app) {
       "mixed-pixels", "Mixed pixels from the footprint physics against each filter (Figs. 12-15, 18)");
   mixed->add_option("--scene", mp->scene_path, "Scene file (YAML, see docs/scenes.md)")->required();
   mixed->add_option("--out", mp->out_dir, "Output folder; results go to OUT/mixed-pixels/<scene>/")->required();
+  add_output_folder_overwrite_flag(*mixed, mp->overwrite);
   mixed->add_option("--seed", mp->seed, "Seed of the simulation")->capture_default_str()
       ->check(seed_value());
   mixed->add_option("--texture-log-sigma", mp->texture_log_sigma,
@@ -309,6 +316,7 @@ void register_experiment(CLI::App& app) {
   CLI::App* lighting = experiment->add_subcommand(
       "lighting", "Structured-light stripe detection and map error from dim lab to daylight, URG beside it (Fig. 21)");
   lighting->add_option("--out", la->out_dir, "Output folder; results go to OUT/lighting/")->required();
+  add_output_folder_overwrite_flag(*lighting, la->overwrite);
   lighting->add_option("--scene", la->scene_path, "Scene file (YAML, see docs/scenes.md)")->capture_default_str();
   lighting->add_option("--sensor-config", la->sensor_config_path,
                        "Structured-light configuration (YAML); default Ragno's");

@@ -19,6 +19,7 @@ namespace stridemap::cli {
 namespace {
 
 struct FootholdArgs {
+  bool overwrite = false;
   static constexpr const char* kDefaultScene = "scenes/rocky_mockup.yaml";
   std::string scene_path = kDefaultScene;
   std::string config_path;
@@ -45,13 +46,15 @@ void run_foothold_command(const FootholdArgs& args) {
   if (!scene.walk_path) throw InputError(scene_path + ": the scene has no walk_path section");
   const std::string dir = (std::filesystem::path(args.out_dir) / "foothold").string();
   refuse_output_that_is_an_input("--out", dir, {{"--scene", scene_path}, {"--config", args.config_path}});
-  io::check_output_folder(dir, "--out");
+  io::check_output_folder(dir, "--out", other_files(args.overwrite));
   io::ProgressBar bar = progress_bar("foothold", "walks");
   options.progress = bar.callback();
   const FootholdExperimentResult result =
       run_foothold_experiment(scene, *scene.walk_path, std::filesystem::path(scene_path).filename().string(), options);
   bar.clear();
-  write_output_set(dir, "--out", [&](const std::string& folder) { write_foothold_outputs(result, options, folder); });
+  write_output_set(
+      dir, "--out", [&](const std::string& folder) { write_foothold_outputs(result, options, folder); },
+      other_files(args.overwrite));
   std::fputs(foothold_table(result).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
 }
@@ -73,6 +76,7 @@ void register_foothold_experiment(CLI::App& app) {
       ->capture_default_str()->check(whole_from_to(0, 10000));
   foothold->add_option("--seed", fa->seed, "First seed")->capture_default_str()->check(seed_value());
   foothold->add_option("--out", fa->out_dir, "Output folder; results go to OUT/foothold/")->required();
+  add_output_folder_overwrite_flag(*foothold, fa->overwrite);
   foothold->callback([fa] { run_foothold_command(*fa); });
 }
 

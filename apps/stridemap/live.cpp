@@ -50,6 +50,7 @@ struct MappingArgs {
   std::string range;
   std::string window;
   std::string global_map;
+  bool overwrite = false;  ///< --overwrite: --out may hold other files, which are kept
 };
 
 // --range MIN:MAX: the ends of elevation.png's colour scale [m].
@@ -159,6 +160,23 @@ void report_shortfall(const ScanMapperStats& stats, const TimeRange& scans, cons
   if (!why.empty()) throw RunFailed(why);
 }
 
+MapRunChoices run_choices(const MappingArgs& args, const ScanMapperOptions& options, bool window_fit_possible) {
+  MapRunChoices choices;
+  choices.config_path = args.config_path;
+  choices.window = args.window;
+  choices.resume_path = args.resume_path;
+  if (options.resume) choices.resumed_last_scan_time_s = options.resume->metadata.last_scan_time_s;
+  choices.window_fit_possible = window_fit_possible;
+  return choices;
+}
+
+// The scans that reached the mapper but were not used there, for the summary line.
+std::string rejected_text(const ScanMapper& mapper) {
+  const MapperTotals& t = mapper.mapper().totals();
+  return std::to_string(t.scans_rejected_for_time) + " rejected as stale, " +
+         std::to_string(t.scans_rejected_for_pose) + " for a bad pose";
+}
+
 // ---------------------------------------------------------------- live
 
 struct LiveArgs {
@@ -201,7 +219,7 @@ void run_live(const LiveArgs& args) {
   std::vector<NamedPath> out_inputs = inputs;
   out_inputs.push_back({"--record", args.record_path});
   refuse_output_that_is_an_input("--out", args.mapping.out_dir, out_inputs);
-  io::check_output_folder(args.mapping.out_dir, "--out");
+  io::check_output_folder(args.mapping.out_dir, "--out", other_files(args.overwrite));
   if (args.mapping.report) report_assets_dir();  // before the run, not after it
   const GlobalMapOptions& global_map = options.mapper.config.global_map;
   if (!global_map.folder.empty()) {
@@ -226,6 +244,7 @@ void run_live(const LiveArgs& args) {
 
   MapRunInfo info;
   info.command = "live";
+  info.other_files = other_files(args.overwrite);
   info.elevation_range_m = parse_range(args.mapping.range);
   if (args.mapping.report) {
     info.extra_outputs = [target = args.mapping.out_dir](const std::string& folder) { write_run_report(folder, target); };
@@ -316,16 +335,19 @@ void run_live(const LiveArgs& args) {
   }
   const ScanMapper& mapper = live->mapper();
   const LiveRunStats& run = result.run;
-  std::printf("live: %zu scans mapped of %zu received (%llu lost), %zu pose lines skipped, CPU %.2f %% of one core, "
-              "latency mean %.2f ms max %.2f ms; outputs: %s\n",
-              mapper.stats().integrated, mapper.stats().scans, static_cast<unsigned long long>(run.driver.scans_lost),
-              poses.skipped_lines(), run.duration_s > 0 ? 100.0 * run.cpu_s / run.duration_s : 0.0,
+  std::printf("live: %zu scans mapped of %zu received (%llu lost, %s), %zu pose lines skipped, CPU %.2f %% of one "
+              "core, latency mean %.2f ms max %.2f ms; outputs: %s\n",
+              scans_mapped(mapper), mapper.stats().scans, static_cast<unsigned long long>(run.driver.scans_lost),
+              rejected_text(mapper).c_str(), poses.skipped_lines(), run.duration_s > 0 ? 100.0 * run.cpu_s / run.duration_s : 0.0,
               run.latency_mean_s * 1000.0, run.latency_max_s * 1000.0, args.mapping.out_dir.c_str());
   std::fflush(stdout);
   if (!result.last_save_error.empty()) throw InputError(result.last_save_error + " (the map could not be saved)");
   if (!result.fatal.empty()) throw InputError(args.device.device + ": " + result.fatal + " (the map so far is saved)");
   if (!log_error.empty()) throw InputError(log_error + " (the map is saved; the log stops where writing failed)");
   report_shortfall(mapper.stats(), live->scan_times(), live->pose_times(), args.mapping.clock);
+  const std::string nothing = empty_run_failure(mapper, filtered_map_layers(mapper, MapFilter::none),
+                                                live->scan_times(), run_choices(args.mapping, options.mapper, false));
+  if (!nothing.empty()) throw RunFailed(nothing);
 }
 
 // ---------------------------------------------------------------- map
@@ -351,7 +373,7 @@ void run_map(const MapArgs& args) {
                                       {"--config", args.mapping.config_path},
                                       {"--resume", args.mapping.resume_path}};
   refuse_output_that_is_an_input("--out", args.mapping.out_dir, inputs);
-  io::check_output_folder(args.mapping.out_dir, "--out");
+  io::check_output_folder(args.mapping.out_dir, "--out", other_files(args.mapping.overwrite));
   if (args.mapping.report) report_assets_dir();
   // The log is read as a stream: memory stays flat however long it is, and
   // its damage is told after the mapping. Opening it reads up to its first
@@ -389,6 +411,7 @@ void run_map(const MapArgs& args) {
   const TimeRange& scan_times = replay.scan_times();
   MapRunInfo info;
   info.command = "map";
+  info.other_files = other_files(args.mapping.overwrite);
   info.elevation_range_m = parse_range(args.mapping.range);
   if (args.mapping.report) {
     info.extra_outputs = [target = args.mapping.out_dir](const std::string& folder) { write_run_report(folder, target); };
@@ -404,15 +427,17 @@ void run_map(const MapArgs& args) {
   info.map_filter = parse_map_filter(args.mapping.map_filter);
   const ExportedMap layers = write_map_outputs(mapper, log.parameters, info, nullptr, args.mapping.out_dir);
   const ScanMapperStats& s = mapper.stats();
-  std::printf("map: %zu scans mapped of %zu (%zu before the first pose, %zu after the last, %zu in pose gaps), "
+  std::printf("map: %zu scans mapped of %zu (%zu before the first pose, %zu after the last, %zu in pose gaps, %s), "
               "coverage %.1f %%; outputs: %s\n",
-              s.integrated, s.scans, s.before_first_pose, s.after_last_pose, s.pose_gap,
-              100.0 * map_coverage(layers), args.mapping.out_dir.c_str());
+              scans_mapped(mapper), s.scans, s.before_first_pose, s.after_last_pose, s.pose_gap,
+              rejected_text(mapper).c_str(), 100.0 * map_coverage(layers), args.mapping.out_dir.c_str());
   std::fflush(stdout);
   if (const io::TileStore* tiles = mapper.tile_store()) {
     note("global map: " + std::to_string(tiles->tiles_on_disk().size()) + " tiles in " + tiles->folder());
   }
   report_shortfall(s, scan_times, pose_times, args.mapping.clock);
+  const std::string nothing = empty_run_failure(mapper, layers, scan_times, run_choices(args.mapping, options, true));
+  if (!nothing.empty()) throw RunFailed(nothing);
 }
 
 }  // namespace
@@ -426,7 +451,9 @@ void register_live(CLI::App& app) {
       ->required();
   add_mapping_options(*live, args->mapping);
   live->add_option("--record", args->record_path, "Also write the scans into this scan log");
-  add_existing_log_flags(*live, args->overwrite, args->append);
+  add_existing_log_flags(*live, args->overwrite, args->append,
+                         "Replace an existing --record log, and stridemap's earlier outputs in --out even when the "
+                         "folder holds other files, which are kept (by default both are refused)");
   live->add_option("--save-every-s", args->save_every_s, "Write the map this often (and at exit)")
       ->capture_default_str()
       ->check(number_from_to(0.01, 86400.0, "s"));
@@ -443,13 +470,15 @@ void register_live(CLI::App& app) {
   CLI::Option* log = map->add_option("--log", map_args->log_path, "Scan log (stridemap record, or live --record)");
   map->add_option("--poses", map_args->mapping.poses_path, "Pose file (docs/live.md)");
   add_mapping_options(*map, map_args->mapping);
+  add_output_folder_overwrite_flag(*map, map_args->mapping.overwrite);
   add_map_bag_options(*map, map_args->bag);  // --bag: a ROS 1 bag instead of --log/--poses (docs/ros.md)
   map->callback([map_args, log] {
     if (!map_args->bag.bag_path.empty()) {
       if (log->count() > 0 || !map_args->mapping.poses_path.empty()) {
         throw InputError("--bag: give either --bag or --log with --poses, not both");
       }
-      map_args->bag.max_pose_gap_s = map_args->mapping.max_pose_gap_s;  // the map command's option serves both
+      map_args->bag.max_pose_gap_s = map_args->mapping.max_pose_gap_s;  // the map command's options serve both
+      map_args->bag.overwrite = map_args->mapping.overwrite;
       if (!map_args->mapping.window.empty()) {
         throw InputError("--window: works with --log; the map of a bag (--bag) follows the robot");
       }

@@ -24,6 +24,7 @@ struct MapBagArgs {
   double range_error_m = 0.01;
   double range_error_fraction = 0.01;
   double min_intensity = 0.0;
+  bool overwrite = false;  ///< the map command's --overwrite
 };
 
 /// Adds --bag and its options to the map command.

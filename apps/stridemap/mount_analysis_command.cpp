@@ -23,6 +23,7 @@ namespace stridemap::cli {
 namespace {
 
 struct MountAnalysisArgs {
+  bool overwrite = false;
   bool report = false;
   std::string sensor = "urg";
   std::string out_dir;
@@ -97,7 +98,7 @@ void run_mount_analysis_command(const MountAnalysisArgs& args) {
   write_output_set(dir, "--out", [&](const std::string& folder) {
     write_mount_analysis_outputs(result, options, folder);
     if (args.report) write_run_report(folder, dir);
-  });
+  }, other_files(args.overwrite));
   note("wrote " + dir);
   std::fputs(mount_analysis_table(result).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
@@ -129,6 +130,7 @@ void register_mount_analysis(CLI::App* experiment) {
   add_report_flag(*cmd, args->report);
   cmd->add_option("--sensor", args->sensor, "Sensor: urg or structured-light")->capture_default_str();
   cmd->add_option("--out", args->out_dir, "Output folder; results go to OUT/mount-analysis-<sensor>/")->required();
+  add_output_folder_overwrite_flag(*cmd, args->overwrite);
   cmd->add_option("--seed", args->seed, "Seed of the step fields and the simulation")->capture_default_str()
       ->check(seed_value());
   cmd->add_option("--fields", args->fields, "Random step fields walked per mount")->capture_default_str()

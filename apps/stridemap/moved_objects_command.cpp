@@ -19,6 +19,7 @@ namespace stridemap::cli {
 namespace {
 
 struct MovedObjectsArgs {
+  bool overwrite = false;
   static constexpr const char* kDefaultScene = "scenes/moved_objects.yaml";
   std::string scene_path = kDefaultScene;
   std::string config_path;
@@ -36,14 +37,14 @@ void run_moved_objects_command(const MovedObjectsArgs& args) {
   const Scene scene = load_scene_yaml(scene_path);
   const std::string dir = (std::filesystem::path(args.out_dir) / "moved-objects").string();
   refuse_output_that_is_an_input("--out", dir, {{"--scene", scene_path}, {"--config", args.config_path}});
-  io::check_output_folder(dir, "--out");
+  io::check_output_folder(dir, "--out", other_files(args.overwrite));
   io::ProgressBar bar = progress_bar("moved-objects", "scans");
   options.progress = bar.callback();
   const MovedObjectsResult result = run_moved_objects(scene, options);
   bar.clear();
   write_output_set(dir, "--out", [&](const std::string& folder) {
     write_moved_objects_outputs(result, options, scene_path, folder);
-  });
+  }, other_files(args.overwrite));
   std::fputs(moved_objects_table(result).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
 }
@@ -61,6 +62,7 @@ void register_moved_objects_experiment(CLI::App& app) {
   moved->add_option("--config", ma->config_path, "Mapper config whose visibility section sets the clean-up");
   moved->add_option("--seed", ma->seed, "Seed of the simulation")->capture_default_str()->check(seed_value());
   moved->add_option("--out", ma->out_dir, "Output folder; results go to OUT/moved-objects/")->required();
+  add_output_folder_overwrite_flag(*moved, ma->overwrite);
   moved->callback([ma] { run_moved_objects_command(*ma); });
 }
 

@@ -43,18 +43,25 @@ void refuse_output_that_is_an_input(const std::string& option, const std::string
       throw InputError(option + ": '" + path + "' is the same file as " + input.option + " '" + input.path +
                        "'; writing it would destroy the input");
     }
-    // An output folder is replaced whole: nothing of the run's may be in it,
-    // whether it exists yet or not.
+    // An input in an output folder would be replaced if it has the name of
+    // an output, and would sit among the outputs as if it were one: refused
+    // even with --overwrite, whether the folder exists yet or not.
     if (input.path != path && inside_folder(path, input.path)) {
       throw InputError(option + ": folder '" + path + "' holds " + input.option + " '" + input.path +
-                       "'; the outputs replace the folder whole, so give another one");
+                       "'; an output folder must not hold the run's inputs, so give another one");
     }
   }
 }
 
-void add_existing_log_flags(CLI::App& command, bool& overwrite, bool& append) {
-  command.add_flag("--overwrite", overwrite, "Replace an existing log (by default an existing log is refused)");
+void add_existing_log_flags(CLI::App& command, bool& overwrite, bool& append, const std::string& overwrite_help) {
+  command.add_flag("--overwrite", overwrite, overwrite_help);
   command.add_flag("--append", append, "Add to an existing log (a new sensor block, then the scans)");
+}
+
+void add_output_folder_overwrite_flag(CLI::App& command, bool& overwrite, const std::string& folder_option) {
+  command.add_flag("--overwrite", overwrite,
+                   "Replace stridemap's earlier outputs in " + folder_option +
+                       " even when the folder holds other files, which are kept (by default such a folder is refused)");
 }
 
 ExistingLog existing_log_choice(bool overwrite, bool append) {

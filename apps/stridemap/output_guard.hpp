@@ -29,7 +29,17 @@ void refuse_output_that_is_an_input(const std::string& option, const std::string
 enum class ExistingLog { refuse, overwrite, append };
 
 /// `--overwrite` and `--append` for a command that writes a log.
-void add_existing_log_flags(CLI::App& command, bool& overwrite, bool& append);
+void add_existing_log_flags(CLI::App& command, bool& overwrite, bool& append,
+                            const std::string& overwrite_help = "Replace an existing log (by default an existing log "
+                                                                "is refused)");
+
+/// `--overwrite` for a command that writes an output folder: the entries of
+/// the folder's manifest are replaced and every other entry is kept
+/// (io::OtherFiles); without it a folder holding anything else is refused.
+void add_output_folder_overwrite_flag(CLI::App& command, bool& overwrite, const std::string& folder_option = "--out");
+inline io::OtherFiles other_files(bool overwrite) {
+  return overwrite ? io::OtherFiles::keep : io::OtherFiles::refuse;
+}
 /// Throws InputError for both flags at once.
 ExistingLog existing_log_choice(bool overwrite, bool append);
 
@@ -39,11 +49,12 @@ ExistingLog existing_log_choice(bool overwrite, bool append);
 void check_log_output(const std::string& option, const std::string& path, ExistingLog choice,
                       const std::string& magic);
 
-/// The set written by `write(folder)` replaces the folder `target` whole
-/// (io::OutputFolder).
+/// The set written by `write(folder)` replaces the previous set in the
+/// folder `target` (io::OutputFolder).
 template <typename Write>
-void write_output_set(const std::string& target, const std::string& option, Write&& write) {
-  io::OutputFolder staged(target, option);
+void write_output_set(const std::string& target, const std::string& option, Write&& write,
+                      io::OtherFiles other = io::OtherFiles::refuse) {
+  io::OutputFolder staged(target, option, other);
   std::forward<Write>(write)(staged.path());
   staged.commit();
 }

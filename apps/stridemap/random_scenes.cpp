@@ -66,6 +66,7 @@ void run_random_scene(const RandomSceneArgs& args) {
 }
 
 struct FidelityArgs {
+  bool overwrite = false;
   std::size_t scenes = 30;
   std::uint64_t seed = 1;
   std::string kind = "boxes";
@@ -98,12 +99,14 @@ void run_fidelity_command(const FidelityArgs& args) {
         parse_option<StripePipeline>("--structured-light", args.structured_light);
   }
   const std::string dir = (std::filesystem::path(args.out_dir) / "fidelity").string();
-  io::check_output_folder(dir, "--out");
+  io::check_output_folder(dir, "--out", other_files(args.overwrite));
   io::ProgressBar bar = progress_bar("fidelity", "runs");
   options.progress = bar.callback();
   const FidelityResult result = run_fidelity(options);
   bar.clear();
-  write_output_set(dir, "--out", [&](const std::string& folder) { write_fidelity_outputs(result, options, folder); });
+  write_output_set(
+      dir, "--out", [&](const std::string& folder) { write_fidelity_outputs(result, options, folder); },
+      other_files(args.overwrite));
   std::fputs(fidelity_table(result).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
 }
@@ -143,6 +146,7 @@ void register_random_scenes(CLI::App& app) {
                        "Range-intensity coupling through the receiver's gain control (docs/mixed_pixels.md): on or off")
       ->capture_default_str();
   fidelity->add_option("--out", fa->out_dir, "Output folder; results go to OUT/fidelity/")->required();
+  add_output_folder_overwrite_flag(*fidelity, fa->overwrite);
   fidelity->callback([fa] { run_fidelity_command(*fa); });
 }
 

@@ -26,6 +26,7 @@ namespace {
 constexpr double kMm = 1000.0;
 
 struct SensorReportOptions {
+  bool overwrite = false;
   std::string config_path;
   std::string uncertainty_dir;  ///< empty: no maps
   UncertaintyMapOptions maps;
@@ -144,7 +145,7 @@ void write_map(const std::string& directory, const std::string& name, const std:
 
 void write_maps(const StructuredLightModel& model, const SensorReportOptions& options) {
   refuse_output_that_is_an_input("--uncertainty-out", options.uncertainty_dir, {{"--config", options.config_path}});
-  io::check_output_folder(options.uncertainty_dir, "--uncertainty-out");
+  io::check_output_folder(options.uncertainty_dir, "--uncertainty-out", other_files(options.overwrite));
   const UncertaintyMaps maps = structured_light_uncertainty_maps(model, options.maps);
   const StructuredLightParameters& p = model.parameters();
   char source[160];
@@ -154,7 +155,7 @@ void write_maps(const StructuredLightModel& model, const SensorReportOptions& op
   write_output_set(options.uncertainty_dir, "--uncertainty-out", [&](const std::string& folder) {
     write_map(folder, "x_uncertainty", "x_c uncertainty", maps.x_uncertainty_m, maps);
     write_map(folder, "z_uncertainty", "z_c uncertainty", maps.z_uncertainty_m, maps);
-  });
+  }, other_files(options.overwrite));
 }
 
 void run(const SensorReportOptions& options) {
@@ -185,6 +186,7 @@ void register_sensor_report(CLI::App& app) {
   command->add_option("--config", options->config_path, "Structured-light YAML configuration")->required();
   command->add_option("--uncertainty-out", options->uncertainty_dir,
                       "Write x_uncertainty and z_uncertainty maps (.csv in m, .png in mm) into this folder");
+  add_output_folder_overwrite_flag(*command, options->overwrite, "--uncertainty-out");
   command->add_option("--max-depth", options->maps.max_depth_m, "Largest depth z_c of the maps [m]")
       ->capture_default_str()
       ->check(number_from_to(0.001, 1000.0, "m"));

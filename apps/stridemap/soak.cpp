@@ -27,6 +27,7 @@ namespace stridemap::cli {
 namespace {
 
 struct SoakCommandOptions {
+  bool overwrite = false;
   static constexpr const char* kDefaultScene = "scenes/soak_circuit.yaml";
   std::string scene_path = kDefaultScene;
   std::string out_dir;  ///< empty: no summary file
@@ -139,7 +140,7 @@ void run(const SoakCommandOptions& o) {
   if (!o.out_dir.empty()) {
     const std::string dir = (std::filesystem::path(o.out_dir) / "soak").string();
     refuse_output_that_is_an_input("--out", dir, {{"--scene", o.scene_path}});
-    io::check_output_folder(dir, "--out");
+    io::check_output_folder(dir, "--out", other_files(o.overwrite));
   }
   if (!o.global_map.empty()) {
     std::error_code ec;
@@ -200,7 +201,7 @@ void run(const SoakCommandOptions& o) {
     const nlohmann::json summary = {{"scene", o.scene_path}, {"seed", o.seed}, {"runs", runs}, {"failures", failures}};
     write_output_set(dir.string(), "--out", [&](const std::string& folder) {
       io::write_text_file(folder + "/summary.json", summary.dump(2) + "\n", "summary");
-    });
+    }, other_files(o.overwrite));
     std::printf("wrote %s\n", (dir / "summary.json").string().c_str());
   }
   if (!failures.empty()) {
@@ -231,6 +232,7 @@ void register_soak(CLI::App& app) {
   command->add_option("--radius-m", options->radius_m, "Radius of the circuit [m]")->capture_default_str()
       ->check(number_from_to(0.05, 1000.0, "m"));
   command->add_option("--out", options->out_dir, "Folder for soak/summary.json");
+  add_output_folder_overwrite_flag(*command, options->overwrite);
   command->add_option("--global-map", options->global_map,
                       "Keep a tiled global map in this new or empty folder (run1/, run2/ per --repeat) and check "
                       "it at the end (docs/global_map.md)");

@@ -27,6 +27,7 @@ namespace stridemap::cli {
 namespace {
 
 struct RockyWalkArgs {
+  bool overwrite = false;
   bool report = false;
   std::string sensor = "urg";
   static constexpr const char* kDefaultScene = "scenes/rocky_mockup.yaml";
@@ -149,7 +150,7 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   const std::vector<NamedPath> inputs{{"--scene", scene_path}, {"--path", args.path_file}};
   const std::string early_dir = (std::filesystem::path(args.out_dir) / ("rocky-walk-" + args.sensor)).string();
   refuse_output_that_is_an_input("--out", early_dir, inputs);
-  io::check_output_folder(early_dir, "--out");
+  io::check_output_folder(early_dir, "--out", other_files(args.overwrite));
   if (args.report) report_assets_dir();  // before the run, not after it
   io::ProgressBar bar = progress_bar("rocky-walk", "scans");
   options.progress = bar.callback();
@@ -164,7 +165,7 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   write_output_set(dir, "--out", [&](const std::string& folder) {
     write_rocky_walk_outputs(result, options, info, folder);
     if (args.report) write_run_report(folder, dir);
-  });
+  }, other_files(args.overwrite));
   note("wrote " + dir);
   std::fputs(rocky_walk_table(result).c_str(), stdout);
   std::printf("outputs: %s\n", dir.c_str());
@@ -183,6 +184,7 @@ void register_walk_experiments(CLI::App& app) {
   rocky->add_option("--scene", rw->scene_path, "Scene file (YAML, docs/scenes.md)")->capture_default_str();
   rocky->add_option("--path", rw->path_file, "Path file (YAML, docs/walking.md); default: the scene's walk_path");
   rocky->add_option("--out", rw->out_dir, "Output folder; results go to OUT/rocky-walk-<sensor>/")->required();
+  add_output_folder_overwrite_flag(*rocky, rw->overwrite);
   rocky->add_option("--seed", rw->seed, "Seed of the simulation")->capture_default_str()
       ->check(seed_value());
   rocky->add_option("--pose-error-scale", rw->pose_error_scale,

@@ -34,7 +34,7 @@ void run_map_bag(const MapBagArgs& args, const std::string& config_path, const s
   options.mapper.min_intensity = args.min_intensity;
   options.mapper.config_path = config_path;
   refuse_output_that_is_an_input("--out", out_dir, {{"--bag", args.bag_path}, {"--config", config_path}});
-  io::check_output_folder(out_dir, "--out");
+  io::check_output_folder(out_dir, "--out", other_files(args.overwrite));
   ros_adapter::BagMapping mapping(options);
   {
     io::ProgressBar bar = progress_bar("map", "messages");
@@ -49,7 +49,7 @@ void run_map_bag(const MapBagArgs& args, const std::string& config_path, const s
     io::write_map_layers(layers, dir, outputs);
     std::set<std::string> written;
     ros_adapter::save_map(mapper, dir + "/map.smap", "map --bag " + args.bag_path, written);
-  });
+  }, other_files(args.overwrite));
   std::printf("map: %zu scans mapped of %zu, %zu before the first pose (dropped: %zu wrong frame, %zu stamp not increasing, %zu unreadable, "
               "%zu no valid beams, %zu pose timeout, %zu pose unavailable, %zu other), %zu NaN ranges; "
               "coverage %.1f %%; outputs: %s\n",

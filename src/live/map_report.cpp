@@ -43,6 +43,9 @@ std::string map_summary_json(const ScanMapper& mapper, const ExportedMap& layers
       {"scans",
        {{"received", s.scans},
         {"integrated", s.integrated},
+        {"mapped", scans_mapped(mapper)},
+        {"rejected_for_time", t.scans_rejected_for_time},
+        {"rejected_for_pose", t.scans_rejected_for_pose},
         {"before_first_pose", s.before_first_pose},
         {"after_last_pose", s.after_last_pose},
         {"pose_gap", s.pose_gap},
@@ -124,6 +127,59 @@ std::string mapping_shortfall(const ScanMapperStats& s, const TimeRange& scans, 
   return why;
 }
 
+std::size_t scans_mapped(const ScanMapper& mapper) {
+  const MapperTotals& t = mapper.mapper().totals();
+  const std::size_t rejected = t.scans_rejected_for_time + t.scans_rejected_for_pose;
+  const std::size_t integrated = mapper.stats().integrated;
+  return integrated > rejected ? integrated - rejected : 0;
+}
+
+std::string empty_run_failure(const ScanMapper& mapper, const ExportedMap& layers, const TimeRange& scans,
+                              const MapRunChoices& choices) {
+  const ScanMapperStats& s = mapper.stats();
+  const MapperTotals& t = mapper.mapper().totals();
+  if (s.integrated == 0) return {};
+  const std::string n = std::to_string(s.integrated);
+  if (scans_mapped(mapper) == 0) {
+    if (t.scans_rejected_for_time == 0) {
+      return "no scan was mapped: all " + n + " scans with poses had a pose that is not a number; check --poses";
+    }
+    std::string why = "no scan was mapped: " + std::to_string(t.scans_rejected_for_time) + " of the " + n +
+                      " scans with poses were rejected as stale, their times not later than the last scan mapped";
+    const bool older_than_map = !choices.resume_path.empty() && choices.resumed_last_scan_time_s && scans.count > 0 &&
+                                scans.last_s <= *choices.resumed_last_scan_time_s;
+    if (older_than_map) {
+      why += ": the scans span " + seconds_text(scans.first_s) + " .. " + seconds_text(scans.last_s) +
+             " s and the map of --resume " + choices.resume_path + " ends at " +
+             seconds_text(*choices.resumed_last_scan_time_s) +
+             " s, so they are older than the map; resume from a map made before these scans, or leave out --resume";
+    } else {
+      why += ": the scans' times go backwards or repeat (" + seconds_text(scans.first_s) + " .. " +
+             seconds_text(scans.last_s) + " s); check their clock (--clock host|sensor)";
+    }
+    return why;
+  }
+  if (map_coverage(layers) > 0.0) return {};
+  std::string why = "the map is empty (coverage 0 %) although " + std::to_string(scans_mapped(mapper)) +
+                    " scans were mapped: " + std::to_string(t.outside_map) + " of their beams fell outside the window";
+  if (t.integrated > 0) why += " and the " + std::to_string(t.integrated) + " in it were left behind as it moved";
+  if (!choices.window.empty() && choices.window != "fit") {
+    why += "; --window " + choices.window + " holds none of the points: centre it on them";
+    if (choices.window_fit_possible) why += ", or use --window fit";
+  } else if (choices.config_path.empty()) {
+    const SensorMount& mount = mapper.options().config.mount;
+    char text[160];
+    std::snprintf(text, sizeof text, "the default mount (%.2f m high, pitched %.0f deg down)", mount.height_m,
+                  mount.pitch_rad * 180.0 / 3.14159265358979323846);
+    why += "; no --config was given, so the points were placed by " + std::string(text) +
+           ": give the sensor's mount with --config (docs/config.md)";
+  } else {
+    why += "; check the mount in --config " + choices.config_path + " (height, pitch, offsets)";
+  }
+  if (choices.window.empty() && choices.window_fit_possible) why += ", or see the whole run with --window fit";
+  return why;
+}
+
 ExportedMap filtered_map_layers(const ScanMapper& mapper, MapFilter filter) {
   switch (filter) {
     case MapFilter::fill: return mapper.filled_layers();
@@ -149,7 +205,7 @@ ExportedMap write_map_outputs(const ScanMapper& mapper, const scip::ScipParamete
     style.elevation_min_m = info.elevation_range_m->first;
     style.elevation_max_m = info.elevation_range_m->second;
   }
-  io::OutputFolder staged(directory, "output folder");
+  io::OutputFolder staged(directory, info.out_option, info.other_files);
   io::write_map_layers(layers, staged.path(), style);
   io::write_text_file(staged.file("summary.json"), map_summary_json(mapper, layers, sensor, info, live), "summary");
   // The mapper's own state (before the fill-in), from which mapping can resume.

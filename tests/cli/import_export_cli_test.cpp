@@ -31,8 +31,16 @@ TEST(ImportCli, BreezySlamRecordingIsMappedThroughTheScanLog) {
   ASSERT_EQ(imported.exit_code, 0) << imported.output;
   EXPECT_NE(imported.output.find("756 scans, 756 poses"), std::string::npos) << imported.output;
 
-  const auto mapped = run_cli("map --log " + shell_quoted(folder / "exp1.log") + " --poses " +
-                              shell_quoted(folder / "exp1.poses") + " --out " + shell_quoted(folder / "out"));
+  // Without the rover's mount the default (pitched down) one puts every
+  // point where the window is not: an empty map, exit 1, naming --config.
+  const std::string map = "map --log " + shell_quoted(folder / "exp1.log") + " --poses " +
+                          shell_quoted(folder / "exp1.poses") + " --out ";
+  const auto unmounted = run_cli(map + shell_quoted(folder / "unmounted"));
+  EXPECT_EQ(unmounted.exit_code, 1) << unmounted.output;
+  EXPECT_NE(unmounted.output.find("the map is empty (coverage 0 %)"), std::string::npos) << unmounted.output;
+  EXPECT_NE(unmounted.output.find("give the sensor's mount with --config"), std::string::npos) << unmounted.output;
+  const auto mapped = run_cli(map + shell_quoted(folder / "out") + " --config " +
+                              shell_quoted(std::string(STRIDEMAP_SOURCE_DIR) + "/configs/breezyslam_rover.yaml"));
   ASSERT_EQ(mapped.exit_code, 0) << mapped.output;
   std::ifstream summary_file(folder / "out/summary.json");
   const auto summary = nlohmann::json::parse(summary_file);

@@ -8,6 +8,11 @@
 // previous set stays untouched: an exception, a stop signal or SIGKILL at any
 // moment leaves either the old set or the new one (docs/outputs.md).
 //
+// The target holds stridemap's files only: those its manifest names. Any
+// other entry is the user's and is never removed or replaced; it refuses
+// the folder unless the caller chose OtherFiles::keep (`--overwrite`), and
+// then the set moves in name by name beside it (not atomically as a whole).
+//
 // Leftovers of a killed run (a staging folder, or a previous set swapped out
 // but not yet removed) carry the dead process's id in their name; the next
 // OutputFolder for the same target removes them, and nothing reads them.
@@ -20,18 +25,26 @@ namespace stridemap::io {
 /// stridemap's and lists the files of the set.
 inline constexpr const char* kOutputManifest = ".stridemap-output";
 
+/// What an output folder may hold besides the entries its manifest names.
+enum class OtherFiles {
+  refuse,  ///< the default: any other entry refuses the folder
+  keep,    ///< `--overwrite`: stridemap's entries are replaced, the others stay as they are
+};
+
 /// Throws InputError unless `target` may receive an output set: it does not
-/// exist, is an empty folder, holds a manifest, or holds only the PNG, CSV, JSON
-/// and map (.smap) files an older stridemap wrote. A folder with anything else in
-/// it (a subfolder, a scan log, a pose file, a config) would be replaced
-/// whole, so it is refused, naming `option` and one of its entries.
-void check_output_folder(const std::string& target, const std::string& option);
+/// exist, or every entry in it is named by its manifest (an empty folder
+/// too). Anything else (a file or folder of the user's, the npy/ or map.ply
+/// `export` wrote beside a run, any file of a folder without a manifest) is
+/// refused with `refuse`, naming `option` and the first such entry by name,
+/// and the option that keeps it (`--overwrite`) when `option` is one.
+void check_output_folder(const std::string& target, const std::string& option,
+                         OtherFiles other = OtherFiles::refuse);
 
 class OutputFolder {
  public:
   /// Checks the target (check_output_folder), removes stale leftovers of
   /// killed runs and creates the staging folder. Throws InputError.
-  OutputFolder(std::string target, std::string option);
+  OutputFolder(std::string target, std::string option, OtherFiles other = OtherFiles::refuse);
   /// Removes the staging folder unless commit() succeeded.
   ~OutputFolder();
   OutputFolder(const OutputFolder&) = delete;
@@ -45,13 +58,20 @@ class OutputFolder {
 
   /// Makes the staged set the target (see above). Throws InputError naming
   /// the target; the staging folder is removed then and the previous set
-  /// stays.
+  /// stays. With OtherFiles::keep, a file of the user's that has the name of
+  /// one of the set's files refuses the commit (it is kept); a failure
+  /// half-way through the name-by-name move leaves a manifest naming the old
+  /// and the new files, which the next run replaces.
   void commit();
 
  private:
   void discard() noexcept;
+  void finish(bool exchanged);
+  void replace_in_place(const std::vector<std::string>& owned, const std::vector<std::string>& foreign,
+                        const std::vector<std::string>& names);
   std::string target_;
   std::string option_;
+  OtherFiles other_ = OtherFiles::refuse;
   std::string staging_;
   int registry_slot_ = -1;
   bool committed_ = false;

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "stridemap/core/map_filter.hpp"
+#include "stridemap/io/output_folder.hpp"
 #include "stridemap/live/scan_mapper.hpp"
 #include "stridemap/sensors/scip_parameters.hpp"
 #include "stridemap/sensors/urg_driver.hpp"
@@ -32,6 +33,11 @@ struct MapRunInfo {
   std::function<void(const std::string&)> extra_outputs;
   /// Ends of elevation.png's colour scale [m]; empty: the 2nd-98th percentile.
   std::optional<std::pair<double, double>> elevation_range_m;
+  /// The option that named the output folder, for its errors.
+  std::string out_option = "--out";
+  /// OtherFiles::keep (`--overwrite`): the user's files in the folder stay
+  /// beside the map's; by default they refuse it.
+  io::OtherFiles other_files = io::OtherFiles::refuse;
 };
 
 /// Live mapping's own figures (not in a replay: they depend on the run).
@@ -68,6 +74,29 @@ struct TimeRange {
 /// scan at all is not judged.
 std::string mapping_shortfall(const ScanMapperStats& stats, const TimeRange& scans, const TimeRange& poses,
                               const std::string& clock);
+
+/// Scans that reached the mapper and were used: not rejected there as stale
+/// (a time not later than the last scan mapped) or for a non-finite pose.
+std::size_t scans_mapped(const ScanMapper& mapper);
+
+/// What the user chose that decides where the points land, for the message
+/// of a run that mapped nothing.
+struct MapRunChoices {
+  std::string config_path;  ///< --config; empty: the defaults (the paper's mount)
+  std::string window;       ///< --window as given; empty: the window follows the robot
+  std::string resume_path;  ///< --resume
+  std::optional<double> resumed_last_scan_time_s;  ///< the resumed map's last scan
+  bool window_fit_possible = true;                 ///< map: --window fit; live cannot know the run beforehand
+};
+
+/// Empty when the run mapped something onto the map; else why it did not,
+/// naming the cause and the option that fixes it: every scan that reached
+/// the mapper rejected as stale (a log older than the --resume map, times
+/// going backwards) or for its pose, or scans mapped but no cell known at
+/// the end (the mount of --config or its default, or the --window). A run
+/// in which no scan reached the mapper is mapping_shortfall's.
+std::string empty_run_failure(const ScanMapper& mapper, const ExportedMap& layers, const TimeRange& scans,
+                              const MapRunChoices& choices);
 
 /// The map with `filter` applied to a copy (the map being built is not
 /// changed, so saving often changes nothing).
