@@ -15,6 +15,7 @@
 #include "cli/cli_runner.hpp"
 #include "cli/straight_run_log.hpp"
 #include "live/test_folder.hpp"
+#include "test_paths.hpp"
 
 namespace stridemap {
 namespace {
