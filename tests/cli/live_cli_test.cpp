@@ -9,8 +9,11 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <csignal>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <thread>
@@ -255,13 +258,24 @@ TEST(LiveCli, BadPoseFilesAndDamagedLogsAreNamed) {
       << result.output;
   EXPECT_NE(result.output.find("stridemap: error: "), std::string::npos) << result.output;
   EXPECT_NE(result.output.find(" scans mapped of 20: the scans span "), std::string::npos) << result.output;
-  // A pose out of time order: skipped, named, the rest mapped.
-  dir.write("backwards.txt", "0.1 0 0 0 0 0\n0.3 0 0 0 0 0\n0.2 0 0 0 0 0\n");
+  // A pose out of time order: skipped, named, the rest mapped. The poses
+  // bracket the recorded scans, whose sensor times depend on how long after
+  // the emulator's start the recording began (later under a sanitizer).
+  const io::ScanLog recorded = io::read_scan_log(dir / "log.txt");
+  ASSERT_EQ(recorded.scans.size(), 20u);
+  const double first_s =
+      std::max(0.0, std::floor(sensor_time_seconds(recorded.scans.front().sensor_time_ms) * 10.0) / 10.0 - 0.1);
+  const double last_s = std::ceil(sensor_time_seconds(recorded.scans.back().sensor_time_ms) * 10.0) / 10.0 + 0.1;
+  const auto pose_line = [](double t) {
+    char line[64];
+    std::snprintf(line, sizeof line, "%.1f 0 0 0 0 0\n", t);
+    return std::string(line);
+  };
+  dir.write("backwards.txt", pose_line(first_s) + pose_line(last_s) + pose_line((first_s + last_s) / 2.0));
   result = run_cli(map + shell_quoted(dir / "backwards.txt"));
   EXPECT_EQ(result.exit_code, 0) << result.output;
-  EXPECT_NE(result.output.find("backwards.txt:3: pose time 0.2 s is not later than the previous pose's 0.3 s"),
-            std::string::npos)
-      << result.output;
+  EXPECT_NE(result.output.find("backwards.txt:3: pose time "), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find(" s is not later than the previous pose's "), std::string::npos) << result.output;
 
   // A log cut in the middle of a scan: the scans before it are mapped, with a warning.
   std::string log = dir.read("log.txt");
