@@ -96,13 +96,20 @@ void add_rocks(const RockFieldOptions& options, std::uint64_t seed, HeightField&
   std::vector<double> ground(rocks.size());
   for (std::size_t k = 0; k < rocks.size(); ++k) ground[k] = field.height_at(rocks[k].x, rocks[k].y);
 
+  // A cell index limited to [-1, n] while still a double: a rock far off the
+  // grid (a rocks area 1e308 m wide in a scene file) would overflow int.
+  // -1 and n keep such a rock's range empty, as the unlimited index would.
+  const auto cell_index = [](double cell, int n) {
+    if (!(cell > -1.0)) return -1;  // NaN too
+    return cell < static_cast<double>(n) ? static_cast<int>(cell) : n;
+  };
   const double p = options.profile_exponent, s = options.buried_fraction;
   for (std::size_t k = 0; k < rocks.size(); ++k) {
     const Rock& r = rocks[k];
-    const int i0 = std::max(0, static_cast<int>(std::floor((r.x - r.semi_major - field.min_x_m) / field.resolution_m)));
-    const int i1 = std::min(field.nx - 1, static_cast<int>(std::ceil((r.x + r.semi_major - field.min_x_m) / field.resolution_m)));
-    const int j0 = std::max(0, static_cast<int>(std::floor((r.y - r.semi_major - field.min_y_m) / field.resolution_m)));
-    const int j1 = std::min(field.ny - 1, static_cast<int>(std::ceil((r.y + r.semi_major - field.min_y_m) / field.resolution_m)));
+    const int i0 = std::max(0, cell_index(std::floor((r.x - r.semi_major - field.min_x_m) / field.resolution_m), field.nx));
+    const int i1 = std::min(field.nx - 1, cell_index(std::ceil((r.x + r.semi_major - field.min_x_m) / field.resolution_m), field.nx));
+    const int j0 = std::max(0, cell_index(std::floor((r.y - r.semi_major - field.min_y_m) / field.resolution_m), field.ny));
+    const int j1 = std::min(field.ny - 1, cell_index(std::ceil((r.y + r.semi_major - field.min_y_m) / field.resolution_m), field.ny));
     for (int j = j0; j <= j1; ++j) {
       for (int i = i0; i <= i1; ++i) {
         const double dx = field.min_x_m + i * field.resolution_m - r.x;
