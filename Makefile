@@ -101,14 +101,16 @@ test-tsan: deps
 
 # Every libFuzzer target of fuzz/ for FUZZ_SECONDS each, FUZZ_JOBS at a time
 # (clang, ASan + UBSan, in the sanitizer build); a crash fails the run and
-# leaves its input in $(SAN_DIR)/fuzz-artifacts/.
+# leaves its input in $(SAN_DIR)/fuzz-artifacts/. FUZZ_SEED=N makes the
+# inputs tried the same on every run (CI sets it; fuzz/run.sh says why).
 FUZZ_SECONDS ?= 30
 FUZZ_JOBS ?= $(JOBS)
+FUZZ_SEED ?=
 FUZZ_TARGETS ?=
 fuzz: deps
 	$(SAN_CONFIGURE)
 	cmake --build $(SAN_DIR) -j $(JOBS) --target stridemap_fuzzers
-	FUZZ_JOBS=$(FUZZ_JOBS) bash fuzz/run.sh $(SAN_DIR) $(FUZZ_SECONDS) $(FUZZ_TARGETS)
+	FUZZ_JOBS=$(FUZZ_JOBS) FUZZ_SEED=$(FUZZ_SEED) bash fuzz/run.sh $(SAN_DIR) $(FUZZ_SECONDS) $(FUZZ_TARGETS)
 
 # The full soak: SOAK_SCANS simulated scans over a path far larger than the
 # map, run twice with the same seed; fails on growing memory, an invalid

@@ -4,8 +4,11 @@
 # BUILD_DIR/fuzz-corpus/<target>/ (kept between runs), crashes in
 # BUILD_DIR/fuzz-artifacts/<target>/. Exits 1 if any fuzzer found a bug.
 #
-#   [FUZZ_JOBS=N] fuzz/run.sh BUILD_DIR SECONDS_EACH [TARGET...]
-# FUZZ_JOBS fuzzers run side by side (default 1).
+#   [FUZZ_JOBS=N] [FUZZ_SEED=S] fuzz/run.sh BUILD_DIR SECONDS_EACH [TARGET...]
+# FUZZ_JOBS fuzzers run side by side (default 1). Without FUZZ_SEED each run
+# explores new inputs (libFuzzer picks a seed); with it, every run from the
+# same corpus tries the same inputs in the same order, so a gate such as CI
+# gives the verdict the developer's `make check` gave.
 set -euo pipefail
 build_dir=$1
 seconds=$2
@@ -23,6 +26,8 @@ if [ ${#targets[@]} -eq 0 ]; then
 fi
 jobs_max=${FUZZ_JOBS:-1}
 [[ "$jobs_max" =~ ^[1-9][0-9]*$ ]] || { echo "fuzz/run.sh: FUZZ_JOBS must be a whole number >= 1, got '$jobs_max'" >&2; exit 2; }
+seed=${FUZZ_SEED:-}
+[[ -z "$seed" || "$seed" =~ ^[1-9][0-9]{0,8}$ ]] || { echo "fuzz/run.sh: FUZZ_SEED must be a whole number from 1 to 999999999, got '$seed'" >&2; exit 2; }
 results="$build_dir/fuzz-logs/results"
 rm -rf "$results"
 mkdir -p "$results"
@@ -39,6 +44,7 @@ fuzz_one() {
   local args=(-max_total_time="$seconds" -timeout=25 -rss_limit_mb=2048 -print_final_stats=1
               -artifact_prefix="$artifacts/")
   [ -f "$root/dicts/$target.dict" ] && args+=(-dict="$root/dicts/$target.dict")
+  [ -n "$seed" ] && args+=(-seed="$seed")
   local dirs=("$work" "$root/corpus/$target")
   [ -d "$root/regressions/$target" ] && dirs+=("$root/regressions/$target")
   # libFuzzer stops itself after SECONDS_EACH; the timeout only bounds a
@@ -57,7 +63,7 @@ fuzz_one() {
   fi
 }
 
-echo "fuzz: ${#targets[@]} targets, ${seconds}s each, $jobs_max at a time"
+echo "fuzz: ${#targets[@]} targets, ${seconds}s each, $jobs_max at a time, seed ${seed:-chosen by each fuzzer}"
 for target in "${targets[@]}"; do
   if [ ! -x "$build_dir/bin/${target}_fuzz" ]; then
     echo "fuzz/run.sh: no fuzzer '$target' in $build_dir/bin" >&2

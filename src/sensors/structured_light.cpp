@@ -16,6 +16,9 @@ constexpr int kMaxImageSide_px = 1000000;
 // (tan and cot of 45 deg are not exactly 1): the ray runs along the sheet,
 // and a "point" 1e12 baselines away would be rounding noise.
 constexpr double kParallelTolerance = 1e-12;
+// A camera and an emitter this far apart are not one sensor; a larger value
+// is almost always millimetres written as metres.
+constexpr double kMaxBaseline_m = 10.0;
 
 std::string number_text(double value) {
   char text[48];
@@ -28,6 +31,12 @@ using Problem = StructuredLightParameters::Problem;
 std::optional<Problem> positive_length(double value, const char* field) {
   if (std::isfinite(value) && value > 0.0) return std::nullopt;
   return Problem{field, "must be a positive number of metres, got " + number_text(value)};
+}
+
+std::optional<Problem> baseline_length(double value) {
+  if (std::isfinite(value) && value > 0.0 && value <= kMaxBaseline_m) return std::nullopt;
+  return Problem{"baseline_m", "must be a positive number of metres up to " + number_text(kMaxBaseline_m) +
+                                   " (is it in millimetres?), got " + number_text(value)};
 }
 
 std::optional<Problem> open_angle(double value_rad, double low_deg, double high_deg, const char* field) {
@@ -53,7 +62,7 @@ std::optional<Problem> error_bound(double value, double scale, const char* unit,
 
 std::optional<Problem> StructuredLightParameters::first_problem() const {
   const std::optional<Problem> checks[] = {
-      positive_length(baseline_m, "baseline_m"),
+      baseline_length(baseline_m),
       open_angle(sheet_angle_rad, 0.0, 90.0, "sheet_angle_rad"),
       open_angle(half_fov_vertical_rad, 0.0, 90.0, "half_fov_vertical_rad"),
       open_angle(half_fov_horizontal_rad, 0.0, 90.0, "half_fov_horizontal_rad"),
@@ -157,7 +166,9 @@ StripePointStatus StructuredLightModel::back_project(double u_px, double v_px, E
   if (!meets_sheet(denominator)) return StripePointStatus::no_intersection;
   const double z = parameters_.baseline_m / denominator;
   point = {z * column_factor * tan_gamma_, z * cot_beta_ - parameters_.baseline_m, z};
-  return StripePointStatus::valid;
+  // A ray that meets the sheet almost at infinity (viewing angles of a
+  // fraction of a degree) can still overflow.
+  return point.allFinite() ? StripePointStatus::valid : StripePointStatus::not_finite;
 }
 
 StripePointStatus StructuredLightModel::back_project(double u_px, double v_px, CameraPointPartials& out) const {
@@ -187,7 +198,7 @@ StripePointStatus StructuredLightModel::back_project(double u_px, double v_px, C
   out.d_half_fov_horizontal = {z * column_factor * dtan_dgamma_, 0.0, 0.0};
   out.d_row = {z_v * lateral, z_v * cot_beta_, z_v};
   out.d_column = {z * (-2.0 / width_) * tan_gamma_, 0.0, 0.0};
-  return StripePointStatus::valid;
+  return out.point.allFinite() ? StripePointStatus::valid : StripePointStatus::not_finite;
 }
 
 std::optional<Eigen::Vector2d> StructuredLightModel::project(const Eigen::Vector3d& camera_point) const {

@@ -127,7 +127,11 @@ TEST(StructuredLightConfig, WrongTypes) {
 
 TEST(StructuredLightConfig, UnusableValues) {
   EXPECT_EQ(error_of(replaced(kValid, "0.120", "-0.12")),
-            "sl.yaml:2: structured_light.baseline_m: must be a positive number of metres, got -0.12");
+            "sl.yaml:2: structured_light.baseline_m: must be a positive number of metres up to 10 (is it in "
+            "millimetres?), got -0.12");
+  EXPECT_EQ(error_of(replaced(kValid, "0.120", "1e308")),
+            "sl.yaml:2: structured_light.baseline_m: must be a positive number of metres up to 10 (is it in "
+            "millimetres?), got 1e+308");
   EXPECT_EQ(error_of(replaced(kValid, "sheet_angle_deg: 45", "sheet_angle_deg: 95")),
             "sl.yaml:3: structured_light.sheet_angle_deg: must lie strictly between 0 and 90 deg, got 95 deg");
   EXPECT_EQ(error_of(replaced(kValid, "sheet_angle_deg: 45", "sheet_angle_deg: 0")),

@@ -228,7 +228,11 @@ TEST(StructuredLightParametersCheck, NamesTheFieldAndTheValue) {
   EXPECT_EQ(problem_of(StructuredLightParameters{}), "(accepted)");
   StructuredLightParameters p;
   p.baseline_m = -0.12;
-  EXPECT_EQ(problem_of(p), "structured light parameters: baseline_m: must be a positive number of metres, got -0.12");
+  EXPECT_EQ(problem_of(p), "structured light parameters: baseline_m: must be a positive number of metres up to 10 "
+                          "(is it in millimetres?), got -0.12");
+  p.baseline_m = 120.0;
+  EXPECT_EQ(problem_of(p), "structured light parameters: baseline_m: must be a positive number of metres up to 10 "
+                          "(is it in millimetres?), got 120");
   p = {};
   p.sheet_angle_rad = 90.0 * kDeg;
   EXPECT_EQ(problem_of(p),

@@ -35,7 +35,8 @@ namespace stridemap {
 /// bounds of eq. (8). Defaults are the Ragno sensor of section 3.3.
 struct StructuredLightParameters {
   /// b: distance from the camera's optical centre to the emitter, along the
-  /// camera's vertical image axis (the emitter is above the camera) [m].
+  /// camera's vertical image axis (the emitter is above the camera); up to
+  /// 10 m [m].
   double baseline_m = 0.120;
   /// beta: angle between the baseline and the laser sheet, strictly between
   /// 0 and 90 deg; smaller angles point the sheet more steeply down [rad].
@@ -91,7 +92,7 @@ double focal_length_from_half_fov_px(double image_size_px, double half_fov_rad);
 
 enum class StripePointStatus : std::uint8_t {
   valid,
-  not_finite,       ///< u or v is NaN or infinite
+  not_finite,       ///< u or v is NaN or infinite, or the point too far to represent
   outside_image,    ///< u outside [0, R_hor] or v outside [0, R_ver]
   no_intersection,  ///< the pixel's ray is parallel to the sheet or meets it behind the camera
 };

@@ -78,7 +78,7 @@ struct StripePixel {
 struct StripeConversionStats {
   std::size_t pixels = 0;
   std::size_t converted = 0;        ///< became a MapPoint
-  std::size_t not_finite = 0;       ///< u or v NaN / infinite
+  std::size_t not_finite = 0;       ///< u or v NaN / infinite, or the point too far to represent
   std::size_t outside_image = 0;    ///< u or v outside the image
   std::size_t no_intersection = 0;  ///< the ray does not meet the sheet in front of the camera
   bool pose_rejected = false;       ///< a pose field was not finite: no point was produced
