@@ -22,6 +22,7 @@
 
 #include "atomic_output_file.hpp"
 #include "stridemap/core/error.hpp"
+#include "stridemap/core/map_integrity.hpp"
 
 #ifndef STRIDEMAP_VERSION_STRING
 #define STRIDEMAP_VERSION_STRING "unknown"
@@ -509,6 +510,18 @@ MapFile decode_map_file(std::string_view bytes, const std::string& source) {
       bad(source, "layer 'state': a cell has state " + std::to_string(state[s]) +
                       "; only 0 (unknown), 1 (measured) and 2 (filled) exist");
     }
+  }
+  // A checksum proves the bytes are the ones written, not that what was
+  // written is a map: an infinite elevation or a NaN certainty carried into
+  // a resumed run would poison every cell the fill or a foothold fit
+  // touches. The file does not record the run's certainty ceiling, so only
+  // a finite one is required here.
+  const MapIntegrity integrity = check_map_integrity(map, std::numeric_limits<float>::max());
+  if (!integrity.ok()) {
+    bad(source, integrity.first_problem + " (" + std::to_string(integrity.invalid) + " invalid cell" +
+                    (integrity.invalid == 1 ? "" : "s") + " in all; a measured cell needs a finite elevation and "
+                    "a finite certainty > 0, a filled one a finite elevation and certainty 0, an unknown one "
+                    "no elevation and certainty 0)");
   }
   return file;
 }

@@ -32,9 +32,20 @@ ElevationMap scrambled_map(int n, std::uint32_t seed) {
   std::mt19937 random(seed);
   const std::size_t cells = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
   for (std::size_t s = 0; s < cells; ++s) {
-    map.elevation_data()[s] = std::bit_cast<float>(static_cast<std::uint32_t>(random()));
-    map.certainty_data()[s] = std::uniform_real_distribution<float>(0.0f, 100.0f)(random);
-    map.state_data()[s] = static_cast<std::uint8_t>(random() % 3);
+    // Random bits in every layer, within what a valid cell may hold (the
+    // reader checks that): unknown cells a NaN with a payload and no
+    // certainty, filled ones no certainty, any finite elevation.
+    const auto state = static_cast<std::uint8_t>(random() % 3);
+    float elevation = std::bit_cast<float>(static_cast<std::uint32_t>(random()));
+    if (!std::isfinite(elevation)) elevation = 0.25f;
+    if (state == static_cast<std::uint8_t>(CellState::unknown)) {
+      elevation = std::bit_cast<float>(0x7fc00000u | (static_cast<std::uint32_t>(random()) & 0x3fffff));
+    }
+    map.elevation_data()[s] = elevation;
+    map.certainty_data()[s] = state == static_cast<std::uint8_t>(CellState::measured)
+                                  ? std::uniform_real_distribution<float>(0.001f, 100.0f)(random)
+                                  : 0.0f;
+    map.state_data()[s] = state;
     map.mean_elevation_data()[s] = std::bit_cast<float>(0x7fc00000u | (static_cast<std::uint32_t>(random()) & 0xffff));
     map.mean_count_data()[s] = static_cast<std::uint16_t>(random());
     map.contradiction_data()[s] = static_cast<std::uint8_t>(random());
@@ -240,6 +251,46 @@ TEST(MapFile, AStateThatDoesNotExistIsRefused) {
   map.state_data()[5] = 9;
   const std::string error = decode_error(io::encode_map_file(map, {}));
   EXPECT_NE(error.find("state 9"), std::string::npos) << error;
+}
+
+TEST(MapFile, InvalidCellsBehindAValidChecksumAreRefusedNamingTheCell) {
+  const ElevationMap valid = scrambled_map(8, 11);
+  EXPECT_EQ(decode_error(io::encode_map_file(valid, {})), "");
+  struct Case {
+    std::uint8_t state;
+    float elevation, certainty;
+    const char* expected;
+  };
+  const float inf = std::numeric_limits<float>::infinity(), nan = std::numeric_limits<float>::quiet_NaN();
+  const Case cases[] = {
+      {1, inf, 2.0f, "measured but elevation inf"},
+      {1, 0.1f, nan, "measured but elevation 0.1"},
+      {1, 0.1f, -1.0f, "certainty -1"},
+      {1, 0.1f, inf, "certainty inf"},
+      {2, -inf, 0.0f, "filled but elevation -inf"},
+      {0, 0.3f, 0.0f, "unknown but elevation 0.3"},
+  };
+  for (const Case& c : cases) {
+    ElevationMap map = valid;
+    const CellIndex cell = map.cell_at_local(3, 5);
+    const std::size_t s = map.slot(cell);
+    map.state_data()[s] = c.state;
+    map.elevation_data()[s] = c.elevation;
+    map.certainty_data()[s] = c.certainty;
+    const std::string error = decode_error(io::encode_map_file(map, {}));
+    const std::string where = "damaged.smap: cell (" + std::to_string(cell.x) + ", " + std::to_string(cell.y) + "): ";
+    EXPECT_EQ(error.rfind(where, 0), 0u) << error;
+    EXPECT_NE(error.find(c.expected), std::string::npos) << error;
+    EXPECT_NE(error.find("(1 invalid cell in all;"), std::string::npos) << error;
+  }
+  // Many bad cells: the first is named and all are counted.
+  ElevationMap map = valid;
+  for (std::size_t s = 0; s < 10; ++s) {
+    map.state_data()[s] = 1;
+    map.elevation_data()[s] = inf;
+    map.certainty_data()[s] = 1.0f;
+  }
+  EXPECT_NE(decode_error(io::encode_map_file(map, {})).find("(10 invalid cells in all;"), std::string::npos);
 }
 
 // Ranges of a sensor looking down at flat ground with a deterministic wobble,
