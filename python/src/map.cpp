@@ -40,7 +40,7 @@ void save(const ElevationMap& map, const std::string& path, const std::string& c
 }
 
 void write_png_array(const std::string& path, const py::handle& pixels) {
-  const py::array array = py::module_::import("numpy").attr("asarray")(pixels);
+  const py::array array = as_array(pixels, "pixels");
   if (array.dtype().kind() != 'u' || array.dtype().itemsize() != 1) {
     throw py::type_error("pixels: expected a uint8 array, got dtype " + py::str(array.dtype()).cast<std::string>());
   }
@@ -48,7 +48,7 @@ void write_png_array(const std::string& path, const py::handle& pixels) {
     raise_input_error("pixels: expected shape (height, width, 3) of RGB values, got " +
                       py::str(py::object(array.attr("shape"))).cast<std::string>());
   }
-  const auto contiguous = py::array_t<std::uint8_t, py::array::c_style>::ensure(array);
+  const auto contiguous = as_contiguous_uint8(array, "pixels");
   io::RgbImage image;
   image.height = static_cast<int>(contiguous.shape(0));
   image.width = static_cast<int>(contiguous.shape(1));

@@ -75,7 +75,7 @@ class Pipeline {
     }
     const std::vector<double> h_ref = per_scan(reference_elevation_m, k, "reference_elevation_m");
     const std::vector<double> d_z = per_scan(height_change_m, k, "height_change_m");
-    const py::object rows = py::module_::import("numpy").attr("asarray")(ranges);
+    const py::array rows = as_array(ranges, "ranges");
     std::size_t reached = 0;
     for (py::ssize_t i = 0; i < k; ++i) {
       const TrunkPose p = pose_from_values(q.data(i, 0), static_cast<std::size_t>(q.shape(1)), h_ref[i], d_z[i],
@@ -169,7 +169,7 @@ class Pipeline {
   void fill_raw(const py::handle& ranges, const std::string& argument, const std::string& units, double time_s,
                 std::optional<int> first_step, int cluster) {
     if (units != "mm" && units != "m") raise_input_error("units: expected 'mm' (raw URG values) or 'm', got '" + units + "'");
-    const py::array array = py::module_::import("numpy").attr("asarray")(ranges);
+    const py::array array = as_array(ranges, argument);
     const char kind = array.dtype().kind();
     const std::string dtype = py::str(array.dtype()).cast<std::string>();
     if (units == "mm" && kind != 'i' && kind != 'u') {
