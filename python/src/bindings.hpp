@@ -11,7 +11,9 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include "stridemap/core/grid_map.hpp"
 #include "stridemap/core/pose.hpp"
+#include "stridemap/io/map_file.hpp"
 
 namespace stridemap::python {
 
@@ -23,6 +25,14 @@ void register_map(py::module_& m);
 void register_pipeline(py::module_& m);
 void register_simulation(py::module_& m);
 void register_experiments(py::module_& m);
+
+/// created_by of a map file saved from a Pipeline unless the caller names it.
+inline constexpr const char* kPipelineCreatedBy = "Python stridemap.Pipeline";
+
+/// The metadata the CLI would record for `map` when it is the map a live
+/// Pipeline builds (its mount, configuration, last pose and time), else
+/// nothing: a Map of its own or a copy knows no settings.
+std::optional<io::MapFileMetadata> pipeline_map_metadata(const ElevationMap& map, const std::string& created_by);
 
 /// Raises stridemap.InputError (a ValueError) with `message`.
 [[noreturn]] void raise_input_error(const std::string& message);
