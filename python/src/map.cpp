@@ -37,7 +37,13 @@ py::dict pose_dict(const TrunkPose& p) {
 TrunkPose pose_from_dict(const py::dict& d, const std::string& argument) {
   const auto number = [&](const char* key) {
     if (!d.contains(key)) raise_input_error(argument + ": '" + key + "' is missing");
-    return finite_number(py::cast<double>(d[key]), argument + "." + key);
+    const py::object value = d[key];
+    // bool is an int to Python, but True is no coordinate.
+    if (py::isinstance<py::bool_>(value) || !(py::isinstance<py::float_>(value) || py::isinstance<py::int_>(value))) {
+      throw py::type_error(argument + "." + key + ": expected a number, got " +
+                           py::str(py::type::of(value).attr("__name__")).cast<std::string>());
+    }
+    return finite_number(value.cast<double>(), argument + "." + key);
   };
   TrunkPose pose;
   pose.x_m = number("x_m");

@@ -202,6 +202,9 @@ def test_a_map_of_its_own_records_only_what_is_given(tmp_path, mapped_flat_walk)
     del pose["yaw_rad"]
     with pytest.raises(stridemap.InputError, match="last_pose: 'yaw_rad' is missing"):
         stridemap.Map(10, 0.01).save(again, last_pose=pose)
+    pose["yaw_rad"] = "0.1"
+    with pytest.raises(TypeError, match="last_pose.yaw_rad: expected a number, got str"):
+        stridemap.Map(10, 0.01).save(again, last_pose=pose)
     pose["yaw_rad"] = float("nan")
     with pytest.raises(stridemap.InputError, match="last_pose.yaw_rad"):
         stridemap.Map(10, 0.01).save(again, last_pose=pose)
