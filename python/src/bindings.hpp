@@ -4,13 +4,16 @@
 // goes through so that a wrong shape, dtype or value is a Python exception
 // naming the argument, never a crash.
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include "stridemap/core/grid_map.hpp"
 #include "stridemap/core/pose.hpp"
+#include "stridemap/io/map_file.hpp"
 
 namespace stridemap::python {
 
@@ -23,13 +26,34 @@ void register_pipeline(py::module_& m);
 void register_simulation(py::module_& m);
 void register_experiments(py::module_& m);
 
+/// created_by of a map file saved from a Pipeline unless the caller names it.
+inline constexpr const char* kPipelineCreatedBy = "Python stridemap.Pipeline";
+
+/// The metadata the CLI would record for `map` when it is the map a live
+/// Pipeline builds (its mount, configuration, last pose and time), else
+/// nothing: a Map of its own or a copy knows no settings.
+std::optional<io::MapFileMetadata> pipeline_map_metadata(const ElevationMap& map, const std::string& created_by);
+
 /// Raises stridemap.InputError (a ValueError) with `message`.
 [[noreturn]] void raise_input_error(const std::string& message);
+
+// Every array argument reaches C++ through these, so that a copy NumPy
+// cannot allocate is a MemoryError naming the argument (never a null array
+// dereferenced: pybind11's array_t::ensure hides the failure).
+
+/// numpy.asarray(obj): no copy for an array. MemoryError naming `argument`
+/// when the conversion cannot be allocated, TypeError for anything else
+/// NumPy refuses.
+py::array as_array(const py::handle& obj, const std::string& argument);
 
 /// A C-contiguous float64 array of `obj`, which must be numeric (integers
 /// or floats; not bool, object or complex): TypeError naming `argument`
 /// otherwise. No copy when it already is one.
 py::array_t<double, py::array::c_style> as_float64(const py::handle& obj, const std::string& argument);
+
+/// `array` as C-contiguous uint8, copied only when it is not; MemoryError
+/// naming `argument` when the copy cannot be allocated.
+py::array_t<std::uint8_t, py::array::c_style> as_contiguous_uint8(const py::array& array, const std::string& argument);
 
 /// `pose`: a sequence of 5 numbers (x_m, y_m, roll_rad, pitch_rad, yaw_rad:
 /// the paper's model, the sensor at the mount's height above the reference

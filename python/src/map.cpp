@@ -8,6 +8,7 @@
 
 #include "bindings.hpp"
 #include "map_layers.hpp"
+#include "stridemap/core/foothold.hpp"
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/io/map_export.hpp"
 #include "stridemap/io/map_file.hpp"
@@ -18,6 +19,45 @@
 namespace stridemap::python {
 namespace {
 
+// A pose as the map file spells it (its last_pose object), so that a
+// loaded file's metadata can be handed back to Map.save unchanged.
+py::dict pose_dict(const TrunkPose& p) {
+  py::dict d;
+  d["x_m"] = p.x_m;
+  d["y_m"] = p.y_m;
+  d["z_m"] = p.z_m ? py::cast(*p.z_m) : py::none();
+  d["roll_rad"] = p.roll_rad;
+  d["pitch_rad"] = p.pitch_rad;
+  d["yaw_rad"] = p.yaw_rad;
+  d["reference_elevation_m"] = p.reference_elevation_m;
+  d["height_change_m"] = p.height_change_m;
+  return d;
+}
+
+TrunkPose pose_from_dict(const py::dict& d, const std::string& argument) {
+  const auto number = [&](const char* key) {
+    if (!d.contains(key)) raise_input_error(argument + ": '" + key + "' is missing");
+    const py::object value = d[key];
+    // bool is an int to Python, but True is no coordinate.
+    if (py::isinstance<py::bool_>(value) || !(py::isinstance<py::float_>(value) || py::isinstance<py::int_>(value))) {
+      throw py::type_error(argument + "." + key + ": expected a number, got " +
+                           py::str(py::type::of(value).attr("__name__")).cast<std::string>());
+    }
+    return finite_number(value.cast<double>(), argument + "." + key);
+  };
+  TrunkPose pose;
+  pose.x_m = number("x_m");
+  pose.y_m = number("y_m");
+  pose.roll_rad = number("roll_rad");
+  pose.pitch_rad = number("pitch_rad");
+  pose.yaw_rad = number("yaw_rad");
+  pose.reference_elevation_m = number("reference_elevation_m");
+  pose.height_change_m = number("height_change_m");
+  if (d.contains("z_m") && !d["z_m"].is_none()) pose.z_m = number("z_m");
+  return pose;
+}
+
+// Every field of io::MapFileMetadata.
 py::dict metadata_dict(const io::MapFileMetadata& metadata) {
   py::dict d;
   d["tool_version"] = metadata.tool_version;
@@ -25,22 +65,28 @@ py::dict metadata_dict(const io::MapFileMetadata& metadata) {
   d["config_text"] = metadata.config_text;
   d["mount"] = metadata.mount ? py::cast(*metadata.mount) : py::none();
   d["last_scan_time_s"] = metadata.last_scan_time_s ? py::cast(*metadata.last_scan_time_s) : py::none();
+  d["last_pose"] = metadata.last_pose ? py::object(pose_dict(*metadata.last_pose)) : py::none();
   return d;
 }
 
-void save(const ElevationMap& map, const std::string& path, const std::string& created_by,
-          const std::string& config_text, std::optional<SensorMount> mount, std::optional<double> last_scan_time_s,
+// A pipeline's map starts from what the pipeline knows; every argument
+// given replaces its part.
+void save(const ElevationMap& map, const std::string& path, const std::optional<std::string>& created_by,
+          const std::optional<std::string>& config_text, const std::optional<SensorMount>& mount,
+          std::optional<double> last_scan_time_s, const std::optional<py::dict>& last_pose,
           bool overwrite_other_files) {
-  io::MapFileMetadata metadata;
-  metadata.created_by = created_by;
-  metadata.config_text = config_text;
-  metadata.mount = mount;
+  io::MapFileMetadata metadata =
+      pipeline_map_metadata(map, created_by.value_or(kPipelineCreatedBy)).value_or(io::MapFileMetadata{});
+  if (created_by) metadata.created_by = *created_by;
+  if (config_text) metadata.config_text = *config_text;
+  if (mount) metadata.mount = mount;
   if (last_scan_time_s) metadata.last_scan_time_s = finite_number(*last_scan_time_s, "last_scan_time_s");
+  if (last_pose) metadata.last_pose = pose_from_dict(*last_pose, "last_pose");
   io::save_map_file(path, map, metadata, {overwrite_other_files});
 }
 
 void write_png_array(const std::string& path, const py::handle& pixels) {
-  const py::array array = py::module_::import("numpy").attr("asarray")(pixels);
+  const py::array array = as_array(pixels, "pixels");
   if (array.dtype().kind() != 'u' || array.dtype().itemsize() != 1) {
     throw py::type_error("pixels: expected a uint8 array, got dtype " + py::str(array.dtype()).cast<std::string>());
   }
@@ -48,7 +94,7 @@ void write_png_array(const std::string& path, const py::handle& pixels) {
     raise_input_error("pixels: expected shape (height, width, 3) of RGB values, got " +
                       py::str(py::object(array.attr("shape"))).cast<std::string>());
   }
-  const auto contiguous = py::array_t<std::uint8_t, py::array::c_style>::ensure(array);
+  const auto contiguous = as_contiguous_uint8(array, "pixels");
   io::RgbImage image;
   image.height = static_cast<int>(contiguous.shape(0));
   image.width = static_cast<int>(contiguous.shape(1));
@@ -62,9 +108,12 @@ void register_map(py::module_& m) {
   py::class_<ElevationMap>(m, "Map",
                            ("The local terrain map (core/grid_map.hpp): an N x N window of cells, each with these "
                             "layers:\n" +
-                            layer_descriptions() +
-                            "Arrays are indexed [i, j]: cell (min_cell[0] + i, min_cell[1] + j), i along +X "
-                            "(forward), j along +Y (left), as in the map file. Map.layer_names: the built-in layers every map has; add_layer declares more.")
+                            layer_descriptions(builtin_layers()) +
+                            "A Pipeline's map (with the foothold layers on, the default) also has:\n" +
+                            layer_descriptions(foothold_layer_specs()) +
+                            "and add_layer declares more; layer_names lists a map's own. Arrays are indexed [i, j]: "
+                            "cell (min_cell[0] + i, min_cell[1] + j), i along +X (forward), j along +Y (left), as in "
+                            "the map file.")
                                .c_str())
       .def(py::init([](int cells_per_side, double cell_size_m) {
              return ElevationMap(GridOptions{cells_per_side, cell_size_m});
@@ -121,6 +170,11 @@ void register_map(py::module_& m) {
             return py::make_tuple(row, col);
           },
           "Storage (row, column) holding the window's corner cell; (0, 0) when layer() returns views.")
+      .def_property_readonly(
+          "layer_names",
+          [](const ElevationMap& map) { return py::tuple(py::cast(layer_names(map))); },
+          "Names of every layer this map holds, in its registry's order: the built-in ones, then those the "
+          "pipeline declared (the foothold layers) and any declared with add_layer.")
       .def(
           "layers",
           [](const py::object& self) {
@@ -138,11 +192,16 @@ void register_map(py::module_& m) {
            "dtype ('float32', 'uint16' or 'uint8') and the value every cell starts with (NaN allowed for "
            "float32). It is saved in map files and selected by name like the built-in layers. Raises InputError "
            "for a bad or repeated name or a reset value the dtype cannot hold.")
-      .def("save", &save, py::arg("path"), py::kw_only(), py::arg("created_by") = "", py::arg("config_text") = "",
-           py::arg("mount") = py::none(), py::arg("last_scan_time_s") = py::none(),
+      .def("save", &save, py::arg("path"), py::kw_only(), py::arg("created_by") = py::none(),
+           py::arg("config_text") = py::none(), py::arg("mount") = py::none(),
+           py::arg("last_scan_time_s") = py::none(), py::arg("last_pose") = py::none(),
            py::arg("overwrite_other_files") = false,
-           "Writes the map file (.smap, docs/map_file.md) atomically. An existing map file is replaced; any other "
-           "existing file is refused (InputError) unless overwrite_other_files.")
+           "Writes the map file (.smap, docs/map_file.md) atomically. The map a Pipeline builds (pipeline.map) "
+           "records that pipeline's mount, configuration, last pose and time, as Pipeline.save; any other map "
+           "records only what is given, and `stridemap map --resume` refuses a file without a mount and a "
+           "configuration. Given arguments replace the pipeline's: last_pose is a dict as MapFile.metadata gives "
+           "it. An existing map file is replaced; any other existing file is refused (InputError) unless "
+           "overwrite_other_files.")
       .def("export_npy", [](const ElevationMap& map, const std::string& directory) { return io::export_npy(map, directory); },
            py::arg("directory"), "Writes <layer>.npy for every layer into directory; returns the paths.")
       .def("export_ply",
@@ -173,16 +232,17 @@ void register_map(py::module_& m) {
            "folder `directory`, as the CLI's commands do (docs/outputs.md): the set appears whole, replacing an "
            "earlier set; a folder holding other files is refused (InputError).");
 
-  // A constant, named in the class docstring: the layers every map has.
-  py::cast<py::object>(m.attr("Map")).attr("layer_names") = py::tuple(py::cast(layer_names()));
 
   py::class_<io::MapFile>(m, "MapFile", "A loaded map file: the map, what it was made with, the format version.")
       .def_property_readonly(
           "map", [](io::MapFile& file) -> ElevationMap& { return file.map; }, py::return_value_policy::reference_internal,
           "The Map (kept alive by this object and by any view of it).")
       .def_property_readonly("metadata", [](const io::MapFile& file) { return metadata_dict(file.metadata); },
-                             "dict: tool_version, created_by, config_text, mount (SensorMount or None), "
-                             "last_scan_time_s (float or None).")
+                             "dict of everything the file records of its making: tool_version, created_by, "
+                             "config_text (the mapper configuration as JSON, or ''), mount (SensorMount or None), "
+                             "last_scan_time_s (float or None), last_pose (dict of x_m, y_m, z_m (None unless "
+                             "6-DoF), roll_rad, pitch_rad, yaw_rad, reference_elevation_m, height_change_m; or "
+                             "None). The geometry and layers are the map's own (MapFile.map).")
       .def_readonly("version", &io::MapFile::version, "The file format's version.");
 
   m.def("load_map", &io::load_map_file, py::arg("path"),

@@ -43,21 +43,15 @@ const char* numpy_type_name(LayerType type) {
 
 }  // namespace
 
-std::vector<std::string> layer_names() {
-  std::vector<std::string> names;
-  for (const LayerSpec& spec : builtin_layers()) names.push_back(spec.name);
-  return names;
-}
-
 std::vector<std::string> layer_names(const ElevationMap& map) {
   std::vector<std::string> names;
   for (std::size_t i = 0; i < map.layer_count(); ++i) names.push_back(map.layer_spec(i).name);
   return names;
 }
 
-std::string layer_descriptions() {
+std::string layer_descriptions(std::span<const LayerSpec> specs) {
   std::string text;
-  for (const LayerSpec& spec : builtin_layers()) {
+  for (const LayerSpec& spec : specs) {
     text += "  " + spec.name + ": " + numpy_type_name(spec.type) + (spec.unit.empty() ? "" : " [" + spec.unit + "]") +
             ", " + spec.description + "\n";
   }

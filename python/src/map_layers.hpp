@@ -1,5 +1,6 @@
 #pragma once
 // A map's layers as NumPy arrays (map_layers.cpp says how and why).
+#include <span>
 #include <string>
 #include <utility>
 #include <vector>
@@ -9,16 +10,15 @@
 
 namespace stridemap::python {
 
-/// The layers every map has (core/map_layer.hpp's built-in declarations).
-std::vector<std::string> layer_names();
-/// This map's layers: the built-in ones, then any a user declared.
+/// This map's layers, from its registry: the built-in ones, then any the
+/// pipeline or a user declared.
 std::vector<std::string> layer_names(const ElevationMap& map);
 /// Declares a layer on the map (ElevationMap::add_layer); dtype is a NumPy
 /// type name: float32, uint16 or uint8. InputError for a bad declaration.
 void add_layer(ElevationMap& map, const std::string& name, const std::string& dtype, double reset_value,
                const std::string& unit, const std::string& description);
-/// One line per layer: its name, dtype and meaning, for docstrings.
-std::string layer_descriptions();
+/// One line per declaration: its name, dtype and meaning, for docstrings.
+std::string layer_descriptions(std::span<const LayerSpec> specs);
 /// A read-only zero-copy view of the layer's storage (slot order), kept
 /// alive by `base`. InputError for an unknown name.
 py::array storage_view(const ElevationMap& map, const std::string& name, py::handle base);

@@ -1,6 +1,7 @@
 // The checks between NumPy and the library: dtype, shape, finiteness, each
 // failure naming the argument as the caller wrote it.
 #include <cmath>
+#include <cstdint>
 #include <string>
 
 #include "bindings.hpp"
@@ -10,21 +11,66 @@ namespace stridemap::python {
 
 void raise_input_error(const std::string& message) { throw InputError(message); }
 
-py::array_t<double, py::array::c_style> as_float64(const py::handle& obj, const std::string& argument) {
-  const py::module_ np = py::module_::import("numpy");
-  py::array array;
+namespace {
+
+// "(3, 4) float32": what the caller passed, for a message.
+std::string array_text(const py::array& array) {
+  return py::str(py::object(array.attr("shape"))).cast<std::string>() + " " +
+         py::str(array.dtype()).cast<std::string>();
+}
+
+// NumPy reports a failed allocation as MemoryError; the message keeps
+// NumPy's words (the size it could not get) and adds the argument's name.
+[[noreturn]] void raise_memory_error(const std::string& argument, const std::string& what,
+                                     const py::error_already_set& e) {
+  const std::string numpy_words = py::str(e.value()).cast<std::string>();
+  PyErr_SetString(PyExc_MemoryError, (argument + ": " + what + ": " + numpy_words).c_str());
+  throw py::error_already_set();
+}
+
+// The one conversion to a C-contiguous T array. pybind11's array_t::ensure
+// must not be used: it clears NumPy's error and returns a null array, which
+// the next ndim() or data() dereferences (a segfault where the copy could
+// not be allocated).
+template <class T>
+py::array_t<T, py::array::c_style> contiguous(const py::array& array, const std::string& argument) {
   try {
-    array = np.attr("asarray")(obj);
-  } catch (const py::error_already_set& e) {
+    return py::array_t<T, py::array::c_style>(array);
+  } catch (py::error_already_set& e) {
+    if (e.matches(PyExc_MemoryError)) {
+      raise_memory_error(argument,
+                         "cannot allocate the contiguous " + py::str(py::dtype::of<T>()).cast<std::string>() +
+                             " copy of the " + array_text(array) + " array",
+                         e);
+    }
+    throw;
+  }
+}
+
+}  // namespace
+
+py::array as_array(const py::handle& obj, const std::string& argument) {
+  try {
+    return py::module_::import("numpy").attr("asarray")(obj);
+  } catch (py::error_already_set& e) {
+    if (e.matches(PyExc_MemoryError)) raise_memory_error(argument, "cannot allocate an array of it", e);
     throw py::type_error(argument + ": expected an array of numbers: " + e.what());
   }
+}
+
+py::array_t<double, py::array::c_style> as_float64(const py::handle& obj, const std::string& argument) {
+  const py::array array = as_array(obj, argument);
   const char kind = array.dtype().kind();
   // 'b' is bool: True as 1.0 m is a caller's slip, not a measurement.
   if (kind != 'f' && kind != 'i' && kind != 'u') {
     throw py::type_error(argument + ": expected an array of numbers, got dtype " +
                          py::str(array.dtype()).cast<std::string>());
   }
-  return py::array_t<double, py::array::c_style>::ensure(array);
+  return contiguous<double>(array, argument);
+}
+
+py::array_t<std::uint8_t, py::array::c_style> as_contiguous_uint8(const py::array& array, const std::string& argument) {
+  return contiguous<std::uint8_t>(array, argument);
 }
 
 std::string element_name(const std::string& argument, long long index) {

@@ -6,12 +6,14 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
 #include "stridemap/core/map_resume.hpp"
+#include "stridemap/io/mapper_config.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
 
 namespace stridemap::python {
@@ -44,10 +46,47 @@ py::dict outcome_dict(const ScanOutcome& outcome) {
   return d;
 }
 
+// The settings a map file records (io/mapper_config.hpp's sections), as
+// the CLI's ScanMapper::pipeline_options spreads them the other way.
+MapperConfig mapper_config_of(const PipelineOptions& options) {
+  MapperConfig config;
+  config.mount = options.mount;
+  config.mapper = options.mapper;
+  config.fill = options.map_filter.fill;
+  config.calibration = options.calibration;
+  config.foothold = options.foothold;
+  config.visibility = options.visibility;
+  return config;
+}
+
+class Pipeline;
+
+// The live pipelines by the map they build, so that Map.save of
+// `pipeline.map` records the pipeline's settings and last pose: a bare map
+// file cannot be resumed (io/map_resume_check.hpp). A Map taken from a
+// pipeline keeps it alive, so an entry outlives every such Map. Touched with
+// the GIL held only.
+std::unordered_map<const ElevationMap*, const Pipeline*>& live_pipelines() {
+  static std::unordered_map<const ElevationMap*, const Pipeline*> pipelines;
+  return pipelines;
+}
+
 class Pipeline {
  public:
   Pipeline(const PipelineOptions& options, const ElevationMap* resume_from) : pipeline_(options), urg_(options.urg, options.calibration) {
     if (resume_from) resume_from_map(pipeline_.mapper(), *resume_from);
+    live_pipelines()[&pipeline_.mapper().map()] = this;
+  }
+  ~Pipeline() { live_pipelines().erase(&pipeline_.mapper().map()); }
+  Pipeline(const Pipeline&) = delete;
+  Pipeline& operator=(const Pipeline&) = delete;
+
+  /// What the CLI's map file records of its run (live/map_report.cpp).
+  io::MapFileMetadata file_metadata(const std::string& created_by) const {
+    io::MapFileMetadata metadata = io::map_file_metadata(mapper_config_of(pipeline_.options()), created_by);
+    metadata.last_scan_time_s = pipeline_.mapper().last_scan_time_s();
+    metadata.last_pose = pipeline_.mapper().last_pose();
+    return metadata;
   }
 
   py::dict add_urg_scan(const py::handle& ranges, double time_s, const py::handle& pose, const std::string& units,
@@ -75,7 +114,7 @@ class Pipeline {
     }
     const std::vector<double> h_ref = per_scan(reference_elevation_m, k, "reference_elevation_m");
     const std::vector<double> d_z = per_scan(height_change_m, k, "height_change_m");
-    const py::object rows = py::module_::import("numpy").attr("asarray")(ranges);
+    const py::array rows = as_array(ranges, "ranges");
     std::size_t reached = 0;
     for (py::ssize_t i = 0; i < k; ++i) {
       const TrunkPose p = pose_from_values(q.data(i, 0), static_cast<std::size_t>(q.shape(1)), h_ref[i], d_z[i],
@@ -121,6 +160,7 @@ class Pipeline {
   }
 
   MappingPipeline& pipeline() { return pipeline_; }
+  const MappingPipeline& pipeline() const { return pipeline_; }
 
   py::dict stats() const {
     const PipelineStats s = pipeline_.stats();
@@ -169,7 +209,7 @@ class Pipeline {
   void fill_raw(const py::handle& ranges, const std::string& argument, const std::string& units, double time_s,
                 std::optional<int> first_step, int cluster) {
     if (units != "mm" && units != "m") raise_input_error("units: expected 'mm' (raw URG values) or 'm', got '" + units + "'");
-    const py::array array = py::module_::import("numpy").attr("asarray")(ranges);
+    const py::array array = as_array(ranges, argument);
     const char kind = array.dtype().kind();
     const std::string dtype = py::str(array.dtype()).cast<std::string>();
     if (units == "mm" && kind != 'i' && kind != 'u') {
@@ -219,6 +259,12 @@ class Pipeline {
 };
 
 }  // namespace
+
+std::optional<io::MapFileMetadata> pipeline_map_metadata(const ElevationMap& map, const std::string& created_by) {
+  const auto it = live_pipelines().find(&map);
+  if (it == live_pipelines().end()) return std::nullopt;
+  return it->second->file_metadata(created_by);
+}
 
 void register_pipeline(py::module_& m) {
   const char* pose_doc =
@@ -272,6 +318,17 @@ void register_pipeline(py::module_& m) {
           "map", [](Pipeline& p) -> ElevationMap& { return p.pipeline().mapper().map(); },
           py::return_value_policy::reference_internal,
           "The map being built (not a copy: it keeps this pipeline alive, and its views show later scans).")
+      .def(
+          "save",
+          [](const Pipeline& p, const std::string& path, const std::string& created_by, bool overwrite_other_files) {
+            io::save_map_file(path, p.pipeline().mapper().map(), p.file_metadata(created_by), {overwrite_other_files});
+          },
+          py::arg("path"), py::kw_only(), py::arg("created_by") = kPipelineCreatedBy,
+          py::arg("overwrite_other_files") = false,
+          "Writes the map being built as a map file (.smap, docs/map_file.md) with what the CLI's `map` records: "
+          "the mount, the configuration (the options' mapper settings as JSON), the last scan's pose and time; "
+          "so that `stridemap map --resume` and `live --resume` can go on from it with the same settings. "
+          "pipeline.map.save(path) does the same. Replaces an existing map file only, as Map.save.")
       .def_property_readonly("options", [](Pipeline& p) { return p.pipeline().options(); }, "A copy of the options.")
       .def_property_readonly(
           "last_scan_time_s", [](Pipeline& p) { return p.pipeline().mapper().last_scan_time_s(); },

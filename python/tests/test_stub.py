@@ -52,7 +52,7 @@ def test_every_binding_has_a_docstring():
         assert obj.__doc__ and obj.__doc__.strip(), name
         if inspect.isclass(obj) and not issubclass(obj, Exception):
             for attr, member in vars(obj).items():
-                # Data constants (Map.layer_names) are described in the class docstring.
+                # Data constants are described in the class docstring.
                 if attr.startswith("_") or isinstance(member, (tuple, str, int, float)):
                     continue
                 doc = getattr(member, "__doc__", None)

@@ -32,7 +32,7 @@ def test_storage_rolled_by_the_corner_is_the_window_order(mapped_flat_walk):
     m = mapped_flat_walk.map
     r, c = m.storage_corner
     assert (r, c) != (0, 0)
-    for name in stridemap.Map.layer_names:
+    for name in m.layer_names:
         window = m.layer(name)
         rolled = np.roll(m.storage_view(name), (-r, -c), (0, 1))
         assert np.array_equal(window, rolled, equal_nan=True), name
@@ -55,12 +55,12 @@ def test_layer_is_a_view_when_the_corner_is_in_slot_zero(flat_walk):
 
 def test_layer_dtypes_and_shapes():
     m = stridemap.Map(cells_per_side=40, cell_size_m=0.02)
-    dtypes = {name: m.layer(name).dtype for name in stridemap.Map.layer_names}
+    dtypes = {name: m.layer(name).dtype for name in m.layer_names}
     assert dtypes == {
         "elevation": np.float32, "certainty": np.float32, "state": np.uint8, "mean_elevation": np.float32,
         "mean_count": np.uint16, "pending_elevation": np.float32, "contradictions": np.uint8,
     }
-    assert all(m.layer(name).shape == (40, 40) for name in stridemap.Map.layer_names)
+    assert all(m.layer(name).shape == (40, 40) for name in m.layer_names)
 
 
 def test_views_cannot_be_written(mapped_flat_walk):

@@ -67,7 +67,25 @@ std::vector<std::string> map_config_differences(const MapFile& saved, const Mapp
   return differences;
 }
 
+std::vector<std::string> missing_resume_settings(const MapFile& saved) {
+  std::vector<std::string> missing;
+  if (!saved.metadata.mount) missing.emplace_back("the sensor mount");
+  if (saved.metadata.config_text.empty()) missing.emplace_back("the mapper configuration");
+  return missing;
+}
+
 void check_map_resumable(const MapFile& saved, const MapperConfig& config, const std::string& source) {
+  // Without them there is nothing to compare this run's settings with: the
+  // scans would go into the map whatever the mount or update rule was.
+  const std::vector<std::string> missing = missing_resume_settings(saved);
+  if (!missing.empty()) {
+    std::string what;
+    for (std::size_t i = 0; i < missing.size(); ++i) what += (i ? " or " : "") + missing[i];
+    throw InputError(source + ": cannot resume mapping from this map: the file does not record " + what +
+                     " it was made with, so this run's settings cannot be checked against it; resume from a map "
+                     "file written by `stridemap map` or `live` or saved from a Python Pipeline (they record "
+                     "both), or map its scans again");
+  }
   const std::vector<std::string> differences = map_config_differences(saved, config);
   if (differences.empty()) return;
   std::string message = source + ": cannot resume mapping from this map: it was made with other settings (";

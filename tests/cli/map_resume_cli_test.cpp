@@ -1,7 +1,9 @@
 // `map --resume` and `live --resume`: mapping a log in two halves, the
 // second going on from the first's map file, gives the map of the whole log
 // bit for bit; a map made with other settings is refused (exit 2) naming
-// every setting that differs; the map file resumed from is never an output.
+// every setting that differs, and one that does not record them (mount,
+// configuration) is refused naming what is missing; the map file resumed
+// from is never an output.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -118,6 +120,28 @@ TEST(MapResumeCli, MapMadeWithOtherSettingsIsRefusedNamingWhatDiffers) {
                             shell_quoted(dir / "live"));
   EXPECT_EQ(live.exit_code, 2) << live.output;
   EXPECT_NE(live.output.find("map.cell_size_m: the map has 0.01, this run 0.02"), std::string::npos) << live.output;
+}
+
+TEST(MapResumeCli, MapWithoutItsSettingsIsRefusedNamingWhatIsMissing) {
+  test::TestFolder dir;
+  record_log(dir, 20);
+  run_map(dir, "whole.log", "first");
+  // The same map saved without mount and configuration, as a bare Map from
+  // Python used to be: nothing to check this run's settings against.
+  const io::MapFile first = io::load_map_file(dir / "first/map.smap");
+  io::MapFileMetadata bare;
+  bare.created_by = "a script";
+  io::save_map_file(dir / "bare.smap", first.map, bare);
+  const auto result = run_cli("map --log " + shell_quoted(dir / "whole.log") + " --poses " +
+                              shell_quoted(dir / "poses.txt") + " --clock sensor --resume " +
+                              shell_quoted(dir / "bare.smap") + " --out " + shell_quoted(dir / "second"));
+  EXPECT_EQ(result.exit_code, 2) << result.output;
+  EXPECT_NE(result.output.find("--resume " + (dir / "bare.smap") + ": cannot resume mapping from this map"),
+            std::string::npos)
+      << result.output;
+  EXPECT_NE(result.output.find("does not record the sensor mount or the mapper configuration"), std::string::npos)
+      << result.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "second"));
 }
 
 TEST(MapResumeCli, ResumedMapIsNeverAnOutputAndABadOneIsNamed) {

@@ -17,8 +17,13 @@ namespace stridemap::io {
 /// JSON, as stridemap writes it) every setting of its configuration.
 std::vector<std::string> map_config_differences(const MapFile& saved, const MapperConfig& config);
 
+/// What the map file lacks of the settings a resume is checked against:
+/// "the sensor mount", "the mapper configuration"; empty when it has both.
+std::vector<std::string> missing_resume_settings(const MapFile& saved);
+
 /// Throws InputError "<source>: cannot resume mapping from this map: ..."
-/// listing every difference (map_config_differences).
+/// naming what the file lacks (missing_resume_settings), or else listing
+/// every difference (map_config_differences).
 void check_map_resumable(const MapFile& saved, const MapperConfig& config, const std::string& source);
 
 }  // namespace stridemap::io
