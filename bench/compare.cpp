@@ -26,7 +26,7 @@
 #include <octomap/octomap.h>
 
 #include "stridemap/core/terrain_mapper.hpp"
-#include "stridemap/io/scene_yaml.hpp"
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
 #include "stridemap/sim/urg_simulator.hpp"
 #include "stridemap/sim/walk_motion.hpp"

@@ -7,8 +7,8 @@
 #include <vector>
 
 #include "stridemap/core/terrain_mapper.hpp"
-#include "stridemap/io/scene_yaml.hpp"
-#include "stridemap/io/stripe_detector.hpp"
+#include "stridemap/config/scene_yaml.hpp"
+#include "stridemap/vision/stripe_detector.hpp"
 #include "stridemap/sensors/structured_light_mapping.hpp"
 #include "stridemap/sim/structured_light_image.hpp"
 #include "test_paths.hpp"

@@ -11,7 +11,7 @@
 #include "commands.hpp"
 #include "output_guard.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/calibration_csv.hpp"
+#include "stridemap/config/calibration_csv.hpp"
 #include "stridemap/io/text_file.hpp"
 #include "stridemap/sensors/range_calibration.hpp"
 

@@ -10,9 +10,9 @@
 #include "output_guard.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/sensor_transform.hpp"
-#include "stridemap/io/png_image.hpp"
-#include "stridemap/io/stripe_detector.hpp"
-#include "stridemap/io/structured_light_config.hpp"
+#include "stridemap/render/png_image.hpp"
+#include "stridemap/vision/stripe_detector.hpp"
+#include "stridemap/config/structured_light_config.hpp"
 #include "stridemap/io/text_file.hpp"
 #include "stridemap/sensors/structured_light_report.hpp"
 

@@ -17,7 +17,7 @@
 #include "terminal_output.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/fidelity.hpp"
-#include "stridemap/io/scene_yaml.hpp"
+#include "stridemap/config/scene_yaml.hpp"
 
 namespace stridemap::cli {
 namespace {

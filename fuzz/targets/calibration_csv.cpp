@@ -5,7 +5,7 @@
 
 #include "fuzz_target.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/calibration_csv.hpp"
+#include "stridemap/config/calibration_csv.hpp"
 #include "stridemap/sensors/range_calibration.hpp"
 
 STRIDEMAP_FUZZ_TARGET(calibration_csv) {

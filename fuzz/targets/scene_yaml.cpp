@@ -6,7 +6,7 @@
 
 #include "fuzz_target.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/scene_yaml.hpp"
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/sim/scene_ray_caster.hpp"
 
 STRIDEMAP_FUZZ_TARGET(scene_yaml) {

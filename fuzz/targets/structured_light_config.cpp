@@ -5,7 +5,7 @@
 
 #include "fuzz_target.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/structured_light_config.hpp"
+#include "stridemap/config/structured_light_config.hpp"
 #include "stridemap/sensors/structured_light.hpp"
 
 STRIDEMAP_FUZZ_TARGET(structured_light_config) {

@@ -17,7 +17,7 @@
 #include "stridemap/experiments/urg_walk_sensor.hpp"
 #include "stridemap/experiments/wall_range_calibration.hpp"
 #include "stridemap/io/output_folder.hpp"
-#include "stridemap/io/scene_yaml.hpp"
+#include "stridemap/config/scene_yaml.hpp"
 
 namespace stridemap::python {
 namespace {

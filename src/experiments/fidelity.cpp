@@ -10,8 +10,8 @@
 #include <nlohmann/json.hpp>
 
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/map_file.hpp"
-#include "stridemap/io/scene_yaml.hpp"
+#include "stridemap/mapfile/map_file.hpp"
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/io/text_file.hpp"
 
 namespace stridemap {

@@ -2,7 +2,7 @@
 
 #include <sys/stat.h>
 
-#include "atomic_output_file.hpp"
+#include "stridemap/io/detail/atomic_output_file.hpp"
 #include "stridemap/core/error.hpp"
 
 namespace stridemap::io {

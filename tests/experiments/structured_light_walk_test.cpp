@@ -8,7 +8,7 @@
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/mount_analysis.hpp"
 #include "stridemap/experiments/rocky_walk.hpp"
-#include "stridemap/io/scene_yaml.hpp"
+#include "stridemap/config/scene_yaml.hpp"
 #include "test_paths.hpp"
 
 namespace stridemap {

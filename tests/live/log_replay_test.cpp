@@ -13,7 +13,7 @@
 #include "live/test_folder.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/exported_map.hpp"
-#include "stridemap/io/scan_log.hpp"
+#include "stridemap/recordings/scan_log.hpp"
 #include "stridemap/live/log_replay.hpp"
 
 namespace stridemap {

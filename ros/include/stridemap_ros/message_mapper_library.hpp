@@ -8,7 +8,7 @@
 
 #include "stridemap/core/planar_scan.hpp"
 #include "stridemap/core/pose.hpp"
-#include "stridemap/io/mapper_config.hpp"
+#include "stridemap/config/mapper_config.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
 #include "stridemap_ros/message_mapper.hpp"
 

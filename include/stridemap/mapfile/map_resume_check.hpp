@@ -1,0 +1,24 @@
+#pragma once
+// Before mapping goes on from a saved map (core/map_resume.hpp): the map
+// must have been made with the settings of the run that continues it. A
+// different cell size, mount or update rule would put the new scans into
+// cells that mean something else, silently; so every difference is named.
+#include <string>
+#include <vector>
+
+#include "stridemap/mapfile/map_file.hpp"
+#include "stridemap/config/mapper_config.hpp"
+
+namespace stridemap::io {
+
+/// The settings in which the saved map differs from `config`, one line
+/// each, as "map.cell_size_m: the map has 0.01, this run 0.02". Compares the
+/// map's own geometry, its recorded mount, and (when the map carries it as
+/// JSON, as stridemap writes it) every setting of its configuration.
+std::vector<std::string> map_config_differences(const MapFile& saved, const MapperConfig& config);
+
+/// Throws InputError "<source>: cannot resume mapping from this map: ..."
+/// listing every difference (map_config_differences).
+void check_map_resumable(const MapFile& saved, const MapperConfig& config, const std::string& source);
+
+}  // namespace stridemap::io
