@@ -7,8 +7,8 @@
 #include <iterator>
 #include <random>
 
-#include "stridemap/recordings/log_import.hpp"
 #include "stridemap/mapfile/map_file.hpp"
+#include "stridemap/recordings/log_import.hpp"
 #include "test_paths.hpp"
 
 namespace {

@@ -12,11 +12,11 @@
 #include "cli_parsing.hpp"
 #include "commands.hpp"
 #include "output_guard.hpp"
+#include "stridemap/config/structured_light_config.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/mapfile/grid_csv.hpp"
 #include "stridemap/render/grid_render.hpp"
 #include "stridemap/render/png_image.hpp"
-#include "stridemap/config/structured_light_config.hpp"
 #include "stridemap/sensors/structured_light_report.hpp"
 #include "stridemap/sensors/structured_light_uncertainty.hpp"
 

@@ -9,11 +9,11 @@
 #include "cli_parsing.hpp"
 #include "commands.hpp"
 #include "output_guard.hpp"
-#include "stridemap/core/error.hpp"
-#include "stridemap/render/png_image.hpp"
 #include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/config/structured_light_config.hpp"
+#include "stridemap/core/error.hpp"
 #include "stridemap/io/text_file.hpp"
+#include "stridemap/render/png_image.hpp"
 #include "stridemap/sim/calibration_target.hpp"
 #include "stridemap/sim/structured_light_image.hpp"
 

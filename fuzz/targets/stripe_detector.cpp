@@ -16,11 +16,11 @@
 #include <vector>
 
 #include "fuzz_target.hpp"
+#include "stridemap/config/structured_light_config.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/render/png_image.hpp"
-#include "stridemap/vision/stripe_detector.hpp"
-#include "stridemap/config/structured_light_config.hpp"
 #include "stridemap/sensors/structured_light_mapping.hpp"
+#include "stridemap/vision/stripe_detector.hpp"
 
 namespace {
 

@@ -8,8 +8,8 @@
 #include <string>
 
 #include "fuzz_target.hpp"
-#include "stridemap/core/error.hpp"
 #include "stridemap/config/walk_path_yaml.hpp"
+#include "stridemap/core/error.hpp"
 #include "stridemap/sim/scene.hpp"
 #include "stridemap/sim/trunk_motion.hpp"
 

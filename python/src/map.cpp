@@ -9,10 +9,10 @@
 #include "bindings.hpp"
 #include "map_layers.hpp"
 #include "stridemap/core/grid_map.hpp"
-#include "stridemap/render/map_export.hpp"
+#include "stridemap/io/output_folder.hpp"
 #include "stridemap/mapfile/map_file.hpp"
 #include "stridemap/mapfile/map_outputs.hpp"
-#include "stridemap/io/output_folder.hpp"
+#include "stridemap/render/map_export.hpp"
 #include "stridemap/render/png_image.hpp"
 
 namespace stridemap::python {

@@ -12,11 +12,11 @@
 #include "stripe_tally_json.hpp"
 
 #include "stridemap/core/error.hpp"
-#include "stridemap/mapfile/grid_csv.hpp"
-#include "stridemap/render/grid_render.hpp"
-#include "stridemap/mapfile/map_outputs.hpp"
-#include "stridemap/render/png_image.hpp"
 #include "stridemap/io/text_file.hpp"
+#include "stridemap/mapfile/grid_csv.hpp"
+#include "stridemap/mapfile/map_outputs.hpp"
+#include "stridemap/render/grid_render.hpp"
+#include "stridemap/render/png_image.hpp"
 
 namespace stridemap {
 namespace {

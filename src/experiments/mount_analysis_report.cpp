@@ -10,10 +10,10 @@
 #include <nlohmann/json.hpp>
 
 #include "stridemap/core/error.hpp"
-#include "stridemap/render/heat_map.hpp"
-#include "stridemap/mapfile/map_file.hpp"
-#include "stridemap/render/png_image.hpp"
 #include "stridemap/io/text_file.hpp"
+#include "stridemap/mapfile/map_file.hpp"
+#include "stridemap/render/heat_map.hpp"
+#include "stridemap/render/png_image.hpp"
 
 namespace stridemap {
 namespace {

@@ -13,12 +13,12 @@
 #include <nlohmann/json.hpp>
 
 #include "stridemap/core/error.hpp"
+#include "stridemap/io/text_file.hpp"
 #include "stridemap/mapfile/grid_csv.hpp"
 #include "stridemap/render/grid_overlay.hpp"
 #include "stridemap/render/grid_render.hpp"
 #include "stridemap/render/png_image.hpp"
 #include "stridemap/render/terrain_view.hpp"
-#include "stridemap/io/text_file.hpp"
 
 namespace stridemap {
 namespace {

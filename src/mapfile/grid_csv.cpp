@@ -9,8 +9,8 @@
 #include <system_error>
 #include <vector>
 
-#include "stridemap/io/detail/atomic_output_file.hpp"
 #include "stridemap/core/error.hpp"
+#include "stridemap/io/detail/atomic_output_file.hpp"
 
 namespace stridemap::io {
 namespace {

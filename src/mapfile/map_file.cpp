@@ -20,8 +20,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "stridemap/io/detail/atomic_output_file.hpp"
 #include "stridemap/core/error.hpp"
+#include "stridemap/io/detail/atomic_output_file.hpp"
 
 #ifndef STRIDEMAP_VERSION_STRING
 #define STRIDEMAP_VERSION_STRING "unknown"

@@ -16,9 +16,9 @@
 #include "report_page_parts.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/exported_map.hpp"
+#include "stridemap/io/text_file.hpp"
 #include "stridemap/mapfile/grid_csv.hpp"
 #include "stridemap/mapfile/map_file.hpp"
-#include "stridemap/io/text_file.hpp"
 
 namespace stridemap::io {
 namespace {

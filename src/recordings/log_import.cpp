@@ -9,9 +9,9 @@
 
 #include "import_lines.hpp"
 #include "stridemap/core/error.hpp"
+#include "stridemap/io/text_file.hpp"
 #include "stridemap/recordings/pose_stream.hpp"
 #include "stridemap/recordings/scan_log.hpp"
-#include "stridemap/io/text_file.hpp"
 
 namespace stridemap::io {
 namespace detail {

@@ -10,9 +10,9 @@
 #include <cstring>
 #include <system_error>
 
+#include "stridemap/core/error.hpp"
 #include "stridemap/io/detail/atomic_output_file.hpp"
 #include "stridemap/io/detail/errno_text.hpp"
-#include "stridemap/core/error.hpp"
 
 namespace stridemap::io {
 namespace {

@@ -6,8 +6,8 @@
 #include <numbers>
 #include <string>
 
-#include "stridemap/core/error.hpp"
 #include "stridemap/config/structured_light_config.hpp"
+#include "stridemap/core/error.hpp"
 #include "test_paths.hpp"
 
 namespace stridemap {

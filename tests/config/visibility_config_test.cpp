@@ -4,8 +4,8 @@
 
 #include <gtest/gtest.h>
 
-#include "stridemap/core/error.hpp"
 #include "stridemap/config/mapper_config.hpp"
+#include "stridemap/core/error.hpp"
 
 namespace stridemap {
 namespace {

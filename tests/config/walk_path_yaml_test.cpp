@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
-#include "stridemap/core/error.hpp"
 #include "stridemap/config/scene_yaml.hpp"
+#include "stridemap/core/error.hpp"
 #include "test_paths.hpp"
 
 namespace stridemap {

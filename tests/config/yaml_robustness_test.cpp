@@ -5,10 +5,10 @@
 
 #include <gtest/gtest.h>
 
-#include "stridemap/core/error.hpp"
 #include "stridemap/config/mapper_config.hpp"
 #include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/config/structured_light_config.hpp"
+#include "stridemap/core/error.hpp"
 
 namespace stridemap {
 namespace {

@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
-#include "stridemap/experiments/fidelity.hpp"
 #include "stridemap/config/scene_yaml.hpp"
+#include "stridemap/experiments/fidelity.hpp"
 
 namespace stridemap {
 namespace {

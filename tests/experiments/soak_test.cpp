@@ -14,8 +14,8 @@
 
 #include "allocation_counting.hpp"
 
-#include "stridemap/core/error.hpp"
 #include "stridemap/config/scene_yaml.hpp"
+#include "stridemap/core/error.hpp"
 #include "test_paths.hpp"
 
 

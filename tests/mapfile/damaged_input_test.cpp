@@ -12,13 +12,13 @@
 
 #include <gtest/gtest.h>
 
-#include "stridemap/core/error.hpp"
 #include "stridemap/config/calibration_csv.hpp"
-#include "stridemap/mapfile/grid_csv.hpp"
 #include "stridemap/config/mapper_config.hpp"
-#include "stridemap/render/png_image.hpp"
 #include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/config/structured_light_config.hpp"
+#include "stridemap/core/error.hpp"
+#include "stridemap/mapfile/grid_csv.hpp"
+#include "stridemap/render/png_image.hpp"
 #include "test_paths.hpp"
 
 namespace stridemap {

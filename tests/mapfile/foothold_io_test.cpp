@@ -8,11 +8,11 @@
 
 #include <gtest/gtest.h>
 
+#include "stridemap/config/mapper_config.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/foothold.hpp"
 #include "stridemap/mapfile/map_file.hpp"
 #include "stridemap/mapfile/map_resume_check.hpp"
-#include "stridemap/config/mapper_config.hpp"
 #include "test_paths.hpp"
 
 namespace stridemap {

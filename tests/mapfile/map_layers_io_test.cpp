@@ -18,8 +18,8 @@
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/map_resume.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
-#include "stridemap/render/map_export.hpp"
 #include "stridemap/mapfile/map_file.hpp"
+#include "stridemap/render/map_export.hpp"
 #include "test_paths.hpp"
 
 namespace stridemap {

@@ -15,9 +15,9 @@
 #include <gtest/gtest.h>
 
 #include "stridemap/core/error.hpp"
+#include "stridemap/io/text_file.hpp"
 #include "stridemap/mapfile/grid_csv.hpp"
 #include "stridemap/render/png_image.hpp"
-#include "stridemap/io/text_file.hpp"
 
 namespace stridemap::io {
 namespace {

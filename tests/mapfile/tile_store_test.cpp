@@ -13,9 +13,9 @@
 
 #include "cli/cli_runner.hpp"
 #include "live/test_folder.hpp"
+#include "stridemap/config/mapper_config.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
-#include "stridemap/config/mapper_config.hpp"
 
 namespace stridemap {
 namespace {

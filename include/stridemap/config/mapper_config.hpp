@@ -4,12 +4,12 @@
 // Angles are in degrees in the file (`_deg` fields) and radians inside.
 #include <string>
 
+#include "stridemap/config/global_map_options.hpp"
 #include "stridemap/core/foothold.hpp"
 #include "stridemap/core/pose.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/core/visibility_clearing.hpp"
 #include "stridemap/core/weighted_median_fill.hpp"
-#include "stridemap/config/global_map_options.hpp"
 #include "stridemap/sensors/range_calibration.hpp"
 
 namespace stridemap {

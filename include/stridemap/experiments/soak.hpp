@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
+#include "stridemap/config/global_map_options.hpp"
 #include "stridemap/core/progress.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/core/weighted_median_fill.hpp"
-#include "stridemap/config/global_map_options.hpp"
 #include "stridemap/preprocess/scan_filter_chain.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
 #include "stridemap/sim/scene.hpp"

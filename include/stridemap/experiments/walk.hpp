@@ -14,6 +14,7 @@
 #include <optional>
 #include <vector>
 
+#include "stridemap/config/mapper_config.hpp"
 #include "stridemap/core/cas_filter.hpp"
 #include "stridemap/core/height_fusion.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
@@ -21,7 +22,6 @@
 #include "stridemap/experiments/cart_rail.hpp"
 #include "stridemap/experiments/map_evaluation.hpp"
 #include "stridemap/experiments/walk_sensor.hpp"
-#include "stridemap/config/mapper_config.hpp"
 #include "stridemap/sim/pose_estimate.hpp"
 #include "stridemap/sim/trunk_motion.hpp"
 

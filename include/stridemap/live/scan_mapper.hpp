@@ -15,11 +15,11 @@
 #include <string>
 #include <vector>
 
+#include "stridemap/config/mapper_config.hpp"
 #include "stridemap/core/pose_track.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/mapfile/map_file.hpp"
 #include "stridemap/mapfile/map_outputs.hpp"
-#include "stridemap/config/mapper_config.hpp"
 #include "stridemap/mapfile/tile_store.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
 #include "stridemap/preprocess/scan_filter_chain.hpp"

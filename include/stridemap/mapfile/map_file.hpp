@@ -12,9 +12,9 @@
 #include <string_view>
 #include <vector>
 
+#include "stridemap/config/mapper_config.hpp"
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/core/pose.hpp"
-#include "stridemap/config/mapper_config.hpp"
 
 namespace stridemap::io {
 

@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "stridemap/mapfile/map_file.hpp"
 #include "stridemap/config/mapper_config.hpp"
+#include "stridemap/mapfile/map_file.hpp"
 
 namespace stridemap::io {
 

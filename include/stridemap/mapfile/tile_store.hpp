@@ -25,9 +25,9 @@
 #include <utility>
 #include <vector>
 
+#include "stridemap/config/global_map_options.hpp"
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/core/window_move_listener.hpp"
-#include "stridemap/config/global_map_options.hpp"
 #include "stridemap/mapfile/map_file.hpp"
 
 namespace stridemap::io {
