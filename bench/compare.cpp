@@ -25,8 +25,8 @@
 
 #include <octomap/octomap.h>
 
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
-#include "stridemap/io/scene_yaml.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
 #include "stridemap/sim/urg_simulator.hpp"
 #include "stridemap/sim/walk_motion.hpp"

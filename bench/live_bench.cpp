@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "stridemap/io/scene_yaml.hpp"
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/live/scan_mapper.hpp"
 #include "stridemap/sensors/scip_decoder.hpp"
 #include "stridemap/sensors/scip_reply_encoder.hpp"

@@ -1,5 +1,5 @@
-// Map file encoding and decoding (io/map_file.hpp), and importing the real
-// BreezySLAM recording (io/log_import.hpp) when ../shared/data holds it.
+// Map file encoding and decoding (mapfile/map_file.hpp), and importing the real
+// BreezySLAM recording (recordings/log_import.hpp) when ../shared/data holds it.
 #include <benchmark/benchmark.h>
 
 #include <filesystem>
@@ -7,8 +7,8 @@
 #include <iterator>
 #include <random>
 
-#include "stridemap/io/log_import.hpp"
-#include "stridemap/io/map_file.hpp"
+#include "stridemap/mapfile/map_file.hpp"
+#include "stridemap/recordings/log_import.hpp"
 #include "test_paths.hpp"
 
 namespace {

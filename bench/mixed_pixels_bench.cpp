@@ -10,7 +10,7 @@
 
 #include <benchmark/benchmark.h>
 
-#include "stridemap/io/scene_yaml.hpp"
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/sim/cart_rail.hpp"
 #include "stridemap/sim/footprint_beam_model.hpp"
 #include "stridemap/sim/urg_simulator.hpp"

@@ -6,11 +6,11 @@
 #include <string>
 #include <vector>
 
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
-#include "stridemap/io/scene_yaml.hpp"
-#include "stridemap/io/stripe_detector.hpp"
 #include "stridemap/sensors/structured_light_mapping.hpp"
 #include "stridemap/sim/structured_light_image.hpp"
+#include "stridemap/vision/stripe_detector.hpp"
 #include "test_paths.hpp"
 
 namespace {

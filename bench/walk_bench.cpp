@@ -7,10 +7,10 @@
 
 #include <benchmark/benchmark.h>
 
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/experiments/structured_light_walk_sensor.hpp"
 #include "stridemap/experiments/urg_walk_sensor.hpp"
 #include "stridemap/experiments/walk.hpp"
-#include "stridemap/io/scene_yaml.hpp"
 #include "test_paths.hpp"
 
 namespace stridemap {

@@ -4,7 +4,8 @@
 # pkg-config file (pkg-config --cflags --libs stridemap). docs/install.md.
 include(CMakePackageConfigHelpers)
 
-set(STRIDEMAP_LAYERS core sensors preprocess pipeline sim io experiments live)
+set(STRIDEMAP_LAYERS core sensors preprocess pipeline sim io config render mapfile recordings devices vision experiments
+  live)
 set(stridemap_install_targets)
 foreach(layer IN LISTS STRIDEMAP_LAYERS)
   list(APPEND stridemap_install_targets stridemap_${layer})
@@ -16,7 +17,10 @@ install(TARGETS ${stridemap_install_targets}
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
   RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS stridemap_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/stridemap DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+# io/detail/ is shared by the library's layers that write files; no
+# installed header includes it.
+install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/stridemap DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}
+  PATTERN detail EXCLUDE)
 # The tool looks for its default scenes here, relative to itself (apps/CMakeLists.txt).
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/scenes ${PROJECT_SOURCE_DIR}/configs
   DESTINATION ${CMAKE_INSTALL_DATADIR}/stridemap)

@@ -10,8 +10,8 @@
 
 #include "commands.hpp"
 #include "output_guard.hpp"
+#include "stridemap/config/calibration_csv.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/calibration_csv.hpp"
 #include "stridemap/io/text_file.hpp"
 #include "stridemap/sensors/range_calibration.hpp"
 

@@ -12,11 +12,11 @@
 #include "cli_parsing.hpp"
 #include "commands.hpp"
 #include "output_guard.hpp"
+#include "stridemap/config/structured_light_config.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/stripe_detector.hpp"
-#include "stridemap/io/structured_light_config.hpp"
 #include "stridemap/io/text_file.hpp"
 #include "stridemap/sensors/structured_light_calibration.hpp"
+#include "stridemap/vision/stripe_detector.hpp"
 
 namespace stridemap::cli {
 namespace {

@@ -17,11 +17,11 @@
 #include "stridemap/experiments/cart_rail.hpp"
 #include "stridemap/experiments/cart_rail_report.hpp"
 #include "report_command.hpp"
+#include "stridemap/config/mapper_config.hpp"
+#include "stridemap/config/scene_yaml.hpp"
+#include "stridemap/config/structured_light_config.hpp"
 #include "stridemap/experiments/lighting.hpp"
 #include "stridemap/experiments/mixed_pixels.hpp"
-#include "stridemap/io/mapper_config.hpp"
-#include "stridemap/io/scene_yaml.hpp"
-#include "stridemap/io/structured_light_config.hpp"
 
 namespace stridemap::cli {
 namespace {

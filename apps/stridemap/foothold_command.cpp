@@ -10,10 +10,10 @@
 #include "installed_data.hpp"
 #include "output_guard.hpp"
 #include "terminal_output.hpp"
+#include "stridemap/config/mapper_config.hpp"
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/foothold.hpp"
-#include "stridemap/io/mapper_config.hpp"
-#include "stridemap/io/scene_yaml.hpp"
 
 namespace stridemap::cli {
 namespace {

@@ -14,7 +14,7 @@
 #include "commands.hpp"
 #include "terminal_output.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/log_import.hpp"
+#include "stridemap/recordings/log_import.hpp"
 
 namespace stridemap::cli {
 namespace {

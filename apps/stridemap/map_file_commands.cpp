@@ -15,9 +15,9 @@
 
 #include "commands.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/map_export.hpp"
-#include "stridemap/io/map_file.hpp"
-#include "stridemap/io/tile_store.hpp"
+#include "stridemap/mapfile/map_file.hpp"
+#include "stridemap/mapfile/tile_store.hpp"
+#include "stridemap/render/map_export.hpp"
 
 namespace stridemap::cli {
 namespace {

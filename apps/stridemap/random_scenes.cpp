@@ -15,9 +15,9 @@
 #include "commands.hpp"
 #include "output_guard.hpp"
 #include "terminal_output.hpp"
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/fidelity.hpp"
-#include "stridemap/io/scene_yaml.hpp"
 
 namespace stridemap::cli {
 namespace {

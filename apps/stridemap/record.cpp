@@ -7,7 +7,7 @@
 #include "commands.hpp"
 #include "stridemap/core/printable_text.hpp"
 #include "output_guard.hpp"
-#include "stridemap/io/scan_log.hpp"
+#include "stridemap/recordings/scan_log.hpp"
 #include "urg_device.hpp"
 
 namespace stridemap::cli {

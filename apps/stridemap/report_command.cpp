@@ -10,7 +10,7 @@
 #include "terminal_output.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/printable_text.hpp"
-#include "stridemap/io/report_page.hpp"
+#include "stridemap/mapfile/report_page.hpp"
 
 namespace stridemap::cli {
 namespace {

@@ -1,6 +1,6 @@
 #pragma once
 // `stridemap report DIR` and the `--report` flag of experiment, map and live:
-// the run's report page (io/report_page.hpp), report.html in the folder.
+// the run's report page (mapfile/report_page.hpp), report.html in the folder.
 #include <string>
 
 #include <CLI/CLI.hpp>

@@ -17,10 +17,10 @@
 #include "installed_data.hpp"
 #include "terminal_output.hpp"
 #include "output_guard.hpp"
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/soak.hpp"
 #include "stridemap/experiments/walk_soak_motion.hpp"
-#include "stridemap/io/scene_yaml.hpp"
 #include "stridemap/io/text_file.hpp"
 
 namespace stridemap::cli {

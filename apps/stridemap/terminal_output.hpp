@@ -1,13 +1,13 @@
 #pragma once
 // What the tool says on stderr besides errors and warnings: progress bars
-// (only on a terminal, io/progress_bar.hpp) and, with --verbose, notes on
+// (only on a terminal, apps/stridemap/progress_bar.hpp) and, with --verbose, notes on
 // what it read, did and wrote. --quiet silences both; errors and warnings
 // are always printed.
 #include <string>
 
 #include <CLI/CLI.hpp>
 
-#include "stridemap/io/progress_bar.hpp"
+#include "progress_bar.hpp"
 
 namespace stridemap::cli {
 

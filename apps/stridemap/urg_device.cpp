@@ -15,7 +15,7 @@
 #include "cli_parsing.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/printable_text.hpp"
-#include "stridemap/io/serial_port.hpp"
+#include "stridemap/devices/serial_port.hpp"
 
 namespace stridemap::cli {
 namespace {

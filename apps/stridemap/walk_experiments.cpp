@@ -16,10 +16,10 @@
 #include "stridemap/experiments/rocky_walk.hpp"
 #include "stridemap/experiments/rocky_walk_report.hpp"
 #include "report_command.hpp"
+#include "stridemap/config/scene_yaml.hpp"
+#include "stridemap/config/walk_path_yaml.hpp"
 #include "stridemap/experiments/urg_walk_sensor.hpp"
 #include "stridemap/experiments/wall_range_calibration.hpp"
-#include "stridemap/io/scene_yaml.hpp"
-#include "stridemap/io/walk_path_yaml.hpp"
 #include "cli_parsing.hpp"
 #include "walk_cli_common.hpp"
 

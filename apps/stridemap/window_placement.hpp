@@ -4,10 +4,10 @@
 #include <string>
 
 #include "stridemap/core/pose_track.hpp"
-#include "stridemap/io/scan_log.hpp"
 #include "stridemap/live/live_mapping.hpp"
 #include "stridemap/live/map_window.hpp"
 #include "stridemap/live/scan_mapper.hpp"
+#include "stridemap/recordings/scan_log.hpp"
 
 namespace stridemap::cli {
 

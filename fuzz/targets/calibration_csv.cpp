@@ -4,8 +4,8 @@
 #include <string>
 
 #include "fuzz_target.hpp"
+#include "stridemap/config/calibration_csv.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/calibration_csv.hpp"
 #include "stridemap/sensors/range_calibration.hpp"
 
 STRIDEMAP_FUZZ_TARGET(calibration_csv) {

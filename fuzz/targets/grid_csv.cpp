@@ -5,7 +5,7 @@
 
 #include "fuzz_target.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/grid_csv.hpp"
+#include "stridemap/mapfile/grid_csv.hpp"
 
 STRIDEMAP_FUZZ_TARGET(grid_csv) {
   using namespace stridemap;

@@ -1,4 +1,4 @@
-// Map files (io/map_file.hpp) from outside: anything decodes to a map or an
+// Map files (mapfile/map_file.hpp) from outside: anything decodes to a map or an
 // InputError. The input is tried as it is and with its trailing checksum
 // made right, so that the fuzzer also reaches the checks behind the CRC.
 // A map that decodes encodes to bytes that decode to the very same map.
@@ -9,7 +9,7 @@
 
 #include "fuzz_target.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/map_file.hpp"
+#include "stridemap/mapfile/map_file.hpp"
 
 namespace {
 

@@ -4,9 +4,9 @@
 #include <string>
 
 #include "fuzz_target.hpp"
+#include "stridemap/config/mapper_config.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/weighted_median_fill.hpp"
-#include "stridemap/io/mapper_config.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
 
 STRIDEMAP_FUZZ_TARGET(mapper_config) {

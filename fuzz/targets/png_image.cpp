@@ -4,7 +4,7 @@
 
 #include "fuzz_target.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/png_image.hpp"
+#include "stridemap/render/png_image.hpp"
 
 STRIDEMAP_FUZZ_TARGET(png_image) {
   using namespace stridemap;

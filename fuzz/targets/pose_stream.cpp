@@ -1,4 +1,4 @@
-// Timestamped pose text (io/pose_stream.hpp, docs/live.md "Pose format"),
+// Timestamped pose text (recordings/pose_stream.hpp, docs/live.md "Pose format"),
 // read whole as `stridemap map --poses` does and as a live stream in pieces
 // chosen by the input (a named pipe delivers whatever the writer flushed):
 // both must keep the same poses and skip the same lines with the same
@@ -14,7 +14,7 @@
 #include "fuzz_target.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/pose_track.hpp"
-#include "stridemap/io/pose_stream.hpp"
+#include "stridemap/recordings/pose_stream.hpp"
 
 namespace {
 

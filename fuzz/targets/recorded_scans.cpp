@@ -1,4 +1,4 @@
-// Recordings for the emulator to replay (io/recorded_scans.hpp): a
+// Recordings for the emulator to replay (recordings/recorded_scans.hpp): a
 // stridemap scan log or a BreezySLAM text log, told apart by the first line.
 // Whatever the reader accepts, the emulator must be able to serve: a
 // replayed scan goes out as SCIP frames that decode to the recorded values
@@ -11,7 +11,7 @@
 
 #include "fuzz_target.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/recorded_scans.hpp"
+#include "stridemap/recordings/recorded_scans.hpp"
 #include "stridemap/sensors/scip_decoder.hpp"
 #include "stridemap/sim/urg_emulator.hpp"
 #include "stridemap/sim/urg_scan_source.hpp"

@@ -1,4 +1,4 @@
-// Scan logs (io/scan_log.hpp, docs/live.md). Two kinds of input, by the
+// Scan logs (recordings/scan_log.hpp, docs/live.md). Two kinds of input, by the
 // first byte:
 //  - even: the bytes are a log. Whatever the reader keeps must be exactly
 //    what it reads from the same lines without the ones it skipped (and
@@ -23,7 +23,7 @@
 #include "fuzz_input.hpp"
 #include "fuzz_target.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/scan_log.hpp"
+#include "stridemap/recordings/scan_log.hpp"
 
 namespace {
 

@@ -5,8 +5,8 @@
 #include <string>
 
 #include "fuzz_target.hpp"
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/scene_yaml.hpp"
 #include "stridemap/sim/scene_ray_caster.hpp"
 
 STRIDEMAP_FUZZ_TARGET(scene_yaml) {

@@ -1,4 +1,4 @@
-// Camera frames as PNG bytes into the stripe detector (io/stripe_detector.hpp)
+// Camera frames as PNG bytes into the stripe detector (vision/stripe_detector.hpp)
 // and on to map points with a structured-light configuration (Ragno's, as
 // configs/ragno_structured_light.yaml, its image size set to the frame's).
 // What must hold:
@@ -16,11 +16,11 @@
 #include <vector>
 
 #include "fuzz_target.hpp"
+#include "stridemap/config/structured_light_config.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/png_image.hpp"
-#include "stridemap/io/stripe_detector.hpp"
-#include "stridemap/io/structured_light_config.hpp"
+#include "stridemap/render/png_image.hpp"
 #include "stridemap/sensors/structured_light_mapping.hpp"
+#include "stridemap/vision/stripe_detector.hpp"
 
 namespace {
 

@@ -4,8 +4,8 @@
 #include <string>
 
 #include "fuzz_target.hpp"
+#include "stridemap/config/structured_light_config.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/structured_light_config.hpp"
 #include "stridemap/sensors/structured_light.hpp"
 
 STRIDEMAP_FUZZ_TARGET(structured_light_config) {

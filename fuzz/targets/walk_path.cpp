@@ -1,4 +1,4 @@
-// Walk path files (io/walk_path_yaml.hpp, schema in docs/walking.md), read
+// Walk path files (config/walk_path_yaml.hpp, schema in docs/walking.md), read
 // on their own and against a 4 x 4 m terrain. Errors name the file; a path
 // accepted against the terrain is accepted without it too, and the same; the
 // gait walks every path the reader accepts (TrunkMotion refuses nothing the
@@ -8,8 +8,8 @@
 #include <string>
 
 #include "fuzz_target.hpp"
+#include "stridemap/config/walk_path_yaml.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/walk_path_yaml.hpp"
 #include "stridemap/sim/scene.hpp"
 #include "stridemap/sim/trunk_motion.hpp"
 

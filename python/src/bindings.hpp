@@ -13,7 +13,7 @@
 
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/core/pose.hpp"
-#include "stridemap/io/map_file.hpp"
+#include "stridemap/mapfile/map_file.hpp"
 
 namespace stridemap::python {
 

@@ -10,6 +10,7 @@
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
 #include "stridemap/experiments/cart_rail_report.hpp"
 #include "stridemap/experiments/rocky_walk.hpp"
@@ -17,7 +18,6 @@
 #include "stridemap/experiments/urg_walk_sensor.hpp"
 #include "stridemap/experiments/wall_range_calibration.hpp"
 #include "stridemap/io/output_folder.hpp"
-#include "stridemap/io/scene_yaml.hpp"
 
 namespace stridemap::python {
 namespace {

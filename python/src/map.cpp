@@ -1,5 +1,5 @@
 // stridemap.Map (an ElevationMap), stridemap.MapFile and the map's files:
-// the .smap map file (io/map_file.hpp), NumPy/PLY/CSV exports and the PNG
+// the .smap map file (mapfile/map_file.hpp), NumPy/PLY/CSV exports and the PNG
 // pictures every command writes.
 #include <optional>
 #include <string>
@@ -10,11 +10,11 @@
 #include "map_layers.hpp"
 #include "stridemap/core/foothold.hpp"
 #include "stridemap/core/grid_map.hpp"
-#include "stridemap/io/map_export.hpp"
-#include "stridemap/io/map_file.hpp"
-#include "stridemap/io/map_outputs.hpp"
 #include "stridemap/io/output_folder.hpp"
-#include "stridemap/io/png_image.hpp"
+#include "stridemap/mapfile/map_file.hpp"
+#include "stridemap/mapfile/map_outputs.hpp"
+#include "stridemap/render/map_export.hpp"
+#include "stridemap/render/png_image.hpp"
 
 namespace stridemap::python {
 namespace {

@@ -7,10 +7,10 @@
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
+#include "stridemap/config/mapper_config.hpp"
+#include "stridemap/config/structured_light_config.hpp"
 #include "stridemap/core/map_filter.hpp"
 #include "stridemap/core/map_update.hpp"
-#include "stridemap/io/mapper_config.hpp"
-#include "stridemap/io/structured_light_config.hpp"
 #include "stridemap/pipeline/pipeline_options.hpp"
 
 namespace stridemap::python {

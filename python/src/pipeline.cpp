@@ -12,8 +12,8 @@
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
+#include "stridemap/config/mapper_config.hpp"
 #include "stridemap/core/map_resume.hpp"
-#include "stridemap/io/mapper_config.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
 
 namespace stridemap::python {

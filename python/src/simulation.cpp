@@ -8,7 +8,7 @@
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
-#include "stridemap/io/scene_yaml.hpp"
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/sim/scene.hpp"
 #include "stridemap/sim/urg_simulator.hpp"
 #include "stridemap/sim/walk_motion.hpp"

@@ -8,7 +8,7 @@
 #include "output_guard.hpp"
 #include "terminal_output.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/map_outputs.hpp"
+#include "stridemap/mapfile/map_outputs.hpp"
 #include "stridemap_ros/bag_mapping.hpp"
 #include "stridemap_ros/map_saving.hpp"
 #include "stridemap_ros/message_mapper_library.hpp"

@@ -3,7 +3,7 @@
 #include <filesystem>
 
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/map_file.hpp"
+#include "stridemap/mapfile/map_file.hpp"
 #include "stridemap_ros/message_mapper_library.hpp"
 
 namespace stridemap::ros_adapter {

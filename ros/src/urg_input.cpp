@@ -2,11 +2,11 @@
 
 #include <numbers>
 
+#include "stridemap/config/mapper_config.hpp"
 #include "stridemap/core/pose_track.hpp"
 #include "stridemap/core/sensor_transform.hpp"
-#include "stridemap/io/mapper_config.hpp"
-#include "stridemap/io/pose_stream.hpp"
-#include "stridemap/io/serial_port.hpp"
+#include "stridemap/devices/serial_port.hpp"
+#include "stridemap/recordings/pose_stream.hpp"
 #include "stridemap/sensors/urg_driver.hpp"
 
 namespace stridemap::ros_adapter {

@@ -1,6 +1,6 @@
 #include "stridemap/experiments/cart_rail_report.hpp"
 
-#include "stridemap/io/map_file.hpp"
+#include "stridemap/mapfile/map_file.hpp"
 
 #include <cmath>
 #include <cstdio>
@@ -12,11 +12,11 @@
 #include "stripe_tally_json.hpp"
 
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/grid_csv.hpp"
-#include "stridemap/io/grid_render.hpp"
-#include "stridemap/io/map_outputs.hpp"
-#include "stridemap/io/png_image.hpp"
 #include "stridemap/io/text_file.hpp"
+#include "stridemap/mapfile/grid_csv.hpp"
+#include "stridemap/mapfile/map_outputs.hpp"
+#include "stridemap/render/grid_render.hpp"
+#include "stridemap/render/png_image.hpp"
 
 namespace stridemap {
 namespace {

@@ -9,10 +9,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/map_file.hpp"
-#include "stridemap/io/scene_yaml.hpp"
 #include "stridemap/io/text_file.hpp"
+#include "stridemap/mapfile/map_file.hpp"
 
 namespace stridemap {
 namespace {

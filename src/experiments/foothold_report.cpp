@@ -7,15 +7,15 @@
 
 #include <nlohmann/json.hpp>
 
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/foothold.hpp"
 #include "stridemap/experiments/urg_walk_sensor.hpp"
-#include "stridemap/io/grid_render.hpp"
-#include "stridemap/io/map_file.hpp"
-#include "stridemap/io/map_outputs.hpp"
-#include "stridemap/io/png_image.hpp"
-#include "stridemap/io/scene_yaml.hpp"
 #include "stridemap/io/text_file.hpp"
+#include "stridemap/mapfile/map_file.hpp"
+#include "stridemap/mapfile/map_outputs.hpp"
+#include "stridemap/render/grid_render.hpp"
+#include "stridemap/render/png_image.hpp"
 #include "stridemap/sim/random_scene.hpp"
 
 namespace stridemap {

@@ -13,13 +13,13 @@
 
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/sensor_transform.hpp"
-#include "stridemap/io/line_plot.hpp"
-#include "stridemap/io/map_file.hpp"
-#include "stridemap/io/png_image.hpp"
-#include "stridemap/io/stripe_detector.hpp"
 #include "stridemap/io/text_file.hpp"
+#include "stridemap/mapfile/map_file.hpp"
+#include "stridemap/render/line_plot.hpp"
+#include "stridemap/render/png_image.hpp"
 #include "stridemap/sim/cart_rail.hpp"
 #include "stridemap/sim/scene_ray_caster.hpp"
+#include "stridemap/vision/stripe_detector.hpp"
 
 namespace stridemap {
 namespace {

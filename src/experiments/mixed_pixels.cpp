@@ -8,10 +8,10 @@
 
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/cart_rail_report.hpp"
-#include "stridemap/io/grid_render.hpp"
-#include "stridemap/io/map_file.hpp"
-#include "stridemap/io/png_image.hpp"
 #include "stridemap/io/text_file.hpp"
+#include "stridemap/mapfile/map_file.hpp"
+#include "stridemap/render/grid_render.hpp"
+#include "stridemap/render/png_image.hpp"
 
 namespace stridemap {
 

@@ -10,10 +10,10 @@
 #include <nlohmann/json.hpp>
 
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/heat_map.hpp"
-#include "stridemap/io/map_file.hpp"
-#include "stridemap/io/png_image.hpp"
 #include "stridemap/io/text_file.hpp"
+#include "stridemap/mapfile/map_file.hpp"
+#include "stridemap/render/heat_map.hpp"
+#include "stridemap/render/png_image.hpp"
 
 namespace stridemap {
 namespace {

@@ -6,10 +6,10 @@
 #include <nlohmann/json.hpp>
 
 #include "stridemap/experiments/moved_objects.hpp"
-#include "stridemap/io/line_plot.hpp"
-#include "stridemap/io/map_file.hpp"
-#include "stridemap/io/png_image.hpp"
 #include "stridemap/io/text_file.hpp"
+#include "stridemap/mapfile/map_file.hpp"
+#include "stridemap/render/line_plot.hpp"
+#include "stridemap/render/png_image.hpp"
 
 namespace stridemap {
 namespace {

@@ -1,6 +1,6 @@
 #include "stridemap/experiments/rocky_walk_report.hpp"
 
-#include "stridemap/io/map_file.hpp"
+#include "stridemap/mapfile/map_file.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -13,12 +13,12 @@
 #include <nlohmann/json.hpp>
 
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/grid_csv.hpp"
-#include "stridemap/io/grid_overlay.hpp"
-#include "stridemap/io/grid_render.hpp"
-#include "stridemap/io/png_image.hpp"
-#include "stridemap/io/terrain_view.hpp"
 #include "stridemap/io/text_file.hpp"
+#include "stridemap/mapfile/grid_csv.hpp"
+#include "stridemap/render/grid_overlay.hpp"
+#include "stridemap/render/grid_render.hpp"
+#include "stridemap/render/png_image.hpp"
+#include "stridemap/render/terrain_view.hpp"
 
 namespace stridemap {
 namespace {

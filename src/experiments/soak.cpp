@@ -15,7 +15,7 @@
 #include "stridemap/core/map_integrity.hpp"
 #include "stridemap/core/map_publisher.hpp"
 #include "stridemap/experiments/process_memory.hpp"
-#include "stridemap/io/tile_store.hpp"
+#include "stridemap/mapfile/tile_store.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
 
 namespace stridemap {

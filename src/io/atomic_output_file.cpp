@@ -1,4 +1,4 @@
-#include "atomic_output_file.hpp"
+#include "stridemap/io/detail/atomic_output_file.hpp"
 
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -11,7 +11,7 @@
 #include <utility>
 
 #include "stridemap/core/error.hpp"
-#include "errno_text.hpp"
+#include "stridemap/io/detail/errno_text.hpp"
 #include "temporary_registry.hpp"
 
 namespace stridemap::io::detail {

@@ -16,7 +16,7 @@
 #include <vector>
 
 #include "stridemap/core/error.hpp"
-#include "errno_text.hpp"
+#include "stridemap/io/detail/errno_text.hpp"
 #include "temporary_registry.hpp"
 
 namespace stridemap::io {

@@ -2,8 +2,8 @@
 
 #include <sys/stat.h>
 
-#include "atomic_output_file.hpp"
 #include "stridemap/core/error.hpp"
+#include "stridemap/io/detail/atomic_output_file.hpp"
 
 namespace stridemap::io {
 

@@ -11,8 +11,8 @@
 #include <thread>
 
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/pose_stream.hpp"
-#include "stridemap/io/pseudo_terminal.hpp"
+#include "stridemap/devices/pseudo_terminal.hpp"
+#include "stridemap/recordings/pose_stream.hpp"
 #include "stridemap/sensors/urg_driver.hpp"
 
 namespace stridemap {

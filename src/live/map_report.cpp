@@ -8,7 +8,7 @@
 #include "stridemap/core/cas_filter.hpp"
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/io/output_folder.hpp"
-#include "stridemap/io/map_file.hpp"
+#include "stridemap/mapfile/map_file.hpp"
 #include "stridemap/io/text_file.hpp"
 
 namespace stridemap {

@@ -4,7 +4,7 @@
 #include <utility>
 
 #include "stridemap/core/map_resume.hpp"
-#include "stridemap/io/map_resume_check.hpp"
+#include "stridemap/mapfile/map_resume_check.hpp"
 
 namespace stridemap {
 

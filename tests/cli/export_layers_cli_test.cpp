@@ -8,7 +8,7 @@
 
 #include "cli/cli_runner.hpp"
 #include "live/test_folder.hpp"
-#include "stridemap/io/map_file.hpp"
+#include "stridemap/mapfile/map_file.hpp"
 
 namespace stridemap {
 namespace {

@@ -19,8 +19,8 @@
 #include "cli/cli_runner.hpp"
 #include "cli/straight_run_log.hpp"
 #include "live/test_folder.hpp"
-#include "stridemap/io/map_file.hpp"
-#include "stridemap/io/scan_log.hpp"
+#include "stridemap/mapfile/map_file.hpp"
+#include "stridemap/recordings/scan_log.hpp"
 #include "test_paths.hpp"
 
 namespace stridemap {

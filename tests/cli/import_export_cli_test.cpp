@@ -10,7 +10,7 @@
 
 #include "cli/cli_runner.hpp"
 #include "live/test_folder.hpp"
-#include "stridemap/io/map_file.hpp"
+#include "stridemap/mapfile/map_file.hpp"
 #include "test_paths.hpp"
 
 namespace stridemap {

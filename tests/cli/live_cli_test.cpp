@@ -21,9 +21,9 @@
 #include "cli/background_process.hpp"
 #include "cli/cli_runner.hpp"
 #include "live/test_folder.hpp"
-#include "stridemap/io/pseudo_terminal.hpp"
-#include "stridemap/io/recorded_scans.hpp"
-#include "stridemap/io/scan_log.hpp"
+#include "stridemap/devices/pseudo_terminal.hpp"
+#include "stridemap/recordings/recorded_scans.hpp"
+#include "stridemap/recordings/scan_log.hpp"
 #include "test_paths.hpp"
 
 namespace stridemap {

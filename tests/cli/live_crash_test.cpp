@@ -24,10 +24,10 @@
 #include "cli/cli_runner.hpp"
 #include "live/test_folder.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/grid_csv.hpp"
 #include "stridemap/io/output_folder.hpp"
-#include "stridemap/io/png_image.hpp"
-#include "stridemap/io/scan_log.hpp"
+#include "stridemap/mapfile/grid_csv.hpp"
+#include "stridemap/recordings/scan_log.hpp"
+#include "stridemap/render/png_image.hpp"
 #include "test_paths.hpp"
 
 namespace stridemap {

@@ -14,7 +14,7 @@
 #include "cli/background_process.hpp"
 #include "cli/cli_runner.hpp"
 #include "live/test_folder.hpp"
-#include "stridemap/io/map_file.hpp"
+#include "stridemap/mapfile/map_file.hpp"
 #include "test_paths.hpp"
 
 namespace stridemap {

@@ -18,7 +18,7 @@
 #include "cli/straight_run_log.hpp"
 #include "live/test_folder.hpp"
 #include "stridemap/io/output_folder.hpp"
-#include "stridemap/io/scan_log.hpp"
+#include "stridemap/recordings/scan_log.hpp"
 #include "test_paths.hpp"
 
 namespace stridemap {

@@ -13,8 +13,8 @@
 #include <string>
 
 #include "cli/cli_runner.hpp"
-#include "stridemap/io/grid_csv.hpp"
-#include "stridemap/io/png_image.hpp"
+#include "stridemap/mapfile/grid_csv.hpp"
+#include "stridemap/render/png_image.hpp"
 #include "test_paths.hpp"
 
 namespace {

@@ -11,7 +11,7 @@
 
 #include "cli/cli_runner.hpp"
 #include "live/test_folder.hpp"
-#include "stridemap/io/scan_log.hpp"
+#include "stridemap/recordings/scan_log.hpp"
 
 namespace stridemap::test {
 

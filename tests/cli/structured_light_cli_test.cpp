@@ -14,7 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli/cli_runner.hpp"
-#include "stridemap/io/png_image.hpp"
+#include "stridemap/render/png_image.hpp"
 #include "test_paths.hpp"
 
 namespace {

@@ -15,8 +15,8 @@
 
 #include <gtest/gtest.h>
 
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
-#include "stridemap/io/scene_yaml.hpp"
 #include "stridemap/pipeline/top_point_observer.hpp"
 #include "stridemap/sim/footprint_beam_model.hpp"
 

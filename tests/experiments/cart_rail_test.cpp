@@ -6,7 +6,7 @@
 
 #include <gtest/gtest.h>
 
-#include "stridemap/io/scene_yaml.hpp"
+#include "stridemap/config/scene_yaml.hpp"
 #include "test_paths.hpp"
 
 namespace stridemap {

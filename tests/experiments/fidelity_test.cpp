@@ -5,8 +5,8 @@
 
 #include <gtest/gtest.h>
 
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/experiments/fidelity.hpp"
-#include "stridemap/io/scene_yaml.hpp"
 
 namespace stridemap {
 namespace {

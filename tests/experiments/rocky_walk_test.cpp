@@ -5,10 +5,10 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/rocky_walk_report.hpp"
 #include "stridemap/experiments/urg_walk_sensor.hpp"
-#include "stridemap/io/scene_yaml.hpp"
 #include "test_paths.hpp"
 
 namespace stridemap {

@@ -14,8 +14,8 @@
 
 #include "allocation_counting.hpp"
 
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/scene_yaml.hpp"
 #include "test_paths.hpp"
 
 

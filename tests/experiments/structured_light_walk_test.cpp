@@ -5,10 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/mount_analysis.hpp"
 #include "stridemap/experiments/rocky_walk.hpp"
-#include "stridemap/io/scene_yaml.hpp"
 #include "test_paths.hpp"
 
 namespace stridemap {

@@ -6,8 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/scene_yaml.hpp"
 #include "test_paths.hpp"
 
 namespace stridemap {

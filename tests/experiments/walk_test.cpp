@@ -6,10 +6,10 @@
 
 #include <gtest/gtest.h>
 
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
 #include "stridemap/experiments/urg_walk_sensor.hpp"
-#include "stridemap/io/scene_yaml.hpp"
 #include "test_paths.hpp"
 
 namespace stridemap {

@@ -17,10 +17,10 @@
 
 #include "live/running_emulator.hpp"
 #include "live/test_folder.hpp"
-#include "stridemap/io/scan_log.hpp"
-#include "stridemap/io/serial_port.hpp"
+#include "stridemap/devices/serial_port.hpp"
 #include "stridemap/live/live_mapping.hpp"
 #include "stridemap/live/log_replay.hpp"
+#include "stridemap/recordings/scan_log.hpp"
 #include "stridemap/sensors/scip_decoder.hpp"
 #include "stridemap/sensors/scip_reply_encoder.hpp"
 

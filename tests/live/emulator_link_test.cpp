@@ -16,8 +16,8 @@
 
 #include "live/running_emulator.hpp"
 #include "live/test_folder.hpp"
-#include "stridemap/io/scene_yaml.hpp"
-#include "stridemap/io/serial_port.hpp"
+#include "stridemap/config/scene_yaml.hpp"
+#include "stridemap/devices/serial_port.hpp"
 #include "stridemap/live/emulator_server.hpp"
 #include "stridemap/live/scan_mapper.hpp"
 #include "stridemap/sensors/urg_driver.hpp"

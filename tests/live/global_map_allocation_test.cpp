@@ -6,7 +6,7 @@
 #include "allocation_counting.hpp"
 #include "live/test_folder.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
-#include "stridemap/io/tile_store.hpp"
+#include "stridemap/mapfile/tile_store.hpp"
 
 namespace stridemap {
 namespace {

@@ -17,7 +17,7 @@
 #include "live/running_emulator.hpp"
 #include "live/test_folder.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/serial_port.hpp"
+#include "stridemap/devices/serial_port.hpp"
 #include "stridemap/live/live_mapping.hpp"
 
 namespace stridemap {

@@ -21,7 +21,7 @@
 
 #include "live/running_emulator.hpp"
 #include "live/test_folder.hpp"
-#include "stridemap/io/serial_port.hpp"
+#include "stridemap/devices/serial_port.hpp"
 #include "stridemap/sensors/urg_driver.hpp"
 
 namespace stridemap {

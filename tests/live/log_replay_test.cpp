@@ -13,8 +13,8 @@
 #include "live/test_folder.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/exported_map.hpp"
-#include "stridemap/io/scan_log.hpp"
 #include "stridemap/live/log_replay.hpp"
+#include "stridemap/recordings/scan_log.hpp"
 
 namespace stridemap {
 namespace {

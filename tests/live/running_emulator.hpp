@@ -11,7 +11,7 @@
 #include <string>
 #include <thread>
 
-#include "stridemap/io/scene_yaml.hpp"
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/live/emulator_server.hpp"
 #include "stridemap/sensors/urg_driver.hpp"
 #include "stridemap/sim/urg_scan_source.hpp"

@@ -9,8 +9,8 @@
 
 #include <gtest/gtest.h>
 
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/core/error.hpp"
-#include "stridemap/io/scene_yaml.hpp"
 #include "stridemap/sim/cart_rail.hpp"
 #include "stridemap/sim/footprint_beam_model.hpp"
 #include "stridemap/sim/random_scene.hpp"

@@ -1,5 +1,5 @@
 #pragma once
-// Going on mapping from a saved map (io/map_file.hpp): the mapper takes the
+// Going on mapping from a saved map (mapfile/map_file.hpp): the mapper takes the
 // saved map's every layer, window position included, and integrates the
 // next scans into it exactly as if it had never stopped, except that the
 // first scan after resuming has no previous scan to measure motion from

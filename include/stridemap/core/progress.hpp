@@ -2,7 +2,7 @@
 // How a long loop of the library (an experiment, a log import, a soak) says
 // how far it is, without knowing who listens: a plain callback in its
 // options struct. The tool draws a progress bar from it on a terminal
-// (io/progress_bar.hpp); a script or a binding may log it or ignore it.
+// (apps/stridemap/progress_bar.hpp); a script or a binding may log it or ignore it.
 #include <cstddef>
 #include <functional>
 

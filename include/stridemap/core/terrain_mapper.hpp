@@ -210,7 +210,7 @@ class TerrainMapper {
   }
 
   /// Told of every move of the window that follow_robot makes (a map larger
-  /// than the window: io/tile_store.hpp); nullptr for none. Not owned: it
+  /// than the window: mapfile/tile_store.hpp); nullptr for none. Not owned: it
   /// must outlive the mapper or be unset first.
   void set_window_listener(WindowMoveListener* listener) { window_listener_ = listener; }
   WindowMoveListener* window_listener() const { return window_listener_; }

@@ -2,7 +2,7 @@
 // A hook on the robot-centred window's moves (TerrainMapper::follow): told
 // which cells are about to leave the window while they still hold their
 // values, and which cells entered once they hold their reset values. What
-// keeps a map larger than the window (io/tile_store.hpp) sits here, so that
+// keeps a map larger than the window (mapfile/tile_store.hpp) sits here, so that
 // it never depends on how the grid stores its cells.
 #include "stridemap/core/grid_map.hpp"
 

@@ -18,8 +18,8 @@
 #include "stridemap/core/weighted_median_fill.hpp"
 #include "stridemap/experiments/map_evaluation.hpp"
 #include "stridemap/experiments/object_extents.hpp"
-#include "stridemap/io/mapper_config.hpp"
-#include "stridemap/io/stripe_detector.hpp"
+#include "stridemap/config/mapper_config.hpp"
+#include "stridemap/vision/stripe_detector.hpp"
 #include "stridemap/preprocess/scan_filter_chain.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
 #include "stridemap/sim/cart_rail.hpp"
@@ -179,7 +179,7 @@ struct CartRailResult {
   std::size_t cas_removed_cells = 0;
   MapSnapshot snapshot;
   /// The final map (after the map filter) whole, and the settings it was
-  /// made with: what the run's map.smap holds (io/map_file.hpp).
+  /// made with: what the run's map.smap holds (mapfile/map_file.hpp).
   ElevationMap map;
   MapperConfig map_config;
   CellMask swept_area;

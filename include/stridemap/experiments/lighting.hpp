@@ -17,7 +17,7 @@
 
 #include "stridemap/core/progress.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
-#include "stridemap/io/png_image.hpp"
+#include "stridemap/render/png_image.hpp"
 
 namespace stridemap {
 

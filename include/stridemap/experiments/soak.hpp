@@ -16,10 +16,10 @@
 #include <string>
 #include <vector>
 
+#include "stridemap/config/global_map_options.hpp"
 #include "stridemap/core/progress.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/core/weighted_median_fill.hpp"
-#include "stridemap/io/global_map_options.hpp"
 #include "stridemap/preprocess/scan_filter_chain.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
 #include "stridemap/sim/scene.hpp"
@@ -109,7 +109,7 @@ struct SoakOptions {
   bool reader_thread = true;
   SoakFaults faults{};
   /// With a folder: the cells leaving the window go to a tiled global map
-  /// there (io/tile_store.hpp), which the window reloads on every lap; the
+  /// there (mapfile/tile_store.hpp), which the window reloads on every lap; the
   /// run then checks the tiles at the end (SoakGlobalMap).
   GlobalMapOptions global_map{};
   /// Told the scans simulated so far (from the mapping thread).

@@ -11,11 +11,11 @@
 #include "stridemap/core/map_update.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
 #include "stridemap/experiments/walk_sensor.hpp"
-#include "stridemap/io/png_image.hpp"
-#include "stridemap/io/stripe_detector.hpp"
 #include "stridemap/pipeline/scan_integrator.hpp"
+#include "stridemap/render/png_image.hpp"
 #include "stridemap/sim/structured_light_image.hpp"
 #include "stridemap/sim/structured_light_simulator.hpp"
+#include "stridemap/vision/stripe_detector.hpp"
 
 namespace stridemap {
 

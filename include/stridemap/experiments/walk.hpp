@@ -14,6 +14,7 @@
 #include <optional>
 #include <vector>
 
+#include "stridemap/config/mapper_config.hpp"
 #include "stridemap/core/cas_filter.hpp"
 #include "stridemap/core/height_fusion.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
@@ -21,7 +22,6 @@
 #include "stridemap/experiments/cart_rail.hpp"
 #include "stridemap/experiments/map_evaluation.hpp"
 #include "stridemap/experiments/walk_sensor.hpp"
-#include "stridemap/io/mapper_config.hpp"
 #include "stridemap/sim/pose_estimate.hpp"
 #include "stridemap/sim/trunk_motion.hpp"
 
@@ -102,7 +102,7 @@ struct WalkResult {
   MapScore mosaic_score;
   /// The final map whole (the mosaic, or the local map without one), after
   /// the map filter, and the settings it was made with: what the run's
-  /// map.smap holds (io/map_file.hpp).
+  /// map.smap holds (mapfile/map_file.hpp).
   ElevationMap map;
   MapperConfig map_config;
   /// Swept cells still unknown after the fill-in: the shadows behind

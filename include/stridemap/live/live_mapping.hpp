@@ -17,9 +17,9 @@
 #include "stridemap/core/map_filter.hpp"
 #include "stridemap/core/pose_track.hpp"
 #include "stridemap/core/ring_queue.hpp"
-#include "stridemap/io/pose_stream.hpp"
 #include "stridemap/live/map_report.hpp"
 #include "stridemap/live/scan_mapper.hpp"
+#include "stridemap/recordings/pose_stream.hpp"
 #include "stridemap/sensors/urg_driver.hpp"
 
 namespace stridemap {

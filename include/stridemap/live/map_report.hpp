@@ -1,6 +1,6 @@
 #pragma once
 // What `stridemap live` and `stridemap map` write: the map layers (the
-// shared writer, io/map_outputs.hpp) and summary.json with the scan and
+// shared writer, mapfile/map_outputs.hpp) and summary.json with the scan and
 // beam counts, the sensor's parameters and, for live mapping, the run's
 // rates, faults, CPU use and latency (docs/live.md).
 #include <cstdint>

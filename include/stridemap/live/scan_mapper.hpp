@@ -15,12 +15,12 @@
 #include <string>
 #include <vector>
 
+#include "stridemap/config/mapper_config.hpp"
 #include "stridemap/core/pose_track.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
-#include "stridemap/io/map_file.hpp"
-#include "stridemap/io/map_outputs.hpp"
-#include "stridemap/io/mapper_config.hpp"
-#include "stridemap/io/tile_store.hpp"
+#include "stridemap/mapfile/map_file.hpp"
+#include "stridemap/mapfile/map_outputs.hpp"
+#include "stridemap/mapfile/tile_store.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
 #include "stridemap/preprocess/scan_filter_chain.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
@@ -33,8 +33,8 @@ struct ScanMapperOptions {
   /// with scan-sequence the map lags one scan until finish()).
   std::vector<ScanFilterKind> filters{};
   ScanFilterChainOptions filter_options{};
-  /// Go on mapping from this saved map (io/map_file.hpp) instead of an
-  /// empty one. Its settings must be `config`'s (io/map_resume_check.hpp),
+  /// Go on mapping from this saved map (mapfile/map_file.hpp) instead of an
+  /// empty one. Its settings must be `config`'s (mapfile/map_resume_check.hpp),
   /// else the constructor throws InputError naming `resume_source` and every
   /// difference. A scan-sequence filter starts afresh: it has no previous
   /// scan to compare the first one with.

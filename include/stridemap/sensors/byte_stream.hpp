@@ -1,6 +1,6 @@
 #pragma once
 // The seam between the URG driver and whatever carries its bytes: a serial
-// port (io/serial_port.hpp: POSIX termios, the URG's USB CDC-ACM port), a
+// port (devices/serial_port.hpp: POSIX termios, the URG's USB CDC-ACM port), a
 // pseudo-terminal, or an in-memory fake in tests. Every call waits at most
 // its timeout, so a driver built on it can never hang its caller. A lost
 // link is a result, not an exception: unplugging the sensor is an event the

@@ -33,7 +33,7 @@ inline RandomSceneKind parse_enum_name<RandomSceneKind>(std::string_view text) {
 }
 
 /// The scene as YAML text, with a comment naming kind and seed; loads with
-/// parse_scene_yaml (io/scene_yaml.hpp).
+/// parse_scene_yaml (config/scene_yaml.hpp).
 ///
 /// boxes: the objects stand on the rail's line (centres within 30 mm of
 /// it), so that the structured-light sensor's narrow view holds each whole

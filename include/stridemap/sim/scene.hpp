@@ -1,7 +1,7 @@
 #pragma once
 // A simulated scene: terrain height field plus boxes and cylinders, each with
 // a diffuse reflectance, and optionally the rail a measuring cart runs on.
-// Scenes are read from YAML by io/scene_yaml.hpp (schema: docs/scenes.md).
+// Scenes are read from YAML by config/scene_yaml.hpp (schema: docs/scenes.md).
 #include <cstddef>
 #include <optional>
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
 // What can be wrong with a scene, stated once, so that a scene built in code
-// (Scene::validate) and a scene read from a file (io/scene_yaml.hpp, which
+// (Scene::validate) and a scene read from a file (config/scene_yaml.hpp, which
 // adds file and line) report the same rule in the same words.
 #include <optional>
 #include <string>

@@ -2,7 +2,7 @@
 // The route a walking robot's trunk follows over a scene: a start pose and
 // a list of straight segments and turns (in place or on an arc). Read from a
 // scene file's `walk_path:` section or from a file of its own
-// (io/walk_path_yaml.hpp; schema in docs/walking.md). The gait that carries
+// (config/walk_path_yaml.hpp; schema in docs/walking.md). The gait that carries
 // the trunk along it is sim/trunk_motion.hpp.
 #include <cstdint>
 #include <optional>

@@ -6,9 +6,9 @@
 #include <memory>
 #include <vector>
 
+#include "stridemap/config/mapper_config.hpp"
 #include "stridemap/core/planar_scan.hpp"
 #include "stridemap/core/pose.hpp"
-#include "stridemap/io/mapper_config.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
 #include "stridemap_ros/message_mapper.hpp"
 

@@ -2,7 +2,8 @@
 // What stridemap_urg_bridge reads, without ROS: a URG-04LX (or the
 // emulator's pseudo-terminal) through the library's UrgDriver, and a pose
 // file written as it grows (the emulator's --poses-out, docs/live.md's
-// format) through io's PoseStreamReader. C++17 (see message_mapper.hpp).
+// format) through the recordings layer's PoseStreamReader. C++17 (see
+// message_mapper.hpp).
 #include <memory>
 #include <string>
 #include <vector>

@@ -4,10 +4,10 @@
 #include <cstring>
 #include <numbers>
 
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/core/exported_map.hpp"
 #include "stridemap/core/sensor_transform.hpp"
-#include "stridemap/io/map_file.hpp"
-#include "stridemap/io/scene_yaml.hpp"
+#include "stridemap/mapfile/map_file.hpp"
 #include "stridemap/sensors/structured_light.hpp"
 #include "stridemap/sim/motion_source.hpp"
 #include "stridemap/sim/structured_light_simulator.hpp"
