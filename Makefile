@@ -45,6 +45,12 @@ build: configure
 # a page the unsanitized `make test` already checks.
 SAN_DIR ?= build-sanitize
 SAN_FLAGS = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-frame-pointer
+# UBSan's checks are emitted before the optimiser runs, so Eigen's small
+# expression functions look too big to inline: the clang default left about
+# a hundred of them as calls per matrix product, and experiment tests ran
+# twice as long (docs/reliability.md, "Build choices"). A higher threshold
+# inlines them again; every check stays.
+SAN_INLINE = -mllvm -inline-threshold=1000
 # Line tables are all a sanitizer report needs for file:line stacks; full
 # debug info made every compile and link of these builds slower. -O2, not
 # -O1: at -O1 the ASan + UBSan build took about 3 min less but its tests
@@ -55,7 +61,7 @@ SAN_FLAGS = -fsanitize=address,undefined -fno-sanitize-recover=all -fno-omit-fra
 SAN_OPT_LEVEL ?= -O2
 SAN_OPT_FLAGS = -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="$(SAN_OPT_LEVEL) -gline-tables-only -DNDEBUG" -DSTRIDEMAP_WITH_ROS=OFF
 SAN_CONFIGURE = CC=clang CXX=clang++ cmake -S . -B $(SAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo $(SAN_OPT_FLAGS) \
-	  -DSTRIDEMAP_BUILD_BENCHMARKS=OFF -DSTRIDEMAP_BUILD_PYTHON=OFF -DSTRIDEMAP_BUILD_FUZZERS=ON -DCMAKE_CXX_FLAGS="$(SAN_FLAGS)" \
+	  -DSTRIDEMAP_BUILD_BENCHMARKS=OFF -DSTRIDEMAP_BUILD_PYTHON=OFF -DSTRIDEMAP_BUILD_FUZZERS=ON -DCMAKE_CXX_FLAGS="$(SAN_FLAGS) $(SAN_INLINE)" \
 	  -DCMAKE_EXE_LINKER_FLAGS="$(SAN_FLAGS)" -DCMAKE_SHARED_LINKER_FLAGS="$(SAN_FLAGS)"
 test-sanitize: deps
 	$(SAN_CONFIGURE)
