@@ -29,7 +29,7 @@ void write_map(const std::string& path, int n) {
   ElevationMap map(GridOptions{n, 0.02});
   for (int s = 0; s < n * n; ++s) {
     map.elevation_data()[s] = s % 3 == 0 ? NAN : 0.001f * static_cast<float>(s);
-    map.certainty_data()[s] = static_cast<float>(s % 7);
+    map.certainty_data()[s] = s % 3 == 0 ? 0.0f : static_cast<float>(1 + s % 7);
     map.state_data()[s] = s % 3 == 0 ? 0 : 1;
   }
   save_map_file(path, map, MapFileMetadata{});

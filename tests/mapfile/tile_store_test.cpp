@@ -45,7 +45,24 @@ void scramble_window(ElevationMap& map, std::uint32_t seed) {
     const std::size_t size = cells * layer_type_bytes(map.layer_spec(l).type);
     for (std::size_t b = 0; b < size; ++b) bytes[b] = static_cast<unsigned char>(random());
   }
-  for (std::size_t s = 0; s < cells; ++s) map.state_data()[s] = static_cast<std::uint8_t>(s % 3);
+  // The built-in layers within what a valid cell may hold, since the map
+  // file's reader refuses anything else: unknown cells a NaN (payload kept)
+  // and no certainty, measured ones a finite elevation and certainty > 0.
+  for (std::size_t s = 0; s < cells; ++s) {
+    const auto state = static_cast<std::uint8_t>(s % 3);
+    map.state_data()[s] = state;
+    float& elevation = map.elevation_data()[s];
+    float& certainty = map.certainty_data()[s];
+    if (state == static_cast<std::uint8_t>(CellState::unknown)) {
+      elevation = std::bit_cast<float>(std::bit_cast<std::uint32_t>(elevation) | 0x7fc00000u);
+      certainty = 0.0f;
+      continue;
+    }
+    if (!std::isfinite(elevation)) elevation = 0.5f;
+    certainty = state == static_cast<std::uint8_t>(CellState::measured)
+                    ? (std::isfinite(certainty) && certainty != 0.0f ? std::fabs(certainty) : 1.0f)
+                    : 0.0f;
+  }
 }
 
 // Cells of `a`'s window whose bytes differ from `b`'s in any layer; a cell
