@@ -183,7 +183,7 @@ std::vector<Record> keep_increasing_times(std::vector<Record> records, T Record:
         what += "the first record kept is " + named(next);
       }
     }
-    what += " (the longest run of increasing times is kept)";
+    what += "; the longest run of increasing times is kept";
     problems.emplace_back(records[k].line, source + ":" + std::to_string(records[k].line) + ": " + what);
   }
   // Both lists are in line order and each holds its first
