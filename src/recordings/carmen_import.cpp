@@ -53,9 +53,10 @@ std::optional<std::string> read_flaser(const std::vector<std::string_view>& f, c
   }
   double odom[3];
   if (!c.next(out.x_m) || !c.next(out.y_m) || !c.next(out.theta_rad) || !c.next(odom[0]) || !c.next(odom[1]) ||
-      !c.next(odom[2]) || !c.next(out.time_s)) {
-    return "FLASER: pose, odometry or timestamp is not a number";
+      !c.next(odom[2])) {
+    return "FLASER: pose or odometry is not a number";
   }
+  if (!c.next(out.time_s)) return "FLASER: the timestamp '" + std::string(f[c.position() - 1]) + "' is not a finite number";
   // Evenly over the field of view: 181 readings of a 180 deg scanner are 1 deg apart.
   out.angle_step_rad = n > 1 ? options.flaser_field_of_view_rad / static_cast<double>(n - 1) : 1.0;
   out.angle_min_rad = n > 1 ? -0.5 * options.flaser_field_of_view_rad : 0.0;
@@ -90,7 +91,9 @@ std::optional<std::string> read_robotlaser(const std::vector<std::string_view>& 
   for (int k = 0; k < 5; ++k) {
     if (!c.next(ignored)) return "ROBOTLASER1: velocities or safety distances are not numbers";
   }
-  if (!c.next(out.time_s)) return "ROBOTLASER1: the timestamp is not a number";
+  if (!c.next(out.time_s)) {
+    return "ROBOTLASER1: the timestamp '" + std::string(f[c.position() - 1]) + "' is not a finite number";
+  }
   return std::nullopt;
 }
 

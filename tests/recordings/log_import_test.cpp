@@ -312,6 +312,25 @@ TEST(ImportTimes, CarmenFarFutureTimeSkipsOnlyThatScan) {
   EXPECT_EQ(data.scans.back().sensor_time_ms, 2500u);
 }
 
+TEST(ImportTimes, NonFiniteTimesAreSkippedAndNamed) {
+  const std::string log = flaser_line("1.0") + flaser_line("inf") + flaser_line("nan") + flaser_line("1.2");
+  const io::ImportedData data = io::import_carmen(log, "run.clf");
+  EXPECT_EQ(data.scans.size(), 2u);
+  EXPECT_EQ(data.report.skipped, 2u);
+  ASSERT_EQ(data.report.problems.size(), 2u);
+  EXPECT_EQ(data.report.problems[0], "run.clf:2: FLASER: the timestamp 'inf' is not a finite number");
+  EXPECT_EQ(data.report.problems[1], "run.clf:3: FLASER: the timestamp 'nan' is not a finite number");
+  const io::ImportedData tum = io::import_tum(tum_line(1.0) + "inf 0 0 0 0 0 0 1\n" + tum_line(2.0), "t.txt");
+  EXPECT_EQ(tum.poses.size(), 2u);
+  ASSERT_EQ(tum.report.problems.size(), 1u);
+  EXPECT_TRUE(starts_with(tum.report.problems[0], "t.txt:2: field 1 ('inf') is not a finite number"));
+  const io::ImportedData csv = io::import_csv_ranges(csv_line(0.0) + "nan,1,1,1\n" + csv_line(0.1), "c.csv",
+                                                     three_beams());
+  EXPECT_EQ(csv.scans.size(), 2u);
+  ASSERT_EQ(csv.report.problems.size(), 1u);
+  EXPECT_TRUE(starts_with(csv.report.problems[0], "c.csv:2: time 'nan' is not a number"));
+}
+
 TEST(ImportTimes, TumSwappedPairKeepsAllButOne) {
   std::string text;
   for (int k = 1; k <= 50; ++k) text += tum_line(k == 20 ? 21.0 : k == 21 ? 20.0 : k);
@@ -433,6 +452,12 @@ TEST(ImportChecks, BinaryTextIsRefusedBeforeParsing) {
     FAIL();
   } catch (const InputError& e) {
     EXPECT_TRUE(starts_with(e.what(), "blob.bin: not a text file (a NUL byte at offset 18)")) << e.what();
+  }
+  try {
+    io::import_csv_ranges(std::string("\xFF\xFE" "0\0.\0" "1\0", 8), "wide.csv");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_TRUE(starts_with(e.what(), "wide.csv: UTF-16 text; save it as UTF-8")) << e.what();
   }
   EXPECT_THROW(io::import_carmen(binary, "blob.bin"), InputError);
   EXPECT_THROW(io::import_breezyslam(binary, "blob.bin"), InputError);
