@@ -105,9 +105,9 @@ inline std::string time_text(std::uint64_t time) { return std::to_string(time); 
 template <typename T>
 std::vector<bool> longest_increasing_times(const std::vector<T>& times) {
   const std::size_t n = times.size();
-  // from_here[i]: the length of the longest increasing run starting at i,
-  // found right to left. heads[k]: the latest start time of a run of
-  // length k + 1 seen so far, decreasing in k.
+  // from_here[i]: the length of the longest increasing subsequence
+  // starting at i, found right to left. heads[k]: the largest start time
+  // of such a subsequence of length k + 1 seen so far, decreasing in k.
   std::vector<std::size_t> from_here(n);
   std::vector<T> heads;
   for (std::size_t i = n; i-- > 0;) {
@@ -119,8 +119,8 @@ std::vector<bool> longest_increasing_times(const std::vector<T>& times) {
       *at = times[i];
     }
   }
-  // Forwards, each record that still starts a long enough run after the
-  // last kept one is the earliest choice.
+  // Forwards, the first record that still starts a long enough
+  // subsequence after the last kept one is the earliest choice.
   std::vector<bool> keep(n, false);
   std::size_t needed = heads.size();
   bool any = false;
@@ -183,7 +183,7 @@ std::vector<Record> keep_increasing_times(std::vector<Record> records, T Record:
         what += "the first record kept is " + named(next);
       }
     }
-    what += "; the longest run of increasing times is kept";
+    what += "; the import keeps the most records whose times increase down the file";
     problems.emplace_back(records[k].line, source + ":" + std::to_string(records[k].line) + ": " + what);
   }
   // Both lists are in line order and each holds its first

@@ -33,7 +33,7 @@ struct ImportReport {
   std::size_t ignored = 0;  ///< well-formed lines of kinds the importer does not use (comments, CARMEN ODOM...)
   std::size_t skipped = 0;  ///< malformed lines and out_of_order, each with a message in `problems`
   /// Records whose time breaks the increasing order (of `skipped`): those
-  /// outside the longest strictly increasing run of the file's times.
+  /// outside the longest strictly increasing subsequence of the file's times.
   std::size_t out_of_order = 0;
   /// "<file>:<line>: <what>" for the first kMaxImportProblems skipped lines, in line order.
   std::vector<std::string> problems;
@@ -117,8 +117,8 @@ ImportedData import_csv_ranges(std::string_view text, const std::string& source,
 ImportedData import_tum(std::string_view text, const std::string& source, const TumImportOptions& options = {});
 
 /// The largest file read_import_text reads: far beyond any recording the
-/// importers are meant for, far below what would exhaust the memory of a
-/// machine that maps.
+/// importers are meant for, small enough that a wrong argument (a disk
+/// image, a video) is refused before it fills the memory.
 inline constexpr std::uint64_t kMaxImportBytes = std::uint64_t{4} << 30;
 
 /// A file to import, read whole after checks that need not read it: a
