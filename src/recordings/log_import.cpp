@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <new>
 #include <numbers>
 #include <sstream>
 
@@ -120,7 +121,12 @@ std::string read_import_text(const std::string& path, std::uint64_t max_bytes) {
   if (!in) throw InputError(path + ": cannot open the file to import (" + std::strerror(errno) + ")");
   // Read into place, once: the size is known, so no growing copy doubles
   // the memory. A file that grows meanwhile is read up to its checked size.
-  std::string text(static_cast<std::size_t>(size), '\0');
+  std::string text;
+  try {
+    text.resize(static_cast<std::size_t>(size));
+  } catch (const std::bad_alloc&) {
+    throw InputError(path + ": " + std::to_string(size) + " bytes do not fit in memory; import a smaller part");
+  }
   const std::size_t head = std::min<std::size_t>(text.size(), detail::kTextSniffBytes);
   in.read(text.data(), static_cast<std::streamsize>(head));
   std::size_t got = static_cast<std::size_t>(in.gcount());
