@@ -4,9 +4,7 @@
 #include <sys/stat.h>
 
 #include <cstdio>
-#include <fstream>
 #include <functional>
-#include <iterator>
 #include <memory>
 #include <numbers>
 #include <string>
@@ -36,14 +34,6 @@ struct ImportArgs {
   std::string tum_height = "reference";
 };
 
-std::string read_input(const std::string& path) {
-  struct stat info {};
-  if (::stat(path.c_str(), &info) == 0 && S_ISDIR(info.st_mode)) throw InputError(path + ": is a folder, not a log");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path + ": cannot open the file to import");
-  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-}
-
 void refuse_existing(const std::string& path, bool overwrite) {
   struct stat info {};
   if (!path.empty() && !overwrite && ::stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode)) {
@@ -57,7 +47,7 @@ using Importer = std::function<io::ImportedData(std::string_view text, const Pro
 void run_import(const ImportArgs& args, const Importer& import) {
   refuse_existing(args.log_path, args.overwrite);
   refuse_existing(args.poses_path, args.overwrite);
-  const std::string text = read_input(args.input);
+  const std::string text = io::read_import_text(args.input);
   note("read " + std::to_string(text.size()) + " bytes from " + args.input);
   io::ImportedData data;
   {
@@ -69,17 +59,19 @@ void run_import(const ImportArgs& args, const Importer& import) {
     std::fprintf(stderr, "stridemap: warning: %s (line skipped)\n", r.problems[k].c_str());
   }
   if (r.skipped > kProblemsShown) {
-    std::fprintf(stderr, "stridemap: warning: %zu more malformed lines skipped\n", r.skipped - kProblemsShown);
+    std::fprintf(stderr, "stridemap: warning: %zu more lines skipped\n", r.skipped - kProblemsShown);
   }
+  const std::size_t malformed = r.skipped - r.out_of_order;
   if (data.scans.empty() && data.poses.empty()) {
     throw InputError(args.input + ": nothing to import (" + std::to_string(r.lines) + " lines, " +
-                     std::to_string(r.skipped) + " malformed, " + std::to_string(r.ignored) + " of other kinds)");
+                     std::to_string(malformed) + " malformed, " + std::to_string(r.ignored) + " of other kinds)");
   }
   io::write_imported(data, data.scans.empty() ? "" : args.log_path, data.poses.empty() ? "" : args.poses_path,
                      args.input);
-  std::printf("import %s: %zu scans, %zu poses from %zu lines of %s (%zu malformed lines skipped, %zu of other "
-              "kinds ignored)",
-              data.format.c_str(), r.scans, r.poses, r.lines, args.input.c_str(), r.skipped, r.ignored);
+  std::printf("import %s: %zu scans, %zu poses from %zu lines of %s (%zu malformed lines skipped, %zu out of time "
+              "order skipped, %zu of other kinds ignored)",
+              data.format.c_str(), r.scans, r.poses, r.lines, args.input.c_str(), malformed, r.out_of_order,
+              r.ignored);
   if (!data.scans.empty()) std::printf("; scan log: %s", args.log_path.c_str());
   if (!data.poses.empty()) std::printf("; poses: %s", args.poses_path.c_str());
   std::printf("\n");

@@ -30,11 +30,17 @@ ImportedData import_breezyslam(std::string_view text, const std::string& source,
   const std::size_t expected = 24 + options.values_per_scan;
   const double metres_per_tick = 2.0 * std::numbers::pi * options.wheel_radius_m / options.ticks_per_revolution;
 
-  TimedPose pose;  // dead reckoning from (0, 0), heading +X
-  std::int64_t previous_left = 0, previous_right = 0;
-  std::uint64_t previous_us = 0;
-  double first_time_s = 0.0;
-  detail::for_each_line(text, [&](std::string_view line, std::size_t number) {
+  // Kept in file order until every time is known: which times are out of
+  // order depends on all of them, and the dead reckoning runs over the
+  // kept scans only.
+  struct Record {
+    std::size_t line = 0;
+    std::uint64_t time_us = 0;
+    std::int64_t left = 0, right = 0;
+    std::vector<std::uint32_t> values;
+  };
+  std::vector<Record> records;
+  detail::for_each_line(detail::text_body(text, source), [&](std::string_view line, std::size_t number) {
     ++out.report.lines;
     const auto fields = detail::split_fields(line);
     if (fields.empty() || fields.front().front() == '#') {
@@ -47,31 +53,35 @@ ImportedData import_breezyslam(std::string_view text, const std::string& source,
            " (time, 23 robot fields, " + std::to_string(options.values_per_scan) + " ranges)");
       return;
     }
-    std::uint64_t time_us = 0;
-    std::int64_t left = 0, right = 0;
-    if (!detail::parse_number(fields[0], time_us)) return skip("time '" + std::string(fields[0]) + "' is not a whole number of microseconds");
-    if (!detail::parse_number(fields[2], left) || !detail::parse_number(fields[3], right)) {
+    Record record;
+    record.line = number;
+    if (!detail::parse_number(fields[0], record.time_us)) {
+      return skip("time '" + std::string(fields[0]) + "' is not a whole number of microseconds");
+    }
+    if (!detail::parse_number(fields[2], record.left) || !detail::parse_number(fields[3], record.right)) {
       return skip("wheel ticks (fields 3 and 4) are not whole numbers");
     }
-    std::vector<std::uint32_t> values(options.values_per_scan);
-    for (std::size_t k = 0; k < values.size(); ++k) {
-      if (!detail::parse_number(fields[24 + k], values[k]) || values[k] > detail::kLargestRawValue) {
+    record.values.resize(options.values_per_scan);
+    for (std::size_t k = 0; k < record.values.size(); ++k) {
+      if (!detail::parse_number(fields[24 + k], record.values[k]) || record.values[k] > detail::kLargestRawValue) {
         return skip("range " + std::to_string(k + 1) + " ('" + std::string(fields[24 + k]) +
                     "') is not a whole number of millimetres up to " + std::to_string(detail::kLargestRawValue));
       }
     }
-    if (!out.scans.empty() && time_us <= previous_us) {
-      return skip("time " + std::to_string(time_us) + " us is not later than the previous scan's " +
-                  std::to_string(previous_us) + " us");
-    }
-    const double time_s = static_cast<double>(time_us) * 1e-6;
-    if (out.scans.empty()) {
-      first_time_s = time_s;
-    } else {
+    records.push_back(std::move(record));
+  }, options.progress);
+  records = detail::keep_increasing_times(std::move(records), &Record::time_us, out.report, source, " us");
+
+  TimedPose pose;  // dead reckoning from (0, 0), heading +X
+  out.scans.reserve(records.size());
+  out.poses.reserve(records.size());
+  for (std::size_t k = 0; k < records.size(); ++k) {
+    Record& record = records[k];
+    if (k > 0) {
       // Differential drive: the wheels' arcs give the travel and the turn;
       // the travel is taken along the mean heading of the step.
-      const double left_m = static_cast<double>(left - previous_left) * metres_per_tick;
-      const double right_m = static_cast<double>(right - previous_right) * metres_per_tick;
+      const double left_m = static_cast<double>(record.left - records[k - 1].left) * metres_per_tick;
+      const double right_m = static_cast<double>(record.right - records[k - 1].right) * metres_per_tick;
       const double travel = 0.5 * (left_m + right_m);
       const double turn = (right_m - left_m) / (2.0 * options.half_axle_length_m);
       const double heading = pose.pose.yaw_rad + 0.5 * turn;
@@ -79,14 +89,12 @@ ImportedData import_breezyslam(std::string_view text, const std::string& source,
       pose.pose.y_m += travel * std::sin(heading);
       pose.pose.yaw_rad = std::remainder(pose.pose.yaw_rad + turn, 2.0 * std::numbers::pi);
     }
-    previous_left = left;
-    previous_right = right;
-    previous_us = time_us;
+    const double time_s = static_cast<double>(record.time_us) * 1e-6;
     pose.time_s = time_s;
-    out.scans.push_back(detail::make_scan(out.scans.size(), time_s, first_time_s, options.first_step, 1,
-                                          std::move(values)));
+    out.scans.push_back(detail::make_scan(out.scans.size(), time_s, static_cast<double>(records.front().time_us) * 1e-6,
+                                          options.first_step, 1, std::move(record.values)));
     out.poses.push_back(pose);
-  }, options.progress);
+  }
   out.report.scans = out.scans.size();
   out.report.poses = out.poses.size();
   return out;

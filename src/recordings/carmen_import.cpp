@@ -53,9 +53,10 @@ std::optional<std::string> read_flaser(const std::vector<std::string_view>& f, c
   }
   double odom[3];
   if (!c.next(out.x_m) || !c.next(out.y_m) || !c.next(out.theta_rad) || !c.next(odom[0]) || !c.next(odom[1]) ||
-      !c.next(odom[2]) || !c.next(out.time_s)) {
-    return "FLASER: pose, odometry or timestamp is not a number";
+      !c.next(odom[2])) {
+    return "FLASER: pose or odometry is not a number";
   }
+  if (!c.next(out.time_s)) return "FLASER: the timestamp '" + std::string(f[c.position() - 1]) + "' is not a finite number";
   // Evenly over the field of view: 181 readings of a 180 deg scanner are 1 deg apart.
   out.angle_step_rad = n > 1 ? options.flaser_field_of_view_rad / static_cast<double>(n - 1) : 1.0;
   out.angle_min_rad = n > 1 ? -0.5 * options.flaser_field_of_view_rad : 0.0;
@@ -90,7 +91,9 @@ std::optional<std::string> read_robotlaser(const std::vector<std::string_view>& 
   for (int k = 0; k < 5; ++k) {
     if (!c.next(ignored)) return "ROBOTLASER1: velocities or safety distances are not numbers";
   }
-  if (!c.next(out.time_s)) return "ROBOTLASER1: the timestamp is not a number";
+  if (!c.next(out.time_s)) {
+    return "ROBOTLASER1: the timestamp '" + std::string(f[c.position() - 1]) + "' is not a finite number";
+  }
   return std::nullopt;
 }
 
@@ -106,8 +109,16 @@ ImportedData import_carmen(std::string_view text, const std::string& source, con
   out.version = detail::imported_version("CARMEN");
   std::optional<detail::BeamSteps> layout;
   LaserLine first_geometry;
-  double first_time_s = 0.0;
-  detail::for_each_line(text, [&](std::string_view line, std::size_t number) {
+  // Kept in file order until every time is known: which times are out of
+  // order depends on all of them.
+  struct Record {
+    std::size_t line = 0;
+    double time_s = 0.0;
+    std::vector<std::uint32_t> values;
+    TimedPose pose;
+  };
+  std::vector<Record> records;
+  detail::for_each_line(detail::text_body(text, source), [&](std::string_view line, std::size_t number) {
     ++out.report.lines;
     const auto fields = detail::split_fields(line);
     const std::string_view kind = fields.empty() ? std::string_view{} : fields.front();
@@ -128,7 +139,6 @@ ImportedData import_carmen(std::string_view text, const std::string& source, con
       out.sensor = layout->sensor;
       out.sensor.model = "CARMEN laser (imported)";
       first_geometry = laser;
-      first_time_s = laser.time_s;
     } else if (laser.ranges_m.size() != first_geometry.ranges_m.size() ||
                std::abs(laser.angle_min_rad - first_geometry.angle_min_rad) > 1e-4 ||
                std::abs(laser.angle_step_rad - first_geometry.angle_step_rad) *
@@ -138,22 +148,28 @@ ImportedData import_carmen(std::string_view text, const std::string& source, con
                                    std::to_string(laser.ranges_m.size()) + " readings against " +
                                    std::to_string(first_geometry.ranges_m.size()));
     }
-    if (!out.scans.empty() && !(laser.time_s > out.scans.back().host_time_s)) {
-      return detail::skip_line(out.report, source, number, "timestamp is not later than the previous scan's");
+    Record record;
+    record.line = number;
+    record.time_s = laser.time_s;
+    record.values.resize(laser.ranges_m.size());
+    for (std::size_t k = 0; k < record.values.size(); ++k) {
+      record.values[k] =
+          detail::limited_range_to_raw_mm(laser.ranges_m[k], laser.max_range_m, out.sensor.max_distance_mm);
     }
-    std::vector<std::uint32_t> values(laser.ranges_m.size());
-    for (std::size_t k = 0; k < values.size(); ++k) {
-      values[k] = detail::limited_range_to_raw_mm(laser.ranges_m[k], laser.max_range_m, out.sensor.max_distance_mm);
-    }
-    out.scans.push_back(detail::make_scan(out.scans.size(), laser.time_s, first_time_s, layout->first_step,
-                                          layout->cluster, std::move(values)));
-    TimedPose pose;
-    pose.time_s = laser.time_s;
-    pose.pose.x_m = laser.x_m;
-    pose.pose.y_m = laser.y_m;
-    pose.pose.yaw_rad = laser.theta_rad;
-    out.poses.push_back(pose);
+    record.pose.time_s = laser.time_s;
+    record.pose.pose.x_m = laser.x_m;
+    record.pose.pose.y_m = laser.y_m;
+    record.pose.pose.yaw_rad = laser.theta_rad;
+    records.push_back(std::move(record));
   }, options.progress);
+  records = detail::keep_increasing_times(std::move(records), &Record::time_s, out.report, source);
+  out.scans.reserve(records.size());
+  out.poses.reserve(records.size());
+  for (Record& record : records) {
+    out.scans.push_back(detail::make_scan(out.scans.size(), record.time_s, records.front().time_s,
+                                          layout->first_step, layout->cluster, std::move(record.values)));
+    out.poses.push_back(record.pose);
+  }
   out.report.scans = out.scans.size();
   out.report.poses = out.poses.size();
   return out;

@@ -16,9 +16,16 @@ ImportedData import_csv_ranges(std::string_view text, const std::string& source,
   out.version = detail::imported_version("CSV ranges");
   std::optional<detail::BeamSteps> layout;
   std::size_t beams = 0;
-  double first_time_s = 0.0;
   bool seen_data = false;
-  detail::for_each_line(text, [&](std::string_view line, std::size_t number) {
+  // Kept in file order until every time is known: which times are out of
+  // order depends on all of them.
+  struct Record {
+    std::size_t line = 0;
+    double time_s = 0.0;
+    std::vector<std::uint32_t> values;
+  };
+  std::vector<Record> records;
+  detail::for_each_line(detail::text_body(text, source), [&](std::string_view line, std::size_t number) {
     ++out.report.lines;
     const auto fields = detail::split_fields(line, true);
     if (fields.empty() || fields.front().front() == '#') {
@@ -46,7 +53,6 @@ ImportedData import_csv_ranges(std::string_view text, const std::string& source,
       out.sensor = layout->sensor;
       out.sensor.model = "CSV ranges (imported)";
       beams = fields.size() - 1;
-      first_time_s = time_s;
     }
     if (fields.size() - 1 != beams) {
       return detail::skip_line(out.report, source, number,
@@ -68,12 +74,14 @@ ImportedData import_csv_ranges(std::string_view text, const std::string& source,
       values[k] = detail::limited_range_to_raw_mm(range * options.range_scale_m, options.max_range_m,
                                                   out.sensor.max_distance_mm);
     }
-    if (!out.scans.empty() && !(time_s > out.scans.back().host_time_s)) {
-      return detail::skip_line(out.report, source, number, "time is not later than the previous scan's");
-    }
-    out.scans.push_back(detail::make_scan(out.scans.size(), time_s, first_time_s, layout->first_step,
-                                          layout->cluster, std::move(values)));
+    records.push_back(Record{number, time_s, std::move(values)});
   }, options.progress);
+  records = detail::keep_increasing_times(std::move(records), &Record::time_s, out.report, source);
+  out.scans.reserve(records.size());
+  for (Record& record : records) {
+    out.scans.push_back(detail::make_scan(out.scans.size(), record.time_s, records.front().time_s,
+                                          layout->first_step, layout->cluster, std::move(record.values)));
+  }
   out.report.scans = out.scans.size();
   return out;
 }

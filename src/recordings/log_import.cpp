@@ -1,9 +1,14 @@
 #include "stridemap/recordings/log_import.hpp"
 
+#include <sys/stat.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <new>
 #include <numbers>
 #include <sstream>
 
@@ -96,6 +101,44 @@ scip::VersionInfo imported_version(const std::string& format) {
 }
 
 }  // namespace detail
+
+std::string read_import_text(const std::string& path, std::uint64_t max_bytes) {
+  struct stat info {};
+  if (::stat(path.c_str(), &info) != 0) {
+    throw InputError(path + ": cannot open the file to import (" + std::strerror(errno) + ")");
+  }
+  if (S_ISDIR(info.st_mode)) throw InputError(path + ": is a folder, not a file to import");
+  // A device or pipe has no size to check and may never end (/dev/zero).
+  if (!S_ISREG(info.st_mode)) {
+    throw InputError(path + ": not a regular file (a device, pipe or socket); import reads files");
+  }
+  const auto size = static_cast<std::uint64_t>(info.st_size);
+  if (size > max_bytes) {
+    throw InputError(path + ": " + std::to_string(size) + " bytes, more than the import limit of " +
+                     std::to_string(max_bytes) + " bytes");
+  }
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(path + ": cannot open the file to import (" + std::strerror(errno) + ")");
+  // Read into place, once: the size is known, so no growing copy doubles
+  // the memory. A file that grows meanwhile is read up to its checked size.
+  std::string text;
+  try {
+    text.resize(static_cast<std::size_t>(size));
+  } catch (const std::bad_alloc&) {
+    throw InputError(path + ": " + std::to_string(size) + " bytes do not fit in memory; import a smaller part");
+  }
+  const std::size_t head = std::min<std::size_t>(text.size(), detail::kTextSniffBytes);
+  in.read(text.data(), static_cast<std::streamsize>(head));
+  std::size_t got = static_cast<std::size_t>(in.gcount());
+  detail::text_body(std::string_view(text.data(), got), path);  // binary data is refused before the rest is read
+  if (got == head && head < text.size()) {
+    in.read(text.data() + head, static_cast<std::streamsize>(text.size() - head));
+    got += static_cast<std::size_t>(in.gcount());
+  }
+  if (in.bad()) throw InputError(path + ": cannot read the file to import (" + std::strerror(errno) + ")");
+  text.resize(got);
+  return text;
+}
 
 void write_imported(const ImportedData& data, const std::string& log_path, const std::string& poses_path,
                     const std::string& source) {

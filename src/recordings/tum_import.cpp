@@ -11,8 +11,16 @@ namespace stridemap::io {
 ImportedData import_tum(std::string_view text, const std::string& source, const TumImportOptions& options) {
   ImportedData out;
   out.format = "tum";
-  double first_z = 0.0;
-  detail::for_each_line(text, [&](std::string_view line, std::size_t number) {
+  // Kept in file order until every time is known: which times are out of
+  // order depends on all of them.
+  struct Record {
+    std::size_t line = 0;
+    double time_s = 0.0;
+    double z = 0.0;
+    TimedPose pose;
+  };
+  std::vector<Record> records;
+  detail::for_each_line(detail::text_body(text, source), [&](std::string_view line, std::size_t number) {
     ++out.report.lines;
     const auto fields = detail::split_fields(line);
     if (fields.empty() || fields.front().front() == '#') {
@@ -36,24 +44,30 @@ ImportedData import_tum(std::string_view text, const std::string& source, const 
     if (!(std::abs(norm - 1.0) < 0.01)) {
       return skip("the quaternion's length is " + std::to_string(norm) + ", not 1");
     }
-    if (!out.poses.empty() && !(v[0] > out.poses.back().time_s)) {
-      return skip("timestamp is not later than the previous pose's");
-    }
     // R = Rz(yaw) Ry(pitch) Rx(roll), the order the mapper composes
     // (core/sensor_transform.hpp); positive pitch about +Y puts the nose down.
     const Eigen::Matrix3d r = q.normalized().toRotationMatrix();
-    TimedPose pose;
+    Record record;
+    record.line = number;
+    record.time_s = v[0];
+    record.z = v[3];
+    TimedPose& pose = record.pose;
     pose.time_s = v[0];
     pose.pose.x_m = v[1];
     pose.pose.y_m = v[2];
     pose.pose.yaw_rad = std::atan2(r(1, 0), r(0, 0));
     pose.pose.pitch_rad = std::asin(std::clamp(-r(2, 0), -1.0, 1.0)) + 0.0;  // + 0.0: no "-0" in the file
     pose.pose.roll_rad = std::atan2(r(2, 1), r(2, 2));
-    if (out.poses.empty()) first_z = v[3];
-    if (options.height == TumHeight::reference_elevation) pose.pose.reference_elevation_m = v[3] - first_z;
-    if (options.height == TumHeight::height_change) pose.pose.height_change_m = v[3] - first_z;
-    out.poses.push_back(pose);
+    records.push_back(record);
   }, options.progress);
+  records = detail::keep_increasing_times(std::move(records), &Record::time_s, out.report, source);
+  out.poses.reserve(records.size());
+  for (Record& record : records) {
+    const double z = record.z - records.front().z;
+    if (options.height == TumHeight::reference_elevation) record.pose.pose.reference_elevation_m = z;
+    if (options.height == TumHeight::height_change) record.pose.pose.height_change_m = z;
+    out.poses.push_back(record.pose);
+  }
   out.report.poses = out.poses.size();
   return out;
 }

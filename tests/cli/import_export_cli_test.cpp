@@ -100,6 +100,28 @@ TEST(ImportCli, ExistingOutputsAreNotReplacedAndBadLinesAreReported) {
   EXPECT_FALSE(std::filesystem::exists(folder / "p2.txt"));
 }
 
+TEST(ImportCli, DevicesBinaryFilesAndOutOfOrderTimesAreReported) {
+  TestFolder folder;
+  // A device has no size and /dev/zero never ends: refused before reading, exit 2.
+  const auto device = run_cli("import tum /dev/zero --poses " + shell_quoted(folder / "z.txt"));
+  EXPECT_EQ(device.exit_code, 2) << device.output;
+  EXPECT_NE(device.output.find("/dev/zero: not a regular file"), std::string::npos) << device.output;
+  const std::string blob = folder.write("blob.dat", std::string("1.0 0 0\0\0\x01", 10));
+  const auto binary = run_cli("import tum " + shell_quoted(blob) + " --poses " + shell_quoted(folder / "b.txt"));
+  EXPECT_EQ(binary.exit_code, 2) << binary.output;
+  EXPECT_NE(binary.output.find("blob.dat: not a text file"), std::string::npos) << binary.output;
+  EXPECT_FALSE(std::filesystem::exists(folder / "b.txt"));
+
+  const std::string trajectory = folder.write(
+      "late.txt", "\xEF\xBB\xBF" "1.0 0 0 0 0 0 0 1\n1e308 0 0 0 0 0 0 1\n2.0 0 0 0 0 0 0 1\n3.0 0 0 0 0 0 0 1\n");
+  const auto imported = run_cli("import tum " + shell_quoted(trajectory) + " --poses " + shell_quoted(folder / "p.txt"));
+  ASSERT_EQ(imported.exit_code, 0) << imported.output;
+  EXPECT_NE(imported.output.find("late.txt:2: time 1e+308 is out of order"), std::string::npos) << imported.output;
+  EXPECT_NE(imported.output.find("3 poses"), std::string::npos) << imported.output;
+  EXPECT_NE(imported.output.find("0 malformed lines skipped, 1 out of time order skipped"), std::string::npos)
+      << imported.output;
+}
+
 TEST(ExportCli, ADamagedMapFileIsAClearError) {
   TestFolder folder;
   const std::string damaged = folder.write("bad.smap", std::string("SMAP\r\n\x1a\n", 8) + std::string(40, 'x'));

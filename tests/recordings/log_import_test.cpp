@@ -42,6 +42,38 @@ std::string breezyslam_line(std::uint64_t time_us, long left, long right, std::s
   return line.str();
 }
 
+// A FLASER line of 3 readings at `time`.
+std::string flaser_line(const std::string& time) {
+  return "FLASER 3 1.0 1.5 2.0 0 0 0 0 0 0 " + time + " host " + time + "\n";
+}
+
+// A TUM line at `time`, x = time.
+std::string tum_line(double time) {
+  std::ostringstream line;
+  line.precision(17);
+  line << time << " " << time << " 0 0 0 0 0 1\n";
+  return line.str();
+}
+
+// A CSV ranges line of 3 ranges at `time`.
+std::string csv_line(double time) {
+  std::ostringstream line;
+  line.precision(17);
+  line << time << ",1,1,1\n";
+  return line.str();
+}
+
+io::CsvRangesImportOptions three_beams() {
+  io::CsvRangesImportOptions options;
+  options.angle_min_rad = -kPi / 4;
+  options.angle_step_rad = kPi / 4;
+  return options;
+}
+
+bool starts_with(const std::string& text, const std::string& start) { return text.rfind(start, 0) == 0; }
+
+constexpr const char* kBom = "\xEF\xBB\xBF";
+
 // Angles of the beams as the scan log's sensor model puts them.
 std::vector<double> beam_angles(const io::ImportedData& data) {
   const UrgParameters sensor = scip::to_urg_parameters(data.sensor);
@@ -93,7 +125,7 @@ TEST(BreezySlamImport, MalformedLinesAreSkippedAndReportedWithTheirLine) {
   EXPECT_EQ(data.report.lines, 7u);
   ASSERT_EQ(data.report.problems.size(), 3u);
   EXPECT_EQ(data.report.problems[0].rfind("rover.dat:2: 4 fields, expected 27", 0), 0u) << data.report.problems[0];
-  EXPECT_EQ(data.report.problems[1].rfind("rover.dat:3: time 900 us is not later", 0), 0u) << data.report.problems[1];
+  EXPECT_EQ(data.report.problems[1].rfind("rover.dat:3: time 900 us is out of order", 0), 0u) << data.report.problems[1];
   EXPECT_EQ(data.report.problems[2].rfind("rover.dat:4: range 3 ('5x0')", 0), 0u) << data.report.problems[2];
 }
 
@@ -203,7 +235,7 @@ TEST(CsvRangesImport, ReadsRangesWithTheirAnglesAndReportsBadLines) {
   ASSERT_EQ(data.report.problems.size(), 3u);
   EXPECT_EQ(data.report.problems[0].rfind("ranges.csv:4: range 2 ('abc')", 0), 0u) << data.report.problems[0];
   EXPECT_EQ(data.report.problems[1].rfind("ranges.csv:5: 2 ranges, the first scan had 3", 0), 0u);
-  EXPECT_EQ(data.report.problems[2].rfind("ranges.csv:6: time is not later", 0), 0u);
+  EXPECT_EQ(data.report.problems[2].rfind("ranges.csv:6: time 0.05 is out of order", 0), 0u);
   EXPECT_EQ(data.scans[0].raw.values_mm, (std::vector<std::uint32_t>{1000, 2000, 3000}));
   EXPECT_EQ(data.scans[1].raw.values_mm[1], 0u);
   EXPECT_GT(data.scans[1].raw.values_mm[2], 5000u);
@@ -260,6 +292,200 @@ TEST(TumImport, QuaternionsBecomeYawPitchRoll) {
   io::TumImportOptions ignore;
   ignore.height = io::TumHeight::ignore;
   EXPECT_EQ(io::import_tum(text.str(), "traj.txt", ignore).poses[1].pose.reference_elevation_m, 0.0);
+}
+
+// One far-future time ahead of good ones must not make every later record
+// "out of order": the longest increasing run of times is what is kept.
+TEST(ImportTimes, CarmenFarFutureTimeSkipsOnlyThatScan) {
+  std::string log = flaser_line("1.0") + flaser_line("1e308");
+  for (int k = 1; k <= 25; ++k) log += flaser_line(std::to_string(1.0 + 0.1 * k));
+  const io::ImportedData data = io::import_carmen(log, "run.clf");
+  EXPECT_EQ(data.scans.size(), 26u);
+  EXPECT_EQ(data.poses.size(), 26u);
+  EXPECT_EQ(data.report.skipped, 1u);
+  EXPECT_EQ(data.report.out_of_order, 1u);
+  ASSERT_EQ(data.report.problems.size(), 1u);
+  EXPECT_TRUE(starts_with(data.report.problems[0], "run.clf:2: time 1e+308 is out of order"))
+      << data.report.problems[0];
+  EXPECT_DOUBLE_EQ(data.scans.back().host_time_s, 3.5);
+  EXPECT_EQ(data.scans.back().sequence, 25u);
+  EXPECT_EQ(data.scans.back().sensor_time_ms, 2500u);
+}
+
+TEST(ImportTimes, NonFiniteTimesAreSkippedAndNamed) {
+  const std::string log = flaser_line("1.0") + flaser_line("inf") + flaser_line("nan") + flaser_line("1.2");
+  const io::ImportedData data = io::import_carmen(log, "run.clf");
+  EXPECT_EQ(data.scans.size(), 2u);
+  EXPECT_EQ(data.report.skipped, 2u);
+  ASSERT_EQ(data.report.problems.size(), 2u);
+  EXPECT_EQ(data.report.problems[0], "run.clf:2: FLASER: the timestamp 'inf' is not a finite number");
+  EXPECT_EQ(data.report.problems[1], "run.clf:3: FLASER: the timestamp 'nan' is not a finite number");
+  const io::ImportedData tum = io::import_tum(tum_line(1.0) + "inf 0 0 0 0 0 0 1\n" + tum_line(2.0), "t.txt");
+  EXPECT_EQ(tum.poses.size(), 2u);
+  ASSERT_EQ(tum.report.problems.size(), 1u);
+  EXPECT_TRUE(starts_with(tum.report.problems[0], "t.txt:2: field 1 ('inf') is not a finite number"));
+  const io::ImportedData csv = io::import_csv_ranges(csv_line(0.0) + "nan,1,1,1\n" + csv_line(0.1), "c.csv",
+                                                     three_beams());
+  EXPECT_EQ(csv.scans.size(), 2u);
+  ASSERT_EQ(csv.report.problems.size(), 1u);
+  EXPECT_TRUE(starts_with(csv.report.problems[0], "c.csv:2: time 'nan' is not a number"));
+}
+
+TEST(ImportTimes, TumSwappedPairKeepsAllButOne) {
+  std::string text;
+  for (int k = 1; k <= 50; ++k) text += tum_line(k == 20 ? 21.0 : k == 21 ? 20.0 : k);
+  const io::ImportedData data = io::import_tum(text, "traj.txt");
+  EXPECT_EQ(data.poses.size(), 49u);
+  EXPECT_EQ(data.report.skipped, 1u);
+  EXPECT_EQ(data.report.out_of_order, 1u);
+  ASSERT_EQ(data.report.problems.size(), 1u);
+  // Of the pair, the earlier line is kept.
+  EXPECT_TRUE(starts_with(data.report.problems[0], "traj.txt:21: time 20 is out of order")) << data.report.problems[0];
+  EXPECT_DOUBLE_EQ(data.poses[19].time_s, 21.0);
+}
+
+// The swap the old rule handled worst: line 13 holds the last pose's time.
+TEST(ImportTimes, TumDistantSwapSkipsOnlyTheSwappedPair) {
+  std::string text;
+  for (int k = 1; k <= 50; ++k) text += tum_line(k == 13 ? 50.0 : k == 50 ? 13.0 : k);
+  const io::ImportedData data = io::import_tum(text, "traj.txt");
+  EXPECT_EQ(data.poses.size(), 48u);
+  EXPECT_EQ(data.report.out_of_order, 2u);
+  ASSERT_EQ(data.report.problems.size(), 2u);
+  EXPECT_TRUE(starts_with(data.report.problems[0], "traj.txt:13: time 50 is out of order: the records kept around "
+                                                   "it are line 12 (time 12) and line 14 (time 14)"))
+      << data.report.problems[0];
+  EXPECT_TRUE(starts_with(data.report.problems[1], "traj.txt:50: time 13 is out of order")) << data.report.problems[1];
+}
+
+TEST(ImportTimes, BreezySlamBadTimeSkipsOnlyThatScan) {
+  io::BreezySlamImportOptions options;
+  options.values_per_scan = 3;
+  std::string text;
+  for (int k = 0; k < 60; ++k) {
+    text += breezyslam_line(k == 30 ? 999999999999999u : 1000000u + 100000u * k, 10 * k, 10 * k, 3, 500);
+  }
+  const io::ImportedData data = io::import_breezyslam(text, "rover.dat", options);
+  EXPECT_EQ(data.scans.size(), 59u);
+  EXPECT_EQ(data.poses.size(), 59u);
+  EXPECT_EQ(data.report.out_of_order, 1u);
+  ASSERT_EQ(data.report.problems.size(), 1u);
+  EXPECT_TRUE(starts_with(data.report.problems[0], "rover.dat:31: time 999999999999999 us is out of order"))
+      << data.report.problems[0];
+  // Dead reckoning runs over the kept scans: the skipped one's ticks are not used.
+  EXPECT_NEAR(data.poses.back().pose.x_m, 590 * 2 * kPi * 0.077 / 4000, 1e-12);
+}
+
+TEST(ImportTimes, AllTimesDecreasingKeepsTheFirstRecord) {
+  std::string text;
+  for (int k = 5; k >= 1; --k) text += tum_line(k);
+  const io::ImportedData data = io::import_tum(text, "back.txt");
+  ASSERT_EQ(data.poses.size(), 1u);
+  EXPECT_DOUBLE_EQ(data.poses[0].time_s, 5.0);
+  EXPECT_EQ(data.report.skipped, 4u);
+  EXPECT_EQ(data.report.out_of_order, 4u);
+  ASSERT_EQ(data.report.problems.size(), 4u);
+  EXPECT_TRUE(starts_with(data.report.problems[0], "back.txt:2: time 4 is out of order")) << data.report.problems[0];
+  EXPECT_TRUE(starts_with(data.report.problems[3], "back.txt:5: time 1 is out of order")) << data.report.problems[3];
+}
+
+TEST(ImportTimes, ADuplicateTimeKeepsTheFirstOfThem) {
+  const std::string text = csv_line(0.0) + csv_line(0.1) + csv_line(0.1) + csv_line(0.2);
+  const io::ImportedData data = io::import_csv_ranges(text, "dup.csv", three_beams());
+  ASSERT_EQ(data.scans.size(), 3u);
+  EXPECT_EQ(data.report.out_of_order, 1u);
+  ASSERT_EQ(data.report.problems.size(), 1u);
+  EXPECT_TRUE(starts_with(data.report.problems[0], "dup.csv:3: time 0.1 repeats line 2's")) << data.report.problems[0];
+  EXPECT_DOUBLE_EQ(data.scans[2].host_time_s, 0.2);
+}
+
+TEST(ImportTimes, OutOfOrderAndMalformedLinesAreReportedInLineOrder) {
+  const std::string text = csv_line(0.0) + csv_line(5.0) + "0.2,1,x,1\n" + csv_line(0.3);
+  const io::ImportedData data = io::import_csv_ranges(text, "mixed.csv", three_beams());
+  EXPECT_EQ(data.scans.size(), 2u);
+  EXPECT_EQ(data.report.skipped, 2u);
+  EXPECT_EQ(data.report.out_of_order, 1u);
+  ASSERT_EQ(data.report.problems.size(), 2u);
+  // 0.0 and 5.0 against 0.0 and 0.3: a tie, the earlier line is kept.
+  EXPECT_TRUE(starts_with(data.report.problems[0], "mixed.csv:3: range 2")) << data.report.problems[0];
+  EXPECT_TRUE(starts_with(data.report.problems[1], "mixed.csv:4: time 0.3 is out of order")) << data.report.problems[1];
+}
+
+TEST(ImportBom, CarmenFirstLineAfterAByteOrderMarkIsRead) {
+  const io::ImportedData data = io::import_carmen(kBom + flaser_line("1.0") + flaser_line("1.1"), "bom.clf");
+  EXPECT_EQ(data.scans.size(), 2u);
+  EXPECT_EQ(data.report.ignored, 0u);
+  EXPECT_EQ(data.report.skipped, 0u);
+}
+
+TEST(ImportBom, TumFirstLineAfterAByteOrderMarkIsRead) {
+  const io::ImportedData data = io::import_tum(kBom + tum_line(1.0) + tum_line(2.0), "bom.txt");
+  EXPECT_EQ(data.poses.size(), 2u);
+  EXPECT_EQ(data.report.skipped, 0u) << (data.report.problems.empty() ? "" : data.report.problems[0]);
+}
+
+TEST(ImportBom, BreezySlamFirstLineAfterAByteOrderMarkIsRead) {
+  io::BreezySlamImportOptions options;
+  options.values_per_scan = 3;
+  const io::ImportedData data = io::import_breezyslam(
+      kBom + breezyslam_line(1000, 0, 0, 3, 500) + breezyslam_line(2000, 0, 0, 3, 500), "bom.dat", options);
+  EXPECT_EQ(data.scans.size(), 2u);
+  EXPECT_EQ(data.report.skipped, 0u) << (data.report.problems.empty() ? "" : data.report.problems[0]);
+}
+
+TEST(ImportBom, CsvHeaderAfterAByteOrderMarkIsRecognised) {
+  const io::ImportedData data =
+      io::import_csv_ranges(kBom + csv_line(0.0) + csv_line(0.1), "bom.csv", three_beams());
+  EXPECT_EQ(data.scans.size(), 2u);
+  EXPECT_EQ(data.report.ignored, 0u);
+  const io::ImportedData header =
+      io::import_csv_ranges(std::string(kBom) + "time,a,b,c\n" + csv_line(0.0), "bomh.csv", three_beams());
+  EXPECT_EQ(header.scans.size(), 1u);
+  EXPECT_EQ(header.report.ignored, 1u);
+  EXPECT_EQ(header.report.skipped, 0u);
+}
+
+TEST(ImportChecks, BinaryTextIsRefusedBeforeParsing) {
+  const std::string binary = std::string("1.0 0 0 0 0 0 0 1\n") + std::string("\0\x01\x02", 3);
+  try {
+    io::import_tum(binary, "blob.bin");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_TRUE(starts_with(e.what(), "blob.bin: not a text file (a NUL byte at offset 18)")) << e.what();
+  }
+  try {
+    io::import_csv_ranges(std::string("\xFF\xFE" "0\0.\0" "1\0", 8), "wide.csv");
+    FAIL();
+  } catch (const InputError& e) {
+    EXPECT_TRUE(starts_with(e.what(), "wide.csv: UTF-16 text; save it as UTF-8")) << e.what();
+  }
+  EXPECT_THROW(io::import_carmen(binary, "blob.bin"), InputError);
+  EXPECT_THROW(io::import_breezyslam(binary, "blob.bin"), InputError);
+  EXPECT_THROW(io::import_csv_ranges(binary, "blob.bin"), InputError);
+}
+
+TEST(ImportChecks, ReadImportTextRefusesDevicesFoldersAndLargeFiles) {
+  TestFolder folder;
+  const auto message = [](const std::string& path, std::uint64_t limit) {
+    try {
+      io::read_import_text(path, limit);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("no error");
+  };
+  EXPECT_TRUE(starts_with(message("/dev/zero", io::kMaxImportBytes), "/dev/zero: not a regular file"))
+      << message("/dev/zero", io::kMaxImportBytes);
+  EXPECT_TRUE(starts_with(message(folder.path().string(), io::kMaxImportBytes), folder.path().string() + ": "));
+  EXPECT_TRUE(starts_with(message(folder / "missing.txt", io::kMaxImportBytes), folder / "missing.txt: cannot open"));
+  const std::string big = folder.write("big.txt", std::string(2000, 'x'));
+  EXPECT_TRUE(starts_with(message(big, 1000), big + ": 2000 bytes, more than the import limit of 1000"))
+      << message(big, 1000);
+  const std::string blob = folder.write("blob.bin", std::string("abc\0def", 7));
+  EXPECT_TRUE(starts_with(message(blob, io::kMaxImportBytes), blob + ": not a text file")) << message(blob, 1000);
+  const std::string good = folder.write("good.txt", "1.0 0 0 0 0 0 0 1\n");
+  EXPECT_EQ(io::read_import_text(good, io::kMaxImportBytes), "1.0 0 0 0 0 0 0 1\n");
+  EXPECT_EQ(io::read_import_text(folder.write("empty.txt", ""), io::kMaxImportBytes), "");
 }
 
 TEST(WriteImported, WritesAScanLogAndPoseFileThatReadBack) {

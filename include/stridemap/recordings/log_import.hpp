@@ -3,7 +3,8 @@
 // (recordings/scan_log.hpp) and pose file (recordings/pose_stream.hpp), so that recorded
 // data of any origin goes through the one mapping entry point,
 // `stridemap map --log --poses` (docs/import.md has a worked example of
-// each). Every malformed line is skipped, counted and reported as
+// each). Every malformed line, and every record whose time breaks the
+// increasing order, is skipped, counted and reported as
 // "<file>:<line>: <what>"; nothing is dropped silently.
 //
 // Ranges from sensors other than a URG are carried in the scan log as a
@@ -30,8 +31,11 @@ struct ImportReport {
   std::size_t scans = 0;    ///< scans imported
   std::size_t poses = 0;    ///< poses imported
   std::size_t ignored = 0;  ///< well-formed lines of kinds the importer does not use (comments, CARMEN ODOM...)
-  std::size_t skipped = 0;  ///< malformed lines, each with a message in `problems`
-  /// "<file>:<line>: <what>" for the first kMaxImportProblems skipped lines.
+  std::size_t skipped = 0;  ///< malformed lines and out_of_order, each with a message in `problems`
+  /// Records whose time breaks the increasing order (of `skipped`): those
+  /// outside the longest strictly increasing subsequence of the file's times.
+  std::size_t out_of_order = 0;
+  /// "<file>:<line>: <what>" for the first kMaxImportProblems skipped lines, in line order.
   std::vector<std::string> problems;
 };
 
@@ -111,6 +115,17 @@ ImportedData import_csv_ranges(std::string_view text, const std::string& source,
 /// "timestamp tx ty tz qx qy qz qw" per line: poses only. The body frame
 /// must be the robot's (X forward, Y left, Z up).
 ImportedData import_tum(std::string_view text, const std::string& source, const TumImportOptions& options = {});
+
+/// The largest file read_import_text reads: far beyond any recording the
+/// importers are meant for, small enough that a wrong argument (a disk
+/// image, a video) is refused before it fills the memory.
+inline constexpr std::uint64_t kMaxImportBytes = std::uint64_t{4} << 30;
+
+/// A file to import, read whole after checks that need not read it: a
+/// regular file (not a device such as /dev/zero, a pipe or a folder), at
+/// most `max_bytes`, text in its first 4 KiB. Throws InputError naming the
+/// file and what is wrong.
+std::string read_import_text(const std::string& path, std::uint64_t max_bytes = kMaxImportBytes);
 
 /// Writes the scan log (only when there are scans) and the pose file (only
 /// when there are poses); each appears complete or not at all. Throws
