@@ -137,9 +137,11 @@ ScanMapperOptions mapper_options(const MappingArgs& args) {
   ScanMapperOptions options;
   if (!args.config_path.empty()) options.config = load_mapper_config(args.config_path);
   if (!args.global_map.empty()) options.config.global_map.folder = args.global_map;
-  if (!options.config.global_map.folder.empty() &&
-      (options.config.global_map.folder == args.out_dir || io::same_file(options.config.global_map.folder, args.out_dir))) {
-    throw InputError("--global-map: '" + options.config.global_map.folder + "' is the --out folder; give the tiles their own");
+  const std::string& tiles = options.config.global_map.folder;
+  if (!tiles.empty() && (io::path_within(tiles, args.out_dir) || io::path_within(args.out_dir, tiles))) {
+    // Refused now, not when the outputs are written after the mapping.
+    throw InputError("--global-map: '" + tiles + "' and the --out folder '" + args.out_dir +
+                     "' lie one inside the other; give the tiles a folder of their own");
   }
   if (window.mode == WindowChoice::Mode::center) {
     fix_window(options, window_centred_at(options.config.mapper.grid, window.center_m));
@@ -152,6 +154,21 @@ ScanMapperOptions mapper_options(const MappingArgs& args) {
     io::check_map_resumable(*options.resume, options.config, options.resume_source);
   }
   return options;
+}
+
+// A run whose global map is not all on disk failed, whatever else it did.
+void check_tiles_saved(const ScanMapper& mapper) {
+  const io::TileStore* tiles = mapper.tile_store();
+  if (!tiles) return;
+  const io::TileStoreStats& s = tiles->stats();
+  note("global map: " + std::to_string(tiles->tiles_on_disk().size()) + " tiles in " + tiles->folder() +
+       (s.tiles_set_aside ? "; " + std::to_string(s.tiles_set_aside) + " damaged or missing, set aside and mapped anew"
+                          : std::string()));
+  if (tiles->failing()) {
+    throw RunFailed("global map: " + std::to_string(tiles->unsaved()) + " changed tiles (or the manifest) could not be "
+                    "written to " + tiles->folder() + " after " + std::to_string(s.write_failures) +
+                    " tries (the warnings above say why); the map in --out holds the window only");
+  }
 }
 
 void report_shortfall(const ScanMapperStats& stats, const TimeRange& scans, const TimeRange& poses,
@@ -344,6 +361,7 @@ void run_live(const LiveArgs& args) {
   if (!result.last_save_error.empty()) throw InputError(result.last_save_error + " (the map could not be saved)");
   if (!result.fatal.empty()) throw InputError(args.device.device + ": " + result.fatal + " (the map so far is saved)");
   if (!log_error.empty()) throw InputError(log_error + " (the map is saved; the log stops where writing failed)");
+  check_tiles_saved(mapper);
   report_shortfall(mapper.stats(), live->scan_times(), live->pose_times(), args.mapping.clock);
   const std::string nothing = empty_run_failure(mapper, filtered_map_layers(mapper, MapFilter::none),
                                                 live->scan_times(), run_choices(args.mapping, options.mapper, false));
@@ -400,6 +418,9 @@ void run_map(const MapArgs& args) {
     io::ProgressBar bar = progress_bar("map", "scans");
     replay.run(track, [&bar](std::size_t scans) { bar.update(scans, 0); });
   }
+  for (const std::string& notice : replay.take_tile_notices()) {
+    std::fprintf(stderr, "stridemap: warning: %s\n", printable_text(notice).c_str());
+  }
   const io::ScanLog& log = replay.log();
   print_skipped("damaged scan-log lines", log.skipped_line_numbers.size(), log.skipped);
   if (!log.stop.empty()) {
@@ -432,9 +453,7 @@ void run_map(const MapArgs& args) {
               scans_mapped(mapper), s.scans, s.before_first_pose, s.after_last_pose, s.pose_gap,
               rejected_text(mapper).c_str(), 100.0 * map_coverage(layers), args.mapping.out_dir.c_str());
   std::fflush(stdout);
-  if (const io::TileStore* tiles = mapper.tile_store()) {
-    note("global map: " + std::to_string(tiles->tiles_on_disk().size()) + " tiles in " + tiles->folder());
-  }
+  check_tiles_saved(mapper);
   report_shortfall(s, scan_times, pose_times, args.mapping.clock);
   const std::string nothing = empty_run_failure(mapper, layers, scan_times, run_choices(args.mapping, options, true));
   if (!nothing.empty()) throw RunFailed(nothing);

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "stridemap/core/printable_text.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/mapfile/map_file.hpp"
 #include "stridemap/mapfile/tile_store.hpp"
@@ -121,12 +122,17 @@ void register_map_file_commands(CLI::App& app) {
     if (std::filesystem::exists(std::filesystem::symlink_status(merge->second, ec))) {
       throw InputError("--out: '" + merge->second + "' exists; merge-tiles writes only a new file");
     }
-    const ElevationMap merged = io::merge_tiles(merge->first);
+    const io::MergedTiles merged = io::merge_tiles(merge->first);
     io::MapFileMetadata metadata;
     metadata.created_by = "merge-tiles " + merge->first;
-    io::save_map_file(merge->second, merged, metadata);
-    std::printf("merge-tiles: %d x %d cells of %g m from %s into %s\n", merged.cells_per_side(),
-                merged.cells_per_side(), merged.cell_size_m(), merge->first.c_str(), merge->second.c_str());
+    io::save_map_file(merge->second, merged.map, metadata);
+    std::printf("merge-tiles: %d x %d cells of %g m from %s into %s\n", merged.map.cells_per_side(),
+                merged.map.cells_per_side(), merged.map.cell_size_m(), merge->first.c_str(), merge->second.c_str());
+    if (!merged.holes.empty()) {
+      for (const std::string& hole : merged.holes) std::fprintf(stderr, "  %s\n", printable_text(hole).c_str());
+      throw RunFailed("merge-tiles: the merged map has holes where " + std::to_string(merged.holes.size()) +
+                      " tiles are missing or damaged (listed above); their cells are unknown");
+    }
   });
 }
 

@@ -151,6 +151,21 @@ bool same_file(const std::string& a, const std::string& b) {
   return first.st_dev == second.st_dev && first.st_ino == second.st_ino;
 }
 
+bool path_within(const std::string& inner, const std::string& outer) {
+  if (inner.empty() || outer.empty()) return false;
+  std::error_code ec;
+  const std::filesystem::path a = std::filesystem::weakly_canonical(std::filesystem::absolute(inner, ec), ec);
+  if (ec) return false;
+  const std::filesystem::path b = std::filesystem::weakly_canonical(std::filesystem::absolute(outer, ec), ec);
+  if (ec) return false;
+  auto i = a.begin(), j = b.begin();
+  for (; j != b.end(); ++i, ++j) {
+    if (j->empty()) continue;  // the empty last part of a path ending in '/'
+    if (i == a.end() || *i != *j) return false;
+  }
+  return true;
+}
+
 void check_output_folder(const std::string& raw_target, const std::string& option, OtherFiles other) {
   const TargetState state = inspect_target(raw_target, option);
   if (other == OtherFiles::refuse && !state.listing.foreign.empty()) {

@@ -93,6 +93,10 @@ void LiveMapping::poll_poses() {
   for (std::string& notice : poses_.take_notices()) emit(LiveEvent::Kind::pose_notice, std::move(notice));
 }
 
+void LiveMapping::tell_tile_notices() {
+  for (std::string& notice : mapper_.take_tile_notices()) emit(LiveEvent::Kind::warning, std::move(notice));
+}
+
 bool LiveMapping::try_save(const LiveRunStats* run) {
   if (!hooks_.save) return true;
   try {
@@ -222,6 +226,7 @@ LiveMappingResult LiveMapping::run(const std::atomic<bool>& stop) {
       }
     }
     mapper_.process(track_, false);
+    tell_tile_notices();
     mapper_.expire(now - options_.pose_wait_s);
     account(integrated_before);
     if (track_.size() > options_.max_poses_ahead) {
@@ -242,6 +247,7 @@ LiveMappingResult LiveMapping::run(const std::atomic<bool>& stop) {
   mapper_.process(track_, true);
   account(integrated_before);
   mapper_.finish();
+  tell_tile_notices();
   // The last save matters most: a few tries before giving up.
   for (int attempt = 0; attempt < 3; ++attempt) {
     result.run = run_stats();

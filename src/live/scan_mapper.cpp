@@ -63,10 +63,23 @@ std::size_t ScanMapper::process(PoseTrack& poses, bool poses_complete) {
   return integrated;
 }
 
+// A failed tile write is tried again after this much scan time, as live's
+// failed saves are (LiveMappingOptions::save_retry_s).
+constexpr double kTileRetryS = 1.0;
+
 void ScanMapper::save_tiles_when_due() {
   const double interval_s = options_.config.global_map.save_interval_s;
   const std::optional<double> now_s = pipeline_.mapper().last_scan_time_s();
-  if (!tiles_ || interval_s <= 0.0 || !now_s) return;
+  if (!tiles_ || !now_s) return;
+  if (tiles_->failing()) {
+    if (!last_tile_retry_s_ || *now_s - *last_tile_retry_s_ >= kTileRetryS || *now_s < *last_tile_retry_s_) {
+      tiles_->flush(std::as_const(pipeline_).mapper().map());
+      last_tile_retry_s_ = *now_s;
+    }
+    return;
+  }
+  last_tile_retry_s_.reset();
+  if (interval_s <= 0.0) return;
   if (!last_tile_save_s_) {
     last_tile_save_s_ = *now_s;
   } else if (*now_s - *last_tile_save_s_ >= interval_s) {
@@ -86,6 +99,10 @@ void ScanMapper::finish() {
   pipeline_.finish();
   if (tiles_) tiles_->flush(std::as_const(pipeline_).mapper().map());
   stats_ = pipeline_.stats();
+}
+
+std::vector<std::string> ScanMapper::take_tile_notices() {
+  return tiles_ ? tiles_->take_notices() : std::vector<std::string>{};
 }
 
 ExportedMap ScanMapper::filled_layers() const { return export_map(pipeline_.filtered_map()); }

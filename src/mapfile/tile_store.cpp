@@ -150,16 +150,9 @@ TileStore::TileStore(const GlobalMapOptions& options, const ElevationMap& like, 
   for (std::size_t l = 0; l < like.layer_count(); ++l) layer_bytes_.push_back(layer_type_bytes(like.layer_spec(l).type));
   cache_.resize(static_cast<std::size_t>(options_.cached_tiles));
   for (Cached& c : cache_) c.map = std::make_unique<ElevationMap>(tile_grid_);
-  const json manifest = {
-      {"format", "stridemap global map"},
-      {"version", 1},
-      {"tile_cells", options_.tile_cells},
-      {"cell_size_m", like.cell_size_m()},
-      {"tile_file", "tile_<x>_<y>.smap holds the cells [x * tile_cells, (x + 1) * tile_cells) x "
-                    "[y * tile_cells, (y + 1) * tile_cells): a map file (docs/map_file.md)"},
-      {"tool_version", tool_version()}};
-  write_text_file((fs::path(options_.folder) / kGlobalMapManifest).string(), manifest.dump(2) + "\n",
-                  "global map manifest");
+  // Before any mapping: a folder that cannot take the manifest ends the run
+  // here rather than hold back every tile.
+  write_text_file(manifest_path(), manifest_text(), "global map manifest");
 }
 
 TileIndex TileStore::tile_of(CellIndex c) const {
@@ -194,6 +187,9 @@ void TileStore::write_tiles_left(CellIndex new_min) {
   // A tile the new window does not reach cannot change until the window
   // comes back, so it goes to disk now: what a killed run loses is then
   // bounded by the tiles the window touches, however long it walked.
+  // While writes fail the tiles wait in memory for flush() to try again,
+  // rather than a doomed write on every move.
+  if (failing_) return;
   const std::int64_t t = options_.tile_cells, n = window_cells_;
   for (Cached& c : cache_) {
     if (!c.used || !c.dirty) continue;
@@ -212,9 +208,39 @@ void TileStore::window_entered(ElevationMap& map, CellIndex old_min) {
 void TileStore::flush(const ElevationMap& window) {
   const CellIndex lo = window.min_cell();
   save_rect(window, {lo, {lo.x + window_cells_, lo.y + window_cells_}});
+  const std::size_t held = unsaved_.size();
   for (Cached& c : cache_) {
     if (c.used && c.dirty) write(c);
   }
+  std::erase_if(unsaved_, [this](Cached& c) { return write(c); });
+  if (manifest_dirty_) write_manifest();
+  if (failing_ && unsaved() == 0 && !manifest_dirty_) {
+    failing_ = false;
+    notices_.push_back("global map: tiles are written again (" + std::to_string(held) +
+                       " held in memory are on disk now)");
+  }
+}
+
+std::size_t TileStore::unsaved() const {
+  std::size_t n = unsaved_.size();
+  for (const Cached& c : cache_) n += c.used && c.dirty && failing_;
+  return n;
+}
+
+std::vector<std::string> TileStore::take_notices() {
+  std::vector<std::string> out;
+  out.swap(notices_);
+  return out;
+}
+
+void TileStore::note_write_failure(const std::string& what) {
+  ++stats_.write_failures;
+  // Told once per outage, not once per try.
+  if (!failing_) {
+    notices_.push_back("global map: " + what +
+                       "; tiles not written stay in memory and are written again at the next save");
+  }
+  failing_ = true;
 }
 
 // Calls f(tile, part) for each tile the rectangle meets, with the part of
@@ -282,22 +308,68 @@ TileStore::Cached* TileStore::tile(TileIndex index, bool create) {
       oldest = &c;
     }
   }
+  const auto held_back = [&] {
+    return std::find_if(unsaved_.begin(), unsaved_.end(), [&](const Cached& c) { return c.index == index; });
+  };
   const bool stored = on_disk_.count(index) != 0;
-  if (!stored && !create) return nullptr;
+  if (!stored && !create && held_back() == unsaved_.end()) return nullptr;
   Cached* slot = free_slot ? free_slot : oldest;
-  if (slot->used && slot->dirty) write(*slot);
-  slot->used = false;  // until it holds the new tile: a failed read leaves no half tile
-  if (stored) {
-    read(index, *slot->map);
+  evict(*slot);
+  bool dirty = false;
+  if (const auto held = held_back(); held != unsaved_.end()) {
+    std::swap(slot->map, held->map);  // newer than any file of it
+    unsaved_.erase(held);
+    dirty = true;
   } else {
-    slot->map->clear();
-    slot->map->move_corner_to({index.x * options_.tile_cells, index.y * options_.tile_cells});
+    bool blank = !stored;
+    if (stored) {
+      try {
+        read(index, *slot->map);
+      } catch (const InputError& e) {
+        set_aside(index, e.what());
+        blank = true;
+      }
+    }
+    if (blank) {
+      slot->map->clear();
+      slot->map->move_corner_to({index.x * options_.tile_cells, index.y * options_.tile_cells});
+    }
   }
   slot->index = index;
   slot->used = true;
-  slot->dirty = false;
+  slot->dirty = dirty;
   slot->last_use = clock_;
   return slot;
+}
+
+void TileStore::evict(Cached& slot) {
+  if (slot.used && slot.dirty && (failing_ || !write(slot))) {
+    // Allocates, but only while the disk fails: losing the cells is worse.
+    unsaved_.push_back(Cached{slot.index, std::move(slot.map), true, true, slot.last_use});
+    slot.map = std::make_unique<ElevationMap>(tile_grid_);
+  }
+  slot.used = false;  // until it holds the new tile: a failed read leaves no half tile
+}
+
+void TileStore::set_aside(TileIndex index, const std::string& why) {
+  ++stats_.tiles_set_aside;
+  // No longer a tile of this run on disk: read again it would fail again.
+  on_disk_.erase(index);
+  stats_.tiles_on_disk = on_disk_.size();
+  manifest_dirty_ = true;
+  const std::string path = tile_path(index);
+  std::error_code ec;
+  if (!fs::exists(fs::symlink_status(path, ec))) {
+    notices_.push_back("global map: " + why + "; its cells start unknown and are mapped anew");
+    return;
+  }
+  // Never over an earlier damaged copy: each is kept for whoever looks into it.
+  std::string aside = path + ".damaged";
+  for (int k = 2; fs::exists(fs::symlink_status(aside, ec)); ++k) aside = path + ".damaged" + std::to_string(k);
+  fs::rename(path, aside, ec);
+  notices_.push_back("global map: " + why + "; " +
+                     (ec ? "it could not be set aside (" + ec.message() + ")" : "set aside as " + aside) +
+                     ", its cells start unknown and are mapped anew");
 }
 
 void TileStore::read(TileIndex index, ElevationMap& into) {
@@ -335,27 +407,65 @@ void TileStore::read(TileIndex index, ElevationMap& into) {
   ++stats_.tiles_read;
 }
 
-void TileStore::write(Cached& c) {
+bool TileStore::write(Cached& c) {
   const std::string path = tile_path(c.index);
   const bool ours = on_disk_.count(c.index) != 0;
-  if (!ours) {
-    std::error_code ec;
-    if (fs::exists(fs::symlink_status(path, ec))) {
-      throw InputError("global map: '" + path +
-                       "' appeared during the run; it is not replaced, as this run did not create it");
-    }
-  }
   MapFileMetadata m = metadata_;
   m.created_by = "global map tile (" + std::to_string(c.index.x) + ", " + std::to_string(c.index.y) + ")" +
                  (metadata_.created_by.empty() ? "" : " of " + metadata_.created_by);
-  save_map_file(path, *c.map, m);
-  if (!ours) on_disk_.insert(c.index);
+  try {
+    std::error_code ec;
+    if (!ours && fs::exists(fs::symlink_status(path, ec))) {
+      throw InputError("'" + path + "' appeared during the run; it is not replaced, as this run did not create it");
+    }
+    save_map_file(path, *c.map, m);
+  } catch (const InputError& e) {
+    note_write_failure(e.what());
+    return false;
+  } catch (const std::system_error& e) {
+    note_write_failure("writing '" + path + "' failed: " + e.what());
+    return false;
+  }
   c.dirty = false;
   ++stats_.tiles_written;
-  stats_.tiles_on_disk = on_disk_.size();
+  if (!ours) {
+    on_disk_.insert(c.index);
+    stats_.tiles_on_disk = on_disk_.size();
+    manifest_dirty_ = true;
+    write_manifest();
+  }
+  return true;
 }
 
-ElevationMap merge_tiles(const std::string& folder) {
+std::string TileStore::manifest_path() const { return (fs::path(options_.folder) / kGlobalMapManifest).string(); }
+
+std::string TileStore::manifest_text() const {
+  json tiles = json::array();
+  for (const TileIndex& t : on_disk_) tiles.push_back({t.x, t.y});
+  const json manifest = {
+      {"format", "stridemap global map"},
+      {"version", 1},
+      {"tile_cells", options_.tile_cells},
+      {"cell_size_m", reset_cell_.cell_size_m()},
+      {"tile_file", "tile_<x>_<y>.smap holds the cells [x * tile_cells, (x + 1) * tile_cells) x "
+                    "[y * tile_cells, (y + 1) * tile_cells): a map file (docs/map_file.md)"},
+      {"tiles", std::move(tiles)},
+      {"tool_version", tool_version()}};
+  return manifest.dump(2) + "\n";
+}
+
+bool TileStore::write_manifest() {
+  try {
+    write_text_file(manifest_path(), manifest_text(), "global map manifest");
+  } catch (const InputError& e) {
+    note_write_failure(e.what());
+    return false;
+  }
+  manifest_dirty_ = false;
+  return true;
+}
+
+MergedTiles merge_tiles(const std::string& folder) {
   const fs::path manifest_path = fs::path(folder) / kGlobalMapManifest;
   std::ifstream in(manifest_path);
   if (!in) throw InputError("'" + folder + "' is not a global map folder: it has no readable " + kGlobalMapManifest);
@@ -376,8 +486,25 @@ ElevationMap merge_tiles(const std::string& folder) {
     TileIndex index;
     if (parse_tile_name(e.path().filename().string(), index)) tiles.emplace_back(index, e.path());
   }
-  if (tiles.empty()) throw InputError("global map folder '" + folder + "' holds no tiles");
   std::sort(tiles.begin(), tiles.end());
+  std::vector<std::string> holes;
+  // Manifests of older versions list no tiles: then no tile can be missed.
+  const json* listed = manifest.contains("tiles") ? &manifest["tiles"] : nullptr;
+  if (listed && listed->is_array()) {
+    for (const json& entry : *listed) {
+      if (!entry.is_array() || entry.size() != 2 || !entry[0].is_number_integer() || !entry[1].is_number_integer()) {
+        throw InputError(manifest_path.string() + ": tiles: expected pairs of whole numbers, got " + entry.dump());
+      }
+      const TileIndex index{entry[0].get<std::int64_t>(), entry[1].get<std::int64_t>()};
+      const bool present = std::binary_search(tiles.begin(), tiles.end(), std::pair<TileIndex, fs::path>{index, {}},
+                                              [](const auto& a, const auto& b) { return a.first < b.first; });
+      if (!present) {
+        holes.push_back((fs::path(folder) / tile_file_name(index)).string() + ": listed in " + kGlobalMapManifest +
+                        " but missing");
+      }
+    }
+  }
+  if (tiles.empty()) throw InputError("global map folder '" + folder + "' holds no tiles");
   TileIndex lo = tiles.front().first, hi = lo;
   for (const auto& [index, path] : tiles) {
     lo = {std::min(lo.x, index.x), std::min(lo.y, index.y)};
@@ -389,29 +516,38 @@ ElevationMap merge_tiles(const std::string& folder) {
                         " cells a side, more than one map holds (" + std::to_string(kMaxGridCellsPerSide) + ")");
   }
   std::optional<ElevationMap> merged;
+  std::string first_path;
   std::vector<std::size_t> bytes;
   for (const auto& [index, path] : tiles) {
-    MapFile file = load_map_file(path.string());
-    const ElevationMap& m = file.map;
-    const CellIndex corner{index.x * t, index.y * t};
-    if (m.cells_per_side() != t || !(m.min_cell() == corner)) {
-      throw InputError(path.string() + ": not a tile of this global map (its size or corner does not fit its name)");
+    try {
+      MapFile file = load_map_file(path.string());
+      const ElevationMap& m = file.map;
+      const CellIndex corner{index.x * t, index.y * t};
+      if (m.cells_per_side() != t || !(m.min_cell() == corner)) {
+        throw InputError(path.string() + ": not a tile of this global map (its size or corner does not fit its name)");
+      }
+      if (merged && (m.cell_size_m() != merged->cell_size_m() || describe_layers(m) != describe_layers(*merged))) {
+        throw InputError(path.string() + ": its cell size or layers differ from those of " + first_path);
+      }
+      if (!merged) {
+        merged.emplace(grid_like(m, static_cast<int>(span * t)));
+        merged->move_corner_to({lo.x * t, lo.y * t});
+        for (std::size_t l = 0; l < m.layer_count(); ++l) bytes.push_back(layer_type_bytes(m.layer_spec(l).type));
+        first_path = path.string();
+      }
+      struct {
+        CellIndex min, end;
+      } all{corner, {corner.x + t, corner.y + t}};
+      copy_cells(m, *merged, all, bytes);
+    } catch (const InputError& e) {
+      holes.push_back(e.what());
     }
-    if (!merged) {
-      merged.emplace(grid_like(m, static_cast<int>(span * t)));
-      merged->move_corner_to({lo.x * t, lo.y * t});
-      for (std::size_t l = 0; l < m.layer_count(); ++l) bytes.push_back(layer_type_bytes(m.layer_spec(l).type));
-    }
-    if (m.cell_size_m() != merged->cell_size_m() || describe_layers(m) != describe_layers(*merged)) {
-      throw InputError(path.string() + ": its cell size or layers differ from those of " +
-                       tiles.front().second.string());
-    }
-    struct {
-      CellIndex min, end;
-    } all{corner, {corner.x + t, corner.y + t}};
-    copy_cells(m, *merged, all, bytes);
   }
-  return std::move(*merged);
+  if (!merged) {
+    throw InputError("global map folder '" + folder + "': none of its " + std::to_string(tiles.size()) +
+                     " tiles could be read (" + holes.front() + ")");
+  }
+  return {std::move(*merged), std::move(holes)};
 }
 
 }  // namespace stridemap::io

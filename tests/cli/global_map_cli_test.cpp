@@ -186,6 +186,22 @@ std::map<std::string, io::MapFile> tiles_of(const fs::path& folder) {
   return tiles;
 }
 
+// Found before the mapping, not when the outputs are written after it.
+TEST(GlobalMapCli, TilesInsideTheOutFolderOrTheOtherWayRoundAreRefusedBeforeMapping) {
+  test::TestFolder dir;
+  write_out_and_back(dir);
+  const auto inside = map_out_and_back(dir, "out", "--global-map " + shell_quoted(dir / "out/tiles"));
+  EXPECT_EQ(inside.exit_code, 2) << inside.output;
+  EXPECT_NE(inside.output.find("lie one inside the other"), std::string::npos) << inside.output;
+  EXPECT_EQ(inside.output.find("scans mapped"), std::string::npos) << inside.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  fs::create_directories(dir / "tiles");
+  const auto around = map_out_and_back(dir, "tiles/out", "--global-map " + shell_quoted(dir / "tiles/"));
+  EXPECT_EQ(around.exit_code, 2) << around.output;
+  EXPECT_NE(around.output.find("lie one inside the other"), std::string::npos) << around.output;
+  EXPECT_TRUE(fs::is_empty(dir / "tiles"));
+}
+
 TEST(GlobalMapCli, LiveMakesTheTilesItsReplayMakesAndRefusesAFile) {
   test::TestFolder dir;
   const std::string scene = std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/cart_rail_boxes.yaml";

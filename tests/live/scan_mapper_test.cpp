@@ -117,8 +117,56 @@ TEST(ScanMapper, ARunKilledOnTheSameTilesKeepsWhatItMappedUpToTheLastSaveInterva
     }
     ASSERT_GT(tiles, 0u);
     // Standing still, the ground was all measured long before the last save (at 90 s).
-    EXPECT_EQ(measured_cells(io::merge_tiles(folder / "tiles")), window_measured);
+    EXPECT_EQ(measured_cells(io::merge_tiles(folder / "tiles").map), window_measured);
   }
+}
+
+bool holds(const std::vector<std::string>& lines, const std::string& part) {
+  for (const std::string& l : lines) {
+    if (l.find(part) != std::string::npos) return true;
+  }
+  return false;
+}
+
+// A full disk must not end a run: the tiles wait in memory, the writes are
+// tried again after a second of scans, and the run ends with them on disk.
+TEST(ScanMapper, TileWritesThatFailAreToldOnceAndTriedAgainWhileMappingGoesOn) {
+  test::TestFolder folder;
+  ScanMapperOptions options;
+  options.config.global_map.folder = folder / "tiles";
+  options.config.global_map.cached_tiles = 1;
+  ScanMapper mapper(options, UrgParameters{});
+  PoseTrack poses;
+  for (int k = 0; k <= 400; ++k) poses.append(pose_at(0.1 * k, 0.02 * k));
+  // Every write fails while the folder is a file, even for root.
+  std::filesystem::rename(folder / "tiles", folder / "tiles.away");
+  folder.write("tiles", "not a folder");
+  std::vector<std::string> told;
+  for (int k = 0; k < 200; ++k) {  // 20 s, 4 m: the window leaves many tiles
+    mapper.add(flat_scan(0.1 * k));
+    ASSERT_NO_THROW(mapper.process(poses, true));
+    for (std::string& n : mapper.take_tile_notices()) told.push_back(std::move(n));
+  }
+  EXPECT_EQ(mapper.stats().integrated, 200u);
+  ASSERT_NE(mapper.tile_store(), nullptr);
+  EXPECT_TRUE(mapper.tile_store()->failing());
+  EXPECT_GT(mapper.tile_store()->unsaved(), 0u);
+  EXPECT_EQ(told.size(), 1u);
+  // About one try a second of scans, not one per scan.
+  EXPECT_LE(mapper.tile_store()->stats().write_failures, 200u);
+  std::filesystem::remove(folder / "tiles");
+  std::filesystem::rename(folder / "tiles.away", folder / "tiles");
+  for (int k = 200; k < 220; ++k) {
+    mapper.add(flat_scan(0.1 * k));
+    mapper.process(poses, true);
+  }
+  EXPECT_TRUE(holds(mapper.take_tile_notices(), "written again"));
+  mapper.finish();
+  EXPECT_FALSE(mapper.tile_store()->failing());
+  EXPECT_EQ(mapper.tile_store()->unsaved(), 0u);
+  const io::MergedTiles merged = io::merge_tiles(folder / "tiles");
+  EXPECT_TRUE(merged.holes.empty());
+  EXPECT_GT(measured_cells(merged.map), measured_cells(mapper.mapper().map()));
 }
 
 TEST(ScanMapper, SavingFillsACopyAndLeavesTheMapAsItWas) {

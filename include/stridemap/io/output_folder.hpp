@@ -81,6 +81,11 @@ class OutputFolder {
 /// an output must never be one of the run's inputs.
 bool same_file(const std::string& a, const std::string& b);
 
+/// True when `inner` is `outer` or lies below it, the parts that exist
+/// resolved (symbolic links, "..") and the rest compared by name: two
+/// folders a run writes must not nest, existing yet or not.
+bool path_within(const std::string& inner, const std::string& outer);
+
 /// For a handler of SIGINT, SIGTERM or SIGHUP that ends the process: removes
 /// every temporary file and staging folder this process has open right now.
 /// Async-signal-safe (system calls only).

@@ -166,6 +166,7 @@ class LiveMapping {
  private:
   void emit(LiveEvent::Kind kind, std::string message, const UrgDriverEvent* event = nullptr);
   void poll_poses();
+  void tell_tile_notices();  // the global map's problems, as warnings
   bool try_save(const LiveRunStats* run);
   void account(std::size_t integrated_before);
   LiveRunStats run_stats() const;

@@ -7,6 +7,7 @@
 #include <functional>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "stridemap/core/pose_track.hpp"
 #include "stridemap/live/live_mapping.hpp"
@@ -33,6 +34,8 @@ class LogReplay {
   void run(PoseTrack& poses, const std::function<void(std::size_t scans)>& progress = {});
 
   const ScanMapper& mapper() const { return *mapper_; }
+  /// The global map's problems so far (ScanMapper::take_tile_notices).
+  std::vector<std::string> take_tile_notices() { return mapper_->take_tile_notices(); }
   /// The log's sensor, damage and faults (no scans: they were streamed).
   const io::ScanLog& log() const { return reader_.log(); }
   std::size_t scans_read() const { return reader_.scans(); }

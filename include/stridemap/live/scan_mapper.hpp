@@ -76,6 +76,10 @@ class ScanMapper {
   void finish();
   /// The global map the window's cells go to; nullptr without one.
   const io::TileStore* tile_store() const { return tiles_.get(); }
+  /// The global map's problems since the last call (a tile write failing
+  /// or working again, a damaged tile set aside), one line each; empty
+  /// without a global map.
+  std::vector<std::string> take_tile_notices();
 
   std::size_t waiting() const { return pipeline_.waiting(); }
   /// Room for `scans` scans waiting for their poses at once (no allocation then).
@@ -96,6 +100,7 @@ class ScanMapper {
   ScanMapperStats stats_;  // the pipeline's, as of the last call
   std::unique_ptr<io::TileStore> tiles_;  // on the heap: the mapper points at it
   std::optional<double> last_tile_save_s_;  // scan time of the last save (global_map.save_interval_s)
+  std::optional<double> last_tile_retry_s_;  // scan time of the last try after a failed tile write
   void save_tiles_when_due();
 };
 

@@ -12,6 +12,14 @@
 // (temporary file, rename) and only ever into a folder the store found new
 // or empty, so it never replaces a file this run did not create.
 //
+// Disk faults do not end a run. A tile whose write fails (a full disk, the
+// folder gone) stays in memory, and the store writes nothing more until
+// flush() tries again; a tile that cannot be read back (damaged, deleted)
+// is renamed "<name>.damaged", and its cells start unknown and are mapped
+// anew. Each is told once through take_notices(); unsaved() says what a run
+// would lose if it ended now. The manifest lists every tile written, so
+// that merge_tiles() can name a tile that went missing.
+//
 // The store listens to the mapper's window moves (core/window_move_listener.hpp).
 // A move whose cells stay within tiles already in memory, or that enter
 // tiles never written, reads no file and allocates nothing: the cache's
@@ -59,6 +67,8 @@ struct TileStoreStats {
   std::size_t tiles_on_disk = 0;   ///< distinct tile files the store created
   std::size_t cells_saved = 0;     ///< cells copied from the window into tiles
   std::size_t cells_restored = 0;  ///< cells copied from tiles into the window
+  std::size_t write_failures = 0;  ///< tile or manifest writes that failed (each tried again later)
+  std::size_t tiles_set_aside = 0; ///< tiles that could not be read back, renamed "<name>.damaged"
 };
 
 class TileStore final : public WindowMoveListener {
@@ -79,6 +89,15 @@ class TileStore final : public WindowMoveListener {
   /// catch up); on its own the store writes a tile when the window leaves
   /// it (or, with a small cache, when it is pushed out of memory).
   void flush(const ElevationMap& window);
+
+  /// Changed tiles (and the manifest) not on disk because their last write
+  /// failed: what a run ending now would lose. flush() tries them again.
+  std::size_t unsaved() const;
+  /// True from a failed write until a flush() writes everything.
+  bool failing() const { return failing_; }
+  /// What went wrong since the last call, one line each, naming the file:
+  /// a write that failed, writes working again, a tile set aside.
+  std::vector<std::string> take_notices();
 
   const std::string& folder() const { return options_.folder; }
   int tile_cells() const { return options_.tile_cells; }
@@ -114,8 +133,17 @@ class TileStore final : public WindowMoveListener {
   bool holds_data(const ElevationMap& map, const CellRect& rect) const;
   // Writes every changed tile the window at `new_min` does not reach.
   void write_tiles_left(CellIndex new_min);
-  void write(Cached& tile);
+  // False (the tile stays dirty, a notice told) when the write failed.
+  bool write(Cached& tile);
+  // Frees a slot for another tile; a changed tile that cannot be written
+  // goes to unsaved_ rather than being lost.
+  void evict(Cached& slot);
+  std::string manifest_path() const;
+  std::string manifest_text() const;  // lists the tiles on disk
+  bool write_manifest();
+  void note_write_failure(const std::string& what);
   void read(TileIndex index, ElevationMap& into);
+  void set_aside(TileIndex index, const std::string& why);
 
   GlobalMapOptions options_;
   MapFileMetadata metadata_;
@@ -127,12 +155,25 @@ class TileStore final : public WindowMoveListener {
   std::set<TileIndex> on_disk_;
   std::uint64_t clock_ = 0;
   TileStoreStats stats_;
+  std::vector<Cached> unsaved_;  // changed tiles pushed out of the cache while writes failed
+  bool manifest_dirty_ = false;  // a tile was added to on_disk_ since the manifest was written
+  bool failing_ = false;
+  std::vector<std::string> notices_;
+};
+
+struct MergedTiles {
+  ElevationMap map;
+  /// Tiles the manifest lists that are missing, and tiles that could not be
+  /// read or do not fit, one line each naming the file: where the map has
+  /// holes. Empty for a whole global map.
+  std::vector<std::string> holes;
 };
 
 /// Loads every tile of a folder a TileStore wrote into one map covering
-/// them all (the window's cell size and layers). Throws InputError naming
-/// the file for a damaged tile or one that does not fit the manifest, and
+/// them all (the window's cell size and layers); a tile that is missing or
+/// damaged leaves a hole, named in `holes`. Throws InputError naming the
+/// folder when it has no valid manifest or no readable tile, and
 /// GridSizeError when the tiles span more than kMaxGridCellsPerSide cells.
-ElevationMap merge_tiles(const std::string& folder);
+MergedTiles merge_tiles(const std::string& folder);
 
 }  // namespace stridemap::io
