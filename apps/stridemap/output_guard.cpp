@@ -95,6 +95,13 @@ void install_cleanup_signals() {
   sigemptyset(&action.sa_mask);
   action.sa_flags = SA_RESETHAND;
   for (const int signal_number : {SIGINT, SIGTERM, SIGHUP}) sigaction(signal_number, &action, nullptr);
+  // Past the file size limit (ulimit -f) a write then fails with EFBIG, and
+  // the writer names the file; by default the signal killed the process
+  // with no word and left its temporaries.
+  struct sigaction ignore {};
+  ignore.sa_handler = SIG_IGN;
+  sigemptyset(&ignore.sa_mask);
+  sigaction(SIGXFSZ, &ignore, nullptr);
 }
 
 }  // namespace stridemap::cli

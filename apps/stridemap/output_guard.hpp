@@ -62,7 +62,8 @@ void write_output_set(const std::string& target, const std::string& option, Writ
 /// SIGINT, SIGTERM and SIGHUP end the process, after removing the
 /// temporary files and staging folders it has open, so the previous
 /// outputs stay as they were. For every command but record and live,
-/// which stop their loop instead (install_stop_signals).
+/// which stop their loop instead (install_stop_signals). SIGXFSZ is ignored,
+/// so that a write past `ulimit -f` fails and is reported naming its file.
 void install_cleanup_signals();
 
 }  // namespace stridemap::cli

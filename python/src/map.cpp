@@ -1,6 +1,7 @@
 // stridemap.Map (an ElevationMap), stridemap.MapFile and the map's files:
 // the .smap map file (mapfile/map_file.hpp), NumPy/PLY/CSV exports and the PNG
 // pictures every command writes.
+#include <cmath>
 #include <optional>
 #include <string>
 
@@ -18,6 +19,18 @@
 
 namespace stridemap::python {
 namespace {
+
+// A coordinate whose cell index fits a 64-bit integer; beyond it the
+// conversion would be undefined (it gave INT64_MIN).
+double on_cell_grid(const ElevationMap& map, double value_m, const std::string& argument) {
+  finite_number(value_m, argument);
+  const double limit_m = 0x1p62 * map.cell_size_m();
+  if (!(std::abs(value_m) < limit_m)) {
+    raise_input_error(argument + ": " + std::to_string(value_m) + " m is beyond the cell grid (|" + argument +
+                      "| below " + std::to_string(limit_m) + " m at " + std::to_string(map.cell_size_m()) + " m cells)");
+  }
+  return value_m;
+}
 
 // A pose as the map file spells it (its last_pose object), so that a
 // loaded file's metadata can be handed back to Map.save unchanged.
@@ -136,7 +149,7 @@ void register_map(py::module_& m) {
           },
           "The window in the map frame: (min_x_m, min_y_m, max_x_m, max_y_m).")
       .def("cell_of", [](const ElevationMap& map, double x_m, double y_m) {
-             const CellIndex c = map.cell_of(finite_number(x_m, "x_m"), finite_number(y_m, "y_m"));
+             const CellIndex c = map.cell_of(on_cell_grid(map, x_m, "x_m"), on_cell_grid(map, y_m, "y_m"));
              return py::make_tuple(c.x, c.y);
            }, py::arg("x_m"), py::arg("y_m"), "Global index (ix, iy) of the cell holding the point (x_m, y_m).")
       .def("cell_center", [](const ElevationMap& map, std::int64_t ix, std::int64_t iy) {

@@ -123,3 +123,11 @@ def test_scene_and_config_errors_name_file_and_line(tmp_path):
         stridemap.simulate_walk(stridemap.parse_scene(
             "terrain:\n  kind: flat\n  extent: {min_x_m: 0, min_y_m: 0, max_x_m: 1, max_y_m: 1}\n"
             "  base_elevation_m: 0\n  reflectance: 0.5\n", "s.yaml"))
+
+
+@pytest.mark.parametrize("x, y, field", [(1e300, 0.0, "x_m"), (0.0, -1e300, "y_m"), (4.7e16, 0.0, "x_m")])
+def test_cell_of_refuses_points_beyond_the_cell_grid(x, y, field):
+    m = stridemap.Map(cells_per_side=10, cell_size_m=0.01)
+    with pytest.raises(stridemap.InputError, match=field + ".*beyond the cell grid"):
+        m.cell_of(x, y)
+    assert m.cell_of(1e6, -1e6) == (100000000, -100000000)

@@ -249,7 +249,11 @@ std::string export_cells_csv(const ElevationMap& map, const std::string& directo
   // A column is its layer's name with the unit appended: elevation_m.
   for (const std::size_t k : selected) {
     const LayerSpec& spec = map.layer_spec(k);
-    out += "," + spec.name + (spec.unit.empty() ? "" : "_" + spec.unit);
+    // Not twice when the name already ends in it (slope_deg, not slope_deg_deg).
+    const std::string suffix = spec.unit.empty() ? "" : "_" + spec.unit;
+    const bool named = !suffix.empty() && spec.name.size() >= suffix.size() &&
+                       spec.name.compare(spec.name.size() - suffix.size(), suffix.size(), suffix) == 0;
+    out += "," + spec.name + (named ? "" : suffix);
   }
   out.push_back('\n');
   for (int i = 0; i < n; ++i) {

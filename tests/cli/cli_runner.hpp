@@ -29,9 +29,8 @@ inline std::string shell_quoted(const std::string& text) {
   return result + "'";
 }
 
-/// `arguments` go to the shell as they are; quote paths with shell_quoted.
-inline CommandResult run_cli(const std::string& arguments) {
-  const std::string command = shell_quoted(STRIDEMAP_CLI_PATH) + " " + arguments + " 2>&1";
+/// Runs a whole shell command line; stderr is not captured unless it says `2>&1`.
+inline CommandResult run_command(const std::string& command) {
   CommandResult result;
   FILE* pipe = popen(command.c_str(), "r");
   if (pipe == nullptr) {
@@ -44,6 +43,11 @@ inline CommandResult run_cli(const std::string& arguments) {
   const int status = pclose(pipe);
   if (WIFEXITED(status)) result.exit_code = WEXITSTATUS(status);
   return result;
+}
+
+/// `arguments` go to the shell as they are; quote paths with shell_quoted.
+inline CommandResult run_cli(const std::string& arguments) {
+  return run_command(shell_quoted(STRIDEMAP_CLI_PATH) + " " + arguments + " 2>&1");
 }
 
 }  // namespace stridemap::test

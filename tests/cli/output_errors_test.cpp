@@ -34,6 +34,25 @@ TEST(CliOutputErrors, FullDiskForTheCalibrationJson) {
       << r.output;
 }
 
+// `ulimit -f`: the limit binds root too. Only the tool's shell has it, so
+// the pipe that reads its output is not cut short.
+TEST(CliOutputErrors, AFileSizeLimitIsAnErrorNamingTheFileNotASilentKill) {
+  const std::string folder = ::testing::TempDir() + "/stridemap_fsize_limit";
+  fs::remove_all(folder);
+  fs::create_directories(folder);
+  const std::string json = folder + "/calibration.json";
+  const std::string tool = shell_quoted(STRIDEMAP_CLI_PATH) + " calibrate-range --csv " + shell_quoted(kPairs) +
+                           " --json " + shell_quoted(json);
+  const CommandResult r = test::run_command("sh -c " + shell_quoted("ulimit -f 0; exec " + tool + " 2>&1"));
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("stridemap: error: cannot write calibration JSON '" + json + "': write failed (File too large)"),
+            std::string::npos)
+      << r.output;
+  EXPECT_FALSE(fs::exists(json));
+  EXPECT_TRUE(fs::is_empty(folder)) << "no temporary left behind";
+  fs::remove_all(folder);
+}
+
 TEST(CliOutputErrors, OutputFolderThatCannotBeCreated) {
   const fs::path dir = fs::temp_directory_path() / ("stridemap_cli_out_" + std::to_string(::getpid()));
   fs::remove_all(dir);

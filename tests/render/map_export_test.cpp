@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstring>
 #include <sstream>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -130,6 +131,20 @@ TEST(MapExport, CellsCsvStatesItsOrderAndHasEveryCell) {
   EXPECT_EQ(rows[0], "10,-3,5.25,-1.25,0,3,1,-0.00999999978,1");
   EXPECT_EQ(rows[3], "10,0,5.25,0.25,nan,0,0,nan,0");
   EXPECT_EQ(rows[9], "12,-2,6.25,-0.75,0.200000003,3,1,0.189999998,4");
+}
+
+TEST(MapExport, ACsvColumnNamesItsUnitOnceWhenTheLayerNameHasIt) {
+  GridOptions grid{2, 0.5};
+  grid.extra_layers.push_back(LayerSpec{"slope_deg", LayerType::f32, 0.0, "deg", "slope", true});
+  grid.extra_layers.push_back(LayerSpec{"step", LayerType::f32, 0.0, "m", "step height", true});
+  TestFolder folder;
+  const std::vector<std::string> layers{"slope_deg", "step"};
+  io::export_cells_csv(ElevationMap(grid), folder / "csv", layers);
+  std::istringstream csv(folder.read("csv/cells.csv"));
+  std::string line;
+  std::getline(csv, line);
+  std::getline(csv, line);
+  EXPECT_EQ(line, "ix,iy,x_m,y_m,slope_deg,step_m");
 }
 
 TEST(MapExport, UnwritableDestinationsNameThePath) {
