@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <random>
+#include <string_view>
 
 #include <benchmark/benchmark.h>
 
@@ -26,9 +27,8 @@ UrgRawScan urg_like_raw_scan(const UrgParameters& urg, const SensorMount& mount)
   return raw;
 }
 
-void BM_PipelineUrgScan(benchmark::State& state) {
-  PipelineOptions options;
-  options.mapper.window_ahead_m = 0.3;
+// The pipeline as the CLI runs it; `options` changes one thing from the defaults.
+void pipeline_scans(benchmark::State& state, const PipelineOptions& options) {
   MappingPipeline pipeline(options);
   UrgRawScan raw = urg_like_raw_scan(options.urg, options.mount);
   std::mt19937_64 rng(1);
@@ -44,7 +44,37 @@ void BM_PipelineUrgScan(benchmark::State& state) {
   }
   state.counters["scans_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
+
+PipelineOptions bench_options() {
+  PipelineOptions options;
+  options.mapper.window_ahead_m = 0.3;
+  return options;
+}
+
+// Defaults: no scan filters, foothold layers refreshed after every scan.
+void BM_PipelineUrgScan(benchmark::State& state) { pipeline_scans(state, bench_options()); }
 BENCHMARK(BM_PipelineUrgScan);
+
+// Without the foothold layers: what the scan's own way costs.
+void BM_PipelineUrgScanNoFoothold(benchmark::State& state) {
+  PipelineOptions options = bench_options();
+  options.foothold.enabled = false;
+  pipeline_scans(state, options);
+}
+BENCHMARK(BM_PipelineUrgScanNoFoothold);
+
+// With scan filters by their CLI name ("paper" or "urg"), layers as default.
+void pipeline_filtered(benchmark::State& state, const char* filters, bool foothold) {
+  PipelineOptions options = bench_options();
+  options.filters = parse_scan_filter_list(std::string_view(filters));
+  options.foothold.enabled = foothold;
+  pipeline_scans(state, options);
+}
+BENCHMARK_CAPTURE(pipeline_filtered, paper, "paper", true)->Name("BM_PipelineUrgScanFilters/paper");
+BENCHMARK_CAPTURE(pipeline_filtered, urg, "urg", true)->Name("BM_PipelineUrgScanFilters/urg");
+BENCHMARK_CAPTURE(pipeline_filtered, paper_no_foothold, "paper", false)
+    ->Name("BM_PipelineUrgScanFiltersNoFoothold/paper");
+BENCHMARK_CAPTURE(pipeline_filtered, urg_no_foothold, "urg", false)->Name("BM_PipelineUrgScanFiltersNoFoothold/urg");
 
 // The per-point path alone, raw millimetres to the map (1 cm cells, 100 x
 // 100): `packed` converts straight into the mapper's packed beams

@@ -7,9 +7,13 @@
 // and of the changed rows after each scan, so that two builds' maps can be
 // compared bit for bit.
 //
-//   point_path_workload [packed|planar] [scans]
+//   point_path_workload [packed|planar|pipeline|pipeline-paper|pipeline-foothold] [scans]
 //     packed: UrgModel::to_beams + TerrainMapper::integrate(PlanarBeams) (default)
 //     planar: UrgModel::to_planar_scan + TerrainMapper::integrate(PlanarScan)
+//     pipeline: ScanIntegrator::push, no scan filters (its packed route)
+//     pipeline-paper: the same with the paper's scan filters
+//     pipeline-foothold: MappingPipeline::add with its defaults (the foothold
+//       layers refreshed after every scan; they are layers of the digest)
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -19,6 +23,7 @@
 #include <vector>
 
 #include "stridemap/core/terrain_mapper.hpp"
+#include "stridemap/pipeline/mapping_pipeline.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
 
 using namespace stridemap;
@@ -45,8 +50,11 @@ UrgRawScan floor_scan(const UrgParameters& urg, const SensorMount& mount, std::m
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "packed";
   const int scans = argc > 2 ? std::atoi(argv[2]) : 750;
-  if ((mode != "packed" && mode != "planar") || scans < 1) {
-    std::fprintf(stderr, "usage: point_path_workload [packed|planar] [scans >= 1]\n");
+  if ((mode != "packed" && mode != "planar" && mode != "pipeline" && mode != "pipeline-paper" &&
+       mode != "pipeline-foothold") ||
+      scans < 1) {
+    std::fprintf(stderr,
+                 "usage: point_path_workload [packed|planar|pipeline|pipeline-paper|pipeline-foothold] [scans >= 1]\n");
     return 2;
   }
   const UrgParameters urg;
@@ -54,7 +62,15 @@ int main(int argc, char** argv) {
   const UrgModel model(urg);
   MapperOptions options;
   options.window_ahead_m = 0.3;
-  TerrainMapper mapper(options, mount);
+  PipelineOptions pipeline_options;
+  pipeline_options.mapper = options;
+  pipeline_options.urg = urg;
+  pipeline_options.mount = mount;
+  if (mode == "pipeline-paper") pipeline_options.filters = parse_scan_filter_list(std::string_view("paper"));
+  ScanIntegrator integrator(pipeline_options);
+  MappingPipeline pipeline(pipeline_options);
+  TerrainMapper own_mapper(options, mount);
+  TerrainMapper& mapper = mode == "pipeline-foothold" ? pipeline.mapper() : own_mapper;
   std::mt19937_64 rng(1);
   std::normal_distribution<double> tilt(0.0, 0.02);
   // A handful of different scans, made before the measured loop.
@@ -76,8 +92,18 @@ int main(int argc, char** argv) {
     pose.pitch_rad = tilt(rng);
     pose.roll_rad = tilt(rng);
     raw.time_s = 0.1 * (k + 1);
-    const ScanStats stats = mode == "packed" ? (model.to_beams(raw, beams), mapper.integrate(beams, pose))
-                                             : (model.to_planar_scan(raw, planar), mapper.integrate(planar, pose));
+    ScanStats stats;
+    if (mode == "packed") {
+      model.to_beams(raw, beams);
+      stats = mapper.integrate(beams, pose);
+    } else if (mode == "planar") {
+      model.to_planar_scan(raw, planar);
+      stats = mapper.integrate(planar, pose);
+    } else if (mode == "pipeline-foothold") {
+      stats = pipeline.add(raw, pose).stats;
+    } else {
+      stats = integrator.push(raw, pose, mapper).stats;
+    }
     valid += stats.integrated + stats.outside_map;
     const CellBox& rows = mapper.changed_rows().bounds();
     if (!rows.empty()) {
@@ -89,7 +115,7 @@ int main(int argc, char** argv) {
     const std::size_t counts[] = {stats.integrated, stats.outside_map, stats.first, stats.plausible,
                                   stats.implausible, stats.replaced};
     mix(counts, sizeof counts);
-    mapper.clear_changed_cells();
+    if (mode != "pipeline-foothold") mapper.clear_changed_cells();  // MappingPipeline clears its own
   }
   const ElevationMap& map = mapper.map();
   const std::size_t cells = static_cast<std::size_t>(map.cells_per_side()) * map.cells_per_side();

@@ -2,7 +2,8 @@
 # Instructions per valid point of the per-point path (raw millimetres ->
 # calibrated beams -> the map), counted by callgrind over a fixed workload
 # (bench/point_path_workload.cpp: 750 URG scans, 1 cm cells, 100 x 100),
-# split into the conversion and the integration. Instruction counts do not
+# split into the conversion, the integration and the rest (the pipeline's
+# modes: filters, bookkeeping, foothold layers). Instruction counts do not
 # depend on the machine's load, unlike times. Usage:
 #   tools/bench-instructions.sh [build-dir] [scans]
 set -euo pipefail
@@ -21,20 +22,36 @@ inclusive() {
     awk -v pattern="$2" '!found && index($0, pattern) { gsub(",", "", $1); print $1; found = 1 }'
 }
 
-for mode in packed planar; do
+for mode in packed planar pipeline pipeline-paper pipeline-foothold; do
   out="$work/callgrind.$mode"
   valgrind --tool=callgrind --callgrind-out-file="$out" "$program" "$mode" "$scans" >"$work/stdout.$mode" 2>/dev/null
   points=$(awk '{print $4}' "$work/stdout.$mode")
-  if [ "$mode" = packed ]; then
-    conversion=$(inclusive "$out" "UrgModel::to_beams(")
-    integration=$(inclusive "$out" "TerrainMapper::integrate(stridemap::PlanarBeams const&")
-    label="packed (UrgModel::to_beams + TerrainMapper::integrate(PlanarBeams))"
-  else
-    conversion=$(inclusive "$out" "UrgModel::to_planar_scan(")
-    integration=$(inclusive "$out" "TerrainMapper::integrate(stridemap::PlanarScan const&")
-    label="planar (UrgModel::to_planar_scan + TerrainMapper::integrate(PlanarScan))"
-  fi
-  awk -v label="$label" -v scans="$scans" -v points="$points" -v c="${conversion:-0}" -v i="${integration:-0}" 'BEGIN {
-    printf "%s\n  %d scans, %d valid points: %.1f instructions per valid point (conversion %.1f, integration %.1f)\n",
-      label, scans, points, (c + i) / points, c / points, i / points }'
+  total=""
+  case "$mode" in
+    packed)
+      conversion=$(inclusive "$out" "UrgModel::to_beams(")
+      integration=$(inclusive "$out" "TerrainMapper::integrate(stridemap::PlanarBeams const&")
+      label="packed (UrgModel::to_beams + TerrainMapper::integrate(PlanarBeams))" ;;
+    planar)
+      conversion=$(inclusive "$out" "UrgModel::to_planar_scan(")
+      integration=$(inclusive "$out" "TerrainMapper::integrate(stridemap::PlanarScan const&")
+      label="planar (UrgModel::to_planar_scan + TerrainMapper::integrate(PlanarScan))" ;;
+    pipeline|pipeline-paper)
+      [ "$mode" = pipeline ] && conversion=$(inclusive "$out" "UrgModel::to_beams(") ||
+        conversion=$(inclusive "$out" "UrgModel::to_planar_scan(")
+      integration=$(inclusive "$out" "TerrainMapper::integrate(stridemap::Planar")
+      total=$(inclusive "$out" "ScanIntegrator::push(stridemap::UrgRawScan const&")
+      [ "$mode" = pipeline ] && label="pipeline, no scan filters (ScanIntegrator::push)" ||
+        label="pipeline, the paper's scan filters (ScanIntegrator::push)" ;;
+    pipeline-foothold)
+      conversion=$(inclusive "$out" "UrgModel::to_beams(")
+      integration=$(inclusive "$out" "TerrainMapper::integrate(stridemap::PlanarBeams const&")
+      total=$(inclusive "$out" "MappingPipeline::add(stridemap::UrgRawScan const&")
+      label="pipeline with its defaults, foothold layers every scan (MappingPipeline::add)" ;;
+  esac
+  awk -v label="$label" -v scans="$scans" -v points="$points" -v c="${conversion:-0}" -v i="${integration:-0}" \
+      -v t="${total:-0}" 'BEGIN {
+    if (t == 0) t = c + i
+    printf "%s\n  %d scans, %d valid points: %.1f instructions per valid point (conversion %.1f, integration %.1f, the rest %.1f)\n",
+      label, scans, points, t / points, c / points, i / points, (t - c - i) / points }'
 done

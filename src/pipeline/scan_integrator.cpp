@@ -10,6 +10,7 @@
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/planar_scan_points.hpp"
 #include "stridemap/core/sensor_transform.hpp"
+#include "stridemap/preprocess/scan_checks.hpp"
 
 namespace stridemap {
 namespace {
@@ -85,6 +86,7 @@ ScanOutcome ScanIntegrator::push(const UrgRawScan& raw, const TrunkPose& pose, T
                                  std::span<const std::uint8_t> beam_tags) {
   require(SensorKind::urg);
   points_.clear();
+  if (packed_route(beam_tags)) return push_packed(raw, pose, mapper, beam_tags);
   try {
     stats_.beams += urg_.to_planar_scan(raw, scan_);
   } catch (const InputError&) {
@@ -106,6 +108,49 @@ ScanOutcome ScanIntegrator::push(const UrgRawScan& raw, const TrunkPose& pose, T
   return out ? integrate_planar(mapper) : ScanOutcome{};
 }
 
+// The planar route is kept where something reads the PlanarScan: a filter,
+// the reference runs' dropped beams, the collected points' beam indices.
+bool ScanIntegrator::packed_route(std::span<const std::uint8_t> beam_tags) const {
+  return filters_.chain().stage_count() == 0 && !collect_ && !(options_.drop_beams_tagged && !beam_tags.empty());
+}
+
+ScanOutcome ScanIntegrator::push_packed(const UrgRawScan& raw, const TrunkPose& pose, TerrainMapper& mapper,
+                                        std::span<const std::uint8_t> beam_tags) {
+  try {
+    stats_.beams += urg_.to_beams(raw, beams_);
+  } catch (const InputError&) {
+    ++stats_.rejected;  // as the planar route: not this sensor's scan
+    return {};
+  }
+  filters_.pass(pose, beam_tags);
+  last_packed_ = true;
+  last_raw_converted_ = false;
+  last_raw_.time_s = raw.time_s;
+  last_raw_.first_step = raw.first_step;
+  last_raw_.cluster = raw.cluster;
+  last_raw_.values_mm.assign(raw.values_mm.begin(), raw.values_mm.end());  // in place once grown
+  // An empty chain removes nothing; observers still get one flag a beam.
+  if (no_removals_.size() != raw.values_mm.size()) no_removals_.assign(raw.values_mm.size(), 0);
+  ScanOutcome outcome;
+  outcome.integrated = true;
+  outcome.stats = mapper.integrate(beams_, pose);
+  ++stats_.integrated;
+  if (!outcome.stats.pose_rejected && !outcome.stats.time_rejected) clear_visible(beams_, pose, mapper);
+  report(filters_.output(), raw.time_s, outcome.stats, no_removals_);
+  return outcome;
+}
+
+const PlanarScan& ScanIntegrator::last_scan() const {
+  if (!last_packed_) return filtered_;
+  if (!last_raw_converted_) {
+    // What the empty chain would have handed out: every unusable range NaN.
+    urg_.to_planar_scan(last_raw_, unfiltered_);
+    prepare_scan_for_filter(unfiltered_, normalize_mask_, "scan filter chain");
+    last_raw_converted_ = true;
+  }
+  return unfiltered_;
+}
+
 ScanOutcome ScanIntegrator::flush(TerrainMapper& mapper) {
   points_.clear();
   return filters_.flush(filtered_) ? integrate_planar(mapper) : ScanOutcome{};
@@ -113,6 +158,7 @@ ScanOutcome ScanIntegrator::flush(TerrainMapper& mapper) {
 
 ScanOutcome ScanIntegrator::integrate_planar(TerrainMapper& mapper) {
   const ScanPayload& payload = filters_.output();
+  last_packed_ = false;
   ScanOutcome outcome;
   outcome.integrated = true;
   outcome.stats = collect_ ? mapper.integrate(filtered_, payload.pose, CollectingSink{points_})
@@ -205,6 +251,28 @@ void ScanIntegrator::clear_visible(const PlanarScan& scan, const TrunkPose& pose
     beam.hit_m = beam.origin_m + geometry.offset(r, visibility_cos_[i], visibility_sin_[i]);
     if (clearing.thinned(beam.hit_m.x(), beam.hit_m.y())) continue;
     beam.height_error_m = geometry.height_error(r, dr, visibility_cos_[i], visibility_sin_[i], update);
+    beam.range_error_m = dr;
+    clearing.trace(map, beam);
+  }
+  finish_visibility(mapper);
+}
+
+// The planar clean-up's loop over the beams it would not skip, in the same
+// order and with the same doubles (the URG's angle table is std::cos and
+// std::sin of the angles the planar scan holds).
+void ScanIntegrator::clear_visible(const PlanarBeams& beams, const TrunkPose& pose, TerrainMapper& mapper) {
+  if (!options_.visibility.enabled) return;
+  VisibilityClearing& clearing = visibility_for(mapper);
+  const PlanarBeamGeometry geometry(pose, mapper.mount());
+  const UpdateOptions& update = mapper.options().update;
+  ElevationMap& map = mapper.map_without_raising();  // the clean-up only lowers and clears
+  VisibilityBeam beam;
+  beam.origin_m = sensor_origin_in_map(pose, mapper.mount());
+  for (std::size_t i = 0; i < beams.count; ++i) {
+    const double r = beams.range_m[i], dr = beams.range_error_m[i], c = beams.cos_angle[i], s = beams.sin_angle[i];
+    beam.hit_m = beam.origin_m + geometry.offset(r, c, s);
+    if (clearing.thinned(beam.hit_m.x(), beam.hit_m.y())) continue;
+    beam.height_error_m = geometry.height_error(r, dr, c, s, update);
     beam.range_error_m = dr;
     clearing.trace(map, beam);
   }

@@ -1,5 +1,6 @@
 #include "stridemap/pipeline/tagged_scan_filter.hpp"
 
+#include <stdexcept>
 #include <utility>
 
 #include "stridemap/core/error.hpp"
@@ -29,6 +30,13 @@ bool TaggedScanFilter::push(const PlanarScan& scan, const TrunkPose& pose, std::
   std::swap(held_, incoming_);
   holding_ = true;
   return ready;
+}
+
+void TaggedScanFilter::pass(const TrunkPose& pose, std::span<const std::uint8_t> beam_tags) {
+  if (chain_.stage_count() != 0) throw std::logic_error("TaggedScanFilter::pass: the chain has stages");
+  output_.pose = pose;
+  output_.beam_tags.assign(beam_tags.begin(), beam_tags.end());  // in place once grown
+  output_.sequence = pushed_++;
 }
 
 bool TaggedScanFilter::flush(PlanarScan& out) {

@@ -58,6 +58,38 @@ TEST(PipelineAllocation, UrgScansThroughTheFiltersAllocateNothing) {
   EXPECT_EQ(pipeline.stats().integrated, 49u);
 }
 
+// The packed route (no scan filters) with everything that reads a scan on
+// it: tags, an observer, the visibility clean-up, and last_scan() now and then.
+TEST(PipelineAllocation, UrgScansOnThePackedRouteAllocateNothing) {
+  STRIDEMAP_SKIP_UNLESS_COUNTING_ALLOCATIONS();
+  struct Observer : PipelineObserver {
+    std::size_t removed = 0;
+    void on_scan(const ScanReport& report) override { removed += report.removed.size(); }
+  } observer;
+  PipelineOptions options;
+  options.visibility.enabled = true;
+  MappingPipeline pipeline(options);
+  pipeline.integrator().add_observer(observer);
+  UrgRawScan raw = floor_scan(0.0);
+  const std::vector<std::uint8_t> tags(raw.values_mm.size(), 1);
+  const auto step = [&](int k) {
+    raw.time_s = 0.1 * k;
+    raw.values_mm[static_cast<std::size_t>(k)] = 0;  // the data change from scan to scan
+    pipeline.add(raw, pose_at(0.002 * k, 0.01 * k), tags);
+    if (k % 7 == 0) (void)pipeline.integrator().last_scan();
+  };
+  for (int k = 0; k < 8; ++k) step(k);
+  std::size_t allocations = 0;
+  {
+    Counting counting;
+    for (int k = 8; k < 60; ++k) step(k);
+    allocations = counting.allocations();
+  }
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_EQ(pipeline.stats().integrated, 60u);
+  EXPECT_EQ(observer.removed, 60u * raw.values_mm.size());
+}
+
 TEST(PipelineAllocation, FootholdLayersNotedPerScanAndRefreshedAllocateNothing) {
   STRIDEMAP_SKIP_UNLESS_COUNTING_ALLOCATIONS();
   for (const bool every_scan : {true, false}) {

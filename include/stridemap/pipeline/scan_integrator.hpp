@@ -4,7 +4,10 @@
 // caller's) with its error model, the scan filters with the scan's pose and
 // tags carried through their delay (TaggedScanFilter), then the map update
 // with Delta z_max formed in one place, and the visibility clean-up
-// (core/visibility_clearing.hpp) with the same beams. The mapper is the caller's, so that
+// (core/visibility_clearing.hpp) with the same beams. Without scan filters
+// a URG scan goes straight into the mapper's packed beams
+// (UrgModel::to_beams): the map is the planar route's bit for bit, and no
+// PlanarScan is made unless last_scan() asks for one. The mapper is the caller's, so that
 // a walk simulation can keep reading the map it builds; MappingPipeline
 // owns one and adds the pose stream and the map filter.
 #include <cstddef>
@@ -15,6 +18,7 @@
 
 #include <Eigen/Core>
 
+#include "stridemap/core/planar_beams.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/core/visibility_clearing.hpp"
 #include "stridemap/pipeline/pipeline_options.hpp"
@@ -113,8 +117,10 @@ class ScanIntegrator {
 
   const PipelineStats& stats() const { return stats_; }
   const TaggedScanFilter& filters() const { return filters_; }
-  /// The planar scan integrated last (URG), as the filters left it.
-  const PlanarScan& last_scan() const { return filtered_; }
+  /// The planar scan integrated last (URG), as the filters left it. Made
+  /// here from the raw scan when the packed route took it (no filters), so
+  /// not for a reader on another thread while push() runs.
+  const PlanarScan& last_scan() const;
   std::size_t delay_scans() const { return filters_.delay_scans(); }
   SensorKind sensor() const { return options_.sensor; }
   const UrgModel& urg_model() const { return urg_; }
@@ -122,6 +128,10 @@ class ScanIntegrator {
 
  private:
   ScanOutcome integrate_planar(TerrainMapper& mapper);
+  bool packed_route(std::span<const std::uint8_t> beam_tags) const;
+  ScanOutcome push_packed(const UrgRawScan& raw, const TrunkPose& pose, TerrainMapper& mapper,
+                          std::span<const std::uint8_t> beam_tags);
+  void clear_visible(const PlanarBeams& beams, const TrunkPose& pose, TerrainMapper& mapper);
   ScanOutcome integrate_batch(std::optional<double> time_s, const TrunkPose& pose, TerrainMapper& mapper);
   void require(SensorKind kind) const;
   VisibilityClearing& visibility_for(TerrainMapper& mapper);
@@ -136,6 +146,15 @@ class ScanIntegrator {
   PointCloudSensor points_sensor_;
   TaggedScanFilter filters_;
   PlanarScan scan_, filtered_;
+  // The packed route: the beams, the removal flags observers see (none), and
+  // the raw values from which last_scan() makes the planar scan on demand.
+  PlanarBeams beams_;
+  std::vector<std::uint8_t> no_removals_;
+  UrgRawScan last_raw_;
+  bool last_packed_ = false;
+  mutable bool last_raw_converted_ = false;
+  mutable PlanarScan unfiltered_;
+  mutable std::vector<std::uint8_t> normalize_mask_;
   PointBatch batch_;
   ScanPayload batch_payload_;
   std::size_t pushed_ = 0;

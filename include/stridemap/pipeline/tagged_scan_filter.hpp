@@ -37,6 +37,11 @@ class TaggedScanFilter {
   /// ScanFilterChain::push does; the held scan is then dropped.
   bool push(const PlanarScan& scan, const TrunkPose& pose, std::span<const std::uint8_t> beam_tags,
             PlanarScan& out);
+  /// A scan that an empty chain would hand back unchanged at once (no
+  /// stages, so no delay): records its payload as push() would, so that a
+  /// caller may skip the chain and its copies. Throws std::logic_error when
+  /// the chain has stages.
+  void pass(const TrunkPose& pose, std::span<const std::uint8_t> beam_tags);
   /// Ends the stream: the held scan, if any, with its payload.
   bool flush(PlanarScan& out);
   /// Drops any held scan.
