@@ -59,6 +59,20 @@ MapperConfig mapper_config_of(const PipelineOptions& options) {
   return config;
 }
 
+// Scans the mapper turned down are not an error of the call (a stream may
+// repeat one), but a silent count would read as success: said as a warning.
+void warn_rejected(std::size_t offered, std::size_t mapped, std::size_t stale, std::size_t bad_pose,
+                   std::size_t unfit, std::optional<py::ssize_t> first_stale) {
+  if (stale + bad_pose + unfit == 0) return;
+  std::string message = "add_urg_scans: " + std::to_string(stale + bad_pose + unfit) + " of " +
+                        std::to_string(offered) + " scans were not mapped (" + std::to_string(mapped) + " were): " +
+                        std::to_string(stale) + " with a time not after the last mapped scan's";
+  if (first_stale) message += " (the first at row " + std::to_string(*first_stale) + "; times_s must increase)";
+  message += ", " + std::to_string(bad_pose) + " with a bad pose, " + std::to_string(unfit) +
+             " that do not fit the sensor";
+  if (PyErr_WarnEx(PyExc_RuntimeWarning, message.c_str(), 1) != 0) throw py::error_already_set();
+}
+
 class Pipeline;
 
 // The live pipelines by the map they build, so that Map.save of
@@ -115,15 +129,25 @@ class Pipeline {
     const std::vector<double> h_ref = per_scan(reference_elevation_m, k, "reference_elevation_m");
     const std::vector<double> d_z = per_scan(height_change_m, k, "height_change_m");
     const py::array rows = as_array(ranges, "ranges");
-    std::size_t reached = 0;
+    const PipelineStats stats_before = pipeline_.stats();
+    const MapperTotals totals_before = pipeline_.mapper().totals();
+    std::optional<py::ssize_t> first_stale;
     for (py::ssize_t i = 0; i < k; ++i) {
       const TrunkPose p = pose_from_values(q.data(i, 0), static_cast<std::size_t>(q.shape(1)), h_ref[i], d_z[i],
                                            element_name("poses", i));
       fill_raw(rows[py::int_(i)], element_name("ranges", i), units, finite_number(t.at(i), element_name("times_s", i)),
                std::nullopt, 1);
-      reached += pipeline_.add(raw_, p).integrated ? 1 : 0;
+      const ScanOutcome outcome = pipeline_.add(raw_, p);
+      if (outcome.stats.time_rejected && !first_stale) first_stale = i;
     }
-    return reached;
+    const PipelineStats stats = pipeline_.stats();
+    const MapperTotals& totals = pipeline_.mapper().totals();
+    const std::size_t stale = totals.scans_rejected_for_time - totals_before.scans_rejected_for_time;
+    const std::size_t bad_pose = totals.scans_rejected_for_pose - totals_before.scans_rejected_for_pose;
+    const std::size_t unfit = stats.rejected - stats_before.rejected;
+    const std::size_t mapped = stats.integrated - stats_before.integrated - stale - bad_pose;
+    warn_rejected(static_cast<std::size_t>(k), mapped, stale, bad_pose, unfit, first_stale);
+    return mapped;
   }
 
   py::dict add_points(const py::handle& points, const py::handle& sigma_m, double time_s, const py::handle& pose,
@@ -293,7 +317,9 @@ void register_pipeline(py::module_& m) {
            py::kw_only(), py::arg("units") = "mm", py::arg("reference_elevation_m") = py::none(),
            py::arg("height_change_m") = py::none(),
            "K scans at once: ranges (K, values), times_s (K,), poses (K, 5) or (K, 6) as for add_urg_scan; "
-           "reference_elevation_m, height_change_m: None or (K,). Returns how many scans reached the mapper.")
+           "reference_elevation_m, height_change_m: None or (K,). Returns how many scans were mapped (one the "
+           "scan filters hold is mapped by the next call or finish()); a RuntimeWarning counts the scans rejected "
+           "and says why (times not increasing, a bad pose, not the sensor's shape).")
       .def("add_points", &Pipeline::add_points, py::arg("points"), py::arg("sigma_m"), py::arg("time_s"),
            py::arg("pose"), py::kw_only(), py::arg("reference_elevation_m") = 0.0, py::arg("height_change_m") = 0.0,
            "Sensor 'points': points (N, 3) in the sensor frame [m] (x ahead, y left, z up before the mount's "

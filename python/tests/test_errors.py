@@ -131,3 +131,26 @@ def test_cell_of_refuses_points_beyond_the_cell_grid(x, y, field):
     with pytest.raises(stridemap.InputError, match=field + ".*beyond the cell grid"):
         m.cell_of(x, y)
     assert m.cell_of(1e6, -1e6) == (100000000, -100000000)
+
+
+def test_scans_rejected_in_a_batch_are_counted_and_said():
+    p = stridemap.Pipeline()
+    ranges = np.full((40, 682), 1000, np.uint32)
+    times = np.linspace(4.0, 0.1, 40)  # decreasing: every scan after the first is stale
+    poses = np.zeros((40, 5))
+    with pytest.warns(RuntimeWarning, match=r"of 40 scans were not mapped .*time not after the last mapped scan's "
+                                            r"\(the first at row \d+; times_s must increase\)"):
+        mapped = p.add_urg_scans(ranges, times, poses)
+    p.finish()
+    assert mapped <= 1
+    assert p.stats["integrated"] <= 40
+
+
+def test_a_clean_batch_warns_nothing():
+    import warnings
+    p = stridemap.Pipeline()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        mapped = p.add_urg_scans(np.full((5, 682), 1000, np.uint32), np.arange(5) * 0.1 + 0.1, np.zeros((5, 5)))
+    p.finish()
+    assert mapped >= 4
