@@ -246,6 +246,18 @@ TEST(MapFile, StructuralLiesBehindAValidChecksumAreRefused) {
   EXPECT_NE(decode_error(bad_json).find("metadata"), std::string::npos) << decode_error(bad_json);
 }
 
+TEST(MapFile, DeeplyNestedMetadataIsRefusedAtOnce) {
+  io::MapFileMetadata metadata;
+  metadata.created_by = std::string(200000, 'a');
+  const std::string bytes = io::encode_map_file(scrambled_map(4, 2), metadata);
+  // The same length as the string it replaces: every offset stays valid.
+  const std::string deep = with_fixed_checksum(replace_once(
+      bytes, "\"" + metadata.created_by + "\"", std::string(100001, '[') + std::string(100001, ']')));
+  const std::string error = decode_error(deep);
+  EXPECT_NE(error.find("damaged.smap"), std::string::npos) << error;
+  EXPECT_NE(error.find("nested deeper than 64 levels"), std::string::npos) << error;
+}
+
 TEST(MapFile, AStateThatDoesNotExistIsRefused) {
   ElevationMap map = scrambled_map(4, 10);
   map.state_data()[5] = 9;
