@@ -1,14 +1,18 @@
-// `stridemap import FORMAT FILE`: BreezySLAM, CARMEN, CSV-range and TUM
-// files into a stridemap scan log and pose file, which `stridemap map`
+// `stridemap import FORMAT FILE`: BreezySLAM, CARMEN, CSV-range, point-pair
+// and TUM files into a stridemap scan log and pose file, which `stridemap map`
 // then maps like any recording (docs/import.md).
 #include <sys/stat.h>
 
 #include <cstdio>
 #include <functional>
 #include <memory>
+#include <cmath>
 #include <numbers>
+#include <optional>
 #include <string>
+#include <vector>
 
+#include "cli_parsing.hpp"
 #include "commands.hpp"
 #include "terminal_output.hpp"
 #include "stridemap/core/error.hpp"
@@ -32,7 +36,64 @@ struct ImportArgs {
   double angle_min_deg = -119.53125;  // step 44 of the URG-04LX
   double angle_step_deg = 0.3515625;  // 360 / 1024
   std::string tum_height = "reference";
+  io::XyImportOptions xy;
+  std::string xy_encoding = "int32";
+  std::string invalid_pair = "0,0";
+  std::string static_pose;
+  double scan_rate_hz = 0.0;  // 0: not given
+  std::optional<double> xy_angle_min_deg;
+  std::optional<double> xy_angle_step_deg;
 };
+
+std::vector<double> numbers_of(const std::string& option, const std::string& text, std::size_t min_count,
+                               std::size_t max_count) {
+  std::vector<double> values;
+  std::size_t start = 0;
+  for (;;) {
+    const std::size_t comma = text.find(',', start);
+    const std::string field = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
+    std::size_t used = 0;
+    double v = 0.0;
+    try {
+      v = std::stod(field, &used);
+    } catch (const std::exception&) {
+      used = 0;
+    }
+    if (used == 0 || used != field.size() || !std::isfinite(v)) {
+      throw InputError(option + ": '" + field + "' is not a number (in '" + text + "')");
+    }
+    values.push_back(v);
+    if (comma == std::string::npos) break;
+    start = comma + 1;
+  }
+  if (values.size() < min_count || values.size() > max_count) {
+    throw InputError(option + ": expected " + std::to_string(min_count) +
+                     (max_count == min_count ? "" : " or " + std::to_string(max_count)) +
+                     " numbers separated by commas, got " + std::to_string(values.size()) + " in '" + text + "'");
+  }
+  return values;
+}
+
+// X,Y,YAW or X,Y,Z,ROLL,PITCH,YAW: metres and degrees, as the tool's other pose options.
+TrunkPose static_pose_of(const std::string& text) {
+  const std::vector<double> v = numbers_of("--static-pose", text, 3, 6);
+  if (v.size() != 3 && v.size() != 6) {
+    throw InputError("--static-pose: expected X,Y,YAW or X,Y,Z,ROLL,PITCH,YAW, got '" + text + "'");
+  }
+  TrunkPose pose;
+  pose.x_m = v[0];
+  pose.y_m = v[1];
+  pose.yaw_rad = v.back() * kRadPerDeg;
+  if (v.size() == 6) {
+    pose.z_m = v[2];
+    pose.roll_rad = v[3] * kRadPerDeg;
+    pose.pitch_rad = v[4] * kRadPerDeg;
+    if (std::abs(v[3]) > 90.0 || std::abs(v[4]) > 90.0) {
+      throw InputError("--static-pose: roll and pitch are degrees from -90 to 90, got " + text);
+    }
+  }
+  return pose;
+}
 
 void refuse_existing(const std::string& path, bool overwrite) {
   struct stat info {};
@@ -44,10 +105,10 @@ void refuse_existing(const std::string& path, bool overwrite) {
 // The importer of one format, told where to report its progress.
 using Importer = std::function<io::ImportedData(std::string_view text, const ProgressCallback& progress)>;
 
-void run_import(const ImportArgs& args, const Importer& import) {
+void run_import(const ImportArgs& args, const Importer& import, bool binary = false) {
   refuse_existing(args.log_path, args.overwrite);
   refuse_existing(args.poses_path, args.overwrite);
-  const std::string text = io::read_import_text(args.input);
+  const std::string text = io::read_import_file(args.input, !binary);
   note("read " + std::to_string(text.size()) + " bytes from " + args.input);
   io::ImportedData data;
   {
@@ -147,6 +208,53 @@ void register_import(CLI::App& app) {
       options.progress = progress;
       return io::import_csv_ranges(text, args->input, options);
     });
+  });
+
+  CLI::App* xy = add_format(*import, "xy", "Point pairs: each scan the (x, y) of every beam's return", *args, true,
+                            false);
+  xy->add_option("--encoding", args->xy_encoding, "int32 or float32 (binary, little-endian), or text (a scan a line)")
+      ->capture_default_str();
+  xy->add_option("--header-bytes", args->xy.header_bytes, "Binary: bytes before the first value")->capture_default_str();
+  xy->add_option("--separator", args->xy.separator, "Binary: a pair with x and y both this ends a scan");
+  xy->add_option("--pairs-per-scan", args->xy.pairs_per_scan, "Binary without a separator: pairs in every scan");
+  xy->add_option("--unit-m", args->xy.unit_m, "Metres per unit of x and y (0.001: millimetres)")->capture_default_str();
+  xy->add_option("--invalid", args->invalid_pair, "The pair X,Y meaning no return")->capture_default_str();
+  xy->add_flag("--time-first", args->xy.time_first, "Text: the first number of each line is the scan's time [s]");
+  xy->add_option("--scan-rate-hz", args->scan_rate_hz, "Scans without times: the sensor's rate (scan k at k / rate s)")
+      ->check(number_from_to(1e-6, 10000.0, "Hz"));
+  xy->add_option("--angle-min-deg", args->xy_angle_min_deg, "Angle of the first beam (default: fitted to the points)");
+  xy->add_option("--angle-step-deg", args->xy_angle_step_deg, "Angle between beams (default: fitted to the points)");
+  xy->add_option("--min-range-m", args->xy.min_range_m, "Shorter ranges are no return")->capture_default_str();
+  xy->add_option("--max-range-m", args->xy.max_range_m, "Longer ranges are beyond the range")->capture_default_str();
+  xy->add_option("--static-pose", args->static_pose,
+                 "The sensor stood still: also write --poses with X,Y,YAW or X,Y,Z,ROLL,PITCH,YAW (m, deg) at every "
+                 "scan's time");
+  xy->add_option("--poses", args->poses_path, "Pose file to write with --static-pose");
+  xy->callback([args] {
+    io::XyImportOptions options = args->xy;
+    if (args->xy_encoding == "int32") {
+      options.encoding = io::XyEncoding::int32;
+    } else if (args->xy_encoding == "float32") {
+      options.encoding = io::XyEncoding::float32;
+    } else if (args->xy_encoding == "text") {
+      options.encoding = io::XyEncoding::text;
+    } else {
+      throw InputError("--encoding: '" + args->xy_encoding + "' is not one of int32, float32, text");
+    }
+    const std::vector<double> invalid = numbers_of("--invalid", args->invalid_pair, 2, 2);
+    options.invalid_x = invalid[0];
+    options.invalid_y = invalid[1];
+    if (args->scan_rate_hz > 0.0) options.scan_rate_hz = args->scan_rate_hz;
+    if (args->xy_angle_min_deg) options.angle_min_rad = *args->xy_angle_min_deg * kRadPerDeg;
+    if (args->xy_angle_step_deg) options.angle_step_rad = *args->xy_angle_step_deg * kRadPerDeg;
+    if (args->static_pose.empty() != args->poses_path.empty()) {
+      throw InputError("--static-pose and --poses go together: the pose file is written from the pose");
+    }
+    if (!args->static_pose.empty()) options.static_pose = static_pose_of(args->static_pose);
+    run_import(*args, [&](std::string_view bytes, const ProgressCallback& progress) {
+      options.progress = progress;
+      return io::import_xy(bytes, args->input, options);
+    }, options.encoding != io::XyEncoding::text);
   });
 
   CLI::App* tum = add_format(*import, "tum", "TUM trajectory: timestamp tx ty tz qx qy qz qw", *args, false, true);

@@ -122,7 +122,7 @@ std::string mapping_shortfall(const ScanMapperStats& s, const TimeRange& scans, 
   }
   why += "; skipped: " + std::to_string(s.before_first_pose) + " before the first pose, " +
          std::to_string(s.after_last_pose) + " after the last (or waited too long), " + std::to_string(s.pose_gap) +
-         " in gaps between poses wider than the maximum, " + std::to_string(s.rejected) +
+         " in gaps between poses wider than the maximum (--max-pose-gap-s), " + std::to_string(s.rejected) +
          " rejected (steps or length that do not fit the sensor)";
   return why;
 }

@@ -103,6 +103,10 @@ scip::VersionInfo imported_version(const std::string& format) {
 }  // namespace detail
 
 std::string read_import_text(const std::string& path, std::uint64_t max_bytes) {
+  return read_import_file(path, true, max_bytes);
+}
+
+std::string read_import_file(const std::string& path, bool text_only, std::uint64_t max_bytes) {
   struct stat info {};
   if (::stat(path.c_str(), &info) != 0) {
     throw InputError(path + ": cannot open the file to import (" + std::strerror(errno) + ")");
@@ -130,7 +134,7 @@ std::string read_import_text(const std::string& path, std::uint64_t max_bytes) {
   const std::size_t head = std::min<std::size_t>(text.size(), detail::kTextSniffBytes);
   in.read(text.data(), static_cast<std::streamsize>(head));
   std::size_t got = static_cast<std::size_t>(in.gcount());
-  detail::text_body(std::string_view(text.data(), got), path);  // binary data is refused before the rest is read
+  if (text_only) detail::text_body(std::string_view(text.data(), got), path);  // binary data refused before the rest is read
   if (got == head && head < text.size()) {
     in.read(text.data() + head, static_cast<std::streamsize>(text.size() - head));
     got += static_cast<std::size_t>(in.gcount());

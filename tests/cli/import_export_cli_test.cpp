@@ -1,6 +1,7 @@
 // `stridemap import`, `map` on what it wrote, then `export` and `map-info`
 // on the map file `map` leaves: the whole path a user takes with a
 // recording from elsewhere.
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -120,6 +121,35 @@ TEST(ImportCli, DevicesBinaryFilesAndOutOfOrderTimesAreReported) {
   EXPECT_NE(imported.output.find("3 poses"), std::string::npos) << imported.output;
   EXPECT_NE(imported.output.find("0 malformed lines skipped, 1 out of time order skipped"), std::string::npos)
       << imported.output;
+}
+
+// A text point-pair log of a sensor standing still: the scans and one pose
+// per scan, ready for `map`; without times the scan rate is asked for.
+TEST(ImportCli, PointPairsOfAStandingSensorBecomeAScanLogAndPoses) {
+  TestFolder folder;
+  std::string text;
+  const double step = 2.0 * 3.14159265358979323846 / 1024.0;
+  for (int s = 0; s < 20; ++s) {
+    for (int k = 0; k < 100; ++k) {
+      const double angle = (k - 50) * step, r = 1000.0 + s;
+      text += (k ? " " : "") + std::to_string(std::lround(r * std::cos(angle))) + " " +
+              std::to_string(std::lround(r * std::sin(angle)));
+    }
+    text += "\n";
+  }
+  folder.write("pairs.txt", text);
+  const auto asked = run_cli("import xy " + shell_quoted(folder / "pairs.txt") + " --encoding text --log " +
+                             shell_quoted(folder / "run.log"));
+  EXPECT_EQ(asked.exit_code, 2) << asked.output;
+  EXPECT_NE(asked.output.find("--scan-rate-hz"), std::string::npos) << asked.output;
+  EXPECT_FALSE(std::filesystem::exists(folder / "run.log"));
+  const auto made = run_cli("import xy " + shell_quoted(folder / "pairs.txt") + " --encoding text --scan-rate-hz 10 " +
+                            "--static-pose 0.5,0,90 --log " + shell_quoted(folder / "run.log") + " --poses " +
+                            shell_quoted(folder / "run.poses"));
+  ASSERT_EQ(made.exit_code, 0) << made.output;
+  EXPECT_NE(made.output.find("import xy: 20 scans, 20 poses"), std::string::npos) << made.output;
+  EXPECT_NE(folder.read("run.log").find("ARES:1024"), std::string::npos);
+  EXPECT_NE(folder.read("run.poses").find("\n1.9 0.5 0 1.5707963267948966"), std::string::npos) << folder.read("run.poses");
 }
 
 TEST(ExportCli, ADamagedMapFileIsAClearError) {

@@ -96,6 +96,44 @@ struct CsvRangesImportOptions {
   ProgressCallback progress{};
 };
 
+/// How a point-pair log stores its numbers.
+enum class XyEncoding : std::uint8_t {
+  int32,    ///< little-endian 32-bit integers, x y x y ...
+  float32,  ///< little-endian IEEE 754 single precision
+  text,     ///< one scan per line: "x0 y0 x1 y1 ..." (spaces, tabs or commas)
+};
+
+/// Point-pair logs: each scan is one (x, y) pair per beam, in beam order,
+/// in the sensor's frame (x ahead, y left), with a fixed pair for "no
+/// return". The beams' angles are fitted to the points (least squares of
+/// atan2(y, x) against the beam number) unless given, and each pair
+/// becomes the range of its beam.
+struct XyImportOptions {
+  XyEncoding encoding = XyEncoding::int32;
+  /// Binary: bytes before the first value (a file header).
+  std::size_t header_bytes = 0;
+  /// Binary: a pair whose x and y both equal this ends a scan.
+  std::optional<double> separator;
+  /// Binary without a separator: pairs in every scan.
+  std::size_t pairs_per_scan = 0;
+  double unit_m = 0.001;  ///< metres per unit of x and y (0.001: millimetres)
+  double invalid_x = 0.0;  ///< the pair meaning "no return", in the file's units
+  double invalid_y = 0.0;
+  /// Text: the first number of each line is the scan's time [s].
+  bool time_first = false;
+  /// Scans without times: scan k is taken at k / scan_rate_hz s.
+  std::optional<double> scan_rate_hz;
+  /// The beams' angles; both or neither (then fitted to the points).
+  std::optional<double> angle_min_rad;
+  std::optional<double> angle_step_rad;
+  double min_range_m = 0.02;
+  double max_range_m = 5.6;
+  /// A sensor standing still: this pose at every scan's time.
+  std::optional<TrunkPose> static_pose;
+  /// Told the kilobytes read so far.
+  ProgressCallback progress{};
+};
+
 /// What TUM's tz becomes: h_ref (reference_elevation_m), the trunk's
 /// height change (height_change_m), each relative to the first pose, or
 /// nothing.
@@ -112,6 +150,10 @@ ImportedData import_breezyslam(std::string_view text, const std::string& source,
 ImportedData import_carmen(std::string_view text, const std::string& source, const CarmenImportOptions& options = {});
 ImportedData import_csv_ranges(std::string_view text, const std::string& source,
                                const CsvRangesImportOptions& options = {});
+/// `bytes` as XyImportOptions::encoding says. Scans of another pair count
+/// than the first are skipped and named; a fit that does not hold (the
+/// points not on evenly spaced beams) is an InputError asking for the angles.
+ImportedData import_xy(std::string_view bytes, const std::string& source, const XyImportOptions& options);
 /// "timestamp tx ty tz qx qy qz qw" per line: poses only. The body frame
 /// must be the robot's (X forward, Y left, Z up).
 ImportedData import_tum(std::string_view text, const std::string& source, const TumImportOptions& options = {});
@@ -126,6 +168,8 @@ inline constexpr std::uint64_t kMaxImportBytes = std::uint64_t{4} << 30;
 /// most `max_bytes`, text in its first 4 KiB. Throws InputError naming the
 /// file and what is wrong.
 std::string read_import_text(const std::string& path, std::uint64_t max_bytes = kMaxImportBytes);
+/// The same for a file that may be binary (`text_only` false: no text check).
+std::string read_import_file(const std::string& path, bool text_only, std::uint64_t max_bytes = kMaxImportBytes);
 
 /// Writes the scan log (only when there are scans) and the pose file (only
 /// when there are poses); each appears complete or not at all. Throws
