@@ -45,6 +45,7 @@ struct CartRailArgs {
   std::string pipeline = "image";
   double lux = 300.0;
   std::string exposure = "highlight";
+  int saturation_halo_dn = io::StripeDetectorOptions{}.saturation_halo_dn;
   bool cell_size_given = false, rule_given = false, filters_given = false, map_filter_given = false;
   bool mixed_pixels_given = false;
 };
@@ -89,6 +90,7 @@ void apply_structured_light_args(const CartRailArgs& args, CartRailOptions& opti
   options.structured_light.pipeline = parse_option<StripePipeline>("--pipeline", args.pipeline);
   options.structured_light.image.ambient.illuminance_lux = args.lux;
   apply_exposure_arg(args.exposure, options.structured_light.image.camera);
+  options.structured_light.detector.saturation_halo_dn = args.saturation_halo_dn;
   if (!args.cell_size_given) options.cell_size_m = 0.005;
   if (!args.map_filter_given) options.map_filter = MapFilter::cas;
   if (args.mixed_pixels_given || args.filters_given) {
@@ -253,6 +255,10 @@ void register_experiment(CLI::App& app) {
                         "but the brightest 1 % of the scene kept at or below 220 DN), auto (the mean only) or a fixed "
                         "gain [DN per lux]")
       ->capture_default_str();
+  cart_rail->add_option("--saturation-halo-dn", args->saturation_halo_dn,
+                        "Structured light: the detector's saturation_halo_dn (least red excess at the edge of a "
+                        "clipped core; 0: no halo test)")
+      ->capture_default_str()->check(CLI::Range(0, 255));
   cart_rail->add_option("--scene", args->scene_path, "Scene file (YAML, see docs/scenes.md)")->required();
   cart_rail->add_option("--out", args->out_dir, "Output folder; results go to OUT/cart-rail-<sensor>/")->required();
   add_output_folder_overwrite_flag(*cart_rail, args->overwrite);

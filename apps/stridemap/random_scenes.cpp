@@ -73,6 +73,9 @@ struct FidelityArgs {
   std::string structured_light = "image";
   std::string filters = "paper";
   std::string coupling = "on";
+  std::string bystanders = "auto";
+  double min_lux = 50.0, max_lux = 1000.0;
+  int saturation_halo_dn = io::StripeDetectorOptions{}.saturation_halo_dn;
   std::string out_dir;
 };
 
@@ -98,6 +101,21 @@ void run_fidelity_command(const FidelityArgs& args) {
     options.structured_light_rail.structured_light.pipeline =
         parse_option<StripePipeline>("--structured-light", args.structured_light);
   }
+  // The URG-only figures were measured on the line's objects alone; the
+  // bystanders are there for the stripe detector.
+  options.bystanders = args.bystanders == "auto" ? options.structured_light : parse_on_off("--bystanders", args.bystanders);
+  if (options.bystanders && options.kind != RandomSceneKind::boxes) {
+    if (args.bystanders == "on") throw InputError("--bystanders: only boxes scenes have them; use --kind boxes or off");
+    options.bystanders = false;
+  }
+  if (!(args.min_lux <= args.max_lux)) {
+    throw InputError("--min-lux: must not exceed --max-lux (" + std::to_string(args.max_lux) + "), got " +
+                     std::to_string(args.min_lux));
+  }
+  options.min_lux = args.min_lux;
+  options.max_lux = args.max_lux;
+  options.structured_light_rail.structured_light.detector.saturation_halo_dn = args.saturation_halo_dn;
+  options.structured_light_rail.structured_light.detector.validate();
   const std::string dir = (std::filesystem::path(args.out_dir) / "fidelity").string();
   io::check_output_folder(dir, "--out", other_files(args.overwrite));
   io::ProgressBar bar = progress_bar("fidelity", "runs");
@@ -145,6 +163,20 @@ void register_random_scenes(CLI::App& app) {
   fidelity->add_option("--coupling", fa->coupling,
                        "Range-intensity coupling through the receiver's gain control (docs/mixed_pixels.md): on or off")
       ->capture_default_str();
+  fidelity->add_option("--bystanders", fa->bystanders,
+                       "Tall white and black boxes beside the line (boxes scenes): on, off, or auto (on with "
+                       "structured light)")
+      ->capture_default_str();
+  fidelity->add_option("--min-lux", fa->min_lux, "Structured light: least ambient light of a scene [lux]")
+      ->capture_default_str()->check(CLI::Range(1.0, 1e6));
+  fidelity->add_option("--max-lux", fa->max_lux,
+                       "Structured light: most ambient light of a scene [lux]; each scene's is drawn from its seed, "
+                       "log-uniform")
+      ->capture_default_str()->check(CLI::Range(1.0, 1e6));
+  fidelity->add_option("--saturation-halo-dn", fa->saturation_halo_dn,
+                       "Structured light: the detector's saturation_halo_dn (least red excess beside a clipped "
+                       "core; 0: no halo test)")
+      ->capture_default_str()->check(CLI::Range(0, 255));
   fidelity->add_option("--out", fa->out_dir, "Output folder; results go to OUT/fidelity/")->required();
   add_output_folder_overwrite_flag(*fidelity, fa->overwrite);
   fidelity->callback([fa] { run_fidelity_command(*fa); });

@@ -97,6 +97,9 @@ std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOption
         {"coverage", s.coverage},
         {"artifact_cells", s.artifact_cells},
         {"artifact_threshold_m", s.artifact_threshold_m},
+        {"clear_cells", s.clear_cells},
+        {"clear_artifact_cells", s.clear_artifact_cells},
+        {"clear_max_error_m", s.clear_max_error_m},
         {"mean_error_m", s.mean_error_m},
         {"rms_error_measured_m", s.rms_error_measured_m},
         {"rms_error_filled_m", s.rms_error_filled_m},
@@ -154,13 +157,17 @@ std::string cart_rail_table(const CartRailResult& r, const CartRailRunInfo& info
                 s.rms_error_m * 1000, s.max_error_m * 1000, s.coverage * 100, s.artifact_cells,
                 s.artifact_threshold_m * 1000, s.measured_cells, s.filled_cells);
   out += line;
+  std::snprintf(line, sizeof line, "clear of objects (%.0f mm margin): %zu cells off by > %.0f mm, max %.1f mm\n",
+                kObjectMarginM * 1000, s.clear_artifact_cells, s.artifact_threshold_m * 1000,
+                s.clear_max_error_m * 1000);
+  out += line;
   if (r.stripe.frames > 0) {
     const StripeTally& t = r.stripe;
     std::snprintf(line, sizeof line,
                   "stripe: %zu frames; %.1f %% of the %zu visible columns detected within tolerance, %zu false "
-                  "detections (%.2f %%), row error RMS %.2f px; %zu map points\n",
+                  "detections (%.2f %%; %.2f %% off the true row), row error RMS %.2f px; %zu map points\n",
                   t.frames, 100.0 * t.detection_rate(), t.truth_visible, t.false_detections, 100.0 * t.false_rate(),
-                  t.row_error_rms_px, t.map_points);
+                  100.0 * t.off_row_rate(), t.row_error_rms_px, t.map_points);
   } else {
     std::snprintf(line, sizeof line,
                   "beams: %zu clean, %zu mixed, %zu error codes; filters removed %zu mixed, %zu clean\n", r.beams.clean,

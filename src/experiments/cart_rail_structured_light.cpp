@@ -32,6 +32,7 @@ double tally_frame(const io::StripeDetection& detection, const StructuredLightFr
       sum_sq += error * error;
     } else {
       ++tally.false_detections;
+      tally.hidden_on_true_row += t.label == StripeColumnLabel::hidden_from_camera && std::abs(error) <= options.row_tolerance_px;
     }
   }
   return sum_sq;

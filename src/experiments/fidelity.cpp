@@ -13,11 +13,22 @@
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/text_file.hpp"
 #include "stridemap/mapfile/map_file.hpp"
+#include "stridemap/sim/structured_light_simulator.hpp"
 
 namespace stridemap {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+bool is_bystander(const ObjectMeasurement& m) { return m.name.starts_with(kBystanderPrefix); }
+
+// Log-uniform in [lo, hi] from the scene's seed: light levels spread by
+// factors, not by lux.
+double scene_lux(std::uint64_t scene_seed, double lo, double hi) {
+  if (lo == hi) return lo;
+  const double unit = static_cast<double>(mix_seed(scene_seed ^ 0x1A4B1E47ULL) >> 11) * 0x1.0p-53;
+  return lo * std::pow(hi / lo, unit);
+}
 
 // The largest |relative error| over the box extents long enough to score,
 // and every such error into `all`.
@@ -25,7 +36,7 @@ double worst_extent_error(const std::vector<ObjectMeasurement>& objects, double 
                           std::vector<double>& all, ObjectDimensions ObjectMeasurement::* estimate) {
   double worst = kNaN;
   for (const ObjectMeasurement& m : objects) {
-    if (m.kind != "box" || !m.found) continue;
+    if (m.kind != "box" || !m.found || is_bystander(m)) continue;
     const ObjectDimensions& d = m.*estimate;
     for (const auto& [truth, measured] : {std::pair{m.truth.length_m, d.length_m},
                                           std::pair{m.truth.width_m, d.width_m}}) {
@@ -40,7 +51,7 @@ double worst_extent_error(const std::vector<ObjectMeasurement>& objects, double 
 
 std::size_t missed(const std::vector<ObjectMeasurement>& objects) {
   return static_cast<std::size_t>(
-      std::count_if(objects.begin(), objects.end(), [](const ObjectMeasurement& m) { return !m.found; }));
+      std::count_if(objects.begin(), objects.end(), [](const ObjectMeasurement& m) { return !m.found && !is_bystander(m); }));
 }
 
 }  // namespace
@@ -85,13 +96,19 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
   if (options.filters.empty()) {
     throw InputError("fidelity: the filtered run needs at least one scan filter (the unfiltered run is the reference)");
   }
+  if (!(options.min_lux >= 0.0) || !(options.max_lux >= options.min_lux) || !std::isfinite(options.max_lux) ||
+      (options.min_lux == 0.0 && options.max_lux > 0.0)) {
+    throw InputError("fidelity: the light levels must be finite with 0 <= min_lux <= max_lux, and min_lux > 0 unless "
+                     "both are 0 (they are drawn log-uniform); got " + std::to_string(options.min_lux) + " and " +
+                     std::to_string(options.max_lux));
+  }
   FidelityResult result;
   std::vector<double> urg_all, sl_all, unused;
   const std::size_t runs_per_scene = options.structured_light ? 4 : 3;
   for (std::size_t k = 0; k < options.scenes; ++k) {
     FidelitySceneResult row;
     row.scene_seed = options.seed * 1000 + k;
-    row.scene_yaml = random_scene_yaml(options.kind, row.scene_seed);
+    row.scene_yaml = random_scene_yaml(options.kind, row.scene_seed, options.bystanders);
     const Scene scene = parse_scene_yaml(row.scene_yaml, "random scene " + std::to_string(row.scene_seed));
     std::size_t part = k * runs_per_scene;
     const auto run = [&](CartRailOptions run_options) {
@@ -135,7 +152,16 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
                     : kNaN;
     row.clean_beams_dropped_pct = 100.0 * filtered.beams.clean_drop_rate();
     if (options.structured_light) {
-      const CartRailResult sl = run(options.structured_light_rail);
+      CartRailOptions sl_options = options.structured_light_rail;
+      row.structured_light_lux = scene_lux(row.scene_seed, options.min_lux, options.max_lux);
+      sl_options.structured_light.image.ambient.illuminance_lux = row.structured_light_lux;
+      const CartRailResult sl = run(sl_options);
+      row.structured_light_false_detections_pct = 100.0 * sl.stripe.false_rate();
+      row.structured_light_off_row_detections_pct = 100.0 * sl.stripe.off_row_rate();
+      row.structured_light_clear_artifact_cells = static_cast<double>(sl.score.clear_artifact_cells);
+      row.structured_light_clear_max_error_mm = sl.score.clear_max_error_m * 1000.0;
+      row.structured_light_max_error_mm = sl.score.max_error_m * 1000.0;
+      row.structured_light_rms_error_mm = sl.score.rms_error_m * 1000.0;
       row.structured_light_objects = sl.objects;
       row.structured_light_extent_error_pct =
           worst_extent_error(sl.objects, options.min_scored_extent_m, sl_all, &ObjectMeasurement::measured);
@@ -150,6 +176,10 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
       row.structured_light_extent_error_pct = row.structured_light_extent_error_edges_untrimmed_pct =
           row.structured_light_extent_error_trimmed_pct =
           row.structured_light_extent_error_untrimmed_pct = kNaN;
+      row.structured_light_lux = row.structured_light_false_detections_pct =
+          row.structured_light_off_row_detections_pct = row.structured_light_clear_artifact_cells =
+          row.structured_light_clear_max_error_mm = row.structured_light_max_error_mm =
+          row.structured_light_rms_error_mm = kNaN;
     }
     result.scenes.push_back(std::move(row));
   }
@@ -175,6 +205,12 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
     figure("structured_light_box_extent_error_pct, untrimmed cells", &R::structured_light_extent_error_untrimmed_pct,
            false);
     figure("structured_light_objects_missed", &R::structured_light_objects_missed, false);
+    figure("structured_light_false_detections_pct", &R::structured_light_false_detections_pct, false);
+    figure("structured_light_false_detections_off_row_pct", &R::structured_light_off_row_detections_pct, false);
+    figure("structured_light_cells_off_20mm_clear_of_objects", &R::structured_light_clear_artifact_cells, false);
+    figure("structured_light_max_error_clear_of_objects_mm", &R::structured_light_clear_max_error_mm, false);
+    figure("structured_light_max_error_mm", &R::structured_light_max_error_mm, false);
+    figure("structured_light_rms_error_mm", &R::structured_light_rms_error_mm, false);
   }
   figure("mixed_artifacts_removed_pct", &R::mixed_artifacts_removed_pct, true);
   figure("clean_beams_dropped_pct", &R::clean_beams_dropped_pct, false);
@@ -249,6 +285,13 @@ std::string fidelity_summary_json(const FidelityResult& result, const FidelityOp
       entry["structured_light_box_extent_error_pct"] = number_or_null(row.structured_light_extent_error_pct);
       entry["structured_light_objects_missed"] = row.structured_light_objects_missed;
       entry["structured_light_objects"] = objects_json(row.structured_light_objects);
+      entry["structured_light_lux"] = row.structured_light_lux;
+      entry["structured_light_false_detections_pct"] = row.structured_light_false_detections_pct;
+      entry["structured_light_false_detections_off_row_pct"] = row.structured_light_off_row_detections_pct;
+      entry["structured_light_cells_off_20mm_clear_of_objects"] = row.structured_light_clear_artifact_cells;
+      entry["structured_light_max_error_clear_of_objects_mm"] = row.structured_light_clear_max_error_mm;
+      entry["structured_light_max_error_mm"] = row.structured_light_max_error_mm;
+      entry["structured_light_rms_error_mm"] = row.structured_light_rms_error_mm;
     }
     scenes.push_back(std::move(entry));
   }
@@ -262,6 +305,9 @@ std::string fidelity_summary_json(const FidelityResult& result, const FidelityOp
       {"min_scored_extent_m", options.min_scored_extent_m},
       {"filters", scan_filter_list_name(options.filters)},
       {"coupling", options.urg.sim.receiver.enabled},
+      {"bystanders", options.bystanders},
+      {"lux", {{"min", options.min_lux}, {"max", options.max_lux}}},
+      {"saturation_halo_dn", options.structured_light_rail.structured_light.detector.saturation_halo_dn},
       {"structured_light", options.structured_light
                                ? std::string(name(options.structured_light_rail.structured_light.pipeline))
                                : std::string("off")},

@@ -3,19 +3,33 @@
 #include <algorithm>
 #include <cmath>
 
+#include "stridemap/core/error.hpp"
+
 namespace stridemap {
 
-MapSnapshot snapshot_with_truth(const ElevationMap& map, const Scene& scene) {
-  MapSnapshot snapshot{export_map(map), {}};
+MapSnapshot snapshot_with_truth(const ElevationMap& map, const Scene& scene, double object_margin_m) {
+  if (!(object_margin_m >= 0.0) || !std::isfinite(object_margin_m)) {
+    throw InputError("map evaluation: the object margin must be finite and >= 0 m");
+  }
+  MapSnapshot snapshot{export_map(map), {}, {}};
   const int n = map.cells_per_side();
   snapshot.truth_m.resize(n, n);
+  snapshot.clear_of_objects.resize(n, n);
+  Scene bare;
+  bare.terrain = scene.terrain;
   const double s = map.cell_size_m();
+  const double m = object_margin_m;
   for (int i = 0; i < n; ++i) {
     for (int j = 0; j < n; ++j) {
       const CellIndex c = map.cell_at_local(i, j);
       const double x0 = static_cast<double>(c.x) * s;
       const double y0 = static_cast<double>(c.y) * s;
       snapshot.truth_m(i, j) = static_cast<float>(scene.max_height_in_rect(x0, y0, x0 + s, y0 + s));
+      // An object raises the grown cell's highest point above the bare
+      // terrain's; one flush with the ground does not, and is floor.
+      const double with = scene.max_height_in_rect(x0 - m, y0 - m, x0 + s + m, y0 + s + m);
+      const double without = bare.max_height_in_rect(x0 - m, y0 - m, x0 + s + m, y0 + s + m);
+      snapshot.clear_of_objects(i, j) = with <= without ? 1 : 0;
     }
   }
   return snapshot;
@@ -27,6 +41,8 @@ MapScore score_map(const MapSnapshot& snapshot, const CellMask& area, const MapS
   double sum_sq = 0.0, sum = 0.0, sum_sq_measured = 0.0, sum_sq_filled = 0.0;
   const Eigen::MatrixXf& elevation = snapshot.elevation_m();
   const CellMask& states = snapshot.state();
+  const bool clear = snapshot.clear_of_objects.rows() == elevation.rows() &&
+                     snapshot.clear_of_objects.cols() == elevation.cols();
   for (Eigen::Index i = 0; i < elevation.rows(); ++i) {
     for (Eigen::Index j = 0; j < elevation.cols(); ++j) {
       if (!area(i, j)) continue;
@@ -46,6 +62,11 @@ MapScore score_map(const MapSnapshot& snapshot, const CellMask& area, const MapS
       }
       score.max_error_m = std::max(score.max_error_m, std::abs(error));
       if (std::abs(error) > options.artifact_threshold_m) ++score.artifact_cells;
+      if (clear && snapshot.clear_of_objects(i, j)) {
+        ++score.clear_cells;
+        score.clear_max_error_m = std::max(score.clear_max_error_m, std::abs(error));
+        if (std::abs(error) > options.artifact_threshold_m) ++score.clear_artifact_cells;
+      }
     }
   }
   const auto rms = [](double total, std::size_t count) {

@@ -14,6 +14,8 @@ inline void add_stripe_tally(nlohmann::json& out, const StripeTally& t) {
   out["false_detections"] = t.false_detections;
   out["detection_rate"] = t.detection_rate();
   out["false_rate"] = t.false_rate();
+  out["false_hidden_on_true_row"] = t.hidden_on_true_row;
+  out["false_off_row_rate"] = t.off_row_rate();
   out["row_error_rms_px"] = t.row_error_rms_px;
   out["map_points"] = t.map_points;
 }

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <numbers>
 #include <random>
+#include <vector>
 
 namespace stridemap {
 namespace {
@@ -53,8 +54,39 @@ std::string box_yaml(const std::string& box_name, double cx, double cy, double l
 // a margin so that a measured object is seen whole.
 double view_width_m(double height_m) { return 0.9 * (0.40 - 1.35 * height_m); }
 
-std::string boxes_scene(std::uint64_t seed) {
+// Where an object on the line occupies the rail's x range [x0, x1] out to
+// |y| <= reach.
+struct Occupied {
+  double x0_m, x1_m, reach_m;
+};
+
+// Tall boxes beside the line; see random_scene_yaml.
+std::string bystander_boxes(std::uint64_t seed, std::vector<Occupied> line) {
+  Draw draw(seed ^ 0xB157A4DE55EEDULL);
+  std::string out;
+  const int wanted = draw.whole(1, 2);
+  for (int k = 0; k < wanted; ++k) {
+    const double length = draw.between(0.05, 0.12), width = draw.between(0.05, 0.10);
+    const double height = draw.between(0.08, 0.16);
+    const bool white = draw.chance(0.5);
+    const double reflectance = white ? draw.between(0.75, 0.9) : draw.between(0.05, 0.2);
+    const double side = draw.chance(0.5) ? 1.0 : -1.0;
+    const double cx = draw.between(0.50, 1.35);
+    double inner = draw.between(0.10, 0.15);
+    for (const Occupied& o : line) {
+      if (o.x1_m + 0.02 > cx - length / 2 && o.x0_m - 0.02 < cx + length / 2) inner = std::max(inner, o.reach_m + 0.03);
+    }
+    if (inner + width > 0.25) continue;  // no room beside this stretch of the line
+    out += box_yaml(std::string(kBystanderPrefix) + std::to_string(k), cx, side * (inner + width / 2), length, width,
+                    height, 0.0, reflectance);
+    line.push_back({cx - length / 2, cx + length / 2, inner + width});  // the next one stands clear of it
+  }
+  return out;
+}
+
+std::string boxes_scene(std::uint64_t seed, bool bystanders) {
   Draw draw(seed);
+  std::vector<Occupied> line;
   std::string boxes = "\nboxes:\n", cylinders;
   // From the paper's mount (0.26 m, 35 deg) the rail 0..1.2 m sweeps the
   // tops of objects up to 0.16 m high between x = 0.4 and 1.4 m.
@@ -75,6 +107,7 @@ std::string boxes_scene(std::uint64_t seed) {
       cylinders += "  - {name: " + object_name + ", center_x_m: " + num(next_x + radius) + ", center_y_m: " +
                    num(cy) + ", radius_m: " + num(radius) + ", height_m: " + num(height) +
                    ", reflectance: " + num(reflectance) + "}\n";
+      line.push_back({next_x, next_x + 2 * radius, std::abs(cy) + radius});
       next_x += 2 * radius;
     } else {
       double length = draw.between(0.05, 0.20), width = draw.between(0.05, 0.20);
@@ -90,15 +123,19 @@ std::string boxes_scene(std::uint64_t seed) {
       const double along = c * length + s * width;
       if (next_x + along > 1.40) break;
       boxes += box_yaml(object_name, next_x + along / 2, cy, length, width, height, yaw, reflectance);
+      line.push_back({next_x, next_x + along, std::abs(cy) + (s * length + c * width) / 2});
       next_x += along;
     }
     ++placed;
     next_x += draw.between(0.08, 0.15);  // room for the shadow's edge and the next top's view
   }
   (void)placed;
-  return header(RandomSceneKind::boxes, seed, "Boxes and cans lined up on the rail, seen whole by both sensors.") +
-         flat_terrain(draw.between(0.1, 0.9)) + boxes + (cylinders.empty() ? "" : "\ncylinders:\n" + cylinders) +
-         rail();
+  const double floor_reflectance = draw.between(0.1, 0.9);
+  if (bystanders) boxes += bystander_boxes(seed, line);
+  return header(RandomSceneKind::boxes, seed,
+                bystanders ? "Boxes and cans lined up on the rail, seen whole by both sensors; tall boxes beside them."
+                           : "Boxes and cans lined up on the rail, seen whole by both sensors.") +
+         flat_terrain(floor_reflectance) + boxes + (cylinders.empty() ? "" : "\ncylinders:\n" + cylinders) + rail();
 }
 
 std::string steps_scene(std::uint64_t seed) {
@@ -160,13 +197,13 @@ std::string rocky_scene(std::uint64_t seed) {
 
 }  // namespace
 
-std::string random_scene_yaml(RandomSceneKind kind, std::uint64_t seed) {
+std::string random_scene_yaml(RandomSceneKind kind, std::uint64_t seed, bool bystanders) {
   switch (kind) {
     case RandomSceneKind::rocky: return rocky_scene(seed);
     case RandomSceneKind::steps: return steps_scene(seed);
     case RandomSceneKind::boxes: break;
   }
-  return boxes_scene(seed);
+  return boxes_scene(seed, bystanders);
 }
 
 }  // namespace stridemap

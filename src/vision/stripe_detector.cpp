@@ -58,6 +58,35 @@ double mean_green_blue(const RgbImage& image, int x, int from, int to) {
   return sum / (to - from + 1);
 }
 
+int red_excess(const RgbImage& image, int x, int y) {
+  const std::size_t i = image.offset(x, y);
+  return static_cast<int>(image.rgb[i]) - std::max(image.rgb[i + 1], image.rgb[i + 2]);
+}
+
+// The red excess at the edges of a clipped run: per side, the largest over
+// the run's two outer rows and the two rows beyond (a laser's flank may clip
+// red but not green and blue, and so lie inside the run), averaged over the
+// column and its neighbours (the stripe runs across columns, the noise does
+// not); the stronger side. A side outside the image counts as -255.
+double halo_red_excess(const RgbImage& image, int x, int top, int bottom) {
+  double strongest = -255.0;
+  for (const int step : {-1, 1}) {
+    const int first = step < 0 ? top + 1 : bottom - 1;
+    double sum = 0.0;
+    int columns = 0;
+    for (int c = std::max(0, x - 1); c <= std::min(image.width - 1, x + 1); ++c) {
+      int best = -255;
+      for (int y = first; y != first + 4 * step; y += step) {
+        if (y >= 0 && y < image.height) best = std::max(best, red_excess(image, c, y));
+      }
+      sum += best;
+      ++columns;
+    }
+    strongest = std::max(strongest, sum / columns);
+  }
+  return strongest;
+}
+
 // Marks the saturated stripe cores (header, step 1b) in `mask`, with a
 // strength in `strength` on the colour rule's scale; returns how many pixels
 // it added.
@@ -88,6 +117,11 @@ std::size_t mark_saturated_cores(const RgbImage& image, const StripeDetectorOpti
       if (surround > o.saturation_dn - o.saturation_contrast_dn) continue;
       const double contrast = mean_green_blue(image, x, top, bottom) - surround;
       if (contrast < o.saturation_contrast_dn) continue;
+      // The laser's profile falls off through the rows beside its clipped
+      // core, where red still outruns its leak into green and blue; an
+      // ambient-lit white band (a box top seen edge-on) clips the same way
+      // but is grey beside it.
+      if (o.saturation_halo_dn > 0 && halo_red_excess(image, x, top, bottom) < o.saturation_halo_dn) continue;
       const int scaled = static_cast<int>(std::lround(contrast * o.min_red_excess_dn / o.saturation_contrast_dn));
       for (int r = top; r <= bottom; ++r) {
         auto& m = mask.at<std::uint8_t>(r, x);
@@ -117,6 +151,8 @@ void StripeDetectorOptions::validate() const {
           "must be from 2 to 101, got " + std::to_string(max_saturated_core_px));
   require(saturation_contrast_dn >= 1 && saturation_contrast_dn <= 255, "saturation_contrast_dn",
           "must be from 1 to 255, got " + std::to_string(saturation_contrast_dn));
+  require(saturation_halo_dn >= 0 && saturation_halo_dn <= 255, "saturation_halo_dn",
+          "must be from 0 (no halo test) to 255, got " + std::to_string(saturation_halo_dn));
   require(opening_size_px >= 1 && opening_size_px <= 101 && opening_size_px % 2 == 1, "opening_size_px",
           "must be an odd number from 1 to 101 (an even square has no centre), got " +
               std::to_string(opening_size_px));

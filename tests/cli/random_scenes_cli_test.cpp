@@ -73,6 +73,19 @@ TEST(FidelityCommand, TwoScenesGiveDistributionsInSummary) {
   EXPECT_TRUE(fs::exists(dir / "fidelity" / "scenes" / "scene_2000.yaml"));
   EXPECT_EQ(run_cli("experiment fidelity --scenes 0 --out " + dir.string()).exit_code, 2);
   EXPECT_EQ(run_cli("experiment fidelity --kind rocky --out " + dir.string()).exit_code, 2);
+  EXPECT_EQ(summary["bystanders"], false) << "auto: off without structured light";
+}
+
+TEST(FidelityCommand, StructuredLightOptionsAreCheckedBeforeAnyWork) {
+  const fs::path dir = fresh_dir("fidelity_options");
+  const CommandResult lux = run_cli("experiment fidelity --min-lux 2000 --max-lux 1000 --out " + dir.string());
+  EXPECT_EQ(lux.exit_code, 2) << lux.output;
+  EXPECT_NE(lux.output.find("--min-lux"), std::string::npos) << lux.output;
+  const CommandResult steps = run_cli("experiment fidelity --kind steps --bystanders on --out " + dir.string());
+  EXPECT_EQ(steps.exit_code, 2) << steps.output;
+  EXPECT_NE(steps.output.find("--bystanders"), std::string::npos) << steps.output;
+  EXPECT_EQ(run_cli("experiment fidelity --saturation-halo-dn 300 --out " + dir.string()).exit_code, 2);
+  EXPECT_FALSE(fs::exists(dir / "fidelity" / "summary.json"));
 }
 
 }  // namespace

@@ -86,6 +86,55 @@ TEST(Fidelity, OneSceneGivesEveryFigureAndIsDeterministic) {
   EXPECT_THROW(run_fidelity(options), InputError);
 }
 
+TEST(RandomScene, BystandersStandBesideTheLineAndLeaveItsObjectsAlone) {
+  std::size_t white = 0, black = 0;
+  for (std::uint64_t seed = 0; seed < 30; ++seed) {
+    const Scene plain = parse_scene_yaml(random_scene_yaml(RandomSceneKind::boxes, seed), "plain");
+    const Scene with = parse_scene_yaml(random_scene_yaml(RandomSceneKind::boxes, seed, true), "with");
+    EXPECT_EQ(random_scene_yaml(RandomSceneKind::boxes, seed, true), random_scene_yaml(RandomSceneKind::boxes, seed, true));
+    ASSERT_GE(with.boxes.size(), plain.boxes.size());
+    for (std::size_t k = 0; k < plain.boxes.size(); ++k) EXPECT_EQ(with.boxes[k].name, plain.boxes[k].name);
+    EXPECT_EQ(with.terrain.reflectance, plain.terrain.reflectance);
+    for (std::size_t k = plain.boxes.size(); k < with.boxes.size(); ++k) {
+      const BoxObject& b = with.boxes[k];
+      EXPECT_TRUE(b.name.starts_with(kBystanderPrefix)) << b.name;
+      EXPECT_GE(b.height_m, 0.08);
+      EXPECT_GE(std::abs(b.center_y_m) - b.width_m / 2, 0.099) << b.name << " seed " << seed;
+      white += b.reflectance >= 0.75;
+      black += b.reflectance <= 0.2;
+    }
+  }
+  EXPECT_GT(white, 5u);
+  EXPECT_GT(black, 5u);
+}
+
+TEST(Fidelity, StructuredLightFiguresIncludeFalseDetectionsAndFloorErrors) {
+  FidelityOptions options;
+  options.scenes = 1;
+  options.seed = 3;
+  options.structured_light_rail.structured_light.pipeline = StripePipeline::geometric;
+  const FidelityResult result = run_fidelity(options);
+  const FidelitySceneResult& row = result.scenes.front();
+  EXPECT_GE(row.structured_light_lux, 50.0);
+  EXPECT_LE(row.structured_light_lux, 1000.0);
+  EXPECT_EQ(row.structured_light_false_detections_pct, 0.0);  // the true stripe
+  EXPECT_EQ(row.structured_light_clear_artifact_cells, 0.0);
+  EXPECT_GT(row.structured_light_rms_error_mm, 0.0);
+  EXPECT_GE(row.structured_light_max_error_mm, row.structured_light_clear_max_error_mm);
+  EXPECT_NE(row.scene_yaml.find(kBystanderPrefix), std::string::npos);
+  const std::string json = fidelity_summary_json(result, options);
+  for (const char* key : {"structured_light_false_detections_pct", "structured_light_false_detections_off_row_pct",
+                          "structured_light_cells_off_20mm_clear_of_objects",
+                          "structured_light_max_error_clear_of_objects_mm", "structured_light_max_error_mm",
+                          "structured_light_rms_error_mm", "structured_light_lux", "saturation_halo_dn"}) {
+    EXPECT_NE(json.find(key), std::string::npos) << key;
+  }
+  const std::string table = fidelity_table(result);
+  EXPECT_NE(table.find("structured_light_cells_off_20mm_clear_of_objects"), std::string::npos) << table;
+  options.min_lux = 0.0;
+  EXPECT_THROW(run_fidelity(options), InputError);
+}
+
 TEST(Fidelity, RefusesAFilteredRunWithoutFilters) {
   FidelityOptions options;
   options.scenes = 1;

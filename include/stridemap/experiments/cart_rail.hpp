@@ -86,6 +86,11 @@ struct StripeTally {
   std::size_t detected = 0;         ///< columns with a (mapped) detection
   std::size_t correct = 0;          ///< visible and detected within the row tolerance
   std::size_t false_detections = 0; ///< detected where not visible, or beyond the tolerance
+  /// Of the false detections, those on the true row (within the tolerance)
+  /// of a stripe the truth marks hidden from the camera: at an occlusion
+  /// edge the truth's visibility test and the rendered image can differ by
+  /// a pixel, and such a row maps to the right point.
+  std::size_t hidden_on_true_row = 0;
   double row_error_rms_px = 0.0;    ///< over correct detections
   std::size_t map_points = 0;       ///< stripe pixels that became map points
 
@@ -94,6 +99,10 @@ struct StripeTally {
   }
   double false_rate() const {
     return detected ? static_cast<double>(false_detections) / static_cast<double>(detected) : 0.0;
+  }
+  /// False detections off the true row, per detection.
+  double off_row_rate() const {
+    return detected ? static_cast<double>(false_detections - hidden_on_true_row) / static_cast<double>(detected) : 0.0;
   }
 };
 

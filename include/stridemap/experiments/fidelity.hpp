@@ -32,6 +32,12 @@ struct FidelityOptions {
   CartRailOptions structured_light_rail = default_structured_light_rail();
   /// Box extents at least this long are scored against the targets [m].
   double min_scored_extent_m = 0.09;
+  /// Tall white and black boxes beside the line (random_scene_yaml's
+  /// bystanders; boxes only). Not measured, but in every map's figures.
+  bool bystanders = true;
+  /// Structured light: scene k's ambient light is drawn from its seed,
+  /// log-uniform between these [lux]; equal bounds fix it.
+  double min_lux = 50.0, max_lux = 1000.0;
   ProgressCallback progress{};
 
   /// The CLI's structured-light defaults: Ragno's sensor, the image path at
@@ -65,6 +71,19 @@ struct FidelitySceneResult {
   /// Clean beams the paper's filters drop [%].
   double clean_beams_dropped_pct = 0.0;
   double urg_rms_error_mm = 0.0;
+  /// Structured light (NaN without it): the ambient light of its run
+  /// [lux]; detections off the true stripe [% of detections]; map cells
+  /// clear of objects (MapSnapshot::clear_of_objects) off by more than
+  /// the artifact threshold, and the largest error there [mm]; the map's
+  /// largest error and RMS error [mm].
+  double structured_light_lux = 0.0;
+  double structured_light_false_detections_pct = 0.0;
+  /// The false detections off the true row (StripeTally::off_row_rate) [%].
+  double structured_light_off_row_detections_pct = 0.0;
+  double structured_light_clear_artifact_cells = 0.0;
+  double structured_light_clear_max_error_mm = 0.0;
+  double structured_light_max_error_mm = 0.0;
+  double structured_light_rms_error_mm = 0.0;
 };
 
 /// Median, 90th percentile and worst of a figure over scenes; "worse" is

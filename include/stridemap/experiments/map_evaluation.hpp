@@ -18,9 +18,19 @@ namespace stridemap {
 /// the same window order.
 struct MapSnapshot : ExportedMap {
   Eigen::MatrixXf truth_m;  ///< highest scene point inside each cell
+  /// 1 where no object (box, cylinder) comes within the margin of the cell:
+  /// free floor, where any height in the map is a phantom. Empty when the
+  /// snapshot has no truth.
+  CellMask clear_of_objects;
 };
 
-MapSnapshot snapshot_with_truth(const ElevationMap& map, const Scene& scene);
+/// Default margin of clear_of_objects [m]: a reading of an object's edge
+/// lands up to a cell beside it (its cell is the reading's, not the edge's),
+/// so the cells next to an object are neither floor nor object.
+inline constexpr double kObjectMarginM = 0.01;
+
+MapSnapshot snapshot_with_truth(const ElevationMap& map, const Scene& scene,
+                                double object_margin_m = kObjectMarginM);
 
 struct MapScoreOptions {
   /// A known cell whose elevation is off by more than this counts as an
@@ -43,6 +53,12 @@ struct MapScore {
   double coverage = 0.0;           ///< known / scored area
   std::size_t artifact_cells = 0;
   double artifact_threshold_m = 0.0;
+  /// Known cells clear of objects (MapSnapshot::clear_of_objects) in the
+  /// scored area, those off by more than the artifact threshold there, and
+  /// the largest error there; all 0 when the snapshot has no such mask.
+  std::size_t clear_cells = 0;
+  std::size_t clear_artifact_cells = 0;
+  double clear_max_error_m = 0.0;
 };
 
 /// Scores the cells where `area` is non-zero (e.g. the swept area).

@@ -40,6 +40,17 @@ inline RandomSceneKind parse_enum_name<RandomSceneKind>(std::string_view text) {
 /// at its height; box sides 50-200 mm, 60 % of them turned by up to
 /// 45 deg; 30 % flat (15-40 mm high), the rest 50-160 mm; every object and
 /// the floor of reflectance 0.1-0.9.
-std::string random_scene_yaml(RandomSceneKind kind, std::uint64_t seed);
+///
+/// With `bystanders` (boxes only): the same scene plus one or two tall
+/// boxes (80-160 mm) beside the line, 100-250 mm from it where the
+/// objects on the line leave room, each white (reflectance 0.75-0.9) or
+/// black (0.05-0.2): in the structured-light camera's view but mostly
+/// outside the stripe's, named kBystanderPrefix + k. They come from their
+/// own draw, so the objects on the line are those of the scene without.
+std::string random_scene_yaml(RandomSceneKind kind, std::uint64_t seed, bool bystanders = false);
+
+/// Name prefix of the bystander boxes: figures of measured objects leave
+/// them out (the stripe sees them only in part).
+inline constexpr std::string_view kBystanderPrefix = "bystander_";
 
 }  // namespace stridemap

@@ -18,8 +18,10 @@
 //    a faint red halo and no red excess. In each column a run of clipped red
 //    no taller than max_saturated_core_px, whose mean max(G, B) exceeds the
 //    brighter of the 3 rows above and below by saturation_contrast_dn,
-//    is a stripe candidate too (a clipped white object is taller; a lone
-//    clipped speck is one row and dropped);
+//    and whose flanks are red (saturation_halo_dn), is a stripe candidate
+//    too (a clipped white object is taller; a lone clipped speck is one row
+//    and dropped; a white surface lit by ambient light alone, clipped in a
+//    thin band such as a box top seen from afar, is grey beside the band);
 // 2. morphological clean-up: an optional opening with a square (drops
 //    specks and hairlines thinner than it), closing with a vertical line
 //    (joins a stripe that noise split across rows), and an area opening
@@ -68,6 +70,14 @@ struct StripeDetectorOptions {
   /// laser's leak into green and blue lifts them in the core. 8: over
   /// three standard deviations of a 2-row mean at mid-grey.
   int saturation_contrast_dn = 8;
+  /// Least red excess R - max(G, B) at the run's edge [DN]: on the
+  /// stronger side, the largest over its two outer rows and the two beyond,
+  /// averaged over the column and its two neighbours. The laser's flanks are red, an
+  /// ambient-lit white surface that clips is grey (its flanks' excess is
+  /// noise: under 9 DN in simulated frames at 300-1000 lux, the laser's
+  /// 28 DN and more). 15: four standard deviations of that mean near full
+  /// scale. 0 turns the test off.
+  int saturation_halo_dn = 15;
   /// Side of the square of the opening [px], odd; 1 (default) turns it off.
   int opening_size_px = 1;
   /// Height of the vertical closing line [px]; 1 turns the closing off. 7
