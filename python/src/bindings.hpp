@@ -19,6 +19,13 @@ namespace stridemap::python {
 
 namespace py = pybind11;
 
+/// A file or folder argument: a str or any os.PathLike (pathlib.Path), as
+/// Python's own file functions take.
+struct FilePath {
+  std::string value;
+  operator const std::string&() const { return value; }
+};
+
 void register_errors(py::module_& m);
 void register_options(py::module_& m);
 void register_map(py::module_& m);
@@ -71,3 +78,32 @@ std::string element_name(const std::string& argument, long long index);
 double finite_number(double value, const std::string& argument);
 
 }  // namespace stridemap::python
+
+namespace pybind11::detail {
+
+template <>
+struct type_caster<stridemap::python::FilePath> {
+  PYBIND11_TYPE_CASTER(stridemap::python::FilePath, const_name("str | os.PathLike"));
+  bool load(handle source, bool) {
+    // os.fspath(): str as it is, bytes, or what __fspath__ returns.
+    object path = reinterpret_steal<object>(PyOS_FSPath(source.ptr()));
+    if (!path) {
+      PyErr_Clear();
+      return false;
+    }
+    if (PyUnicode_Check(path.ptr())) {
+      value.value = path.cast<std::string>();
+      return true;
+    }
+    if (PyBytes_Check(path.ptr())) {
+      value.value = std::string(PyBytes_AS_STRING(path.ptr()), static_cast<std::size_t>(PyBytes_GET_SIZE(path.ptr())));
+      return true;
+    }
+    return false;
+  }
+  static handle cast(const stridemap::python::FilePath& path, return_value_policy, handle) {
+    return str(path.value).release();
+  }
+};
+
+}  // namespace pybind11::detail

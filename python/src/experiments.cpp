@@ -34,7 +34,7 @@ void write_outputs(const std::optional<std::string>& out_dir, Write&& write) {
   staged.commit();
 }
 
-py::object run_rocky_walk_py(const std::string& scene_path, std::uint64_t seed, const std::vector<double>& sweep,
+py::object run_rocky_walk_py(const FilePath& scene_path, std::uint64_t seed, const std::vector<double>& sweep,
                              const std::string& reference, bool calibrate_attitude, bool calibrate_range,
                              bool mixed_pixels, bool coupling, const std::string& filters,
                              const std::string& map_filter, double pose_error_scale,
@@ -62,7 +62,7 @@ py::object run_rocky_walk_py(const std::string& scene_path, std::uint64_t seed, 
   }
   if (out_dir) io::check_output_folder(*out_dir, "out_dir");
   const Scene scene = load_scene_yaml(scene_path);
-  if (!scene.walk_path) raise_input_error(scene_path + ": the scene has no walk_path section");
+  if (!scene.walk_path) raise_input_error(scene_path.value + ": the scene has no walk_path section");
   const WalkSensorFactory factory = [sensor, seed](const Scene& s, const UpdateOptions& update) -> std::unique_ptr<WalkSensor> {
     return std::make_unique<UrgWalkSensor>(s, sensor, update, seed);
   };
@@ -73,12 +73,12 @@ py::object run_rocky_walk_py(const std::string& scene_path, std::uint64_t seed, 
   }
   result.range_calibration = range_calibration;
   result.receiver_coupling = mixed_pixels && coupling;
-  const RockyWalkRunInfo info{scene_path, scene_path + ":walk_path"};
+  const RockyWalkRunInfo info{scene_path.value, scene_path.value + ":walk_path"};
   write_outputs(out_dir, [&](const std::string& folder) { write_rocky_walk_outputs(result, options, info, folder); });
   return json_to_dict(rocky_walk_summary_json(result, options, info));
 }
 
-py::object run_cart_rail_py(const std::string& scene_path, const std::string& sensor, std::uint64_t seed,
+py::object run_cart_rail_py(const FilePath& scene_path, const std::string& sensor, std::uint64_t seed,
                             std::optional<double> cell_size_m, int cells_per_side, bool mixed_pixels,
                             bool coupling, const std::string& filters, const std::optional<std::string>& map_filter,
                             const std::string& elevation_rule, const std::string& pipeline,

@@ -2,6 +2,7 @@
 // the .smap map file (mapfile/map_file.hpp), NumPy/PLY/CSV exports and the PNG
 // pictures every command writes.
 #include <cmath>
+#include <cstdio>
 #include <optional>
 #include <string>
 
@@ -82,9 +83,69 @@ py::dict metadata_dict(const io::MapFileMetadata& metadata) {
   return d;
 }
 
+std::string shape_of(const py::array& a) { return py::str(py::object(a.attr("shape"))).cast<std::string>(); }
+
+py::array_t<std::int64_t> cells_of(const ElevationMap& map, const py::handle& points_m) {
+  const auto p = as_float64(points_m, "points_m");
+  if (p.ndim() != 2 || p.shape(1) != 2) raise_input_error("points_m: expected shape (N, 2), got " + shape_of(p));
+  py::array_t<std::int64_t> out({p.shape(0), py::ssize_t{2}});
+  auto o = out.mutable_unchecked<2>();
+  for (py::ssize_t i = 0; i < p.shape(0); ++i) {
+    const std::string row = element_name("points_m", i);
+    const CellIndex c = map.cell_of(on_cell_grid(map, p.at(i, 0), row + "[0]"), on_cell_grid(map, p.at(i, 1), row + "[1]"));
+    o(i, 0) = c.x;
+    o(i, 1) = c.y;
+  }
+  return out;
+}
+
+py::array_t<double> centers_of(const ElevationMap& map, const py::handle& cells) {
+  // Through float64 like every array argument (numpy_input.cpp): whole
+  // numbers up to 2^53 are exact, far beyond any map's cells.
+  const auto c = as_float64(cells, "cells");
+  if (c.ndim() != 2 || c.shape(1) != 2) raise_input_error("cells: expected shape (N, 2), got " + shape_of(c));
+  py::array_t<double> out({c.shape(0), py::ssize_t{2}});
+  auto o = out.mutable_unchecked<2>();
+  const auto index = [&](py::ssize_t i, py::ssize_t k) {
+    const double v = c.at(i, k);
+    if (!(std::abs(v) <= 0x1p53) || v != std::floor(v)) {
+      raise_input_error(element_name("cells", i) + "[" + std::to_string(k) + "]: expected a whole number, got " +
+                        std::to_string(v));
+    }
+    return static_cast<std::int64_t>(v);
+  };
+  for (py::ssize_t i = 0; i < c.shape(0); ++i) {
+    const Eigen::Vector2d centre = map.cell_center({index(i, 0), index(i, 1)});
+    o(i, 0) = centre.x();
+    o(i, 1) = centre.y();
+  }
+  return out;
+}
+
+py::array_t<double> axis_centers(const ElevationMap& map, std::int64_t first_cell) {
+  py::array_t<double> out(map.cells_per_side());
+  auto o = out.mutable_unchecked<1>();
+  for (int i = 0; i < map.cells_per_side(); ++i) {
+    o(i) = (static_cast<double>(first_cell + i) + 0.5) * map.cell_size_m();
+  }
+  return out;
+}
+
+std::string map_repr(const ElevationMap& map) {
+  std::size_t measured = 0;
+  const std::size_t cells = static_cast<std::size_t>(map.cells_per_side()) * static_cast<std::size_t>(map.cells_per_side());
+  for (std::size_t s = 0; s < cells; ++s) measured += map.state_data()[s] == static_cast<std::uint8_t>(CellState::measured);
+  const double s = map.cell_size_m(), x = static_cast<double>(map.min_cell().x) * s, y = static_cast<double>(map.min_cell().y) * s;
+  char text[256];
+  std::snprintf(text, sizeof text, "<stridemap.Map %d x %d cells of %g m, x %g..%g m, y %g..%g m, %zu layers, %.1f %% measured>",
+                map.cells_per_side(), map.cells_per_side(), s, x, x + map.cells_per_side() * s, y,
+                y + map.cells_per_side() * s, map.layer_count(), cells ? 100.0 * static_cast<double>(measured) / static_cast<double>(cells) : 0.0);
+  return text;
+}
+
 // A pipeline's map starts from what the pipeline knows; every argument
 // given replaces its part.
-void save(const ElevationMap& map, const std::string& path, const std::optional<std::string>& created_by,
+void save(const ElevationMap& map, const FilePath& path, const std::optional<std::string>& created_by,
           const std::optional<std::string>& config_text, const std::optional<SensorMount>& mount,
           std::optional<double> last_scan_time_s, const std::optional<py::dict>& last_pose,
           bool overwrite_other_files) {
@@ -98,7 +159,7 @@ void save(const ElevationMap& map, const std::string& path, const std::optional<
   io::save_map_file(path, map, metadata, {overwrite_other_files});
 }
 
-void write_png_array(const std::string& path, const py::handle& pixels) {
+void write_png_array(const FilePath& path, const py::handle& pixels) {
   const py::array array = as_array(pixels, "pixels");
   if (array.dtype().kind() != 'u' || array.dtype().itemsize() != 1) {
     throw py::type_error("pixels: expected a uint8 array, got dtype " + py::str(array.dtype()).cast<std::string>());
@@ -156,6 +217,24 @@ void register_map(py::module_& m) {
              const auto c = map.cell_center({ix, iy});
              return py::make_tuple(c.x(), c.y());
            }, py::arg("ix"), py::arg("iy"), "Centre (x_m, y_m) of the cell with global index (ix, iy).")
+      .def("cells_of", &cells_of, py::arg("points_m"),
+           "Global indices (N, 2) int64 of the cells holding points (N, 2) [m]: cell_of for many points at once.")
+      .def("centers_of", &centers_of, py::arg("cells"),
+           "Centres (N, 2) [m] of cells given by global index (N, 2): cell_center for many cells at once.")
+      .def("x_m", [](const ElevationMap& map) { return axis_centers(map, map.min_cell().x); },
+           "x [m] of the cells' centres along axis 0 of layer() (i): with y_m(), np.meshgrid(m.x_m(), m.y_m(), "
+           "indexing='ij') gives every cell's centre.")
+      .def("y_m", [](const ElevationMap& map) { return axis_centers(map, map.min_cell().y); },
+           "y [m] of the cells' centres along axis 1 of layer() (j).")
+      .def("__repr__", &map_repr)
+      .def(py::pickle(
+          [](const ElevationMap& map) {
+            const std::string bytes = io::encode_map_file(map, io::MapFileMetadata{});
+            return py::bytes(bytes);
+          },
+          [](const py::bytes& bytes) {
+            return io::decode_map_file(std::string_view(bytes), "pickled stridemap.Map").map;
+          }))
       .def("contains", [](const ElevationMap& map, std::int64_t ix, std::int64_t iy) { return map.contains({ix, iy}); },
            py::arg("ix"), py::arg("iy"), "Whether the cell with global index (ix, iy) is inside the window.")
       .def(
@@ -215,10 +294,10 @@ void register_map(py::module_& m) {
            "configuration. Given arguments replace the pipeline's: last_pose is a dict as MapFile.metadata gives "
            "it. An existing map file is replaced; any other existing file is refused (InputError) unless "
            "overwrite_other_files.")
-      .def("export_npy", [](const ElevationMap& map, const std::string& directory) { return io::export_npy(map, directory); },
+      .def("export_npy", [](const ElevationMap& map, const FilePath& directory) { return io::export_npy(map, directory); },
            py::arg("directory"), "Writes <layer>.npy for every layer into directory; returns the paths.")
       .def("export_ply",
-           [](const ElevationMap& map, const std::string& path) {
+           [](const ElevationMap& map, const FilePath& path) {
              const io::PlyStats stats = io::export_ply(map, path);
              py::dict d;
              d["vertices"] = stats.vertices;
@@ -226,11 +305,11 @@ void register_map(py::module_& m) {
              return d;
            },
            py::arg("path"), "A binary PLY mesh of the known cells, coloured by elevation; returns its counts.")
-      .def("export_csv", [](const ElevationMap& map, const std::string& directory) {
+      .def("export_csv", [](const ElevationMap& map, const FilePath& directory) {
              return io::export_cells_csv(map, directory);
            }, py::arg("directory"), "Writes cells.csv (one line per cell) into directory; returns its path.")
       .def("write_pictures",
-           [](const ElevationMap& map, const std::string& directory, const std::string& title, double certainty_max) {
+           [](const ElevationMap& map, const FilePath& directory, const std::string& title, double certainty_max) {
              io::MapOutputOptions options;
              options.elevation_title = title;
              options.certainty_max = certainty_max;
@@ -258,10 +337,10 @@ void register_map(py::module_& m) {
                              "None). The geometry and layers are the map's own (MapFile.map).")
       .def_readonly("version", &io::MapFile::version, "The file format's version.");
 
-  m.def("load_map", &io::load_map_file, py::arg("path"),
+  m.def("load_map", [](const FilePath& path) { return io::load_map_file(path); }, py::arg("path"),
         "Reads a map file (.smap). Raises InputError '<path>: <what is wrong>' for a missing file, a wrong magic "
         "or version, a checksum mismatch, bad metadata.");
-  m.def("is_map_file", &io::is_map_file, py::arg("path"), "Whether the file starts with the map file's signature.");
+  m.def("is_map_file", [](const FilePath& path) { return io::is_map_file(path); }, py::arg("path"), "Whether the file starts with the map file's signature.");
   m.def("write_png", &write_png_array, py::arg("path"), py::arg("pixels"),
         "Writes an RGB uint8 array of shape (height, width, 3) as a PNG (the library's libpng writer). The file "
         "appears only when complete and replaces any file at path, as numpy.save does.");

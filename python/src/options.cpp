@@ -77,7 +77,7 @@ void register_update(py::module_& m) {
                      "Gated rule: contradicting readings in a row that replace a cell.");
 }
 
-PipelineOptions options_from_config(const std::string& path, const std::string& sensor) {
+PipelineOptions options_from_config(const FilePath& path, const std::string& sensor) {
   const MapperConfig config = load_mapper_config(path);
   PipelineOptions options;
   options.sensor = parse_sensor_kind(sensor);
@@ -142,7 +142,7 @@ void register_pipeline_options(py::module_& m) {
           "Sensor 'points': Delta z of a point = sigma_scale x its sigma.")
       .def(
           "load_structured_light_config",
-          [](PipelineOptions& o, const std::string& path) {
+          [](PipelineOptions& o, const FilePath& path) {
             o.structured_light = load_structured_light_config(path).parameters;
           },
           py::arg("path"),

@@ -346,7 +346,7 @@ void register_pipeline(py::module_& m) {
           "The map being built (not a copy: it keeps this pipeline alive, and its views show later scans).")
       .def(
           "save",
-          [](const Pipeline& p, const std::string& path, const std::string& created_by, bool overwrite_other_files) {
+          [](const Pipeline& p, const FilePath& path, const std::string& created_by, bool overwrite_other_files) {
             io::save_map_file(path, p.pipeline().mapper().map(), p.file_metadata(created_by), {overwrite_other_files});
           },
           py::arg("path"), py::kw_only(), py::arg("created_by") = kPipelineCreatedBy,

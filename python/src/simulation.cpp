@@ -128,7 +128,7 @@ void register_simulation(py::module_& m) {
       .def_property_readonly("box_count", [](const Scene& s) { return s.boxes.size(); }, "Boxes in the scene.")
       .def_property_readonly("cylinder_count", [](const Scene& s) { return s.cylinders.size(); },
                              "Cylinders in the scene.");
-  m.def("load_scene", &load_scene_yaml, py::arg("path"),
+  m.def("load_scene", [](const FilePath& path) { return load_scene_yaml(path); }, py::arg("path"),
         "Reads a scene file. Raises InputError '<file>:<line>: <field>: <what is wrong>'.");
   m.def("parse_scene", &parse_scene_yaml, py::arg("text"), py::arg("source_name") = "<scene>",
         "Parses scene YAML text; source_name stands for the file in messages.");

@@ -6,7 +6,7 @@ import os
 import stridemap
 
 STUB = os.path.join(os.path.dirname(stridemap.__file__), "__init__.pyi")
-TYPING_HELPERS = {"ArrayLike", "PoseLike"}
+TYPING_HELPERS = {"PathLike", "ArrayLike", "PoseLike"}
 
 
 def stub_tree():
