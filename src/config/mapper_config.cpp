@@ -152,7 +152,8 @@ class MapperConfigReader : public StrictYamlReader {
   void read_foothold(const YAML::Node& node, FootholdOptions& o) {
     const std::string p = "foothold";
     const Fields f = read_map(node, p,
-                              {"enabled", "update_every_scan", "foot_radius_m", "max_slope_deg", "max_step_m", "max_roughness_m",
+                              {"enabled", "update_every_scan", "foot_radius_m", "max_slope_deg", "max_step_m",
+                               "max_roughness_m",
                                "edge_search_radius_m", "edge_clearance_m", "full_certainty", "min_known_fraction",
                                "safe_score"});
     o.enabled = boolean(f, node, p, "enabled", o.enabled);
@@ -188,7 +189,6 @@ class MapperConfigReader : public StrictYamlReader {
                               {"enabled", "uncertainty_factor", "relief_factor", "certainty_decrement",
                                "beam_spacing_cells"});
     o.enabled = boolean(f, node, p, "enabled", o.enabled);
-    o.update_every_scan = boolean(f, node, p, "update_every_scan", o.update_every_scan);
     o.uncertainty_factor =
         checked(f, node, p, "uncertainty_factor", o.uncertainty_factor, non_negative, "a factor >= 0");
     o.relief_factor = checked(f, node, p, "relief_factor", o.relief_factor, non_negative, "a factor >= 0 (cells)");

@@ -4,6 +4,7 @@
 // them after every scan writes, byte for byte.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -42,26 +43,26 @@ std::map<std::string, std::string> files_in(const std::string& folder) {
   return files;
 }
 
-struct Run {
+struct MapRunFiles {
   std::map<std::string, std::string> tiles, outputs;
   bool stale_seen = false;  // the lazy mapper's own layers lagged at some scan
 };
 
-Run map_run(bool every_scan, const test::TestFolder& folder) {
+MapRunFiles map_run(bool every_scan, const std::string& folder) {
   ScanMapperOptions options;
   options.config.foothold.update_every_scan = every_scan;
-  options.config.global_map.folder = folder / "tiles";
-  options.config.global_map.save_interval_s = 0.0;  // tiles written as cells leave, and at the end
-  options.config.global_map.cached_tiles = 1;        // so that they leave memory for disk early
-  Run run;
+  // The cells leaving the window are copied into their tiles at each move.
+  options.config.global_map.folder = folder + "/tiles";
+  MapRunFiles run;
   {
     ScanMapper mapper(options, UrgParameters{});
     PoseTrack poses;
-    // 6 m forward and a little sideways: the window moves many times.
+    // 4.5 m forward and back, drifting sideways: the window moves many
+    // times, and on the way back it takes in tiles written on the way out.
     for (int k = 0; k <= 300; ++k) {
       TimedPose p;
       p.time_s = 0.1 * k;
-      p.pose.x_m = 0.02 * k;
+      p.pose.x_m = 0.03 * std::min(k, 300 - k);
       p.pose.y_m = 0.002 * k;
       p.pose.yaw_rad = 0.001 * k;
       poses.append(p);
@@ -80,18 +81,18 @@ Run map_run(bool every_scan, const test::TestFolder& folder) {
     MapRunInfo info;
     info.command = "map";
     info.map_filter = MapFilter::none;  // the map as built, foothold layers and all
-    write_map_outputs(mapper, scip::ScipParameters{}, info, nullptr, folder / "out");
+    write_map_outputs(mapper, scip::ScipParameters{}, info, nullptr, folder + "/out");
     mapper.finish();
   }
-  run.tiles = files_in(folder / "tiles");
-  run.outputs = files_in(folder / "out");
+  run.tiles = files_in(folder + "/tiles");
+  run.outputs = files_in(folder + "/out");
   return run;
 }
 
 TEST(LazyLayers, TilesOutputsAndMapFileAreThoseOfARunUpdatingEveryScan) {
-  test::TestFolder eager_folder, lazy_folder;
-  const Run eager = map_run(true, eager_folder);
-  const Run lazy = map_run(false, lazy_folder);
+  test::TestFolder folder;
+  const MapRunFiles eager = map_run(true, folder / "eager");
+  const MapRunFiles lazy = map_run(false, folder / "lazy");
   EXPECT_TRUE(lazy.stale_seen) << "the lazy layers must lag between reads, or this test shows nothing";
   ASSERT_GT(eager.tiles.size(), 1u);
   ASSERT_EQ(eager.tiles.size(), lazy.tiles.size());
