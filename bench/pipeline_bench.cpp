@@ -27,13 +27,17 @@ UrgRawScan urg_like_raw_scan(const UrgParameters& urg, const SensorMount& mount)
   return raw;
 }
 
-// The pipeline as the CLI runs it; `options` changes one thing from the defaults.
-void pipeline_scans(benchmark::State& state, const PipelineOptions& options) {
+// The pipeline as the CLI runs it; `options` changes one thing from the
+// defaults. With `read_every` > 0 the map is read (map(): the lazy foothold
+// layers brought up to date) after every read_every-th scan, as a planner
+// slower than the scans reads it.
+void pipeline_scans(benchmark::State& state, const PipelineOptions& options, int read_every = 0) {
   MappingPipeline pipeline(options);
   UrgRawScan raw = urg_like_raw_scan(options.urg, options.mount);
   std::mt19937_64 rng(1);
   std::normal_distribution<double> tilt(0.0, 0.02);
   TrunkPose pose;
+  int scans = 0;
   for (auto _ : state) {
     pose.x_m += 0.003;
     pose.yaw_rad += 0.002;
@@ -41,6 +45,7 @@ void pipeline_scans(benchmark::State& state, const PipelineOptions& options) {
     pose.roll_rad = tilt(rng);
     raw.time_s += 0.1;
     benchmark::DoNotOptimize(pipeline.add(raw, pose));
+    if (read_every > 0 && ++scans % read_every == 0) benchmark::DoNotOptimize(&pipeline.map());
   }
   state.counters["scans_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
 }
@@ -51,9 +56,26 @@ PipelineOptions bench_options() {
   return options;
 }
 
-// Defaults: no scan filters, foothold layers refreshed after every scan.
+// Defaults: no scan filters, foothold layers noted per scan and computed
+// when the map is read (never here).
 void BM_PipelineUrgScan(benchmark::State& state) { pipeline_scans(state, bench_options()); }
 BENCHMARK(BM_PipelineUrgScan);
+
+// The map read after every 10th scan: a 1 Hz planner on a 10 Hz URG.
+void BM_PipelineUrgScanFootholdEvery10(benchmark::State& state) { pipeline_scans(state, bench_options(), 10); }
+BENCHMARK(BM_PipelineUrgScanFootholdEvery10);
+
+// The map read after every scan: the whole cost of current layers.
+void BM_PipelineUrgScanFootholdEvery1(benchmark::State& state) { pipeline_scans(state, bench_options(), 1); }
+BENCHMARK(BM_PipelineUrgScanFootholdEvery1);
+
+// foothold.update_every_scan: the layers computed after every scan, read or not.
+void BM_PipelineUrgScanEagerFoothold(benchmark::State& state) {
+  PipelineOptions options = bench_options();
+  options.foothold.update_every_scan = true;
+  pipeline_scans(state, options);
+}
+BENCHMARK(BM_PipelineUrgScanEagerFoothold);
 
 // Without the foothold layers: what the scan's own way costs.
 void BM_PipelineUrgScanNoFoothold(benchmark::State& state) {

@@ -12,8 +12,9 @@
 //     planar: UrgModel::to_planar_scan + TerrainMapper::integrate(PlanarScan)
 //     pipeline: ScanIntegrator::push, no scan filters (its packed route)
 //     pipeline-paper: the same with the paper's scan filters
-//     pipeline-foothold: MappingPipeline::add with its defaults (the foothold
-//       layers refreshed after every scan; they are layers of the digest)
+//     pipeline-foothold: MappingPipeline::add with foothold.update_every_scan
+//       (the foothold layers refreshed after every scan, as they are layers
+//       of the digest read from mapper().map(); otherwise its defaults)
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -67,6 +68,7 @@ int main(int argc, char** argv) {
   pipeline_options.urg = urg;
   pipeline_options.mount = mount;
   if (mode == "pipeline-paper") pipeline_options.filters = parse_scan_filter_list(std::string_view("paper"));
+  pipeline_options.foothold.update_every_scan = true;
   ScanIntegrator integrator(pipeline_options);
   MappingPipeline pipeline(pipeline_options);
   TerrainMapper own_mapper(options, mount);

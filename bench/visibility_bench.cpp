@@ -34,6 +34,8 @@ void walk(benchmark::State& state, bool visibility, bool foothold, double turn_r
   options.mapper.window_ahead_m = 0.3;
   options.visibility.enabled = visibility;
   options.foothold.enabled = foothold;
+  // Computed after every scan, not when read (never here): the budget is per scan.
+  options.foothold.update_every_scan = true;
   MappingPipeline pipeline(options);
   PlanarScan scan = urg_like_scan(options.mount);
   std::mt19937_64 rng(1);

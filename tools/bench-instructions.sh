@@ -47,7 +47,7 @@ for mode in packed planar pipeline pipeline-paper pipeline-foothold; do
       conversion=$(inclusive "$out" "UrgModel::to_beams(")
       integration=$(inclusive "$out" "TerrainMapper::integrate(stridemap::PlanarBeams const&")
       total=$(inclusive "$out" "MappingPipeline::add(stridemap::UrgRawScan const&")
-      label="pipeline with its defaults, foothold layers every scan (MappingPipeline::add)" ;;
+      label="pipeline, foothold layers every scan (update_every_scan; MappingPipeline::add)" ;;
   esac
   awk -v label="$label" -v scans="$scans" -v points="$points" -v c="${conversion:-0}" -v i="${integration:-0}" \
       -v t="${total:-0}" 'BEGIN {

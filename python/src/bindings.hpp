@@ -41,6 +41,11 @@ inline constexpr const char* kPipelineCreatedBy = "Python stridemap.Pipeline";
 /// nothing: a Map of its own or a copy knows no settings.
 std::optional<io::MapFileMetadata> pipeline_map_metadata(const ElevationMap& map, const std::string& created_by);
 
+/// `map`, its foothold layers brought up to date first when it is the map a
+/// live Pipeline builds (MappingPipeline::map(): they are computed when read,
+/// not after every scan). Every Map method that reads layers goes through it.
+const ElevationMap& layers_current(const ElevationMap& map);
+
 /// Raises stridemap.InputError (a ValueError) with `message`.
 [[noreturn]] void raise_input_error(const std::string& message);
 

@@ -156,7 +156,7 @@ void save(const ElevationMap& map, const FilePath& path, const std::optional<std
   if (mount) metadata.mount = mount;
   if (last_scan_time_s) metadata.last_scan_time_s = finite_number(*last_scan_time_s, "last_scan_time_s");
   if (last_pose) metadata.last_pose = pose_from_dict(*last_pose, "last_pose");
-  io::save_map_file(path, map, metadata, {overwrite_other_files});
+  io::save_map_file(path, layers_current(map), metadata, {overwrite_other_files});
 }
 
 void write_png_array(const FilePath& path, const py::handle& pixels) {
@@ -195,7 +195,7 @@ void register_map(py::module_& m) {
            py::arg("cells_per_side") = 100, py::arg("cell_size_m") = 0.01,
            "An empty map (every cell unknown). Raises GridSizeError for a grid too large or a cell size out of "
            "range.")
-      .def("copy", [](const ElevationMap& map) { return ElevationMap(map); }, "An independent copy.")
+      .def("copy", [](const ElevationMap& map) { return ElevationMap(layers_current(map)); }, "An independent copy.")
       .def_property_readonly("cells_per_side", &ElevationMap::cells_per_side, "N.")
       .def_property_readonly("cell_size_m", &ElevationMap::cell_size_m, "Edge of a cell [m].")
       .def_property_readonly(
@@ -229,7 +229,7 @@ void register_map(py::module_& m) {
       .def("__repr__", &map_repr)
       .def(py::pickle(
           [](const ElevationMap& map) {
-            const std::string bytes = io::encode_map_file(map, io::MapFileMetadata{});
+            const std::string bytes = io::encode_map_file(layers_current(map), io::MapFileMetadata{});
             return py::bytes(bytes);
           },
           [](const py::bytes& bytes) {
@@ -240,7 +240,7 @@ void register_map(py::module_& m) {
       .def(
           "layer",
           [](const py::object& self, const std::string& name) {
-            return window_layer(self.cast<const ElevationMap&>(), name, self);
+            return window_layer(layers_current(self.cast<const ElevationMap&>()), name, self);
           },
           py::arg("name"),
           "The layer in window order. A read-only zero-copy view (its .base keeps this map alive) when the window's "
@@ -249,7 +249,7 @@ void register_map(py::module_& m) {
       .def(
           "storage_view",
           [](const py::object& self, const std::string& name) {
-            return storage_view(self.cast<const ElevationMap&>(), name, self);
+            return storage_view(layers_current(self.cast<const ElevationMap&>()), name, self);
           },
           py::arg("name"),
           "Always a read-only zero-copy view of the layer's storage: element [a, b] is the cell whose global index "
@@ -271,7 +271,7 @@ void register_map(py::module_& m) {
           "layers",
           [](const py::object& self) {
             py::dict d;
-            for (const std::string& name : layer_names(self.cast<const ElevationMap&>())) {
+            for (const std::string& name : layer_names(layers_current(self.cast<const ElevationMap&>()))) {
               d[py::str(name)] = window_layer(self.cast<const ElevationMap&>(), name, self);
             }
             return d;
@@ -294,11 +294,11 @@ void register_map(py::module_& m) {
            "configuration. Given arguments replace the pipeline's: last_pose is a dict as MapFile.metadata gives "
            "it. An existing map file is replaced; any other existing file is refused (InputError) unless "
            "overwrite_other_files.")
-      .def("export_npy", [](const ElevationMap& map, const FilePath& directory) { return io::export_npy(map, directory); },
+      .def("export_npy", [](const ElevationMap& map, const FilePath& directory) { return io::export_npy(layers_current(map), directory); },
            py::arg("directory"), "Writes <layer>.npy for every layer into directory; returns the paths.")
       .def("export_ply",
            [](const ElevationMap& map, const FilePath& path) {
-             const io::PlyStats stats = io::export_ply(map, path);
+             const io::PlyStats stats = io::export_ply(layers_current(map), path);
              py::dict d;
              d["vertices"] = stats.vertices;
              d["triangles"] = stats.triangles;
@@ -306,7 +306,7 @@ void register_map(py::module_& m) {
            },
            py::arg("path"), "A binary PLY mesh of the known cells, coloured by elevation; returns its counts.")
       .def("export_csv", [](const ElevationMap& map, const FilePath& directory) {
-             return io::export_cells_csv(map, directory);
+             return io::export_cells_csv(layers_current(map), directory);
            }, py::arg("directory"), "Writes cells.csv (one line per cell) into directory; returns its path.")
       .def("write_pictures",
            [](const ElevationMap& map, const FilePath& directory, const std::string& title, double certainty_max) {
@@ -316,7 +316,7 @@ void register_map(py::module_& m) {
              // The set replaces the folder whole, and a folder holding anything
              // but earlier outputs is refused: a user's files are never lost.
              io::OutputFolder staged(directory, "directory");
-             io::write_map_layers(export_map(map), staged.path(), options);
+             io::write_map_layers(export_map(layers_current(map)), staged.path(), options);
              staged.commit();
            },
            py::arg("directory"), py::kw_only(), py::arg("title") = "Elevation", py::arg("certainty_max") = 100.0,

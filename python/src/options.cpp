@@ -103,6 +103,11 @@ void register_pipeline_options(py::module_& m) {
           [](PipelineOptions& o, const std::string& text) { o.sensor = parse_sensor_kind(text); },
           "'urg', 'structured-light' or 'points'.")
       .def_readwrite("mount", &PipelineOptions::mount, "The SensorMount.")
+      .def_property(
+          "foothold_update_every_scan", [](const PipelineOptions& o) { return o.foothold.update_every_scan; },
+          [](PipelineOptions& o, bool every_scan) { o.foothold.update_every_scan = every_scan; },
+          "Refresh the foothold layers after every scan (True), or when the map is read (False, the default: "
+          "pipeline.map, Pipeline.save); the same values either way (docs/foothold.md).")
       .def_readwrite("urg", &PipelineOptions::urg, "UrgParameters of the scans (sensor 'urg').")
       .def_property(
           "cells_per_side", [](const PipelineOptions& o) { return o.mapper.grid.cells_per_side; },

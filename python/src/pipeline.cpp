@@ -290,6 +290,12 @@ std::optional<io::MapFileMetadata> pipeline_map_metadata(const ElevationMap& map
   return it->second->file_metadata(created_by);
 }
 
+const ElevationMap& layers_current(const ElevationMap& map) {
+  const auto it = live_pipelines().find(&map);
+  if (it != live_pipelines().end()) (void)it->second->pipeline().map();
+  return map;
+}
+
 void register_pipeline(py::module_& m) {
   const char* pose_doc =
       "pose: 5 numbers (x_m, y_m, roll_rad, pitch_rad, yaw_rad; the paper's model: the sensor at mount.height_m "
@@ -341,13 +347,19 @@ void register_pipeline(py::module_& m) {
       .def("filtered_map", [](Pipeline& p) { return p.pipeline().filtered_map(); },
            "A copy of the map with the map filter applied; the map being built is unchanged.")
       .def_property_readonly(
-          "map", [](Pipeline& p) -> ElevationMap& { return p.pipeline().mapper().map(); },
+          "map",
+          [](Pipeline& p) -> ElevationMap& {
+            (void)p.pipeline().map();  // the foothold layers, computed when read
+            return p.pipeline().mapper().map();
+          },
           py::return_value_policy::reference_internal,
-          "The map being built (not a copy: it keeps this pipeline alive, and its views show later scans).")
+          "The map being built (not a copy: it keeps this pipeline alive, and its views show later scans; the "
+          "foothold layers are computed when the map is read, so a view of one held across scans shows them as "
+          "of the last read: pipeline.map, or any Map method).")
       .def(
           "save",
           [](const Pipeline& p, const FilePath& path, const std::string& created_by, bool overwrite_other_files) {
-            io::save_map_file(path, p.pipeline().mapper().map(), p.file_metadata(created_by), {overwrite_other_files});
+            io::save_map_file(path, p.pipeline().map(), p.file_metadata(created_by), {overwrite_other_files});
           },
           py::arg("path"), py::kw_only(), py::arg("created_by") = kPipelineCreatedBy,
           py::arg("overwrite_other_files") = false,

@@ -60,6 +60,7 @@ class UpdateOptions:
 class PipelineOptions:
     sensor: str
     mount: SensorMount
+    foothold_update_every_scan: bool
     urg: UrgParameters
     cells_per_side: int
     cell_size_m: float

@@ -132,3 +132,32 @@ def test_structured_light_stripes_go_through_the_pipeline():
     assert outcome["integrated"] == stats["stripe_converted"] > 0
     with pytest.raises(stridemap.InputError, match=r"pixels: expected shape \(N, 2\)"):
         pipeline.add_stripe(np.zeros((3, 3)), 0.6, [0, 0, 0, 0, 0])
+
+
+def test_lazy_foothold_layers_read_as_those_updated_every_scan(flat_walk, tmp_path):
+    eager_options = stridemap.PipelineOptions()
+    eager_options.foothold_update_every_scan = True
+    assert not stridemap.PipelineOptions().foothold_update_every_scan  # lazy is the default
+    eager = stridemap.Pipeline(eager_options)
+    lazy = stridemap.Pipeline()
+    held = lazy.map.layer("foothold_score")  # a view, held across scans
+    n = len(flat_walk["times_s"])
+    for k in range(n):
+        args = (flat_walk["ranges_mm"][k], flat_walk["times_s"][k], flat_walk["poses"][k])
+        h = dict(reference_elevation_m=flat_walk["reference_elevation_m"][k],
+                 height_change_m=flat_walk["height_change_m"][k])
+        eager.add_urg_scan(*args, **h)
+        lazy.add_urg_scan(*args, **h)
+        if k % 10 != 9 and k != n - 1:
+            continue
+        a, b = eager.map.layers(), lazy.map.layers()
+        assert a.keys() == b.keys()
+        for name in a:
+            assert np.array_equal(a[name], b[name], equal_nan=True), (k, name)
+    # A view shows the layers as of the last read of the map (here: above).
+    if not held.flags.writeable:
+        assert np.isfinite(held).any()
+        assert np.array_equal(held, eager.map.storage_view("foothold_score"), equal_nan=True)
+    eager.save(str(tmp_path / "eager.smap"))
+    lazy.save(str(tmp_path / "lazy.smap"))
+    assert (tmp_path / "eager.smap").read_bytes() == (tmp_path / "lazy.smap").read_bytes()

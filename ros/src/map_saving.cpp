@@ -20,7 +20,7 @@ void save_map(const MessageMapper& mapper, const std::string& path, const std::s
   io::MapFileMetadata metadata = io::map_file_metadata(mapper.impl().config, created_by);
   metadata.last_scan_time_s = m.last_scan_time_s();
   metadata.last_pose = m.last_pose();
-  io::save_map_file(path, m.map(), metadata);
+  io::save_map_file(path, mapper.impl().pipeline->map(), metadata);
   written.insert(std::filesystem::weakly_canonical(path, ec).string());
 }
 

@@ -152,10 +152,12 @@ class MapperConfigReader : public StrictYamlReader {
   void read_foothold(const YAML::Node& node, FootholdOptions& o) {
     const std::string p = "foothold";
     const Fields f = read_map(node, p,
-                              {"enabled", "foot_radius_m", "max_slope_deg", "max_step_m", "max_roughness_m",
+                              {"enabled", "update_every_scan", "foot_radius_m", "max_slope_deg", "max_step_m",
+                               "max_roughness_m",
                                "edge_search_radius_m", "edge_clearance_m", "full_certainty", "min_known_fraction",
                                "safe_score"});
     o.enabled = boolean(f, node, p, "enabled", o.enabled);
+    o.update_every_scan = boolean(f, node, p, "update_every_scan", o.update_every_scan);
     o.foot_radius_m = checked(f, node, p, "foot_radius_m", o.foot_radius_m, positive, "a radius > 0 m");
     o.max_slope_deg = checked(f, node, p, "max_slope_deg", o.max_slope_deg,
                               [](double v) { return v > 0.0 && v <= 90.0; }, "an angle > 0 and <= 90 deg");

@@ -66,8 +66,9 @@ void MapPublisher::commit_publish() {
   latest_ = std::exchange(writing_, kNone);
 }
 
-bool MapPublisher::publish(const TerrainMapper& mapper) {
-  const ElevationMap& map = mapper.map();
+bool MapPublisher::publish(const TerrainMapper& mapper) { return publish(mapper, mapper.map()); }
+
+bool MapPublisher::publish(const TerrainMapper& mapper, const ElevationMap& map) {
   const ElevationMap& shape = buffers_.front()->snapshot.map;
   if (map.cells_per_side() != shape.cells_per_side()) {
     // Copying a map of another size would allocate and break the promise.

@@ -121,7 +121,7 @@ void finish_rail_map(const Scene& scene, const CartRailOptions& options, Mapping
   const MapFilterResult filtered = pipeline.apply_map_filter();
   result.filled_cells = filtered.filled;
   result.cas_removed_cells = filtered.cas_removed;
-  const ElevationMap& map = pipeline.mapper().map();
+  const ElevationMap& map = pipeline.map();
   result.snapshot = snapshot_with_truth(map, scene);
   // The objects' sub-cell edges read the top points, which are not in the
   // planner's export.

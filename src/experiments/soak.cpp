@@ -94,7 +94,7 @@ class SoakRun {
       io::MapFileMetadata metadata;
       metadata.created_by = "soak (simulated)";
       tiles_ = std::make_unique<io::TileStore>(options.global_map, pipeline_.mapper().map(), metadata);
-      pipeline_.mapper().set_window_listener(tiles_.get());
+      pipeline_.set_window_listener(tiles_.get());
     }
   }
 
@@ -151,7 +151,7 @@ class SoakRun {
     previous_ = scan;  // same sizes: copies in place
     previous_pose_ = pose;
     previous_accepted_ = accepted;
-    if (due(k, options_.check_every)) check(std::as_const(pipeline_).mapper().map());
+    if (due(k, options_.check_every)) check(pipeline_.map());
     if (due(k, options_.publish_every)) publish();
   }
 
@@ -168,7 +168,7 @@ class SoakRun {
 
   // Writes the window into the tiles and reads every tile back.
   void check_global_map() {
-    tiles_->flush(std::as_const(pipeline_).mapper().map());
+    tiles_->flush(pipeline_.map());
     SoakGlobalMap& g = result_.global_map;
     g.enabled = true;
     for (const io::TileIndex& t : tiles_->tiles_on_disk()) {
@@ -201,7 +201,7 @@ class SoakRun {
   void publish() {
     PublishedMap* snapshot = publisher_.begin_publish();
     if (snapshot == nullptr) return;  // counted by the publisher
-    snapshot->map = std::as_const(pipeline_).mapper().map();
+    snapshot->map = pipeline_.map();
     snapshot->scans = pipeline_.mapper().totals().scans;
     snapshot->time_s = pipeline_.mapper().last_scan_time_s().value_or(kSoakNaN);
     snapshot->pose = pipeline_.mapper().last_pose().value_or(TrunkPose{});
@@ -232,7 +232,7 @@ class SoakRun {
   void checkpoint(std::uint64_t scans, const std::function<void(const SoakCheckpoint&)>& on_checkpoint) {
     SoakCheckpoint c;
     c.scan = scans;
-    c.map_hash = map_layers_hash(std::as_const(pipeline_).mapper().map());
+    c.map_hash = map_layers_hash(pipeline_.map());
     if (const PublishedMapHandle snapshot = publisher_.latest()) c.snapshot_hash = map_layers_hash(snapshot->map);
     c.measured_cells = measured_cells_;
     const ProcessMemory memory = process_memory();

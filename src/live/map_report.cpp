@@ -183,9 +183,9 @@ std::string empty_run_failure(const ScanMapper& mapper, const ExportedMap& layer
 ExportedMap filtered_map_layers(const ScanMapper& mapper, MapFilter filter) {
   switch (filter) {
     case MapFilter::fill: return mapper.filled_layers();
-    case MapFilter::none: return export_map(mapper.mapper().map());
+    case MapFilter::none: return export_map(mapper.map());
     case MapFilter::cas: {
-      ElevationMap copy = mapper.mapper().map();
+      ElevationMap copy = mapper.map();
       CasOptions cas;
       cas.fill = mapper.options().config.fill;
       CasFilter(cas).apply(copy);
@@ -212,7 +212,7 @@ ExportedMap write_map_outputs(const ScanMapper& mapper, const scip::ScipParamete
   io::MapFileMetadata metadata = io::map_file_metadata(mapper.options().config, info.command + " " + info.scans_from);
   metadata.last_scan_time_s = mapper.mapper().last_scan_time_s();
   metadata.last_pose = mapper.mapper().last_pose();
-  io::save_map_file(staged.file("map.smap"), mapper.mapper().map(), metadata);
+  io::save_map_file(staged.file("map.smap"), mapper.map(), metadata);
   if (info.extra_outputs) info.extra_outputs(staged.path());
   staged.commit();
   return layers;

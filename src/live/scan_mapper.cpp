@@ -42,7 +42,7 @@ ScanMapper::ScanMapper(const ScanMapperOptions& options, const UrgParameters& se
     // Made last: it takes the layers of the map as resumed, foothold layers included.
     tiles_ = std::make_unique<io::TileStore>(options_.config.global_map, pipeline_.mapper().map(),
                                              io::map_file_metadata(options_.config, "global map"));
-    pipeline_.mapper().set_window_listener(tiles_.get());
+    pipeline_.set_window_listener(tiles_.get());
   }
 }
 
@@ -73,7 +73,7 @@ void ScanMapper::save_tiles_when_due() {
   if (!tiles_ || !now_s) return;
   if (tiles_->failing()) {
     if (!last_tile_retry_s_ || *now_s - *last_tile_retry_s_ >= kTileRetryS || *now_s < *last_tile_retry_s_) {
-      tiles_->flush(std::as_const(pipeline_).mapper().map());
+      tiles_->flush(pipeline_.map());
       last_tile_retry_s_ = *now_s;
     }
     return;
@@ -84,7 +84,7 @@ void ScanMapper::save_tiles_when_due() {
     last_tile_save_s_ = *now_s;
   } else if (*now_s - *last_tile_save_s_ >= interval_s) {
     // Rare (once a save_interval_s of scans): writing files allocates.
-    tiles_->flush(std::as_const(pipeline_).mapper().map());  // a read: the clean-up keeps its maxima
+    tiles_->flush(pipeline_.map());  // a read: the clean-up keeps its maxima
     last_tile_save_s_ = *now_s;
   }
 }
@@ -97,7 +97,7 @@ std::size_t ScanMapper::expire(double before_s) {
 
 void ScanMapper::finish() {
   pipeline_.finish();
-  if (tiles_) tiles_->flush(std::as_const(pipeline_).mapper().map());
+  if (tiles_) tiles_->flush(pipeline_.map());
   stats_ = pipeline_.stats();
 }
 

@@ -58,8 +58,37 @@ ScanStats MappingPipeline::add_planar(const PlanarScan& scan, const TrunkPose& p
   return updated(outcome).stats;
 }
 
-void MappingPipeline::refresh_foothold() {
-  if (foothold_) foothold_->refresh(mapper_.map_without_raising());
+void MappingPipeline::refresh_foothold() { refresh_layers(); }
+
+void MappingPipeline::refresh_layers() const {
+  // The layers are written, never the elevation: no change the mapper
+  // counts. The cast is sound as no pipeline is made const (a const
+  // reference to one is what map() is called through).
+  if (foothold_) foothold_->refresh(const_cast<TerrainMapper&>(mapper_).map_without_raising());
+}
+
+const ElevationMap& MappingPipeline::map() const {
+  refresh_layers();
+  return mapper_.map();
+}
+
+void MappingPipeline::set_window_listener(WindowMoveListener* listener) {
+  window_relay_.next = listener;
+  // No relay without a listener: a listener makes every window move a
+  // change the mapper cannot account for (TerrainMapper::changes()).
+  mapper_.set_window_listener(listener ? &window_relay_ : nullptr);
+}
+
+void MappingPipeline::LayersBeforeLeaving::window_leaving(const ElevationMap& map, CellIndex new_min) {
+  // Every scan before this one is noted (updated()), none of this one's
+  // readings is applied yet: the refresh gives the values an eager
+  // pipeline left after the previous scan.
+  pipeline_.refresh_layers();
+  if (next) next->window_leaving(map, new_min);
+}
+
+void MappingPipeline::LayersBeforeLeaving::window_entered(ElevationMap& map, CellIndex old_min) {
+  if (next) next->window_entered(map, old_min);
 }
 
 void MappingPipeline::recompute_foothold() {

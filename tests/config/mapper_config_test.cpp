@@ -47,6 +47,8 @@ TEST(MapperConfig, FieldsOverrideDefaultsAndDegreesBecomeRadians) {
   EXPECT_DOUBLE_EQ(c.calibration.coefficients[1], -0.01);
   EXPECT_EQ(parse_mapper_config("", "empty.yaml").mapper.grid.cells_per_side, 100);
   EXPECT_FALSE(parse_mapper_config("map: {reject_stale_scans: false}\n", "x.yaml").mapper.reject_stale_scans);
+  EXPECT_FALSE(parse_mapper_config("", "empty.yaml").foothold.update_every_scan);
+  EXPECT_TRUE(parse_mapper_config("foothold: {update_every_scan: true}\n", "x.yaml").foothold.update_every_scan);
 }
 
 TEST(MapperConfig, ErrorsNameFileLineAndField) {

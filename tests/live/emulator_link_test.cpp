@@ -106,7 +106,7 @@ TEST(EmulatorLink, ScansArriveAsSimulatedAndTheMapEqualsTheInMemoryOne) {
   }
   live.finish();
   EXPECT_EQ(live.stats().integrated, got.scans.size());
-  const ExportedMap a = export_map(live.mapper().map());
+  const ExportedMap a = export_map(live.map());
   const ExportedMap b = export_map(reference.map());
   ASSERT_EQ(a.elevation_m().size(), b.elevation_m().size());
   EXPECT_EQ(std::memcmp(a.elevation_m().data(), b.elevation_m().data(), sizeof(float) * a.elevation_m().size()), 0);

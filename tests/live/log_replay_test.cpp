@@ -121,7 +121,7 @@ void expect_streamed_equals_whole(const std::string& path, std::size_t scans, Li
   EXPECT_EQ(a.after_last_pose, b.after_last_pose);
   EXPECT_EQ(a.before_first_pose, b.before_first_pose);
   EXPECT_GT(a.integrated, 0u);
-  expect_same_layers(export_map(replay.mapper().mapper().map()), export_map(reference.mapper().map()));
+  expect_same_layers(export_map(replay.mapper().map()), export_map(reference.map()));
   expect_same_layers(replay.mapper().filled_layers(), reference.filled_layers());
   const io::ScanLog& log = replay.log();
   EXPECT_TRUE(log.scans.empty());

@@ -7,6 +7,7 @@
 
 #include "pipeline_test_support.hpp"
 #include "stridemap/core/foothold.hpp"
+#include "stridemap/core/map_publisher.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
 
 namespace stridemap {
@@ -31,7 +32,7 @@ TEST(PipelineFoothold, ScansUpdateTheLayersAsARecomputationWould) {
   ASSERT_NE(pipeline.foothold(), nullptr);
   // Walking forward and turning: the window moves, scan lines cross it.
   for (int k = 0; k < 40; ++k) pipeline.add(floor_scan(0.1 * k), pose_at(0.01 * k, 0.02 * k));
-  const ElevationMap& map = pipeline.mapper().map();
+  const ElevationMap& map = pipeline.map();
   expect_as_recomputed(map, options.foothold);
   // The floor is flat: every known cell with a score has a slope within what
   // millimetre range steps give over a 2 cm foot, and a score in [0, 1].
@@ -58,7 +59,8 @@ TEST(PipelineFoothold, ScansUpdateTheLayersAsARecomputationWould) {
 
 TEST(PipelineFoothold, LazyLayersReadEveryFewScansEqualThoseUpdatedEveryScan) {
   PipelineOptions eager_options, lazy_options;
-  lazy_options.foothold.update_every_scan = false;
+  eager_options.foothold.update_every_scan = true;
+  ASSERT_FALSE(lazy_options.foothold.update_every_scan) << "lazy is the default";
   MappingPipeline eager(eager_options), lazy(lazy_options);
   const auto bytes_equal = [](const ElevationMap& a, const ElevationMap& b) {
     const std::size_t cells = static_cast<std::size_t>(a.cells_per_side()) * static_cast<std::size_t>(a.cells_per_side());
@@ -96,6 +98,37 @@ TEST(PipelineFoothold, TheFilteredMapCarriesLayersOfTheFilledMap) {
   expect_as_recomputed(filtered, PipelineOptions{}.foothold);
   pipeline.apply_map_filter();
   expect_as_recomputed(pipeline.mapper().map(), PipelineOptions{}.foothold);
+}
+
+bool every_layer_equal(const ElevationMap& a, const ElevationMap& b) {
+  if (a.min_cell() != b.min_cell() || a.layer_count() != b.layer_count()) return false;
+  const std::size_t cells = static_cast<std::size_t>(a.cells_per_side()) * static_cast<std::size_t>(a.cells_per_side());
+  for (std::size_t k = 0; k < a.layer_count(); ++k) {
+    if (std::memcmp(a.layer_bytes(k), b.layer_bytes(k), cells * layer_type_bytes(a.layer_spec(k).type)) != 0) return false;
+  }
+  return true;
+}
+
+// map(), the accessor every reader takes, and a snapshot published from it
+// give what an eager pipeline holds, however many scans went by unread.
+TEST(PipelineFoothold, ReadersOfALazyPipelineGetTheEagerMap) {
+  PipelineOptions eager_options, lazy_options;
+  eager_options.foothold.update_every_scan = true;
+  MappingPipeline eager(eager_options), lazy(lazy_options);
+  MapPublisher eager_publisher(eager_options.mapper.grid), lazy_publisher(lazy_options.mapper.grid);
+  bool stale_seen = false;
+  for (int k = 0; k < 80; ++k) {
+    const TrunkPose pose = pose_at(0.015 * k, 0.03 * k);
+    eager.add(floor_scan(0.1 * k), pose);
+    lazy.add(floor_scan(0.1 * k), pose);
+    if (k % 10 != 9) continue;
+    stale_seen = stale_seen || !every_layer_equal(eager.mapper().map(), lazy.mapper().map());
+    ASSERT_TRUE(lazy_publisher.publish(lazy.mapper(), lazy.map()));
+    ASSERT_TRUE(eager_publisher.publish(eager.mapper(), eager.map()));
+    ASSERT_TRUE(every_layer_equal(eager.map(), lazy.map())) << "after scan " << k;
+    ASSERT_TRUE(every_layer_equal(eager_publisher.latest()->map, lazy_publisher.latest()->map)) << "after scan " << k;
+  }
+  EXPECT_TRUE(stale_seen) << "the unread lazy layers must lag, or this test shows nothing";
 }
 
 TEST(PipelineFoothold, DisabledLeavesTheMapWithoutThem) {

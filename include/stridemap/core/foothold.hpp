@@ -3,7 +3,7 @@
 // kept up to date incrementally (only around the cells a scan changed).
 // Beyond the paper, which stops at elevation and certainty; docs/foothold.md.
 // Each scan is noted (cheap); the values are computed at refresh(), for
-// all the scans noted since (MappingPipeline: after every scan by default).
+// all the scans noted since (MappingPipeline: when the map is read, by default).
 //
 // Definitions, for a cell p with centre c_p. The footprint F(p) is every
 // known cell (finite elevation, state not unknown) of the window whose
@@ -42,13 +42,13 @@ namespace stridemap {
 struct FootholdOptions {
   /// Compute the layers at all.
   bool enabled = true;
-  /// MappingPipeline: bring the layers up to date after every scan (true,
-  /// the default: every reader of the map sees them current), or only note
-  /// what each scan changed and compute when the caller asks
-  /// (MappingPipeline::refresh_foothold()) before reading them. Both give
-  /// the same values bit for bit; false costs less when the layers are read
-  /// less often than scans arrive (a planner at 1 Hz, a URG at 10 Hz).
-  bool update_every_scan = true;
+  /// MappingPipeline: bring the layers up to date after every scan (true),
+  /// or only note what each scan changed and compute when the map is read
+  /// (false, the default: MappingPipeline::map(), and before the window's
+  /// cells leave for a tile store). Both give the same values bit for bit;
+  /// false costs less when the map is read less often than scans arrive (a
+  /// planner at 1 Hz, a URG at 10 Hz), true spreads the cost evenly.
+  bool update_every_scan = false;
   /// Radius of the foot's footprint [m]: a small hexapod's foot (2 cm);
   /// the paper gives none.
   double foot_radius_m = 0.02;

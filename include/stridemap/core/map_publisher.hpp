@@ -90,6 +90,9 @@ class MapPublisher {
   /// the latest is held by readers. Allocates nothing. Throws InputError when
   /// the map's size differs from the buffers'.
   bool publish(const TerrainMapper& mapper);
+  /// The same with the map as its reader gets it (MappingPipeline::map(),
+  /// whose derived layers mapper.map() may hold as of an earlier scan).
+  bool publish(const TerrainMapper& mapper, const ElevationMap& map);
   /// Two steps, for a writer that prepares the snapshot further (e.g. runs
   /// the fill-in of eq. 11 on it, so that the mapper's own map stays
   /// unfilled): begin_publish() returns a free buffer to write (nullptr,

@@ -85,7 +85,10 @@ class ScanMapper {
   /// Room for `scans` scans waiting for their poses at once (no allocation then).
   void reserve(std::size_t scans);
   const ScanMapperStats& stats() const { return stats_; }
+  /// The mapper's counts; the map itself is read with map().
   const TerrainMapper& mapper() const { return pipeline_.mapper(); }
+  /// The map being built, its foothold layers current (MappingPipeline::map()).
+  const ElevationMap& map() const { return pipeline_.map(); }
   const ScanMapperOptions& options() const { return options_; }
   /// The map with the fill-in (eq. 11) applied to a copy: the map being
   /// built is not changed, so saving it often changes nothing.

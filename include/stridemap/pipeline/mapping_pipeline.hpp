@@ -13,9 +13,10 @@
 // map update with Delta z_max formed in one place, then (when on) the
 // visibility clean-up (core/visibility_clearing.hpp). After each, the
 // foothold layers (core/foothold.hpp) note the cells the scan changed, the
-// cleared ones included, and are brought up to date around them (after
-// every scan by default; foothold.update_every_scan off: at
-// refresh_foothold()).
+// cleared ones included. They are brought up to date around them when the
+// map is read: map() (the one accessor every reader of the map goes
+// through), and before the window's cells leave it for a window listener
+// (the tile store). foothold.update_every_scan: after every scan instead.
 #include <cstddef>
 #include <optional>
 #include <span>
@@ -27,6 +28,7 @@
 #include "stridemap/core/pose_track.hpp"
 #include "stridemap/core/ring_queue.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
+#include "stridemap/core/window_move_listener.hpp"
 #include "stridemap/pipeline/pipeline_options.hpp"
 #include "stridemap/pipeline/scan_integrator.hpp"
 
@@ -37,6 +39,10 @@ class MappingPipeline {
   /// Throws InputError for invalid options (sensor, filters, map, update
   /// rule, map filter, mount), before any scan.
   explicit MappingPipeline(const PipelineOptions& options);
+  // Neither copied nor moved: the mapper may point at window_relay_, which
+  // points back at its pipeline.
+  MappingPipeline(const MappingPipeline&) = delete;
+  MappingPipeline& operator=(const MappingPipeline&) = delete;
 
   // One pose per scan: integrated now (with scan-sequence, the previous
   // scan is, at its own pose).
@@ -79,18 +85,35 @@ class MappingPipeline {
   /// recomputed on it: the map being built is not changed.
   ElevationMap filtered_map() const;
 
+  /// The map for reading, its derived (foothold) layers brought up to date
+  /// with every scan so far first: what every reader (snapshots, tile
+  /// store flushes, writers, exports, bindings) takes. Bit for bit the map
+  /// an eager pipeline (foothold.update_every_scan) holds after the same
+  /// scans. Const because the layers are a cache of the elevation, so the
+  /// refresh changes nothing a reader can tell; like every other call, not
+  /// to be made from two threads at once.
+  const ElevationMap& map() const;
+
   /// The foothold layers' keeper; nullptr when options().foothold.enabled
   /// is off. Their values are the map's layers (foothold->score() etc.).
   const FootholdLayers* foothold() const { return foothold_ ? &*foothold_ : nullptr; }
-  /// Brings the foothold layers up to date with every scan so far (nothing
-  /// to do after each scan with foothold.update_every_scan, the default).
-  /// With update_every_scan off, call this before reading the layers from
-  /// mapper().map(): until then they hold the values of the last refresh.
+  /// Brings the foothold layers up to date with every scan so far; map()
+  /// does so itself. Needed only before reading them from
+  /// mapper().map(), which leaves them as of the last refresh.
   void refresh_foothold();
   /// Recomputes the foothold layers everywhere: after the map was changed
   /// other than by scans (mapper().map() edited, resume_from_map()).
   void recompute_foothold();
 
+  /// Told of every move of the window (TerrainMapper::set_window_listener),
+  /// the foothold layers brought up to date before the cells leaving it
+  /// are handed over, so that a tile store keeps the values map() gives.
+  /// nullptr for none. Not owned; the pipeline must not be copied or moved
+  /// while one is set (the mapper points into it).
+  void set_window_listener(WindowMoveListener* listener);
+
+  /// The mapper, for its counts and for writes; reads of the map go through
+  /// map(), since mapper().map() may hold the foothold layers of an earlier scan.
   TerrainMapper& mapper() { return mapper_; }
   const TerrainMapper& mapper() const { return mapper_; }
   ScanIntegrator& integrator() { return integrator_; }
@@ -107,11 +130,27 @@ class MappingPipeline {
   };
   ScanOutcome integrate(const Scan& scan, const TrunkPose& pose);
   ScanOutcome updated(ScanOutcome outcome);
+  void refresh_layers() const;
+
+  // Between the mapper and the caller's window listener: the layers of the
+  // cells leaving must be current before they are handed on.
+  class LayersBeforeLeaving final : public WindowMoveListener {
+   public:
+    explicit LayersBeforeLeaving(const MappingPipeline& pipeline) : pipeline_(pipeline) {}
+    void window_leaving(const ElevationMap& map, CellIndex new_min) override;
+    void window_entered(ElevationMap& map, CellIndex old_min) override;
+    WindowMoveListener* next = nullptr;
+
+   private:
+    const MappingPipeline& pipeline_;
+  };
 
   PipelineOptions options_;
   TerrainMapper mapper_;
   ScanIntegrator integrator_;
-  std::optional<FootholdLayers> foothold_;
+  // Mutable: map() const brings the layers (a cache of the elevation) up to date.
+  mutable std::optional<FootholdLayers> foothold_;
+  LayersBeforeLeaving window_relay_{*this};
   // Slots are reused: a queued scan is copied into the storage of one that
   // left, so the stream allocates nothing per scan once the queue is long enough.
   RingQueue<Waiting> queue_;

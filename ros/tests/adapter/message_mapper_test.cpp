@@ -163,9 +163,9 @@ TEST(MessageMapper, ClearEmptiesTheMapAndAcceptsAnyStampAfter) {
   Scan good;
   mapper.add(good.data(5.0), 0.0);
   mapper.process(0.0, false);
-  EXPECT_GT(map_coverage(export_map(mapper.impl().pipeline->mapper().map())), 0.0);
+  EXPECT_GT(map_coverage(export_map(mapper.impl().pipeline->map())), 0.0);
   mapper.clear();
-  EXPECT_EQ(map_coverage(export_map(mapper.impl().pipeline->mapper().map())), 0.0);
+  EXPECT_EQ(map_coverage(export_map(mapper.impl().pipeline->map())), 0.0);
   mapper.add(good.data(1.0), 0.0);
   mapper.process(0.0, false);
   EXPECT_EQ(mapper.stats().mapped, 2u);
@@ -236,8 +236,8 @@ TEST(MessageMapper, ANegativeAngleIncrementGivesTheSameMap) {
   backward.add(d, 0.0);
   forward.process(0.0, false);
   backward.process(0.0, false);
-  const ExportedMap a = export_map(forward.impl().pipeline->mapper().map());
-  const ExportedMap b = export_map(backward.impl().pipeline->mapper().map());
+  const ExportedMap a = export_map(forward.impl().pipeline->map());
+  const ExportedMap b = export_map(backward.impl().pipeline->map());
   ASSERT_GT(map_coverage(a), 0.0);
   EXPECT_EQ(map_coverage(a), map_coverage(b));
   const ExportedLayer& za = a.layers.front();
@@ -288,8 +288,8 @@ TEST(MessageMapper, AUrgScanAsALaserScanMapsAsTheLibrarysUrgPath) {
   std::string why;
   poses.sensor_in_map("laser", 1.0, sensor, why);
   urg.add(raw, trunk_pose_from_sensor(sensor, MapperConfig{}.mount));
-  const ExportedMap a = export_map(mapper.impl().pipeline->mapper().map());
-  const ExportedMap b = export_map(urg.mapper().map());
+  const ExportedMap a = export_map(mapper.impl().pipeline->map());
+  const ExportedMap b = export_map(urg.map());
   ASSERT_GT(map_coverage(b), 0.0);
   EXPECT_EQ(map_coverage(a), map_coverage(b));
   for (std::size_t l = 0; l < a.layers.size(); ++l) {
