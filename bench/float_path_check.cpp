@@ -1,5 +1,5 @@
-// Would single precision in the per-point path change the maps? (issue 17,
-// docs/performance.md, "Single precision".) The same raw URG-04LX scans go
+// Would single precision in the per-point path change the maps?
+// (docs/performance.md, "Single precision".) The same raw URG-04LX scans go
 // through four mappers:
 //   packed  the library's path: UrgModel::to_beams + integrate(PlanarBeams), doubles
 //   double  each point's offset and Delta z_max written out here in doubles

@@ -1,7 +1,7 @@
 // The visibility clean-up's cost per scan against the map update it follows
 // (docs/performance.md, docs/visibility.md): the walking, turning URG-sized
 // scans of foothold_bench through MappingPipeline::add_planar, with the
-// clean-up and the foothold layers each off and on, so that the issue's
+// clean-up and the foothold layers each off and on, so that the
 // budget (both together within 30 % of the update) can be read off.
 #include <cmath>
 #include <random>

@@ -1,6 +1,6 @@
 // `stridemap scene random` (a random scene as a YAML file) and
 // `stridemap experiment fidelity` (the cart-rail figures over many random
-// scenes, as distributions): issue 13's measuring ground.
+// scenes, as distributions): claims are measured on scenes nobody tuned for.
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
@@ -148,7 +148,7 @@ void register_random_scenes(CLI::App& app) {
   CLI::App* experiment = app.get_subcommand("experiment");
   auto fa = std::make_shared<FidelityArgs>();
   CLI::App* fidelity = experiment->add_subcommand(
-      "fidelity", "Cart-rail figures on random scenes: median, 90th percentile and worst (issue 13)");
+      "fidelity", "Cart-rail figures on random scenes: median, 90th percentile and worst");
   fidelity->add_option("--scenes", fa->scenes, "How many random scenes")->capture_default_str()
       ->check(whole_from_to(1, 100000));
   fidelity->add_option("--seed", fa->seed, "Scene k is random scene seed*1000+k")->capture_default_str()

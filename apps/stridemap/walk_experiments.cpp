@@ -224,7 +224,7 @@ void register_walk_experiments(CLI::App& app) {
       ->capture_default_str();
   rocky->add_option("--feet", rw->feet,
                     "stand: a stance foot stands still on its foothold and steps in swing; slide: the feet slide with "
-                    "the trunk (the model before issue 13)")
+                    "the trunk (the simpler model)")
       ->capture_default_str();
   rocky->add_option("--foothold-map-sigma-m", rw->foothold_map_sigma_m,
                     "With --reference legs: the sigma given to the map's height under a landing foot against the leg "

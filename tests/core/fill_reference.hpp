@@ -1,6 +1,6 @@
 #pragma once
 // The fill-in (eq. 11) and the CAS filter as they were before they were
-// made faster (issue 17), kept verbatim as the reference the fast versions
+// made faster, kept verbatim as the reference the fast versions
 // must match bit for bit (weighted_median_fill_test.cpp, cas_filter_test.cpp).
 #include <algorithm>
 #include <array>

@@ -1,5 +1,5 @@
 // The fast fill-in and CAS filter give bit for bit the maps of the kept
-// reference (fill_reference.hpp, the code before issue 17's speed-up) over
+// reference (fill_reference.hpp, the straightforward code) over
 // random maps: several seeds and sizes, windows moved so that the circular
 // buffer wraps, holes, spikes, steps, filled cells from an earlier pass,
 // elevations on a coarse grid so that equal values (the tie-breaking path)

@@ -1,4 +1,4 @@
-// Sub-cell box edges (issue 13, item 2): the top-point layers leave the
+// Sub-cell box edges: the top-point layers leave the
 // heights alone, the edge fit recovers edges off the grid, and the
 // measurement needs nothing of the truth but which object is which.
 #include "stridemap/experiments/box_edges.hpp"

@@ -20,7 +20,7 @@ double worst_error_pct(const ObjectMeasurement& m) {
                    std::abs(relative_error_pct(m.measured.height_m, m.truth.height_m))});
 }
 
-// The acceptance test of issue 2: on the shipped scene, without mixed
+// The acceptance test of the cart rail: on the shipped scene, without mixed
 // pixels, every box dimension within 5 % and the RMS error under 10 mm.
 // (A 10 mm grid resolves an edge to one cell: 5 % of the 200 mm box is one
 // cell, which the large box's length reaches; 1e-9 absorbs the rounding.)
@@ -55,7 +55,7 @@ TEST(CartRailExperiment, PlacementSweepStaysWithinACell) {
     for (const ObjectMeasurement& m : result.objects) {
       ASSERT_TRUE(m.found);
       // The whole-cell spread stays within a cell; the second-moment estimate
-      // (the default since issue 13) was measured up to 10.8 mm off here.
+      // (the default) was measured up to 10.8 mm off here.
       EXPECT_LE(std::abs(m.measured_trimmed.length_m - m.truth.length_m), 0.0101) << m.name << " shift " << shift;
       EXPECT_LE(std::abs(m.measured_trimmed.width_m - m.truth.width_m), 0.0101) << m.name << " shift " << shift;
       EXPECT_LE(std::abs(m.measured.length_m - m.truth.length_m), 0.0125) << m.name << " shift " << shift;

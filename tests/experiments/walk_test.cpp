@@ -56,7 +56,7 @@ TEST(Walk, WithZeroPoseErrorTheWalkReproducesTheRail) {
   EXPECT_LT(gait.mosaic_score.rms_error_m, rail.score.rms_error_m + 0.001);
   EXPECT_GT(gait.mosaic_score.coverage, rail.score.coverage - 0.01);
   EXPECT_LE(gait.mosaic_score.artifact_cells, rail.score.artifact_cells + 15);
-  EXPECT_LT(gait.mosaic_score.rms_error_m, 0.010);  // the rail's acceptance target (issue 2)
+  EXPECT_LT(gait.mosaic_score.rms_error_m, 0.010);  // the rail's acceptance target
 }
 
 // The walk clears the mapper's changed rows once a scan, so the clean-up

@@ -1,7 +1,7 @@
 // A white surface lit only by ambient light, clipped in a thin band (the top
 // of a tall white box seen from afar, between the darker floor behind it and
 // its shaded front face): the detector's saturated-core rule must not take
-// it for the laser (issue 37: phantom ridges under ambient light).
+// it for the laser (phantom ridges under ambient light).
 #include <algorithm>
 #include <cmath>
 #include <random>

@@ -1,6 +1,6 @@
 // The detector on stripes that clip the sensor (a white core on a bright
 // surface) and on dim stripes over dark surfaces: the two cases where one
-// fixed red-excess threshold loses the stripe (issue: white objects under
+// fixed red-excess threshold loses the stripe (white objects under
 // structured light).
 #include <algorithm>
 #include <array>

@@ -1,5 +1,5 @@
 #pragma once
-// The fidelity experiment (issue 13): the cart-rail measurements on many
+// The fidelity experiment: the cart-rail measurements on many
 // random scenes (sim/random_scene.hpp) instead of the shipped few, reported
 // as distributions (median, 90th percentile, worst) so that no figure rests
 // on one scene. Per scene: the URG with mixed pixels and the paper's filters

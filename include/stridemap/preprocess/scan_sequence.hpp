@@ -39,7 +39,7 @@ enum class SpreadAxis : std::uint8_t {
   line_of_sight,
 };
 
-/// The between-scans test (ours, issue 13): a phase-shift sensor whose
+/// The between-scans test (ours): a phase-shift sensor whose
 /// footprint straddles two surfaces reads a range between them. When the
 /// scan line crosses an edge between one scan and the next (the top of a
 /// box, then the floor behind it), the same beam reads the near surface in

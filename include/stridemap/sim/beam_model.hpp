@@ -2,7 +2,7 @@
 // How one laser beam meets the scene and what returns to the receiver,
 // before the sensor's electronics add their errors. This is the seam for
 // mixed pixels: SingleRayBeamModel casts one ray along the beam axis; a
-// footprint model (issue 3) samples the beam's cross-section with sub-rays
+// footprint model samples the beam's cross-section with sub-rays
 // and sums their phasors, reading a range between, before or behind the
 // surfaces it touched. UrgSimulator applies systematic error, noise,
 // dropouts and quantisation to whatever echo the model returns.

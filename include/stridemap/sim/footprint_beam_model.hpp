@@ -1,6 +1,6 @@
 #pragma once
 // Mixed pixels from the physics of a phase-shift (AMCW) scanner such as the
-// Hokuyo URG-04LX (issue 3; research/algorithms.md 4.2-4.5; docs/mixed_pixels.md).
+// Hokuyo URG-04LX (docs/mixed_pixels.md).
 //
 // The beam is not a ray: it has a Gaussian cross-section that grows with
 // range, and the mirror turns by one step while a beam is measured. The model

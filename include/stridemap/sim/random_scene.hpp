@@ -1,5 +1,5 @@
 #pragma once
-// Random scenes to measure on (issue 13): the shipped scenes have boxes a
+// Random scenes to measure on: the shipped scenes have boxes a
 // whole number of 10 mm cells wide, square to the rail, of middling
 // reflectance, and a method tuned on them can look better than it is. These
 // scenes draw sizes off the grid, square and turned boxes, reflectances from

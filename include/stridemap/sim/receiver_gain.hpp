@@ -43,7 +43,7 @@ struct ReceiverGainOptions {
   /// true (the default): the coupling acts on the echoes of every beam
   /// model that takes it (the footprint model; not the ideal single ray,
   /// BeamModel::takes_receiver_coupling). false: the readings of a receiver
-  /// that is always settled, those of the simulator before issue 13, item 4.
+  /// that is always settled, the simpler model.
   bool enabled = true;
   /// Range shift per decade beyond the headroom by which an echo is weaker
   /// than the gain state [m]; the echo reads farther. 0.4 with the 0.15

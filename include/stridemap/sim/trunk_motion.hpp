@@ -15,7 +15,7 @@
 //   over them, then swings to the next ones; the tripods overlap briefly. A foothold is the foot's nominal place around
 //   the trunk at mid-stance, on the scene's surface, so a stance foot's
 //   world position does not move. Off: the feet slide with the trunk at
-//   their nominal places (the model before issue 13).
+//   their nominal places (the simpler model).
 // - The trunk follows the terrain under its feet: its reference height is
 //   the support plane of the six feet's support heights (a stance foot's
 //   foothold; a swinging foot's blend of the foothold it left and the one it

@@ -78,7 +78,7 @@ struct UrgSimOptions {
   /// positive: weaker echoes read farther. 0 = off.
   double amplitude_bias_m_per_decade = 0.0;
   /// Range-intensity coupling through the AGC (on by default; enabled =
-  /// false gives the readings of the simulator before issue 13, item 4).
+  /// false gives the readings of the simpler model without it).
   ReceiverGainOptions receiver{};
   /// true: round to the nearest millimetre, as the sensor does. false: the
   /// raw values are still whole millimetres (the wire format), but rounded
