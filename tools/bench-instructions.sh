@@ -22,7 +22,8 @@ inclusive() {
     awk -v pattern="$2" '!found && index($0, pattern) { gsub(",", "", $1); print $1; found = 1 }'
 }
 
-for mode in packed planar pipeline pipeline-paper pipeline-foothold; do
+# The pipeline first: it is what the tool, live, Python and ROS run.
+for mode in pipeline pipeline-paper pipeline-foothold packed planar; do
   out="$work/callgrind.$mode"
   valgrind --tool=callgrind --callgrind-out-file="$out" "$program" "$mode" "$scans" >"$work/stdout.$mode" 2>/dev/null
   points=$(awk '{print $4}' "$work/stdout.$mode")
@@ -41,7 +42,7 @@ for mode in packed planar pipeline pipeline-paper pipeline-foothold; do
         conversion=$(inclusive "$out" "UrgModel::to_planar_scan(")
       integration=$(inclusive "$out" "TerrainMapper::integrate(stridemap::Planar")
       total=$(inclusive "$out" "ScanIntegrator::push(stridemap::UrgRawScan const&")
-      [ "$mode" = pipeline ] && label="pipeline, no scan filters (ScanIntegrator::push)" ||
+      [ "$mode" = pipeline ] && label="pipeline as run by default: no scan filters, foothold layers when read (ScanIntegrator::push)" ||
         label="pipeline, the paper's scan filters (ScanIntegrator::push)" ;;
     pipeline-foothold)
       conversion=$(inclusive "$out" "UrgModel::to_beams(")
