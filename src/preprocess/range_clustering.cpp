@@ -55,8 +55,9 @@ ScanFilterStats RangeClusteringFilter::apply(PlanarScan& scan, std::vector<std::
   const std::vector<double>& angle = scan.angle_rad;
   RangeRatioBandCache bands(options_.max_incidence_angle_rad, options_.messorsim_swapped_bounds);
 
-  const auto close_cluster = [&](std::size_t first, std::size_t last) {
-    const std::size_t points = last - first + 1;
+  // A cluster is [first, last] with `points` valid beams; invalid beams
+  // inside it (bridged gaps) are skipped when it is judged and removed.
+  const auto close_cluster = [&](std::size_t first, std::size_t last, std::size_t points) {
     bool reject = points < options_.min_cluster_points;
     if (!reject && options_.min_cluster_extent_m > 0.0) {
       const double r0 = range[first];
@@ -65,34 +66,44 @@ ScanFilterStats RangeClusteringFilter::apply(PlanarScan& scan, std::vector<std::
       reject = chord_sq < options_.min_cluster_extent_m * options_.min_cluster_extent_m;
     }
     if (reject) {
-      for (std::size_t i = first; i <= last; ++i) removed[i] = 1;
+      for (std::size_t i = first; i <= last; ++i)
+        if (!std::isnan(range[i])) removed[i] = 1;
     }
   };
 
   constexpr std::size_t none = static_cast<std::size_t>(-1);
+  const std::size_t max_gap = options_.max_bridged_invalid_beams;
   std::size_t first = none;
+  std::size_t last_valid = none;  // the cluster's last valid beam
+  std::size_t points = 0;
   int label = -1;
   for (std::size_t i = 0; i < n; ++i) {
     if (std::isnan(range[i])) {
-      if (first != none) close_cluster(first, i - 1);
-      first = none;
+      if (first != none && i - last_valid > max_gap) {
+        close_cluster(first, last_valid, points);
+        first = none;
+      }
       continue;
     }
     if (first != none) {
       const double tolerance =
-          options_.noise_sigmas * options_.sigma.sigma_m(range[i - 1], scan.range_error_m[i - 1]);
-      if (!ranges_on_one_surface(range[i - 1], range[i], tolerance, bands.band(angle[i] - angle[i - 1]))) {
-        close_cluster(first, i - 1);
+          options_.noise_sigmas * options_.sigma.sigma_m(range[last_valid], scan.range_error_m[last_valid]);
+      if (!ranges_on_one_surface(range[last_valid], range[i], tolerance,
+                                 bands.band(angle[i] - angle[last_valid]))) {
+        close_cluster(first, last_valid, points);
         first = none;
       }
     }
     if (first == none) {
       first = i;
+      points = 0;
       ++label;
     }
     labels_[i] = label;
+    last_valid = i;
+    ++points;
   }
-  if (first != none) close_cluster(first, n - 1);
+  if (first != none) close_cluster(first, last_valid, points);
 
   stats.removed = apply_removal_mask(scan, removed);
   return stats;

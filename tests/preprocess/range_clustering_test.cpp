@@ -54,6 +54,11 @@ class RangeClusteringWall : public ::testing::Test {
   PlanarScan scan;
   std::vector<std::uint8_t> removed;
   RangeClusteringFilter filter;
+  RangeClusteringFilter bridging{[] {
+    RangeClusteringOptions o;
+    o.max_bridged_invalid_beams = 2;
+    return o;
+  }()};
 };
 
 TEST_F(RangeClusteringWall, KeepsAPlainWall) {
@@ -101,15 +106,71 @@ TEST_F(RangeClusteringWall, TheAuthorsSizeRemovesGroupsOfFour) {
   EXPECT_EQ(test::count_marked(removed), 4u);
 }
 
-TEST_F(RangeClusteringWall, InvalidBeamsEndClusters) {
+TEST_F(RangeClusteringWall, ThePublishedRuleEndsClustersAtInvalidBeams) {
+  RangeClusteringFilter& unbridged = filter;  // the default
   scan.range_m[10] = nan;
   scan.range_m[13] = -1.0;  // negative: treated as no return
-  const ScanFilterStats stats = filter.apply(scan, removed);
+  const ScanFilterStats stats = unbridged.apply(scan, removed);
   EXPECT_EQ(stats.invalid_input, 2u);
   EXPECT_EQ(stats.removed, 2u);
   for (std::size_t i = 11; i <= 12; ++i) EXPECT_EQ(removed[i], 1) << i;
-  EXPECT_EQ(filter.cluster_labels()[10], -1);
+  EXPECT_EQ(unbridged.cluster_labels()[10], -1);
   EXPECT_TRUE(std::isnan(scan.range_m[13]));
+}
+
+TEST_F(RangeClusteringWall, ShortDropoutsOnOneSurfaceAreBridged) {
+  // A dark floor: two valid beams between dropouts of one and two beams.
+  scan.range_m[10] = nan;
+  scan.range_m[13] = -1.0;
+  scan.range_m[14] = nan;
+  const ScanFilterStats stats = bridging.apply(scan, removed);
+  EXPECT_EQ(stats.invalid_input, 3u);
+  EXPECT_EQ(stats.removed, 0u);
+  EXPECT_EQ(test::count_marked(removed), 0u);
+  EXPECT_EQ(test::count_valid(scan), 118u);
+  EXPECT_EQ(bridging.cluster_labels()[9], bridging.cluster_labels()[15]);
+  EXPECT_EQ(bridging.cluster_labels()[10], -1);
+}
+
+TEST_F(RangeClusteringWall, ALongerDropoutEndsTheCluster) {
+  for (std::size_t i = 10; i <= 12; ++i) scan.range_m[i] = nan;
+  for (std::size_t i = 15; i <= 17; ++i) scan.range_m[i] = nan;
+  const ScanFilterStats stats = bridging.apply(scan, removed);
+  EXPECT_EQ(stats.removed, 2u);
+  for (std::size_t i = 13; i <= 14; ++i) EXPECT_EQ(removed[i], 1) << i;
+  EXPECT_EQ(test::count_marked(removed), 2u);
+  EXPECT_NE(bridging.cluster_labels()[9], bridging.cluster_labels()[13]);
+}
+
+TEST_F(RangeClusteringWall, BridgingDoesNotCrossAJumpInRange) {
+  // Mixed pixels next to a dropout: a two-beam group 80 mm behind the wall
+  // is still its own cluster, and the invalid beams are not marked removed.
+  scan.range_m[30] = nan;
+  for (std::size_t i = 31; i <= 32; ++i) scan.range_m[i] += 0.08;
+  scan.range_m[33] = nan;
+  const ScanFilterStats stats = bridging.apply(scan, removed);
+  EXPECT_EQ(stats.removed, 2u);
+  for (std::size_t i = 31; i <= 32; ++i) EXPECT_EQ(removed[i], 1) << i;
+  EXPECT_EQ(removed[30], 0);
+  EXPECT_EQ(removed[33], 0);
+  // The segmentation is sequential: the wall after the group starts anew.
+  const auto& labels = bridging.cluster_labels();
+  EXPECT_EQ(labels[31], labels[32]);
+  EXPECT_NE(labels[29], labels[31]);
+  EXPECT_NE(labels[34], labels[31]);
+}
+
+TEST_F(RangeClusteringWall, BridgedClustersAreSizedByTheirValidBeams) {
+  // Two valid beams around a one-beam dropout, walled off by longer gaps:
+  // four beams wide but only two points, so still too small.
+  for (std::size_t i = 40; i <= 42; ++i) scan.range_m[i] = nan;
+  scan.range_m[44] = nan;
+  for (std::size_t i = 46; i <= 48; ++i) scan.range_m[i] = nan;
+  const ScanFilterStats stats = bridging.apply(scan, removed);
+  EXPECT_EQ(stats.removed, 2u);
+  EXPECT_EQ(removed[43], 1);
+  EXPECT_EQ(removed[45], 1);
+  EXPECT_EQ(removed[44], 0);
 }
 
 TEST_F(RangeClusteringWall, NoisyWallStaysOneSurface) {

@@ -83,6 +83,15 @@ struct RangeClusteringOptions {
   /// Clusters whose first and last points are closer than this are removed
   /// too [m]; 0 disables the test.
   double min_cluster_extent_m = 0.0;
+  /// A cluster runs on over up to this many consecutive invalid beams when
+  /// the valid beams either side pass the clustering test for the angle
+  /// between them; sizes then count valid beams only. 0 (the default) is the
+  /// published rule: any invalid beam ends a cluster. A dark floor far from
+  /// the sensor returns runs of a few valid beams between dropouts, which
+  /// that rule removes as if they were mixed pixels; 2 keeps them
+  /// (docs/preprocess.md). Mixed pixels sit at a jump in range, which
+  /// bridging does not cross.
+  std::size_t max_bridged_invalid_beams = 0;
   /// Reproduce MessorSim's swapped bounds (for comparison only; see
   /// range_ratio_band).
   bool messorsim_swapped_bounds = false;
@@ -100,7 +109,9 @@ class RangeClusteringFilter {
 
   /// Filters `scan` in place: beams of rejected clusters become NaN and get
   /// removed[i] = 1 (the mask is resized to the scan; 0 elsewhere). Invalid
-  /// beams (NaN, inf, <= 0) end clusters. Throws InputError on a malformed scan.
+  /// beams (NaN, inf, <= 0) end clusters unless bridged (see
+  /// max_bridged_invalid_beams); they are never marked removed. Throws
+  /// InputError on a malformed scan.
   ScanFilterStats apply(PlanarScan& scan, std::vector<std::uint8_t>& removed);
 
   /// Cluster label of each beam from the last apply(): -1 for invalid beams,
