@@ -38,47 +38,21 @@ struct ImportArgs {
   std::string tum_height = "reference";
   io::XyImportOptions xy;
   std::string xy_encoding = "int32";
-  std::string invalid_pair = "0,0";
-  std::string static_pose;
+  std::vector<double> invalid_pair{0.0, 0.0};
+  std::vector<double> static_pose;
   double scan_rate_hz = 0.0;  // 0: not given
   std::optional<double> xy_angle_min_deg;
   std::optional<double> xy_angle_step_deg;
 };
 
-std::vector<double> numbers_of(const std::string& option, const std::string& text, std::size_t min_count,
-                               std::size_t max_count) {
-  std::vector<double> values;
-  std::size_t start = 0;
-  for (;;) {
-    const std::size_t comma = text.find(',', start);
-    const std::string field = text.substr(start, comma == std::string::npos ? std::string::npos : comma - start);
-    std::size_t used = 0;
-    double v = 0.0;
-    try {
-      v = std::stod(field, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used == 0 || used != field.size() || !std::isfinite(v)) {
-      throw InputError(option + ": '" + field + "' is not a number (in '" + text + "')");
-    }
-    values.push_back(v);
-    if (comma == std::string::npos) break;
-    start = comma + 1;
-  }
-  if (values.size() < min_count || values.size() > max_count) {
-    throw InputError(option + ": expected " + std::to_string(min_count) +
-                     (max_count == min_count ? "" : " or " + std::to_string(max_count)) +
-                     " numbers separated by commas, got " + std::to_string(values.size()) + " in '" + text + "'");
-  }
-  return values;
-}
-
 // X,Y,YAW or X,Y,Z,ROLL,PITCH,YAW: metres and degrees, as the tool's other pose options.
-TrunkPose static_pose_of(const std::string& text) {
-  const std::vector<double> v = numbers_of("--static-pose", text, 3, 6);
+TrunkPose static_pose_of(const std::vector<double>& v) {
   if (v.size() != 3 && v.size() != 6) {
-    throw InputError("--static-pose: expected X,Y,YAW or X,Y,Z,ROLL,PITCH,YAW, got '" + text + "'");
+    throw InputError("--static-pose: expected X,Y,YAW or X,Y,Z,ROLL,PITCH,YAW, got " + std::to_string(v.size()) +
+                     " numbers");
+  }
+  for (const double value : v) {
+    if (!std::isfinite(value)) throw InputError("--static-pose: expected finite numbers");
   }
   TrunkPose pose;
   pose.x_m = v[0];
@@ -89,7 +63,8 @@ TrunkPose static_pose_of(const std::string& text) {
     pose.roll_rad = v[3] * kRadPerDeg;
     pose.pitch_rad = v[4] * kRadPerDeg;
     if (std::abs(v[3]) > 90.0 || std::abs(v[4]) > 90.0) {
-      throw InputError("--static-pose: roll and pitch are degrees from -90 to 90, got " + text);
+      throw InputError("--static-pose: roll and pitch are degrees from -90 to 90, got " + std::to_string(v[3]) + " and " +
+                       std::to_string(v[4]));
     }
   }
   return pose;
@@ -218,7 +193,9 @@ void register_import(CLI::App& app) {
   xy->add_option("--separator", args->xy.separator, "Binary: a pair with x and y both this ends a scan");
   xy->add_option("--pairs-per-scan", args->xy.pairs_per_scan, "Binary without a separator: pairs in every scan");
   xy->add_option("--unit-m", args->xy.unit_m, "Metres per unit of x and y (0.001: millimetres)")->capture_default_str();
-  xy->add_option("--invalid", args->invalid_pair, "The pair X,Y meaning no return")->capture_default_str();
+  xy->add_option("--invalid", args->invalid_pair, "The pair X,Y meaning no return (default 0,0)")
+      ->delimiter(',')
+      ->expected(2);
   xy->add_flag("--time-first", args->xy.time_first, "Text: the first number of each line is the scan's time [s]");
   xy->add_option("--scan-rate-hz", args->scan_rate_hz, "Scans without times: the sensor's rate (scan k at k / rate s)")
       ->check(number_from_to(1e-6, 10000.0, "Hz"));
@@ -228,7 +205,9 @@ void register_import(CLI::App& app) {
   xy->add_option("--max-range-m", args->xy.max_range_m, "Longer ranges are beyond the range")->capture_default_str();
   xy->add_option("--static-pose", args->static_pose,
                  "The sensor stood still: also write --poses with X,Y,YAW or X,Y,Z,ROLL,PITCH,YAW (m, deg) at every "
-                 "scan's time");
+                 "scan's time")
+      ->delimiter(',')
+      ->expected(3, 6);
   xy->add_option("--poses", args->poses_path, "Pose file to write with --static-pose");
   xy->callback([args] {
     io::XyImportOptions options = args->xy;
@@ -241,9 +220,8 @@ void register_import(CLI::App& app) {
     } else {
       throw InputError("--encoding: '" + args->xy_encoding + "' is not one of int32, float32, text");
     }
-    const std::vector<double> invalid = numbers_of("--invalid", args->invalid_pair, 2, 2);
-    options.invalid_x = invalid[0];
-    options.invalid_y = invalid[1];
+    options.invalid_x = args->invalid_pair[0];
+    options.invalid_y = args->invalid_pair[1];
     if (args->scan_rate_hz > 0.0) options.scan_rate_hz = args->scan_rate_hz;
     if (args->xy_angle_min_deg) options.angle_min_rad = *args->xy_angle_min_deg * kRadPerDeg;
     if (args->xy_angle_step_deg) options.angle_step_rad = *args->xy_angle_step_deg * kRadPerDeg;

@@ -143,6 +143,17 @@ TEST(ImportCli, PointPairsOfAStandingSensorBecomeAScanLogAndPoses) {
   EXPECT_EQ(asked.exit_code, 2) << asked.output;
   EXPECT_NE(asked.output.find("--scan-rate-hz"), std::string::npos) << asked.output;
   EXPECT_FALSE(std::filesystem::exists(folder / "run.log"));
+  const std::string base = "import xy " + shell_quoted(folder / "pairs.txt") + " --encoding text --scan-rate-hz 10 --log " +
+                           shell_quoted(folder / "run.log");
+  const auto four = run_cli(base + " --static-pose 1,2,3,4 --poses " + shell_quoted(folder / "run.poses"));
+  EXPECT_EQ(four.exit_code, 2) << four.output;
+  EXPECT_NE(four.output.find("--static-pose: expected X,Y,YAW or X,Y,Z,ROLL,PITCH,YAW, got 4 numbers"),
+            std::string::npos)
+      << four.output;
+  const auto alone = run_cli(base + " --static-pose 1,2,3");
+  EXPECT_EQ(alone.exit_code, 2) << alone.output;
+  EXPECT_NE(alone.output.find("--static-pose and --poses go together"), std::string::npos) << alone.output;
+  EXPECT_FALSE(std::filesystem::exists(folder / "run.log"));
   const auto made = run_cli("import xy " + shell_quoted(folder / "pairs.txt") + " --encoding text --scan-rate-hz 10 " +
                             "--static-pose 0.5,0,90 --log " + shell_quoted(folder / "run.log") + " --poses " +
                             shell_quoted(folder / "run.poses"));
