@@ -71,11 +71,12 @@ struct FidelityArgs {
   std::uint64_t seed = 1;
   std::string kind = "boxes";
   std::string structured_light = "image";
-  std::string filters = "paper";
+  std::string filters = "urg";
   std::string coupling = "on";
   std::string bystanders = "auto";
   double min_lux = 50.0, max_lux = 1000.0;
   int saturation_halo_dn = io::StripeDetectorOptions{}.saturation_halo_dn;
+  std::size_t cluster_max_bridged = RangeClusteringOptions{}.max_bridged_invalid_beams;
   std::string out_dir;
 };
 
@@ -95,6 +96,7 @@ void run_fidelity_command(const FidelityArgs& args) {
     throw InputError("--kind: rocky scenes have no cart rail to measure on; use boxes or steps");
   }
   options.urg.sim.receiver.enabled = parse_on_off("--coupling", args.coupling);
+  options.urg.filter_options.range_clustering.max_bridged_invalid_beams = args.cluster_max_bridged;
   if (args.structured_light == "off") {
     options.structured_light = false;
   } else {
@@ -160,6 +162,10 @@ void register_random_scenes(CLI::App& app) {
   fidelity->add_option("--filters", fa->filters,
                        "Scan filters of the URG's filtered run (as for cart-rail): paper, urg (paper + between-scans), ...")
       ->capture_default_str();
+  fidelity->add_option("--cluster-max-bridged", fa->cluster_max_bridged,
+                       "Range clustering: a cluster runs on over at most this many invalid beams (0: the "
+                       "published rule)")
+      ->capture_default_str()->check(whole_from_to(0, 16));
   fidelity->add_option("--coupling", fa->coupling,
                        "Range-intensity coupling through the receiver's gain control (docs/mixed_pixels.md): on or off")
       ->capture_default_str();

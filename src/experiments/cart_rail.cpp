@@ -5,12 +5,14 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <span>
 #include <vector>
 
 #include "cart_rail_internal.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/sensor_transform.hpp"
+#include "stridemap/sim/scene_ray_caster.hpp"
 
 namespace stridemap {
 namespace {
@@ -61,6 +63,20 @@ std::vector<Eigen::Vector2d> floor_hits(const TrunkPose& pose, const SensorMount
     hits[static_cast<std::size_t>(i)] = (origin + range * dir).head<2>();
   }
   return hits;
+}
+
+// The beams of one pose as a sensor without noise or spread sees them.
+void add_ideal_hits(const SceneRayCaster& caster, const TrunkPose& pose, const SensorMount& mount,
+                    const UrgParameters& urg, TopVisibility& visibility) {
+  const Eigen::Matrix3d rotation = sensor_to_map_rotation(pose, mount);
+  const Eigen::Vector3d origin = sensor_origin_in_map(pose, mount);
+  for (int i = 0; i < urg.beam_count(); ++i) {
+    const double t = urg.step_angle_rad(urg.first_step + i);
+    const Eigen::Vector3d dir = rotation * Eigen::Vector3d(std::cos(t), std::sin(t), 0.0);
+    if (const std::optional<RayHit> hit = caster.cast(origin, dir, urg.max_range_m)) {
+      visibility.add_hit(hit->object_index, hit->point_m);
+    }
+  }
 }
 
 }  // namespace
@@ -115,8 +131,13 @@ void centre_rail_map(const Eigen::Vector2d& lo, const Eigen::Vector2d& hi, Mappi
   pipeline.mapper().map().move_to(centre.x(), centre.y());
 }
 
+TopVisibility rail_top_visibility(const Scene& scene, const CartRailPath& rail) {
+  return TopVisibility(scene, 0.75 * rail.step_m);
+}
+
 void finish_rail_map(const Scene& scene, const CartRailOptions& options, MappingPipeline& pipeline,
-                     const std::function<CellMask(const ElevationMap&)>& swept_area, CartRailResult& result) {
+                     const std::function<CellMask(const ElevationMap&)>& swept_area,
+                     const TopVisibility& visibility, CartRailResult& result) {
   result.mapper_totals = pipeline.mapper().totals();
   const MapFilterResult filtered = pipeline.apply_map_filter();
   result.filled_cells = filtered.filled;
@@ -142,7 +163,10 @@ void finish_rail_map(const Scene& scene, const CartRailOptions& options, Mapping
   if (options.sensor == CartRailSensor::urg && !std::isfinite(objects.edges.view_heading_rad)) {
     objects.edges.view_heading_rad = result.rail.yaw_rad;
   }
+  objects.travel_heading_rad = result.rail.yaw_rad;
   result.objects = measure_objects(result.snapshot, scene, objects);
+  const std::vector<double> seen = visibility.seen_shares();
+  for (std::size_t k = 0; k < result.objects.size() && k < seen.size(); ++k) result.objects[k].seen_share = seen[k];
 }
 
 }  // namespace detail
@@ -196,10 +220,13 @@ CartRailResult run_cart_rail(const Scene& scene, const CartRailOptions& options)
     beam_model = std::make_unique<SingleRayBeamModel>();
   }
   UrgSimulator simulator(scene, options.urg, options.sim, options.seed, std::move(beam_model));
+  TopVisibility visibility = detail::rail_top_visibility(scene, result.rail);
+  const SceneRayCaster ideal_beams(scene);
   UrgRawScan raw;
   std::vector<BeamLabel> labels;
   for (std::size_t k = 0; k < poses.size(); ++k) {
     const double time_s = static_cast<double>(k) * options.urg.scan_period_s;
+    add_ideal_hits(ideal_beams, poses[k], options.mount, options.urg, visibility);
     simulator.scan(poses[k], options.mount, time_s, raw, &labels);
     pipeline.add(raw, poses[k], beam_tags(labels));
     if (options.progress) options.progress(k + 1, poses.size());
@@ -209,7 +236,7 @@ CartRailResult run_cart_rail(const Scene& scene, const CartRailOptions& options)
   result.scans = poses.size();
   detail::finish_rail_map(scene, options, pipeline, [&](const ElevationMap& map) {
     return swept_floor_area(map, poses, options.mount, options.urg, floor_m, options.swept_max_range_m);
-  }, result);
+  }, visibility, result);
   return result;
 }
 

@@ -62,6 +62,16 @@ json structured_light_json(const CartRailResult& r, const CartRailOptions& optio
   return out;
 }
 
+// Null for a side without a fit (cylinders, boxes not found).
+json edge_errors_json(const ObjectMeasurement& m) {
+  json sides = json::object();
+  for (std::size_t k = 0; k < m.edge_errors_m.size(); ++k) {
+    const double e = m.edge_errors_m[k];
+    sides[to_string(static_cast<EdgeSide>(k))] = std::isfinite(e) ? json(e) : json(nullptr);
+  }
+  return sides;
+}
+
 }  // namespace
 
 std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOptions& options,
@@ -79,6 +89,8 @@ std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOption
                        {"edges_trimmed_m", m.found ? dimensions_json(m.edges_trimmed) : json(nullptr)},
                        {"edges_untrimmed_m", m.found ? dimensions_json(m.edges_untrimmed) : json(nullptr)},
                        {"measured_yaw_rad", m.measured_yaw_rad},
+                       {"edge_errors_m", edge_errors_json(m)},
+                       {"seen_share", std::isfinite(m.seen_share) ? json(m.seen_share) : json(nullptr)},
                        {"error_pct", error_pct_json(m)}});
   }
   const MapScore& s = r.score;

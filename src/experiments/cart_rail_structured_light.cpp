@@ -117,6 +117,7 @@ void run_structured_light_rail(const Scene& scene, const CartRailOptions& option
   StructuredLightFrameTruth truth;
   std::vector<StripePixel> pixels;
   double sum_sq = 0.0;
+  TopVisibility visibility = rail_top_visibility(scene, result.rail);
   for (const TrunkPose& pose : poses) {
     if (options.progress) options.progress(static_cast<std::size_t>(&pose - poses.data()), poses.size());
     if (renderer) {
@@ -129,6 +130,9 @@ void run_structured_light_rail(const Scene& scene, const CartRailOptions& option
       pixels = truth.stripe;
       sum_sq += tally_geometric(truth, sl, result.stripe);
     }
+    for (const StripeColumnTruth& column : truth.columns) {
+      if (column.label == StripeColumnLabel::visible) visibility.add_hit(column.object_index, column.point_m);
+    }
     ++result.stripe.frames;
     result.stripe.columns += truth.columns.size();
     pipeline.add(pixels, std::nullopt, pose);  // no time: the rail's frames come in order by construction
@@ -139,7 +143,7 @@ void run_structured_light_rail(const Scene& scene, const CartRailOptions& option
       result.stripe.correct ? std::sqrt(sum_sq / static_cast<double>(result.stripe.correct)) : 0.0;
   result.scans = poses.size();
   finish_rail_map(scene, options, pipeline, [&](const ElevationMap& map) { return swept_area_between(map, first, last); },
-                  result);
+                  visibility, result);
 }
 
 }  // namespace detail

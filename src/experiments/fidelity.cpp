@@ -1,6 +1,7 @@
 #include "stridemap/experiments/fidelity.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -22,6 +23,54 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
 bool is_bystander(const ObjectMeasurement& m) { return m.name.starts_with(kBystanderPrefix); }
 
+// NaN (not worked out) counts as fully seen.
+bool partly_seen(const ObjectMeasurement& m, double min_seen_share) { return m.seen_share < min_seen_share; }
+
+// What the extent figures score: found boxes of the line, fully seen.
+bool scored_box(const ObjectMeasurement& m, double min_seen_share) {
+  return m.kind == "box" && m.found && !is_bystander(m) && !partly_seen(m, min_seen_share);
+}
+
+// The fully seen boxes' extents and edges, over all scenes, per sensor.
+struct ExtentErrors {
+  std::vector<double> every_pct;  // |relative error| of every scored extent
+  std::vector<double> width_abs_mm, length_abs_mm;
+  std::array<std::vector<double>, 4> edge_mm;  // signed, by EdgeSide
+
+  void add(const std::vector<ObjectMeasurement>& objects, const FidelityOptions& options) {
+    for (const ObjectMeasurement& m : objects) {
+      if (!scored_box(m, options.min_seen_share)) continue;
+      if (m.truth.width_m >= options.min_scored_extent_m)
+        width_abs_mm.push_back(1000.0 * std::abs(m.measured.width_m - m.truth.width_m));
+      if (m.truth.length_m >= options.min_scored_extent_m)
+        length_abs_mm.push_back(1000.0 * std::abs(m.measured.length_m - m.truth.length_m));
+      for (std::size_t side = 0; side < 4; ++side)
+        if (std::isfinite(m.edge_errors_m[side])) edge_mm[side].push_back(1000.0 * m.edge_errors_m[side]);
+    }
+  }
+};
+
+double quantile_of(std::vector<double> values, double q) {
+  std::sort(values.begin(), values.end());
+  const double position = q * static_cast<double>(values.size() - 1);
+  const auto lo = static_cast<std::size_t>(std::floor(position));
+  const std::size_t hi = std::min(lo + 1, values.size() - 1);
+  return values[lo] + (values[hi] - values[lo]) * (position - static_cast<double>(lo));
+}
+
+void add_edge_spreads(const std::string& sensor, const ExtentErrors& errors, std::vector<EdgeErrorSpread>& out) {
+  for (std::size_t side = 0; side < 4; ++side) {
+    const std::vector<double>& values = errors.edge_mm[side];
+    EdgeErrorSpread spread{sensor, static_cast<EdgeSide>(side), values.size(), kNaN, kNaN, kNaN};
+    if (!values.empty()) {
+      spread.p10_mm = quantile_of(values, 0.1);
+      spread.median_mm = quantile_of(values, 0.5);
+      spread.p90_mm = quantile_of(values, 0.9);
+    }
+    out.push_back(spread);
+  }
+}
+
 // Log-uniform in [lo, hi] from the scene's seed: light levels spread by
 // factors, not by lux.
 double scene_lux(std::uint64_t scene_seed, double lo, double hi) {
@@ -32,11 +81,11 @@ double scene_lux(std::uint64_t scene_seed, double lo, double hi) {
 
 // The largest |relative error| over the box extents long enough to score,
 // and every such error into `all`.
-double worst_extent_error(const std::vector<ObjectMeasurement>& objects, double min_extent_m,
+double worst_extent_error(const std::vector<ObjectMeasurement>& objects, double min_extent_m, double min_seen_share,
                           std::vector<double>& all, ObjectDimensions ObjectMeasurement::* estimate) {
   double worst = kNaN;
   for (const ObjectMeasurement& m : objects) {
-    if (m.kind != "box" || !m.found || is_bystander(m)) continue;
+    if (!scored_box(m, min_seen_share)) continue;
     const ObjectDimensions& d = m.*estimate;
     for (const auto& [truth, measured] : {std::pair{m.truth.length_m, d.length_m},
                                           std::pair{m.truth.width_m, d.width_m}}) {
@@ -49,9 +98,16 @@ double worst_extent_error(const std::vector<ObjectMeasurement>& objects, double 
   return worst;
 }
 
-std::size_t missed(const std::vector<ObjectMeasurement>& objects) {
-  return static_cast<std::size_t>(
-      std::count_if(objects.begin(), objects.end(), [](const ObjectMeasurement& m) { return !m.found && !is_bystander(m); }));
+std::size_t missed(const std::vector<ObjectMeasurement>& objects, double min_seen_share) {
+  return static_cast<std::size_t>(std::count_if(objects.begin(), objects.end(), [&](const ObjectMeasurement& m) {
+    return !m.found && !is_bystander(m) && !partly_seen(m, min_seen_share);
+  }));
+}
+
+std::size_t count_partly_seen(const std::vector<ObjectMeasurement>& objects, double min_seen_share) {
+  return static_cast<std::size_t>(std::count_if(objects.begin(), objects.end(), [&](const ObjectMeasurement& m) {
+    return !is_bystander(m) && partly_seen(m, min_seen_share);
+  }));
 }
 
 }  // namespace
@@ -103,7 +159,8 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
                      std::to_string(options.max_lux));
   }
   FidelityResult result;
-  std::vector<double> urg_all, sl_all, unused;
+  std::vector<double> unused;
+  ExtentErrors urg_errors, sl_errors;
   const std::size_t runs_per_scene = options.structured_light ? 4 : 3;
   for (std::size_t k = 0; k < options.scenes; ++k) {
     FidelitySceneResult row;
@@ -132,14 +189,17 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
     const CartRailResult filtered = run(urg);
     row.urg_objects = filtered.objects;
     row.urg_extent_error_pct =
-        worst_extent_error(filtered.objects, options.min_scored_extent_m, urg_all, &ObjectMeasurement::measured);
+        worst_extent_error(filtered.objects, options.min_scored_extent_m, options.min_seen_share,
+                           urg_errors.every_pct, &ObjectMeasurement::measured);
     row.urg_extent_error_edges_untrimmed_pct = worst_extent_error(
-        filtered.objects, options.min_scored_extent_m, unused, &ObjectMeasurement::edges_untrimmed);
-    row.urg_extent_error_trimmed_pct = worst_extent_error(filtered.objects, options.min_scored_extent_m, unused,
+        filtered.objects, options.min_scored_extent_m, options.min_seen_share, unused, &ObjectMeasurement::edges_untrimmed);
+    row.urg_extent_error_trimmed_pct = worst_extent_error(filtered.objects, options.min_scored_extent_m, options.min_seen_share, unused,
                                                           &ObjectMeasurement::measured_trimmed);
-    row.urg_extent_error_untrimmed_pct = worst_extent_error(filtered.objects, options.min_scored_extent_m, unused,
+    row.urg_extent_error_untrimmed_pct = worst_extent_error(filtered.objects, options.min_scored_extent_m, options.min_seen_share, unused,
                                                             &ObjectMeasurement::measured_untrimmed);
-    row.urg_objects_missed = missed(filtered.objects);
+    row.urg_objects_missed = missed(filtered.objects, options.min_seen_share);
+    row.urg_objects_partly_seen = count_partly_seen(filtered.objects, options.min_seen_share);
+    urg_errors.add(filtered.objects, options);
     row.urg_rms_error_mm = filtered.score.rms_error_m * 1000.0;
     row.artifact_cells_reference = reference.score.artifact_cells;
     row.artifact_cells_unfiltered = unfiltered.score.artifact_cells;
@@ -164,14 +224,17 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
       row.structured_light_rms_error_mm = sl.score.rms_error_m * 1000.0;
       row.structured_light_objects = sl.objects;
       row.structured_light_extent_error_pct =
-          worst_extent_error(sl.objects, options.min_scored_extent_m, sl_all, &ObjectMeasurement::measured);
+          worst_extent_error(sl.objects, options.min_scored_extent_m, options.min_seen_share, sl_errors.every_pct,
+                             &ObjectMeasurement::measured);
       row.structured_light_extent_error_edges_untrimmed_pct =
-          worst_extent_error(sl.objects, options.min_scored_extent_m, unused, &ObjectMeasurement::edges_untrimmed);
+          worst_extent_error(sl.objects, options.min_scored_extent_m, options.min_seen_share, unused, &ObjectMeasurement::edges_untrimmed);
       row.structured_light_extent_error_trimmed_pct =
-          worst_extent_error(sl.objects, options.min_scored_extent_m, unused, &ObjectMeasurement::measured_trimmed);
+          worst_extent_error(sl.objects, options.min_scored_extent_m, options.min_seen_share, unused, &ObjectMeasurement::measured_trimmed);
       row.structured_light_extent_error_untrimmed_pct =
-          worst_extent_error(sl.objects, options.min_scored_extent_m, unused, &ObjectMeasurement::measured_untrimmed);
-      row.structured_light_objects_missed = missed(sl.objects);
+          worst_extent_error(sl.objects, options.min_scored_extent_m, options.min_seen_share, unused, &ObjectMeasurement::measured_untrimmed);
+      row.structured_light_objects_missed = missed(sl.objects, options.min_seen_share);
+      row.structured_light_objects_partly_seen = count_partly_seen(sl.objects, options.min_seen_share);
+      sl_errors.add(sl.objects, options);
     } else {
       row.structured_light_extent_error_pct = row.structured_light_extent_error_edges_untrimmed_pct =
           row.structured_light_extent_error_trimmed_pct =
@@ -190,14 +253,23 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
   };
   using R = FidelitySceneResult;
   figure("urg_box_extent_error_pct (worst per scene)", &R::urg_extent_error_pct, false);
-  result.figures.push_back(distribution_of("urg_box_extent_error_pct (every extent)", urg_all, false));
+  result.figures.push_back(distribution_of("urg_box_extent_error_pct (every extent)", urg_errors.every_pct, false));
+  result.figures.push_back(distribution_of("urg_box_width_error_mm (every width, |error|)", urg_errors.width_abs_mm, false));
+  result.figures.push_back(
+      distribution_of("urg_box_length_error_mm (every length, |error|)", urg_errors.length_abs_mm, false));
   figure("urg_box_extent_error_pct, sub-cell edges untrimmed", &R::urg_extent_error_edges_untrimmed_pct, false);
   figure("urg_box_extent_error_pct, trimmed cells", &R::urg_extent_error_trimmed_pct, false);
   figure("urg_box_extent_error_pct, untrimmed cells", &R::urg_extent_error_untrimmed_pct, false);
   figure("urg_objects_missed", &R::urg_objects_missed, false);
+  figure("urg_objects_partly_seen", &R::urg_objects_partly_seen, false);
   if (options.structured_light) {
     figure("structured_light_box_extent_error_pct (worst per scene)", &R::structured_light_extent_error_pct, false);
-    result.figures.push_back(distribution_of("structured_light_box_extent_error_pct (every extent)", sl_all, false));
+    result.figures.push_back(
+        distribution_of("structured_light_box_extent_error_pct (every extent)", sl_errors.every_pct, false));
+    result.figures.push_back(
+        distribution_of("structured_light_box_width_error_mm (every width, |error|)", sl_errors.width_abs_mm, false));
+    result.figures.push_back(distribution_of("structured_light_box_length_error_mm (every length, |error|)",
+                                             sl_errors.length_abs_mm, false));
     figure("structured_light_box_extent_error_pct, sub-cell edges untrimmed",
            &R::structured_light_extent_error_edges_untrimmed_pct, false);
     figure("structured_light_box_extent_error_pct, trimmed cells", &R::structured_light_extent_error_trimmed_pct,
@@ -205,6 +277,7 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
     figure("structured_light_box_extent_error_pct, untrimmed cells", &R::structured_light_extent_error_untrimmed_pct,
            false);
     figure("structured_light_objects_missed", &R::structured_light_objects_missed, false);
+    figure("structured_light_objects_partly_seen", &R::structured_light_objects_partly_seen, false);
     figure("structured_light_false_detections_pct", &R::structured_light_false_detections_pct, false);
     figure("structured_light_false_detections_off_row_pct", &R::structured_light_off_row_detections_pct, false);
     figure("structured_light_cells_off_20mm_clear_of_objects", &R::structured_light_clear_artifact_cells, false);
@@ -215,18 +288,29 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
   figure("mixed_artifacts_removed_pct", &R::mixed_artifacts_removed_pct, true);
   figure("clean_beams_dropped_pct", &R::clean_beams_dropped_pct, false);
   figure("urg_rms_error_mm", &R::urg_rms_error_mm, false);
+  add_edge_spreads("urg", urg_errors, result.edges);
+  if (options.structured_light) add_edge_spreads("structured_light", sl_errors, result.edges);
   return result;
 }
 
 std::string fidelity_table(const FidelityResult& result) {
   std::string out = "fidelity, cart rail on " + std::to_string(result.scenes.size()) +
-                    " random scenes (simulated)\nfigure                                                  scenes"
+                    " random scenes (simulated)\nfigure                                                      scenes"
                     "    median       p90     worst\n";
   char line[256];
   for (const FigureDistribution& d : result.figures) {
-    std::snprintf(line, sizeof line, "%-56s %6zu %9.2f %9.2f %9.2f\n", d.figure.c_str(), d.count, d.median, d.p90,
+    std::snprintf(line, sizeof line, "%-60s %6zu %9.2f %9.2f %9.2f\n", d.figure.c_str(), d.count, d.median, d.p90,
                   d.worst);
     out += line;
+  }
+  if (!result.edges.empty()) {
+    out += "edges of fully seen boxes, signed error outwards [mm]             boxes       p10    median       p90\n";
+    for (const EdgeErrorSpread& e : result.edges) {
+      const std::string name = e.sensor + " " + to_string(e.side);
+      std::snprintf(line, sizeof line, "%-60s %6zu %9.2f %9.2f %9.2f\n", name.c_str(), e.count, e.p10_mm, e.median_mm,
+                    e.p90_mm);
+      out += line;
+    }
   }
   return out;
 }
@@ -235,7 +319,7 @@ namespace {
 
 nlohmann::json number_or_null(double value) { return std::isnan(value) ? nlohmann::json() : nlohmann::json(value); }
 
-nlohmann::json objects_json(const std::vector<ObjectMeasurement>& objects) {
+nlohmann::json objects_json(const std::vector<ObjectMeasurement>& objects, double min_seen_share) {
   nlohmann::json list = nlohmann::json::array();
   for (const ObjectMeasurement& m : objects) {
     list.push_back({{"name", m.name},
@@ -251,6 +335,12 @@ nlohmann::json objects_json(const std::vector<ObjectMeasurement>& objects) {
                                          {"width", number_or_null(m.edges_trimmed.width_m)}}},
                     {"edges_untrimmed_m", {{"length", number_or_null(m.edges_untrimmed.length_m)},
                                            {"width", number_or_null(m.edges_untrimmed.width_m)}}},
+                    {"edge_errors_m", {{"near", number_or_null(m.edge_errors_m[0])},
+                                       {"far", number_or_null(m.edge_errors_m[1])},
+                                       {"left", number_or_null(m.edge_errors_m[2])},
+                                       {"right", number_or_null(m.edge_errors_m[3])}}},
+                    {"seen_share", number_or_null(m.seen_share)},
+                    {"partly_seen", partly_seen(m, min_seen_share)},
                     {"measured_yaw_rad", m.measured_yaw_rad}});
   }
   return list;
@@ -268,11 +358,21 @@ std::string fidelity_summary_json(const FidelityResult& result, const FidelityOp
                        {"p90", number_or_null(d.p90)},
                        {"worst", number_or_null(d.worst)}});
   }
+  nlohmann::json edges = nlohmann::json::array();
+  for (const EdgeErrorSpread& e : result.edges) {
+    edges.push_back({{"sensor", e.sensor},
+                     {"side", to_string(e.side)},
+                     {"boxes", e.count},
+                     {"p10_mm", number_or_null(e.p10_mm)},
+                     {"median_mm", number_or_null(e.median_mm)},
+                     {"p90_mm", number_or_null(e.p90_mm)}});
+  }
   nlohmann::json scenes = nlohmann::json::array();
   for (const FidelitySceneResult& row : result.scenes) {
     nlohmann::json entry = {{"scene_seed", row.scene_seed},
                             {"urg_box_extent_error_pct", number_or_null(row.urg_extent_error_pct)},
                             {"urg_objects_missed", row.urg_objects_missed},
+                            {"urg_objects_partly_seen", row.urg_objects_partly_seen},
                             {"urg_rms_error_mm", row.urg_rms_error_mm},
                             {"artifact_cells",
                              {{"reference", row.artifact_cells_reference},
@@ -280,11 +380,12 @@ std::string fidelity_summary_json(const FidelityResult& result, const FidelityOp
                               {"filtered", row.artifact_cells_filtered}}},
                             {"mixed_artifacts_removed_pct", number_or_null(row.mixed_artifacts_removed_pct)},
                             {"clean_beams_dropped_pct", row.clean_beams_dropped_pct},
-                            {"urg_objects", objects_json(row.urg_objects)}};
+                            {"urg_objects", objects_json(row.urg_objects, options.min_seen_share)}};
     if (options.structured_light) {
       entry["structured_light_box_extent_error_pct"] = number_or_null(row.structured_light_extent_error_pct);
       entry["structured_light_objects_missed"] = row.structured_light_objects_missed;
-      entry["structured_light_objects"] = objects_json(row.structured_light_objects);
+      entry["structured_light_objects_partly_seen"] = row.structured_light_objects_partly_seen;
+      entry["structured_light_objects"] = objects_json(row.structured_light_objects, options.min_seen_share);
       entry["structured_light_lux"] = row.structured_light_lux;
       entry["structured_light_false_detections_pct"] = row.structured_light_false_detections_pct;
       entry["structured_light_false_detections_off_row_pct"] = row.structured_light_off_row_detections_pct;
@@ -311,7 +412,9 @@ std::string fidelity_summary_json(const FidelityResult& result, const FidelityOp
       {"structured_light", options.structured_light
                                ? std::string(name(options.structured_light_rail.structured_light.pipeline))
                                : std::string("off")},
+      {"min_seen_share", options.min_seen_share},
       {"figures", figures},
+      {"edges", edges},
       {"scenes", scenes}};
   return summary.dump(2) + "\n";
 }

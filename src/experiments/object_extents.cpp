@@ -15,7 +15,36 @@ struct Identity {
   double cx, cy;
   double yaw;
   bool round;
+  double half_length_m = 0.0, half_width_m = 0.0;
 };
+
+// The fit's four edges against the truth's, outwards positive, named from
+// the heading. The fit's offsets are measured from the truth's centre
+// along its own axes, which lie within a few degrees of the truth's but may
+// point the other way.
+std::array<double, 4> edge_errors(const BoxEdgeFit& fit, const Identity& id, double heading_rad) {
+  const bool flipped = std::abs(std::remainder(fit.yaw_rad - id.yaw, 2.0 * std::numbers::pi)) > std::numbers::pi / 2;
+  // Outward position of each truth side (+u, -u, +v, -v) as the fit puts it.
+  const double plus_u = flipped ? -fit.edges_m[0] : fit.edges_m[1];
+  const double minus_u = flipped ? fit.edges_m[1] : -fit.edges_m[0];
+  const double plus_v = flipped ? -fit.edges_m[2] : fit.edges_m[3];
+  const double minus_v = flipped ? fit.edges_m[3] : -fit.edges_m[2];
+  struct Side {
+    double error_m;
+    Eigen::Vector2d normal;
+  };
+  const Eigen::Vector2d u(std::cos(id.yaw), std::sin(id.yaw)), v(-u.y(), u.x());
+  const std::array<Side, 4> sides{Side{plus_u - id.half_length_m, u}, Side{minus_u - id.half_length_m, -u},
+                                  Side{plus_v - id.half_width_m, v}, Side{minus_v - id.half_width_m, -v}};
+  const Eigen::Vector2d ahead(std::cos(heading_rad), std::sin(heading_rad)), left(-ahead.y(), ahead.x());
+  const auto pick = [&](const Eigen::Vector2d& direction) {
+    const Side* best = &sides[0];
+    for (const Side& s : sides)
+      if (s.normal.dot(direction) > best->normal.dot(direction)) best = &s;
+    return best->error_m;
+  };
+  return {pick(-ahead), pick(ahead), pick(left), pick(-left)};
+}
 
 double median(std::vector<double>& values) {
   if (values.empty()) return std::numeric_limits<double>::quiet_NaN();
@@ -281,6 +310,7 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
   const BoxEdgeFit untrimmed = fit_box_edges(border, frame, s, false, options.edges);
   if (trimmed.ok) {
     out.edges_trimmed = {trimmed.length_m, trimmed.width_m, height};
+    out.edge_errors_m = edge_errors(trimmed, id, options.travel_heading_rad);
     out.measured_yaw_rad = std::remainder(trimmed.yaw_rad, std::numbers::pi);
   }
   if (untrimmed.ok) out.edges_untrimmed = {untrimmed.length_m, untrimmed.width_m, height};
@@ -297,6 +327,16 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
 
 }  // namespace
 
+const char* to_string(EdgeSide side) {
+  switch (side) {
+    case EdgeSide::near: return "near";
+    case EdgeSide::far: return "far";
+    case EdgeSide::left: return "left";
+    case EdgeSide::right: return "right";
+  }
+  return "?";
+}
+
 double relative_error_pct(double measured, double truth) {
   return truth != 0.0 ? (measured - truth) / truth * 100.0 : std::numeric_limits<double>::quiet_NaN();
 }
@@ -305,7 +345,8 @@ std::vector<ObjectMeasurement> measure_objects(const MapSnapshot& snapshot, cons
                                                const ObjectMeasureOptions& options) {
   std::vector<ObjectMeasurement> results;
   for (const BoxObject& box : scene.boxes) {
-    ObjectMeasurement m = measure_one(snapshot, {box.center_x_m, box.center_y_m, box.yaw_rad, false}, options);
+    ObjectMeasurement m = measure_one(
+        snapshot, {box.center_x_m, box.center_y_m, box.yaw_rad, false, box.length_m / 2, box.width_m / 2}, options);
     m.name = box.name;
     m.kind = "box";
     m.truth = {box.length_m, box.width_m, box.top_m() - scene.terrain.height_at(box.center_x_m, box.center_y_m)};

@@ -2,7 +2,9 @@
 // Measures the boxes and cylinders of a scene from an elevation map, as the
 // paper measures its boxes in Table 1: length (along the rail, X), width
 // (across it, Y) and height above the ground around the object.
+#include <array>
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -36,7 +38,13 @@ enum class ExtentEstimate : std::uint8_t {
   untrimmed,
 };
 
+/// A box's sides as the sensor met them: near faces the way it came from,
+/// far the way it went, left and right of its travel.
+enum class EdgeSide : std::uint8_t { near, far, left, right };
+const char* to_string(EdgeSide side);
+
 struct ObjectMeasurement {
+  static constexpr double kUnmeasured = std::numeric_limits<double>::quiet_NaN();
   std::string name;
   std::string kind;  ///< "box" or "cylinder"
   ObjectDimensions truth;
@@ -52,6 +60,13 @@ struct ObjectMeasurement {
   /// The box's yaw as read from the map (the trimmed edge fit's, else the
   /// minimum-area rectangle of its cells; length along it) [rad].
   double measured_yaw_rad = 0.0;
+  /// Boxes: each edge of the trimmed fit against the truth's, outwards
+  /// positive [m], in the order of EdgeSide (named from
+  /// ObjectMeasureOptions::travel_heading_rad); NaN without that fit.
+  std::array<double, 4> edge_errors_m{kUnmeasured, kUnmeasured, kUnmeasured, kUnmeasured};
+  /// The share of the object's top the ideal sensor saw on the run
+  /// (experiments/top_visibility.hpp), in [0, 1]; NaN when not worked out.
+  double seen_share = kUnmeasured;
   bool found = false;  ///< false when the map holds no cell above the half-height threshold
   std::size_t cells = 0;  ///< cells of the connected region taken as the object
 };
@@ -71,6 +86,9 @@ struct ObjectMeasureOptions {
   /// below the region's threshold).
   double edge_band_m = 0.006;
   ExtentEstimate extent = ExtentEstimate::edges;
+  /// The direction the sensor travelled (map frame) [rad]: it names the
+  /// sides of ObjectMeasurement::edge_errors_m.
+  double travel_heading_rad = 0.0;
   BoxEdgeOptions edges{};
 };
 
