@@ -90,3 +90,16 @@ def test_repr_shows_every_field_and_evaluates_back(cls):
 def test_repr_shows_a_changed_field():
     assert "cells_per_side=321" in repr(stridemap.PipelineOptions(cells_per_side=321))
     assert "height_m=0.42" in repr(stridemap.SensorMount(height_m=0.42))
+
+
+def test_the_stub_lists_every_field_as_a_keyword_of_init():
+    import ast
+    import os
+    stub = os.path.join(os.path.dirname(stridemap.__file__), "__init__.pyi")
+    with open(stub, encoding="utf-8") as f:
+        classes = {node.name: node for node in ast.parse(f.read()).body if isinstance(node, ast.ClassDef)}
+    for cls in OPTION_CLASSES:
+        init = next(item for item in classes[cls.__name__].body
+                    if isinstance(item, ast.FunctionDef) and item.name == "__init__")
+        names = [a.arg for a in init.args.args[1:] + init.args.kwonlyargs]
+        assert names == settable_fields(cls), cls.__name__
