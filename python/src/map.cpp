@@ -68,6 +68,7 @@ TrunkPose pose_from_dict(const py::dict& d, const std::string& argument) {
   pose.reference_elevation_m = number("reference_elevation_m");
   pose.height_change_m = number("height_change_m");
   if (d.contains("z_m") && !d["z_m"].is_none()) pose.z_m = number("z_m");
+  warn_implausible_tilt(pose, argument);
   return pose;
 }
 
