@@ -32,6 +32,9 @@ void register_map(py::module_& m);
 void register_pipeline(py::module_& m);
 void register_simulation(py::module_& m);
 void register_experiments(py::module_& m);
+/// Map.submap, Map.from_arrays and map[name] (map_build.cpp), on the class
+/// register_map binds.
+void add_map_builders(py::class_<ElevationMap>& map_class);
 
 /// created_by of a map file saved from a Pipeline unless the caller names it.
 inline constexpr const char* kPipelineCreatedBy = "Python stridemap.Pipeline";
