@@ -93,6 +93,10 @@ void warn_implausible_tilts(const py::array_t<double, py::array::c_style>& poses
 /// "poses[3]": one element of an argument, for messages.
 std::string element_name(const std::string& argument, long long index);
 
+/// The shortest text that reads back as `value` (Python's repr of a float),
+/// for messages.
+std::string number_text(double value);
+
 /// A finite number, InputError naming `argument` otherwise.
 double finite_number(double value, const std::string& argument);
 

@@ -2,6 +2,7 @@
 // failure naming the argument as the caller wrote it.
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstdint>
 #include <string>
 
@@ -82,6 +83,18 @@ std::string element_name(const std::string& argument, long long index) {
   name += std::to_string(index);
   name += ']';
   return name;
+}
+
+// The shortest text that reads back as `value`, as Python's repr: a user
+// who wrote 0.2 reads 0.2, not 0.20000000000000001.
+std::string number_text(double value) {
+  char text[64];
+  for (int digits = 6; digits < 17; ++digits) {
+    std::snprintf(text, sizeof text, "%.*g", digits, value);
+    if (std::strtod(text, nullptr) == value || std::isnan(value)) return text;
+  }
+  std::snprintf(text, sizeof text, "%.17g", value);
+  return text;
 }
 
 double finite_number(double value, const std::string& argument) {
