@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstring>
 #include <string>
+#include <vector>
 
 #include "bindings.hpp"
 #include "map_layers.hpp"
@@ -46,17 +46,43 @@ AxisRange box_cells(double min_m, double max_m, double cell_size_m, std::int64_t
   return range;
 }
 
+template <class T>
+void copy_layer(const T* in, T* out, const std::vector<std::size_t>& in_rows, const std::vector<std::size_t>& in_cols,
+                const std::vector<std::size_t>& out_rows, const std::vector<std::size_t>& out_cols) {
+  for (std::size_t a = 0; a < in_rows.size(); ++a) {
+    for (std::size_t b = 0; b < in_cols.size(); ++b) out[out_rows[a] + out_cols[b]] = in[in_rows[a] + in_cols[b]];
+  }
+}
+
 // Every layer of `from` for the cells of `box` (which both maps' windows
-// hold), into `to`, whose layers are `from`'s in the same order.
+// hold), into `to`, whose layers are `from`'s in the same order. A slot is
+// (ix mod N) N + (iy mod N): the two parts are worked out once per row and
+// column, not per cell and layer (a 4096-cell window has 16.8 M cells).
 void copy_cells(const ElevationMap& from, ElevationMap& to, const CellBox& box) {
+  std::vector<std::size_t> in_rows, out_rows, in_cols, out_cols;
+  for (std::int64_t x = box.min.x; x <= box.max.x; ++x) {
+    in_rows.push_back(from.slot({x, 0}));
+    out_rows.push_back(to.slot({x, 0}));
+  }
+  for (std::int64_t y = box.min.y; y <= box.max.y; ++y) {
+    in_cols.push_back(from.slot({0, y}));
+    out_cols.push_back(to.slot({0, y}));
+  }
   for (std::size_t k = 0; k < from.layer_count(); ++k) {
-    const std::size_t width = layer_type_bytes(from.layer_spec(k).type);
-    const auto* in = static_cast<const unsigned char*>(from.layer_bytes(k));
-    auto* out = static_cast<unsigned char*>(to.layer_bytes(k));
-    for (std::int64_t x = box.min.x; x <= box.max.x; ++x) {
-      for (std::int64_t y = box.min.y; y <= box.max.y; ++y) {
-        std::memcpy(out + to.slot({x, y}) * width, in + from.slot({x, y}) * width, width);
-      }
+    const void* in = from.layer_bytes(k);
+    void* out = to.layer_bytes(k);
+    switch (from.layer_spec(k).type) {
+      case LayerType::f32:
+        copy_layer(static_cast<const float*>(in), static_cast<float*>(out), in_rows, in_cols, out_rows, out_cols);
+        break;
+      case LayerType::u16:
+        copy_layer(static_cast<const std::uint16_t*>(in), static_cast<std::uint16_t*>(out), in_rows, in_cols, out_rows,
+                   out_cols);
+        break;
+      case LayerType::u8:
+        copy_layer(static_cast<const std::uint8_t*>(in), static_cast<std::uint8_t*>(out), in_rows, in_cols, out_rows,
+                   out_cols);
+        break;
     }
   }
 }

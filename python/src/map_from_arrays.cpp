@@ -93,21 +93,24 @@ constexpr int kNoState = -1;
 // the one given checked against them: the rules the map file reader holds
 // every cell to (core/map_integrity.hpp), said in the arguments' names.
 std::uint8_t cell_state(float elevation, float certainty, int given, py::ssize_t i, py::ssize_t j) {
-  const std::string e = cell_name("elevation_m", i, j), c = cell_name("certainty", i, j);
+  // Names are built only for a message: this runs for every cell.
+  const auto e = [&] { return cell_name("elevation_m", i, j); };
+  const auto c = [&] { return cell_name("certainty", i, j); };
   if (given == kNoState) {
     if (certainty > 0.0f && std::isnan(elevation)) {
-      raise_input_error(e + ": NaN (unknown) where " + c + " is " + number_text(certainty) +
+      raise_input_error(e() + ": NaN (unknown) where " + c() + " is " + number_text(certainty) +
                         " > 0: a measured cell needs an elevation");
     }
     return certainty > 0.0f ? 1 : std::isnan(elevation) ? 0 : 2;
   }
-  const int state = given;
-  const std::string s = cell_name("state", i, j) + " is " + std::to_string(state) + " (" + state_word(state) + ")";
-  if (state == 0 && !std::isnan(elevation)) raise_input_error(s + " but " + e + " is " + number_text(elevation) + ", not NaN");
-  if (state != 0 && std::isnan(elevation)) raise_input_error(s + " but " + e + " is NaN");
-  if (state == 1 && !(certainty > 0.0f)) raise_input_error(s + " but " + c + " is " + number_text(certainty) + ", not > 0");
-  if (state != 1 && certainty != 0.0f) raise_input_error(s + " but " + c + " is " + number_text(certainty) + ", not 0");
-  return static_cast<std::uint8_t>(state);
+  const auto s = [&] {
+    return cell_name("state", i, j) + " is " + std::to_string(given) + " (" + state_word(given) + ") but ";
+  };
+  if (given == 0 && !std::isnan(elevation)) raise_input_error(s() + e() + " is " + number_text(elevation) + ", not NaN");
+  if (given != 0 && std::isnan(elevation)) raise_input_error(s() + e() + " is NaN");
+  if (given == 1 && !(certainty > 0.0f)) raise_input_error(s() + c() + " is " + number_text(certainty) + ", not > 0");
+  if (given != 1 && certainty != 0.0f) raise_input_error(s() + c() + " is " + number_text(certainty) + ", not 0");
+  return static_cast<std::uint8_t>(given);
 }
 
 template <class T>
@@ -165,7 +168,7 @@ void set_extra_layer(ElevationMap& map, const std::string& name, const py::handl
 }  // namespace
 
 ElevationMap map_from_arrays(const py::object& elevation_m, const py::object& certainty, double cell_size_m,
-                         const py::object& corner_m, const py::object& state, const py::object& layers) {
+                             const py::object& corner_m, const py::object& state, const py::object& layers) {
   const auto e = as_float64(elevation_m, "elevation_m");
   if (e.ndim() != 2 || e.shape(0) != e.shape(1) || e.shape(0) < 1) {
     raise_input_error("elevation_m: expected a square array (N, N) with N >= 1 (every Map is N x N cells), got shape " +
