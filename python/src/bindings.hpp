@@ -80,7 +80,8 @@ TrunkPose pose_from_object(const py::handle& pose, double reference_elevation_m,
                            const std::string& argument);
 
 /// Past this |roll| or |pitch| a walking robot has fallen over; the number
-/// is far likelier degrees passed where radians belong (10 deg is 10 rad).
+/// is far likelier degrees passed where radians belong (a 10 deg pitch
+/// passed as 10 is 573 deg).
 inline constexpr double kImplausibleTiltRad = 60.0 * 3.14159265358979323846 / 180.0;
 
 /// A UserWarning naming the angle when `pose`'s |roll| or |pitch| is beyond
