@@ -246,3 +246,20 @@ def test_from_arrays_values_follow_the_map_file_rules():
     expect_error(r"^layers\['Bad Name'\]: .*", layers={"Bad Name": np.zeros((5, 5))})
     expect_error(r"^layers\['mean_elevation'\]\[0, 0\]: expected a finite number or NaN, got inf",
                  layers={"mean_elevation": np.full((5, 5), np.inf)})
+
+
+def test_mapping_goes_on_from_a_map_made_from_arrays(flat_walk):
+    from conftest import FLOOR_M
+    n = 100
+    elevation = np.full((n, n), FLOOR_M)
+    m = stridemap.Map.from_arrays(elevation, np.full((n, n), 3.0), cell_size_m=0.01)
+    pipeline = stridemap.Pipeline(stridemap.PipelineOptions(follow_robot=False), resume_from=m)
+    pipeline.add_urg_scans(flat_walk["ranges_mm"], flat_walk["times_s"], flat_walk["poses"],
+                           reference_elevation_m=flat_walk["reference_elevation_m"],
+                           height_change_m=flat_walk["height_change_m"])
+    after = pipeline.map
+    counts = after["mean_count"]
+    assert counts.max() > 1                                  # scans added readings to the cells
+    measured = after["state"] == 1
+    assert np.all(np.isfinite(after["mean_elevation"][measured]))
+    np.testing.assert_allclose(after["mean_elevation"][counts > 1], FLOOR_M, atol=0.03)
