@@ -32,6 +32,9 @@ void register_map(py::module_& m);
 void register_pipeline(py::module_& m);
 void register_simulation(py::module_& m);
 void register_experiments(py::module_& m);
+/// Map.submap, Map.from_arrays and map[name] (map_build.cpp), on the class
+/// register_map binds.
+void add_map_builders(py::class_<ElevationMap>& map_class);
 
 /// created_by of a map file saved from a Pipeline unless the caller names it.
 inline constexpr const char* kPipelineCreatedBy = "Python stridemap.Pipeline";
@@ -76,8 +79,24 @@ TrunkPose pose_from_values(const double* values, std::size_t count, double refer
 TrunkPose pose_from_object(const py::handle& pose, double reference_elevation_m, double height_change_m,
                            const std::string& argument);
 
+/// Past this |roll| or |pitch| a walking robot has fallen over; the number
+/// is far likelier degrees passed where radians belong (a 10 deg pitch
+/// passed as 10 is 573 deg).
+inline constexpr double kImplausibleTiltRad = 60.0 * 3.14159265358979323846 / 180.0;
+
+/// A UserWarning naming the angle when `pose`'s |roll| or |pitch| is beyond
+/// kImplausibleTiltRad. Not an error: a test rig may tilt that far.
+void warn_implausible_tilt(const TrunkPose& pose, const std::string& argument);
+/// The same for an array of poses (K, 5) or (K, 6), checked already: one
+/// warning for the call, naming how many and the first.
+void warn_implausible_tilts(const py::array_t<double, py::array::c_style>& poses, const std::string& argument);
+
 /// "poses[3]": one element of an argument, for messages.
 std::string element_name(const std::string& argument, long long index);
+
+/// The shortest text that reads back as `value` (Python's repr of a float),
+/// for messages.
+std::string number_text(double value);
 
 /// A finite number, InputError naming `argument` otherwise.
 double finite_number(double value, const std::string& argument);

@@ -68,6 +68,7 @@ TrunkPose pose_from_dict(const py::dict& d, const std::string& argument) {
   pose.reference_elevation_m = number("reference_elevation_m");
   pose.height_change_m = number("height_change_m");
   if (d.contains("z_m") && !d["z_m"].is_none()) pose.z_m = number("z_m");
+  warn_implausible_tilt(pose, argument);
   return pose;
 }
 
@@ -179,7 +180,7 @@ void write_png_array(const FilePath& path, const py::handle& pixels) {
 }  // namespace
 
 void register_map(py::module_& m) {
-  py::class_<ElevationMap>(m, "Map",
+  py::class_<ElevationMap> map_class(m, "Map",
                            ("The local terrain map (core/grid_map.hpp): an N x N window of cells, each with these "
                             "layers:\n" +
                             layer_descriptions(builtin_layers()) +
@@ -188,8 +189,8 @@ void register_map(py::module_& m) {
                             "and add_layer declares more; layer_names lists a map's own. Arrays are indexed [i, j]: "
                             "cell (min_cell[0] + i, min_cell[1] + j), i along +X (forward), j along +Y (left), as in "
                             "the map file.")
-                               .c_str())
-      .def(py::init([](int cells_per_side, double cell_size_m) {
+                               .c_str());
+  map_class.def(py::init([](int cells_per_side, double cell_size_m) {
              return ElevationMap(GridOptions{cells_per_side, cell_size_m});
            }),
            py::arg("cells_per_side") = 100, py::arg("cell_size_m") = 0.01,
@@ -323,6 +324,7 @@ void register_map(py::module_& m) {
            "Writes elevation.png and certainty.png (with legends) and elevation/certainty/state.csv as the "
            "folder `directory`, as the CLI's commands do (docs/outputs.md): the set appears whole, replacing an "
            "earlier set; a folder holding other files is refused (InputError).");
+  add_map_builders(map_class);
 
 
   py::class_<io::MapFile>(m, "MapFile", "A loaded map file: the map, what it was made with, the format version.")

@@ -28,4 +28,9 @@ std::pair<int, int> storage_corner(const ElevationMap& map);
 /// in slot (0, 0), otherwise a writable copy.
 py::array window_layer(const ElevationMap& map, const std::string& name, py::handle base);
 
+/// Map.from_arrays (map_from_arrays.cpp): a map of the arrays' cells, every
+/// argument checked and named in any error.
+ElevationMap map_from_arrays(const py::object& elevation_m, const py::object& certainty, double cell_size_m,
+                             const py::object& corner_m, const py::object& state, const py::object& layers);
+
 }  // namespace stridemap::python

@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
+#include "option_fields.hpp"
 #include "stridemap/config/mapper_config.hpp"
 #include "stridemap/config/structured_light_config.hpp"
 #include "stridemap/core/map_filter.hpp"
@@ -17,37 +18,28 @@ namespace stridemap::python {
 namespace {
 
 void register_mount(py::module_& m) {
-  py::class_<SensorMount>(m, "SensorMount",
+  py::class_<SensorMount> mount(m, "SensorMount",
                           "Where the range sensor sits on the trunk (core/pose.hpp): translation (forward_offset_m, "
                           "lateral_offset_m, height_m) and rotation Rz(yaw) Ry(pitch) Rx(roll). Defaults: the "
-                          "paper's Messor mount, 0.26 m high, pitched 35 deg down.")
-      .def(py::init([](double height_m, double pitch_rad, double forward_offset_m, double lateral_offset_m,
-                       double roll_rad, double yaw_rad) {
-             return SensorMount{height_m, pitch_rad, forward_offset_m, lateral_offset_m, roll_rad, yaw_rad};
-           }),
-           py::arg("height_m") = SensorMount{}.height_m, py::arg("pitch_rad") = SensorMount{}.pitch_rad,
-           py::arg("forward_offset_m") = 0.0, py::arg("lateral_offset_m") = 0.0, py::arg("roll_rad") = 0.0,
-           py::arg("yaw_rad") = 0.0, "A mount; every argument in metres or radians.")
-      .def_readwrite("height_m", &SensorMount::height_m, "Sensor origin above the trunk reference point [m].")
+                          "paper's Messor mount, 0.26 m high, pitched 35 deg down.");
+  mount.def_readwrite("height_m", &SensorMount::height_m, "Sensor origin above the trunk reference point [m].")
       .def_readwrite("pitch_rad", &SensorMount::pitch_rad, "Fixed pitch towards the ground (alpha) [rad].")
       .def_readwrite("forward_offset_m", &SensorMount::forward_offset_m, "Ahead of the trunk reference point [m].")
       .def_readwrite("lateral_offset_m", &SensorMount::lateral_offset_m, "Left of the trunk reference point [m].")
       .def_readwrite("roll_rad", &SensorMount::roll_rad, "Roll about the sensor's X axis, after alpha [rad].")
-      .def_readwrite("yaw_rad", &SensorMount::yaw_rad, "Yaw relative to the trunk, before alpha [rad].")
-      .def("__repr__", [](const SensorMount& s) {
-        return "SensorMount(height_m=" + std::to_string(s.height_m) + ", pitch_rad=" + std::to_string(s.pitch_rad) +
-               ", forward_offset_m=" + std::to_string(s.forward_offset_m) + ", lateral_offset_m=" +
-               std::to_string(s.lateral_offset_m) + ", roll_rad=" + std::to_string(s.roll_rad) +
-               ", yaw_rad=" + std::to_string(s.yaw_rad) + ")";
-      });
+      .def_readwrite("yaw_rad", &SensorMount::yaw_rad, "Yaw relative to the trunk, before alpha [rad].");
+  // Positional too, in the order above: a mount is often written as its
+  // numbers, SensorMount(0.26, 0.61).
+  add_field_init_and_repr<true>(mount, "A mount: any field by keyword (or positionally in the order height_m, "
+                                       "pitch_rad, forward_offset_m, lateral_offset_m, roll_rad, yaw_rad), in "
+                                       "metres and radians; the others keep their defaults.");
 }
 
 void register_urg(py::module_& m) {
-  py::class_<UrgParameters>(m, "UrgParameters",
+  py::class_<UrgParameters> urg(m, "UrgParameters",
                             "The URG-04LX's geometry and limits as it reports them (SCIP PP). Defaults: steps "
-                            "44..725 of 1024, front 384, 20 mm to 5.6 m, 0.1 s per scan (682 beams).")
-      .def(py::init<>(), "The URG-04LX's defaults.")
-      .def_readwrite("first_step", &UrgParameters::first_step, "AMIN: first measurable step.")
+                            "44..725 of 1024, front 384, 20 mm to 5.6 m, 0.1 s per scan (682 beams).");
+  urg.def_readwrite("first_step", &UrgParameters::first_step, "AMIN: first measurable step.")
       .def_readwrite("last_step", &UrgParameters::last_step, "AMAX: last measurable step.")
       .def_readwrite("front_step", &UrgParameters::front_step, "AFRT: the step straight ahead.")
       .def_readwrite("steps_per_turn", &UrgParameters::steps_per_turn, "ARES: steps per 360 deg.")
@@ -56,12 +48,12 @@ void register_urg(py::module_& m) {
       .def_readwrite("scan_period_s", &UrgParameters::scan_period_s, "Time of one turn [s].")
       .def_property_readonly("beam_count", &UrgParameters::beam_count, "Beams from first_step to last_step.")
       .def("validate", &UrgParameters::validate, "Raises InputError naming a field that does not fit the others.");
+  add_field_init_and_repr(urg, "The URG-04LX's defaults, with any field given by keyword.");
 }
 
 void register_update(py::module_& m) {
-  py::class_<UpdateOptions>(m, "UpdateOptions", "The map update rule (eq. 9, 10; core/map_update.hpp).")
-      .def(py::init<>(), "The paper's rule.")
-      .def_readwrite("certainty_increment", &UpdateOptions::certainty_increment,
+  py::class_<UpdateOptions> update(m, "UpdateOptions", "The map update rule (eq. 9, 10; core/map_update.hpp).");
+  update.def_readwrite("certainty_increment", &UpdateOptions::certainty_increment,
                      "a of eq. (9): certainty per plausible measurement.")
       .def_readwrite("certainty_max", &UpdateOptions::certainty_max, "The certainty stops growing here.")
       .def_readwrite("max_pitch_error_rad", &UpdateOptions::max_pitch_error_rad, "Trunk pitch error bound [rad].")
@@ -75,6 +67,7 @@ void register_update(py::module_& m) {
           "'paper' (eq. 10: the highest reading wins) or 'gated'.")
       .def_readwrite("replace_after_contradictions", &UpdateOptions::replace_after_contradictions,
                      "Gated rule: contradicting readings in a row that replace a cell.");
+  add_field_init_and_repr(update, "The paper's rule, with any field given by keyword.");
 }
 
 PipelineOptions options_from_config(const FilePath& path, const std::string& sensor) {
@@ -89,12 +82,11 @@ PipelineOptions options_from_config(const FilePath& path, const std::string& sen
 }
 
 void register_pipeline_options(py::module_& m) {
-  py::class_<PipelineOptions>(m, "PipelineOptions",
+  py::class_<PipelineOptions> options(m, "PipelineOptions",
                               "Everything that configures a Pipeline (pipeline/pipeline_options.hpp). Defaults: a "
                               "URG-04LX on the paper's Messor mount, no scan filters, a 100 x 100 map of 10 mm "
-                              "cells following the robot, the paper's update rule, the fill-in (eq. 11).")
-      .def(py::init<>(), "The defaults.")
-      .def_static("from_config", &options_from_config, py::arg("path"), py::arg("sensor") = "urg",
+                              "cells following the robot, the paper's update rule, the fill-in (eq. 11).");
+  options.def_static("from_config", &options_from_config, py::arg("path"), py::arg("sensor") = "urg",
                   "Options from a mapper configuration file (YAML, docs/config.md), as the CLI's --config reads "
                   "it: mount, map, update rule, fill-in, range calibration. Raises InputError "
                   "'<file>:<line>: <field>: <what is wrong>'.")
@@ -153,6 +145,8 @@ void register_pipeline_options(py::module_& m) {
           py::arg("path"),
           "Camera and light sheet of sensor 'structured-light' from a configuration file "
           "(docs/structured_light.md); its mount section is not used: `mount` places the sensor.");
+  add_field_init_and_repr(options, "The defaults, with any field given by keyword: "
+                                   "PipelineOptions(cells_per_side=200, filters='paper').");
 }
 
 }  // namespace

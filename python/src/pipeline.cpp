@@ -126,6 +126,8 @@ class Pipeline {
       raise_input_error("poses: expected shape (" + std::to_string(k) + ", 5) or (" + std::to_string(k) +
                         ", 6), got " + shape_text(q));
     }
+    // Before any scan is mapped: with warnings as errors nothing changes.
+    warn_implausible_tilts(q, "poses");
     const std::vector<double> h_ref = per_scan(reference_elevation_m, k, "reference_elevation_m");
     const std::vector<double> d_z = per_scan(height_change_m, k, "height_change_m");
     const py::array rows = as_array(ranges, "ranges");

@@ -64,6 +64,7 @@ py::array_t<std::uint32_t> simulate_urg_scans(const Scene& scene, const py::hand
         pose_from_values(q.data(k, 0), static_cast<std::size_t>(q.shape(1)), 0.0, 0.0, element_name("poses", k)));
     times.push_back(finite_number(t.at(k), element_name("times_s", k)));
   }
+  warn_implausible_tilts(q, "poses");
   return simulate(scene, trunk, times, mount, urg, seed, sim_options(noise, systematic_error, dropouts));
 }
 

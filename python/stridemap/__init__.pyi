@@ -43,7 +43,17 @@ class UrgParameters:
     scan_period_s: float
     @property
     def beam_count(self) -> int: ...
-    def __init__(self) -> None: ...
+    def __init__(
+        self,
+        *,
+        first_step: int = ...,
+        last_step: int = ...,
+        front_step: int = ...,
+        steps_per_turn: int = ...,
+        min_range_m: float = ...,
+        max_range_m: float = ...,
+        scan_period_s: float = ...,
+    ) -> None: ...
     def validate(self) -> None: ...
 
 class UpdateOptions:
@@ -55,7 +65,18 @@ class UpdateOptions:
     use_turning_term: bool
     elevation_rule: str
     replace_after_contradictions: int
-    def __init__(self) -> None: ...
+    def __init__(
+        self,
+        *,
+        certainty_increment: float = ...,
+        certainty_max: float = ...,
+        max_pitch_error_rad: float = ...,
+        max_roll_error_rad: float = ...,
+        max_mount_pitch_error_rad: float = ...,
+        use_turning_term: bool = ...,
+        elevation_rule: str = ...,
+        replace_after_contradictions: int = ...,
+    ) -> None: ...
 
 class PipelineOptions:
     sensor: str
@@ -71,7 +92,23 @@ class PipelineOptions:
     filters: str
     map_filter: str
     sigma_scale: float
-    def __init__(self) -> None: ...
+    def __init__(
+        self,
+        *,
+        sensor: str = ...,
+        mount: SensorMount = ...,
+        foothold_update_every_scan: bool = ...,
+        urg: UrgParameters = ...,
+        cells_per_side: int = ...,
+        cell_size_m: float = ...,
+        follow_robot: bool = ...,
+        window_ahead_m: float = ...,
+        reject_stale_scans: bool = ...,
+        update: UpdateOptions = ...,
+        filters: str = ...,
+        map_filter: str = ...,
+        sigma_scale: float = ...,
+    ) -> None: ...
     @staticmethod
     def from_config(path: PathLike, sensor: str = "urg") -> PipelineOptions: ...
     def load_structured_light_config(self, path: PathLike) -> None: ...
@@ -101,6 +138,20 @@ class Map:
     def layer(self, name: str) -> npt.NDArray[Any]: ...
     def storage_view(self, name: str) -> npt.NDArray[Any]: ...
     def layers(self) -> dict[str, npt.NDArray[Any]]: ...
+    def __getitem__(self, name: str) -> npt.NDArray[Any]: ...
+    def __contains__(self, name: object) -> bool: ...
+    __iter__: None  # type: ignore[assignment]
+    def submap(self, min_x_m: float, min_y_m: float, max_x_m: float, max_y_m: float) -> Map: ...
+    @staticmethod
+    def from_arrays(
+        elevation_m: ArrayLike,
+        certainty: ArrayLike,
+        *,
+        cell_size_m: float,
+        corner_m: Optional[Sequence[float]] = None,
+        state: Optional[ArrayLike] = None,
+        layers: Optional[dict[str, ArrayLike]] = None,
+    ) -> Map: ...
     def add_layer(
         self,
         name: str,
