@@ -10,6 +10,7 @@
 
 #include "commands.hpp"
 #include "output_guard.hpp"
+#include "stridemap/core/printable_text.hpp"
 #include "stridemap/config/calibration_csv.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/text_file.hpp"
@@ -79,7 +80,7 @@ void run(const CalibrateRangeOptions& options) {
   print_report(options.csv_path, pairs, fit, *min_it, *max_it);
   if (!options.json_path.empty()) {
     write_json(options.json_path, options.csv_path, pairs, fit, *min_it, *max_it);
-    std::printf("\nwrote %s\n", options.json_path.c_str());
+    std::printf("\nwrote %s\n", printable_text(options.json_path).c_str());
   }
 }
 

@@ -12,6 +12,7 @@
 #include "cli_parsing.hpp"
 #include "commands.hpp"
 #include "output_guard.hpp"
+#include "stridemap/core/printable_text.hpp"
 #include "stridemap/config/structured_light_config.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/text_file.hpp"
@@ -123,7 +124,7 @@ void run(const CalibrateArgs& args) {
                                 {"degrees_of_freedom", fit.degrees_of_freedom},
                                 {"targets", targets_json}};
     io::write_text_file(args.json_path, out.dump(2) + "\n", "calibration");
-    std::printf("wrote %s\n", args.json_path.c_str());
+    std::printf("wrote %s\n", printable_text(args.json_path).c_str());
   }
 }
 

@@ -8,6 +8,7 @@
 #include "cli_parsing.hpp"
 #include "commands.hpp"
 #include "output_guard.hpp"
+#include "stridemap/core/printable_text.hpp"
 #include "stridemap/config/structured_light_config.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/sensor_transform.hpp"
@@ -92,10 +93,10 @@ void run(const DetectStripeArgs& args) {
   io::write_text_file(csv, points_csv(detection, model, config.has_mount, args.min_confidence), "stripe points");
   io::write_png(overlay, io::stripe_overlay(image, detection));
 
-  std::printf("%s: stripe found in %zu of %d columns (%zu candidate pixels, %zu after clean-up", args.image_path.c_str(),
+  std::printf("%s: stripe found in %zu of %d columns (%zu candidate pixels, %zu after clean-up", printable_text(args.image_path).c_str(),
               detection.found, detection.width, detection.candidate_pixels, detection.cleaned_pixels);
   if (detection.rejected_tall_runs > 0) std::printf(", %zu columns with a too tall red region", detection.rejected_tall_runs);
-  std::printf(")\nwrote %s and %s\n", csv.c_str(), overlay.c_str());
+  std::printf(")\nwrote %s and %s\n", printable_text(csv).c_str(), printable_text(overlay).c_str());
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include "cli_parsing.hpp"
 #include "commands.hpp"
 #include "terminal_output.hpp"
+#include "stridemap/core/printable_text.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/recordings/log_import.hpp"
 
@@ -108,8 +109,8 @@ void run_import(const ImportArgs& args, const Importer& import, bool binary = fa
               "order skipped, %zu of other kinds ignored)",
               data.format.c_str(), r.scans, r.poses, r.lines, args.input.c_str(), malformed, r.out_of_order,
               r.ignored);
-  if (!data.scans.empty()) std::printf("; scan log: %s", args.log_path.c_str());
-  if (!data.poses.empty()) std::printf("; poses: %s", args.poses_path.c_str());
+  if (!data.scans.empty()) std::printf("; scan log: %s", printable_text(args.log_path).c_str());
+  if (!data.poses.empty()) std::printf("; poses: %s", printable_text(args.poses_path).c_str());
   std::printf("\n");
 }
 

@@ -75,15 +75,15 @@ void run_export(const ExportArgs& args) {
   if (args.info) print_info(args.map_path);
   if (!args.npy_dir.empty()) {
     io::export_npy(file.map, args.npy_dir, args.layers);
-    std::printf("export: NumPy arrays in %s\n", args.npy_dir.c_str());
+    std::printf("export: NumPy arrays in %s\n", printable_text(args.npy_dir).c_str());
   }
   if (!args.ply_path.empty()) {
     const io::PlyStats stats = io::export_ply(file.map, args.ply_path);
-    std::printf("export: PLY mesh %s: %zu vertices, %zu triangles\n", args.ply_path.c_str(), stats.vertices,
+    std::printf("export: PLY mesh %s: %zu vertices, %zu triangles\n", printable_text(args.ply_path).c_str(), stats.vertices,
                 stats.triangles);
   }
   if (!args.csv_dir.empty()) {
-    std::printf("export: %s\n", io::export_cells_csv(file.map, args.csv_dir, args.layers).c_str());
+    std::printf("export: %s\n", printable_text(io::export_cells_csv(file.map, args.csv_dir, args.layers)).c_str());
   }
 }
 

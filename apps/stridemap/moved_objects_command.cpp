@@ -11,6 +11,7 @@
 #include "installed_data.hpp"
 #include "output_guard.hpp"
 #include "terminal_output.hpp"
+#include "stridemap/core/printable_text.hpp"
 #include "stridemap/config/mapper_config.hpp"
 #include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/experiments/moved_objects.hpp"
@@ -46,7 +47,7 @@ void run_moved_objects_command(const MovedObjectsArgs& args) {
     write_moved_objects_outputs(result, options, scene_path, folder);
   }, other_files(args.overwrite));
   std::fputs(moved_objects_table(result).c_str(), stdout);
-  std::printf("outputs: %s\n", dir.c_str());
+  std::printf("outputs: %s\n", printable_text(dir).c_str());
 }
 
 }  // namespace

@@ -37,7 +37,7 @@ void run_report(const ReportArgs& args) {
                                                 : args.out_path;
   const io::ReportPage page = io::write_report_page(args.directory, out, options);
   print_warnings(page);
-  std::printf("report: %s (%.1f MB)\n", out.c_str(), static_cast<double>(page.html.size()) / 1e6);
+  std::printf("report: %s (%.1f MB)\n", printable_text(out).c_str(), static_cast<double>(page.html.size()) / 1e6);
 }
 
 }  // namespace

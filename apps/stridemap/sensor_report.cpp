@@ -12,6 +12,7 @@
 #include "cli_parsing.hpp"
 #include "commands.hpp"
 #include "output_guard.hpp"
+#include "stridemap/core/printable_text.hpp"
 #include "stridemap/config/structured_light_config.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/mapfile/grid_csv.hpp"
@@ -33,7 +34,7 @@ struct SensorReportOptions {
 };
 
 void print_parameters(const std::string& source, const StructuredLightParameters& p) {
-  std::printf("Structured-light sensor: %s\n", source.c_str());
+  std::printf("Structured-light sensor: %s\n", printable_text(source).c_str());
   std::printf("  b = %.1f mm, beta = %.2f deg, tau_c = %.2f deg, gamma_c = %.2f deg, image %d x %d px\n",
               p.baseline_m * kMm, p.sheet_angle_rad * kDegPerRad, p.half_fov_vertical_rad * kDegPerRad,
               p.half_fov_horizontal_rad * kDegPerRad, p.image_width_px, p.image_height_px);
@@ -140,7 +141,7 @@ void write_map(const std::string& directory, const std::string& name, const std:
   render.left_axis_label = "x_c left";
   const Eigen::MatrixXf values_mm = values_m * static_cast<float>(kMm);
   io::write_png(base + ".png", io::render_grid(values_mm, render).image);
-  std::printf("wrote %s.csv and %s.png\n", base.c_str(), base.c_str());
+  std::printf("wrote %s.csv and %s.png\n", printable_text(base).c_str(), printable_text(base).c_str());
 }
 
 void write_maps(const StructuredLightModel& model, const SensorReportOptions& options) {

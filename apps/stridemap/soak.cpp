@@ -17,6 +17,7 @@
 #include "installed_data.hpp"
 #include "terminal_output.hpp"
 #include "output_guard.hpp"
+#include "stridemap/core/printable_text.hpp"
 #include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/soak.hpp"
@@ -202,7 +203,7 @@ void run(const SoakCommandOptions& o) {
     write_output_set(dir.string(), "--out", [&](const std::string& folder) {
       io::write_text_file(folder + "/summary.json", summary.dump(2) + "\n", "summary");
     }, other_files(o.overwrite));
-    std::printf("wrote %s\n", (dir / "summary.json").string().c_str());
+    std::printf("wrote %s\n", printable_text((dir / "summary.json").string()).c_str());
   }
   if (!failures.empty()) {
     for (const std::string& f : failures) std::fprintf(stderr, "stridemap: soak failed: %s\n", f.c_str());

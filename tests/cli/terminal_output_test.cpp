@@ -38,6 +38,17 @@ TEST(TerminalOutput, PipedStderrGetsNoProgressBar) {
   EXPECT_EQ(result.output.find("stridemap: wrote"), std::string::npos) << "a note without --verbose";
 }
 
+// A folder name is the user's text: an escape byte in it reaches stdout
+// written out, not obeyed by the terminal.
+TEST(TerminalOutput, AnEscapeInTheOutputFolderIsPrintedWrittenOut) {
+  test::TestFolder dir;
+  const std::string out = dir / "o\x1b[31mred";
+  const auto result = run_cli("experiment cart-rail --scene " + shell_quoted(kScene) + " --out " + shell_quoted(out));
+  ASSERT_EQ(result.exit_code, 0) << result.output;
+  EXPECT_EQ(result.output.find('\x1b'), std::string::npos) << result.output;
+  EXPECT_NE(result.output.find("o\\x1b[31mred/cart-rail-urg"), std::string::npos) << result.output;
+}
+
 TEST(TerminalOutput, VerboseNotesAndQuietAnywhereOnTheLine) {
   test::TestFolder dir;
   const auto verbose = run_cli("experiment cart-rail --scene " + shell_quoted(kScene) + " --out " +
