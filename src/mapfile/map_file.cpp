@@ -496,12 +496,23 @@ MapFile decode_map_file(std::string_view bytes, const std::string& source) {
   const std::vector<FileLayer> layers = read_layers(header, frame, n * n, source);
   MapFileMetadata metadata = read_metadata(header, source);
 
-  MapFile file{ElevationMap(grid), std::move(metadata), frame.version};
+  // The map's own checks (a grid too large for its cell size, a layer it
+  // cannot declare, a corner out of range) know nothing of the file.
+  const auto within_file = [&](auto&& step) {
+    try {
+      return step();
+    } catch (const InputError& e) {
+      bad(source, e.what());
+    }
+  };
+  MapFile file{within_file([&] { return ElevationMap(grid); }), std::move(metadata), frame.version};
   ElevationMap& map = file.map;
-  for (const FileLayer& layer : layers) {
-    if (!map.find_layer(layer.spec.name)) map.add_layer(layer.spec);
-  }
-  map.move_corner_to(corner);
+  within_file([&] {
+    for (const FileLayer& layer : layers) {
+      if (!map.find_layer(layer.spec.name)) map.add_layer(layer.spec);
+    }
+    map.move_corner_to(corner);
+  });
   const auto* p = reinterpret_cast<const unsigned char*>(bytes.data());
   for (const FileLayer& layer : layers) {
     const std::size_t k = *map.find_layer(layer.spec.name);

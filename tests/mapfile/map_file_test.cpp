@@ -106,6 +106,18 @@ std::string decode_error(std::string_view bytes) {
   return "";
 }
 
+// A geometry the map itself refuses (cells too large for a map) is named
+// with the file, as the reader's own checks are.
+TEST(MapFile, AGeometryTheMapRefusesNamesTheFile) {
+  const ElevationMap map = scrambled_map(5, 2);
+  const std::string bytes = io::encode_map_file(map, {});
+  // The same number of characters, so that no offset moves.
+  const std::string error =
+      decode_error(with_fixed_checksum(replace_once(bytes, "\"cell_size_m\": 0.0125", "\"cell_size_m\": 9.0e99")));
+  EXPECT_EQ(error.rfind("damaged.smap: ", 0), 0u) << error;
+  EXPECT_NE(error.find("cell_size_m"), std::string::npos) << error;
+}
+
 TEST(MapFile, RoundTripsEveryLayerBitExactly) {
   const ElevationMap map = scrambled_map(37, 1);
   io::MapFileMetadata metadata;
