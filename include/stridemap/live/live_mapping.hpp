@@ -3,11 +3,11 @@
 // like it) and a pose stream: `stridemap live` is a thin wrapper round it,
 // and a ROS node or a Python binding runs the same loop. Scans come from a
 // LiveScanSource, poses from a LivePoseSource; each scan waits for the poses
-// around its time (ScanMapper), the map is saved every save_every_s through
-// a callback, and everything worth telling (faults, reconnections, skipped
-// pose lines, a failed save, a pose file replaced) is an event, never an end
-// of the run. Only a stop request, the duration or scan limit, or another
-// sensor answering after a reconnection ends it.
+// around its time (ScanMapper), the map is saved every save_every_s (by a
+// MapSaver, or through a callback), and everything worth telling (faults,
+// reconnections, skipped pose lines, a failed save, a pose file replaced)
+// is an event, never an end of the run. Only a stop request, the duration
+// or scan limit, or another sensor answering after a reconnection ends it.
 #include <atomic>
 #include <cstdint>
 #include <functional>

@@ -3,6 +3,7 @@
 // so that every save of a run (live's periodic ones, the last, map's one)
 // writes the same set the same way (write_map_outputs).
 #include <string>
+#include <utility>
 
 #include "stridemap/live/map_report.hpp"
 #include "stridemap/live/map_run_info.hpp"
