@@ -22,7 +22,8 @@ void register_sensor_report(CLI::App& app);
 void register_simulate_stripe_image(CLI::App& app);
 void register_emulate_urg(CLI::App& app);  // emulate_urg.cpp
 void register_record(CLI::App& app);       // record.cpp
-void register_live(CLI::App& app);         // live.cpp: live and map
+void register_live(CLI::App& app);         // live.cpp
+void register_map(CLI::App& app);          // map_command.cpp, after register_live
 void register_walk_experiments(CLI::App& app);  // after register_experiment
 void register_soak(CLI::App& app);
 void register_import(CLI::App& app);              // import.cpp

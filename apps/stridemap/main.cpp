@@ -54,6 +54,7 @@ int main(int argc, char** argv) {
   stridemap::cli::register_emulate_urg(app);
   stridemap::cli::register_record(app);
   stridemap::cli::register_live(app);
+  stridemap::cli::register_map(app);
   stridemap::cli::register_soak(app);
   stridemap::cli::register_import(app);
   stridemap::cli::register_map_file_commands(app);

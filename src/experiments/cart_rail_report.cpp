@@ -13,6 +13,7 @@
 
 #include "stridemap/core/error.hpp"
 #include "stridemap/io/text_file.hpp"
+#include "stridemap/mapfile/detail/settings_json.hpp"
 #include "stridemap/mapfile/grid_csv.hpp"
 #include "stridemap/mapfile/map_outputs.hpp"
 #include "stridemap/render/grid_render.hpp"
@@ -136,11 +137,9 @@ std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOption
         {"integrated", r.mapper_totals.integrated},
         {"implausible", r.mapper_totals.implausible},
         {"outside_map", r.mapper_totals.outside_map}}},
-      {"filters", scan_filter_list_name(options.filters)},
       {"mixed_pixels", options.mixed_pixels},
       // The receiver's coupling acts only with the footprint model (mixed pixels on).
       {"coupling", options.mixed_pixels && options.sim.receiver.enabled},
-      {"map_filter", std::string(map_filter_name(options.map_filter))},
       {"cas_removed_cells", r.cas_removed_cells},
       {"beam_labels",
        {{"clean", r.beams.clean},
@@ -152,6 +151,7 @@ std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOption
         {"clean_drop_rate", r.beams.clean_drop_rate()},
         {"f1", r.beams.f1()}}},
       {"objects", objects}};
+  summary.update(io::detail::run_settings_json(scan_filter_list_name(options.filters), options.map_filter));
   if (options.sensor == CartRailSensor::structured_light) summary["structured_light"] = structured_light_json(r, options);
   return summary.dump(2) + "\n";
 }

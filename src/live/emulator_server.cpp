@@ -149,188 +149,256 @@ void EmulatorServerOptions::validate() const {
   }
 }
 
-EmulatorServerStats run_emulator_server(UrgEmulator& emulator, const MotionSource* motion,
-                                        const EmulatorServerOptions& options, const std::atomic<bool>& stop,
-                                        const std::function<void(const std::string&)>& log) {
-  options.validate();
-  std::vector<EmulatorFault> faults = options.faults;
-  std::stable_sort(faults.begin(), faults.end(),
-                   [](const EmulatorFault& a, const EmulatorFault& b) { return a.at_frame < b.at_frame; });
-  OutputFile trace(options.trace_path, "trace file");
-  OutputFile poses(options.poses_path, "pose file");
-  if (poses.open()) {
-    std::string header = io::pose_file_header();
-    header.pop_back();
-    poses.line(header);
+namespace {
+
+// One run of the server: the link, the emulator's clock and the faults'
+// state between turns of its loop.
+class EmulatorSession {
+ public:
+  EmulatorSession(UrgEmulator& emulator, const MotionSource* motion, const EmulatorServerOptions& options,
+                  const std::function<void(const std::string&)>& log)
+      : emulator_(emulator),
+        motion_(motion),
+        options_(options),
+        log_(log),
+        faults_(options.faults),
+        trace_(options.trace_path, "trace file"),
+        poses_(options.poses_path, "pose file"),
+        rng_(options.fault_seed),
+        pose_period_ms_(options.poses_rate_hz > 0.0 ? 1000.0 / options.poses_rate_hz : 0.0) {
+    std::stable_sort(faults_.begin(), faults_.end(),
+                     [](const EmulatorFault& a, const EmulatorFault& b) { return a.at_frame < b.at_frame; });
+    if (poses_.open()) {
+      std::string header = io::pose_file_header();
+      header.pop_back();
+      poses_.line(header);
+    }
+    host_epoch_s_ = std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
+    t0_ = SteadyClock::now();
+    pty_ = std::make_unique<io::PseudoTerminal>(options.link_path);
+    emulator_.power_cycle(0);
+    event(0, "start link=" + options.link_path + " client=" + pty_->client_path());
+    say("emulating a URG-04LX on " + options.link_path + " (" + pty_->client_path() + ")");
   }
-  const auto say = [&](const std::string& text) {
-    if (log) log(text);
-  };
-  const double host_epoch_s =
-      std::chrono::duration<double>(std::chrono::system_clock::now().time_since_epoch()).count();
-  const SteadyClock::time_point t0 = SteadyClock::now();
-  const auto elapsed_ms = [&] {
-    return std::chrono::duration_cast<std::chrono::milliseconds>(SteadyClock::now() - t0).count();
-  };
-  const auto event = [&](std::int64_t ms, const std::string& what) { trace.line(std::to_string(ms) + " " + what); };
 
-  EmulatorServerStats stats;
-  auto pty = std::make_unique<io::PseudoTerminal>(options.link_path);
-  emulator.power_cycle(0);
-  event(0, "start link=" + options.link_path + " client=" + pty->client_path());
-  say("emulating a URG-04LX on " + options.link_path + " (" + pty->client_path() + ")");
-
-  enum class Mode { running, stalled, unplugged } mode = Mode::running;
-  std::int64_t resume_ms = 0;
-  std::mt19937_64 rng(options.fault_seed);
-  std::uniform_real_distribution<double> unit(0.0, 1.0);
-  std::size_t next_fault = 0;
-  std::string pending;
-  const auto write_pose = [&](std::int64_t at_ms) {
-    if (!poses.open() || motion == nullptr) return;
-    TimedPose p;
-    p.pose = motion->pose_at(static_cast<double>(at_ms) * 1e-3);
-    p.time_s = options.pose_clock == PoseClock::host
-                   ? host_epoch_s + static_cast<double>(at_ms) * 1e-3
-                   : sensor_time_seconds(static_cast<std::uint64_t>(emulator.unwrapped_sensor_time_ms(at_ms)));
-    poses.line(io::format_pose_line(p));
-  };
-  const double pose_period_ms = options.poses_rate_hz > 0.0 ? 1000.0 / options.poses_rate_hz : 0.0;
-  std::int64_t poses_written = 0;
-  char buffer[1024];
-
-  while (!stop.load()) {
+  // One turn of the loop; false once a limit is reached.
+  bool step() {
     std::int64_t now = elapsed_ms();
-    // The estimator's poses, whatever the sensor does (it runs on the robot, not in the URG).
-    for (; pose_period_ms > 0.0 && static_cast<double>(poses_written) * pose_period_ms <= static_cast<double>(now);
-         ++poses_written) {
-      write_pose(static_cast<std::int64_t>(std::llround(static_cast<double>(poses_written) * pose_period_ms)));
-    }
-    if (options.max_duration_s > 0.0 && static_cast<double>(now) >= options.max_duration_s * 1000.0) break;
-    if (options.max_frames > 0 && stats.frames >= options.max_frames && pending.empty()) break;
-    if (mode == Mode::unplugged) {
-      if (now < resume_ms) {
-        std::this_thread::sleep_for(std::chrono::milliseconds(std::min<std::int64_t>(20, resume_ms - now)));
-        continue;
+    write_due_poses(now);
+    if (options_.max_duration_s > 0.0 && static_cast<double>(now) >= options_.max_duration_s * 1000.0) return false;
+    if (options_.max_frames > 0 && stats_.frames >= options_.max_frames && pending_.empty()) return false;
+    if (mode_ == Mode::unplugged) {
+      if (now < resume_ms_) {
+        std::this_thread::sleep_for(std::chrono::milliseconds(std::min<std::int64_t>(20, resume_ms_ - now)));
+        return true;
       }
-      emulator.power_cycle(now);  // power came back with the link: SCIP 1.1, laser off, clock restarted
-      pty = std::make_unique<io::PseudoTerminal>(options.link_path);
-      mode = Mode::running;
-      event(now, "reconnect client=" + pty->client_path());
-      say("link back on " + options.link_path + " (" + pty->client_path() + "); the sensor restarted");
+      reconnect(now);
     }
-    if (mode == Mode::stalled && now >= resume_ms) {
-      mode = Mode::running;
+    if (mode_ == Mode::stalled && now >= resume_ms_) {
+      mode_ = Mode::running;
       event(now, "stall end");
       say("stall over");
     }
-    const std::int64_t due = emulator.next_due_ms();
+    now = exchange(now);
+    bool discard_rest = false;
+    for (EmulatorOutput& out : emulator_.output()) {
+      if (discard_rest) break;
+      if (!out.is_scan) {
+        if (mode_ == Mode::running) pending_ += out.bytes;
+        continue;
+      }
+      discard_rest = frame(out, now);
+    }
+    emulator_.output().clear();
+    if (mode_ == Mode::running && !pending_.empty()) {
+      const StreamResult put = pty_->write(pending_, std::chrono::milliseconds(0));
+      pending_.erase(0, put.bytes);
+    }
+    return true;
+  }
+
+  EmulatorServerStats finish() {
+    event(elapsed_ms(), "end frames=" + std::to_string(stats_.frames) + " sent=" + std::to_string(stats_.sent) +
+                            " corrupted=" + std::to_string(stats_.corrupted) + " dropped=" +
+                            std::to_string(stats_.dropped) + " lost=" + std::to_string(stats_.lost));
+    return stats_;
+  }
+
+ private:
+  enum class Mode { running, stalled, unplugged };
+
+  std::int64_t elapsed_ms() const {
+    return std::chrono::duration_cast<std::chrono::milliseconds>(SteadyClock::now() - t0_).count();
+  }
+  void event(std::int64_t ms, const std::string& what) { trace_.line(std::to_string(ms) + " " + what); }
+  void say(const std::string& text) const {
+    if (log_) log_(text);
+  }
+
+  void write_pose(std::int64_t at_ms) {
+    if (!poses_.open() || motion_ == nullptr) return;
+    TimedPose p;
+    p.pose = motion_->pose_at(static_cast<double>(at_ms) * 1e-3);
+    p.time_s = options_.pose_clock == PoseClock::host
+                   ? host_epoch_s_ + static_cast<double>(at_ms) * 1e-3
+                   : sensor_time_seconds(static_cast<std::uint64_t>(emulator_.unwrapped_sensor_time_ms(at_ms)));
+    poses_.line(io::format_pose_line(p));
+  }
+
+  // The estimator's poses, whatever the sensor does (it runs on the robot, not in the URG).
+  void write_due_poses(std::int64_t now) {
+    for (; pose_period_ms_ > 0.0 && static_cast<double>(poses_written_) * pose_period_ms_ <= static_cast<double>(now);
+         ++poses_written_) {
+      write_pose(static_cast<std::int64_t>(std::llround(static_cast<double>(poses_written_) * pose_period_ms_)));
+    }
+  }
+
+  void reconnect(std::int64_t now) {
+    emulator_.power_cycle(now);  // power came back with the link: SCIP 1.1, laser off, clock restarted
+    pty_ = std::make_unique<io::PseudoTerminal>(options_.link_path);
+    mode_ = Mode::running;
+    event(now, "reconnect client=" + pty_->client_path());
+    say("link back on " + options_.link_path + " (" + pty_->client_path() + "); the sensor restarted");
+  }
+
+  // Reads the client's commands (or, stalled, lets time pass); returns the time after.
+  std::int64_t exchange(std::int64_t now) {
+    const std::int64_t due = emulator_.next_due_ms();
     std::int64_t wait = due == INT64_MAX ? 20 : std::clamp<std::int64_t>(due - now, 0, 20);
-    if (!pending.empty()) wait = std::min<std::int64_t>(wait, 2);
-    if (mode == Mode::stalled) wait = std::min(wait, std::max<std::int64_t>(0, resume_ms - now));
-    if (mode == Mode::running) {
-      const StreamResult got = pty->read(buffer, std::chrono::milliseconds(wait));
+    if (!pending_.empty()) wait = std::min<std::int64_t>(wait, 2);
+    if (mode_ == Mode::stalled) wait = std::min(wait, std::max<std::int64_t>(0, resume_ms_ - now));
+    if (mode_ == Mode::running) {
+      const StreamResult got = pty_->read(buffer_, std::chrono::milliseconds(wait));
       now = elapsed_ms();
-      emulator.advance(now);  // scans that ended before the command came
+      emulator_.advance(now);  // scans that ended before the command came
       if (got.bytes > 0) {
-        const std::string_view bytes(buffer, got.bytes);
-        stats.commands_bytes += got.bytes;
+        const std::string_view bytes(buffer_, got.bytes);
+        stats_.commands_bytes += got.bytes;
         event(now, "recv \"" + escaped(bytes) + "\"");
-        emulator.receive(bytes, now);
+        emulator_.receive(bytes, now);
       }
     } else {
       // Stalled: deaf and mute, but the mirror turns and the clock runs.
       std::this_thread::sleep_for(std::chrono::milliseconds(wait));
       now = elapsed_ms();
-      emulator.advance(now);
+      emulator_.advance(now);
     }
-
-    bool discard_rest = false;
-    for (EmulatorOutput& out : emulator.output()) {
-      if (discard_rest) break;
-      if (!out.is_scan) {
-        if (mode == Mode::running) pending += out.bytes;
-        continue;
-      }
-      ++stats.frames;
-      if (pose_period_ms == 0.0) write_pose(out.scan_start_ms);
-      bool corrupt = options.corrupt_probability > 0.0 && unit(rng) < options.corrupt_probability;
-      bool drop = options.drop_probability > 0.0 && unit(rng) < options.drop_probability;
-      std::string fate;
-      for (; next_fault < faults.size() && faults[next_fault].at_frame <= stats.frames; ++next_fault) {
-        const EmulatorFault& f = faults[next_fault];
-        switch (f.kind) {
-          case EmulatorFaultKind::corrupt: corrupt = true; break;
-          case EmulatorFaultKind::drop: drop = true; break;
-          case EmulatorFaultKind::stall:
-            mode = Mode::stalled;
-            resume_ms = now + static_cast<std::int64_t>(f.duration_s * 1000.0);
-            ++stats.stalls;
-            event(now, "stall begin duration_s=" + std::to_string(f.duration_s));
-            say("stall for " + std::to_string(f.duration_s) + " s");
-            break;
-          case EmulatorFaultKind::disconnect:
-            mode = Mode::unplugged;
-            resume_ms = now + static_cast<std::int64_t>(f.duration_s * 1000.0);
-            pty.reset();
-            pending.clear();
-            ++stats.disconnects;
-            event(now, "disconnect duration_s=" + std::to_string(f.duration_s));
-            say("link gone for " + std::to_string(f.duration_s) + " s");
-            discard_rest = true;
-            break;
-          case EmulatorFaultKind::reset:
-            emulator.power_cycle(now);
-            ++stats.resets;
-            event(now, "reset");
-            say("sensor reset");
-            fate = "reset";
-            discard_rest = true;
-            break;
-        }
-      }
-      if (fate.empty()) {
-        if (mode == Mode::stalled) {
-          fate = "stalled";
-        } else if (mode == Mode::unplugged) {
-          fate = "unplugged";
-        } else if (drop) {
-          fate = "dropped";
-        }
-      }
-      if (fate.empty()) {
-        if (corrupt) corrupt_frame(out.bytes, rng);
-        if (pty->unread_by_client() + pending.size() + out.bytes.size() > options.max_unread_bytes) {
-          fate = "overflow";
-        } else {
-          pending += out.bytes;
-          fate = corrupt ? "corrupted" : "sent";
-        }
-      }
-      if (fate == "sent") {
-        ++stats.sent;
-      } else if (fate == "corrupted") {
-        ++stats.corrupted;
-      } else if (fate == "dropped") {
-        ++stats.dropped;
-      } else {
-        ++stats.lost;
-      }
-      event(now, "frame n=" + std::to_string(stats.frames) + " scan=" + std::to_string(out.scan_index) +
-                     " ts=" + std::to_string(out.timestamp_ms) +
-                     " sensor_ms=" + std::to_string(emulator.unwrapped_sensor_time_ms(out.scan_start_ms)) +
-                     " fate=" + fate);
-    }
-    emulator.output().clear();
-    if (mode == Mode::running && !pending.empty()) {
-      const StreamResult put = pty->write(pending, std::chrono::milliseconds(0));
-      pending.erase(0, put.bytes);
-    }
+    return now;
   }
-  event(elapsed_ms(), "end frames=" + std::to_string(stats.frames) + " sent=" + std::to_string(stats.sent) +
-                          " corrupted=" + std::to_string(stats.corrupted) + " dropped=" +
-                          std::to_string(stats.dropped) + " lost=" + std::to_string(stats.lost));
-  return stats;
+
+  // The faults due at this frame; true when they end the frames of this turn.
+  bool apply_faults(std::int64_t now, bool& corrupt, bool& drop, std::string& fate) {
+    bool discard_rest = false;
+    for (; next_fault_ < faults_.size() && faults_[next_fault_].at_frame <= stats_.frames; ++next_fault_) {
+      const EmulatorFault& f = faults_[next_fault_];
+      switch (f.kind) {
+        case EmulatorFaultKind::corrupt: corrupt = true; break;
+        case EmulatorFaultKind::drop: drop = true; break;
+        case EmulatorFaultKind::stall:
+          mode_ = Mode::stalled;
+          resume_ms_ = now + static_cast<std::int64_t>(f.duration_s * 1000.0);
+          ++stats_.stalls;
+          event(now, "stall begin duration_s=" + std::to_string(f.duration_s));
+          say("stall for " + std::to_string(f.duration_s) + " s");
+          break;
+        case EmulatorFaultKind::disconnect:
+          mode_ = Mode::unplugged;
+          resume_ms_ = now + static_cast<std::int64_t>(f.duration_s * 1000.0);
+          pty_.reset();
+          pending_.clear();
+          ++stats_.disconnects;
+          event(now, "disconnect duration_s=" + std::to_string(f.duration_s));
+          say("link gone for " + std::to_string(f.duration_s) + " s");
+          discard_rest = true;
+          break;
+        case EmulatorFaultKind::reset:
+          emulator_.power_cycle(now);
+          ++stats_.resets;
+          event(now, "reset");
+          say("sensor reset");
+          fate = "reset";
+          discard_rest = true;
+          break;
+      }
+    }
+    return discard_rest;
+  }
+
+  // A scan frame the sensor produced: sent, damaged, dropped or lost, and
+  // traced. True when the frames after it in this turn are discarded.
+  bool frame(EmulatorOutput& out, std::int64_t now) {
+    ++stats_.frames;
+    if (pose_period_ms_ == 0.0) write_pose(out.scan_start_ms);
+    bool corrupt = options_.corrupt_probability > 0.0 && unit_(rng_) < options_.corrupt_probability;
+    bool drop = options_.drop_probability > 0.0 && unit_(rng_) < options_.drop_probability;
+    std::string fate;
+    const bool discard_rest = apply_faults(now, corrupt, drop, fate);
+    if (fate.empty()) {
+      if (mode_ == Mode::stalled) {
+        fate = "stalled";
+      } else if (mode_ == Mode::unplugged) {
+        fate = "unplugged";
+      } else if (drop) {
+        fate = "dropped";
+      }
+    }
+    if (fate.empty()) {
+      if (corrupt) corrupt_frame(out.bytes, rng_);
+      if (pty_->unread_by_client() + pending_.size() + out.bytes.size() > options_.max_unread_bytes) {
+        fate = "overflow";
+      } else {
+        pending_ += out.bytes;
+        fate = corrupt ? "corrupted" : "sent";
+      }
+    }
+    if (fate == "sent") {
+      ++stats_.sent;
+    } else if (fate == "corrupted") {
+      ++stats_.corrupted;
+    } else if (fate == "dropped") {
+      ++stats_.dropped;
+    } else {
+      ++stats_.lost;
+    }
+    event(now, "frame n=" + std::to_string(stats_.frames) + " scan=" + std::to_string(out.scan_index) +
+                   " ts=" + std::to_string(out.timestamp_ms) +
+                   " sensor_ms=" + std::to_string(emulator_.unwrapped_sensor_time_ms(out.scan_start_ms)) +
+                   " fate=" + fate);
+    return discard_rest;
+  }
+
+  UrgEmulator& emulator_;
+  const MotionSource* motion_;
+  const EmulatorServerOptions& options_;
+  const std::function<void(const std::string&)>& log_;
+  std::vector<EmulatorFault> faults_;  // by frame
+  OutputFile trace_;
+  OutputFile poses_;
+  double host_epoch_s_ = 0.0;
+  SteadyClock::time_point t0_;
+  EmulatorServerStats stats_;
+  std::unique_ptr<io::PseudoTerminal> pty_;
+  Mode mode_ = Mode::running;
+  std::int64_t resume_ms_ = 0;
+  std::mt19937_64 rng_;
+  std::uniform_real_distribution<double> unit_{0.0, 1.0};
+  std::size_t next_fault_ = 0;
+  std::string pending_;
+  const double pose_period_ms_;
+  std::int64_t poses_written_ = 0;
+  char buffer_[1024];
+};
+
+}  // namespace
+
+EmulatorServerStats run_emulator_server(UrgEmulator& emulator, const MotionSource* motion,
+                                        const EmulatorServerOptions& options, const std::atomic<bool>& stop,
+                                        const std::function<void(const std::string&)>& log) {
+  options.validate();
+  EmulatorSession session(emulator, motion, options, log);
+  while (!stop.load() && session.step()) {
+  }
+  return session.finish();
 }
 
 }  // namespace stridemap

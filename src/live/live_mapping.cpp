@@ -72,6 +72,12 @@ LiveMapping::LiveMapping(const LiveMappingOptions& options, LiveScanSource& scan
   track_.reserve(kPosesReserved);
 }
 
+LiveMapping::LiveMapping(const LiveMappingOptions& options, LiveScanSource& scans, LivePoseSource& poses,
+                         MapSaver& saver, LiveMappingHooks hooks)
+    : LiveMapping(options, scans, poses, std::move(hooks)) {
+  saver_ = &saver;
+}
+
 double LiveMapping::scan_time(const UrgScan& scan) const {
   return options_.clock == LiveClock::sensor ? sensor_time_seconds(scan.sensor_time_ms) : scan.host_time_s;
 }
@@ -98,9 +104,14 @@ void LiveMapping::tell_tile_notices() {
 }
 
 bool LiveMapping::try_save(const LiveRunStats* run) {
-  if (!hooks_.save) return true;
+  if (!saver_ && !hooks_.save) return true;
   try {
-    hooks_.save(mapper_, run);
+    if (saver_) {
+      saver_->info().pose_lines_skipped = poses_.skipped_lines();
+      saver_->save(mapper_, sensor_, run);
+    } else {
+      hooks_.save(mapper_, run);
+    }
   } catch (const InputError& e) {
     ++save_failures_;
     last_save_error_ = e.what();

@@ -8,6 +8,7 @@
 #include "stridemap/core/cas_filter.hpp"
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/io/output_folder.hpp"
+#include "stridemap/mapfile/detail/settings_json.hpp"
 #include "stridemap/mapfile/map_file.hpp"
 #include "stridemap/io/text_file.hpp"
 
@@ -29,7 +30,6 @@ std::string map_summary_json(const ScanMapper& mapper, const ExportedMap& layers
       {"command", info.command},
       {"scans_from", info.scans_from},
       {"poses_from", info.poses_from},
-      {"clock", info.clock},
       {"resumed_from", info.resumed_from.empty() ? json(nullptr) : json(info.resumed_from)},
       {"sensor",
        {{"model", sensor.model},
@@ -63,13 +63,14 @@ std::string map_summary_json(const ScanMapper& mapper, const ExportedMap& layers
         {"filled_cells", filled},
         {"cells_per_side", layers.state().rows()},
         {"cell_size_m", layers.cell_size_m},
-        {"min_cell", {layers.min_cell.x, layers.min_cell.y}}}},
-      {"filters", scan_filter_list_name(mapper.options().filters)}};
+        {"min_cell", {layers.min_cell.x, layers.min_cell.y}}}}};
+  // The keys sort as a whole, so where the settings join makes no difference to the text.
+  summary.update(io::detail::run_settings_json(scan_filter_list_name(mapper.options().filters), info.map_filter,
+                                               info.clock));
   if (!info.log_damage.empty()) summary["log_damage"] = info.log_damage;
   if (info.log_lines_skipped > 0) summary["log_lines_skipped"] = info.log_lines_skipped;
   if (!info.log_stop.empty()) summary["log_stop"] = info.log_stop;
   summary["pose_lines_skipped"] = info.pose_lines_skipped;
-  summary["map_filter"] = std::string(map_filter_name(info.map_filter));
   if (live != nullptr) {
     const UrgDriverStats& d = live->driver;
     summary["run"] = {{"duration_s", live->duration_s},

@@ -23,6 +23,7 @@
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/map_integrity.hpp"
 #include "stridemap/io/detail/atomic_output_file.hpp"
+#include "stridemap/mapfile/detail/settings_json.hpp"
 
 #ifndef STRIDEMAP_VERSION_STRING
 #define STRIDEMAP_VERSION_STRING "unknown"
@@ -104,13 +105,6 @@ std::uint32_t crc32_of(std::string_view bytes) {
     bytes.remove_prefix(piece);
   }
   return static_cast<std::uint32_t>(crc);
-}
-
-json mount_json(const SensorMount& m) {
-  return {{"height_m", m.height_m},
-          {"pitch_rad", m.pitch_rad},
-          {"forward_offset_m", m.forward_offset_m},
-          {"lateral_offset_m", m.lateral_offset_m}};
 }
 
 json pose_json(const TrunkPose& p) {
@@ -430,7 +424,7 @@ std::string encode_map_file(const ElevationMap& map, const MapFileMetadata& meta
         {"layout", "row-major N x N: element [i][j] is cell (min_cell[0] + i, min_cell[1] + j)"}}},
       {"units", {{"length", "m"}, {"angle", "rad"}, {"time", "s"}}},
       {"config", metadata.config_text},
-      {"mount", metadata.mount ? mount_json(*metadata.mount) : json(nullptr)},
+      {"mount", metadata.mount ? detail::mount_json(*metadata.mount) : json(nullptr)},
       {"last_scan_time_s", metadata.last_scan_time_s ? json(*metadata.last_scan_time_s) : json(nullptr)},
       {"last_pose", metadata.last_pose ? pose_json(*metadata.last_pose) : json(nullptr)},
   };
@@ -584,47 +578,7 @@ void save_map_file(const std::string& path, const ElevationMap& map, const MapFi
   sync_folder_of(path);
 }
 
-std::string mapper_config_json(const MapperConfig& c) {
-  const MapperOptions& m = c.mapper;
-  const UpdateOptions& u = m.update;
-  const json config = {
-      {"mount", mount_json(c.mount)},
-      {"map",
-       {{"cells_per_side", m.grid.cells_per_side},
-        {"cell_size_m", m.grid.cell_size_m},
-        {"follow_robot", m.follow_robot},
-        {"window_ahead_m", m.window_ahead_m},
-        {"reject_stale_scans", m.reject_stale_scans}}},
-      {"update",
-       {{"certainty_increment", u.certainty_increment},
-        {"certainty_max", u.certainty_max},
-        {"max_pitch_error_rad", u.max_pitch_error_rad},
-        {"max_roll_error_rad", u.max_roll_error_rad},
-        {"max_mount_pitch_error_rad", u.max_mount_pitch_error_rad},
-        {"use_turning_term", u.use_turning_term},
-        {"elevation_rule", u.elevation_rule == ElevationRule::gated_highest ? "gated" : "paper"},
-        {"replace_after_contradictions", u.replace_after_contradictions}}},
-      {"fill",
-       {{"window_radius_cells", c.fill.window_radius_cells},
-        {"min_known_neighbours", c.fill.min_known_neighbours},
-        {"min_quadrants", c.fill.min_quadrants},
-        {"near_weight", c.fill.near_weight},
-        {"max_quartile_spread_m", c.fill.max_quartile_spread_m}}},
-      {"range_calibration", {{"coefficients", c.calibration.coefficients}}},
-      {"foothold",
-       {{"enabled", c.foothold.enabled},
-        {"foot_radius_m", c.foothold.foot_radius_m},
-        {"max_slope_deg", c.foothold.max_slope_deg},
-        {"max_step_m", c.foothold.max_step_m},
-        {"max_roughness_m", c.foothold.max_roughness_m},
-        {"edge_search_radius_m", c.foothold.edge_search_radius_m},
-        {"edge_clearance_m", c.foothold.edge_clearance_m},
-        {"full_certainty", c.foothold.full_certainty},
-        {"min_known_fraction", c.foothold.min_known_fraction},
-        {"safe_score", c.foothold.safe_score}}},
-  };
-  return config.dump(1);
-}
+std::string mapper_config_json(const MapperConfig& config) { return detail::mapper_settings_json(config).dump(1); }
 
 MapFileMetadata map_file_metadata(const MapperConfig& config, const std::string& created_by) {
   MapFileMetadata metadata;

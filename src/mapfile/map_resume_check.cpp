@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "stridemap/core/error.hpp"
+#include "stridemap/mapfile/detail/settings_json.hpp"
 
 namespace stridemap::io {
 namespace {
@@ -41,6 +42,8 @@ std::vector<std::string> map_config_differences(const MapFile& saved, const Mapp
     differences.push_back("map.cell_size_m: the map has " + json(map.cell_size_m()).dump() + ", this run " +
                           json(grid.cell_size_m).dump());
   }
+  // Parsed from the text a map file records, so that the comparison sees
+  // this run's settings exactly as its own map would keep them.
   const json given = json::parse(mapper_config_json(config));
   const json recorded = json::parse(saved.metadata.config_text, nullptr, false);
   if (recorded.is_object()) {
@@ -57,12 +60,7 @@ std::vector<std::string> map_config_differences(const MapFile& saved, const Mapp
   } else if (saved.metadata.mount) {
     // A configuration stored as other text: the mount is still recorded.
     const json mount = given["mount"];
-    const SensorMount& m = *saved.metadata.mount;
-    compare(json{{"height_m", m.height_m},
-                 {"pitch_rad", m.pitch_rad},
-                 {"forward_offset_m", m.forward_offset_m},
-                 {"lateral_offset_m", m.lateral_offset_m}},
-            mount, "mount", differences);
+    compare(detail::mount_json(*saved.metadata.mount), mount, "mount", differences);
   }
   return differences;
 }

@@ -132,6 +132,36 @@ TEST(LiveMapping, MapsEveryScanSavesPeriodicallyAndAtTheEnd) {
   EXPECT_DOUBLE_EQ(live.pose_times().first_s, 0.0);
 }
 
+// Saving through a MapSaver: the loop writes the run's set itself, the last
+// save with the run's figures, and the hook's save is not asked.
+TEST(LiveMapping, SavesThroughAMapSaver) {
+  test::TestFolder dir;
+  ScriptedScans scans;
+  for (std::uint64_t k = 0; k < 20; ++k) scans.events.push_back(scan_event(k));
+  ScriptedPoses poses = poses_over(0.0, 10.0);
+  LiveMappingOptions options = quick_options();
+  options.max_scans = 20;
+  MapRunInfo info;
+  info.command = "live";
+  info.scans_from = "/dev/ttyACM0";
+  info.pose_lines_skipped = 7;  // brought up to date from the pose source at each save
+  MapSaver saver(info, dir / "out");
+  bool hook_asked = false;
+  LiveMappingHooks hooks;
+  hooks.save = [&](const ScanMapper&, const LiveRunStats*) { hook_asked = true; };
+  LiveMapping live(options, scans, poses, saver, hooks);
+  std::atomic<bool> stop{false};
+  const LiveMappingResult result = live.run(stop);
+  EXPECT_TRUE(result.last_save_error.empty()) << result.last_save_error;
+  EXPECT_FALSE(hook_asked);
+  EXPECT_GT(result.run.saves, 1u);
+  EXPECT_EQ(saver.info().pose_lines_skipped, 0u);
+  const std::string summary = dir.read("out/summary.json");
+  EXPECT_NE(summary.find("\"latency_s\""), std::string::npos);
+  EXPECT_NE(summary.find("\"command\": \"live\""), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"pose_lines_skipped\": 0"), std::string::npos) << summary;
+}
+
 // Disk full: the save throws; it is reported, retried soon, and mapping goes
 // on; once the disk has room again the map is saved and that is said too.
 TEST(LiveMapping, FailedSaveIsReportedAndRetriedWhileMappingGoesOn) {

@@ -3,11 +3,11 @@
 // like it) and a pose stream: `stridemap live` is a thin wrapper round it,
 // and a ROS node or a Python binding runs the same loop. Scans come from a
 // LiveScanSource, poses from a LivePoseSource; each scan waits for the poses
-// around its time (ScanMapper), the map is saved every save_every_s through
-// a callback, and everything worth telling (faults, reconnections, skipped
-// pose lines, a failed save, a pose file replaced) is an event, never an end
-// of the run. Only a stop request, the duration or scan limit, or another
-// sensor answering after a reconnection ends it.
+// around its time (ScanMapper), the map is saved every save_every_s (by a
+// MapSaver, or through a callback), and everything worth telling (faults,
+// reconnections, skipped pose lines, a failed save, a pose file replaced)
+// is an event, never an end of the run. Only a stop request, the duration
+// or scan limit, or another sensor answering after a reconnection ends it.
 #include <atomic>
 #include <cstdint>
 #include <functional>
@@ -18,6 +18,7 @@
 #include "stridemap/core/pose_track.hpp"
 #include "stridemap/core/ring_queue.hpp"
 #include "stridemap/live/map_report.hpp"
+#include "stridemap/live/map_saver.hpp"
 #include "stridemap/live/scan_mapper.hpp"
 #include "stridemap/recordings/pose_stream.hpp"
 #include "stridemap/sensors/urg_driver.hpp"
@@ -149,6 +150,10 @@ class LiveMapping {
   /// for invalid options.
   LiveMapping(const LiveMappingOptions& options, LiveScanSource& scans, LivePoseSource& poses,
               LiveMappingHooks hooks);
+  /// As above, the map saved by `saver` (hooks.save is not called); its run
+  /// information's skipped pose lines are brought up to date at each save.
+  LiveMapping(const LiveMappingOptions& options, LiveScanSource& scans, LivePoseSource& poses, MapSaver& saver,
+              LiveMappingHooks hooks);
 
   /// Runs until `stop` is set or a limit is reached, then maps what the
   /// poses complete allow and saves. The last save is tried a few times.
@@ -175,6 +180,7 @@ class LiveMapping {
   LiveScanSource& scans_;
   LivePoseSource& poses_;
   LiveMappingHooks hooks_;
+  MapSaver* saver_ = nullptr;
   scip::ScipParameters sensor_;
   ScanMapper mapper_;
   PoseTrack track_;

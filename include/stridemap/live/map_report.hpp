@@ -11,34 +11,12 @@
 
 #include "stridemap/core/map_filter.hpp"
 #include "stridemap/io/output_folder.hpp"
+#include "stridemap/live/map_run_info.hpp"
 #include "stridemap/live/scan_mapper.hpp"
 #include "stridemap/sensors/scip_parameters.hpp"
 #include "stridemap/sensors/urg_driver.hpp"
 
 namespace stridemap {
-
-struct MapRunInfo {
-  std::string command;     ///< "live" or "map"
-  std::string scans_from;  ///< device or log path
-  std::string poses_from;
-  std::string clock;       ///< "host" or "sensor"
-  std::string log_damage;  ///< map: the first damaged line of the log, if any
-  std::size_t log_lines_skipped = 0;   ///< map: damaged log lines skipped
-  std::string log_stop;                ///< map: where reading the log stopped early, if it did
-  std::size_t pose_lines_skipped = 0;  ///< bad pose lines skipped
-  MapFilter map_filter = MapFilter::fill;
-  std::string resumed_from;  ///< the map file mapping went on from, if any
-  /// Called with the staging folder once the map's files are in it, before
-  /// the set is committed, so that more files join the set (the report page).
-  std::function<void(const std::string&)> extra_outputs;
-  /// Ends of elevation.png's colour scale [m]; empty: the 2nd-98th percentile.
-  std::optional<std::pair<double, double>> elevation_range_m;
-  /// The option that named the output folder, for its errors.
-  std::string out_option = "--out";
-  /// OtherFiles::keep (`--overwrite`): the user's files in the folder stay
-  /// beside the map's; by default they refuse it.
-  io::OtherFiles other_files = io::OtherFiles::refuse;
-};
 
 /// Live mapping's own figures (not in a replay: they depend on the run).
 struct LiveRunStats {
@@ -78,16 +56,6 @@ std::string mapping_shortfall(const ScanMapperStats& stats, const TimeRange& sca
 /// Scans that reached the mapper and were used: not rejected there as stale
 /// (a time not later than the last scan mapped) or for a non-finite pose.
 std::size_t scans_mapped(const ScanMapper& mapper);
-
-/// What the user chose that decides where the points land, for the message
-/// of a run that mapped nothing.
-struct MapRunChoices {
-  std::string config_path;  ///< --config; empty: the defaults (the paper's mount)
-  std::string window;       ///< --window as given; empty: the window follows the robot
-  std::string resume_path;  ///< --resume
-  std::optional<double> resumed_last_scan_time_s;  ///< the resumed map's last scan
-  bool window_fit_possible = true;                 ///< map: --window fit; live cannot know the run beforehand
-};
 
 /// Empty when the run mapped something onto the map; else why it did not,
 /// naming the cause and the option that fixes it: every scan that reached
