@@ -117,7 +117,7 @@ void run_live(const LiveArgs& args) {
               "core, latency mean %.2f ms max %.2f ms; outputs: %s\n",
               scans_mapped(mapper), mapper.stats().scans, static_cast<unsigned long long>(run.driver.scans_lost),
               rejected_text(mapper).c_str(), poses.skipped_lines(), run.duration_s > 0 ? 100.0 * run.cpu_s / run.duration_s : 0.0,
-              run.latency_mean_s * 1000.0, run.latency_max_s * 1000.0, args.mapping.out_dir.c_str());
+              run.latency_mean_s * 1000.0, run.latency_max_s * 1000.0, printable_text(args.mapping.out_dir).c_str());
   std::fflush(stdout);
   if (!result.last_save_error.empty()) throw InputError(result.last_save_error + " (the map could not be saved)");
   if (!result.fatal.empty()) throw InputError(args.device.device + ": " + result.fatal + " (the map so far is saved)");

@@ -7,6 +7,7 @@
 
 #include "terminal_output.hpp"
 #include "urg_device.hpp"
+#include "stridemap/core/printable_text.hpp"
 
 namespace stridemap::cli {
 
@@ -38,14 +39,14 @@ void LiveConsole::show(const LiveEvent& e, const ScanMapper& mapper) const {
     case LiveEvent::Kind::connected:
       break;
     case LiveEvent::Kind::pose_notice:
-      std::fprintf(stderr, "%sstridemap: warning: pose skipped or reopened: %s\n", line_break(), e.message.c_str());
+      std::fprintf(stderr, "%sstridemap: warning: pose skipped or reopened: %s\n", line_break(), printable_text(e.message).c_str());
       break;
     case LiveEvent::Kind::save_failed:
       std::fprintf(stderr, "%sstridemap: warning: saving the map failed, retrying while mapping goes on: %s\n",
-                   line_break(), e.message.c_str());
+                   line_break(), printable_text(e.message).c_str());
       break;
     case LiveEvent::Kind::save_recovered:
-      std::fprintf(stderr, "%sstridemap: %s\n", line_break(), e.message.c_str());
+      std::fprintf(stderr, "%sstridemap: %s\n", line_break(), printable_text(e.message).c_str());
       break;
     case LiveEvent::Kind::warning:
       warn(e.message);
@@ -54,7 +55,7 @@ void LiveConsole::show(const LiveEvent& e, const ScanMapper& mapper) const {
 }
 
 void LiveConsole::warn(const std::string& text) const {
-  std::fprintf(stderr, "%sstridemap: warning: %s\n", line_break(), text.c_str());
+  std::fprintf(stderr, "%sstridemap: warning: %s\n", line_break(), printable_text(text).c_str());
 }
 
 void LiveConsole::finish() const {

@@ -35,7 +35,7 @@ struct MapArgs {
 
 void print_skipped(const std::string& what, std::size_t count, const std::vector<std::string>& first) {
   if (count == 0) return;
-  std::fprintf(stderr, "stridemap: warning: %zu %s skipped:\n", count, what.c_str());
+  std::fprintf(stderr, "stridemap: warning: %zu %s skipped:\n", count, printable_text(what).c_str());
   for (const std::string& line : first) std::fprintf(stderr, "  %s\n", printable_text(line).c_str());
   if (count > first.size()) std::fprintf(stderr, "  ... and %zu more\n", count - first.size());
 }
@@ -96,7 +96,7 @@ void run_map(const MapArgs& args) {
   std::printf("map: %zu scans mapped of %zu (%zu before the first pose, %zu after the last, %zu in pose gaps, %s), "
               "coverage %.1f %%; outputs: %s\n",
               scans_mapped(mapper), s.scans, s.before_first_pose, s.after_last_pose, s.pose_gap,
-              rejected_text(mapper).c_str(), 100.0 * map_coverage(layers), args.mapping.out_dir.c_str());
+              rejected_text(mapper).c_str(), 100.0 * map_coverage(layers), printable_text(args.mapping.out_dir).c_str());
   std::fflush(stdout);
   check_finished_run(mapper, layers, replay.scan_times(), pose_times, args.mapping,
                      map_run_choices(args.mapping, options, true));
