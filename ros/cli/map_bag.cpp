@@ -8,6 +8,7 @@
 #include "output_guard.hpp"
 #include "terminal_output.hpp"
 #include "stridemap/core/error.hpp"
+#include "stridemap/core/printable_text.hpp"
 #include "stridemap/mapfile/map_outputs.hpp"
 #include "stridemap_ros/bag_mapping.hpp"
 #include "stridemap_ros/map_saving.hpp"
@@ -51,11 +52,15 @@ void run_map_bag(const MapBagArgs& args, const std::string& config_path, const s
     ros_adapter::save_map(mapper, dir + "/map.smap", "map --bag " + args.bag_path, written);
   }, other_files(args.overwrite));
   std::printf("map: %zu scans mapped of %zu, %zu before the first pose (dropped: %zu wrong frame, %zu stamp not increasing, %zu unreadable, "
-              "%zu no valid beams, %zu pose timeout, %zu pose unavailable, %zu other), %zu NaN ranges; "
-              "coverage %.1f %%; outputs: %s\n",
-              s.mapped, s.scans, s.before_first_pose, s.wrong_frame, s.stamp_not_increasing, s.unreadable, s.no_valid_beams, s.pose_timeout,
-              s.pose_unavailable, s.bad_geometry + s.queue_full + s.rejected_by_mapper, s.beams_not_finite,
-              100.0 * map_coverage(layers), out_dir.c_str());
+              "%zu bad scan fields, %zu no valid beams, %zu pose timeout, %zu pose unavailable, %zu queue full, "
+              "%zu refused by the mapper), %zu NaN ranges; coverage %.1f %%; outputs: %s\n",
+              s.mapped, s.scans, s.before_first_pose, s.wrong_frame, s.stamp_not_increasing, s.unreadable, s.bad_geometry,
+              s.no_valid_beams, s.pose_timeout, s.pose_unavailable, s.queue_full, s.rejected_by_mapper, s.beams_not_finite,
+              100.0 * map_coverage(layers), printable_text(out_dir).c_str());
+  if (s.bad_geometry > 0) {
+    std::fprintf(stderr, "stridemap: warning: %zu scans with bad fields dropped; the last: %s\n", s.bad_geometry,
+                 printable_text(mapper.last_bad_scan()).c_str());
+  }
   std::fflush(stdout);
   if (s.mapped == 0) throw RunFailed(args.bag_path + ": no scan was mapped (" + mapper.last_drop() + ")");
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <utility>
 
 #include "stridemap/core/error.hpp"
@@ -157,6 +158,13 @@ void MessageMapper::add(const LaserScanData& scan, double arrival_s) {
     bad = "angle_min or angle_increment not finite";
   } else if (scan.angle_increment_rad == 0.0 && scan.range_count > 1) {
     bad = "angle_increment 0 with " + std::to_string(scan.range_count) + " ranges";
+  } else if (std::abs(scan.angle_min_rad) > 2.0 * std::numbers::pi ||
+             std::abs(scan.angle_increment_rad) * static_cast<double>(scan.range_count > 0 ? scan.range_count - 1 : 0) >
+                 2.0 * std::numbers::pi + 1e-6) {
+    // Finite but no scanner's: the beams would land anywhere around the sensor.
+    bad = "angle_min " + std::to_string(scan.angle_min_rad) + " rad and angle_increment " +
+          std::to_string(scan.angle_increment_rad) + " rad over " + std::to_string(scan.range_count) +
+          " ranges are not angles of one turn (|angle_min| and the span at most 2 pi)";
   } else if (!std::isfinite(scan.range_min_m) || !std::isfinite(scan.range_max_m) ||
              !(scan.range_max_m > scan.range_min_m) || !(scan.range_max_m > 0.0)) {
     bad = "range limits [" + std::to_string(scan.range_min_m) + ", " + std::to_string(scan.range_max_m) +
@@ -169,6 +177,7 @@ void MessageMapper::add(const LaserScanData& scan, double arrival_s) {
   }
   if (!bad.empty()) {
     drop(stats_.bad_geometry, "scan at " + std::to_string(scan.stamp_s) + ": " + bad);
+    last_bad_scan_ = last_drop_;
     return;
   }
   Impl::Waiting w = take_spare(*impl_);

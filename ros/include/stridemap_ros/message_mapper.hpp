@@ -197,6 +197,9 @@ class MessageMapper {
   std::optional<double> last_mapped_stamp_s() const { return last_mapped_stamp_; }
   /// The last reason a scan was dropped, for diagnostics ("" if none).
   const std::string& last_drop() const { return last_drop_; }
+  /// Why the last scan with bad fields (stats().bad_geometry) was dropped
+  /// ("" if none): other drops later do not hide it.
+  const std::string& last_bad_scan() const { return last_bad_scan_; }
 
   /// The library's side (message_mapper_library.hpp, C++20 only).
   struct Impl;
@@ -216,6 +219,7 @@ class MessageMapper {
   std::optional<double> last_stamp_;
   std::optional<double> last_mapped_stamp_;
   std::string last_drop_;
+  std::string last_bad_scan_;
 };
 
 }  // namespace stridemap::ros_adapter

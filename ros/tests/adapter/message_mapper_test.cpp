@@ -199,6 +199,12 @@ TEST(MessageMapper, TakesEachBeamAsTheMessageDescribesIt) {
   LaserScanData no_increment = scan.data(1.2);
   no_increment.angle_increment_rad = 0.0;
   mapper.add(no_increment, 0.0);
+  LaserScanData far_angle = scan.data(1.25);
+  far_angle.angle_min_rad = 1e30;  // finite, but no scanner's
+  mapper.add(far_angle, 0.0);
+  LaserScanData wide = scan.data(1.27);
+  wide.angle_increment_rad = 1.0;  // 20 beams over 19 rad
+  mapper.add(wide, 0.0);
   LaserScanData limits = scan.data(1.3);
   limits.range_max_m = 0.01;  // below range_min
   mapper.add(limits, 0.0);
@@ -209,8 +215,9 @@ TEST(MessageMapper, TakesEachBeamAsTheMessageDescribesIt) {
   EXPECT_EQ(s.beams_out_of_range, 4u);
   EXPECT_EQ(s.beams_low_intensity, 2u);
   EXPECT_EQ(s.beams_not_finite, 0u);
-  EXPECT_EQ(s.bad_geometry, 3u);
+  EXPECT_EQ(s.bad_geometry, 5u);
   EXPECT_NE(mapper.last_drop().find("range limits"), std::string::npos) << mapper.last_drop();
+  EXPECT_EQ(mapper.last_bad_scan(), mapper.last_drop());
   EXPECT_EQ(mapper.impl().pipeline->mapper().totals().beams, 15u);  // the 15 usable beams reached the map
 
   // Without an intensity threshold the intensities are not looked at.
