@@ -4,17 +4,55 @@
 
 #include <cstdio>
 
+#include <nlohmann/json.hpp>
+
 #include "commands.hpp"
 #include "output_guard.hpp"
 #include "terminal_output.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/printable_text.hpp"
+#include "stridemap/io/text_file.hpp"
 #include "stridemap/mapfile/map_outputs.hpp"
 #include "stridemap_ros/bag_mapping.hpp"
 #include "stridemap_ros/map_saving.hpp"
 #include "stridemap_ros/message_mapper_library.hpp"
 
 namespace stridemap::cli {
+namespace {
+
+// What the run did, for scripts: every count the summary line gives and
+// the map's coverage, under the names of MessageMapperStats.
+nlohmann::json bag_summary_json(const MapBagArgs& args, const ros_adapter::MessageMapper& mapper, double coverage) {
+  const ros_adapter::MessageMapperStats& s = mapper.stats();
+  return {{"command", "map --bag"},
+          {"bag", args.bag_path},
+          {"scan_topic", args.scan_topic},
+          {"cloud_topic", args.cloud_topic},
+          {"scans",
+           {{"offered", s.scans},
+            {"mapped", s.mapped},
+            {"before_first_pose", s.before_first_pose},
+            {"dropped",
+             {{"wrong_frame", s.wrong_frame},
+              {"stamp_not_increasing", s.stamp_not_increasing},
+              {"bad_fields", s.bad_geometry},
+              {"unreadable", s.unreadable},
+              {"no_valid_beams", s.no_valid_beams},
+              {"pose_timeout", s.pose_timeout},
+              {"pose_unavailable", s.pose_unavailable},
+              {"queue_full", s.queue_full},
+              {"refused_by_mapper", s.rejected_by_mapper}}},
+            {"last_drop", mapper.last_drop()},
+            {"last_bad_fields", mapper.last_bad_scan()}}},
+          {"beams",
+           {{"offered", s.beams},
+            {"not_finite", s.beams_not_finite},
+            {"out_of_range", s.beams_out_of_range},
+            {"low_intensity", s.beams_low_intensity}}},
+          {"map", {{"coverage", coverage}}}};
+}
+
+}  // namespace
 
 void run_map_bag(const MapBagArgs& args, const std::string& config_path, const std::string& out_dir) {
   if (args.scan_topic.empty() == args.cloud_topic.empty()) {
@@ -50,6 +88,8 @@ void run_map_bag(const MapBagArgs& args, const std::string& config_path, const s
     io::write_map_layers(layers, dir, outputs);
     std::set<std::string> written;
     ros_adapter::save_map(mapper, dir + "/map.smap", "map --bag " + args.bag_path, written);
+    io::write_text_file(dir + "/summary.json", bag_summary_json(args, mapper, map_coverage(layers)).dump(2) + "\n",
+                        "run summary");
   }, other_files(args.overwrite));
   std::printf("map: %zu scans mapped of %zu, %zu before the first pose (dropped: %zu wrong frame, %zu stamp not increasing, %zu unreadable, "
               "%zu bad scan fields, %zu no valid beams, %zu pose timeout, %zu pose unavailable, %zu queue full, "

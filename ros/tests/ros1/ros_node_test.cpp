@@ -144,6 +144,11 @@ TEST_F(RosNodeTest, MapsSimulatedScansLikeTheTruthAndLikeMapBagBitForBit) {
                               "/map_bag.log 2>&1";
   ASSERT_EQ(std::system(command.c_str()), 0) << read_text(*folder_ + "/map_bag.log");
   EXPECT_EQ(compare_map_files(node_map, out + "/map.smap"), "");
+  // The run's counts for scripts, as the summary line gives them.
+  const std::string summary = read_text(out + "/summary.json");
+  EXPECT_NE(summary.find("\"command\": \"map --bag\""), std::string::npos) << summary;
+  EXPECT_NE(summary.find("\"mapped\": "), std::string::npos) << summary;
+  EXPECT_EQ(summary.find("\"mapped\": 0,"), std::string::npos) << summary;
 
   // Clearing empties the published map: the next cloud and marker are empty.
   cloud.reset();
