@@ -127,7 +127,7 @@ py::array_t<double> axis_centers(const ElevationMap& map, std::int64_t first_cel
   py::array_t<double> out(map.cells_per_side());
   auto o = out.mutable_unchecked<1>();
   for (int i = 0; i < map.cells_per_side(); ++i) {
-    o(i) = (static_cast<double>(first_cell + i) + 0.5) * map.cell_size_m();
+    o(i) = map.cell_center({first_cell + i, first_cell}).x();
   }
   return out;
 }

@@ -6,6 +6,7 @@
 #include <limits>
 #include <string>
 
+#include "stridemap/core/cell_center.hpp"
 #include "stridemap/core/error.hpp"
 
 namespace stridemap {
@@ -220,9 +221,7 @@ bool ElevationMap::contains(CellIndex cell) const {
          cell.y < min_cell_.y + n_;
 }
 
-Eigen::Vector2d ElevationMap::cell_center(CellIndex cell) const {
-  return {(static_cast<double>(cell.x) + 0.5) * cell_size_m_, (static_cast<double>(cell.y) + 0.5) * cell_size_m_};
-}
+Eigen::Vector2d ElevationMap::cell_center(CellIndex cell) const { return stridemap::cell_center(cell, cell_size_m_); }
 
 void ElevationMap::clear() {
   for (Layer& layer : layers_) fill_with_reset(layer);

@@ -242,15 +242,14 @@ void write_cart_rail_outputs(const CartRailResult& r, const CartRailOptions& opt
   error_style.colour_scale = io::ColourScale::diverging;
   io::write_png((dir / "error.png").string(), io::render_grid(error, filled, error_style).image);
 
-  const double origin_x = (static_cast<double>(s.min_cell.x) + 0.5) * s.cell_size_m;
-  const double origin_y = (static_cast<double>(s.min_cell.y) + 0.5) * s.cell_size_m;
+  const Eigen::Vector2d origin = s.cell_center(0, 0);
   const auto csv = [&](const char* name, const Eigen::MatrixXf& values, const char* units) {
     io::GridCsvOptions o;
     o.layer_name = name;
     o.units = units;
     o.cell_size_m = s.cell_size_m;
-    o.origin_x_m = origin_x;
-    o.origin_y_m = origin_y;
+    o.origin_x_m = origin.x();
+    o.origin_y_m = origin.y();
     io::write_grid_csv((dir / (std::string(name) + ".csv")).string(), values, o);
   };
   csv("truth", s.truth_m, "m");

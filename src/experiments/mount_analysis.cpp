@@ -92,8 +92,8 @@ void walk_one_field(const NamedMount& mount, const Scene& scene, const MountSens
   for (Eigen::Index i = 0; i < states.rows(); ++i) {
     for (Eigen::Index j = 0; j < states.cols(); ++j) {
       if (!result.mosaic_swept(i, j)) continue;
-      const double x = (static_cast<double>(m.min_cell.x + i) + 0.5) * m.cell_size_m;
-      const double y = (static_cast<double>(m.min_cell.y + j) + 0.5) * m.cell_size_m;
+      const Eigen::Vector2d centre = m.cell_center(i, j);
+      const double x = centre.x(), y = centre.y();
       if (x < f.min_x_m || x > f.max_x_m || std::abs(y - centre_y) > o.corridor_half_width_m) continue;
       ++tally.ground_cells;
       tally.unobserved_cells += static_cast<CellState>(states(i, j)) == CellState::unknown;

@@ -139,15 +139,11 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
   const CellMask& states = m.state();
   const Eigen::Index n = heights.rows();
   const double s = m.cell_size_m;
-  const auto centre_of = [&](Eigen::Index i, Eigen::Index j) {
-    return Eigen::Vector2d((static_cast<double>(m.min_cell.x + i) + 0.5) * s,
-                           (static_cast<double>(m.min_cell.y + j) + 0.5) * s);
-  };
   const auto known = [&](Eigen::Index i, Eigen::Index j) {
     return static_cast<CellState>(states(i, j)) != CellState::unknown;
   };
   const Eigen::Vector2d centre(id.cx, id.cy);
-  const auto distance = [&](Eigen::Index i, Eigen::Index j) { return (centre_of(i, j) - centre).norm(); };
+  const auto distance = [&](Eigen::Index i, Eigen::Index j) { return (m.cell_center(i, j) - centre).norm(); };
 
   // First guesses from the neighbourhood: the ground is most of it, the top
   // is what stands at the centre.
@@ -189,7 +185,7 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
   while (!queue.empty()) {
     const auto [i, j] = queue.front();
     queue.pop_front();
-    cells.push_back(centre_of(i, j) - centre);
+    cells.push_back(m.cell_center(i, j) - centre);
     if (static_cast<CellState>(states(i, j)) == CellState::measured) tops.push_back(heights(i, j));
     for (const auto& [di, dj] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
       const Eigen::Index a = i + di, b = j + dj;

@@ -68,7 +68,8 @@ struct Origin {
   double x_m, y_m;
 };
 Origin origin_of(const MapSnapshot& s) {
-  return {(static_cast<double>(s.min_cell.x) + 0.5) * s.cell_size_m, (static_cast<double>(s.min_cell.y) + 0.5) * s.cell_size_m};
+  const Eigen::Vector2d centre = s.cell_center(0, 0);
+  return {centre.x(), centre.y()};
 }
 
 // elevation, certainty, error and truth pictures of one snapshot, with the

@@ -67,15 +67,14 @@ void write_map_layers(const ExportedMap& s, const std::string& directory, const 
     write_png((dir / (std::string(f.layer) + ".png")).string(), render_grid(layer->f32, style).image);
   }
 
-  const double origin_x = (static_cast<double>(s.min_cell.x) + 0.5) * s.cell_size_m;
-  const double origin_y = (static_cast<double>(s.min_cell.y) + 0.5) * s.cell_size_m;
+  const Eigen::Vector2d origin = s.cell_center(0, 0);
   const auto csv = [&](const std::string& name, const Eigen::MatrixXf& values, const std::string& units) {
     GridCsvOptions o;
     o.layer_name = name;
     o.units = units;
     o.cell_size_m = s.cell_size_m;
-    o.origin_x_m = origin_x;
-    o.origin_y_m = origin_y;
+    o.origin_x_m = origin.x();
+    o.origin_y_m = origin.y();
     write_grid_csv((dir / (name + ".csv")).string(), values, o);
   };
   // Every layer the export holds, a user's own included.

@@ -124,12 +124,13 @@ json map_json(const std::string& name, const MapFile& file) {
   for (std::size_t k = 0; k < file.map.layer_count(); ++k) names.push_back(file.map.layer_spec(k).name);
   const ExportedMap exported = export_map(file.map, names);
   const double s = exported.cell_size_m;
+  const Eigen::Vector2d origin = exported.cell_center(0, 0);
   json out = {{"name", name},
               {"rows", exported.cells_per_side},
               {"cols", exported.cells_per_side},
               {"cell_size_m", s},
-              {"origin_x_m", (static_cast<double>(exported.min_cell.x) + 0.5) * s},
-              {"origin_y_m", (static_cast<double>(exported.min_cell.y) + 0.5) * s},
+              {"origin_x_m", origin.x()},
+              {"origin_y_m", origin.y()},
               {"created_by", file.metadata.created_by},
               {"layers", json::array()}};
   for (const ExportedLayer& layer : exported.layers) {

@@ -40,11 +40,6 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::int64_t floor_div(std::int64_t a, std::int64_t b) {
-  const std::int64_t q = a / b;
-  return (a % b != 0 && (a < 0) != (b < 0)) ? q - 1 : q;
-}
-
 // Cells [a, a + n) not in [b, b + n): one interval, as both are n long.
 std::pair<std::int64_t, std::int64_t> interval_minus(std::int64_t a, std::int64_t b, std::int64_t n) {
   if (b >= a + n || b + n <= a) return {a, a + n};
@@ -156,7 +151,7 @@ TileStore::TileStore(const GlobalMapOptions& options, const ElevationMap& like, 
 }
 
 TileIndex TileStore::tile_of(CellIndex c) const {
-  return {floor_div(c.x, options_.tile_cells), floor_div(c.y, options_.tile_cells)};
+  return stridemap::tile_of(c, options_.tile_cells);
 }
 
 std::string TileStore::tile_path(TileIndex t) const { return (fs::path(options_.folder) / tile_file_name(t)).string(); }
@@ -193,9 +188,7 @@ void TileStore::write_tiles_left(CellIndex new_min) {
   const std::int64_t t = options_.tile_cells, n = window_cells_;
   for (Cached& c : cache_) {
     if (!c.used || !c.dirty) continue;
-    const bool apart = c.index.x * t >= new_min.x + n || (c.index.x + 1) * t <= new_min.x ||
-                       c.index.y * t >= new_min.y + n || (c.index.y + 1) * t <= new_min.y;
-    if (apart) write(c);
+    if (!tile_meets(c.index, t, new_min, {new_min.x + n, new_min.y + n})) write(c);
   }
 }
 
@@ -246,19 +239,21 @@ void TileStore::note_write_failure(const std::string& what) {
 // Calls f(tile, part) for each tile the rectangle meets, with the part of
 // the rectangle inside it.
 template <class F>
-static void for_each_tile(const TileStore& store, std::int64_t t, CellIndex lo, CellIndex end, F&& f) {
-  const TileIndex first = store.tile_of(lo), last = store.tile_of({end.x - 1, end.y - 1});
+static void for_each_tile(std::int64_t t, CellIndex lo, CellIndex end, F&& f) {
+  const TileIndex first = tile_of(lo, t), last = tile_of({end.x - 1, end.y - 1}, t);
   for (std::int64_t tx = first.x; tx <= last.x; ++tx) {
     for (std::int64_t ty = first.y; ty <= last.y; ++ty) {
-      const CellIndex part_lo{std::max(lo.x, tx * t), std::max(lo.y, ty * t)};
-      const CellIndex part_end{std::min(end.x, (tx + 1) * t), std::min(end.y, (ty + 1) * t)};
-      f(TileIndex{tx, ty}, part_lo, part_end);
+      const TileIndex tile{tx, ty};
+      const CellIndex tile_lo = tile_min_cell(tile, t), tile_end = tile_end_cell(tile, t);
+      const CellIndex part_lo{std::max(lo.x, tile_lo.x), std::max(lo.y, tile_lo.y)};
+      const CellIndex part_end{std::min(end.x, tile_end.x), std::min(end.y, tile_end.y)};
+      f(tile, part_lo, part_end);
     }
   }
 }
 
 void TileStore::save_rect(const ElevationMap& map, const CellRect& rect) {
-  for_each_tile(*this, options_.tile_cells, rect.min, rect.end, [&](TileIndex t, CellIndex lo, CellIndex end) {
+  for_each_tile(options_.tile_cells, rect.min, rect.end, [&](TileIndex t, CellIndex lo, CellIndex end) {
     const CellRect part{lo, end};
     // A tile is made only for cells that hold something: driving over
     // unseen ground leaves no files behind.
@@ -272,7 +267,7 @@ void TileStore::save_rect(const ElevationMap& map, const CellRect& rect) {
 }
 
 void TileStore::restore_rect(ElevationMap& map, const CellRect& rect) {
-  for_each_tile(*this, options_.tile_cells, rect.min, rect.end, [&](TileIndex t, CellIndex lo, CellIndex end) {
+  for_each_tile(options_.tile_cells, rect.min, rect.end, [&](TileIndex t, CellIndex lo, CellIndex end) {
     Cached* c = tile(t, false);
     if (!c) return;
     copy_cells(*c->map, map, CellRect{lo, end}, layer_bytes_);
@@ -332,7 +327,7 @@ TileStore::Cached* TileStore::tile(TileIndex index, bool create) {
     }
     if (blank) {
       slot->map->clear();
-      slot->map->move_corner_to({index.x * options_.tile_cells, index.y * options_.tile_cells});
+      slot->map->move_corner_to(tile_min_cell(index, options_.tile_cells));
     }
   }
   slot->index = index;
@@ -376,7 +371,7 @@ void TileStore::read(TileIndex index, ElevationMap& into) {
   const std::string path = tile_path(index);
   const MapFile file = load_map_file(path);
   const ElevationMap& m = file.map;
-  const CellIndex corner{index.x * options_.tile_cells, index.y * options_.tile_cells};
+  const CellIndex corner = tile_min_cell(index, options_.tile_cells);
   const auto fail = [&](const std::string& what) {
     throw InputError(path + ": not a tile of this global map: " + what);
   };
@@ -522,7 +517,7 @@ MergedTiles merge_tiles(const std::string& folder) {
     try {
       MapFile file = load_map_file(path.string());
       const ElevationMap& m = file.map;
-      const CellIndex corner{index.x * t, index.y * t};
+      const CellIndex corner = tile_min_cell(index, t);
       if (m.cells_per_side() != t || !(m.min_cell() == corner)) {
         throw InputError(path.string() + ": not a tile of this global map (its size or corner does not fit its name)");
       }
@@ -531,13 +526,13 @@ MergedTiles merge_tiles(const std::string& folder) {
       }
       if (!merged) {
         merged.emplace(grid_like(m, static_cast<int>(span * t)));
-        merged->move_corner_to({lo.x * t, lo.y * t});
+        merged->move_corner_to(tile_min_cell(lo, t));
         for (std::size_t l = 0; l < m.layer_count(); ++l) bytes.push_back(layer_type_bytes(m.layer_spec(l).type));
         first_path = path.string();
       }
       struct {
         CellIndex min, end;
-      } all{corner, {corner.x + t, corner.y + t}};
+      } all{corner, tile_end_cell(index, t)};
       copy_cells(m, *merged, all, bytes);
     } catch (const InputError& e) {
       holes.push_back(e.what());

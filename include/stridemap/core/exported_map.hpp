@@ -12,6 +12,7 @@
 
 #include <Eigen/Core>
 
+#include "stridemap/core/cell_center.hpp"
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/core/map_layer.hpp"
 
@@ -43,6 +44,14 @@ struct ExportedMap {
   double cell_size_m = 0.0;
   int cells_per_side = 0;
   std::vector<ExportedLayer> layers;
+
+  /// Centre of element (i, j) in the map frame [m]; (0, 0) gives the
+  /// origin that grid files and messages name.
+  Eigen::Vector2d cell_center(Eigen::Index i, Eigen::Index j) const {
+    return stridemap::cell_center(CellIndex{min_cell.x + i, min_cell.y + j}, cell_size_m);
+  }
+  /// Centre of a cell by global index in the map frame [m].
+  Eigen::Vector2d cell_center(CellIndex cell) const { return stridemap::cell_center(cell, cell_size_m); }
 
   /// The named layer, or null.
   const ExportedLayer* find(std::string_view name) const;

@@ -34,6 +34,9 @@
 
 #include "stridemap/core/cell_box.hpp"
 #include "stridemap/core/changed_rows.hpp"
+#include "stridemap/core/foothold_changes.hpp"
+#include "stridemap/core/foothold_edge_search.hpp"
+#include "stridemap/core/foothold_stencil.hpp"
 #include "stridemap/core/grid_map.hpp"
 #include "stridemap/core/map_layer.hpp"
 
@@ -87,6 +90,12 @@ std::array<LayerSpec, 5> foothold_layer_specs();
 /// refresh() recomputes what all the noted changes can have changed. The
 /// values after refresh() are those of recompute_all(), bit for bit,
 /// however many notes came before it.
+///
+/// This class orders the steps of a refresh and computes the score; the
+/// rest is in parts of their own: the footprint and edge search discs
+/// (core/foothold_stencil.hpp), what changed since the last refresh
+/// (core/foothold_changes.hpp), the plane fits (src/core/foothold_plane_fit)
+/// and the edge search (core/foothold_edge_search.hpp).
 class FootholdLayers {
  public:
   /// Adds the layers to `map` unless it has them (a loaded map file may);
@@ -104,7 +113,7 @@ class FootholdLayers {
   void refresh(ElevationMap& map);
   /// Nothing noted since the last refresh (a window move not yet noted is
   /// found by refresh(), not here).
-  bool current() const { return computed_ && pending_.empty() && stable_ == window_; }
+  bool current() const { return changes_.computed && changes_.pending.empty() && changes_.stable == changes_.window; }
   /// note() then refresh().
   void update(ElevationMap& map, const CellBox& changed);
   void update(ElevationMap& map, const ChangedRows& changed);
@@ -127,82 +136,22 @@ class FootholdLayers {
   std::size_t last_edge_cells() const { return last_edge_cells_; }
 
  private:
-  struct LocalSlots;
-  struct Span {  // columns lo..hi of a window-local row; lo > hi: none
-    int lo, hi;
-  };
-  // A box of window-local cells (rows i0..i1, columns j0..j1; may reach
-  // outside the window).
-  struct LocalBox {
-    std::int64_t i0, i1, j0, j1;
-  };
-  void set_slots(const ElevationMap& map);
-  void mark_geometry(const LocalBox& b);
-  void mark_score(int i, int j);
-  void mark_edge(int i, int j);
-  void see_left(const ElevationMap& map, const CellBox& b, CellIndex corner);
-  void see_changes(const ElevationMap& map, const CellBox& window);
-  void see_all(const ElevationMap& map, const LocalBox& b, bool mark);
-  void grow(const std::vector<Span>& from, std::vector<Span>& to, const std::vector<int>& widths);
   void compute(ElevationMap& map);
-  void geometry_rows(ElevationMap& map, const LocalSlots& slots);
-  void edge_rows(ElevationMap& map, bool all);
+  void geometry_rows(ElevationMap& map);
   void score_rows(ElevationMap& map);
-  void raise_edges();
-  void search_or_raise();
-  void geometry_of(ElevationMap& map, const LocalSlots& slots, CellIndex cell) const;
-  void geometry_inside(ElevationMap& map, int i, int j) const;
   double edge_distance_m_of(std::int64_t squared_cells, std::int64_t none2) const;
   double edge_factor_of_distance(double distance_m) const;
-  double certainty_factor(float certainty) const;
 
   FootholdOptions options_;
   LayerId<float> slope_, roughness_, step_, edge_distance_, score_;
   int n_ = 0;
   double cell_size_m_ = 0.0;
-  std::int64_t foot_cells_ = 0;  // footprint radius in whole cells
-  std::int64_t edge_cells_ = 0;  // edge search radius in whole cells
-  std::size_t min_known_ = 3;
-  std::vector<CellIndex> footprint_;  // offsets of the footprint's cells
-  std::vector<double> foot_x_m_, foot_y_m_;  // the same offsets in metres
-  std::vector<double> foot_dx_, foot_dy_;    // and in cells, as doubles
-  Eigen::Matrix3d full_inverse_;      // the plane fit's for a whole footprint
-  // Half-widths of the footprint disc and of the edge search disc per row
-  // offset -r..r (index dx + r): how far a change reaches along a row.
-  std::vector<int> foot_widths_, edge_widths_;
+  FootholdStencil stencil_;
+  FootholdChanges changes_;
+  FootholdEdgeSearch edges_;
   // Per squared edge distance 0..r*r+1 (r*r+1: none within the radius):
   // the distance [m] and the score's edge factor, as the score computes them.
   std::vector<double> edge_distance_of_, edge_factor_of_;
-  // What changed since the last refresh, and the intersection of the
-  // windows since then (cells outside it may have left and come back reset).
-  ChangedRows pending_;
-  CellBox window_;  // the window at the last refresh
-  CellBox stable_;
-  bool computed_ = false;
-  // What the last refresh saw, per storage slot of the window: the
-  // elevation where known (NaN where unknown), the certainty, and the
-  // squared edge distance in cells (capped at r*r+1). A noted cell whose
-  // elevation and known-ness are unchanged redoes no plane fit; one whose
-  // certainty factor is unchanged too redoes no score.
-  std::vector<float> seen_elevation_, seen_certainty_;
-  std::vector<std::int32_t> seen_edge2_;
-  // Storage slot = row_slot_[local row] + col_slot_[local column], for the
-  // window of the refresh under way.
-  std::vector<std::size_t> row_slot_, col_slot_;
-  // Per window-local cell (i * n + j): its geometry, or its edge distance
-  // and score, are to be redone; cleared as they are.
-  std::vector<std::uint8_t> geometry_mark_, score_mark_;
-  // Per window-local row, scratch of refresh(): the hulls of the marks, the
-  // cells that stopped being edges (step no longer above max_step_m) or that
-  // left as edges, the cells whose edge distance is redone (and of those, the ones
-  // that became known since they entered the window), and the columns whose
-  // along-row edge distances are needed.
-  std::vector<Span> geometry_rows_, score_rows_, flips_, edge_rows_, unseen_edge_rows_, distance_rows_;
-  std::vector<std::int32_t> distance2_;  // n x n: squared along-row distance to an edge, or kFar
-  std::vector<std::int32_t> best2_;      // one row of squared edge distances
-  std::vector<std::int32_t> raised_;     // window-local cells (i * n + j) that became edges
-  std::vector<Span> merged_, merged_rows_;  // search_or_raise()'s scratch
-  std::size_t edge_disc_cells_ = 0;         // cells of the edge search disc
   std::size_t last_geometry_cells_ = 0;
   std::size_t last_score_cells_ = 0;
   std::size_t last_edge_cells_ = 0;

@@ -35,18 +35,13 @@
 
 #include "stridemap/config/global_map_options.hpp"
 #include "stridemap/core/grid_map.hpp"
+#include "stridemap/core/tile_grid.hpp"
 #include "stridemap/core/window_move_listener.hpp"
 #include "stridemap/mapfile/map_file.hpp"
 
 namespace stridemap::io {
 
-/// Integer coordinates of a tile: it holds the cells
-/// [x * tile_cells, (x + 1) * tile_cells) x [y * tile_cells, (y + 1) * tile_cells).
-struct TileIndex {
-  std::int64_t x = 0;
-  std::int64_t y = 0;
-  friend auto operator<=>(const TileIndex&, const TileIndex&) = default;
-};
+using stridemap::TileIndex;  // core/tile_grid.hpp
 
 /// Throws InputError naming `options.folder` when a TileStore would refuse
 /// it (a file, a folder that cannot be read or holds anything: an earlier

@@ -1,0 +1,85 @@
+#pragma once
+// Change tracking of the foothold layers (core/foothold.hpp): what the last
+// refresh saw, per cell, and what the cells noted since then, the window's
+// moves and the cells that left it make the next refresh redo. A refresh
+// redoes a cell's plane fit only where its footprint changed, and its score
+// only where the plane fit, the certainty factor or the edge distance did.
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include "stridemap/core/cell_box.hpp"
+#include "stridemap/core/changed_rows.hpp"
+#include "stridemap/core/foothold_stencil.hpp"
+#include "stridemap/core/grid_map.hpp"
+
+namespace stridemap {
+
+/// Window-local cells: rows i0..i1, columns j0..j1 (may reach outside the
+/// window).
+struct LocalBox {
+  std::int64_t i0, i1, j0, j1;
+};
+
+struct FootholdChanges {
+  /// seen_edge2 of a cell that entered the window and is not yet known.
+  static constexpr std::int32_t kEdgeUnknown = -1;
+
+  FootholdChanges() = default;
+  /// `none2`: the squared edge distance that stands for no edge in reach.
+  FootholdChanges(int cells_per_side, std::int32_t none2, double full_certainty);
+
+  /// Records changed cells and the window's move; nothing before the
+  /// first refresh, which computes everything.
+  template <class Changed>
+  void note(const ElevationMap& map, const Changed& changed) {
+    if (!computed) return;
+    stable = stable.intersected(CellBox::window_of(map));
+    pending.add(changed);
+  }
+
+  /// row_slot and col_slot for the map's window as it is now.
+  void set_slots(const ElevationMap& map);
+  /// Marks every window cell whose footprint holds a cell of `b`.
+  void mark_geometry(const FootholdStencil& stencil, const LocalBox& b);
+  void mark_score(int i, int j);
+  void mark_edge(int i, int j);
+  /// The cells of `b` (global, of the last refresh's window) that left
+  /// every window since.
+  void see_left(const FootholdStencil& stencil, const ElevationMap& map, const CellBox& b, CellIndex corner);
+  /// The noted cells in every window since the last refresh.
+  void see_changes(const FootholdStencil& stencil, const ElevationMap& map, const CellBox& window);
+  /// Every cell of `b` (within the window) seen as it is now; with `mark`,
+  /// as cells new to the window.
+  void see_all(const FootholdStencil& stencil, const ElevationMap& map, const LocalBox& b, bool mark);
+
+  int n = 0;  ///< cells per side of the window
+  double full_certainty = 1.0;
+  // What changed since the last refresh, and the intersection of the
+  // windows since then (cells outside it may have left and come back reset).
+  ChangedRows pending;
+  CellBox window;  ///< the window at the last refresh
+  CellBox stable;
+  bool computed = false;
+  // What the last refresh saw, per storage slot of the window: the
+  // elevation where known (NaN where unknown), the certainty, and the
+  // squared edge distance in cells (capped at none2). A noted cell whose
+  // elevation and known-ness are unchanged redoes no plane fit; one whose
+  // certainty factor is unchanged too redoes no score.
+  std::vector<float> seen_elevation, seen_certainty;
+  std::vector<std::int32_t> seen_edge2;
+  // Storage slot = row_slot[local row] + col_slot[local column], for the
+  // window of the refresh under way.
+  std::vector<std::size_t> row_slot, col_slot;
+  // Per window-local cell (i * n + j): its geometry, or its edge distance
+  // and score, are to be redone; cleared as they are.
+  std::vector<std::uint8_t> geometry_mark, score_mark;
+  // Per window-local row: the hulls of the marks, the cells that stopped
+  // being edges (step no longer above max_step_m) or that left as edges,
+  // and the cells whose edge distance is searched for because they became
+  // known since they entered the window.
+  std::vector<RowSpan> geometry_rows, score_rows, flips, unseen_edge_rows;
+  std::vector<std::int32_t> raised;  ///< window-local cells (i * n + j) that became edges
+};
+
+}  // namespace stridemap

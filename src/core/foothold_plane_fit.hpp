@@ -1,0 +1,59 @@
+#pragma once
+// The foothold layers' plane fits (core/foothold.hpp): slope, roughness and
+// step height of one cell from the least-squares plane through its
+// footprint. Private to the core library.
+#include <cstddef>
+#include <cstdint>
+
+#include "stridemap/core/foothold_stencil.hpp"
+#include "stridemap/core/grid_map.hpp"
+
+namespace stridemap::foothold {
+
+/// Footprints up to this size keep their cells for the residuals, and
+/// take the fast path for cells whose footprint lies in the window.
+inline constexpr std::size_t kKept = 64;
+
+/// Slots of the window addressed by global index, without a modulo per
+/// cell: the storage row of local row i is (corner row + i) wrapped once.
+struct WindowSlots {
+  explicit WindowSlots(const ElevationMap& map)
+      : n(map.cells_per_side()),
+        corner(map.min_cell()),
+        row0(static_cast<std::int64_t>(map.slot(map.min_cell()) / static_cast<std::size_t>(n))),
+        col0(static_cast<std::int64_t>(map.slot(map.min_cell()) % static_cast<std::size_t>(n))) {}
+  bool inside(CellIndex c) const { return c.x >= corner.x && c.y >= corner.y && c.x < corner.x + n && c.y < corner.y + n; }
+  std::size_t of(CellIndex c) const {
+    std::int64_t i = c.x - corner.x + row0, j = c.y - corner.y + col0;
+    if (i >= n) i -= n;
+    if (j >= n) j -= n;
+    return static_cast<std::size_t>(i * n + j);
+  }
+  std::int64_t n;
+  CellIndex corner;
+  std::int64_t row0, col0;
+};
+
+/// The three geometry layers' storage.
+struct GeometryLayers {
+  float* slope_deg;
+  float* roughness_m;
+  float* step_height_m;
+};
+
+/// Fits the plane over `cell`'s footprint from the map's elevation and
+/// state, cells outside the window counting as unknown, and writes the
+/// cell's slope, roughness and step height (NaN where the footprint holds
+/// too few known cells or they are collinear).
+void fit_footprint(const FootholdStencil& stencil, const WindowSlots& slots, const float* elevation,
+                   const std::uint8_t* state, CellIndex cell, const GeometryLayers& out);
+
+/// fit_footprint() for a cell whose whole footprint lies in the window and
+/// whose footprint holds at most kKept cells: no bounds checks, slots from
+/// the per-row and per-column tables (`rows` and `cols` point at the cell's
+/// own entries), known-ness and elevation from `seen_elevation` (NaN:
+/// unknown). The same operations in the same order: the same bits.
+void fit_footprint_inside(const FootholdStencil& stencil, const float* seen_elevation, const std::size_t* rows,
+                          const std::size_t* cols, const GeometryLayers& out);
+
+}  // namespace stridemap::foothold
