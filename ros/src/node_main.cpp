@@ -1,10 +1,11 @@
 // stridemap_node: the ROS 1 node (docs/ros.md). Scans (LaserScan or
 // PointCloud2) and poses (TF or a pose topic) in, through MessageMapper to
-// the library's MappingPipeline; the map out as images, a cloud, a marker
-// and diagnostics; services to save and clear the map.
+// the library's MappingPipeline; the map out as images, a cloud, a marker,
+// an OccupancyGrid of the foothold score, a grid_map_msgs/GridMap and
+// diagnostics; services to save and clear the map.
+#include <algorithm>
 #include <cstdint>
 #include <memory>
-#include <algorithm>
 #include <set>
 #include <sstream>
 #include <string>
