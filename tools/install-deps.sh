@@ -14,6 +14,9 @@ packages=(
   ros-core libroscpp-dev librosbag-dev libtf2-ros-dev libtf2-msgs-dev libtopic-tools-dev
   libsensor-msgs-dev libnav-msgs-dev libgeometry-msgs-dev libvisualization-msgs-dev
   libdiagnostic-msgs-dev libstd-srvs-dev librcpputils-dev librcutils-dev libament-index-cpp-dev
+  # grid_map_msgs' headers: Debian's gencpp (system Python) and the .msg
+  # files of std_msgs and geometry_msgs, which they use
+  python3-gencpp python3-genmsg ros-std-msgs ros-geometry-msgs
   # rostopic echo / rosservice call of the node's topics and services, headless
   python3-sensor-msgs python3-nav-msgs python3-visualization-msgs python3-diagnostic-msgs python3-std-srvs
   chromium  # the report page's browser test (tests/browser); about 50 s to install

@@ -1,7 +1,9 @@
 // stridemap_node: the ROS 1 node (docs/ros.md). Scans (LaserScan or
 // PointCloud2) and poses (TF or a pose topic) in, through MessageMapper to
-// the library's MappingPipeline; the map out as images, a cloud, a marker
-// and diagnostics; services to save and clear the map.
+// the library's MappingPipeline; the map out as images, a cloud, a marker,
+// an OccupancyGrid of the foothold score, a grid_map_msgs/GridMap and
+// diagnostics; services to save and clear the map.
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <set>
@@ -62,6 +64,8 @@ class Node {
     pnh.param("scan_queue_size", scan_queue_size, scan_queue_size);
     pnh.param("cloud_queue_size", cloud_queue_size, cloud_queue_size);
     pnh.param<std::string>("map_file", map_file_, "stridemap_map.smap");
+    // The OccupancyGrid's source: a score in [0, 1], 1 the best foothold.
+    pnh.param<std::string>("occupancy_layer", occupancy_layer_, "foothold_score");
     layer_names_ = split_names(layers);
     if (scan_topic.empty() && cloud_topic.empty()) throw InputError("~scan_topic and ~cloud_topic: both empty");
     if (publish_every_s <= 0.0) throw InputError("~publish_every_s: must be positive");
@@ -79,12 +83,25 @@ class Node {
     mapper_ = std::make_unique<MessageMapper>(options, *poses_);
     // The map is checked against the layer names once, so a typo fails at start.
     (void)mapper_->layers(layer_names_);
+    grid_map_names_ = layer_names_;
+    if (!occupancy_layer_.empty()) {
+      try {
+        (void)mapper_->layers({occupancy_layer_});
+      } catch (const InputError& e) {
+        throw InputError(std::string("~occupancy_layer (empty: no OccupancyGrid): ") + e.what());
+      }
+      const auto at = std::find(layer_names_.begin(), layer_names_.end(), occupancy_layer_);
+      occupancy_index_ = static_cast<std::size_t>(at - layer_names_.begin());
+      if (at == layer_names_.end()) grid_map_names_.push_back(occupancy_layer_);
+    }
     if (!scan_topic.empty()) scan_sub_ = nh.subscribe(scan_topic, static_cast<std::uint32_t>(scan_queue_size), &Node::on_scan, this);
     if (!cloud_topic.empty()) cloud_sub_ = nh.subscribe(cloud_topic, static_cast<std::uint32_t>(cloud_queue_size), &Node::on_cloud, this);
     for (const std::string& name : layer_names_) {
       image_pubs_.push_back(pnh.advertise<sensor_msgs::Image>("layers/" + name, 1, true));
     }
     info_pub_ = pnh.advertise<nav_msgs::MapMetaData>("map_info", 1, true);
+    grid_map_pub_ = pnh.advertise<grid_map_msgs::GridMap>("grid_map", 1, true);
+    if (!occupancy_layer_.empty()) occupancy_pub_ = pnh.advertise<nav_msgs::OccupancyGrid>("traversability", 1, true);
     cloud_pub_ = pnh.advertise<sensor_msgs::PointCloud2>("cloud", 1, true);
     marker_pub_ = pnh.advertise<visualization_msgs::Marker>("marker", 1, true);
     diag_pub_ = nh.advertise<diagnostic_msgs::DiagnosticArray>("/diagnostics", 10);
@@ -163,7 +180,15 @@ class Node {
                                   mapper_->last_mapped_stamp_s()));
     if (mapper_->stats().mapped == published_at_) return;
     published_at_ = mapper_->stats().mapped;
-    const MapMessages m = map_messages(mapper_->layers(layer_names_), mapper_->options().map_frame, stamp);
+    const std::string& frame = mapper_->options().map_frame;
+    // One copy of the map for every message: the GridMap carries the
+    // occupancy layer too, the images, cloud and marker only ~layers.
+    MapLayers layers = mapper_->layers(grid_map_names_);
+    grid_map_pub_.publish(grid_map_message(layers, frame, stamp));
+    if (!occupancy_layer_.empty()) occupancy_pub_.publish(occupancy_grid(layers, occupancy_index_, frame, stamp));
+    layers.names.resize(layer_names_.size());
+    layers.values.resize(layer_names_.size());
+    const MapMessages m = map_messages(layers, frame, stamp);
     for (std::size_t k = 0; k < image_pubs_.size(); ++k) image_pubs_[k].publish(m.images[k]);
     info_pub_.publish(m.info);
     cloud_pub_.publish(m.cloud);
@@ -199,12 +224,16 @@ class Node {
   TopicPoseSource* topic_poses_ = nullptr;
   std::unique_ptr<MessageMapper> mapper_;
   std::vector<std::string> layer_names_;
+  std::vector<std::string> grid_map_names_;  ///< layer_names_, then occupancy_layer_ if not among them
+  std::string occupancy_layer_;
+  std::size_t occupancy_index_ = 0;  ///< in grid_map_names_
   std::string map_file_;
   std::set<std::string> written_;
   PointCloudData cloud_;
   std::size_t published_at_ = 0;
   ros::Subscriber scan_sub_, cloud_sub_, pose_sub_;
   std::vector<ros::Publisher> image_pubs_;
+  ros::Publisher grid_map_pub_, occupancy_pub_;
   ros::Publisher info_pub_, cloud_pub_, marker_pub_, diag_pub_;
   ros::ServiceServer save_srv_, clear_srv_;
   ros::WallTimer process_timer_, publish_timer_;

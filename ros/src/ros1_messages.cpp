@@ -262,6 +262,76 @@ MapMessages map_messages(const MapLayers& map, const std::string& map_frame, con
   return m;
 }
 
+std::int8_t occupancy_of_score(float score) {
+  if (std::isnan(score)) return -1;
+  return static_cast<std::int8_t>(std::lround(100.0f * (1.0f - std::clamp(score, 0.0f, 1.0f))));
+}
+
+nav_msgs::OccupancyGrid occupancy_grid(const MapLayers& map, std::size_t layer, const std::string& map_frame,
+                                       const ros::Time& stamp) {
+  nav_msgs::OccupancyGrid grid;
+  grid.header.stamp = stamp;
+  grid.header.frame_id = map_frame;
+  const int n = map.cells_per_side;
+  const double res = map.cell_size_m;
+  grid.info.map_load_time = stamp;
+  grid.info.resolution = static_cast<float>(res);
+  grid.info.width = static_cast<std::uint32_t>(n);
+  grid.info.height = static_cast<std::uint32_t>(n);
+  grid.info.origin.position.x = static_cast<double>(map.min_cell_x) * res;
+  grid.info.origin.position.y = static_cast<double>(map.min_cell_y) * res;
+  grid.info.origin.orientation.w = 1.0;
+  const std::vector<float>& values = map.values.at(layer);
+  grid.data.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(n));
+  // Row r of the grid is one y (j = r), as the images.
+  for (int r = 0; r < n; ++r) {
+    for (int c = 0; c < n; ++c) {
+      grid.data[static_cast<std::size_t>(r) * n + c] = occupancy_of_score(values[static_cast<std::size_t>(c) * n + r]);
+    }
+  }
+  return grid;
+}
+
+grid_map_msgs::GridMap grid_map_message(const MapLayers& map, const std::string& map_frame, const ros::Time& stamp) {
+  grid_map_msgs::GridMap msg;
+  const int n = map.cells_per_side;
+  const double res = map.cell_size_m;
+  msg.info.header.stamp = stamp;
+  msg.info.header.frame_id = map_frame;
+  msg.info.resolution = res;
+  msg.info.length_x = n * res;
+  msg.info.length_y = n * res;
+  msg.info.pose.position.x = (static_cast<double>(map.min_cell_x) + 0.5 * n) * res;
+  msg.info.pose.position.y = (static_cast<double>(map.min_cell_y) + 0.5 * n) * res;
+  msg.info.pose.orientation.w = 1.0;
+  msg.layers = map.names;
+  if (std::find(map.names.begin(), map.names.end(), "elevation") != map.names.end()) msg.basic_layers = {"elevation"};
+  // grid_map's circular buffer starts at (0, 0): nothing to unwrap.
+  msg.outer_start_index = 0;
+  msg.inner_start_index = 0;
+  const std::size_t un = static_cast<std::size_t>(n);
+  for (const std::vector<float>& values : map.values) {
+    std_msgs::Float32MultiArray array;
+    array.layout.dim.resize(2);
+    array.layout.dim[0].label = "column_index";
+    array.layout.dim[0].size = static_cast<std::uint32_t>(n);
+    array.layout.dim[0].stride = static_cast<std::uint32_t>(un * un);
+    array.layout.dim[1].label = "row_index";
+    array.layout.dim[1].size = static_cast<std::uint32_t>(n);
+    array.layout.dim[1].stride = static_cast<std::uint32_t>(n);
+    array.layout.data_offset = 0;
+    array.data.resize(un * un);
+    // grid_map's (row, column) = (n-1-i, n-1-j) of MapLayers' (i, j); column-major.
+    for (std::size_t col = 0; col < un; ++col) {
+      for (std::size_t row = 0; row < un; ++row) {
+        array.data[col * un + row] = values[(un - 1 - row) * un + (un - 1 - col)];
+      }
+    }
+    msg.data.push_back(std::move(array));
+  }
+  return msg;
+}
+
 diagnostic_msgs::DiagnosticArray diagnostics(const MessageMapperStats& s, const std::string& last_drop,
                                              const std::string& node_name, const ros::Time& stamp,
                                              std::optional<double> last_mapped_stamp_s) {

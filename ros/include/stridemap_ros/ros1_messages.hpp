@@ -10,7 +10,9 @@
 #include <diagnostic_msgs/DiagnosticArray.h>
 #include <geometry_msgs/Pose.h>
 #include <geometry_msgs/Transform.h>
+#include <grid_map_msgs/GridMap.h>  // generated from ros/msg by gencpp
 #include <nav_msgs/MapMetaData.h>
+#include <nav_msgs/OccupancyGrid.h>
 #include <sensor_msgs/Image.h>
 #include <sensor_msgs/LaserScan.h>
 #include <sensor_msgs/PointCloud2.h>
@@ -60,6 +62,24 @@ struct MapMessages {
 };
 
 MapMessages map_messages(const MapLayers& map, const std::string& map_frame, const ros::Time& stamp);
+
+/// Occupancy for a foothold score in [0, 1] (values outside clamped):
+/// round(100 (1 - score)), so 0 is a perfect foothold and 100 none; NaN
+/// (unknown) is -1.
+std::int8_t occupancy_of_score(float score);
+
+/// Layer `layer` of `map` read as a score, as nav_msgs/OccupancyGrid: the
+/// images' geometry (MapMessages::info) and cell order, occupancy_of_score per cell.
+nav_msgs::OccupancyGrid occupancy_grid(const MapLayers& map, std::size_t layer, const std::string& map_frame,
+                                       const ros::Time& stamp);
+
+/// Every layer of `map` as grid_map_msgs/GridMap, in grid_map's storage
+/// order (docs/ros.md): the pose is the map's centre, lengths in metres,
+/// each layer a column-major Float32MultiArray ("column_index",
+/// "row_index") whose row index runs against the map's x and column index
+/// against its y, from the cell at the map's (max x, max y) corner.
+/// "elevation", when published, is the basic layer.
+grid_map_msgs::GridMap grid_map_message(const MapLayers& map, const std::string& map_frame, const ros::Time& stamp);
 
 /// The mapper's counts as one DiagnosticStatus: OK while every scan is
 /// mapped, WARN once one was dropped (the message names the last reason).

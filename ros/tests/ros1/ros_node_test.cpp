@@ -13,8 +13,10 @@
 #include <sys/wait.h>
 
 #include <diagnostic_msgs/DiagnosticArray.h>
+#include <grid_map_msgs/GridMap.h>
 #include <gtest/gtest.h>
 #include <nav_msgs/MapMetaData.h>
+#include <nav_msgs/OccupancyGrid.h>
 #include <nav_msgs/Odometry.h>
 #include <ros/ros.h>
 #include <rosbag/bag.h>
@@ -86,6 +88,12 @@ TEST_F(RosNodeTest, MapsSimulatedScansLikeTheTruthAndLikeMapBagBitForBit) {
       "/stridemap_mapper/cloud", 1, [&](const sensor_msgs::PointCloud2::ConstPtr& m) { cloud = m; });
   ros::Subscriber s4 = nh_->subscribe<visualization_msgs::Marker>(
       "/stridemap_mapper/marker", 1, [&](const visualization_msgs::Marker::ConstPtr& m) { marker = m; });
+  nav_msgs::OccupancyGrid::ConstPtr occupancy;
+  grid_map_msgs::GridMap::ConstPtr grid;
+  ros::Subscriber s5 = nh_->subscribe<nav_msgs::OccupancyGrid>(
+      "/stridemap_mapper/traversability", 1, [&](const nav_msgs::OccupancyGrid::ConstPtr& m) { occupancy = m; });
+  ros::Subscriber s6 = nh_->subscribe<grid_map_msgs::GridMap>(
+      "/stridemap_mapper/grid_map", 1, [&](const grid_map_msgs::GridMap::ConstPtr& m) { grid = m; });
 
   const auto players = play(*nh_, bag, "stridemap_mapper");
   const double n = static_cast<double>(run.scans.size());
@@ -102,7 +110,8 @@ TEST_F(RosNodeTest, MapsSimulatedScansLikeTheTruthAndLikeMapBagBitForBit) {
   const double last = kStart + run.scans.back().time_s - 1e-6;
   ASSERT_TRUE(wait_for([&] { return elevation && info && cloud && marker && elevation->header.stamp.toSec() >= last &&
                                     cloud->header.stamp.toSec() >= last && marker->header.stamp.toSec() >= last &&
-                                    info->map_load_time.toSec() >= last; },
+                                    info->map_load_time.toSec() >= last && occupancy && grid &&
+                                    occupancy->header.stamp.toSec() >= last && grid->info.header.stamp.toSec() >= last; },
                        60.0, pump));
 
   // The published elevation image against the scene's surface (simulator truth).
@@ -132,6 +141,54 @@ TEST_F(RosNodeTest, MapsSimulatedScansLikeTheTruthAndLikeMapBagBitForBit) {
   EXPECT_EQ(cloud->fields.size(), 3u + 4u);  // x, y, z + elevation, certainty, mean_elevation, state
   EXPECT_EQ(cloud->fields[4].name, "certainty");
   EXPECT_EQ(marker->points.size(), static_cast<std::size_t>(known));
+
+  // The OccupancyGrid: the images' geometry in the map frame.
+  EXPECT_EQ(occupancy->header.frame_id, "map");
+  EXPECT_EQ(occupancy->info.width, info->width);
+  EXPECT_EQ(occupancy->info.height, info->height);
+  EXPECT_EQ(occupancy->info.resolution, info->resolution);
+  EXPECT_EQ(occupancy->info.origin.position.x, info->origin.position.x);
+  EXPECT_EQ(occupancy->info.origin.position.y, info->origin.position.y);
+  ASSERT_EQ(occupancy->data.size(), static_cast<std::size_t>(info->width) * info->height);
+
+  // The GridMap, read with the generated definitions: ~layers then the
+  // foothold score; centre, lengths and grid_map's reversed, column-major order.
+  const std::uint32_t w = info->width;
+  EXPECT_EQ(grid->info.header.frame_id, "map");
+  ASSERT_EQ(grid->layers, (std::vector<std::string>{"elevation", "certainty", "mean_elevation", "state", "foothold_score"}));
+  ASSERT_EQ(grid->data.size(), grid->layers.size());
+  EXPECT_EQ(grid->basic_layers, std::vector<std::string>{"elevation"});
+  EXPECT_NEAR(grid->info.resolution, info->resolution, 1e-6);
+  EXPECT_NEAR(grid->info.length_x, w * grid->info.resolution, 1e-9);
+  EXPECT_NEAR(grid->info.pose.position.x, info->origin.position.x + 0.5 * grid->info.length_x, 1e-6);
+  EXPECT_NEAR(grid->info.pose.position.y, info->origin.position.y + 0.5 * grid->info.length_y, 1e-6);
+  for (const std_msgs::Float32MultiArray& layer : grid->data) {
+    ASSERT_EQ(layer.layout.dim.size(), 2u);
+    EXPECT_EQ(layer.layout.dim[0].label, "column_index");
+    EXPECT_EQ(layer.layout.dim[1].label, "row_index");
+    ASSERT_EQ(layer.data.size(), static_cast<std::size_t>(w) * w);
+  }
+  // Image cell (r, c) is grid_map's (row w-1-c, column w-1-r). One known cell
+  // first (the middle of the known ones), then every cell.
+  auto grid_at = [&](std::size_t layer, std::uint32_t r, std::uint32_t c) {
+    return grid->data[layer].data[static_cast<std::size_t>(w - 1 - r) * w + (w - 1 - c)];
+  };
+  int known_score = 0, seen = 0;
+  for (std::uint32_t r = 0; r < w; ++r) {
+    for (std::uint32_t c = 0; c < w; ++c) {
+      const float v = z[r * w + c];
+      if (std::isfinite(v) && ++seen == known / 2) {
+        EXPECT_EQ(grid_at(0, r, c), v) << "known cell " << r << ", " << c;
+      }
+      const float g = grid_at(0, r, c);
+      EXPECT_TRUE(std::isnan(v) ? std::isnan(g) : g == v) << r << ", " << c;
+      const float score = grid_at(4, r, c);
+      const std::int8_t o = occupancy->data[r * w + c];
+      EXPECT_EQ(o, stridemap::ros_adapter::occupancy_of_score(score)) << r << ", " << c;
+      if (o >= 0) ++known_score;
+    }
+  }
+  EXPECT_GT(known_score, known / 2) << "too few cells with a foothold score";
 
   // Save through the service; the bag through `stridemap map --bag`; the same map.
   std_srvs::Trigger save;
@@ -283,6 +340,14 @@ TEST_F(RosNodeTest, ABadQueueSizeStopsTheNodeNamingTheParameter) {
     EXPECT_NE(read_text(log_).find(std::string("~") + name + ": must be at least 1"), std::string::npos)
         << read_text(log_);
   }
+}
+
+TEST_F(RosNodeTest, AnUnknownOccupancyLayerStopsTheNodeNamingTheParameter) {
+  std::unique_ptr<Child> node = start_node("stridemap_bad_occupancy", {{"occupancy_layer", "no_such_layer"}});
+  ASSERT_TRUE(wait_for([&] { return !node->running(); }, 60.0)) << "an unknown ~occupancy_layer was taken";
+  EXPECT_TRUE(WIFEXITED(node->exit_status()) && WEXITSTATUS(node->exit_status()) == 2);
+  EXPECT_NE(read_text(log_).find("~occupancy_layer"), std::string::npos) << read_text(log_);
+  EXPECT_NE(read_text(log_).find("no_such_layer"), std::string::npos) << read_text(log_);
 }
 
 }  // namespace
