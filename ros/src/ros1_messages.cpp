@@ -171,6 +171,21 @@ std_msgs::ColorRGBA height_colour(float z, float lo, float hi) {
   return c;
 }
 
+// The grid's geometry, shared by the layer images' info and the
+// OccupancyGrid, so that the two cannot disagree.
+nav_msgs::MapMetaData map_meta_data(const MapLayers& map, const ros::Time& stamp) {
+  nav_msgs::MapMetaData info;
+  const double res = map.cell_size_m;
+  info.map_load_time = stamp;
+  info.resolution = static_cast<float>(res);
+  info.width = static_cast<std::uint32_t>(map.cells_per_side);
+  info.height = static_cast<std::uint32_t>(map.cells_per_side);
+  info.origin.position.x = static_cast<double>(map.min_cell_x) * res;
+  info.origin.position.y = static_cast<double>(map.min_cell_y) * res;
+  info.origin.orientation.w = 1.0;
+  return info;
+}
+
 }  // namespace
 
 MapMessages map_messages(const MapLayers& map, const std::string& map_frame, const ros::Time& stamp) {
@@ -178,13 +193,7 @@ MapMessages map_messages(const MapLayers& map, const std::string& map_frame, con
   const int n = map.cells_per_side;
   const std::size_t cells = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
   const double res = map.cell_size_m;
-  m.info.map_load_time = stamp;
-  m.info.resolution = static_cast<float>(res);
-  m.info.width = static_cast<std::uint32_t>(n);
-  m.info.height = static_cast<std::uint32_t>(n);
-  m.info.origin.position.x = static_cast<double>(map.min_cell_x) * res;
-  m.info.origin.position.y = static_cast<double>(map.min_cell_y) * res;
-  m.info.origin.orientation.w = 1.0;
+  m.info = map_meta_data(map, stamp);
 
   std_msgs::Header header;
   header.stamp = stamp;
@@ -273,14 +282,7 @@ nav_msgs::OccupancyGrid occupancy_grid(const MapLayers& map, std::size_t layer, 
   grid.header.stamp = stamp;
   grid.header.frame_id = map_frame;
   const int n = map.cells_per_side;
-  const double res = map.cell_size_m;
-  grid.info.map_load_time = stamp;
-  grid.info.resolution = static_cast<float>(res);
-  grid.info.width = static_cast<std::uint32_t>(n);
-  grid.info.height = static_cast<std::uint32_t>(n);
-  grid.info.origin.position.x = static_cast<double>(map.min_cell_x) * res;
-  grid.info.origin.position.y = static_cast<double>(map.min_cell_y) * res;
-  grid.info.origin.orientation.w = 1.0;
+  grid.info = map_meta_data(map, stamp);
   const std::vector<float>& values = map.values.at(layer);
   grid.data.resize(static_cast<std::size_t>(n) * static_cast<std::size_t>(n));
   // Row r of the grid is one y (j = r), as the images.
