@@ -11,6 +11,23 @@
 #include "foothold_cells.hpp"
 
 namespace stridemap::foothold {
+namespace {
+
+// The inverse of the least-squares normal matrix of `count` cells with
+// these coordinate sums; false when the cells are collinear. Cell spacing
+// squared sets the scale of the determinant: collinear cells give one that
+// vanishes relative to it.
+bool invert_normal_matrix(std::size_t count, double sx, double sy, double sxx, double sxy, double syy,
+                          double cell_size_m, Eigen::Matrix3d& inverse) {
+  Eigen::Matrix3d a;
+  a << static_cast<double>(count), sx, sy, sx, sxx, sxy, sy, sxy, syy;
+  bool invertible = false;
+  const double scale = cell_size_m * cell_size_m;
+  a.computeInverseWithCheck(inverse, invertible, 1e-9 * scale * scale);
+  return invertible;
+}
+
+}  // namespace
 
 void fit_footprint(const FootholdStencil& stencil, const WindowSlots& slots, const float* elevation,
                    const std::uint8_t* state, CellIndex cell, const GeometryLayers& out) {
@@ -54,15 +71,8 @@ void fit_footprint(const FootholdStencil& stencil, const WindowSlots& slots, con
   if (count < stencil.min_known) return;
   step[s] = static_cast<float>(hi - lo);
   Eigen::Matrix3d inverse = stencil.full_inverse;
-  if (count != stencil.footprint.size()) {
-    Eigen::Matrix3d a;
-    a << static_cast<double>(count), sx, sy, sx, sxx, sxy, sy, sxy, syy;
-    bool invertible = false;
-    // Cell spacing squared sets the scale of the determinant: collinear
-    // cells give one that vanishes relative to it.
-    const double scale = cell_size_m * cell_size_m;
-    a.computeInverseWithCheck(inverse, invertible, 1e-9 * scale * scale);
-    if (!invertible) return;
+  if (count != stencil.footprint.size() && !invert_normal_matrix(count, sx, sy, sxx, sxy, syy, cell_size_m, inverse)) {
+    return;
   }
   const Eigen::Vector3d plane = inverse * b;
   double residual2 = 0.0;
@@ -131,12 +141,7 @@ void fit_footprint_inside(const FootholdStencil& stencil, const float* seen, con
       sxy += x * y;
       syy += y * y;
     }
-    Eigen::Matrix3d a;
-    a << static_cast<double>(count), sx, sy, sx, sxx, sxy, sy, sxy, syy;
-    bool invertible = false;
-    const double scale = cell_size_m * cell_size_m;
-    a.computeInverseWithCheck(partial, invertible, 1e-9 * scale * scale);
-    if (!invertible) return;
+    if (!invert_normal_matrix(count, sx, sy, sxx, sxy, syy, cell_size_m, partial)) return;
     inverse = &partial;
   }
   const Eigen::Vector3d b(b0, b1, b2);
