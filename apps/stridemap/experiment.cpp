@@ -13,7 +13,6 @@
 #include "installed_data.hpp"
 #include "terminal_output.hpp"
 #include "output_guard.hpp"
-#include "stridemap/core/printable_text.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
 #include "stridemap/experiments/cart_rail_report.hpp"
@@ -158,7 +157,7 @@ void run_cart_rail_command(const CartRailArgs& args) {
   }, other_files(args.overwrite));
   note("wrote " + dir);
   std::fputs(cart_rail_table(result, info).c_str(), stdout);
-  std::printf("outputs: %s\n", printable_text(dir).c_str());
+  print_outputs_line(dir);
 }
 
 struct MixedPixelsArgs {
@@ -194,7 +193,7 @@ void run_mixed_pixels_command(const MixedPixelsArgs& args) {
                    [&](const std::string& folder) { write_mixed_pixels_outputs(result, options, args.scene_path, folder); },
                    other_files(args.overwrite));
   std::fputs(mixed_pixels_table(result).c_str(), stdout);
-  std::printf("outputs: %s\n", printable_text(dir).c_str());
+  print_outputs_line(dir);
 }
 
 struct LightingArgs {
@@ -232,7 +231,7 @@ void run_lighting_command(const LightingArgs& args) {
                    [&](const std::string& folder) { write_lighting_outputs(result, options, scene_path, folder); },
                    other_files(args.overwrite));
   std::fputs(lighting_table(result).c_str(), stdout);
-  std::printf("outputs: %s\n", printable_text(dir).c_str());
+  print_outputs_line(dir);
 }
 
 }  // namespace

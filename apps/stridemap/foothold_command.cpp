@@ -10,7 +10,6 @@
 #include "installed_data.hpp"
 #include "output_guard.hpp"
 #include "terminal_output.hpp"
-#include "stridemap/core/printable_text.hpp"
 #include "stridemap/config/mapper_config.hpp"
 #include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/core/error.hpp"
@@ -57,7 +56,7 @@ void run_foothold_command(const FootholdArgs& args) {
       dir, "--out", [&](const std::string& folder) { write_foothold_outputs(result, options, folder); },
       other_files(args.overwrite));
   std::fputs(foothold_table(result).c_str(), stdout);
-  std::printf("outputs: %s\n", printable_text(dir).c_str());
+  print_outputs_line(dir);
 }
 
 }  // namespace

@@ -12,7 +12,6 @@
 #include "cli_parsing.hpp"
 #include "output_guard.hpp"
 #include "terminal_output.hpp"
-#include "stridemap/core/printable_text.hpp"
 #include "stridemap/experiments/mount_analysis.hpp"
 #include "stridemap/experiments/mount_analysis_report.hpp"
 #include "report_command.hpp"
@@ -102,7 +101,7 @@ void run_mount_analysis_command(const MountAnalysisArgs& args) {
   }, other_files(args.overwrite));
   note("wrote " + dir);
   std::fputs(mount_analysis_table(result).c_str(), stdout);
-  std::printf("outputs: %s\n", printable_text(dir).c_str());
+  print_outputs_line(dir);
 }
 
 }  // namespace

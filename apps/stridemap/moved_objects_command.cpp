@@ -11,7 +11,6 @@
 #include "installed_data.hpp"
 #include "output_guard.hpp"
 #include "terminal_output.hpp"
-#include "stridemap/core/printable_text.hpp"
 #include "stridemap/config/mapper_config.hpp"
 #include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/experiments/moved_objects.hpp"
@@ -47,7 +46,7 @@ void run_moved_objects_command(const MovedObjectsArgs& args) {
     write_moved_objects_outputs(result, options, scene_path, folder);
   }, other_files(args.overwrite));
   std::fputs(moved_objects_table(result).c_str(), stdout);
-  std::printf("outputs: %s\n", printable_text(dir).c_str());
+  print_outputs_line(dir);
 }
 
 }  // namespace

@@ -15,7 +15,6 @@
 #include "commands.hpp"
 #include "output_guard.hpp"
 #include "terminal_output.hpp"
-#include "stridemap/core/printable_text.hpp"
 #include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/fidelity.hpp"
@@ -129,7 +128,7 @@ void run_fidelity_command(const FidelityArgs& args) {
       dir, "--out", [&](const std::string& folder) { write_fidelity_outputs(result, options, folder); },
       other_files(args.overwrite));
   std::fputs(fidelity_table(result).c_str(), stdout);
-  std::printf("outputs: %s\n", printable_text(dir).c_str());
+  print_outputs_line(dir);
 }
 
 }  // namespace

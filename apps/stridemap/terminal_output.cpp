@@ -34,4 +34,6 @@ void note(const std::string& text) {
   std::fprintf(stderr, "stridemap: %s\n", printable_text(text).c_str());
 }
 
+void print_outputs_line(const std::string& folder) { std::printf("outputs: %s\n", printable_text(folder).c_str()); }
+
 }  // namespace stridemap::cli

@@ -28,4 +28,8 @@ io::ProgressBar progress_bar(std::string label, std::string unit);
 /// With --verbose: "stridemap: <text>" on stderr.
 void note(const std::string& text);
 
+/// "outputs: <folder>" on stdout, the last line of an experiment; the
+/// folder is the user's text, so it goes through printable_text.
+void print_outputs_line(const std::string& folder);
+
 }  // namespace stridemap::cli

@@ -12,7 +12,6 @@
 #include "installed_data.hpp"
 #include "terminal_output.hpp"
 #include "output_guard.hpp"
-#include "stridemap/core/printable_text.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/rocky_walk.hpp"
 #include "stridemap/experiments/rocky_walk_report.hpp"
@@ -169,7 +168,7 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   }, other_files(args.overwrite));
   note("wrote " + dir);
   std::fputs(rocky_walk_table(result).c_str(), stdout);
-  std::printf("outputs: %s\n", printable_text(dir).c_str());
+  print_outputs_line(dir);
 }
 
 }  // namespace
