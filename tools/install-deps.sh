@@ -19,6 +19,7 @@ packages=(
   python3-gencpp python3-genmsg ros-std-msgs ros-geometry-msgs
   # rostopic echo / rosservice call of the node's topics and services, headless
   python3-sensor-msgs python3-nav-msgs python3-visualization-msgs python3-diagnostic-msgs python3-std-srvs
+  python3-tf2-msgs  # rostopic echo /tf
   chromium  # the report page's browser test (tests/browser); about 50 s to install
 )
 # npm fetches the report page's three.js at build time (web/package-lock.json).

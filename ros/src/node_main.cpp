@@ -4,6 +4,7 @@
 // an OccupancyGrid of the foothold score, a grid_map_msgs/GridMap and
 // diagnostics; services to save and clear the map.
 #include <algorithm>
+#include <cstdio>
 #include <cstdint>
 #include <memory>
 #include <set>
@@ -21,6 +22,7 @@
 
 #include "stridemap/core/error.hpp"
 #include "stridemap_ros/map_saving.hpp"
+#include "stridemap_ros/node_parameters.hpp"
 #include "stridemap_ros/ros1_messages.hpp"
 
 namespace stridemap::ros_adapter {
@@ -37,40 +39,65 @@ std::vector<std::string> split_names(const std::string& text) {
 
 double wall_now() { return ros::WallTime::now().toSec(); }
 
+/// Everything the node reads from `~`, declared once for reading, `--help`
+/// and the start-up line.
+struct NodeSettings {
+  MessageMapperOptions mapper;
+  std::string scan_topic, cloud_topic, pose_topic, layers, occupancy_layer, map_file;
+  double publish_every_s = 0.5;
+  int scan_queue_size = 200, cloud_queue_size = 50;
+};
+
+NodeSettings read_node_settings(ParameterReader& read) {
+  NodeSettings s;
+  MessageMapperOptions& m = s.mapper;
+  const std::string home = ros_home();
+  m.config_path = read.path("config", "", home, "the mapper YAML (docs/config.md); empty: the defaults");
+  m.map_frame = read.text("map_frame", m.map_frame, "TF's fixed frame; the pose topic's and the outputs' frame");
+  m.sensor_frame = read.text("sensor_frame", m.sensor_frame, "the frame scans must carry; empty: the first scan's");
+  m.range_error_m = read.number("range_error_m", m.range_error_m, 1e-6, 1.0, "Delta r: a beam's range error bound [m]");
+  m.range_error_fraction =
+      read.number("range_error_fraction", m.range_error_fraction, 0.0, 1.0, "Delta r's part proportional to the range");
+  m.min_intensity = read.number("min_intensity", m.min_intensity, 0.0, 1e12, "beams below this intensity are not used; 0: all");
+  m.pose_wait_s = read.number("pose_wait_s", m.pose_wait_s, 0.0, 3600.0, "how long a scan waits for its pose [s]");
+  m.max_pose_gap_s =
+      read.number("max_pose_gap_s", m.max_pose_gap_s, 1e-6, 3600.0, "pose topic: no interpolation across wider gaps [s]");
+  s.cloud_topic = read.text("cloud_topic", "", "PointCloud2 stripes (x, y, z in the sensor frame); empty: none");
+  // A stripe camera's node does not also take whatever LaserScan is on
+  // `scan` (two sensors in one map would drop each other's frames).
+  s.scan_topic = read.text("scan_topic", s.cloud_topic.empty() ? "scan" : "",
+                           "LaserScan topic; empty by default when ~cloud_topic is given");
+  s.pose_topic = read.text("pose_topic", "", "PoseStamped or Odometry in ~map_frame; empty: TF");
+  s.layers = read.text("layers", "elevation,certainty,mean_elevation,state", "layers published as images, cloud and GridMap");
+  s.occupancy_layer =
+      read.text("occupancy_layer", "foothold_score", "the score in [0, 1] behind ~traversability; empty: no OccupancyGrid");
+  s.publish_every_s = read.number("publish_every_s", s.publish_every_s, 1e-3, 3600.0, "how often the map is published [s]");
+  // roscpp drops the oldest message past a subscriber's queue without a
+  // word, so these are the node's only say in what a busy host loses.
+  s.scan_queue_size = read.integer("scan_queue_size", s.scan_queue_size, 1, 100000, "LaserScans queued for the node");
+  s.cloud_queue_size = read.integer("cloud_queue_size", s.cloud_queue_size, 1, 100000, "clouds queued for the node");
+  s.map_file = read.path("map_file", "stridemap_map.smap", home, "where ~save_map writes; relative: under ROS_HOME");
+  return s;
+}
+
 class Node {
  public:
   explicit Node(ros::NodeHandle& nh, ros::NodeHandle& pnh) : pnh_(pnh), tf_(ros::Duration(30.0)), listener_(tf_) {
-    MessageMapperOptions options;
-    pnh.param<std::string>("config", options.config_path, "");
-    pnh.param<std::string>("map_frame", options.map_frame, options.map_frame);
-    pnh.param<std::string>("sensor_frame", options.sensor_frame, options.sensor_frame);
-    pnh.param("range_error_m", options.range_error_m, options.range_error_m);
-    pnh.param("range_error_fraction", options.range_error_fraction, options.range_error_fraction);
-    pnh.param("min_intensity", options.min_intensity, options.min_intensity);
-    pnh.param("pose_wait_s", options.pose_wait_s, options.pose_wait_s);
-    pnh.param("max_pose_gap_s", options.max_pose_gap_s, options.max_pose_gap_s);
-    std::string scan_topic, cloud_topic, pose_topic, layers;
-    pnh.param<std::string>("cloud_topic", cloud_topic, "");
-    // A stripe camera's node does not also take whatever LaserScan is on
-    // `scan` (two sensors in one map would drop each other's frames).
-    pnh.param<std::string>("scan_topic", scan_topic, cloud_topic.empty() ? "scan" : "");
-    pnh.param<std::string>("pose_topic", pose_topic, "");
-    pnh.param<std::string>("layers", layers, "elevation,certainty,mean_elevation,state");
-    double publish_every_s = 0.5;
-    pnh.param("publish_every_s", publish_every_s, publish_every_s);
-    // roscpp drops the oldest message past a subscriber's queue without a
-    // word, so these are the node's only say in what a busy host loses.
-    int scan_queue_size = 200, cloud_queue_size = 50;
-    pnh.param("scan_queue_size", scan_queue_size, scan_queue_size);
-    pnh.param("cloud_queue_size", cloud_queue_size, cloud_queue_size);
-    pnh.param<std::string>("map_file", map_file_, "stridemap_map.smap");
-    // The OccupancyGrid's source: a score in [0, 1], 1 the best foothold.
-    pnh.param<std::string>("occupancy_layer", occupancy_layer_, "foothold_score");
-    layer_names_ = split_names(layers);
+    const ServerParameters server(pnh);
+    ParameterReader read(server);
+    NodeSettings settings = read_node_settings(read);
+    read.refuse_unknown();
+    ROS_INFO("stridemap_node: %s", read.summary().c_str());
+    const MessageMapperOptions& options = settings.mapper;
+    const std::string& scan_topic = settings.scan_topic;
+    const std::string& cloud_topic = settings.cloud_topic;
+    const std::string& pose_topic = settings.pose_topic;
+    const double publish_every_s = settings.publish_every_s;
+    const int scan_queue_size = settings.scan_queue_size, cloud_queue_size = settings.cloud_queue_size;
+    map_file_ = settings.map_file;
+    occupancy_layer_ = settings.occupancy_layer;
+    layer_names_ = split_names(settings.layers);
     if (scan_topic.empty() && cloud_topic.empty()) throw InputError("~scan_topic and ~cloud_topic: both empty");
-    if (publish_every_s <= 0.0) throw InputError("~publish_every_s: must be positive");
-    if (scan_queue_size < 1) throw InputError("~scan_queue_size: must be at least 1");
-    if (cloud_queue_size < 1) throw InputError("~cloud_queue_size: must be at least 1");
 
     if (pose_topic.empty()) {
       poses_ = std::make_unique<TfPoseSource>(tf_, options.map_frame);
@@ -110,8 +137,8 @@ class Node {
     process_timer_ = nh.createWallTimer(ros::WallDuration(0.05), [this](const ros::WallTimerEvent&) { guarded("timer", [&] { process(); }); });
     publish_timer_ =
         nh.createWallTimer(ros::WallDuration(publish_every_s), [this](const ros::WallTimerEvent&) { guarded("publish", [&] { publish(); }); });
-    ROS_INFO("stridemap_node: scans from '%s', clouds from '%s', poses from %s, map frame '%s'", scan_topic.c_str(),
-             cloud_topic.c_str(), pose_topic.empty() ? "TF" : pose_topic.c_str(), options.map_frame.c_str());
+    // Flushed: a node whose output goes to a file or pipe is asked about its settings first.
+    std::fflush(stdout);
   }
 
  private:
@@ -196,9 +223,11 @@ class Node {
   }
 
   bool on_save(std_srvs::Trigger::Request&, std_srvs::Trigger::Response& res) {
-    std::string path = map_file_;
-    pnh_.getParam("map_file", path);  // read at each call: `rosparam set` then call
     try {
+      // Read at each call, so `rosparam set` then a call saves elsewhere.
+      const ServerParameters server(pnh_);
+      ParameterReader read(server);
+      const std::string path = read.path("map_file", map_file_, ros_home(), "");
       save_map(*mapper_, path, "stridemap_node " + ros::this_node::getName(), written_);
       res.success = true;
       res.message = path + ": " + std::to_string(mapper_->stats().mapped) + " scans";
@@ -243,11 +272,21 @@ class Node {
 }  // namespace stridemap::ros_adapter
 
 int main(int argc, char** argv) {
+  using namespace stridemap::ros_adapter;
+  if (asks_for_help(argc, argv)) {
+    const TableParameters none;
+    ParameterReader read(none);
+    (void)read_node_settings(read);
+    std::printf("stridemap_node: scans and poses in, the terrain map out (docs/ros.md)\n"
+                "usage: rosrun stridemap stridemap_node [_parameter:=value ...]\nparameters:\n%s",
+                read.help_text().c_str());
+    return 0;
+  }
   ros::init(argc, argv, "stridemap_node");
   ros::NodeHandle nh;
   ros::NodeHandle pnh("~");
   try {
-    stridemap::ros_adapter::Node node(nh, pnh);
+    Node node(nh, pnh);
     ros::spin();
   } catch (const std::exception& e) {  // a bad parameter or config file: said, exit 2
     ROS_FATAL("stridemap_node: %s", e.what());

@@ -3,6 +3,7 @@
 // file that grows (the emulator's --poses-out), TF map -> base_link plus
 // the configured mount as base_link -> laser (docs/ros.md, "The whole
 // stack without hardware").
+#include <cstdio>
 #include <string>
 
 #include <ros/ros.h>
@@ -11,20 +12,61 @@
 #include <tf2_ros/transform_broadcaster.h>
 
 #include "stridemap_ros/ros1_messages.hpp"
+#include "stridemap_ros/node_parameters.hpp"
 #include "stridemap_ros/urg_input.hpp"
+
+namespace {
+
+struct BridgeSettings {
+  std::string device, poses_file, config, map_frame, base_frame, laser_frame;
+};
+
+BridgeSettings read_bridge_settings(stridemap::ros_adapter::ParameterReader& read) {
+  const std::string home = stridemap::ros_adapter::ros_home();
+  BridgeSettings s;
+  s.device = read.path("device", "/dev/ttyACM0", home, "the URG-04LX's serial device (or the emulator's link)");
+  s.poses_file = read.path("poses_file", "", home, "a pose file as it grows (docs/live.md's format); empty: no poses");
+  s.config = read.path("config", "", home, "the mapper YAML whose mount gives base_frame -> laser_frame; empty: defaults");
+  s.map_frame = read.text("map_frame", "map", "the poses' parent frame");
+  s.base_frame = read.text("base_frame", "base_link", "the robot's trunk frame");
+  s.laser_frame = read.text("laser_frame", "laser", "the scans' frame");
+  return s;
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace stridemap::ros_adapter;
+  if (asks_for_help(argc, argv)) {
+    const TableParameters none;
+    ParameterReader read(none);
+    (void)read_bridge_settings(read);
+    std::printf("stridemap_urg_bridge: a URG-04LX as LaserScan on /scan, a pose file as TF (docs/ros.md)\n"
+                "usage: rosrun stridemap stridemap_urg_bridge [_parameter:=value ...]\nparameters:\n%s",
+                read.help_text().c_str());
+    return 0;
+  }
   ros::init(argc, argv, "stridemap_urg_bridge");
   ros::NodeHandle nh;
   ros::NodeHandle pnh("~");
   std::string device, poses_file, config, map_frame, base_frame, laser_frame;
-  pnh.param<std::string>("device", device, "/dev/ttyACM0");
-  pnh.param<std::string>("poses_file", poses_file, "");
-  pnh.param<std::string>("config", config, "");
-  pnh.param<std::string>("map_frame", map_frame, "map");
-  pnh.param<std::string>("base_frame", base_frame, "base_link");
-  pnh.param<std::string>("laser_frame", laser_frame, "laser");
+  try {
+    const ServerParameters server(pnh);
+    ParameterReader read(server);
+    const BridgeSettings s = read_bridge_settings(read);
+    read.refuse_unknown();
+    ROS_INFO("stridemap_urg_bridge: %s", read.summary().c_str());
+    std::fflush(stdout);
+    device = s.device;
+    poses_file = s.poses_file;
+    config = s.config;
+    map_frame = s.map_frame;
+    base_frame = s.base_frame;
+    laser_frame = s.laser_frame;
+  } catch (const std::exception& e) {
+    ROS_FATAL("stridemap_urg_bridge: %s", e.what());
+    return 2;
+  }
   try {
     UrgInput input(device, poses_file, config);
     ros::Publisher scan_pub = nh.advertise<sensor_msgs::LaserScan>("scan", 20);

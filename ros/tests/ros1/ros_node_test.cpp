@@ -8,6 +8,7 @@
 #include <fstream>
 #include <map>
 #include <memory>
+#include <sstream>
 #include <string>
 
 #include <sys/wait.h>
@@ -295,11 +296,12 @@ TEST_F(RosNodeTest, PosesFromAnOdometryTopicGiveMapBagsMapBitForBit) {
     }
     b.close();
   }
+  // A relative ~map_file is under ROS_HOME (the fixture's folder), not the node's working folder.
   const std::string node_map = *folder_ + "/odom_node.smap";
   // A scanner less accurate than the URG: the node's parameter and map --bag's option alike.
   std::unique_ptr<Child> node =
       start_node("stridemap_odom", {{"pose_topic", "/odom"}, {"pose_wait_s", "30.0"}, {"range_error_m", "0.03"},
-                                    {"publish_every_s", "0.2"}, {"map_file", node_map}});
+                                    {"publish_every_s", "0.2"}, {"map_file", "odom_node.smap"}});
   listen_to_diagnostics("stridemap_odom");
   const auto players = play(*nh_, bag, "stridemap_odom");
   const double n = static_cast<double>(run.scans.size());
@@ -312,6 +314,9 @@ TEST_F(RosNodeTest, PosesFromAnOdometryTopicGiveMapBagsMapBitForBit) {
   ASSERT_TRUE(ros::service::waitForService("/stridemap_odom/save_map", 30000));
   ASSERT_TRUE(ros::service::call("/stridemap_odom/save_map", save));
   ASSERT_TRUE(save.response.success) << save.response.message;
+  EXPECT_NE(read_text(log_).find("stridemap_node: config='' map_frame='map'"), std::string::npos) << read_text(log_);
+  EXPECT_NE(read_text(log_).find("range_error_m=0.03"), std::string::npos) << read_text(log_);
+  EXPECT_NE(read_text(log_).find("map_file='" + node_map + "'"), std::string::npos) << read_text(log_);
   const std::string out = *folder_ + "/odom_from_bag";
   const std::string command = std::string(STRIDEMAP_CLI_PATH) + " map --bag " + bag +
                               " --scan-topic /scan --pose-topic /odom --pose-wait-s 30 --range-error-m 0.03 --out " + out + " > " +
@@ -337,7 +342,7 @@ TEST_F(RosNodeTest, ABadQueueSizeStopsTheNodeNamingTheParameter) {
     std::unique_ptr<Child> node = start_node(std::string("stridemap_bad_") + name, {{name, "0"}, {"cloud_topic", "/stripe"}});
     ASSERT_TRUE(wait_for([&] { return !node->running(); }, 60.0)) << name << " 0 was taken";
     EXPECT_TRUE(WIFEXITED(node->exit_status()) && WEXITSTATUS(node->exit_status()) == 2) << name;
-    EXPECT_NE(read_text(log_).find(std::string("~") + name + ": must be at least 1"), std::string::npos)
+    EXPECT_NE(read_text(log_).find(std::string("~") + name + ": 0 is outside [1, 100000]"), std::string::npos)
         << read_text(log_);
   }
 }
@@ -348,6 +353,48 @@ TEST_F(RosNodeTest, AnUnknownOccupancyLayerStopsTheNodeNamingTheParameter) {
   EXPECT_TRUE(WIFEXITED(node->exit_status()) && WEXITSTATUS(node->exit_status()) == 2);
   EXPECT_NE(read_text(log_).find("~occupancy_layer"), std::string::npos) << read_text(log_);
   EXPECT_NE(read_text(log_).find("no_such_layer"), std::string::npos) << read_text(log_);
+}
+
+// roscpp's own param() would fall back to the default: a typo in a launch
+// file would map with settings nobody chose.
+TEST_F(RosNodeTest, AParameterOfTheWrongTypeOrRangeOrNameStopsTheNodeNamingIt) {
+  const struct {
+    std::string key, value, expected;
+  } cases[] = {
+      {"pose_wait_s", "abc", "~pose_wait_s: 'abc' is a string, not a number"},
+      {"publish_every_s", "-1", "~publish_every_s: -1 is outside [0.001, 3600]"},
+      {"scan_queue_size", "2.5", "~scan_queue_size: 2.5 is a double, not an integer"},
+      {"map_frame", "7", "~map_frame: 7 is an integer, not a string"},
+      {"pose_wiat_s", "1.0", "unknown parameter ~pose_wiat_s; this node reads ~config"},
+  };
+  int k = 0;
+  for (const auto& c : cases) {
+    std::unique_ptr<Child> node = start_node("stridemap_bad_param_" + std::to_string(k++), {{c.key, c.value}});
+    ASSERT_TRUE(wait_for([&] { return !node->running(); }, 60.0)) << c.key << ":=" << c.value << " was taken";
+    EXPECT_TRUE(WIFEXITED(node->exit_status()) && WEXITSTATUS(node->exit_status()) == 2) << c.key;
+    EXPECT_NE(read_text(log_).find(c.expected), std::string::npos) << read_text(log_);
+  }
+}
+
+TEST_F(RosNodeTest, HelpListsTheParametersWithoutAMaster) {
+  const std::string dead_master = "http://127.0.0.1:" + std::to_string(free_port());
+  const std::string node = STRIDEMAP_NODE_PATH;
+  const std::string bridge = (std::filesystem::path(node).parent_path() / "stridemap_urg_bridge").string();
+  for (const std::string& program : {node, bridge}) {
+    const std::string log = *folder_ + "/help.log";
+    const std::string command = "ROS_MASTER_URI=" + dead_master + " timeout 20 " + program + " --help > " + log + " 2>&1";
+    const int status = std::system(command.c_str());
+    EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0) << program << "\n" << read_text(log);
+    EXPECT_NE(read_text(log).find("_config:=path"), std::string::npos) << read_text(log);
+    // docs/ros.md's parameter tables name every parameter the program reads.
+    const std::string docs = read_text(std::string(STRIDEMAP_SOURCE_DIR) + "/docs/ros.md");
+    std::istringstream lines(read_text(log));
+    for (std::string line; std::getline(lines, line);) {
+      if (line.rfind("  _", 0) != 0) continue;
+      const std::string name = line.substr(3, line.find(":=") - 3);
+      EXPECT_NE(docs.find("`~" + name + "`"), std::string::npos) << name << " is not in docs/ros.md";
+    }
+  }
 }
 
 }  // namespace
