@@ -22,6 +22,7 @@ namespace {
 struct CalibrateRangeOptions {
   std::string csv_path;
   std::string json_path;  ///< empty: no JSON output
+  bool overwrite = false;
 };
 
 constexpr const char* coefficient_units[4] = {"m", "-", "1/m", "1/m^2"};
@@ -74,6 +75,7 @@ void write_json(const std::string& path, const std::string& source, const RangeP
 
 void run(const CalibrateRangeOptions& options) {
   refuse_output_that_is_an_input("--json", options.json_path, {{"--csv", options.csv_path}});
+  refuse_existing_files({{"--json", options.json_path}}, options.overwrite);
   const RangePairs pairs = read_range_pairs_csv(options.csv_path);
   const RangeCalibrationFit fit = fit_range_calibration(pairs.measured_m, pairs.true_m);
   const auto [min_it, max_it] = std::minmax_element(pairs.measured_m.begin(), pairs.measured_m.end());
@@ -97,6 +99,7 @@ void register_calibrate_range(CLI::App& app) {
       ->required();
   command->add_option("--json", options->json_path,
                       "Also write coefficients, residuals and statistics to this JSON file");
+  add_file_overwrite_flag(*command, options->overwrite, "--json");
   command->callback([options] { run(*options); });
 }
 

@@ -29,6 +29,7 @@ struct CalibrateArgs {
   bool fit_offset = false;
   double min_confidence = 0.5;
   std::string json_path;
+  bool overwrite = false;
 };
 
 CalibrationTargetImage load_target(const std::string& spec, const StructuredLightParameters& camera,
@@ -64,6 +65,7 @@ void run(const CalibrateArgs& args) {
     if (const auto equals = spec.find('='); equals != std::string::npos) inputs.push_back({"--target", spec.substr(equals + 1)});
   }
   refuse_output_that_is_an_input("--json", args.json_path, inputs);
+  refuse_existing_files({{"--json", args.json_path}}, args.overwrite);
   const StructuredLightConfig config = load_structured_light_config(args.config_path);
   io::StripeDetector detector;
   std::vector<CalibrationTargetImage> targets;
@@ -148,6 +150,7 @@ void register_calibrate_structured_light(CLI::App& app) {
       ->capture_default_str()
       ->check(number_from_to(0.0, 1.0));
   command->add_option("--json", args->json_path, "Also write the result as JSON");
+  add_file_overwrite_flag(*command, args->overwrite, "--json");
   command->callback([args] { run(*args); });
 }
 

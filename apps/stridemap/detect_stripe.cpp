@@ -25,6 +25,7 @@ struct DetectStripeArgs {
   std::string config_path;
   std::string out_dir;  ///< empty: beside the image
   double min_confidence = 0.0;
+  bool overwrite = false;
   io::StripeDetectorOptions detector;
 };
 
@@ -79,17 +80,18 @@ void run(const DetectStripeArgs& args) {
 
   const std::filesystem::path image_path(args.image_path);
   const std::filesystem::path dir = args.out_dir.empty() ? image_path.parent_path() : std::filesystem::path(args.out_dir);
-  if (!dir.empty()) {
-    std::error_code error;
-    std::filesystem::create_directories(dir, error);
-    if (error) throw InputError(dir.string() + ": cannot create the output folder: " + error.message());
-  }
   const std::string stem = image_path.stem().string();
   const std::string csv = (dir / (stem + ".stripe.csv")).string();
   const std::string overlay = (dir / (stem + ".overlay.png")).string();
   const std::vector<NamedPath> inputs{{"the image", args.image_path}, {"--config", args.config_path}};
   refuse_output_that_is_an_input("the stripe CSV", csv, inputs);
   refuse_output_that_is_an_input("the overlay", overlay, inputs);
+  refuse_existing_files({{"the stripe CSV", csv}, {"the overlay", overlay}}, args.overwrite);
+  if (!dir.empty()) {
+    std::error_code error;
+    std::filesystem::create_directories(dir, error);
+    if (error) throw InputError(dir.string() + ": cannot create the output folder: " + error.message());
+  }
   io::write_text_file(csv, points_csv(detection, model, config.has_mount, args.min_confidence), "stripe points");
   io::write_png(overlay, io::stripe_overlay(image, detection));
 
@@ -111,6 +113,7 @@ void register_detect_stripe(CLI::App& app) {
   command->add_option("--config", args->config_path, "Structured-light YAML configuration (docs/structured_light.md)")
       ->required();
   command->add_option("--out", args->out_dir, "Output folder (default: the image's folder)");
+  add_file_overwrite_flag(*command, args->overwrite, "IMAGE.stripe.csv and IMAGE.overlay.png");
   command->add_option("--min-confidence", args->min_confidence, "Columns below this confidence count as no stripe")
       ->capture_default_str()
       ->check(number_from_to(0.0, 1.0));

@@ -1,7 +1,6 @@
 // `stridemap import FORMAT FILE`: BreezySLAM, CARMEN, CSV-range, point-pair
 // and TUM files into a stridemap scan log and pose file, which `stridemap map`
 // then maps like any recording (docs/import.md).
-#include <sys/stat.h>
 
 #include <cstdio>
 #include <functional>
@@ -14,6 +13,7 @@
 
 #include "cli_parsing.hpp"
 #include "commands.hpp"
+#include "output_guard.hpp"
 #include "terminal_output.hpp"
 #include "stridemap/core/printable_text.hpp"
 #include "stridemap/core/error.hpp"
@@ -71,19 +71,11 @@ TrunkPose static_pose_of(const std::vector<double>& v) {
   return pose;
 }
 
-void refuse_existing(const std::string& path, bool overwrite) {
-  struct stat info {};
-  if (!path.empty() && !overwrite && ::stat(path.c_str(), &info) == 0 && S_ISREG(info.st_mode)) {
-    throw InputError(path + ": already exists; choose another name or pass --overwrite");
-  }
-}
-
 // The importer of one format, told where to report its progress.
 using Importer = std::function<io::ImportedData(std::string_view text, const ProgressCallback& progress)>;
 
 void run_import(const ImportArgs& args, const Importer& import, bool binary = false) {
-  refuse_existing(args.log_path, args.overwrite);
-  refuse_existing(args.poses_path, args.overwrite);
+  refuse_existing_files({{"--log", args.log_path}, {"--poses", args.poses_path}}, args.overwrite);
   const std::string text = io::read_import_file(args.input, !binary);
   note("read " + std::to_string(text.size()) + " bytes from " + args.input);
   io::ImportedData data;

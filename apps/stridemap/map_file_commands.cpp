@@ -1,7 +1,6 @@
 // `stridemap export MAPFILE` (NumPy arrays, a PLY mesh, a cell CSV) and
 // `stridemap map-info MAPFILE` (what the file says about itself);
 // docs/map_file.md.
-#include <sys/stat.h>
 
 #include <cstdio>
 #include <filesystem>
@@ -14,6 +13,7 @@
 #include <vector>
 
 #include "commands.hpp"
+#include "output_guard.hpp"
 #include "stridemap/core/printable_text.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/mapfile/map_file.hpp"
@@ -32,15 +32,6 @@ struct ExportArgs {
   bool info = false;
   bool overwrite = false;
 };
-
-std::vector<std::string> existing(const std::vector<std::string>& paths) {
-  std::vector<std::string> found;
-  for (const std::string& path : paths) {
-    struct stat info {};
-    if (::stat(path.c_str(), &info) == 0) found.push_back(path);
-  }
-  return found;
-}
 
 std::string read_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -62,16 +53,13 @@ void run_export(const ExportArgs& args) {
   if (!args.layers.empty() && args.npy_dir.empty() && args.csv_dir.empty()) {
     throw InputError("export: --layers selects the layers of --npy and --csv; give one of them");
   }
-  std::vector<std::string> outputs;
+  std::vector<NamedPath> outputs;
   for (const std::string& name : io::npy_file_names(file.map, args.layers)) {
-    if (!args.npy_dir.empty()) outputs.push_back((std::filesystem::path(args.npy_dir) / name).string());
+    if (!args.npy_dir.empty()) outputs.push_back({"--npy", (std::filesystem::path(args.npy_dir) / name).string()});
   }
-  if (!args.ply_path.empty()) outputs.push_back(args.ply_path);
-  if (!args.csv_dir.empty()) outputs.push_back((std::filesystem::path(args.csv_dir) / "cells.csv").string());
-  if (const auto found = existing(outputs); !found.empty() && !args.overwrite) {
-    throw InputError(found.front() + ": already exists (and " + std::to_string(found.size() - 1) +
-                     " more outputs); choose another place or pass --overwrite");
-  }
+  outputs.push_back({"--ply", args.ply_path});
+  if (!args.csv_dir.empty()) outputs.push_back({"--csv", (std::filesystem::path(args.csv_dir) / "cells.csv").string()});
+  refuse_existing_files(outputs, args.overwrite);
   if (args.info) print_info(args.map_path);
   if (!args.npy_dir.empty()) {
     io::export_npy(file.map, args.npy_dir, args.layers);

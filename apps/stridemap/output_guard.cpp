@@ -89,6 +89,25 @@ void check_log_output(const std::string& option, const std::string& path, Existi
   }
 }
 
+void add_file_overwrite_flag(CLI::App& command, bool& overwrite, const std::string& what) {
+  command.add_flag("--overwrite", overwrite, "Replace " + what + " if it exists (by default an existing file is refused)");
+}
+
+void refuse_existing_files(const std::vector<NamedPath>& outputs, bool overwrite) {
+  std::vector<const NamedPath*> found;
+  for (const NamedPath& output : outputs) {
+    struct stat info {};
+    if (output.path.empty() || ::stat(output.path.c_str(), &info) != 0) continue;
+    if (S_ISDIR(info.st_mode)) throw InputError(output.option + ": '" + output.path + "' is a folder, not a file");
+    if (S_ISREG(info.st_mode)) found.push_back(&output);
+  }
+  if (found.empty() || overwrite) return;
+  const NamedPath& first = *found.front();
+  std::string more = found.size() > 1 ? " (and " + std::to_string(found.size() - 1) + " more outputs)" : "";
+  throw InputError(first.option + ": '" + first.path + "' already exists" + more +
+                   "; choose another name or pass --overwrite");
+}
+
 void install_cleanup_signals() {
   struct sigaction action {};
   action.sa_handler = on_cleanup_signal;

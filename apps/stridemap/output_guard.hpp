@@ -49,6 +49,15 @@ ExistingLog existing_log_choice(bool overwrite, bool append);
 void check_log_output(const std::string& option, const std::string& path, ExistingLog choice,
                       const std::string& magic);
 
+/// `--overwrite` for a command that writes single files of the user's naming.
+void add_file_overwrite_flag(CLI::App& command, bool& overwrite, const std::string& what);
+
+/// Throws InputError (exit 2) naming the first output that exists already
+/// as a file or folder, unless `overwrite`. Devices and pipes (/dev/null, a
+/// FIFO) are written straight through and never refused. Checked before
+/// any work, so a refused run costs nothing.
+void refuse_existing_files(const std::vector<NamedPath>& outputs, bool overwrite);
+
 /// The set written by `write(folder)` replaces the previous set in the
 /// folder `target` (io::OutputFolder).
 template <typename Write>

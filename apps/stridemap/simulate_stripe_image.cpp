@@ -28,6 +28,7 @@ struct SimulateImageArgs {
   double wall_distance_m = 0.0;
   std::string out_path;
   std::string truth_path;
+  bool overwrite = false;
   double x_m = 0.0, y_m = 0.0, yaw_deg = 0.0, pitch_deg = 0.0, roll_deg = 0.0;
   double lux = 300.0;
   std::uint64_t seed = 1;
@@ -83,6 +84,7 @@ void run(const SimulateImageArgs& args) {
   if (!args.truth_path.empty() && (args.truth_path == args.out_path || io::same_file(args.truth_path, args.out_path))) {
     throw InputError("--truth: '" + args.truth_path + "' is also --out; give two files");
   }
+  refuse_existing_files({{"--out", args.out_path}, {"--truth", args.truth_path}}, args.overwrite);
   StripeImageOptions options;
   options.ambient.illuminance_lux = args.lux;
   StructuredLightImageRenderer renderer(scene, config.parameters, options, {}, args.seed);
@@ -113,6 +115,7 @@ void register_simulate_stripe_image(CLI::App& app) {
       ->check(number_from_to(0.001, 1000.0, "m"));
   command->add_option("--out", args->out_path, "Image to write (PNG)")->required();
   command->add_option("--truth", args->truth_path, "Also write the true stripe per column (CSV)");
+  add_file_overwrite_flag(*command, args->overwrite, "--out and --truth");
   command->add_option("--x", args->x_m, "Trunk position x [m]")->capture_default_str()
       ->check(number_from_to(-1e6, 1e6, "m"));
   command->add_option("--y", args->y_m, "Trunk position y [m]")->capture_default_str()

@@ -328,6 +328,45 @@ TEST(OutputSafety, InterruptedExperimentLeavesThePreviousResultsWhole) {
   EXPECT_GT(interrupted, 0) << "every run ended before its signal; the test checks nothing";
 }
 
+// The commands that write one file (or a pair) of the user's naming: an
+// existing file is refused before any work, naming the option, and kept
+// byte for byte; --overwrite replaces it.
+TEST(OutputSafety, AnExistingFileIsRefusedByEveryCommandThatWritesSingleFiles) {
+  test::TestFolder dir;
+  const std::string mine = "the user's own file\n";
+  const std::string narrow = std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/cart_rail_narrow.yaml";
+  const std::string simulate =
+      "simulate-stripe-image --config " + q(kSlConfig) + " --scene " + q(narrow) + " --x 0.3 --out ";
+  const std::string image = dir.write("frame.png", mine);
+  const auto simulated = run_cli(simulate + q(image));
+  EXPECT_EQ(simulated.exit_code, 2) << simulated.output;
+  EXPECT_NE(simulated.output.find("--out: '" + image + "' already exists"), std::string::npos) << simulated.output;
+  EXPECT_EQ(dir.read("frame.png"), mine);
+  const std::string truth = dir.write("truth.csv", mine);
+  const auto with_truth = run_cli(simulate + q(dir / "new.png") + " --truth " + q(truth));
+  EXPECT_EQ(with_truth.exit_code, 2) << with_truth.output;
+  EXPECT_FALSE(fs::exists(dir / "new.png"));
+  ASSERT_EQ(run_cli(simulate + q(image) + " --overwrite").exit_code, 0);
+  EXPECT_NE(dir.read("frame.png"), mine);
+
+  const std::string stripe_csv = dir.write("frame.stripe.csv", mine);
+  const auto detected = run_cli("detect-stripe " + q(image) + " --config " + q(kSlConfig));
+  EXPECT_EQ(detected.exit_code, 2) << detected.output;
+  EXPECT_NE(detected.output.find("'" + stripe_csv + "' already exists"), std::string::npos) << detected.output;
+  EXPECT_EQ(dir.read("frame.stripe.csv"), mine);
+  EXPECT_FALSE(fs::exists(dir / "frame.overlay.png"));
+  EXPECT_EQ(run_cli("detect-stripe " + q(image) + " --config " + q(kSlConfig) + " --overwrite").exit_code, 0);
+  EXPECT_NE(dir.read("frame.stripe.csv"), mine);
+
+  const std::string pairs = std::string(STRIDEMAP_SOURCE_DIR) + "/configs/urg_calibration_example.csv";
+  const std::string json = dir.write("fit.json", mine);
+  const auto calibrated = run_cli("calibrate-range --csv " + q(pairs) + " --json " + q(json));
+  EXPECT_EQ(calibrated.exit_code, 2) << calibrated.output;
+  EXPECT_NE(calibrated.output.find("--json: '" + json + "' already exists"), std::string::npos) << calibrated.output;
+  EXPECT_EQ(dir.read("fit.json"), mine);
+  EXPECT_EQ(run_cli("calibrate-range --csv " + q(pairs) + " --json /dev/null").exit_code, 0);
+}
+
 TEST(OutputSafety, RecordAppendsToItsOwnLog) {
   test::TestFolder dir;
   BackgroundProcess emulator(std::string(q(STRIDEMAP_CLI_PATH)) + " emulate-urg --link " + q(dir / "urg") +
