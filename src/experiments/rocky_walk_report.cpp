@@ -346,6 +346,8 @@ void write_rocky_walk_outputs(const RockyWalkResult& r, const RockyWalkOptions& 
     io::write_grid_csv((dir / "path.csv").string(), track, columns);
   }
   io::write_text_file((dir / "summary.json").string(), rocky_walk_summary_json(r, options, info), "summary");
+  // The printed table, for the report page to show as it is.
+  io::write_text_file((dir / "table.txt").string(), rocky_walk_table(r), "table");
   // The final map whole (the mosaic the CSVs hold), for map-info, export and other software.
   io::save_map_file((dir / "map.smap").string(), w.map,
                     io::map_file_metadata(w.map_config, "experiment rocky-walk --sensor " + r.sensor + " --scene " +
