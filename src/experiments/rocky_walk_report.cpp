@@ -73,7 +73,7 @@ Origin origin_of(const MapSnapshot& s) {
 }
 
 // elevation, certainty, error and truth pictures of one snapshot, with the
-// track drawn on the elevation and error maps.
+// track drawn on the elevation, truth and error maps.
 void write_map_pictures(const std::filesystem::path& dir, const std::string& prefix, const std::string& what,
                         const MapSnapshot& s, const CellMask& swept, const std::vector<Eigen::Vector2d>& track,
                         const RockyWalkResult& r, double certainty_max) {

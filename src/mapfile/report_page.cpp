@@ -253,8 +253,8 @@ ReportPage build_report_page(const std::string& directory, const ReportPageOptio
   }
   const fs::path table_path = dir / "table.txt";
   if (fs::is_regular_file(table_path, ec)) parts.printed_table = read_asset_file(table_path, "printed table");
-  // Only the rocky walk writes path.csv, and it draws that track on its map
-  // pictures; no other run's picture has a path to caption.
+  // Only the rocky walk writes path.csv, and it draws that track on its
+  // elevation, truth and error pictures; no other run's picture has a path.
   parts.path_drawn = fs::is_regular_file(dir / "path.csv", ec);
   const fs::path map_path = dir / "map.smap";
   if (fs::exists(map_path, ec)) {

@@ -169,7 +169,6 @@ std::string path_sentence(bool path_drawn) {
 std::string picture_caption(const std::string& file, bool path_drawn) {
   static const std::map<std::string, std::string> hints = {
       {"certainty", "How often each cell was confirmed (eq. 9), 0 to the cap; dark = seen little, checker = never seen."},
-      {"error", "Map minus truth in the swept area: white = right, red = too high, blue = too low; symmetric range about zero."},
       {"view3d", "The map as a surface seen from behind the start; colour bar = height, holes = unknown cells, scale bar and axes in the corner."},
       {"truth_view3d", "The truth over the same cells and colours, to compare with view3d.png."},
       {"foothold_score", "Foothold score of each cell (docs/foothold.md), 0 to 1: bright = a good place for a foot; checker = unknown."},
@@ -197,6 +196,9 @@ std::string picture_caption(const std::string& file, bool path_drawn) {
   if (stem == "elevation") {
     hint = "Map seen from above, +x up, +y left; colour = height (robust 2-98 % range); checker = unknown; hatched = "
            "filled by eq. 11." + path_sentence(path_drawn);
+  } else if (stem == "error") {
+    hint = "Map minus truth in the swept area: white = right, red = too high, blue = too low; symmetric range about zero." +
+           path_sentence(path_drawn);
   } else if (stem == "truth") {
     hint = "The simulated ground truth (highest point per cell), same colours as the elevation map." + path_sentence(path_drawn);
   } else if (const auto at = hints.find(stem); at != hints.end()) {

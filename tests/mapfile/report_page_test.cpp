@@ -137,15 +137,16 @@ std::vector<std::pair<std::string, std::string>> figure_captions(const std::stri
 TEST(ReportPage, EveryPictureHasACaptionThatFitsIt) {
   test::TestFolder folder;
   std::filesystem::create_directories(folder.path() / "run");
-  for (const char* name : {"elevation.png", "truth.png", "local_elevation.png", "foothold_score.png", "slope_deg.png",
-                           "step_height_m.png", "truth_foothold_score.png", "image_300lx_overlay.png", "someone_elses.png"}) {
+  for (const char* name : {"elevation.png", "truth.png", "error.png", "certainty.png", "local_elevation.png", "foothold_score.png",
+                           "slope_deg.png", "step_height_m.png", "truth_foothold_score.png", "image_300lx_overlay.png",
+                           "someone_elses.png"}) {
     folder.write(std::string("run/") + name, "not decoded by the page's writer");
   }
   ReportPageOptions options;
   options.assets_dir = fake_assets(folder);
   // No path.csv: no picture has a path drawn, so no caption may mention one.
   const auto without_path = figure_captions(build_report_page(folder / "run", options).html);
-  ASSERT_EQ(without_path.size(), 9u);
+  ASSERT_EQ(without_path.size(), 11u);
   for (const auto& [name, caption] : without_path) {
     EXPECT_GT(caption.size(), 20u) << name << ": \"" << caption << "\"";
     EXPECT_EQ(caption.find("path"), std::string::npos) << name << ": " << caption;
@@ -154,10 +155,10 @@ TEST(ReportPage, EveryPictureHasACaptionThatFitsIt) {
                                      [](const auto& figure) { return figure.first == "foothold_score.png"; });
   ASSERT_NE(foothold, without_path.end());
   EXPECT_NE(foothold->second.find("Foothold score"), std::string::npos) << foothold->second;
-  // The rocky walk's path.csv: its elevation and truth pictures have the track drawn.
+  // The rocky walk's path.csv: its elevation, truth and error pictures have the track drawn.
   folder.write("run/path.csv", "# layer: path_x_m_y_m\n0,0\n0.1,0\n");
   for (const auto& [name, caption] : figure_captions(build_report_page(folder / "run", options).html)) {
-    const bool drawn = name == "elevation.png" || name == "truth.png" || name == "local_elevation.png";
+    const bool drawn = name == "elevation.png" || name == "truth.png" || name == "error.png" || name == "local_elevation.png";
     EXPECT_EQ(caption.find("Red line = path") != std::string::npos, drawn) << name << ": " << caption;
   }
 }
