@@ -545,7 +545,9 @@ function drawLegend(state, range, layerName, units, scale, scaleLength) {
   notes.innerHTML = `<span class="swatch hole"></span> hole = unknown cell &nbsp; <span class="swatch grey"></span> no value in this layer<br>` +
     `white bar and axes: ${formatLength(scaleLength)}; x red (forward), y green (left), z blue (up)<br>` +
     `<span class="swatch path"></span> path, green ball = start, arrow = heading &nbsp; <span class="swatch pose"></span> last pose and sensor footprint`;
-  legend.append(title, bar, ticks, notes);
+  const scaleBox = document.createElement('div');
+  scaleBox.append(title, bar, ticks);
+  legend.append(scaleBox, notes);
 }
 
 async function main() {
