@@ -264,6 +264,11 @@ try {
       check(header.test(tables.printed) && tables.rawOpen === false,
             `  the summary shows the table the command printed (${header}), and summary.json's raw keys folded away`);
       if (label === 'cart-rail') check(tables.objectHeaders?.startsWith('name'), `  the raw objects table starts with the name: ${tables.objectHeaders?.slice(0, 40)}`);
+      // Unfolded, the raw tables (the objects' has some 30 columns) scroll in their own boxes.
+      await opened.page.evaluate(() => { document.getElementById('summary-json').open = true; });
+      const unfolded = await layout(opened.page);
+      check(unfolded.scrollWidth <= unfolded.width && unfolded.past.length === 0,
+            `  with summary.json's tables unfolded the page is ${unfolded.scrollWidth} px wide${unfolded.past.length ? '; past the edge: ' + unfolded.past.slice(0, 6).join(', ') : ''}`);
       check(opened.errors.length === 0, `  no console error${opened.errors.length ? ': ' + opened.errors.join(' | ') : ''}`);
       await opened.page.close();
     }
