@@ -186,8 +186,8 @@ std::string picture_caption(const std::string& file, bool path_drawn) {
       {"elevation_cas", "The same scene with the CAS filter on the map, same colours."},
       {"lighting", "Stripe detections and false detections (top) and map RMS (bottom) against ambient light."},
       {"standing", "Cells still standing where an object left, scan by scan: they should fall to zero."},
-      {"x_uncertainty", "Structured-light uncertainty across the sheet [mm], depth up the page; checker = not seen."},
-      {"z_uncertainty", "Structured-light depth uncertainty [mm], depth up the page; checker = not seen."},
+      {"x_uncertainty", "Structured-light uncertainty of x_c [mm] over the light sheet, x_c across and z_c up the page; checker = not seen."},
+      {"z_uncertainty", "Structured-light uncertainty of z_c [mm] over the light sheet, x_c across and z_c up the page; checker = not seen."},
   };
   std::string stem = file.substr(0, file.rfind('.'));
   const bool local = stem.rfind("local_", 0) == 0;
