@@ -352,24 +352,79 @@ function heightAt(map, x, y, exaggeration) {
   return Number.isFinite(z) ? z * exaggeration : 0;
 }
 
+// The map's rectangle on the ground, cell edges included.
+function mapRectangle(map) {
+  const half = 0.5 * map.cell;
+  return { x0: map.ox - half, y0: map.oy - half, x1: map.ox + (map.rows - 0.5) * map.cell, y1: map.oy + (map.cols - 0.5) * map.cell };
+}
+
+// The part of the segment a-b inside the rectangle (Liang-Barsky), or null.
+function clipSegment(a, b, rect) {
+  const dx = b[0] - a[0], dy = b[1] - a[1];
+  let t0 = 0, t1 = 1;
+  for (const [p, q] of [[-dx, a[0] - rect.x0], [dx, rect.x1 - a[0]], [-dy, a[1] - rect.y0], [dy, rect.y1 - a[1]]]) {
+    if (p === 0) {
+      if (q < 0) return null;
+    } else {
+      const t = q / p;
+      if (p < 0) t0 = Math.max(t0, t); else t1 = Math.min(t1, t);
+    }
+  }
+  return t0 <= t1 ? [[a[0] + t0 * dx, a[1] + t0 * dy], [a[0] + t1 * dx, a[1] + t1 * dy]] : null;
+}
+
+// A polyline cut to the rectangle: the runs inside it, each at least two points.
+function clipPolyline(points, rect) {
+  const runs = [];
+  let run = [];
+  for (let k = 0; k + 1 < points.length; ++k) {
+    const piece = clipSegment(points[k], points[k + 1], rect);
+    if (!piece) {
+      if (run.length >= 2) runs.push(run);
+      run = [];
+      continue;
+    }
+    const last = run[run.length - 1];
+    if (!last || last[0] !== piece[0][0] || last[1] !== piece[0][1]) {
+      if (run.length >= 2) runs.push(run);
+      run = [piece[0]];
+    }
+    run.push(piece[1]);
+  }
+  if (run.length >= 2) runs.push(run);
+  return runs;
+}
+
 // The path, its start (a green ball) and heading (an arrow at its end), the
 // last pose, and the sensor's footprint: where the scan plane meets the
-// ground under the robot at the last pose.
+// ground under the robot at the last pose. A map of real data can be a
+// window onto a longer walk, and a shallow pitch puts the footprint metres
+// away: both are cut to the map's rectangle (or left out), so that they
+// never stretch across the view or pull the camera away from the map.
 function buildMarks(THREE, map, exaggeration, size) {
   const group = new THREE.Group();
   const lift = 0.01 * size;
+  const rect = mapRectangle(map);
+  const inside = (x, y) => x >= rect.x0 && x <= rect.x1 && y >= rect.y0 && y <= rect.y1;
   const point = (x, y) => new THREE.Vector3(x, y, heightAt(map, x, y, exaggeration) + lift);
+  const pathMaterial = new THREE.LineBasicMaterial({ color: 0xd62728 });
+  for (const run of clipPolyline(map.path, rect)) {
+    group.add(new THREE.Line(new THREE.BufferGeometry().setFromPoints(run.map(([x, y]) => point(x, y))), pathMaterial));
+  }
   if (map.path.length >= 2) {
-    const points = map.path.map(([x, y]) => point(x, y));
-    group.add(new THREE.Line(new THREE.BufferGeometry().setFromPoints(points), new THREE.LineBasicMaterial({ color: 0xd62728 })));
-    const start = new THREE.Mesh(new THREE.SphereGeometry(0.015 * size), new THREE.MeshBasicMaterial({ color: 0x2ca02c }));
-    start.position.copy(points[0]);
-    group.add(start);
-    const n = points.length, heading = points[n - 1].clone().sub(points[Math.max(0, n - 4)]).setZ(0);
-    if (heading.length() > 0) group.add(new THREE.ArrowHelper(heading.normalize(), points[n - 1], 0.08 * size, 0xd62728));
+    const first = map.path[0], n = map.path.length, end = map.path[n - 1], before = map.path[Math.max(0, n - 4)];
+    if (inside(first[0], first[1])) {
+      const start = new THREE.Mesh(new THREE.SphereGeometry(0.015 * size), new THREE.MeshBasicMaterial({ color: 0x2ca02c }));
+      start.position.copy(point(first[0], first[1]));
+      group.add(start);
+    }
+    const heading = new THREE.Vector3(end[0] - before[0], end[1] - before[1], 0);
+    if (heading.length() > 0 && inside(end[0], end[1])) {
+      group.add(new THREE.ArrowHelper(heading.normalize(), point(end[0], end[1]), 0.08 * size, 0xd62728));
+    }
   }
   const pose = map.lastPose;
-  if (pose) {
+  if (pose && inside(pose.x_m, pose.y_m)) {
     const direction = new THREE.Vector3(Math.cos(pose.yaw_rad), Math.sin(pose.yaw_rad), 0);
     const at = point(pose.x_m, pose.y_m);
     group.add(new THREE.ArrowHelper(direction, at, 0.08 * size, 0xff7f0e));
@@ -379,11 +434,69 @@ function buildMarks(THREE, map, exaggeration, size) {
       const sx = pose.x_m + c * m.forward_offset_m - s * m.lateral_offset_m;
       const sy = pose.y_m + s * m.forward_offset_m + c * m.lateral_offset_m;
       const ahead = m.height_m / Math.tan(m.pitch_rad), half = m.height_m * Math.tan(Math.PI / 3) / Math.sin(m.pitch_rad);
-      const ends = [-half, half].map((side) => new THREE.Vector3(sx + c * ahead - s * side, sy + s * ahead + c * side, at.z));
-      group.add(new THREE.Line(new THREE.BufferGeometry().setFromPoints(ends), new THREE.LineBasicMaterial({ color: 0xff7f0e })));
+      const ends = [-half, half].map((side) => [sx + c * ahead - s * side, sy + s * ahead + c * side]);
+      const piece = clipSegment(ends[0], ends[1], rect);
+      if (piece) {
+        const line = piece.map(([x, y]) => new THREE.Vector3(x, y, at.z));
+        group.add(new THREE.Line(new THREE.BufferGeometry().setFromPoints(line), new THREE.LineBasicMaterial({ color: 0xff7f0e })));
+      }
     }
   }
   return group;
+}
+
+// The box of the known cells of every map (x, y, and heights at the
+// exaggeration), which the camera frames.
+function knownBox(maps, exaggeration) {
+  const box = { min: [Infinity, Infinity, Infinity], max: [-Infinity, -Infinity, -Infinity] };
+  for (const map of maps) {
+    for (let i = 0; i < map.rows; ++i) {
+      for (let j = 0; j < map.cols; ++j) {
+        const z = map.elevation[i * map.cols + j];
+        if (!Number.isFinite(z)) continue;
+        const p = [map.ox + i * map.cell, map.oy + j * map.cell, z * exaggeration];
+        for (let a = 0; a < 3; ++a) { box.min[a] = Math.min(box.min[a], p[a]); box.max[a] = Math.max(box.max[a], p[a]); }
+      }
+    }
+  }
+  // Cell edges, not centres, bound the drawn surface's outline.
+  for (let a = 0; a < 2; ++a) { box.min[a] -= 0.5 * maps[0].cell; box.max[a] += 0.5 * maps[0].cell; }
+  return box;
+}
+
+function boxCorners(box) {
+  const corners = [];
+  for (const x of [box.min[0], box.max[0]]) for (const y of [box.min[1], box.max[1]]) for (const z of [box.min[2], box.max[2]]) corners.push([x, y, z]);
+  return corners;
+}
+
+// Moves the camera along its current line of sight (towards the target,
+// which goes to the box's centre) until every corner of the box lies
+// inside the picture with a margin: for a corner at offset p from the
+// target, seen from distance d along the forward axis f, its image is
+// inside when |p.right| <= (d + p.f) tan(horizontal half-angle), the same
+// for up; the least d that meets all of them frames the box exactly.
+function frameBox(THREE, camera, controls, box, margin = 0.9) {
+  const centre = new THREE.Vector3((box.min[0] + box.max[0]) / 2, (box.min[1] + box.max[1]) / 2, (box.min[2] + box.max[2]) / 2);
+  const forward = controls.target.clone().sub(camera.position).normalize();
+  const right = new THREE.Vector3().crossVectors(forward, camera.up).normalize();
+  const up = new THREE.Vector3().crossVectors(right, forward);
+  const tanV = margin * Math.tan(THREE.MathUtils.degToRad(camera.fov / 2)), tanH = tanV * camera.aspect;
+  let distance = 0, depth = 0;
+  for (const c of boxCorners(box)) {
+    const p = new THREE.Vector3(...c).sub(centre);
+    const along = p.dot(forward);
+    distance = Math.max(distance, Math.abs(p.dot(right)) / tanH - along, Math.abs(p.dot(up)) / tanV - along);
+    depth = Math.max(depth, Math.abs(along));
+  }
+  distance = Math.max(distance, 1e-3);
+  controls.target.copy(centre);
+  camera.position.copy(centre).addScaledVector(forward, -distance);
+  // Near enough for the user to zoom in close, far enough for the depth buffer.
+  camera.near = distance / 2000;
+  camera.far = 10 * (distance + depth);
+  camera.updateProjectionMatrix();
+  controls.update();
 }
 
 // Axes (x red, y green, z blue) and a white scale bar of a round length at
@@ -432,7 +545,9 @@ function drawLegend(state, range, layerName, units, scale, scaleLength) {
   notes.innerHTML = `<span class="swatch hole"></span> hole = unknown cell &nbsp; <span class="swatch grey"></span> no value in this layer<br>` +
     `white bar and axes: ${formatLength(scaleLength)}; x red (forward), y green (left), z blue (up)<br>` +
     `<span class="swatch path"></span> path, green ball = start, arrow = heading &nbsp; <span class="swatch pose"></span> last pose and sensor footprint`;
-  legend.append(title, bar, ticks, notes);
+  const scaleBox = document.createElement('div');
+  scaleBox.append(title, bar, ticks);
+  legend.append(scaleBox, notes);
 }
 
 async function main() {
@@ -527,11 +642,23 @@ async function main() {
 
   const camera = new THREE.PerspectiveCamera(35, 1, size / 1000, size * 20);
   camera.up.set(0, 0, 1);
+  // Seen from behind the start (-x), a little from the right (-y) and above;
+  // frameBox then sets the distance.
   const target = new THREE.Vector3(main.ox + 0.5 * (main.rows - 1) * main.cell, main.oy + 0.5 * (main.cols - 1) * main.cell, 0);
   camera.position.set(target.x - 0.9 * size, target.y - 0.55 * size, 0.8 * size);
   const controls = new OrbitControls(camera, canvas);
   controls.target.copy(target);
   controls.screenSpacePanning = true;
+  // The camera frames the maps until the user moves it; a resize, the
+  // split or a new exaggeration then frames them again.
+  let userMoved = false;
+  controls.addEventListener('start', () => { userMoved = true; });
+  const shownViews = () => (state.sideBySide && views.length > 1 ? [views[0], views[state.second]] : [views[0]]);
+  const aspectNow = () => (canvas.clientWidth / shownViews().length) / Math.max(1, canvas.clientHeight);
+  const frame = () => {
+    camera.aspect = aspectNow();
+    frameBox(THREE, camera, controls, knownBox(shownViews().map((v) => v.map), state.exaggeration));
+  };
 
   const render = () => {
     const width = canvas.clientWidth, height = canvas.clientHeight;
@@ -539,9 +666,9 @@ async function main() {
       renderer.setPixelRatio(devicePixelRatio);
       renderer.setSize(width, height, false);
     }
-    const split = state.sideBySide && views.length > 1;
-    const shown = split ? [views[0], views[state.second]] : [views[0]];
+    const shown = shownViews(), split = shown.length > 1;
     const w = width / shown.length;
+    if (!userMoved && Math.abs(camera.aspect - w / height) > 1e-6) frame();
     camera.aspect = w / height;
     camera.updateProjectionMatrix();
     renderer.setScissorTest(true);
@@ -586,11 +713,12 @@ async function main() {
     state.exaggeration = +exaggerationSelect.value;
     for (const view of views) for (const level of view.levels) setHeights(level, view.map, state.exaggeration);
     placeMarks();
+    if (!userMoved) frame();
     render();
   });
   if (sideBox) {
     sideBox.addEventListener('change', () => { state.sideBySide = sideBox.checked; render(); });
-    secondSelect.addEventListener('change', () => { state.second = +secondSelect.value; render(); });
+    secondSelect.addEventListener('change', () => { state.second = +secondSelect.value; if (!userMoved) frame(); render(); });
   }
   controls.addEventListener('change', render);
   window.addEventListener('resize', render);
@@ -599,6 +727,20 @@ async function main() {
   const coarseStep = Math.max(1, Math.ceil(Math.max(main.rows, main.cols) / coarseSide));
   showLevel(coarseStep);
   placeMarks();
+  frame();
+  // For the browser test (tests/browser/report_page_test.mjs): where a
+  // point of the world lands in a panel (normalised device coordinates,
+  // -1 to 1 inside), the panels' size, and the box of view k's marks.
+  window.stridemapView = {
+    project: (x, y, z) => { const p = new THREE.Vector3(x, y, z).project(camera); return [p.x, p.y, p.z]; },
+    panels: () => ({ count: shownViews().length, width: canvas.clientWidth / shownViews().length, height: canvas.clientHeight }),
+    marksBox: (k = 0) => {
+      const box = new THREE.Box3().setFromObject(views[k].marks);
+      return box.isEmpty() ? null : { min: box.min.toArray(), max: box.max.toArray() };
+    },
+    heights: () => { const box = knownBox(shownViews().map((v) => v.map), state.exaggeration); return [box.min[2], box.max[2]]; },
+    userMoved: () => userMoved,
+  };
   performance.mark('stridemap-mesh-built');
   recolour(false);
   performance.mark('stridemap-render-issued');

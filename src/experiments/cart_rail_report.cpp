@@ -256,6 +256,8 @@ void write_cart_rail_outputs(const CartRailResult& r, const CartRailOptions& opt
   csv("swept_area", r.swept_area.cast<float>(), "");
 
   io::write_text_file((dir / "summary.json").string(), cart_rail_summary_json(r, options, info), "summary");
+  // The printed table, for the report page to show as it is.
+  io::write_text_file((dir / "table.txt").string(), cart_rail_table(r, info), "table");
   // The final map whole, for map-info, export and other software.
   io::save_map_file((dir / "map.smap").string(), r.map,
                     io::map_file_metadata(r.map_config, "experiment cart-rail --sensor " + info.sensor + " --scene " +

@@ -430,6 +430,8 @@ void write_fidelity_outputs(const FidelityResult& result, const FidelityOptions&
                         row.scene_yaml, "scene");
   }
   io::write_text_file((dir / "summary.json").string(), fidelity_summary_json(result, options), "summary");
+  // The printed table, for the report page to show as it is.
+  io::write_text_file((dir / "table.txt").string(), fidelity_table(result), "table");
 }
 
 }  // namespace stridemap

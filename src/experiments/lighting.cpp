@@ -210,6 +210,8 @@ void write_lighting_outputs(const LightingResult& r, const LightingOptions& opti
         {"model_assumes", "no dependence on ambient light: range noise, systematic error and dropouts depend on "
                           "range and echo amplitude only (paper Fig. 21c; Kneip et al. 2009)"}}}};
   io::write_text_file((dir / "summary.json").string(), summary.dump(2) + "\n", "summary");
+  // The printed table, for the report page to show as it is.
+  io::write_text_file((dir / "table.txt").string(), lighting_table(r), "table");
 }
 
 }  // namespace stridemap

@@ -164,6 +164,8 @@ void write_mixed_pixels_outputs(const MixedPixelsResult& r, const CartRailOption
   picture(r.paper, "elevation_paper_filters.png", "Range clustering + scan sequence (simulated)");
   picture(r.cas, "elevation_cas.png", "CAS filter on the map (simulated)");
   io::write_text_file((dir / "summary.json").string(), mixed_pixels_summary_json(r, base, scene_path), "summary");
+  // The printed table, for the report page to show as it is.
+  io::write_text_file((dir / "table.txt").string(), mixed_pixels_table(r), "table");
 }
 
 }  // namespace stridemap

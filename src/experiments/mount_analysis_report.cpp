@@ -182,6 +182,8 @@ void write_mount_analysis_outputs(const MountAnalysisResult& r, const MountAnaly
   }
   io::write_text_file((dir / "mounts.csv").string(), csv, "mount table");
   io::write_text_file((dir / "summary.json").string(), mount_analysis_summary_json(r, o), "summary");
+  // The printed table, for the report page to show as it is.
+  io::write_text_file((dir / "table.txt").string(), mount_analysis_table(r), "table");
 }
 
 }  // namespace stridemap

@@ -73,7 +73,7 @@ Origin origin_of(const MapSnapshot& s) {
 }
 
 // elevation, certainty, error and truth pictures of one snapshot, with the
-// track drawn on the elevation and error maps.
+// track drawn on the elevation, truth and error maps.
 void write_map_pictures(const std::filesystem::path& dir, const std::string& prefix, const std::string& what,
                         const MapSnapshot& s, const CellMask& swept, const std::vector<Eigen::Vector2d>& track,
                         const RockyWalkResult& r, double certainty_max) {
@@ -346,6 +346,8 @@ void write_rocky_walk_outputs(const RockyWalkResult& r, const RockyWalkOptions& 
     io::write_grid_csv((dir / "path.csv").string(), track, columns);
   }
   io::write_text_file((dir / "summary.json").string(), rocky_walk_summary_json(r, options, info), "summary");
+  // The printed table, for the report page to show as it is.
+  io::write_text_file((dir / "table.txt").string(), rocky_walk_table(r), "table");
   // The final map whole (the mosaic the CSVs hold), for map-info, export and other software.
   io::save_map_file((dir / "map.smap").string(), w.map,
                     io::map_file_metadata(w.map_config, "experiment rocky-walk --sensor " + r.sensor + " --scene " +

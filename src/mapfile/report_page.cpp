@@ -251,6 +251,11 @@ ReportPage build_report_page(const std::string& directory, const ReportPageOptio
       page.warnings.push_back(summary_path.string() + ": not JSON: " + e.what());
     }
   }
+  const fs::path table_path = dir / "table.txt";
+  if (fs::is_regular_file(table_path, ec)) parts.printed_table = read_asset_file(table_path, "printed table");
+  // Only the rocky walk writes path.csv, and it draws that track on its
+  // elevation, truth and error pictures; no other run's picture has a path.
+  parts.path_drawn = fs::is_regular_file(dir / "path.csv", ec);
   const fs::path map_path = dir / "map.smap";
   if (fs::exists(map_path, ec)) {
     has_map = true;
@@ -269,8 +274,8 @@ ReportPage build_report_page(const std::string& directory, const ReportPageOptio
     // Asked for by name: a bad file here is the user's error, not a note.
     data["maps"].push_back(map_json(options.compare_path, load_compare(options.compare_path)));
   }
-  if (!has_map && !has_summary && pictures.empty()) {
-    throw InputError(directory + ": holds no map.smap, summary.json or PNG picture: not a stridemap output folder");
+  if (!has_map && !has_summary && pictures.empty() && parts.printed_table.empty()) {
+    throw InputError(directory + ": holds no map.smap, summary.json, table.txt or PNG picture: not a stridemap output folder");
   }
   for (const std::string& warning : page.warnings) data["messages"].push_back(warning);
   parts.title = options.title.empty() ? "stridemap report: " + fs::absolute(dir).lexically_normal().filename().string()

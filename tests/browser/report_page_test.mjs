@@ -6,7 +6,12 @@
 // cell and of cut data must show a readable message instead of a blank view.
 // The page of a 500 x 500 map must stay under 5 MB and show its first
 // frame within a generous bound (the measured figures, printed here, go
-// into docs/performance.md).
+// into docs/performance.md). At 1280 x 800 and 1920 x 1080 the pages must
+// fit the window's width (no horizontal scrolling, no element past the
+// right edge outside a box that scrolls on its own), the 3D view must frame
+// the whole map, every picture must have its caption, and the summary must
+// show the table the command printed; this is checked on the elements'
+// boxes, and a screenshot of each is kept in the work folder to look at.
 //
 //   node report_page_test.mjs --tool build/bin/stridemap --modules build/web/node_modules
 //        --work build/browser-test [--scene scenes/rocky_mockup.yaml]
@@ -65,6 +70,17 @@ const cells = empty.maps[0].rows * empty.maps[0].cols;
 Object.assign(empty.maps[0].layers.find((l) => l.name === 'elevation'),
               { encoding: 'f32', compression: undefined, data: Buffer.from(new Float32Array(cells).fill(NaN).buffer).toString('base64') });
 fs.writeFileSync(path.join(work, 'empty.html'), withData(empty));
+// A map of real data is a window onto a longer walk: its path runs out of
+// the map, and a shallow pitch puts the scan's footprint metres away.
+const far = structuredClone(data);
+{
+  const m = far.maps[0];
+  const cx = m.origin_x_m + 0.5 * m.rows * m.cell_size_m, cy = m.origin_y_m + 0.5 * m.cols * m.cell_size_m;
+  m.last_pose = { x_m: cx, y_m: cy, yaw_rad: 0.3 };
+  m.mount = { height_m: 0.3, pitch_rad: 0.02, yaw_rad: 0, forward_offset_m: 0, lateral_offset_m: 0 };
+  m.path = [[cx - 40, cy - 30], [cx - 0.2, cy], [cx, cy], [cx + 60, cy + 45]];
+}
+fs.writeFileSync(path.join(work, 'far.html'), withData(far));
 const cut = structuredClone(data);
 cut.maps[0].layers[0].data = cut.maps[0].layers[0].data.slice(0, 1000);
 fs.writeFileSync(path.join(work, 'cut.html'), withData(cut));
@@ -76,8 +92,8 @@ const browser = await chromium.launch({
   args: ['--no-sandbox', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--ignore-gpu-blocklist'],
 });
 
-async function open(file) {
-  const page = await browser.newPage({ viewport: { width: 1200, height: 900 } });
+async function open(file, viewport = { width: 1200, height: 900 }) {
+  const page = await browser.newPage({ viewport });
   const errors = [];
   page.on('console', (m) => { if (m.type() === 'error') errors.push(m.text()); });
   page.on('pageerror', (e) => errors.push(e.message));
@@ -104,6 +120,51 @@ const pixelStats = (page) => page.evaluate(() => {
   const n = p.length / 4;
   return { differ: differ / n, mean: sum.map((s) => s / n), pixels: Array.from(p.filter((_, k) => k % 64 === 0)) };
 });
+
+// The page's layout, read from the elements' boxes: the document's width
+// against the window's, the elements that reach past the window's right
+// edge (those inside a box that scrolls on its own do not count), the
+// figures and their captions, and the pictures' rows.
+const layout = (page) => page.evaluate(() => {
+  const root = document.documentElement, width = root.clientWidth;
+  const scrollsOwn = (e) => {
+    for (let a = e.parentElement; a && a !== document.body; a = a.parentElement) {
+      if (getComputedStyle(a).overflowX !== 'visible') return true;
+    }
+    return false;
+  };
+  const past = [...document.body.querySelectorAll('*')].filter((e) => {
+    const r = e.getBoundingClientRect();
+    return r.width > 0 && r.right > width + 0.5 && !scrollsOwn(e);
+  }).map((e) => `${e.tagName.toLowerCase()}${e.id ? '#' + e.id : ''}${e.className ? '.' + e.className : ''} (right ${e.getBoundingClientRect().right.toFixed(0)})`);
+  const figures = [...document.querySelectorAll('figure')].map((f) => {
+    const r = f.getBoundingClientRect();
+    return { name: f.querySelector('img')?.alt ?? '', caption: f.querySelector('figcaption')?.textContent.trim() ?? '', left: r.left, top: r.top, right: r.right };
+  });
+  const firstRow = figures.filter((f) => figures.length && Math.abs(f.top - figures[0].top) < 1).length;
+  return { scrollWidth: root.scrollWidth, width, past, figures, firstRow,
+           imagesOutsideFigures: [...document.images].filter((i) => !i.closest('figure')).length };
+});
+
+// Whether the 3D view frames the map: the corners of the map's cells (from
+// the page's data block) at the lowest and highest known height, seen with
+// the view's camera, must fall inside the panel (-1 to 1 both ways).
+async function framing(page, map) {
+  const half = map.cell_size_m / 2;
+  const x0 = map.origin_x_m - half, y0 = map.origin_y_m - half;
+  const x1 = map.origin_x_m + (map.rows - 0.5) * map.cell_size_m, y1 = map.origin_y_m + (map.cols - 0.5) * map.cell_size_m;
+  return page.evaluate(([x0, y0, x1, y1]) => {
+    const view = window.stridemapView;
+    if (!view) return { worst: Infinity, panels: null };
+    const [zLow, zHigh] = view.heights();
+    let worst = 0;
+    for (const x of [x0, x1]) for (const y of [y0, y1]) for (const z of [zLow, zHigh]) {
+      const [u, v] = view.project(x, y, z);
+      worst = Math.max(worst, Math.abs(u), Math.abs(v));
+    }
+    return { worst, panels: view.panels() };
+  }, [x0, y0, x1, y1]);
+}
 
 // Milliseconds from navigation to the page's performance marks (web/report.js).
 const marks = (page) => page.evaluate(() => Object.fromEntries(
@@ -168,6 +229,65 @@ try {
   moved /= after.pixels.length;
   check(moved > 2 && raised.differ > 0.05, `heights x 10 changes the picture (mean channel change ${moved.toFixed(1)}) and it stays drawn`);
   check(good.errors.length === 0, 'still no console error after switching');
+  // The layout at the two window sizes, on a small map with its path
+  // (rocky walk) and on a large one with an object table (cart on a rail).
+  const bigData = JSON.parse(fs.readFileSync(bigPage, 'utf8').split('<script type="application/json" id="stridemap-data">')[1].split('</script>')[0].replaceAll('<\\/', '</'));
+  for (const [file, label, map] of [[goodPage, 'rocky-walk', data.maps[0]], [bigPage, 'cart-rail', bigData.maps[0]]]) {
+    for (const viewport of [{ width: 1280, height: 800 }, { width: 1920, height: 1080 }]) {
+      const opened = await open(file, viewport);
+      await opened.page.waitForSelector('body[data-detail="full"]', { timeout: 30000 });
+      const tag = `${label} at ${viewport.width} x ${viewport.height}`;
+      const shot = path.join(work, `${label}-${viewport.width}x${viewport.height}.png`);
+      await opened.page.screenshot({ path: shot, fullPage: true });
+      const l = await layout(opened.page);
+      check(l.scrollWidth <= l.width, `${tag}: the page is ${l.scrollWidth} px wide in a ${l.width} px window (screenshot ${path.basename(shot)})`);
+      check(l.past.length === 0, `  no element reaches past the right edge${l.past.length ? ': ' + l.past.slice(0, 6).join(', ') : ''}`);
+      const uncaptioned = l.figures.filter((f) => f.caption.length < f.name.length + 20).map((f) => f.name);
+      check(l.figures.length > 0 && l.imagesOutsideFigures === 0 && uncaptioned.length === 0,
+            `  all ${l.figures.length} pictures are figures with a caption beyond their name${uncaptioned.length ? '; not: ' + uncaptioned.join(', ') : ''}`);
+      const elevation = l.figures.find((f) => f.name === 'elevation.png');
+      check(elevation !== undefined && /path/.test(elevation.caption) === (map.path !== undefined),
+            `  the elevation picture's caption mentions a path only where one is drawn: "${elevation?.caption}"`);
+      const perRow = viewport.width >= 1920 ? 3 : 2;
+      check(l.firstRow >= perRow, `  ${l.firstRow} pictures side by side in the first row (at least ${perRow})`);
+      const f = await framing(opened.page, map);
+      check(f.worst <= 1 && f.worst > 0.5,
+            `  the 3D view frames the whole map: its corners reach ${f.worst.toFixed(2)} of the way to the panel's edge (0.5 to 1), ` +
+            `${f.panels?.count} panel(s) of ${f.panels?.width.toFixed(0)} x ${f.panels?.height} px`);
+      const tables = await opened.page.evaluate(() => ({
+        printed: document.querySelector('#tables .printed pre')?.textContent ?? '',
+        rawOpen: document.getElementById('summary-json')?.open ?? null,
+        objectHeaders: [...document.querySelectorAll('#summary-json table.grid')].find((t) => t.caption?.textContent === 'objects')
+          ?.querySelector('tr')?.textContent ?? null,
+      }));
+      const header = label === 'cart-rail' ? /^object +dim +truth \[mm\] +map \[mm\] +error \[%\]$/m : /^pose errors +h_ref +pitch RMS/m;
+      check(header.test(tables.printed) && tables.rawOpen === false,
+            `  the summary shows the table the command printed (${header}), and summary.json's raw keys folded away`);
+      if (label === 'cart-rail') check(tables.objectHeaders?.startsWith('name'), `  the raw objects table starts with the name: ${tables.objectHeaders?.slice(0, 40)}`);
+      // Unfolded, the raw tables (the objects' has some 30 columns) scroll in their own boxes.
+      await opened.page.evaluate(() => { document.getElementById('summary-json').open = true; });
+      const unfolded = await layout(opened.page);
+      check(unfolded.scrollWidth <= unfolded.width && unfolded.past.length === 0,
+            `  with summary.json's tables unfolded the page is ${unfolded.scrollWidth} px wide${unfolded.past.length ? '; past the edge: ' + unfolded.past.slice(0, 6).join(', ') : ''}`);
+      check(opened.errors.length === 0, `  no console error${opened.errors.length ? ': ' + opened.errors.join(' | ') : ''}`);
+      await opened.page.close();
+    }
+  }
+  {
+    // The path and the footprint stay inside the map's rectangle (with room
+    // for the arrow heads at its edge) and the camera still frames the map.
+    const opened = await open(path.join(work, 'far.html'));
+    const m = far.maps[0], size = Math.hypot(m.rows, m.cols) * m.cell_size_m, room = 0.1 * size;
+    const box = await opened.page.evaluate(() => window.stridemapView?.marksBox(0));
+    const within = box !== null && box !== undefined && box.min[0] >= m.origin_x_m - room && box.min[1] >= m.origin_y_m - room &&
+                   box.max[0] <= m.origin_x_m + m.rows * m.cell_size_m + room && box.max[1] <= m.origin_y_m + m.cols * m.cell_size_m + room;
+    check(within, `a path and footprint reaching metres beyond the map are cut to it: marks span x ${box?.min[0].toFixed(2)} to ${box?.max[0].toFixed(2)} m, ` +
+                  `y ${box?.min[1].toFixed(2)} to ${box?.max[1].toFixed(2)} m`);
+    const f = await framing(opened.page, m);
+    check(f.worst <= 1 && f.worst > 0.5, `  and the view still frames the map (${f.worst.toFixed(2)})`);
+    check(opened.errors.length === 0, `  no console error${opened.errors.length ? ': ' + opened.errors.join(' | ') : ''}`);
+    await opened.page.close();
+  }
   for (const [file, expected] of [[path.join(damaged, 'report.html'), /checksum|damaged/i],
                                   [path.join(work, 'empty.html'), /no known cell/],
                                   [path.join(work, 'cut.html'), /bytes where|base64|cannot be unpacked/]]) {

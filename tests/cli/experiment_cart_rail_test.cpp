@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 #include <string>
 
@@ -38,9 +39,14 @@ TEST(CartRailCommand, WritesMapsTablesAndSummary) {
   EXPECT_NE(r.output.find("RMS error"), std::string::npos) << r.output;
   const fs::path dir = out / "cart-rail-urg";
   for (const char* file : {"elevation.png", "certainty.png", "error.png", "truth.png", "elevation.csv",
-                           "certainty.csv", "state.csv", "truth.csv", "summary.json"}) {
+                           "certainty.csv", "state.csv", "truth.csv", "summary.json", "table.txt"}) {
     EXPECT_TRUE(fs::exists(dir / file)) << file;
   }
+  // The report page shows table.txt as the readable table: it is the one printed.
+  std::ifstream table_file(dir / "table.txt");
+  const std::string table((std::istreambuf_iterator<char>(table_file)), std::istreambuf_iterator<char>());
+  EXPECT_NE(table.find("truth [mm]"), std::string::npos) << table;
+  EXPECT_NE(r.output.find(table), std::string::npos) << "table.txt:\n" << table << "\nprinted:\n" << r.output;
   std::ifstream in(dir / "summary.json");
   const nlohmann::json summary = nlohmann::json::parse(in);
   EXPECT_EQ(summary["experiment"], "cart-rail");

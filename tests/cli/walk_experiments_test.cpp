@@ -2,6 +2,7 @@
 // user would.
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <string>
 
 #include <unistd.h>
@@ -28,6 +29,11 @@ fs::path fresh_dir(const std::string& name) {
 
 const std::string kScene = std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/rocky_mockup.yaml";
 
+std::string text_of(const fs::path& path) {
+  std::ifstream in(path);
+  return std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+}
+
 TEST(RockyWalkCommand, WritesMapsViewsSummaryAndTable) {
   const fs::path out = fresh_dir("rocky_walk");
   const CommandResult r =
@@ -39,9 +45,10 @@ TEST(RockyWalkCommand, WritesMapsViewsSummaryAndTable) {
   const fs::path dir = out / "rocky-walk-urg";
   for (const char* file : {"elevation.png", "certainty.png", "error.png", "truth.png", "local_elevation.png",
                            "local_certainty.png", "local_error.png", "view3d.png", "truth_view3d.png", "elevation.csv",
-                           "swept_area.csv", "map.smap", "summary.json"}) {
+                           "swept_area.csv", "map.smap", "summary.json", "table.txt"}) {
     EXPECT_TRUE(fs::exists(dir / file)) << file;
   }
+  EXPECT_NE(r.output.find(text_of(dir / "table.txt")), std::string::npos) << "table.txt is the table printed";
   std::ifstream in(dir / "summary.json");
   const nlohmann::json summary = nlohmann::json::parse(in);
   EXPECT_EQ(summary["experiment"], "rocky-walk");
@@ -163,9 +170,10 @@ TEST(MountAnalysisCommand, WritesHeatMapsAndNamesTheBestMount) {
   }
   const fs::path dir = out / "mount-analysis-urg";
   for (const char* file : {"unobserved.png", "uncertainty.png", "stripe_width.png", "look_ahead.png",
-                           "range_share.png", "score.png", "mounts.csv", "summary.json"}) {
+                           "range_share.png", "score.png", "mounts.csv", "summary.json", "table.txt"}) {
     EXPECT_TRUE(fs::exists(dir / file)) << file;
   }
+  EXPECT_NE(r.output.find(text_of(dir / "table.txt")), std::string::npos) << "table.txt is the table printed";
   std::ifstream in(dir / "summary.json");
   const nlohmann::json summary = nlohmann::json::parse(in);
   EXPECT_EQ(summary["sweep"].size(), 4u);

@@ -1,7 +1,11 @@
 #include "stridemap/mapfile/report_page.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
@@ -107,6 +111,81 @@ TEST(ReportPage, EmbedsTheMapLayersTablesAndPictures) {
   }
   EXPECT_TRUE(has_certainty);
   EXPECT_FALSE(has_pending);  // one value everywhere: left out
+}
+
+// Each figure's caption text after its name, in page order.
+std::vector<std::pair<std::string, std::string>> figure_captions(const std::string& html) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (std::size_t at = 0; (at = html.find("<figure>", at)) != std::string::npos; ++at) {
+    const std::size_t end = html.find("</figure>", at);
+    const std::string figure = html.substr(at, end - at);
+    const std::size_t open = figure.find("<figcaption><b>");
+    if (open == std::string::npos) {
+      out.emplace_back(figure.substr(0, 60), "");
+      continue;
+    }
+    const std::size_t name_end = figure.find("</b>", open);
+    const std::string name = figure.substr(open + 15, name_end - open - 15);
+    const std::size_t text_end = figure.find("</figcaption>", name_end);
+    std::string text = figure.substr(name_end + 4, text_end - name_end - 4);
+    text.erase(0, text.find_first_not_of(' '));
+    out.emplace_back(name, text);
+  }
+  return out;
+}
+
+TEST(ReportPage, EveryPictureHasACaptionThatFitsIt) {
+  test::TestFolder folder;
+  std::filesystem::create_directories(folder.path() / "run");
+  for (const char* name : {"elevation.png", "truth.png", "error.png", "certainty.png", "local_elevation.png", "foothold_score.png",
+                           "slope_deg.png", "step_height_m.png", "truth_foothold_score.png", "image_300lx_overlay.png",
+                           "someone_elses.png"}) {
+    folder.write(std::string("run/") + name, "not decoded by the page's writer");
+  }
+  ReportPageOptions options;
+  options.assets_dir = fake_assets(folder);
+  // No path.csv: no picture has a path drawn, so no caption may mention one.
+  const auto without_path = figure_captions(build_report_page(folder / "run", options).html);
+  ASSERT_EQ(without_path.size(), 11u);
+  for (const auto& [name, caption] : without_path) {
+    EXPECT_GT(caption.size(), 20u) << name << ": \"" << caption << "\"";
+    EXPECT_EQ(caption.find("path"), std::string::npos) << name << ": " << caption;
+  }
+  const auto foothold = std::find_if(without_path.begin(), without_path.end(),
+                                     [](const auto& figure) { return figure.first == "foothold_score.png"; });
+  ASSERT_NE(foothold, without_path.end());
+  EXPECT_NE(foothold->second.find("Foothold score"), std::string::npos) << foothold->second;
+  // The rocky walk's path.csv: its elevation, truth and error pictures have the track drawn.
+  folder.write("run/path.csv", "# layer: path_x_m_y_m\n0,0\n0.1,0\n");
+  for (const auto& [name, caption] : figure_captions(build_report_page(folder / "run", options).html)) {
+    const bool drawn = name == "elevation.png" || name == "truth.png" || name == "error.png" || name == "local_elevation.png";
+    EXPECT_EQ(caption.find("Red line = path") != std::string::npos, drawn) << name << ": " << caption;
+  }
+}
+
+TEST(ReportPage, ShowsThePrintedTableAndFoldsTheRawSummary) {
+  test::TestFolder folder;
+  std::filesystem::create_directories(folder.path() / "run");
+  write_map(folder / "run/map.smap", 4);
+  folder.write("run/summary.json", R"({"objects": [{"cells": 3, "kind": "box", "name": "large_box"}]})");
+  ReportPageOptions options;
+  options.assets_dir = fake_assets(folder);
+  // Without table.txt the raw tables are all there is: shown open, name first.
+  std::string html = build_report_page(folder / "run", options).html;
+  EXPECT_NE(html.find("<details id=\"summary-json\" open>"), std::string::npos);
+  EXPECT_NE(html.find("<tr><th>name</th><th>cells</th><th>kind</th></tr>"), std::string::npos);
+  EXPECT_EQ(html.find("class=\"printed\""), std::string::npos);
+  folder.write("run/table.txt", "object  truth [mm]  map [mm]\nlarge_box  200.0  <n/a>\n");
+  html = build_report_page(folder / "run", options).html;
+  const std::size_t printed = html.find("<pre>object  truth [mm]  map [mm]\nlarge_box  200.0  &lt;n/a&gt;\n</pre>");
+  EXPECT_NE(printed, std::string::npos);
+  const std::size_t raw = html.find("<details id=\"summary-json\">");
+  EXPECT_NE(raw, std::string::npos);
+  EXPECT_LT(printed, raw);
+  // A folder with only the printed table still makes a page.
+  std::filesystem::create_directories(folder.path() / "table_only");
+  folder.write("table_only/table.txt", "scene  seed\n");
+  EXPECT_NE(build_report_page(folder / "table_only", options).html.find("<pre>scene  seed\n</pre>"), std::string::npos);
 }
 
 TEST(ReportPage, ADamagedMapStillGivesAPageThatSaysWhy) {
