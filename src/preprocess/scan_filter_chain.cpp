@@ -144,14 +144,16 @@ const ScanFilterChainOptions& checked_options(const ScanFilterChainOptions& opti
   options.range_clustering.validate();
   options.shadow.validate();
   options.speckle.validate();
-  for (const auto& [name, values] : options.parameters) {
-    const std::vector<ScanFilterRegistration> filters = registered_scan_filters();
+  const std::vector<ScanFilterRegistration> filters =
+      options.parameters.empty() ? std::vector<ScanFilterRegistration>{} : registered_scan_filters();
+  for (const auto& given : options.parameters) {
+    const std::string& name = given.first;
     const auto filter = std::find_if(filters.begin(), filters.end(), [&](const auto& f) { return f.name == name; });
     if (filter == filters.end()) {
       throw InputError("scan filter options: parameters for \"" + name + "\", which is no registered scan filter");
     }
-    for (const auto& [parameter, value] : values) {
-      (void)value;
+    for (const auto& value : given.second) {
+      const std::string& parameter = value.first;
       if (std::none_of(filter->parameters.begin(), filter->parameters.end(),
                        [&](const ScanFilterParameter& p) { return p.name == parameter; })) {
         throw InputError("scan filter options: \"" + name + "\" has no parameter \"" + parameter + "\"");
