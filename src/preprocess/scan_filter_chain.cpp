@@ -142,6 +142,7 @@ ScanSequenceOptions sequence_options(const std::vector<ScanFilterKind>& stages, 
 // so that a caller can check a set of options once with any chain.
 const ScanFilterChainOptions& checked_options(const ScanFilterChainOptions& options) {
   options.range_clustering.validate();
+  options.scan_sequence.validate();
   options.shadow.validate();
   options.speckle.validate();
   const std::vector<ScanFilterRegistration> filters =
