@@ -22,6 +22,7 @@
 #include "stridemap/config/structured_light_config.hpp"
 #include "stridemap/experiments/lighting.hpp"
 #include "stridemap/experiments/mixed_pixels.hpp"
+#include "stridemap/preprocess/scan_filter_registry.hpp"
 
 namespace stridemap::cli {
 namespace {
@@ -292,10 +293,8 @@ void register_experiment(CLI::App& app) {
                                                   "cas unless given)")
       ->capture_default_str();
   CLI::Option* filters = cart_rail->add_option("--filters", args->filters,
-                        "Scan filters in order, comma separated: range-clustering, scan-sequence, between-scans, "
-                        "shadow, speckle; paper = range-clustering,scan-sequence; urg = paper,between-scans; "
-                        "none. Default: none, or urg "
-                        "with --mixed-pixels on")
+                        "Scan filters in order, comma separated: " + scan_filter_choices() +
+                            ". Default: none, or urg with --mixed-pixels on")
       ->capture_default_str();
   auto mp = std::make_shared<MixedPixelsArgs>();
   CLI::App* mixed = experiment->add_subcommand(

@@ -1,4 +1,5 @@
-// `stridemap export MAPFILE` (NumPy arrays, a PLY mesh, a cell CSV) and
+// `stridemap export MAPFILE` (one option per registered export format:
+// NumPy arrays, a PLY mesh, a cell CSV, ...) and
 // `stridemap map-info MAPFILE` (what the file says about itself);
 // docs/map_file.md.
 
@@ -6,7 +7,9 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <map>
 #include <memory>
+#include <span>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -18,20 +21,21 @@
 #include "stridemap/core/error.hpp"
 #include "stridemap/mapfile/map_file.hpp"
 #include "stridemap/mapfile/tile_store.hpp"
-#include "stridemap/render/map_export.hpp"
+#include "stridemap/render/map_export_formats.hpp"
 
 namespace stridemap::cli {
 namespace {
 
 struct ExportArgs {
   std::string map_path;
-  std::string npy_dir;
-  std::string ply_path;
-  std::string csv_dir;
+  // One path per registered format (io::map_export_formats), by name.
+  std::map<std::string, std::string> paths;
   std::vector<std::string> layers;
   bool info = false;
   bool overwrite = false;
 };
+
+std::string option_of(const io::MapExportFormat& format) { return "--" + format.name; }
 
 std::string read_bytes(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -44,34 +48,39 @@ void print_info(const std::string& path) {
 }
 
 void run_export(const ExportArgs& args) {
-  if (args.npy_dir.empty() && args.ply_path.empty() && args.csv_dir.empty() && !args.info) {
-    throw InputError("export: nothing to do; give --npy DIR, --ply FILE, --csv DIR or --info");
+  const std::vector<io::MapExportFormat> formats = io::map_export_formats();
+  std::vector<io::MapExportRequest> requests;
+  bool takes_layers = false;
+  std::string choices, layered;
+  for (const io::MapExportFormat& format : formats) {
+    choices += option_of(format) + (format.folder ? " DIR, " : " FILE, ");
+    if (format.takes_layers) layered += (layered.empty() ? "" : " and ") + option_of(format);
+    const auto path = args.paths.find(format.name);
+    if (path == args.paths.end() || path->second.empty()) continue;
+    requests.push_back({format.name, path->second});
+    takes_layers = takes_layers || format.takes_layers;
+  }
+  if (requests.empty() && !args.info) {
+    choices.resize(choices.size() - 2);
+    throw InputError("export: nothing to do; give " + choices + " or --info");
   }
   // Loaded first: which files the arrays are depends on the layers the file
   // holds, and a wrong --layers name is refused before anything is written.
   const io::MapFile file = io::load_map_file(args.map_path);
-  if (!args.layers.empty() && args.npy_dir.empty() && args.csv_dir.empty()) {
-    throw InputError("export: --layers selects the layers of --npy and --csv; give one of them");
+  if (!args.layers.empty() && !takes_layers) {
+    throw InputError("export: --layers selects the layers of " + layered + "; give one of them");
   }
   std::vector<NamedPath> outputs;
-  for (const std::string& name : io::npy_file_names(file.map, args.layers)) {
-    if (!args.npy_dir.empty()) outputs.push_back({"--npy", (std::filesystem::path(args.npy_dir) / name).string()});
+  for (const io::MapExportRequest& request : requests) {
+    for (const std::string& path : io::map_export_outputs(file.map, std::span(&request, 1), args.layers)) {
+      outputs.push_back({"--" + request.format, path});
+    }
   }
-  outputs.push_back({"--ply", args.ply_path});
-  if (!args.csv_dir.empty()) outputs.push_back({"--csv", (std::filesystem::path(args.csv_dir) / "cells.csv").string()});
   refuse_existing_files(outputs, args.overwrite);
   if (args.info) print_info(args.map_path);
-  if (!args.npy_dir.empty()) {
-    io::export_npy(file.map, args.npy_dir, args.layers);
-    std::printf("export: NumPy arrays in %s\n", printable_text(args.npy_dir).c_str());
-  }
-  if (!args.ply_path.empty()) {
-    const io::PlyStats stats = io::export_ply(file.map, args.ply_path);
-    std::printf("export: PLY mesh %s: %zu vertices, %zu triangles\n", printable_text(args.ply_path).c_str(), stats.vertices,
-                stats.triangles);
-  }
-  if (!args.csv_dir.empty()) {
-    std::printf("export: %s\n", printable_text(io::export_cells_csv(file.map, args.csv_dir, args.layers)).c_str());
+  for (const io::MapExportRequest& request : requests) {
+    const std::vector<std::string> line = io::export_map(file.map, std::span(&request, 1), args.layers);
+    std::printf("export: %s\n", line.front().c_str());
   }
 }
 
@@ -81,11 +90,14 @@ void register_map_file_commands(CLI::App& app) {
   auto args = std::make_shared<ExportArgs>();
   CLI::App* command = app.add_subcommand("export", "A map file as NumPy arrays, a PLY mesh or CSV (docs/map_file.md)");
   command->add_option("mapfile", args->map_path, "Map file (map.smap, written by map and live)")->required();
-  command->add_option("--npy", args->npy_dir, "Folder for one .npy array per layer");
-  command->add_option("--ply", args->ply_path, "PLY mesh file, coloured by elevation");
-  command->add_option("--csv", args->csv_dir, "Folder for cells.csv, one line per cell");
+  std::string layered;
+  for (const io::MapExportFormat& format : io::map_export_formats()) {
+    command->add_option(option_of(format), args->paths[format.name], format.description)
+        ->type_name(format.folder ? "DIR" : "FILE");
+    if (format.takes_layers) layered += (layered.empty() ? "" : " and ") + option_of(format);
+  }
   command->add_option("--layers", args->layers,
-                      "Layers for --npy and --csv, by name (e.g. elevation,certainty); default: all for --npy, "
+                      "Layers for " + layered + ", by name (e.g. elevation,certainty); default: all for --npy, "
                       "the planner's and the user's for --csv; map-info lists them")
       ->delimiter(',');
   command->add_flag("--info", args->info, "Also print the map file's metadata");

@@ -14,6 +14,7 @@
 #include "stridemap/mapfile/map_resume_check.hpp"
 #include "stridemap/mapfile/tile_store.hpp"
 #include "stridemap/live/map_window.hpp"
+#include "stridemap/preprocess/scan_filter_registry.hpp"
 
 namespace stridemap::cli {
 namespace {
@@ -62,7 +63,7 @@ void add_mapping_options(CLI::App& command, MappingArgs& args) {
       ->check(parsed_by([](const std::string& text) { parse_window_choice(text); }));
   command.add_option("--config", args.config_path, "Mapper configuration (YAML, docs/config.md)");
   command.add_option("--filters", args.filters,
-                     "Scan filters in order: range-clustering, scan-sequence, between-scans, shadow, speckle; paper; urg; none")
+                     "Scan filters in order, comma separated: " + scan_filter_choices())
       ->capture_default_str();
   command.add_option("--clock", args.clock,
                      "Clock of the pose times: host (Unix time of each scan's step 0, estimated by the driver) or "

@@ -18,6 +18,7 @@
 #include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/experiments/fidelity.hpp"
+#include "stridemap/preprocess/scan_filter_registry.hpp"
 
 namespace stridemap::cli {
 namespace {
@@ -160,7 +161,7 @@ void register_random_scenes(CLI::App& app) {
                        "Structured-light runs: image (render and detect), geometric (the true stripe) or off")
       ->capture_default_str();
   fidelity->add_option("--filters", fa->filters,
-                       "Scan filters of the URG's filtered run (as for cart-rail): paper, urg (paper + between-scans), ...")
+                       "Scan filters of the URG's filtered run, comma separated: " + scan_filter_choices())
       ->capture_default_str();
   fidelity->add_option("--cluster-max-bridged", fa->cluster_max_bridged,
                        "Range clustering: a cluster runs on over at most this many invalid beams (0: the "

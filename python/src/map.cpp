@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <optional>
+#include <span>
 #include <string>
 
 #include <pybind11/stl.h>
@@ -16,6 +17,7 @@
 #include "stridemap/mapfile/map_file.hpp"
 #include "stridemap/mapfile/map_outputs.hpp"
 #include "stridemap/render/map_export.hpp"
+#include "stridemap/render/map_export_formats.hpp"
 #include "stridemap/render/png_image.hpp"
 
 namespace stridemap::python {
@@ -309,6 +311,19 @@ void register_map(py::module_& m) {
       .def("export_csv", [](const ElevationMap& map, const FilePath& directory) {
              return io::export_cells_csv(layers_current(map), directory);
            }, py::arg("directory"), "Writes cells.csv (one line per cell) into directory; returns its path.")
+      .def("export",
+           [](const ElevationMap& map, const std::string& format, const FilePath& path,
+              const std::vector<std::string>& layers) {
+             const io::MapExportRequest request{format, path.value};
+             const ElevationMap& current = layers_current(map);
+             std::vector<std::string> written = io::map_export_outputs(current, std::span(&request, 1), layers);
+             io::export_map(current, std::span(&request, 1), layers);
+             return written;
+           },
+           py::arg("format"), py::arg("path"), py::arg("layers") = std::vector<std::string>{},
+           "Writes the map in a format of export_formats() (as `stridemap export --<format>`): path is the "
+           "folder or the file; layers selects the layers of a format that takes a selection (empty: its "
+           "default). Returns the paths written.")
       .def("write_pictures",
            [](const ElevationMap& map, const FilePath& directory, const std::string& title, double certainty_max) {
              io::MapOutputOptions options;
@@ -339,6 +354,19 @@ void register_map(py::module_& m) {
                              "None). The geometry and layers are the map's own (MapFile.map).")
       .def_readonly("version", &io::MapFile::version, "The file format's version.");
 
+  // From the registry, so a format registered in C++ is listed too.
+  m.def(
+      "export_formats",
+      [] {
+        py::list formats;
+        for (const io::MapExportFormat& format : io::map_export_formats()) {
+          formats.append(py::dict(py::arg("name") = format.name, py::arg("description") = format.description,
+                                  py::arg("folder") = format.folder, py::arg("takes_layers") = format.takes_layers));
+        }
+        return formats;
+      },
+      "The formats Map.export writes, in registration order, each as {'name', 'description', 'folder' (the "
+      "path is a folder, else a file), 'takes_layers'}.");
   m.def("load_map", [](const FilePath& path) { return io::load_map_file(path); }, py::arg("path"),
         "Reads a map file (.smap). Raises InputError '<path>: <what is wrong>' for a missing file, a wrong magic "
         "or version, a checksum mismatch, bad metadata.");

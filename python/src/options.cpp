@@ -13,6 +13,7 @@
 #include "stridemap/core/map_filter.hpp"
 #include "stridemap/core/map_update.hpp"
 #include "stridemap/pipeline/pipeline_options.hpp"
+#include "stridemap/preprocess/scan_filter_registry.hpp"
 
 namespace stridemap::python {
 namespace {
@@ -126,9 +127,7 @@ void register_pipeline_options(py::module_& m) {
       .def_property(
           "filters", [](const PipelineOptions& o) { return scan_filter_list_name(o.filters); },
           [](PipelineOptions& o, const std::string& names) { o.filters = parse_scan_filter_list(names); },
-          "Scan filters in order, comma separated: range-clustering, scan-sequence, between-scans, shadow, "
-          "speckle; 'paper' "
-          "= range-clustering,scan-sequence; 'urg' = paper,between-scans; 'none'. URG only.")
+          ("Scan filters in order, comma separated: " + scan_filter_choices() + ". URG only.").c_str())
       .def_property(
           "map_filter", [](const PipelineOptions& o) { return std::string(map_filter_name(o.map_filter.filter)); },
           [](PipelineOptions& o, const std::string& text) { o.map_filter.filter = parse_map_filter(text); },
@@ -156,6 +155,25 @@ void register_options(py::module_& m) {
   register_urg(m);
   register_update(m);
   register_pipeline_options(m);
+  // From the registry, so a filter registered in C++ is listed too.
+  m.def(
+      "scan_filters",
+      [] {
+        py::list filters;
+        for (const ScanFilterRegistration& filter : registered_scan_filters()) {
+          py::dict parameters;
+          for (const ScanFilterParameter& p : filter.parameters) parameters[py::str(p.name)] = p.default_value;
+          filters.append(py::dict(py::arg("name") = filter.name, py::arg("description") = filter.description,
+                                  py::arg("parameters") = parameters));
+        }
+        for (const ScanFilterSet& set : registered_scan_filter_sets()) {
+          filters.append(py::dict(py::arg("name") = set.name, py::arg("description") = set.description,
+                                  py::arg("members") = set.members));
+        }
+        return filters;
+      },
+      "The names PipelineOptions.filters takes, in registration order: each filter as {'name', 'description', "
+      "'parameters' (defaults)}, then each set ('paper', 'urg') as {'name', 'description', 'members'}.");
 }
 
 }  // namespace stridemap::python

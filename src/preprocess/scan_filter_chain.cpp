@@ -6,21 +6,10 @@
 
 #include "scan_copy.hpp"
 #include "stridemap/core/error.hpp"
+#include "stridemap/preprocess/scan_filter_registry.hpp"
 
 namespace stridemap {
 namespace {
-
-constexpr std::array<std::pair<std::string_view, ScanFilterKind>, 5> kind_names{{
-    {"range-clustering", ScanFilterKind::range_clustering},
-    {"scan-sequence", ScanFilterKind::scan_sequence},
-    {"shadow", ScanFilterKind::shadow},
-    {"speckle", ScanFilterKind::speckle},
-    {"between-scans", ScanFilterKind::between_scans},
-}};
-
-constexpr std::string_view valid_names =
-    "range-clustering, scan-sequence, shadow, speckle, paper (= range-clustering,scan-sequence), between-scans, "
-    "urg (= range-clustering,scan-sequence,between-scans), none";
 
 std::string_view trim(std::string_view text) {
   const auto blank = [](char c) { return c == ' ' || c == '\t' || c == '\n' || c == '\r'; };
@@ -29,32 +18,45 @@ std::string_view trim(std::string_view text) {
   return text;
 }
 
+std::string joined_names(const std::vector<std::string>& names) {
+  std::string text;
+  for (const std::string& name : names) text += (text.empty() ? "" : ",") + name;
+  return text;
+}
+
 }  // namespace
 
 std::string_view scan_filter_name(ScanFilterKind kind) {
-  for (const auto& [name, value] : kind_names) {
-    if (value == kind) return name;
+  try {
+    return scan_filter_registration(kind).name;
+  } catch (const InputError&) {
+    return "unknown";
   }
-  return "unknown";
 }
 
 ScanFilterKind parse_scan_filter_kind(std::string_view name) {
   const std::string_view trimmed = trim(name);
-  for (const auto& [known, value] : kind_names) {
-    if (known == trimmed) return value;
+  const std::vector<ScanFilterRegistration> filters = registered_scan_filters();
+  for (std::size_t i = 0; i < filters.size(); ++i) {
+    if (filters[i].name == trimmed) return static_cast<ScanFilterKind>(i);
   }
-  throw InputError("unknown scan filter \"" + std::string(trimmed) + "\"; valid names: " +
-                   std::string(valid_names));
+  throw InputError("unknown scan filter \"" + std::string(trimmed) + "\"; valid names: " + scan_filter_choices());
 }
 
 std::vector<ScanFilterKind> parse_scan_filter_list(std::string_view names) {
+  const std::vector<ScanFilterSet> sets = registered_scan_filter_sets();
   std::vector<ScanFilterKind> kinds;
+  std::vector<const ScanFilterSet*> sets_used;
   bool saw_none = false;
   std::size_t tokens = 0;
   const auto add = [&](ScanFilterKind kind) {
     if (std::find(kinds.begin(), kinds.end(), kind) != kinds.end()) {
+      std::string sets_text;
+      for (const ScanFilterSet* set : sets_used) {
+        sets_text += (sets_text.empty() ? " (" : ", ") + ("\"" + set->name + "\" = ") + joined_names(set->members);
+      }
       throw InputError("scan filter \"" + std::string(scan_filter_name(kind)) + "\" appears twice in \"" +
-                       std::string(names) + "\" (\"paper\" already holds range-clustering and scan-sequence, \"urg\" also between-scans)");
+                       std::string(names) + "\"" + sets_text + (sets_text.empty() ? "" : ")"));
     }
     kinds.push_back(kind);
   };
@@ -64,15 +66,15 @@ std::vector<ScanFilterKind> parse_scan_filter_list(std::string_view names) {
     const std::string_view token = trim(rest.substr(0, comma));
     if (token.empty()) {
       throw InputError("empty name in the scan filter list \"" + std::string(names) +
-                       "\"; valid names: " + std::string(valid_names));
+                       "\"; valid names: " + scan_filter_choices());
     }
     ++tokens;
+    const auto set = std::find_if(sets.begin(), sets.end(), [&](const ScanFilterSet& s) { return s.name == token; });
     if (token == "none") {
       saw_none = true;
-    } else if (token == "paper" || token == "urg") {
-      add(ScanFilterKind::range_clustering);
-      add(ScanFilterKind::scan_sequence);
-      if (token == "urg") add(ScanFilterKind::between_scans);
+    } else if (set != sets.end()) {
+      sets_used.push_back(&*set);
+      for (const std::string& member : set->members) add(parse_scan_filter_kind(member));
     } else {
       add(parse_scan_filter_kind(token));
     }
@@ -109,6 +111,7 @@ namespace {
 
 std::vector<ScanFilterKind> checked_stages(std::vector<ScanFilterKind> stages) {
   for (std::size_t i = 0; i < stages.size(); ++i) {
+    (void)scan_filter_registration(stages[i]);  // throws for a kind never registered
     for (std::size_t j = 0; j < i; ++j) {
       if (stages[i] == stages[j]) {
         throw InputError("scan filter chain: \"" + std::string(scan_filter_name(stages[i])) +
@@ -135,21 +138,63 @@ ScanSequenceOptions sequence_options(const std::vector<ScanFilterKind>& stages, 
   return options;
 }
 
+// The built-in filters' options are checked whether or not they are stages,
+// so that a caller can check a set of options once with any chain.
+const ScanFilterChainOptions& checked_options(const ScanFilterChainOptions& options) {
+  options.range_clustering.validate();
+  options.scan_sequence.validate();
+  options.shadow.validate();
+  options.speckle.validate();
+  const std::vector<ScanFilterRegistration> filters =
+      options.parameters.empty() ? std::vector<ScanFilterRegistration>{} : registered_scan_filters();
+  for (const auto& given : options.parameters) {
+    const std::string& name = given.first;
+    const auto filter = std::find_if(filters.begin(), filters.end(), [&](const auto& f) { return f.name == name; });
+    if (filter == filters.end()) {
+      throw InputError("scan filter options: parameters for \"" + name + "\", which is no registered scan filter");
+    }
+    for (const auto& value : given.second) {
+      const std::string& parameter = value.first;
+      if (std::none_of(filter->parameters.begin(), filter->parameters.end(),
+                       [&](const ScanFilterParameter& p) { return p.name == parameter; })) {
+        throw InputError("scan filter options: \"" + name + "\" has no parameter \"" + parameter + "\"");
+      }
+    }
+  }
+  return options;
+}
+
+ScanFilterParameters parameter_values(const ScanFilterRegistration& filter, const ScanFilterChainOptions& options) {
+  ScanFilterParameters values;
+  for (const ScanFilterParameter& parameter : filter.parameters) values[parameter.name] = parameter.default_value;
+  if (const auto given = options.parameters.find(filter.name); given != options.parameters.end()) {
+    for (const auto& [name, value] : given->second) values[name] = value;
+  }
+  return values;
+}
+
 }  // namespace
+
+ScanFilterChain::~ScanFilterChain() = default;
+ScanFilterChain::ScanFilterChain(ScanFilterChain&&) noexcept = default;
+ScanFilterChain& ScanFilterChain::operator=(ScanFilterChain&&) noexcept = default;
 
 ScanFilterChain::ScanFilterChain(std::vector<ScanFilterKind> stages, const ScanFilterChainOptions& options)
     : stages_(checked_stages(std::move(stages))),
-      range_clustering_(options.range_clustering),
-      scan_sequence_(sequence_options(stages_, options.scan_sequence)),
-      shadow_(options.shadow),
-      speckle_(options.speckle) {
+      scan_sequence_(sequence_options(stages_, checked_options(options).scan_sequence)) {
   for (std::size_t stage = 0; stage < stages_.size(); ++stage) {
     if (stages_[stage] == ScanFilterKind::scan_sequence) spread_stage_ = stage;
     if (stages_[stage] == ScanFilterKind::between_scans) between_stage_ = stage;
+    const ScanFilterRegistration& filter = scan_filter_registration(stages_[stage]);
+    stateless_.push_back(filter.make ? filter.make(options, parameter_values(filter, options)) : nullptr);
   }
-  has_scan_sequence_ = spread_stage_ < max_stages || between_stage_ < max_stages;
+  for (StageMasks* masks : {&incoming_, &held_, &output_}) {
+    masks->removed.resize(stages_.size());
+    masks->stats.resize(stages_.size());
+  }
+  has_scan_sequence_ = spread_stage_ != absent || between_stage_ != absent;
   scan_sequence_stage_ = std::min(spread_stage_, between_stage_);
-  after_sequence_stage_ = 1 + (spread_stage_ < max_stages && between_stage_ < max_stages
+  after_sequence_stage_ = 1 + (spread_stage_ != absent && between_stage_ != absent
                                    ? std::max(spread_stage_, between_stage_)
                                    : scan_sequence_stage_);
 }
@@ -158,43 +203,30 @@ ScanFilterChain::ScanFilterChain(std::vector<ScanFilterKind> stages, const ScanF
 // between the stages, so that each removed beam is marked by one stage.
 void ScanFilterChain::take_sequence_masks() {
   const std::vector<std::uint8_t>& between = scan_sequence_.last_removed_between_scans();
-  if (between_stage_ < max_stages) output_.removed[between_stage_] = between;
-  if (spread_stage_ < max_stages) {
+  if (between_stage_ != absent) output_.removed[between_stage_] = between;
+  if (spread_stage_ != absent) {
     std::vector<std::uint8_t>& spread = output_.removed[spread_stage_];
     spread = sequence_removed_;
     for (std::size_t i = 0; i < spread.size() && i < between.size(); ++i) spread[i] &= static_cast<std::uint8_t>(!between[i]);
   }
   const ScanFilterStats& all = scan_sequence_.last_stats();
   for (const std::size_t stage : {spread_stage_, between_stage_}) {
-    if (stage >= max_stages) continue;
+    if (stage == absent) continue;
     ScanFilterStats& stats = output_.stats[stage];
     stats = all;
     stats.removed = static_cast<std::size_t>(
         std::count(output_.removed[stage].begin(), output_.removed[stage].end(), std::uint8_t{1}));
   }
   // The later of the two stages sees the earlier one's removals as unusable input.
-  if (spread_stage_ < max_stages && between_stage_ < max_stages) {
+  if (spread_stage_ != absent && between_stage_ != absent) {
     output_.stats[std::max(spread_stage_, between_stage_)].invalid_input +=
         output_.stats[std::min(spread_stage_, between_stage_)].removed;
   }
 }
 
 void ScanFilterChain::run_stateless(std::size_t stage, PlanarScan& scan, StageMasks& masks) {
-  std::vector<std::uint8_t>& removed = masks.removed[stage];
-  switch (stages_[stage]) {
-    case ScanFilterKind::range_clustering:
-      masks.stats[stage] = range_clustering_.apply(scan, removed);
-      break;
-    case ScanFilterKind::shadow:
-      masks.stats[stage] = shadow_.apply(scan, removed);
-      break;
-    case ScanFilterKind::speckle:
-      masks.stats[stage] = speckle_.apply(scan, removed);
-      break;
-    case ScanFilterKind::scan_sequence:
-    case ScanFilterKind::between_scans:
-      break;  // streaming; handled by push/flush
-  }
+  // The scan-sequence stages have none: they stream, handled by push/flush.
+  if (stateless_[stage]) masks.stats[stage] = stateless_[stage]->apply(scan, masks.removed[stage]);
 }
 
 bool ScanFilterChain::push(const PlanarScan& scan, PlanarScan& out) {

@@ -19,8 +19,9 @@ struct MixedPixelsCase {
   bool drop_labelled_mixed = false;
 };
 
-/// The cases the experiment compares: no filtering, each filter alone, the
-/// paper's combination, the CAS filter on the map, and two references: a run
+/// The cases the experiment compares: no filtering, each filter alone (a
+/// registered one too, scan_filter_registry.hpp), the paper's combination,
+/// the CAS filter on the map, and two references: a run
 /// without mixed pixels and the ideal filter that drops exactly the beams
 /// labelled mixed.
 std::vector<MixedPixelsCase> default_mixed_pixels_cases();

@@ -3,9 +3,11 @@
 // experiment or the CLI can compare them. The chain is a stream like the
 // scan-sequence filter: with scan-sequence in it, the output lags the input by
 // one scan; without it, push() returns each scan at once.
-#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
+#include <map>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -19,27 +21,37 @@
 
 namespace stridemap {
 
-/// between_scans is the between-scans test of the scan-sequence filter
-/// (BetweenScansOptions): a stream with one scan of delay like scan_sequence.
+/// The built-in filters. Names and every other filter (registered at run
+/// time, scan_filter_registry.hpp) come from the registry; a registered
+/// filter's kind is a value past these. between_scans is the between-scans
+/// test of the scan-sequence filter (BetweenScansOptions): a stream with one
+/// scan of delay like scan_sequence.
 enum class ScanFilterKind : std::uint8_t { range_clustering, scan_sequence, shadow, speckle, between_scans };
 
-/// "range-clustering", "scan-sequence", "shadow", "speckle", "between-scans".
+/// The registered name: "range-clustering", "scan-sequence", "shadow",
+/// "speckle", "between-scans", or a registered filter's.
 std::string_view scan_filter_name(ScanFilterKind kind);
 
-/// One name of scan_filter_name(); throws InputError listing the valid names.
+/// One registered name; throws InputError listing the valid names.
 ScanFilterKind parse_scan_filter_kind(std::string_view name);
 
 /// A comma-separated list of names in order of application, spaces allowed.
-/// "paper" stands for "range-clustering,scan-sequence" (the paper's
-/// combination) and "urg" for "range-clustering,scan-sequence,between-scans"
-/// (ours, docs/preprocess.md); "none" alone gives an empty list (no filtering). Throws
-/// InputError on an unknown or repeated name or an empty list.
+/// A registered set's name stands for its filters: "paper" for
+/// "range-clustering,scan-sequence" (the paper's combination) and "urg" for
+/// "range-clustering,scan-sequence,between-scans" (ours, docs/preprocess.md);
+/// "none" alone gives an empty list (no filtering). Throws InputError on an
+/// unknown or repeated name or an empty list.
 std::vector<ScanFilterKind> parse_scan_filter_list(std::string_view names);
 /// The same for names given as separate words (each may hold commas).
 std::vector<ScanFilterKind> parse_scan_filter_list(const std::vector<std::string>& names);
 
 /// The list back as text, e.g. "range-clustering,scan-sequence" ("none" if empty).
 std::string scan_filter_list_name(const std::vector<ScanFilterKind>& kinds);
+
+/// A registered filter's own options by name (ScanFilterRegistration::parameters).
+using ScanFilterParameters = std::map<std::string, double, std::less<>>;
+
+class ScanFilterStage;
 
 struct ScanFilterChainOptions {
   RangeClusteringOptions range_clustering;
@@ -50,14 +62,22 @@ struct ScanFilterChainOptions {
   ScanSequenceOptions scan_sequence;
   ShadowFilterOptions shadow;
   SpeckleFilterOptions speckle;
+  /// Options of registered filters without a struct here, by filter name;
+  /// unset ones take the registration's defaults.
+  std::map<std::string, ScanFilterParameters, std::less<>> parameters;
 };
 
 class ScanFilterChain {
  public:
-  /// Stages apply in the order given. Throws InputError on a repeated kind,
-  /// scan-sequence and between-scans not next to each other (they judge the
-  /// same three scans in one pass), or invalid options.
+  /// Stages apply in the order given. Throws InputError on a repeated or
+  /// unregistered kind, scan-sequence and between-scans not next to each
+  /// other (they judge the same three scans in one pass), invalid options
+  /// (the built-in filters' always, a registered filter's when it is a
+  /// stage) or a parameter its filter does not have.
   explicit ScanFilterChain(std::vector<ScanFilterKind> stages, const ScanFilterChainOptions& options = {});
+  ~ScanFilterChain();
+  ScanFilterChain(ScanFilterChain&&) noexcept;
+  ScanFilterChain& operator=(ScanFilterChain&&) noexcept;
 
   std::size_t stage_count() const { return stages_.size(); }
   ScanFilterKind stage(std::size_t index) const { return stages_.at(index); }
@@ -82,10 +102,10 @@ class ScanFilterChain {
   const std::vector<std::uint8_t>& removed_by_any() const { return removed_any_; }
 
  private:
-  static constexpr std::size_t max_stages = 5;
+  static constexpr std::size_t absent = static_cast<std::size_t>(-1);
   struct StageMasks {
-    std::array<std::vector<std::uint8_t>, max_stages> removed;
-    std::array<ScanFilterStats, max_stages> stats;
+    std::vector<std::vector<std::uint8_t>> removed;  // one per stage
+    std::vector<ScanFilterStats> stats;
   };
   void run_stateless(std::size_t stage, PlanarScan& scan, StageMasks& masks);
   void finish_output(PlanarScan& out);
@@ -95,12 +115,11 @@ class ScanFilterChain {
   bool has_scan_sequence_ = false;
   std::size_t scan_sequence_stage_ = 0;  // the first of scan-sequence and between-scans
   std::size_t after_sequence_stage_ = 0;    // the first stage after both
-  std::size_t spread_stage_ = max_stages;   // scan-sequence's stage, max_stages when absent
-  std::size_t between_stage_ = max_stages;  // between-scans' stage, max_stages when absent
-  RangeClusteringFilter range_clustering_;
+  std::size_t spread_stage_ = absent;   // scan-sequence's stage
+  std::size_t between_stage_ = absent;  // between-scans' stage
   ScanSequenceFilter scan_sequence_;
-  ShadowFilter shadow_;
-  SpeckleFilter speckle_;
+  // One per stage, built by its registration; empty for the scan-sequence stages.
+  std::vector<std::unique_ptr<ScanFilterStage>> stateless_;
   PlanarScan work_;
   StageMasks incoming_;  // stages before scan-sequence, for the scan just pushed
   StageMasks held_;      // the same for the scan scan-sequence holds
