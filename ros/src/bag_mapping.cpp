@@ -1,5 +1,6 @@
 #include "stridemap_ros/bag_mapping.hpp"
 
+#include <map>
 #include <set>
 
 #include <geometry_msgs/PoseStamped.h>
@@ -38,10 +39,23 @@ BagMapping::BagMapping(const BagMappingOptions& options)
     throw InputError(path + ": not a readable ROS 1 bag: " + e.what());
   }
   std::set<std::string> topics;
+  std::map<std::string, std::string> types;  // topic -> message type
   {
     rosbag::View all(bag_->bag);
-    for (const rosbag::ConnectionInfo* c : all.getConnections()) topics.insert(c->topic);
+    for (const rosbag::ConnectionInfo* c : all.getConnections()) {
+      topics.insert(c->topic);
+      types[c->topic] = c->datatype;
+    }
   }
+  // Messages of another type would be passed over one by one and the run
+  // would end saying no pose was there: the wrong topic is named at once.
+  auto require_type = [&](const std::string& topic, const std::string& option, const std::set<std::string>& wanted,
+                          const std::string& hint) {
+    if (topic.empty() || !types.count(topic) || wanted.count(types[topic])) return;
+    std::string list;
+    for (const std::string& w : wanted) list += (list.empty() ? "" : " or ") + w;
+    throw InputError(path + ": " + option + " '" + topic + "' carries " + types[topic] + ", not " + list + hint);
+  };
   auto require = [&](const std::string& topic, const std::string& what) {
     if (topic.empty() || topics.count(topic)) return;
     std::string list;
@@ -52,6 +66,10 @@ BagMapping::BagMapping(const BagMappingOptions& options)
   require(options_.scan_topic, "scan");
   require(options_.cloud_topic, "cloud");
   require(options_.pose_topic, "pose");
+  require_type(options_.scan_topic, "--scan-topic", {"sensor_msgs/LaserScan"}, "");
+  require_type(options_.cloud_topic, "--cloud-topic", {"sensor_msgs/PointCloud2"}, "");
+  require_type(options_.pose_topic, "--pose-topic", {"geometry_msgs/PoseStamped", "nav_msgs/Odometry"},
+               types[options_.pose_topic] == "tf2_msgs/TFMessage" ? " (TF: use --tf)" : "");
   if (options_.pose_topic.empty()) {
     require("/tf", "TF");
     poses_ = std::make_unique<TfPoseSource>(bag_->tf, options_.mapper.map_frame);

@@ -73,6 +73,64 @@ CasFilter::CasFilter(const CasOptions& o) : options_(o), fill_(o.fill) {
           "max_removable_certainty must be a number >= 0");
 }
 
+bool CasFilter::is_weak_isolated_peak(std::size_t q, float hs) {
+  const int w = options_.window_radius_cells;
+  const auto tolerance = static_cast<float>(options_.elevation_tolerance_m);
+  const std::uint8_t* known = fill_.known_.data();
+  const float* height = fill_.value_.data();
+  const float* certainty = fill_.weight_.data();
+  const auto sp = static_cast<std::ptrdiff_t>(fill_.pitch_);
+  const auto window_cells = static_cast<std::size_t>((2 * w + 1) * (2 * w + 1));
+  // The window's measured cells in the reference's order, without a
+  // branch per cell (which are measured is random): each is written at
+  // the end and kept when measured and not the centre. The others add
+  // +0.0 to the double sum, which leaves it as it was (it starts at +0.0).
+  window_values_.resize(window_cells);
+  window_certainties_.resize(window_cells);
+  float* values = window_values_.data();
+  float* certainties = window_certainties_.data();
+  double certainty_sum = 0.0;
+  std::uint32_t unordered = 0;  // a NaN height or a certainty not finite
+  std::size_t kept = 0;
+  for (std::ptrdiff_t di = -w; di <= w; ++di) {
+    const std::size_t row = q + static_cast<std::size_t>(di * sp);
+    for (std::ptrdiff_t dj = -w; dj <= w; ++dj) {
+      const std::size_t t = row + static_cast<std::size_t>(dj);
+      const std::uint32_t is_known = known[t];
+      const std::uint32_t mask = 0u - is_known;
+      const float ht = height[t], ct = certainty[t];
+      certainty_sum += static_cast<double>(std::bit_cast<float>(std::bit_cast<std::uint32_t>(ct) & mask));
+      values[kept] = ht;
+      certainties[kept] = ct;
+      unordered |= is_known & static_cast<std::uint32_t>(std::isnan(ht) | !std::isfinite(ct));
+      kept += is_known & static_cast<std::uint32_t>(t != q);
+    }
+  }
+  const bool ordered = unordered == 0;
+  window_values_.resize(kept);
+  window_certainties_.resize(kept);
+  if (kept == 0) return false;
+  // The median's tests as counts where the values are totally ordered
+  // (fl(v + tolerance) and ratio * v do not decrease with v); the sort
+  // where a NaN would make the median depend on nth_element's order.
+  const double ratio = options_.certainty_ratio;
+  const double cs = certainty[q];
+  const bool isolated_peak =
+      ordered ? holds_below_median(window_values_, [&](float v) { return hs > v + tolerance; })
+              : hs > median_of(window_values_) + tolerance;
+  if (!isolated_peak) return false;
+  bool weak = certainty_sum < options_.min_window_certainty;
+  if (!weak) {
+    if (ordered) {
+      // cs < ratio * v holds on an upper set: its negation on a lower one.
+      weak = !holds_below_median(window_certainties_, [&](float v) { return !(cs < ratio * v); });
+    } else {
+      weak = cs < ratio * median_of(window_certainties_);
+    }
+  }
+  return weak;
+}
+
 CasResult CasFilter::apply(ElevationMap& map) {
   const int n = map.cells_per_side();
   const int w = options_.window_radius_cells;
@@ -91,7 +149,6 @@ CasResult CasFilter::apply(ElevationMap& map) {
   const float* certainty = fill_.weight_.data();
   const std::size_t p = fill_.pitch_;
   const auto um = static_cast<std::size_t>(margin);
-  const auto sp = static_cast<std::ptrdiff_t>(p);
   // The largest float not above the limit: for a float certainty c,
   // c > limit exactly when c > that float (no float lies between them), a
   // comparison without a conversion to double per cell.
@@ -99,9 +156,7 @@ CasResult CasFilter::apply(ElevationMap& map) {
   if (static_cast<double>(max_removable) > options_.max_removable_certainty) {
     max_removable = std::nextafter(max_removable, -std::numeric_limits<float>::infinity());
   }
-  // A whole window, and room for the write past the last kept cell.
-  const auto window_cells = static_cast<std::size_t>((2 * w + 1) * (2 * w + 1));
-  candidates_.resize(un + 8);
+  candidates_.resize(un + 8);  // room for the write past the last kept cell
   const Heights4 limit4 = {max_removable, max_removable, max_removable, max_removable};
   const Lanes4 low_bits = {1, 2, 4, 8}, high_bits = {16, 32, 64, 128};
   for (std::size_t i = 0; i < un; ++i) {
@@ -136,54 +191,7 @@ CasResult CasFilter::apply(ElevationMap& map) {
                            reinterpret_cast<Lanes4>(abs4(lower - centre) <= tolerance4);  // -1 per agreeing cell
       const int agreeing = -(agree[0] + agree[1] + agree[2] + agree[3]);
       if (agreeing >= options_.min_agreeing_neighbours) continue;
-      // The window's measured cells in the reference's order, without a
-      // branch per cell (which are measured is random): each is written at
-      // the end and kept when measured and not the centre. The others add
-      // +0.0 to the double sum, which leaves it as it was (it starts at +0.0).
-      window_values_.resize(window_cells);
-      window_certainties_.resize(window_cells);
-      float* values = window_values_.data();
-      float* certainties = window_certainties_.data();
-      double certainty_sum = 0.0;
-      std::uint32_t unordered = 0;  // a NaN height or a certainty not finite
-      std::size_t kept = 0;
-      for (std::ptrdiff_t di = -w; di <= w; ++di) {
-        const std::size_t row = q + static_cast<std::size_t>(di * sp);
-        for (std::ptrdiff_t dj = -w; dj <= w; ++dj) {
-          const std::size_t t = row + static_cast<std::size_t>(dj);
-          const std::uint32_t is_known = known[t];
-          const std::uint32_t mask = 0u - is_known;
-          const float ht = height[t], ct = certainty[t];
-          certainty_sum += static_cast<double>(std::bit_cast<float>(std::bit_cast<std::uint32_t>(ct) & mask));
-          values[kept] = ht;
-          certainties[kept] = ct;
-          unordered |= is_known & static_cast<std::uint32_t>(std::isnan(ht) | !std::isfinite(ct));
-          kept += is_known & static_cast<std::uint32_t>(t != q);
-        }
-      }
-      const bool ordered = unordered == 0;
-      window_values_.resize(kept);
-      window_certainties_.resize(kept);
-      if (kept == 0) continue;
-      // The median's tests as counts where the values are totally ordered
-      // (fl(v + tolerance) and ratio * v do not decrease with v); the sort
-      // where a NaN would make the median depend on nth_element's order.
-      const double ratio = options_.certainty_ratio;
-      const double cs = certainty[q];
-      const bool isolated_peak =
-          ordered ? holds_below_median(window_values_, [&](float v) { return hs > v + tolerance; })
-                  : hs > median_of(window_values_) + tolerance;
-      if (!isolated_peak) continue;
-      bool weak = certainty_sum < options_.min_window_certainty;
-      if (!weak) {
-        if (ordered) {
-          // cs < ratio * v holds on an upper set: its negation on a lower one.
-          weak = !holds_below_median(window_certainties_, [&](float v) { return !(cs < ratio * v); });
-        } else {
-          weak = cs < ratio * median_of(window_certainties_);
-        }
-      }
-      if (weak) to_remove_.push_back(i * un + j);
+      if (is_weak_isolated_peak(q, hs)) to_remove_.push_back(i * un + j);
     }
   }
   for (std::size_t local : to_remove_) {

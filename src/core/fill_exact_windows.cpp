@@ -164,17 +164,86 @@ constexpr std::uint32_t quadrant_bits(int q) {
   return bits;
 }
 
+// A column is below n < 2^31: its top bit flags a window holding a zero or NaN.
+constexpr std::uint32_t kSpecialColumn = 1u << 31;
+
+// The row's unknown cells that pass the admission tests (enough known
+// neighbours in enough quadrants), listed in in.columns; their count.
+template <int W>
+STRIDEMAP_INLINE std::size_t admit_row(const WindowInput& in, std::size_t row_start) {
+  constexpr int kSide = 2 * W + 1;
+  constexpr std::uint32_t kField = (1u << kSide) - 1;
+  constexpr std::uint32_t kQuadrant[4] = {quadrant_bits<W>(0), quadrant_bits<W>(1), quadrant_bits<W>(2),
+                                          quadrant_bits<W>(3)};
+  const std::size_t p = in.pitch, n = in.n;
+  // The row's unknown cells listed first, without a branch: measured or
+  // not is as random as the map, a loop over the list is not.
+  std::size_t unknown = 0;
+  for (std::size_t j = 0; j < n; j += 8) {
+    const unsigned in_row = n - j >= 8 ? 0xffu : (1u << (n - j)) - 1;  // columns past n are not listed
+    unknown = append_set_flags(~flags_of_bytes(in.known + row_start + j) & in_row, static_cast<std::uint32_t>(j),
+                               in.columns, unknown);
+  }
+  // The admission tests (enough known neighbours in enough quadrants),
+  // the passing cells kept in the same list (never ahead of the reading),
+  // each with a flag (kSpecialColumn) for a zero or NaN in its window.
+  std::size_t admitted = 0;
+  for (std::size_t u = 0; u < unknown; ++u) {
+    const std::size_t j = in.columns[u];
+    const std::size_t q = row_start + j;
+    std::uint32_t known = 0, rows = 0;
+    for (int di = -W; di <= W; ++di) {
+      const std::uint32_t row = in.row_bits[q + static_cast<std::size_t>(di) * p];
+      known |= (row & kField) << ((di + W) * kSide);
+      rows |= row;
+    }
+    const int count = std::popcount(known);
+    const int quadrants = ((known & kQuadrant[0]) != 0) + ((known & kQuadrant[1]) != 0) +
+                          ((known & kQuadrant[2]) != 0) + ((known & kQuadrant[3]) != 0);
+    in.columns[admitted] = static_cast<std::uint32_t>(j) | ((rows >> kSpecialShift) != 0 ? kSpecialColumn : 0u);
+    admitted += (count >= in.min_known) & (quadrants >= in.min_quadrants) ? 1 : 0;
+  }
+  return admitted;
+}
+
+// The second pass for one window: its quartiles from the weights below each
+// lane's value; the median into in.result, or the window listed for the
+// sorted walk when a zero or NaN is in it. The walks listed so far.
+template <int kBlocks, bool kWide>
+STRIDEMAP_INLINE std::size_t take_quantiles(const WindowInput& in, std::size_t i, std::uint32_t column, float total,
+                                            const Floats8* values, const Floats8* below_values, std::size_t walks) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  const std::size_t j = column & ~kSpecialColumn;
+  const bool special = (column & kSpecialColumn) != 0;
+  const bool positive = total > 0.0f;
+  // A zero or NaN among the values: the sorted walk decides (the
+  // result below is not used).
+  const std::size_t local = i * in.n + j;
+  in.walk_cells[walks] = static_cast<std::uint32_t>(local);
+  in.walk_totals[walks] = total;
+  walks += positive & special ? 1 : 0;
+  const float at_quarter = 0.25f * total, at_half = 0.5f * total, at_three_quarters = 0.75f * total;
+  const Floats8 none = {kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf};
+  Floats8 lq = none, lh = none, l3 = none;
+  for (int b = 0; b < kBlocks; ++b) {
+    const Floats8 below = below_values[b], v = values[b];
+    lq = min8(lq, where_at_least<kWide>(below, at_quarter, v, none));
+    lh = min8(lh, where_at_least<kWide>(below, at_half, v, none));
+    l3 = min8(l3, where_at_least<kWide>(below, at_three_quarters, v, none));
+  }
+  const float half = lane_min(lh);
+  const bool steep = in.test_spread & (lane_min(l3) - lane_min(lq) > in.spread);
+  // result holds NaN (leave unknown) until a value is found.
+  const std::size_t slot = in.slot[local];
+  in.result[slot] = positive & !special & !steep ? half : in.result[slot];
+  return walks;
+}
+
 // kWide: built for a target with 32-byte vectors (AVX2, no FMA: every
 // operation rounds as in the baseline build).
 template <int W, bool kWide>
 STRIDEMAP_INLINE std::size_t fill_exact_windows(const WindowInput& in) {
   constexpr int kBlocks = W == 1 ? 1 : 3;
-  constexpr int kSide = 2 * W + 1;
-  constexpr std::uint32_t kField = (1u << kSide) - 1;
-  constexpr float kInf = std::numeric_limits<float>::infinity();
-  constexpr std::uint32_t kSpecialColumn = 1u << 31;  // a column is below n < 2^31
-  constexpr std::uint32_t kQuadrant[4] = {quadrant_bits<W>(0), quadrant_bits<W>(1), quadrant_bits<W>(2),
-                                          quadrant_bits<W>(3)};
   const std::size_t p = in.pitch, n = in.n;
   const float nf = in.near_factor;
   // The near factor on the lanes of the 8 nearest neighbours, 1 elsewhere
@@ -195,33 +264,7 @@ STRIDEMAP_INLINE std::size_t fill_exact_windows(const WindowInput& in) {
   float totals[kChunk];
   for (std::size_t i = 0; i < n; ++i) {
     const std::size_t row_start = (i + in.margin) * p + in.margin;
-    // The row's unknown cells listed first, without a branch: measured or
-    // not is as random as the map, a loop over the list is not.
-    std::size_t unknown = 0;
-    for (std::size_t j = 0; j < n; j += 8) {
-      const unsigned in_row = n - j >= 8 ? 0xffu : (1u << (n - j)) - 1;  // columns past n are not listed
-      unknown = append_set_flags(~flags_of_bytes(in.known + row_start + j) & in_row, static_cast<std::uint32_t>(j),
-                                 in.columns, unknown);
-    }
-    // The admission tests (enough known neighbours in enough quadrants),
-    // the passing cells kept in the same list (never ahead of the reading),
-    // each with a flag (kSpecialColumn) for a zero or NaN in its window.
-    std::size_t admitted = 0;
-    for (std::size_t u = 0; u < unknown; ++u) {
-      const std::size_t j = in.columns[u];
-      const std::size_t q = row_start + j;
-      std::uint32_t known = 0, rows = 0;
-      for (int di = -W; di <= W; ++di) {
-        const std::uint32_t row = in.row_bits[q + static_cast<std::size_t>(di) * p];
-        known |= (row & kField) << ((di + W) * kSide);
-        rows |= row;
-      }
-      const int count = std::popcount(known);
-      const int quadrants = ((known & kQuadrant[0]) != 0) + ((known & kQuadrant[1]) != 0) +
-                            ((known & kQuadrant[2]) != 0) + ((known & kQuadrant[3]) != 0);
-      in.columns[admitted] = static_cast<std::uint32_t>(j) | ((rows >> kSpecialShift) != 0 ? kSpecialColumn : 0u);
-      admitted += (count >= in.min_known) & (quadrants >= in.min_quadrants) ? 1 : 0;
-    }
+    const std::size_t admitted = admit_row<W>(in, row_start);
     // The medians in chunks, each in two passes without a branch: first
     // the weights below every lane's value, then the quantiles. The second
     // pass's chain of dependent steps (threshold, minimum across lanes,
@@ -274,30 +317,8 @@ STRIDEMAP_INLINE std::size_t fill_exact_windows(const WindowInput& in) {
         }
       }
       for (std::size_t c = 0; c < chunk_size; ++c) {
-        const std::size_t j = in.columns[chunk + c] & ~kSpecialColumn;
-        const bool special = (in.columns[chunk + c] & kSpecialColumn) != 0;
-        const float total = totals[c];
-        const bool positive = total > 0.0f;
-        // A zero or NaN among the values: the sorted walk decides (the
-        // result below is not used).
-        const std::size_t local = i * n + j;
-        in.walk_cells[walks] = static_cast<std::uint32_t>(local);
-        in.walk_totals[walks] = total;
-        walks += positive & special ? 1 : 0;
-        const float at_quarter = 0.25f * total, at_half = 0.5f * total, at_three_quarters = 0.75f * total;
-        const Floats8 none = {kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf};
-        Floats8 lq = none, lh = none, l3 = none;
-        for (int b = 0; b < kBlocks; ++b) {
-          const Floats8 below = chunk_below[c][b], v = chunk_values[c][b];
-          lq = min8(lq, where_at_least<kWide>(below, at_quarter, v, none));
-          lh = min8(lh, where_at_least<kWide>(below, at_half, v, none));
-          l3 = min8(l3, where_at_least<kWide>(below, at_three_quarters, v, none));
-        }
-        const float half = lane_min(lh);
-        const bool steep = in.test_spread & (lane_min(l3) - lane_min(lq) > in.spread);
-        // result holds NaN (leave unknown) until a value is found.
-        const std::size_t slot = in.slot[local];
-        in.result[slot] = positive & !special & !steep ? half : in.result[slot];
+        walks = take_quantiles<kBlocks, kWide>(in, i, in.columns[chunk + c], totals[c], chunk_values[c], chunk_below[c],
+                                               walks);
       }
     }
   }

@@ -420,6 +420,47 @@ struct Axis {
   }
 };
 
+// Narrows the walk of a beam to [t_skip, t_last]: where a cell as high as
+// `top` (the bound of the rows and columns crossed, lowered as the walk
+// shrinks) can first (falling beam) or last (rising beam) lie above the
+// beam by more than the margin. False when no cell can.
+template <typename Bound, typename Clearance>
+bool narrow_walk(double dz, double t_stop, double& top, const Bound& bound, const Clearance& clearance, double& t_skip,
+                 double& t_last) {
+  constexpr double kNoBound = -std::numeric_limits<double>::infinity();
+  if (dz < 0.0) {
+    t_skip = clearance(top) / -dz;
+    if (!(t_skip < t_stop)) return false;
+    // What is left of the walk crosses fewer rows and columns, whose bound
+    // may be lower and move the start on again (four times at most: nearly
+    // every beam is settled by then, its walk ended early or left out).
+    for (int round = 0; round < 4; ++round) {
+      const double lower = bound(std::max(t_skip, 0.0), t_stop);
+      if (!(lower > kNoBound)) return false;
+      if (!(lower < top)) break;
+      top = lower;
+      t_skip = clearance(top) / -dz;
+      if (!(t_skip < t_stop)) return false;
+    }
+  } else if (dz > 0.0) {
+    if (!(clearance(top) < 0.0)) return false;
+    t_last = -clearance(top) / dz;
+    for (int round = 0; round < 4; ++round) {  // the same for the end of a rising beam's walk
+      const double lower = bound(0.0, std::min(t_last, t_stop));
+      if (!(lower > kNoBound)) return false;
+      if (!(lower < top)) break;
+      top = lower;
+      if (!(clearance(top) < 0.0)) return false;
+      t_last = -clearance(top) / dz;
+    }
+  } else {  // a level beam: above the window's bound, or above its rows' and columns'
+    if (!(clearance(top) < 0.0)) return false;
+    top = bound(0.0, t_stop);
+    if (!(top > kNoBound) || !(clearance(top) < 0.0)) return false;
+  }
+  return true;
+}
+
 }  // namespace
 
 void VisibilityClearing::trace(ElevationMap& map, const VisibilityBeam& beam) {
@@ -483,36 +524,7 @@ void VisibilityClearing::trace(ElevationMap& map, const VisibilityBeam& beam) {
   };
   double t_skip = -1.0;                                     // cells ending at or before it cannot be contradicted
   double t_last = std::numeric_limits<double>::infinity();  // nor cells ending at or after it
-  if (dz < 0.0) {
-    t_skip = clearance(top) / -dz;
-    if (!(t_skip < t_stop)) return;
-    // What is left of the walk crosses fewer rows and columns, whose bound
-    // may be lower and move the start on again (four times at most: nearly
-    // every beam is settled by then, its walk ended early or left out).
-    for (int round = 0; round < 4; ++round) {
-      const double lower = bound(std::max(t_skip, 0.0), t_stop);
-      if (!(lower > kNoBound)) return;
-      if (!(lower < top)) break;
-      top = lower;
-      t_skip = clearance(top) / -dz;
-      if (!(t_skip < t_stop)) return;
-    }
-  } else if (dz > 0.0) {
-    if (!(clearance(top) < 0.0)) return;
-    t_last = -clearance(top) / dz;
-    for (int round = 0; round < 4; ++round) {  // the same for the end of a rising beam's walk
-      const double lower = bound(0.0, std::min(t_last, t_stop));
-      if (!(lower > kNoBound)) return;
-      if (!(lower < top)) break;
-      top = lower;
-      if (!(clearance(top) < 0.0)) return;
-      t_last = -clearance(top) / dz;
-    }
-  } else {  // a level beam: above the window's bound, or above its rows' and columns'
-    if (!(clearance(top) < 0.0)) return;
-    top = bound(0.0, t_stop);
-    if (!(top > kNoBound) || !(clearance(top) < 0.0)) return;
-  }
+  if (!narrow_walk(dz, t_stop, top, bound, clearance, t_skip, t_last)) return;
 
   Axis ax(ox, dx), ay(oy, dy);
   double t_in = 0.0;

@@ -217,6 +217,7 @@ void WeightedMedianFill::prepare(const ElevationMap& map, int margin) {
   const int p = n + 2 * margin;
   margin_ = static_cast<std::size_t>(margin);
   pitch_ = static_cast<std::size_t>(p);
+  cells_per_side_ = static_cast<std::size_t>(n);
   const auto padded_cells = static_cast<std::size_t>(p) * static_cast<std::size_t>(p);
   // Room past the end for the row pass's last group of four cells and the
   // exact path's eight-lane loads. Only the margin is written here (unknown
@@ -269,24 +270,20 @@ void WeightedMedianFill::forget(std::size_t local_cell, int n) {
   weight_[q] = 0.0f;
 }
 
-std::size_t WeightedMedianFill::fill_prepared(ElevationMap& map) {
-  const int n = map.cells_per_side();
+bool WeightedMedianFill::window_sums_exact() const {
+  // Each weight, with the near factor or without, a whole number of
+  // sixteenths and a full window of them at most 2^24 sixteenths.
+  // Certainties are whole multiples of the increment a in the mapper, so
+  // this is the usual case.
   const int w = options_.window_radius_cells;
-  const auto cells = static_cast<std::size_t>(n) * static_cast<std::size_t>(n);
-  result_.assign(cells, kNaN);
-  const std::size_t p = pitch_;
-  const std::size_t padded_cells = p * p;
-  const auto near_factor = static_cast<float>(options_.near_weight);
-  // Whether every sum of weights is exact (fill_exact_windows.cpp): each
-  // weight, with the near factor or without, a whole number of sixteenths
-  // and a full window of them at most 2^24 sixteenths. Certainties are whole
-  // multiples of the increment a in the mapper, so this is the usual case.
   const int window_neighbours = (2 * w + 1) * (2 * w + 1) - 1;
   const float sixteenths_limit = static_cast<float>((1 << 24) / window_neighbours);
+  const auto near_factor = static_cast<float>(options_.near_weight);
   // whole_sixteenths over the padded copy (unknown cells weigh 0), four at
   // a time; weight_ has room for the last group.
   Masks inexact = {0, 0, 0, 0};
   const Floats limit = {sixteenths_limit, sixteenths_limit, sixteenths_limit, sixteenths_limit};
+  const std::size_t padded_cells = pitch_ * pitch_;
   for (std::size_t q = 0; q < padded_cells; q += 4) {
     Floats far;
     std::memcpy(&far, weight_.data() + q, sizeof far);
@@ -298,180 +295,181 @@ std::size_t WeightedMedianFill::fill_prepared(ElevationMap& map) {
       inexact |= ~in_range | reinterpret_cast<Masks>(back != converted);
     }
   }
-  const bool exact_sums = (inexact[0] | inexact[1] | inexact[2] | inexact[3]) == 0;
-  // The neighbours in the order the fill has always visited them (rows
-  // di = -w..w, in each dj = -w..w): the sums of the weights keep their order.
-  struct Neighbour {
-    std::ptrdiff_t offset;
-    float factor;
-    unsigned quadrant_bit;
-  };
-  std::array<Neighbour, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1)> neighbours{};
-  std::size_t neighbour_count = 0;
+  return (inexact[0] | inexact[1] | inexact[2] | inexact[3]) == 0;
+}
+
+void WeightedMedianFill::list_neighbours() {
+  // Rows di = -w..w, in each dj = -w..w: the sums of the weights keep their order.
+  const int w = options_.window_radius_cells;
+  const auto near_factor = static_cast<float>(options_.near_weight);
+  neighbour_count_ = 0;
   for (int di = -w; di <= w; ++di) {
     for (int dj = -w; dj <= w; ++dj) {
       if (di == 0 && dj == 0) continue;
       // certainty * 1.0f is the certainty itself: the far weight as before.
       const bool near = std::max(std::abs(di), std::abs(dj)) == 1;
-      neighbours[neighbour_count++] = {static_cast<std::ptrdiff_t>(di) * static_cast<std::ptrdiff_t>(p) + dj,
-                                       near ? near_factor : 1.0f, 1u << quadrant_of(di, dj)};
+      neighbours_[neighbour_count_++] = {static_cast<std::ptrdiff_t>(di) * static_cast<std::ptrdiff_t>(pitch_) + dj,
+                                         near ? near_factor : 1.0f, 1u << quadrant_of(di, dj)};
     }
   }
-  const float spread = static_cast<float>(options_.max_quartile_spread_m);
+}
+
+float WeightedMedianFill::sorted_walk(std::size_t centre, float total_weight) {
+  // The known neighbours in visiting order (the order std::sort's result
+  // and the float sums depend on), without branches: each is written at
+  // the end and kept only when known.
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < neighbour_count_; ++k) {
+    const Neighbour& nb = neighbours_[k];
+    const std::size_t t = centre + static_cast<std::size_t>(nb.offset);
+    gathered_[kept] = {value_[t], weight_[t] * nb.factor};
+    scratch_[kept] = value_[t];
+    kept += known_[t] != 0 ? 1 : 0;
+  }
+  if (!sort_distinct(gathered_.data(), kept, scratch_.data(), ranks_.data(), candidates_.data())) {
+    std::copy(gathered_.begin(), gathered_.begin() + static_cast<std::ptrdiff_t>(kept), candidates_.begin());
+    std::sort(candidates_.begin(), candidates_.begin() + static_cast<std::ptrdiff_t>(kept),
+              [](const Candidate& a, const Candidate& b) { return a.value < b.value; });
+  }
+  // Weighted quantiles q: the smallest value at which the cumulative
+  // weight reaches q of the total; the three in one pass over the same sums.
+  const float at_quarter = 0.25f * total_weight, at_half = 0.5f * total_weight,
+              at_three_quarters = 0.75f * total_weight;
+  const float last = candidates_[kept - 1].value;
+  float quarter = last, half = last, three_quarters = last;
+  bool have_quarter = false, have_half = false;
+  float cumulative = 0.0f;
+  for (std::size_t k = 0; k < kept; ++k) {
+    cumulative += candidates_[k].weight;
+    if (!have_quarter && cumulative >= at_quarter) {
+      quarter = candidates_[k].value;
+      have_quarter = true;
+    }
+    if (!have_half && cumulative >= at_half) {
+      half = candidates_[k].value;
+      have_half = true;
+    }
+    if (cumulative >= at_three_quarters) {
+      three_quarters = candidates_[k].value;
+      break;
+    }
+  }
   const bool test_spread = options_.max_quartile_spread_m > 0.0;
-  constexpr unsigned kQuadrantsIn[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
-  const auto un = static_cast<std::size_t>(n);
-  std::array<Candidate, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1)> candidates{}, gathered{};
-  alignas(64) std::array<float, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1) + 8> scratch{};
-  alignas(64) std::array<std::uint32_t, (2 * kMaxRadius + 1) * (2 * kMaxRadius + 1) + 8> ranks{};
+  return test_spread && three_quarters - quarter > static_cast<float>(options_.max_quartile_spread_m) ? kNaN : half;
+}
 
-  // The window's median by sorting its known neighbours (in visiting order,
-  // the order std::sort's result and the float sums depend on); NaN when
-  // the quartiles spread too far.
-  const auto sorted_walk = [&](std::size_t centre, float total_weight) {
-    // The known neighbours in visiting order, without branches: each is
-    // written at the end and kept only when known.
-    std::size_t kept = 0;
-    for (std::size_t k = 0; k < neighbour_count; ++k) {
-      const Neighbour& nb = neighbours[k];
-      const std::size_t t = centre + static_cast<std::size_t>(nb.offset);
-      gathered[kept] = {value_[t], weight_[t] * nb.factor};
-      scratch[kept] = value_[t];
-      kept += known_[t] != 0 ? 1 : 0;
-    }
-    if (!sort_distinct(gathered.data(), kept, scratch.data(), ranks.data(), candidates.data())) {
-      std::copy(gathered.begin(), gathered.begin() + static_cast<std::ptrdiff_t>(kept), candidates.begin());
-      std::sort(candidates.begin(), candidates.begin() + static_cast<std::ptrdiff_t>(kept),
-                [](const Candidate& a, const Candidate& b) { return a.value < b.value; });
-    }
-    // Weighted quantiles q: the smallest value at which the cumulative
-    // weight reaches q of the total; the three in one pass over the same sums.
-    const float at_quarter = 0.25f * total_weight, at_half = 0.5f * total_weight,
-                at_three_quarters = 0.75f * total_weight;
-    const float last = candidates[kept - 1].value;
-    float quarter = last, half = last, three_quarters = last;
-    bool have_quarter = false, have_half = false;
-    float cumulative = 0.0f;
-    for (std::size_t k = 0; k < kept; ++k) {
-      cumulative += candidates[k].weight;
-      if (!have_quarter && cumulative >= at_quarter) {
-        quarter = candidates[k].value;
-        have_quarter = true;
-      }
-      if (!have_half && cumulative >= at_half) {
-        half = candidates[k].value;
-        have_half = true;
-      }
-      if (cumulative >= at_three_quarters) {
-        three_quarters = candidates[k].value;
-        break;
-      }
-    }
-    return test_spread && three_quarters - quarter > spread ? kNaN : half;
-  };
-
-  if (exact_sums && w <= 2) {
-    // Per padded cell, which of the 2w + 1 cells of its row centred on it
-    // are known, and which of those hold a zero or NaN (the sorted walk's):
-    // a window's tests are a few loads and bit operations. Rolled along
-    // each row; the margin keeps every window inside.
-    cell_bits_.resize(padded_cells);
-    row_bits_.resize(padded_cells);  // row_bits_of writes all but the ends, never read
-    cell_bits_of(known_.data(), value_.data(), padded_cells, cell_bits_.data());
-    if (w == 1) {
-      row_bits_of<1>(cell_bits_.data(), padded_cells, row_bits_.data());
-    } else {
-      row_bits_of<2>(cell_bits_.data(), padded_cells, row_bits_.data());
-    }
-    walk_cells_.resize(cells);
-    walk_totals_.resize(cells);
-    columns_.resize(un + 8);
-    fill_detail::WindowInput in{};
-    in.value = value_.data();
-    in.weight = weight_.data();
-    in.row_bits = row_bits_.data();
-    in.known = known_.data();
-    in.pitch = p;
-    in.margin = margin_;
-    in.n = un;
-    in.near_factor = near_factor;
-    in.min_known = options_.min_known_neighbours;
-    in.min_quadrants = options_.min_quadrants;
-    in.spread = spread;
-    in.test_spread = test_spread;
-    in.slot = slot_.data();
-    in.result = result_.data();
-    in.columns = columns_.data();
-    in.walk_cells = walk_cells_.data();
-    in.walk_totals = walk_totals_.data();
-    const std::size_t walks =
-        w == 1 ? fill_detail::fill_exact_windows_radius1(in) : fill_detail::fill_exact_windows_radius2(in);
-    for (std::size_t k = 0; k < walks; ++k) {
-      const std::size_t local = walk_cells_[k];
-      const std::size_t centre = (local / un + margin_) * p + local % un + margin_;
-      result_[slot_[local]] = sorted_walk(centre, walk_totals_[k]);
-    }
+void WeightedMedianFill::fill_exact_windows() {
+  // Per padded cell, which of the 2w + 1 cells of its row centred on it
+  // are known, and which of those hold a zero or NaN (the sorted walk's):
+  // a window's tests are a few loads and bit operations. Rolled along
+  // each row; the margin keeps every window inside.
+  const int w = options_.window_radius_cells;
+  const std::size_t p = pitch_, padded_cells = p * p;
+  const std::size_t un = cells_per_side_;
+  cell_bits_.resize(padded_cells);
+  row_bits_.resize(padded_cells);  // row_bits_of writes all but the ends, never read
+  cell_bits_of(known_.data(), value_.data(), padded_cells, cell_bits_.data());
+  if (w == 1) {
+    row_bits_of<1>(cell_bits_.data(), padded_cells, row_bits_.data());
   } else {
-    // Per row, the admission tests of every cell at once: for each neighbour
-    // in turn, one pass along the row's contiguous arrays, so that each
-    // cell's total weight adds its known neighbours in the same order as
-    // ever while the compiler works on many cells side by side. Only cells
-    // that pass are gathered and sorted.
-    const std::size_t groups = (un + 3) / 4 * 4;
-    count_.resize(groups);
-    quadrants_.resize(groups);
-    total_.resize(groups);
-    unknown_columns_.resize(un);
-    for (std::size_t i = 0; i < un; ++i) {
-      const std::size_t row_start = (i + margin_) * p + margin_;
-      // Four cells at a time, their sums kept in registers over all the
-      // neighbours; the arrays have room for the last group of four.
-      for (std::size_t j = 0; j < un; j += 4) {
-        Masks count = {0, 0, 0, 0}, quadrants = {0, 0, 0, 0};
-        Floats total = {0.0f, 0.0f, 0.0f, 0.0f};
-        for (std::size_t k = 0; k < neighbour_count; ++k) {
-          const Neighbour& nb = neighbours[k];
-          const std::size_t t = row_start + j + static_cast<std::size_t>(nb.offset);
-          Masks known;
-          Floats weight;
-          std::memcpy(&known, known_mask_.data() + t, sizeof known);
-          std::memcpy(&weight, weight_.data() + t, sizeof weight);
-          const Floats add = weight * nb.factor;
-          // A select by bits: the sum is formed for every cell (a conditional
-          // float add is a branch to the compiler) and kept only where known.
-          const Floats sum = total + add;
-          total = reinterpret_cast<Floats>((reinterpret_cast<Masks>(sum) & known) |
-                                           (reinterpret_cast<Masks>(total) & ~known));
-          count -= known;  // all ones is -1
-          quadrants |= known & nb.quadrant_bit;
-        }
-        std::memcpy(count_.data() + j, &count, sizeof count);
-        std::memcpy(quadrants_.data() + j, &quadrants, sizeof quadrants);
-        std::memcpy(total_.data() + j, &total, sizeof total);
+    row_bits_of<2>(cell_bits_.data(), padded_cells, row_bits_.data());
+  }
+  walk_cells_.resize(un * un);
+  walk_totals_.resize(un * un);
+  columns_.resize(un + 8);
+  fill_detail::WindowInput in{};
+  in.value = value_.data();
+  in.weight = weight_.data();
+  in.row_bits = row_bits_.data();
+  in.known = known_.data();
+  in.pitch = p;
+  in.margin = margin_;
+  in.n = un;
+  in.near_factor = static_cast<float>(options_.near_weight);
+  in.min_known = options_.min_known_neighbours;
+  in.min_quadrants = options_.min_quadrants;
+  in.spread = static_cast<float>(options_.max_quartile_spread_m);
+  in.test_spread = options_.max_quartile_spread_m > 0.0;
+  in.slot = slot_.data();
+  in.result = result_.data();
+  in.columns = columns_.data();
+  in.walk_cells = walk_cells_.data();
+  in.walk_totals = walk_totals_.data();
+  const std::size_t walks =
+      w == 1 ? fill_detail::fill_exact_windows_radius1(in) : fill_detail::fill_exact_windows_radius2(in);
+  for (std::size_t k = 0; k < walks; ++k) {
+    const std::size_t local = walk_cells_[k];
+    const std::size_t centre = (local / un + margin_) * p + local % un + margin_;
+    result_[slot_[local]] = sorted_walk(centre, walk_totals_[k]);
+  }
+}
+
+void WeightedMedianFill::fill_row_by_row() {
+  // Per row, the admission tests of every cell at once: for each neighbour
+  // in turn, one pass along the row's contiguous arrays, so that each
+  // cell's total weight adds its known neighbours in the same order as
+  // ever while the compiler works on many cells side by side. Only cells
+  // that pass are gathered and sorted.
+  constexpr unsigned kQuadrantsIn[16] = {0, 1, 1, 2, 1, 2, 2, 3, 1, 2, 2, 3, 2, 3, 3, 4};
+  const std::size_t p = pitch_;
+  const std::size_t un = cells_per_side_;
+  const std::size_t groups = (un + 3) / 4 * 4;
+  count_.resize(groups);
+  quadrants_.resize(groups);
+  total_.resize(groups);
+  unknown_columns_.resize(un);
+  for (std::size_t i = 0; i < un; ++i) {
+    const std::size_t row_start = (i + margin_) * p + margin_;
+    // Four cells at a time, their sums kept in registers over all the
+    // neighbours; the arrays have room for the last group of four.
+    for (std::size_t j = 0; j < un; j += 4) {
+      Masks count = {0, 0, 0, 0}, quadrants = {0, 0, 0, 0};
+      Floats total = {0.0f, 0.0f, 0.0f, 0.0f};
+      for (std::size_t k = 0; k < neighbour_count_; ++k) {
+        const Neighbour& nb = neighbours_[k];
+        const std::size_t t = row_start + j + static_cast<std::size_t>(nb.offset);
+        Masks known;
+        Floats weight;
+        std::memcpy(&known, known_mask_.data() + t, sizeof known);
+        std::memcpy(&weight, weight_.data() + t, sizeof weight);
+        const Floats add = weight * nb.factor;
+        // A select by bits: the sum is formed for every cell (a conditional
+        // float add is a branch to the compiler) and kept only where known.
+        const Floats sum = total + add;
+        total = reinterpret_cast<Floats>((reinterpret_cast<Masks>(sum) & known) |
+                                         (reinterpret_cast<Masks>(total) & ~known));
+        count -= known;  // all ones is -1
+        quadrants |= known & nb.quadrant_bit;
       }
-      // The row's unknown cells listed first, without a branch: measured or
-      // not is as random as the map, a loop over the list is not.
-      std::size_t unknown_count = 0;
-      for (std::size_t j = 0; j < un; ++j) {
-        unknown_columns_[unknown_count] = j;
-        unknown_count += known_[row_start + j] == 0 ? 1 : 0;
+      std::memcpy(count_.data() + j, &count, sizeof count);
+      std::memcpy(quadrants_.data() + j, &quadrants, sizeof quadrants);
+      std::memcpy(total_.data() + j, &total, sizeof total);
+    }
+    // The row's unknown cells listed first, without a branch: measured or
+    // not is as random as the map, a loop over the list is not.
+    std::size_t unknown_count = 0;
+    for (std::size_t j = 0; j < un; ++j) {
+      unknown_columns_[unknown_count] = j;
+      unknown_count += known_[row_start + j] == 0 ? 1 : 0;
+    }
+    for (std::size_t u = 0; u < unknown_count; ++u) {
+      const std::size_t j = unknown_columns_[u];
+      const auto count = static_cast<std::int32_t>(count_[j]);
+      const auto quadrants = static_cast<int>(kQuadrantsIn[quadrants_[j]]);
+      const float total_weight = total_[j];
+      if (count < options_.min_known_neighbours || quadrants < options_.min_quadrants || total_weight <= 0.0f) {
+        continue;
       }
-      for (std::size_t u = 0; u < unknown_count; ++u) {
-        const std::size_t j = unknown_columns_[u];
-        const auto count = static_cast<std::int32_t>(count_[j]);
-        const auto quadrants = static_cast<int>(kQuadrantsIn[quadrants_[j]]);
-        const float total_weight = total_[j];
-        if (count < options_.min_known_neighbours || quadrants < options_.min_quadrants || total_weight <= 0.0f) {
-          continue;
-        }
-        result_[slot_[i * un + j]] = sorted_walk(row_start + j, total_weight);
-      }
+      result_[slot_[i * un + j]] = sorted_walk(row_start + j, total_weight);
     }
   }
+}
 
-  // The results into the map: a pass on vectors for the cells that keep or
-  // take a value, then every layer reset (reset_slot) for the cells left
-  // without one, found eight flags at a time (few in a map with small holes).
+std::size_t WeightedMedianFill::write_results_to(ElevationMap& map) {
+  // A pass on vectors for the cells that keep or take a value, then every
+  // layer reset (reset_slot) for the cells left without one, found eight
+  // flags at a time (few in a map with small holes).
+  const std::size_t cells = result_.size();
   reset_.resize((cells + 7) / 8 * 8);
   std::fill(reset_.begin() + static_cast<std::ptrdiff_t>(cells), reset_.end(), std::uint8_t{0});  // write_results writes the rest
   const std::size_t filled = write_results(result_.data(), cells, map.elevation_data(), map.state_data(), reset_.data());
@@ -485,6 +483,18 @@ std::size_t WeightedMedianFill::fill_prepared(ElevationMap& map) {
     }
   }
   return filled;
+}
+
+std::size_t WeightedMedianFill::fill_prepared(ElevationMap& map) {
+  const int n = map.cells_per_side();
+  result_.assign(static_cast<std::size_t>(n) * static_cast<std::size_t>(n), kNaN);
+  list_neighbours();
+  if (options_.window_radius_cells <= 2 && window_sums_exact()) {
+    fill_exact_windows();
+  } else {
+    fill_row_by_row();
+  }
+  return write_results_to(map);
 }
 
 }  // namespace stridemap

@@ -147,7 +147,9 @@ FigureDistribution distribution_of(const std::string& figure, std::vector<double
   return d;
 }
 
-FidelityResult run_fidelity(const FidelityOptions& options) {
+namespace {
+
+void check_fidelity_options(const FidelityOptions& options) {
   if (options.scenes == 0) throw InputError("fidelity: the number of scenes must be at least 1");
   if (options.filters.empty()) {
     throw InputError("fidelity: the filtered run needs at least one scan filter (the unfiltered run is the reference)");
@@ -158,94 +160,95 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
                      "both are 0 (they are drawn log-uniform); got " + std::to_string(options.min_lux) + " and " +
                      std::to_string(options.max_lux));
   }
-  FidelityResult result;
+}
+
+// The URG's three runs of one scene: the ideal sensor as the reference, then
+// with mixed pixels unfiltered and filtered.
+template <typename Run>
+void score_urg(FidelitySceneResult& row, const FidelityOptions& options, const Run& run, ExtentErrors& errors) {
+  CartRailOptions urg = options.urg;
+  urg.sensor = CartRailSensor::urg;
+  urg.mixed_pixels = false;
+  urg.filters = {};
+  // The reference is the ideal sensor: no mixed measurement of any kind,
+  // neither the footprint's nor the receiver's (its lagging gain control).
+  const bool coupling = urg.sim.receiver.enabled;
+  urg.sim.receiver.enabled = false;
+  const CartRailResult reference = run(urg);
+  urg.sim.receiver.enabled = coupling;
+  urg.mixed_pixels = true;
+  const CartRailResult unfiltered = run(urg);
+  urg.filters = options.filters;
+  const CartRailResult filtered = run(urg);
   std::vector<double> unused;
-  ExtentErrors urg_errors, sl_errors;
-  const std::size_t runs_per_scene = options.structured_light ? 4 : 3;
-  for (std::size_t k = 0; k < options.scenes; ++k) {
-    FidelitySceneResult row;
-    row.scene_seed = options.seed * 1000 + k;
-    row.scene_yaml = random_scene_yaml(options.kind, row.scene_seed, options.bystanders);
-    const Scene scene = parse_scene_yaml(row.scene_yaml, "random scene " + std::to_string(row.scene_seed));
-    std::size_t part = k * runs_per_scene;
-    const auto run = [&](CartRailOptions run_options) {
-      run_options.seed = row.scene_seed;
-      run_options.progress = progress_of_part(options.progress, part++, options.scenes * runs_per_scene);
-      return run_cart_rail(scene, run_options);
-    };
-    CartRailOptions urg = options.urg;
-    urg.sensor = CartRailSensor::urg;
-    urg.mixed_pixels = false;
-    urg.filters = {};
-    // The reference is the ideal sensor: no mixed measurement of any kind,
-    // neither the footprint's nor the receiver's (its lagging gain control).
-    const bool coupling = urg.sim.receiver.enabled;
-    urg.sim.receiver.enabled = false;
-    const CartRailResult reference = run(urg);
-    urg.sim.receiver.enabled = coupling;
-    urg.mixed_pixels = true;
-    const CartRailResult unfiltered = run(urg);
-    urg.filters = options.filters;
-    const CartRailResult filtered = run(urg);
-    row.urg_objects = filtered.objects;
-    row.urg_extent_error_pct =
-        worst_extent_error(filtered.objects, options.min_scored_extent_m, options.min_seen_share,
-                           urg_errors.every_pct, &ObjectMeasurement::measured);
-    row.urg_extent_error_edges_untrimmed_pct = worst_extent_error(
-        filtered.objects, options.min_scored_extent_m, options.min_seen_share, unused, &ObjectMeasurement::edges_untrimmed);
-    row.urg_extent_error_trimmed_pct = worst_extent_error(filtered.objects, options.min_scored_extent_m, options.min_seen_share, unused,
-                                                          &ObjectMeasurement::measured_trimmed);
-    row.urg_extent_error_untrimmed_pct = worst_extent_error(filtered.objects, options.min_scored_extent_m, options.min_seen_share, unused,
-                                                            &ObjectMeasurement::measured_untrimmed);
-    row.urg_objects_missed = missed(filtered.objects, options.min_seen_share);
-    row.urg_objects_partly_seen = count_partly_seen(filtered.objects, options.min_seen_share);
-    urg_errors.add(filtered.objects, options);
-    row.urg_rms_error_mm = filtered.score.rms_error_m * 1000.0;
-    row.artifact_cells_reference = reference.score.artifact_cells;
-    row.artifact_cells_unfiltered = unfiltered.score.artifact_cells;
-    row.artifact_cells_filtered = filtered.score.artifact_cells;
-    const double added = static_cast<double>(row.artifact_cells_unfiltered) -
-                         static_cast<double>(row.artifact_cells_reference);
-    row.mixed_artifacts_removed_pct =
-        added > 0.0 ? 100.0 * (static_cast<double>(row.artifact_cells_unfiltered) -
-                               static_cast<double>(row.artifact_cells_filtered)) / added
-                    : kNaN;
-    row.clean_beams_dropped_pct = 100.0 * filtered.beams.clean_drop_rate();
-    if (options.structured_light) {
-      CartRailOptions sl_options = options.structured_light_rail;
-      row.structured_light_lux = scene_lux(row.scene_seed, options.min_lux, options.max_lux);
-      sl_options.structured_light.image.ambient.illuminance_lux = row.structured_light_lux;
-      const CartRailResult sl = run(sl_options);
-      row.structured_light_false_detections_pct = 100.0 * sl.stripe.false_rate();
-      row.structured_light_off_row_detections_pct = 100.0 * sl.stripe.off_row_rate();
-      row.structured_light_clear_artifact_cells = static_cast<double>(sl.score.clear_artifact_cells);
-      row.structured_light_clear_max_error_mm = sl.score.clear_max_error_m * 1000.0;
-      row.structured_light_max_error_mm = sl.score.max_error_m * 1000.0;
-      row.structured_light_rms_error_mm = sl.score.rms_error_m * 1000.0;
-      row.structured_light_objects = sl.objects;
-      row.structured_light_extent_error_pct =
-          worst_extent_error(sl.objects, options.min_scored_extent_m, options.min_seen_share, sl_errors.every_pct,
-                             &ObjectMeasurement::measured);
-      row.structured_light_extent_error_edges_untrimmed_pct =
-          worst_extent_error(sl.objects, options.min_scored_extent_m, options.min_seen_share, unused, &ObjectMeasurement::edges_untrimmed);
-      row.structured_light_extent_error_trimmed_pct =
-          worst_extent_error(sl.objects, options.min_scored_extent_m, options.min_seen_share, unused, &ObjectMeasurement::measured_trimmed);
-      row.structured_light_extent_error_untrimmed_pct =
-          worst_extent_error(sl.objects, options.min_scored_extent_m, options.min_seen_share, unused, &ObjectMeasurement::measured_untrimmed);
-      row.structured_light_objects_missed = missed(sl.objects, options.min_seen_share);
-      row.structured_light_objects_partly_seen = count_partly_seen(sl.objects, options.min_seen_share);
-      sl_errors.add(sl.objects, options);
-    } else {
-      row.structured_light_extent_error_pct = row.structured_light_extent_error_edges_untrimmed_pct =
-          row.structured_light_extent_error_trimmed_pct =
-          row.structured_light_extent_error_untrimmed_pct = kNaN;
-      row.structured_light_lux = row.structured_light_false_detections_pct =
-          row.structured_light_off_row_detections_pct = row.structured_light_clear_artifact_cells =
-          row.structured_light_clear_max_error_mm = row.structured_light_max_error_mm =
-          row.structured_light_rms_error_mm = kNaN;
-    }
-    result.scenes.push_back(std::move(row));
-  }
+  const double min_extent = options.min_scored_extent_m, min_seen = options.min_seen_share;
+  row.urg_objects = filtered.objects;
+  row.urg_extent_error_pct =
+      worst_extent_error(filtered.objects, min_extent, min_seen, errors.every_pct, &ObjectMeasurement::measured);
+  row.urg_extent_error_edges_untrimmed_pct =
+      worst_extent_error(filtered.objects, min_extent, min_seen, unused, &ObjectMeasurement::edges_untrimmed);
+  row.urg_extent_error_trimmed_pct =
+      worst_extent_error(filtered.objects, min_extent, min_seen, unused, &ObjectMeasurement::measured_trimmed);
+  row.urg_extent_error_untrimmed_pct =
+      worst_extent_error(filtered.objects, min_extent, min_seen, unused, &ObjectMeasurement::measured_untrimmed);
+  row.urg_objects_missed = missed(filtered.objects, min_seen);
+  row.urg_objects_partly_seen = count_partly_seen(filtered.objects, min_seen);
+  errors.add(filtered.objects, options);
+  row.urg_rms_error_mm = filtered.score.rms_error_m * 1000.0;
+  row.artifact_cells_reference = reference.score.artifact_cells;
+  row.artifact_cells_unfiltered = unfiltered.score.artifact_cells;
+  row.artifact_cells_filtered = filtered.score.artifact_cells;
+  const double added = static_cast<double>(row.artifact_cells_unfiltered) -
+                       static_cast<double>(row.artifact_cells_reference);
+  row.mixed_artifacts_removed_pct =
+      added > 0.0 ? 100.0 * (static_cast<double>(row.artifact_cells_unfiltered) -
+                             static_cast<double>(row.artifact_cells_filtered)) / added
+                  : kNaN;
+  row.clean_beams_dropped_pct = 100.0 * filtered.beams.clean_drop_rate();
+}
+
+// The structured-light run of one scene, at the scene's drawn light level.
+template <typename Run>
+void score_structured_light(FidelitySceneResult& row, const FidelityOptions& options, const Run& run,
+                            ExtentErrors& errors) {
+  CartRailOptions sl_options = options.structured_light_rail;
+  row.structured_light_lux = scene_lux(row.scene_seed, options.min_lux, options.max_lux);
+  sl_options.structured_light.image.ambient.illuminance_lux = row.structured_light_lux;
+  const CartRailResult sl = run(sl_options);
+  std::vector<double> unused;
+  const double min_extent = options.min_scored_extent_m, min_seen = options.min_seen_share;
+  row.structured_light_false_detections_pct = 100.0 * sl.stripe.false_rate();
+  row.structured_light_off_row_detections_pct = 100.0 * sl.stripe.off_row_rate();
+  row.structured_light_clear_artifact_cells = static_cast<double>(sl.score.clear_artifact_cells);
+  row.structured_light_clear_max_error_mm = sl.score.clear_max_error_m * 1000.0;
+  row.structured_light_max_error_mm = sl.score.max_error_m * 1000.0;
+  row.structured_light_rms_error_mm = sl.score.rms_error_m * 1000.0;
+  row.structured_light_objects = sl.objects;
+  row.structured_light_extent_error_pct =
+      worst_extent_error(sl.objects, min_extent, min_seen, errors.every_pct, &ObjectMeasurement::measured);
+  row.structured_light_extent_error_edges_untrimmed_pct =
+      worst_extent_error(sl.objects, min_extent, min_seen, unused, &ObjectMeasurement::edges_untrimmed);
+  row.structured_light_extent_error_trimmed_pct =
+      worst_extent_error(sl.objects, min_extent, min_seen, unused, &ObjectMeasurement::measured_trimmed);
+  row.structured_light_extent_error_untrimmed_pct =
+      worst_extent_error(sl.objects, min_extent, min_seen, unused, &ObjectMeasurement::measured_untrimmed);
+  row.structured_light_objects_missed = missed(sl.objects, min_seen);
+  row.structured_light_objects_partly_seen = count_partly_seen(sl.objects, min_seen);
+  errors.add(sl.objects, options);
+}
+
+void mark_structured_light_not_run(FidelitySceneResult& row) {
+  row.structured_light_extent_error_pct = row.structured_light_extent_error_edges_untrimmed_pct =
+      row.structured_light_extent_error_trimmed_pct = row.structured_light_extent_error_untrimmed_pct = kNaN;
+  row.structured_light_lux = row.structured_light_false_detections_pct =
+      row.structured_light_off_row_detections_pct = row.structured_light_clear_artifact_cells =
+      row.structured_light_clear_max_error_mm = row.structured_light_max_error_mm =
+      row.structured_light_rms_error_mm = kNaN;
+}
+
+// Each figure's distribution over the scenes, in the table's order.
+void add_figures(FidelityResult& result, bool structured_light, const ExtentErrors& urg_errors,
+                 const ExtentErrors& sl_errors) {
   const auto figure = [&](const std::string& name, auto field, bool higher_is_better) {
     std::vector<double> values;
     for (const FidelitySceneResult& row : result.scenes) values.push_back(static_cast<double>(row.*field));
@@ -262,7 +265,7 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
   figure("urg_box_extent_error_pct, untrimmed cells", &R::urg_extent_error_untrimmed_pct, false);
   figure("urg_objects_missed", &R::urg_objects_missed, false);
   figure("urg_objects_partly_seen", &R::urg_objects_partly_seen, false);
-  if (options.structured_light) {
+  if (structured_light) {
     figure("structured_light_box_extent_error_pct (worst per scene)", &R::structured_light_extent_error_pct, false);
     result.figures.push_back(
         distribution_of("structured_light_box_extent_error_pct (every extent)", sl_errors.every_pct, false));
@@ -288,6 +291,35 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
   figure("mixed_artifacts_removed_pct", &R::mixed_artifacts_removed_pct, true);
   figure("clean_beams_dropped_pct", &R::clean_beams_dropped_pct, false);
   figure("urg_rms_error_mm", &R::urg_rms_error_mm, false);
+}
+
+}  // namespace
+
+FidelityResult run_fidelity(const FidelityOptions& options) {
+  check_fidelity_options(options);
+  FidelityResult result;
+  ExtentErrors urg_errors, sl_errors;
+  const std::size_t runs_per_scene = options.structured_light ? 4 : 3;
+  for (std::size_t k = 0; k < options.scenes; ++k) {
+    FidelitySceneResult row;
+    row.scene_seed = options.seed * 1000 + k;
+    row.scene_yaml = random_scene_yaml(options.kind, row.scene_seed, options.bystanders);
+    const Scene scene = parse_scene_yaml(row.scene_yaml, "random scene " + std::to_string(row.scene_seed));
+    std::size_t part = k * runs_per_scene;
+    const auto run = [&](CartRailOptions run_options) {
+      run_options.seed = row.scene_seed;
+      run_options.progress = progress_of_part(options.progress, part++, options.scenes * runs_per_scene);
+      return run_cart_rail(scene, run_options);
+    };
+    score_urg(row, options, run, urg_errors);
+    if (options.structured_light) {
+      score_structured_light(row, options, run, sl_errors);
+    } else {
+      mark_structured_light_not_run(row);
+    }
+    result.scenes.push_back(std::move(row));
+  }
+  add_figures(result, options.structured_light, urg_errors, sl_errors);
   add_edge_spreads("urg", urg_errors, result.edges);
   if (options.structured_light) add_edge_spreads("structured_light", sl_errors, result.edges);
   return result;

@@ -133,6 +133,129 @@ double moment_extent(const std::vector<Eigen::Vector2d>& cells, int axis, double
   return std::max(0.0, std::sqrt(12.0 * var + s * s) - s);
 }
 
+using CellIndex = std::pair<Eigen::Index, Eigen::Index>;
+
+struct Flood {
+  CellMask mask;
+  std::vector<CellIndex> order;  ///< as visited: the sums over the cells keep their order
+};
+
+// The cells 4-connected to `seed` that `admit` lets in.
+template <typename Admit>
+Flood flood_from(Eigen::Index n, CellIndex seed, const Admit& admit) {
+  Flood flood{CellMask::Zero(n, n), {}};
+  std::deque<CellIndex> queue{seed};
+  flood.mask(seed.first, seed.second) = 1;
+  while (!queue.empty()) {
+    const auto [i, j] = queue.front();
+    queue.pop_front();
+    flood.order.emplace_back(i, j);
+    for (const auto& [di, dj] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
+      const Eigen::Index a = i + di, b = j + dj;
+      if (a < 0 || b < 0 || a >= n || b >= n || flood.mask(a, b) || !admit(a, b)) continue;
+      flood.mask(a, b) = 1;
+      queue.emplace_back(a, b);
+    }
+  }
+  return flood;
+}
+
+// The readings that set the border cells of `mask` (a measured cell with a
+// neighbour outside), relative to `centre`, for the sub-cell edges.
+std::vector<Eigen::Vector2d> border_readings(const MapSnapshot& m, const CellMask& mask, const Eigen::Vector2d& centre) {
+  std::vector<Eigen::Vector2d> border;
+  const ExportedLayer* top_x = m.find("top_point_x");
+  const ExportedLayer* top_y = m.find("top_point_y");
+  if (!top_x || !top_y || top_x->spec.type != LayerType::f32 || top_y->spec.type != LayerType::f32) return border;
+  const Eigen::Index n = mask.rows();
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (Eigen::Index j = 0; j < n; ++j) {
+      if (!mask(i, j) || static_cast<CellState>(m.state()(i, j)) != CellState::measured) continue;
+      bool inside = true;
+      for (Eigen::Index a = i - 1; a <= i + 1 && inside; ++a)
+        for (Eigen::Index b = j - 1; b <= j + 1; ++b)
+          if (a < 0 || b < 0 || a >= n || b >= n || !mask(a, b)) {
+            inside = false;
+            break;
+          }
+      const Eigen::Vector2d p(top_x->f32(i, j), top_y->f32(i, j));
+      if (!inside && p.allFinite()) border.push_back(p - centre);
+    }
+  }
+  return border;
+}
+
+// The ground the height is measured from: the median of a ring of known
+// cells around the region (not the region's own neighbourhood median,
+// which other objects may raise); `fallback` when the ring is empty.
+double ring_ground(const MapSnapshot& m, const CellMask& region, double ring_m, double fallback) {
+  const Eigen::MatrixXf& heights = m.elevation_m();
+  const Eigen::Index n = heights.rows();
+  const auto ring_cells = static_cast<Eigen::Index>(std::ceil(ring_m / m.cell_size_m));
+  std::vector<double> ring;
+  for (Eigen::Index i = 0; i < n; ++i) {
+    for (Eigen::Index j = 0; j < n; ++j) {
+      if (region(i, j) || static_cast<CellState>(m.state()(i, j)) == CellState::unknown) continue;
+      bool near = false;
+      for (Eigen::Index a = std::max<Eigen::Index>(0, i - ring_cells); a <= std::min(n - 1, i + ring_cells) && !near; ++a)
+        for (Eigen::Index b = std::max<Eigen::Index>(0, j - ring_cells); b <= std::min(n - 1, j + ring_cells); ++b)
+          if (region(a, b)) {
+            near = true;
+            break;
+          }
+      if (near) ring.push_back(heights(i, j));
+    }
+  }
+  return ring.empty() ? fallback : median(ring);
+}
+
+// A box's length and width from its cells (relative to the truth's centre)
+// by every estimate, and the one `options.extent` picks as `measured`.
+void measure_box(ObjectMeasurement& out, const std::vector<Eigen::Vector2d>& cells, const std::vector<Eigen::Vector2d>& top_border,
+                 const std::vector<Eigen::Vector2d>& region_border, double s, double height, const Identity& id,
+                 const ObjectMeasureOptions& options) {
+  // The measured axes, the first one turned to the nearer of the truth's
+  // length axis (truth names the dimensions, it does not place them).
+  double yaw = min_area_yaw(cells);
+  const auto gap = [](double a, double b) { return std::abs(std::remainder(a - b, std::numbers::pi)); };
+  if (gap(yaw + std::numbers::pi / 2, id.yaw) < gap(yaw, id.yaw)) yaw += std::numbers::pi / 2;
+  out.measured_yaw_rad = std::remainder(yaw, std::numbers::pi);
+  const std::vector<Eigen::Vector2d> axes = turned(cells, yaw);
+  out.measured_trimmed = {trimmed_extent(axes, 0, s), trimmed_extent(axes, 1, s), height};
+  out.measured_untrimmed = {untrimmed_extent(axes, 0), untrimmed_extent(axes, 1), height};
+  const ObjectDimensions moments{moment_extent(axes, 0, s), moment_extent(axes, 1, s), height};
+  // The sides the edge readings are sorted to: the trimmed rows' outer
+  // cell faces, in the turned frame.
+  const auto [u_lo, u_hi] = trimmed_span(axes, 0, s);
+  const auto [v_lo, v_hi] = trimmed_span(axes, 1, s);
+  const BoxFrame frame{yaw, u_lo - s / 2, u_hi + s / 2, v_lo - s / 2, v_hi + s / 2};
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  out.edges_trimmed = out.edges_untrimmed = {kNaN, kNaN, height};
+  // The top's border first; where a side of it holds too few readings
+  // (a top broken up by noise), the whole region's border.
+  const std::vector<Eigen::Vector2d>* border = &top_border;
+  BoxEdgeFit trimmed = fit_box_edges(*border, frame, s, true, options.edges);
+  if (!trimmed.ok) {
+    border = &region_border;
+    trimmed = fit_box_edges(*border, frame, s, true, options.edges);
+  }
+  const BoxEdgeFit untrimmed = fit_box_edges(*border, frame, s, false, options.edges);
+  if (trimmed.ok) {
+    out.edges_trimmed = {trimmed.length_m, trimmed.width_m, height};
+    out.edge_errors_m = edge_errors(trimmed, id, options.travel_heading_rad);
+    out.measured_yaw_rad = std::remainder(trimmed.yaw_rad, std::numbers::pi);
+  }
+  if (untrimmed.ok) out.edges_untrimmed = {untrimmed.length_m, untrimmed.width_m, height};
+  switch (options.extent) {
+    case ExtentEstimate::edges:
+      out.measured = trimmed.ok ? out.edges_trimmed : untrimmed.ok ? out.edges_untrimmed : moments;
+      break;
+    case ExtentEstimate::moments: out.measured = moments; break;
+    case ExtentEstimate::trimmed: out.measured = out.measured_trimmed; break;
+    case ExtentEstimate::untrimmed: out.measured = out.measured_untrimmed; break;
+  }
+}
+
 ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const ObjectMeasureOptions& options) {
   ObjectMeasurement out;
   const Eigen::MatrixXf& heights = m.elevation_m();
@@ -177,22 +300,12 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
   }
   if (seed_i < 0) return out;
 
-  CellMask region = CellMask::Zero(n, n);
-  std::deque<std::pair<Eigen::Index, Eigen::Index>> queue{{seed_i, seed_j}};
-  region(seed_i, seed_j) = 1;
+  const Flood region = flood_from(n, {seed_i, seed_j}, qualifies);
   std::vector<Eigen::Vector2d> cells;
   std::vector<double> tops;
-  while (!queue.empty()) {
-    const auto [i, j] = queue.front();
-    queue.pop_front();
+  for (const auto& [i, j] : region.order) {
     cells.push_back(m.cell_center(i, j) - centre);
     if (static_cast<CellState>(states(i, j)) == CellState::measured) tops.push_back(heights(i, j));
-    for (const auto& [di, dj] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
-      const Eigen::Index a = i + di, b = j + dj;
-      if (a < 0 || b < 0 || a >= n || b >= n || region(a, b) || !qualifies(a, b)) continue;
-      region(a, b) = 1;
-      queue.emplace_back(a, b);
-    }
   }
   // The box's top: the region's cells within a band below its median top,
   // grown from the seed. Mixed pixels at an edge leave a ramp of readings
@@ -207,62 +320,10 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
   for (const double t : tops) deviations.push_back(std::abs(t - top_level));
   const double spread = deviations.empty() ? 0.0 : 2.5 * 1.4826 * median(deviations);
   const double band = std::min(std::max(options.edge_band_m, spread), top_level - threshold);
-  CellMask top_cells = CellMask::Zero(n, n);
-  std::deque<std::pair<Eigen::Index, Eigen::Index>> grow{{seed_i, seed_j}};
-  top_cells(seed_i, seed_j) = 1;
-  while (!grow.empty()) {
-    const auto [i, j] = grow.front();
-    grow.pop_front();
-    for (const auto& [di, dj] : {std::pair{1, 0}, {-1, 0}, {0, 1}, {0, -1}}) {
-      const Eigen::Index a = i + di, b = j + dj;
-      if (a < 0 || b < 0 || a >= n || b >= n || top_cells(a, b) || !region(a, b)) continue;
-      if (!(heights(a, b) >= top_level - band)) continue;
-      top_cells(a, b) = 1;
-      grow.emplace_back(a, b);
-    }
-  }
-  // The readings that set the border cells of `cells` (a cell with a
-  // neighbour outside), for the sub-cell edges.
-  const ExportedLayer* top_x = m.find("top_point_x");
-  const ExportedLayer* top_y = m.find("top_point_y");
-  const auto border_of = [&](const CellMask& cells_mask) {
-    std::vector<Eigen::Vector2d> border;
-    if (!top_x || !top_y || top_x->spec.type != LayerType::f32 || top_y->spec.type != LayerType::f32) return border;
-    for (Eigen::Index i = 0; i < n; ++i) {
-      for (Eigen::Index j = 0; j < n; ++j) {
-        if (!cells_mask(i, j) || static_cast<CellState>(states(i, j)) != CellState::measured) continue;
-        bool inside = true;
-        for (Eigen::Index a = i - 1; a <= i + 1 && inside; ++a)
-          for (Eigen::Index b = j - 1; b <= j + 1; ++b)
-            if (a < 0 || b < 0 || a >= n || b >= n || !cells_mask(a, b)) {
-              inside = false;
-              break;
-            }
-        const Eigen::Vector2d p(top_x->f32(i, j), top_y->f32(i, j));
-        if (!inside && p.allFinite()) border.push_back(p - centre);
-      }
-    }
-    return border;
-  };
-  // The ground the height is measured from: a ring of known cells around
-  // the region (not the region's own neighbourhood median, which other
-  // objects may raise).
-  const auto ring_cells = static_cast<Eigen::Index>(std::ceil(options.ground_ring_m / s));
-  std::vector<double> ring;
-  for (Eigen::Index i = 0; i < n; ++i) {
-    for (Eigen::Index j = 0; j < n; ++j) {
-      if (region(i, j) || !known(i, j)) continue;
-      bool near = false;
-      for (Eigen::Index a = std::max<Eigen::Index>(0, i - ring_cells); a <= std::min(n - 1, i + ring_cells) && !near; ++a)
-        for (Eigen::Index b = std::max<Eigen::Index>(0, j - ring_cells); b <= std::min(n - 1, j + ring_cells); ++b)
-          if (region(a, b)) {
-            near = true;
-            break;
-          }
-      if (near) ring.push_back(heights(i, j));
-    }
-  }
-  const double ground_m = ring.empty() ? ground_guess : median(ring);
+  const Flood top = flood_from(n, {seed_i, seed_j}, [&](Eigen::Index a, Eigen::Index b) {
+    return region.mask(a, b) && heights(a, b) >= top_level - band;
+  });
+  const double ground_m = ring_ground(m, region.mask, options.ground_ring_m, ground_guess);
 
   out.found = true;
   out.cells = cells.size();
@@ -278,46 +339,8 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
         {2.0 * radius, 2.0 * radius, height};
     return out;
   }
-  // The measured axes, the first one turned to the nearer of the truth's
-  // length axis (truth names the dimensions, it does not place them).
-  double yaw = min_area_yaw(cells);
-  const auto gap = [](double a, double b) { return std::abs(std::remainder(a - b, std::numbers::pi)); };
-  if (gap(yaw + std::numbers::pi / 2, id.yaw) < gap(yaw, id.yaw)) yaw += std::numbers::pi / 2;
-  out.measured_yaw_rad = std::remainder(yaw, std::numbers::pi);
-  const std::vector<Eigen::Vector2d> axes = turned(cells, yaw);
-  out.measured_trimmed = {trimmed_extent(axes, 0, s), trimmed_extent(axes, 1, s), height};
-  out.measured_untrimmed = {untrimmed_extent(axes, 0), untrimmed_extent(axes, 1), height};
-  const ObjectDimensions moments{moment_extent(axes, 0, s), moment_extent(axes, 1, s), height};
-  // The sides the edge readings are sorted to: the trimmed rows' outer
-  // cell faces, in the turned frame.
-  const auto [u_lo, u_hi] = trimmed_span(axes, 0, s);
-  const auto [v_lo, v_hi] = trimmed_span(axes, 1, s);
-  const BoxFrame frame{yaw, u_lo - s / 2, u_hi + s / 2, v_lo - s / 2, v_hi + s / 2};
-  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  out.edges_trimmed = out.edges_untrimmed = {kNaN, kNaN, height};
-  // The top's border first; where a side of it holds too few readings
-  // (a top broken up by noise), the whole region's border.
-  std::vector<Eigen::Vector2d> border = border_of(top_cells);
-  BoxEdgeFit trimmed = fit_box_edges(border, frame, s, true, options.edges);
-  if (!trimmed.ok) {
-    border = border_of(region);
-    trimmed = fit_box_edges(border, frame, s, true, options.edges);
-  }
-  const BoxEdgeFit untrimmed = fit_box_edges(border, frame, s, false, options.edges);
-  if (trimmed.ok) {
-    out.edges_trimmed = {trimmed.length_m, trimmed.width_m, height};
-    out.edge_errors_m = edge_errors(trimmed, id, options.travel_heading_rad);
-    out.measured_yaw_rad = std::remainder(trimmed.yaw_rad, std::numbers::pi);
-  }
-  if (untrimmed.ok) out.edges_untrimmed = {untrimmed.length_m, untrimmed.width_m, height};
-  switch (options.extent) {
-    case ExtentEstimate::edges:
-      out.measured = trimmed.ok ? out.edges_trimmed : untrimmed.ok ? out.edges_untrimmed : moments;
-      break;
-    case ExtentEstimate::moments: out.measured = moments; break;
-    case ExtentEstimate::trimmed: out.measured = out.measured_trimmed; break;
-    case ExtentEstimate::untrimmed: out.measured = out.measured_untrimmed; break;
-  }
+  measure_box(out, cells, border_readings(m, top.mask, centre), border_readings(m, region.mask, centre), s, height, id,
+              options);
   return out;
 }
 

@@ -186,7 +186,9 @@ class Canvas {
   cv::Mat mat_;
 };
 
-RenderedGrid render(const Eigen::MatrixXf& values, const CellMask* filled, const GridRenderOptions& options) {
+using Palette = std::array<Rgb, 256>;
+
+void check_render_input(const Eigen::MatrixXf& values, const CellMask* filled, const GridRenderOptions& options) {
   if (values.size() == 0) {
     throw InputError("render_grid: the grid is empty (" + std::to_string(values.rows()) + " x " +
                      std::to_string(values.cols()) + " cells)");
@@ -203,6 +205,72 @@ RenderedGrid render(const Eigen::MatrixXf& values, const CellMask* filled, const
   if (options.cell_size_m && !(std::isfinite(*options.cell_size_m) && *options.cell_size_m > 0.0)) {
     throw InputError("render_grid: cell_size_m must be positive and finite");
   }
+}
+
+// The grid, seen from above: +X up, +Y left.
+template <typename ColourOf>
+void draw_cells(Canvas& canvas, const RenderedGrid& out, const Eigen::MatrixXf& values, const CellMask* filled,
+                const ColourOf& colour_of) {
+  for (int row = 0; row < out.rows; ++row) {
+    for (int col = 0; col < out.cols; ++col) {
+      const float value = values(row, col);
+      const bool unknown = std::isnan(value);
+      const bool is_filled = !unknown && filled != nullptr && (*filled)(row, col);
+      const Rgb colour = unknown ? Rgb{} : colour_of(value);
+      const int left = out.cell_left_px(col) - out.grid_left_px;
+      const int top = out.cell_top_px(row) - out.grid_top_px;
+      for (int y = top; y < top + out.pixels_per_cell; ++y) {
+        for (int x = left; x < left + out.pixels_per_cell; ++x) {
+          const Rgb pixel = unknown ? unknown_pixel(x, y) : is_filled ? filled_pixel(colour, x, y) : colour;
+          canvas.set(out.grid_left_px + x, out.grid_top_px + y, pixel);
+        }
+      }
+    }
+  }
+}
+
+// A bar of a round length under the grid, a quarter of its width at most.
+void draw_scale_bar(Canvas& canvas, const RenderedGrid& out, double cell_size_m, int text_h) {
+  const double grid_width_m = cell_size_m * out.cols;
+  const double bar_m = nice_length_below(grid_width_m / 4.0);
+  const int bar_px = static_cast<int>(std::lround(bar_m / cell_size_m * out.pixels_per_cell));
+  const int y = out.grid_top_px + out.rows * out.pixels_per_cell + 12;
+  const int x0 = out.grid_left_px;
+  if (bar_px < 2) return;
+  canvas.line({x0, y}, {x0 + bar_px, y}, kInk);
+  canvas.line({x0, y - 4}, {x0, y + 4}, kInk);
+  canvas.line({x0 + bar_px, y - 4}, {x0 + bar_px, y + 4}, kInk);
+  canvas.text(format_length(bar_m), x0 + bar_px + 8, y + text_h / 2);
+}
+
+// The colour bar from `top` down with its ticks and labels.
+void draw_colour_bar(Canvas& canvas, const Palette& palette, const Range& range, const std::vector<double>& ticks,
+                     int decimals, int left, int top, int bar_h, int text_h) {
+  for (int i = 0; i < bar_h; ++i) {
+    const Rgb colour = palette[static_cast<std::size_t>(std::lround(255.0 * (bar_h - 1 - i) / (bar_h - 1)))];
+    for (int x = 0; x < kBarWidth; ++x) canvas.set(left + x, top + i, colour);
+  }
+  canvas.rect(left - 1, top - 1, kBarWidth + 2, bar_h + 2, kFrame);
+  for (double tick : ticks) {
+    const int tick_y = top + static_cast<int>(std::lround((range.high - tick) / (range.high - range.low) * (bar_h - 1)));
+    canvas.line({left + kBarWidth, tick_y}, {left + kBarWidth + kTickLength, tick_y}, kInk);
+    canvas.text(format_number(tick, decimals), left + kBarWidth + kTickLength + 6, tick_y + text_h / 2);
+  }
+}
+
+// The axes glyph below `y`: origin at the corner, +X up, +Y left, as in the grid.
+void draw_axes_glyph(Canvas& canvas, const std::string& x_axis, const std::string& y_axis, int left, int y, int text_h) {
+  const int x_label_w = text_size(x_axis, kTextScale).width;
+  const int origin_x = left + text_size(y_axis, kTextScale).width / 2 + kArrowPx;
+  const int origin_y = y + text_h + 6 + kArrowPx;
+  canvas.text(x_axis, std::max(left, origin_x - x_label_w / 2), y + text_h);
+  canvas.arrow({origin_x, origin_y}, {origin_x, origin_y - kArrowPx});
+  canvas.arrow({origin_x, origin_y}, {origin_x - kArrowPx, origin_y});
+  canvas.text(y_axis, origin_x - kArrowPx - text_size(y_axis, kTextScale).width / 2, origin_y + 6 + text_h);
+}
+
+RenderedGrid render(const Eigen::MatrixXf& values, const CellMask* filled, const GridRenderOptions& options) {
+  check_render_input(values, filled, options);
   const long long rows = values.rows();
   const long long cols = values.cols();
   const long long longer = std::max(rows, cols);
@@ -220,7 +288,7 @@ RenderedGrid render(const Eigen::MatrixXf& values, const CellMask* filled, const
   const int grid_h = out.rows * out.pixels_per_cell;
 
   const Range range = colour_range(values, options);
-  const auto palette = make_palette(options.colour_scale);
+  const Palette palette = make_palette(options.colour_scale);
   const auto colour_of = [&](double value) {
     if (value >= range.high) return palette[255];
     if (!(value > range.low)) return palette[0];
@@ -274,38 +342,10 @@ RenderedGrid render(const Eigen::MatrixXf& values, const CellMask* filled, const
     }
   }
 
-  // The grid, seen from above: +X up, +Y left.
-  for (int row = 0; row < out.rows; ++row) {
-    for (int col = 0; col < out.cols; ++col) {
-      const float value = values(row, col);
-      const bool unknown = std::isnan(value);
-      const bool is_filled = !unknown && filled != nullptr && (*filled)(row, col);
-      const Rgb colour = unknown ? Rgb{} : colour_of(value);
-      const int left = out.cell_left_px(col) - out.grid_left_px;
-      const int top = out.cell_top_px(row) - out.grid_top_px;
-      for (int y = top; y < top + out.pixels_per_cell; ++y) {
-        for (int x = left; x < left + out.pixels_per_cell; ++x) {
-          const Rgb pixel = unknown ? unknown_pixel(x, y) : is_filled ? filled_pixel(colour, x, y) : colour;
-          canvas.set(out.grid_left_px + x, out.grid_top_px + y, pixel);
-        }
-      }
-    }
-  }
+  draw_cells(canvas, out, values, filled, colour_of);
   canvas.rect(out.grid_left_px - 1, out.grid_top_px - 1, grid_w + 2, grid_h + 2, kFrame);
 
-  if (options.cell_size_m) {
-    const double grid_width_m = *options.cell_size_m * out.cols;
-    const double bar_m = nice_length_below(grid_width_m / 4.0);
-    const int bar_px = static_cast<int>(std::lround(bar_m / *options.cell_size_m * out.pixels_per_cell));
-    const int y = out.grid_top_px + grid_h + 12;
-    const int x0 = out.grid_left_px;
-    if (bar_px >= 2) {
-      canvas.line({x0, y}, {x0 + bar_px, y}, kInk);
-      canvas.line({x0, y - 4}, {x0, y + 4}, kInk);
-      canvas.line({x0 + bar_px, y - 4}, {x0 + bar_px, y + 4}, kInk);
-      canvas.text(format_length(bar_m), x0 + bar_px + 8, y + text_h / 2);
-    }
-  }
+  if (options.cell_size_m) draw_scale_bar(canvas, out, *options.cell_size_m, text_h);
 
   // Legend: colour bar with ticks, unit, cell markings, cell size, axes.
   int y = out.grid_top_px;
@@ -315,17 +355,7 @@ RenderedGrid render(const Eigen::MatrixXf& values, const CellMask* filled, const
   }
   y += text_h / 2;
   const int bar_top = y;
-  for (int i = 0; i < bar_h; ++i) {
-    const Rgb colour = palette[static_cast<std::size_t>(std::lround(255.0 * (bar_h - 1 - i) / (bar_h - 1)))];
-    for (int x = 0; x < kBarWidth; ++x) canvas.set(legend_left + x, bar_top + i, colour);
-  }
-  canvas.rect(legend_left - 1, bar_top - 1, kBarWidth + 2, bar_h + 2, kFrame);
-  for (double tick : ticks) {
-    const int tick_y =
-        bar_top + static_cast<int>(std::lround((range.high - tick) / (range.high - range.low) * (bar_h - 1)));
-    canvas.line({legend_left + kBarWidth, tick_y}, {legend_left + kBarWidth + kTickLength, tick_y}, kInk);
-    canvas.text(format_number(tick, decimals), legend_left + kBarWidth + kTickLength + 6, tick_y + text_h / 2);
-  }
+  draw_colour_bar(canvas, palette, range, ticks, decimals, legend_left, bar_top, bar_h, text_h);
   y = bar_top + bar_h + text_h / 2 + 20;
 
   const auto swatch = [&](const std::string& label, bool is_filled) {
@@ -354,13 +384,7 @@ RenderedGrid render(const Eigen::MatrixXf& values, const CellMask* filled, const
     return out;
   }
   y += 16;
-  const int x_label_w = text_size(x_axis, kTextScale).width;
-  const int origin_x = legend_left + text_size(y_axis, kTextScale).width / 2 + kArrowPx;
-  const int origin_y = y + text_h + 6 + kArrowPx;
-  canvas.text(x_axis, std::max(legend_left, origin_x - x_label_w / 2), y + text_h);
-  canvas.arrow({origin_x, origin_y}, {origin_x, origin_y - kArrowPx});
-  canvas.arrow({origin_x, origin_y}, {origin_x - kArrowPx, origin_y});
-  canvas.text(y_axis, origin_x - kArrowPx - text_size(y_axis, kTextScale).width / 2, origin_y + 6 + text_h);
+  draw_axes_glyph(canvas, x_axis, y_axis, legend_left, y, text_h);
 
   out.image = canvas.to_image();
   return out;

@@ -16,6 +16,83 @@ std::string status_text(const scip::Reply& reply) {
 
 }  // namespace
 
+void UrgDriver::refuse_start(UrgFault fault, const std::string& what) {
+  report(fault, device() + ": " + what);
+  close_device();
+  next_open_time_ = now() + options_.reconnect_interval_s;
+}
+
+void UrgDriver::take_version_reply(const scip::Event& event) {
+  if (event.kind != scip::EventKind::info) {
+    refuse_start(UrgFault::command_failed, "VV answered with " + status_text(event.reply));
+    return;
+  }
+  try {
+    version_ = scip::parse_version(event.info);
+  } catch (const InputError& e) {
+    refuse_start(UrgFault::bad_reply, e.what());
+    return;
+  }
+  send_step(Step::parameters);
+}
+
+void UrgDriver::take_parameters_reply(const scip::Event& event) {
+  if (event.kind != scip::EventKind::info) {
+    refuse_start(UrgFault::command_failed, "PP answered with " + status_text(event.reply));
+    return;
+  }
+  try {
+    const scip::ScipParameters parameters = scip::parse_parameters(event.info);
+    const UrgParameters urg = scip::to_urg_parameters(parameters);
+    urg.validate();
+    scip::ScanRequest request;
+    request.start_step = options_.start_step >= 0 ? options_.start_step : urg.first_step;
+    request.end_step = options_.end_step >= 0 ? options_.end_step : urg.last_step;
+    request.cluster = options_.cluster;
+    request.two_char_values = options_.two_char_values;
+    if (request.start_step < urg.first_step || request.end_step > urg.last_step ||
+        request.end_step < request.start_step) {
+      refuse_start(UrgFault::bad_reply, "requested steps " + std::to_string(request.start_step) + ".." +
+                                            std::to_string(request.end_step) + " are outside the sensor's AMIN..AMAX " +
+                                            std::to_string(urg.first_step) + ".." + std::to_string(urg.last_step));
+      return;
+    }
+    parameters_ = parameters;
+    urg_parameters_ = urg;
+    std::string command = scip::stream_command(request, options_.scan_interval, 0);
+    command.pop_back();  // the LF
+    stream_command_ = scip::parse_command(command);
+  } catch (const InputError& e) {
+    refuse_start(UrgFault::bad_reply, e.what());
+    return;
+  }
+  clock_.set_fixed_delay(options_.send_delay_s >= 0.0 ? options_.send_delay_s : urg_parameters_.scan_period_s);
+  send_step(Step::laser_on);
+}
+
+void UrgDriver::take_stream_start_reply(const scip::Event& event) {
+  const scip::Reply& reply = event.reply;
+  // A data frame of our stream before its acknowledgement means the ack
+  // was lost on the way: the stream runs, so take it (frames of an older
+  // stream came before the QT reply and are behind us).
+  const bool data_first = event.kind == scip::EventKind::distance && scip::echo_matches(stream_command_, reply.echo);
+  if (!data_first && (event.kind != scip::EventKind::status_reply || reply.status != "00")) {
+    if (event.kind == scip::EventKind::distance) return;  // another command's frame
+    refuse_start(UrgFault::command_failed, stream_command_.text + " answered with " + status_text(reply));
+    return;
+  }
+  state_ = UrgDriverState::streaming;
+  stall_deadline_ = now() + stall_timeout_s();
+  ++stats_.connects;
+  UrgDriverEvent& connected = push_event(UrgDriverEvent::Kind::connected);
+  connected.message = device() + ": " + version_.product + ", serial " + version_.serial + ", firmware " +
+                      version_.firmware + "; steps " + std::to_string(stream_command_.start_step) + ".." +
+                      std::to_string(stream_command_.end_step) + ", cluster " +
+                      std::to_string(std::max(1, stream_command_.cluster)) + ", " +
+                      std::to_string(parameters_.motor_speed_rpm) + " rpm";
+  if (data_first) deliver_scan(event);
+}
+
 void UrgDriver::handle_start_reply(const scip::Event& event) {
   if (event.kind == scip::EventKind::error) {
     // Stale bytes from before the start (a stream left running, a half
@@ -25,11 +102,6 @@ void UrgDriver::handle_start_reply(const scip::Event& event) {
   }
   const scip::Reply& reply = event.reply;
   const scip::CommandType type = reply.echo.type;
-  const auto refuse = [&](UrgFault fault, const std::string& what) {
-    report(fault, device() + ": " + what);
-    close_device();
-    next_open_time_ = now() + options_.reconnect_interval_s;
-  };
   // A one-character status to anything but QT or SCIP2.0 means the sensor
   // fell back to SCIP 1.1 (it restarted) while we were starting it.
   if (scip::is_scip11_status(reply.status) && step_ != Step::probe && step_ != Step::switch_scip2) {
@@ -46,7 +118,7 @@ void UrgDriver::handle_start_reply(const scip::Event& event) {
       } else if (reply.status == "0E") {
         send_step(Step::leave_time_mode);  // TM adjust mode refuses QT (official library's probe)
       } else {
-        refuse(UrgFault::command_failed, "QT answered with " + status_text(reply));
+        refuse_start(UrgFault::command_failed, "QT answered with " + status_text(reply));
       }
       return;
     case Step::switch_scip2:
@@ -54,7 +126,7 @@ void UrgDriver::handle_start_reply(const scip::Event& event) {
       if (scip::switched_to_scip2(reply)) {
         send_step(Step::version);
       } else {
-        refuse(UrgFault::command_failed, "SCIP2.0 answered with " + status_text(reply));
+        refuse_start(UrgFault::command_failed, "SCIP2.0 answered with " + status_text(reply));
       }
       return;
     case Step::leave_time_mode:
@@ -62,91 +134,26 @@ void UrgDriver::handle_start_reply(const scip::Event& event) {
       if (scip::succeeded(reply)) {
         send_step(Step::version);
       } else {
-        refuse(UrgFault::command_failed, "TM2 answered with " + status_text(reply));
+        refuse_start(UrgFault::command_failed, "TM2 answered with " + status_text(reply));
       }
       return;
     case Step::version:
-      if (type != scip::CommandType::version) return;
-      if (event.kind != scip::EventKind::info) {
-        refuse(UrgFault::command_failed, "VV answered with " + status_text(reply));
-        return;
-      }
-      try {
-        version_ = scip::parse_version(event.info);
-      } catch (const InputError& e) {
-        refuse(UrgFault::bad_reply, e.what());
-        return;
-      }
-      send_step(Step::parameters);
+      if (type == scip::CommandType::version) take_version_reply(event);
       return;
-    case Step::parameters: {
-      if (type != scip::CommandType::parameters) return;
-      if (event.kind != scip::EventKind::info) {
-        refuse(UrgFault::command_failed, "PP answered with " + status_text(reply));
-        return;
-      }
-      try {
-        const scip::ScipParameters parameters = scip::parse_parameters(event.info);
-        const UrgParameters urg = scip::to_urg_parameters(parameters);
-        urg.validate();
-        scip::ScanRequest request;
-        request.start_step = options_.start_step >= 0 ? options_.start_step : urg.first_step;
-        request.end_step = options_.end_step >= 0 ? options_.end_step : urg.last_step;
-        request.cluster = options_.cluster;
-        request.two_char_values = options_.two_char_values;
-        if (request.start_step < urg.first_step || request.end_step > urg.last_step ||
-            request.end_step < request.start_step) {
-          refuse(UrgFault::bad_reply, "requested steps " + std::to_string(request.start_step) + ".." +
-                                          std::to_string(request.end_step) + " are outside the sensor's AMIN..AMAX " +
-                                          std::to_string(urg.first_step) + ".." + std::to_string(urg.last_step));
-          return;
-        }
-        parameters_ = parameters;
-        urg_parameters_ = urg;
-        std::string command = scip::stream_command(request, options_.scan_interval, 0);
-        command.pop_back();  // the LF
-        stream_command_ = scip::parse_command(command);
-      } catch (const InputError& e) {
-        refuse(UrgFault::bad_reply, e.what());
-        return;
-      }
-      clock_.set_fixed_delay(options_.send_delay_s >= 0.0 ? options_.send_delay_s : urg_parameters_.scan_period_s);
-      send_step(Step::laser_on);
+    case Step::parameters:
+      if (type == scip::CommandType::parameters) take_parameters_reply(event);
       return;
-    }
     case Step::laser_on:
       if (type != scip::CommandType::laser_on) return;
       if (scip::succeeded(reply)) {
         send_step(Step::start_stream);
       } else {
-        refuse(UrgFault::command_failed, "BM answered with " + status_text(reply));
+        refuse_start(UrgFault::command_failed, "BM answered with " + status_text(reply));
       }
       return;
-    case Step::start_stream: {
-      if (!scip::is_stream_command(type)) return;
-      // A data frame of our stream before its acknowledgement means the ack
-      // was lost on the way: the stream runs, so take it (frames of an older
-      // stream came before the QT reply and are behind us).
-      const bool data_first = event.kind == scip::EventKind::distance && scip::echo_matches(stream_command_, reply.echo);
-      if (!data_first && (event.kind != scip::EventKind::status_reply || reply.status != "00")) {
-        if (event.kind == scip::EventKind::distance) return;  // another command's frame
-        refuse(UrgFault::command_failed, stream_command_.text + " answered with " + status_text(reply));
-        return;
-      }
-      state_ = UrgDriverState::streaming;
-      stall_deadline_ = now() + stall_timeout_s();
-      ++stats_.connects;
-      {
-        UrgDriverEvent& e = push_event(UrgDriverEvent::Kind::connected);
-        e.message = device() + ": " + version_.product + ", serial " + version_.serial + ", firmware " +
-                    version_.firmware + "; steps " + std::to_string(stream_command_.start_step) + ".." +
-                    std::to_string(stream_command_.end_step) + ", cluster " +
-                    std::to_string(std::max(1, stream_command_.cluster)) + ", " +
-                    std::to_string(parameters_.motor_speed_rpm) + " rpm";
-      }
-      if (data_first) deliver_scan(event);
+    case Step::start_stream:
+      if (scip::is_stream_command(type)) take_stream_start_reply(event);
       return;
-    }
   }
 }
 

@@ -54,6 +54,10 @@ class CasFilter {
   const CasOptions& options() const { return options_; }
 
  private:
+  // The window test of the cell at padded index q (height hs): an isolated
+  // peak whose certainty is weak against its window's.
+  bool is_weak_isolated_peak(std::size_t q, float hs);
+
   CasOptions options_;
   WeightedMedianFill fill_;
   std::vector<std::size_t> to_remove_;  // local cells i * n + j

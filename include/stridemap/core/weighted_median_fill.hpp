@@ -3,6 +3,7 @@
 // neighbours (eq. 11). Only cells surrounded by enough evidence are filled,
 // so that large occlusions stay unknown (Fig. 23d): small holes inside a
 // continuous surface get a value, the shadow behind an obstacle does not.
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -57,6 +58,27 @@ class WeightedMedianFill {
   void forget(std::size_t local_cell, int n);
   // apply() on the padded copy of `map` made by prepare().
   std::size_t fill_prepared(ElevationMap& map);
+  // Whether every sum of a window's weights is exact, so that any order of
+  // adding them gives the sorted walk's sum (fill_exact_windows.cpp).
+  bool window_sums_exact() const;
+  // neighbours_ for the window radius and near factor.
+  void list_neighbours();
+  // The median of the known neighbours of padded cell `centre` by sorting
+  // them; NaN when the quartiles spread too far.
+  float sorted_walk(std::size_t centre, float total_weight);
+  // result_ for every unknown cell the window admits: the exact path
+  // (radius 1 or 2, exact sums) and the row path (any window).
+  void fill_exact_windows();
+  void fill_row_by_row();
+  // result_ into the map; the number of cells filled.
+  std::size_t write_results_to(ElevationMap& map);
+
+  static constexpr int kMaxWindowCells = 15 * 15;  // radius 7
+  struct Neighbour {
+    std::ptrdiff_t offset;  // in the padded copy
+    float factor;           // the near factor or 1
+    unsigned quadrant_bit;
+  };
 
   FillOptions options_;
   std::vector<float> result_;  // per slot, NaN = leave unknown
@@ -64,7 +86,7 @@ class WeightedMedianFill {
   // The padded copy (prepare()), kept to reuse storage: known or not, the
   // same as all ones or zeros (32-bit lanes for the row pass), value (+inf
   // where unknown), weight (0 where unknown).
-  std::size_t margin_ = 0, pitch_ = 0;
+  std::size_t margin_ = 0, pitch_ = 0, cells_per_side_ = 0;
   std::vector<std::uint8_t> known_;
   std::vector<std::uint32_t> known_mask_;
   std::vector<float> value_, weight_;
@@ -81,6 +103,13 @@ class WeightedMedianFill {
   std::vector<std::uint16_t> cell_bits_, row_bits_;
   std::vector<std::uint32_t> walk_cells_, columns_;
   std::vector<float> walk_totals_;
+  // The window's neighbours in the order the fill has always visited them,
+  // and the sorted walk's scratch (a whole window, and room for 8 more).
+  std::array<Neighbour, kMaxWindowCells> neighbours_{};
+  std::size_t neighbour_count_ = 0;
+  std::array<Candidate, kMaxWindowCells> candidates_{}, gathered_{};
+  alignas(64) std::array<float, kMaxWindowCells + 8> scratch_{};
+  alignas(64) std::array<std::uint32_t, kMaxWindowCells + 8> ranks_{};
 };
 
 }  // namespace stridemap

@@ -163,6 +163,12 @@ class UrgDriver {
   bool read_what_waits(double& drained_for, double deadline);
   void handle(const scip::Event& event);
   void handle_start_reply(const scip::Event& event);
+  // The start-up steps that do more than check a status.
+  void take_version_reply(const scip::Event& event);
+  void take_parameters_reply(const scip::Event& event);
+  void take_stream_start_reply(const scip::Event& event);
+  // Ends a start that went wrong: said, the device closed, a reconnection planned.
+  void refuse_start(UrgFault fault, const std::string& what);
   void handle_stream_event(const scip::Event& event);
   void deliver_scan(const scip::Event& event);
   void restart_stream(UrgFault fault, const std::string& message, std::uint64_t count);

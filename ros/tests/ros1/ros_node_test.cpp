@@ -333,6 +333,18 @@ TEST_F(RosNodeTest, PosesFromAnOdometryTopicGiveMapBagsMapBitForBit) {
   EXPECT_NE(read_text(*folder_ + "/wrong_topic.log").find("no scan topic '/laser' in the bag; its topics: /odom, /scan"),
             std::string::npos)
       << read_text(*folder_ + "/wrong_topic.log");
+
+  // A pose topic of another message type: named with its type, nothing written.
+  const std::string wrong_type = std::string(STRIDEMAP_CLI_PATH) + " map --bag " + bag +
+                                 " --scan-topic /scan --pose-topic /scan --out " + *folder_ + "/never > " + *folder_ +
+                                 "/wrong_type.log 2>&1";
+  const int type_status = std::system(wrong_type.c_str());
+  EXPECT_TRUE(WIFEXITED(type_status) && WEXITSTATUS(type_status) == 2) << read_text(*folder_ + "/wrong_type.log");
+  EXPECT_NE(read_text(*folder_ + "/wrong_type.log")
+                .find("--pose-topic '/scan' carries sensor_msgs/LaserScan, not geometry_msgs/PoseStamped or nav_msgs/Odometry"),
+            std::string::npos)
+      << read_text(*folder_ + "/wrong_type.log");
+  EXPECT_FALSE(std::filesystem::exists(*folder_ + "/never"));
   EXPECT_FALSE(std::filesystem::exists(*folder_ + "/never"));
 }
 
