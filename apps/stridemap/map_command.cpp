@@ -57,24 +57,24 @@ void run_map(const MapArgs& args) {
   const bool fit = parse_window_choice(args.mapping.window).mode == WindowChoice::Mode::fit;
   std::optional<LogReplay> opened;
   if (!fit) opened.emplace(args.log_path, options, clock);
-  io::PoseLineProblems pose_problems;
-  PoseTrack track(args.mapping.max_pose_gap_s);
-  TimeRange pose_times;
-  for (const TimedPose& pose : io::read_pose_file(args.mapping.poses_path, &pose_problems)) {
-    track.append(pose);
-    pose_times.add(pose.time_s);
-  }
-  print_skipped("bad pose lines", pose_problems.count, pose_problems.first);
+  // The poses too are read as the scans need them: a long run holds the
+  // poses just ahead of its scans, not the file.
+  io::PoseFileCursor poses(args.mapping.poses_path);
   if (fit) {
-    fit_window(options, args.log_path, track, clock);
+    fit_window(options, args.log_path, args.mapping.poses_path, args.mapping.max_pose_gap_s, clock);
     opened.emplace(args.log_path, options, clock);
   }
   LogReplay& replay = *opened;
   if (options.resume) note("going on from the map in " + args.mapping.resume_path);
   {
+    PoseTrack track(args.mapping.max_pose_gap_s);
+    replay.read_poses_with([&poses](double time_s, PoseTrack& t) { poses.read_to(time_s, t); });
     io::ProgressBar bar = progress_bar("map", "scans");
     replay.run(track, [&bar](std::size_t scans) { bar.update(scans, 0); });
   }
+  poses.read_rest();  // for the counts and the time range the checks below tell
+  print_skipped("bad pose lines", poses.problems().count, poses.problems().first);
+  const TimeRange pose_times{poses.poses(), poses.first_time_s(), poses.last_time_s()};
   for (const std::string& notice : replay.take_tile_notices()) {
     std::fprintf(stderr, "stridemap: warning: %s\n", printable_text(notice).c_str());
   }
@@ -90,7 +90,7 @@ void run_map(const MapArgs& args) {
   saver.info().log_damage = log.damage;
   saver.info().log_lines_skipped = log.skipped_line_numbers.size();
   saver.info().log_stop = log.stop;
-  saver.info().pose_lines_skipped = pose_problems.count;
+  saver.info().pose_lines_skipped = poses.problems().count;
   const ExportedMap layers = saver.save(mapper, log.parameters);
   const ScanMapperStats& s = mapper.stats();
   std::printf("map: %zu scans mapped of %zu (%zu before the first pose, %zu after the last, %zu in pose gaps, %s), "

@@ -3,6 +3,7 @@
 #include <cstdio>
 #include <string>
 
+#include "stridemap/recordings/pose_stream.hpp"
 #include "terminal_output.hpp"
 
 namespace stridemap::cli {
@@ -13,8 +14,10 @@ void fix_window(ScanMapperOptions& options, const WindowPlacement& placement) {
   options.window_corner = placement.min_cell;
 }
 
-void fit_window(ScanMapperOptions& options, const std::string& log_path, const PoseTrack& track, LiveClock clock) {
-  PoseTrack poses = track;  // the pass drops the poses it no longer needs
+void fit_window(ScanMapperOptions& options, const std::string& log_path, const std::string& poses_path,
+                double max_pose_gap_s, LiveClock clock) {
+  io::PoseFileCursor pose_file(poses_path);  // a pass of its own, streamed like the mapping's
+  PoseTrack poses(max_pose_gap_s);
   io::ScanLogReader reader(log_path);
   const UrgScan* scan = reader.next();
   if (scan == nullptr) return;  // no scan: the mapping pass says so
@@ -25,6 +28,7 @@ void fit_window(ScanMapperOptions& options, const std::string& log_path, const P
     for (; scan != nullptr; scan = reader.next()) {
       raw = scan->raw;
       raw.time_s = clock == LiveClock::sensor ? sensor_time_seconds(scan->sensor_time_ms) : scan->host_time_s;
+      pose_file.read_to(raw.time_s, poses);
       pass.add(raw, poses);
       bar.update(reader.scans(), 0);
     }

@@ -18,6 +18,7 @@ void fix_window(ScanMapperOptions& options, const WindowPlacement& placement);
 /// reads it) finds where every point the run maps lands; the window is fixed
 /// over all of them (said on stderr unless --quiet). Throws GridSizeError
 /// when the run needs too large a map, InputError as reading the log does.
-void fit_window(ScanMapperOptions& options, const std::string& log_path, const PoseTrack& track, LiveClock clock);
+void fit_window(ScanMapperOptions& options, const std::string& log_path, const std::string& poses_path,
+                double max_pose_gap_s, LiveClock clock);
 
 }  // namespace stridemap::cli

@@ -24,6 +24,7 @@ bool LogReplay::step(PoseTrack& poses) {
   raw_ = scan_->raw;
   raw_.time_s = clock_ == LiveClock::sensor ? sensor_time_seconds(scan_->sensor_time_ms) : scan_->host_time_s;
   scan_times_.add(raw_.time_s);
+  if (poses_up_to_) poses_up_to_(raw_.time_s, poses);
   mapper_->add(raw_);
   mapper_->process(poses, true);
   scan_ = reader_.next();

@@ -23,6 +23,11 @@ namespace {
 constexpr const char* kColumns =
     "time_s x_m y_m yaw_rad pitch_rad roll_rad [reference_elevation_m [height_change_m [z_m]]]";
 
+[[noreturn]] void throw_no_usable_pose(const std::string& source, const PoseLineProblems& problems) {
+  const std::string why = problems.first.empty() ? "" : "; the first bad line: " + problems.first.front();
+  throw InputError(source + ": no usable pose in the file (expected lines of " + kColumns + ")" + why);
+}
+
 std::string located(const std::string& source, std::size_t line, const std::string& what) {
   return source + ":" + std::to_string(line) + ": " + what;
 }
@@ -114,10 +119,7 @@ std::vector<TimedPose> parse_pose_text(std::string_view text, const std::string&
   lines.feed(text, keep);
   lines.finish(keep);
   if (problems != nullptr) *problems = lines.problems();
-  if (poses.empty()) {
-    std::string why = lines.problems().first.empty() ? "" : "; the first bad line: " + lines.problems().first.front();
-    throw InputError(source + ": no usable pose in the file (expected lines of " + kColumns + ")" + why);
-  }
+  if (poses.empty()) throw_no_usable_pose(source, lines.problems());
   return poses;
 }
 
@@ -288,5 +290,50 @@ std::size_t PoseStreamReader::poll(PoseTrack& track) {
 }
 
 std::vector<std::string> PoseStreamReader::take_notices() { return std::exchange(notices_, {}); }
+
+PoseFileCursor::PoseFileCursor(const std::string& path)
+    : path_(path), lines_(path), order_check_(std::numeric_limits<double>::infinity()), block_(64 * 1024) {
+  refuse_folder(path, "the pose file");
+  file_.open(path, std::ios::binary);
+  if (!file_) throw InputError(path + ": cannot open the pose file: " + std::strerror(errno));
+  while (poses_ == 0 && read_block(true)) {
+  }
+  if (poses_ == 0) throw_no_usable_pose(path, lines_.problems());
+}
+
+bool PoseFileCursor::read_block(bool keep) {
+  if (ended_) return false;
+  const auto take = [&](const TimedPose& pose) {
+    order_check_.append(pose);  // throws for a pose out of order: the line is skipped and told
+    order_check_.drop_before(pose.time_s);
+    if (poses_ == 0) first_time_s_ = pose.time_s;
+    last_time_s_ = pose.time_s;
+    ++poses_;
+    if (keep) ahead_.push_back(pose);
+  };
+  file_.read(block_.data(), static_cast<std::streamsize>(block_.size()));
+  const auto got = static_cast<std::size_t>(file_.gcount());
+  if (file_.bad()) throw InputError(path_ + ": read error");
+  lines_.feed(std::string_view(block_.data(), got), take);
+  if (got < block_.size()) {
+    lines_.finish(take);  // the file is complete: a last line without LF counts
+    ended_ = true;
+  }
+  return !ended_;
+}
+
+void PoseFileCursor::read_to(double time_s, PoseTrack& track) {
+  while (true) {
+    for (const TimedPose& pose : ahead_) track.append(pose);
+    ahead_.clear();
+    if (ended_ || (!track.empty() && track.last_time_s() >= time_s)) return;
+    read_block(true);
+  }
+}
+
+void PoseFileCursor::read_rest() {
+  while (read_block(false)) {
+  }
+}
 
 }  // namespace stridemap::io

@@ -14,6 +14,7 @@
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/exported_map.hpp"
 #include "stridemap/live/log_replay.hpp"
+#include "stridemap/recordings/pose_stream.hpp"
 #include "stridemap/recordings/scan_log.hpp"
 
 namespace stridemap {
@@ -63,15 +64,21 @@ std::string write_log(const test::TestFolder& dir, std::size_t scans, bool damag
   return path;
 }
 
-PoseTrack poses_for(std::size_t scans) {
-  PoseTrack track(1.0);
+std::vector<TimedPose> pose_list(std::size_t scans) {
+  std::vector<TimedPose> poses;
   for (std::size_t k = 0; k <= scans + 2; ++k) {
     TimedPose p;
     p.time_s = 50.0 + 0.1 * static_cast<double>(k) - 0.05;
     p.pose.x_m = 0.03 * static_cast<double>(k);
     p.pose.y_m = 0.01 * static_cast<double>(k);
-    track.append(p);
+    poses.push_back(p);
   }
+  return poses;
+}
+
+PoseTrack poses_for(std::size_t scans) {
+  PoseTrack track(1.0);
+  for (const TimedPose& p : pose_list(scans)) track.append(p);
   return track;
 }
 
@@ -123,6 +130,21 @@ void expect_streamed_equals_whole(const std::string& path, std::size_t scans, Li
   EXPECT_GT(a.integrated, 0u);
   expect_same_layers(export_map(replay.mapper().map()), export_map(reference.map()));
   expect_same_layers(replay.mapper().filled_layers(), reference.filled_layers());
+
+  // The poses read from their file in step with the scans, as `map --log` does.
+  const std::string pose_path = path + ".poses";
+  {
+    std::ofstream out(pose_path);
+    for (const TimedPose& p : pose_list(scans)) out << io::format_pose_line(p) << "\n";
+  }
+  io::PoseFileCursor cursor(pose_path);
+  LogReplay streamed(path, options, clock);
+  streamed.read_poses_with([&cursor](double time_s, PoseTrack& t) { cursor.read_to(time_s, t); });
+  PoseTrack streamed_poses(1.0);
+  streamed.run(streamed_poses);
+  EXPECT_EQ(streamed.mapper().stats().integrated, b.integrated);
+  EXPECT_EQ(streamed.mapper().stats().after_last_pose, b.after_last_pose);
+  expect_same_layers(export_map(streamed.mapper().map()), export_map(reference.map()));
   const io::ScanLog& log = replay.log();
   EXPECT_TRUE(log.scans.empty());
   EXPECT_EQ(log.damage, whole.damage);

@@ -1,12 +1,13 @@
 #pragma once
 // `stridemap map --log`: a recorded scan log mapped against a complete pose
-// track, as live mapping would have mapped it, reading the log as a stream
-// (io::ScanLogReader): memory stays flat in the log's length, and nothing is
+// track (given whole, or read in step with the scans), as live mapping
+// would have mapped it, reading the log as a stream (io::ScanLogReader): memory stays flat in the log's length, and nothing is
 // allocated per scan once the first scans have sized the buffers.
 #include <cstddef>
 #include <functional>
 #include <memory>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "stridemap/core/pose_track.hpp"
@@ -29,6 +30,11 @@ class LogReplay {
   /// Maps one scan (read before) and reads the next; false when the log is
   /// read to its end. The poses are complete: a scan after the last is skipped.
   bool step(PoseTrack& poses);
+  /// Poses read in step with the scans (io::PoseFileCursor::read_to): told
+  /// each scan's time before it is mapped, it brings `poses` up to that
+  /// time or to the end of the poses, so a scan after the last pose is one.
+  using PosesUpTo = std::function<void(double time_s, PoseTrack& poses)>;
+  void read_poses_with(PosesUpTo poses_up_to) { poses_up_to_ = std::move(poses_up_to); }
   /// Every scan left, then the end of the stream (ScanMapper::finish);
   /// `progress` is told the scans read after each one.
   void run(PoseTrack& poses, const std::function<void(std::size_t scans)>& progress = {});
@@ -48,6 +54,7 @@ class LogReplay {
   std::unique_ptr<ScanMapper> mapper_;
   UrgRawScan raw_;  // the scan on the mapping clock; its storage reused
   TimeRange scan_times_;
+  PosesUpTo poses_up_to_;
   bool finished_ = false;
 };
 

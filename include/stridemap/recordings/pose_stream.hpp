@@ -13,6 +13,7 @@
 // (replay) or incrementally from a file or named pipe that another process
 // is writing (live mapping).
 #include <cstddef>
+#include <fstream>
 #include <functional>
 #include <string>
 #include <string_view>
@@ -79,6 +80,47 @@ class PoseLineBuffer {
   bool discarding_ = false;  // inside an overlong line, until its LF
   std::size_t line_number_ = 0;
   PoseLineProblems problems_;
+};
+
+/// A pose file read in step with a replay: poses are appended to the
+/// track only as far as the scans need them, so a long run holds the poses
+/// just ahead of its scans, not the file. The poses and the skipped lines
+/// are those read_pose_file gives.
+class PoseFileCursor {
+ public:
+  /// Opens the file and reads up to its first usable pose. Throws
+  /// InputError as read_pose_file does for a missing file or a folder, or
+  /// for a file with no usable pose.
+  explicit PoseFileCursor(const std::string& path);
+  PoseFileCursor(const PoseFileCursor&) = delete;
+  PoseFileCursor& operator=(const PoseFileCursor&) = delete;
+
+  /// Appends poses to `track` until its last pose is at or after `time_s`
+  /// or the file ends. `track` takes every pose from this cursor and no
+  /// other. Throws InputError naming the file on a read error.
+  void read_to(double time_s, PoseTrack& track);
+  /// Reads what is left for the counts and the time range only.
+  void read_rest();
+  bool ended() const { return ended_; }
+  std::size_t poses() const { return poses_; }
+  double first_time_s() const { return first_time_s_; }
+  double last_time_s() const { return last_time_s_; }
+  const PoseLineProblems& problems() const { return lines_.problems(); }
+
+ private:
+  // Reads one block, keeping its poses in ahead_ when `keep`; false at the
+  // end of the file.
+  bool read_block(bool keep);
+
+  std::string path_;
+  std::ifstream file_;
+  PoseLineBuffer lines_;
+  PoseTrack order_check_;  // the order read_pose_file enforces
+  std::vector<char> block_;
+  std::vector<TimedPose> ahead_;  // read, not yet handed to a track
+  bool ended_ = false;
+  std::size_t poses_ = 0;
+  double first_time_s_ = 0.0, last_time_s_ = 0.0;
 };
 
 /// Reads a pose file or named pipe as it grows, without blocking: poll()
