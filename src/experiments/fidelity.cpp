@@ -162,6 +162,29 @@ void check_fidelity_options(const FidelityOptions& options) {
   }
 }
 
+// The extent figures of one run's objects: the worst error per scene by
+// each estimate, the objects missed and those partly seen; every extent's
+// error goes into `errors`.
+struct ExtentScores {
+  double worst_pct, edges_untrimmed_pct, trimmed_pct, untrimmed_pct;
+  std::size_t missed, partly_seen;
+};
+
+ExtentScores score_extents(const std::vector<ObjectMeasurement>& objects, const FidelityOptions& options,
+                           ExtentErrors& errors) {
+  std::vector<double> unused;
+  const double min_extent = options.min_scored_extent_m, min_seen = options.min_seen_share;
+  ExtentScores s{};
+  s.worst_pct = worst_extent_error(objects, min_extent, min_seen, errors.every_pct, &ObjectMeasurement::measured);
+  s.edges_untrimmed_pct = worst_extent_error(objects, min_extent, min_seen, unused, &ObjectMeasurement::edges_untrimmed);
+  s.trimmed_pct = worst_extent_error(objects, min_extent, min_seen, unused, &ObjectMeasurement::measured_trimmed);
+  s.untrimmed_pct = worst_extent_error(objects, min_extent, min_seen, unused, &ObjectMeasurement::measured_untrimmed);
+  s.missed = missed(objects, min_seen);
+  s.partly_seen = count_partly_seen(objects, min_seen);
+  errors.add(objects, options);
+  return s;
+}
+
 // The URG's three runs of one scene: the ideal sensor as the reference, then
 // with mixed pixels unfiltered and filtered.
 template <typename Run>
@@ -180,20 +203,14 @@ void score_urg(FidelitySceneResult& row, const FidelityOptions& options, const R
   const CartRailResult unfiltered = run(urg);
   urg.filters = options.filters;
   const CartRailResult filtered = run(urg);
-  std::vector<double> unused;
-  const double min_extent = options.min_scored_extent_m, min_seen = options.min_seen_share;
   row.urg_objects = filtered.objects;
-  row.urg_extent_error_pct =
-      worst_extent_error(filtered.objects, min_extent, min_seen, errors.every_pct, &ObjectMeasurement::measured);
-  row.urg_extent_error_edges_untrimmed_pct =
-      worst_extent_error(filtered.objects, min_extent, min_seen, unused, &ObjectMeasurement::edges_untrimmed);
-  row.urg_extent_error_trimmed_pct =
-      worst_extent_error(filtered.objects, min_extent, min_seen, unused, &ObjectMeasurement::measured_trimmed);
-  row.urg_extent_error_untrimmed_pct =
-      worst_extent_error(filtered.objects, min_extent, min_seen, unused, &ObjectMeasurement::measured_untrimmed);
-  row.urg_objects_missed = missed(filtered.objects, min_seen);
-  row.urg_objects_partly_seen = count_partly_seen(filtered.objects, min_seen);
-  errors.add(filtered.objects, options);
+  const ExtentScores extents = score_extents(filtered.objects, options, errors);
+  row.urg_extent_error_pct = extents.worst_pct;
+  row.urg_extent_error_edges_untrimmed_pct = extents.edges_untrimmed_pct;
+  row.urg_extent_error_trimmed_pct = extents.trimmed_pct;
+  row.urg_extent_error_untrimmed_pct = extents.untrimmed_pct;
+  row.urg_objects_missed = extents.missed;
+  row.urg_objects_partly_seen = extents.partly_seen;
   row.urg_rms_error_mm = filtered.score.rms_error_m * 1000.0;
   row.artifact_cells_reference = reference.score.artifact_cells;
   row.artifact_cells_unfiltered = unfiltered.score.artifact_cells;
@@ -215,8 +232,6 @@ void score_structured_light(FidelitySceneResult& row, const FidelityOptions& opt
   row.structured_light_lux = scene_lux(row.scene_seed, options.min_lux, options.max_lux);
   sl_options.structured_light.image.ambient.illuminance_lux = row.structured_light_lux;
   const CartRailResult sl = run(sl_options);
-  std::vector<double> unused;
-  const double min_extent = options.min_scored_extent_m, min_seen = options.min_seen_share;
   row.structured_light_false_detections_pct = 100.0 * sl.stripe.false_rate();
   row.structured_light_off_row_detections_pct = 100.0 * sl.stripe.off_row_rate();
   row.structured_light_clear_artifact_cells = static_cast<double>(sl.score.clear_artifact_cells);
@@ -224,17 +239,13 @@ void score_structured_light(FidelitySceneResult& row, const FidelityOptions& opt
   row.structured_light_max_error_mm = sl.score.max_error_m * 1000.0;
   row.structured_light_rms_error_mm = sl.score.rms_error_m * 1000.0;
   row.structured_light_objects = sl.objects;
-  row.structured_light_extent_error_pct =
-      worst_extent_error(sl.objects, min_extent, min_seen, errors.every_pct, &ObjectMeasurement::measured);
-  row.structured_light_extent_error_edges_untrimmed_pct =
-      worst_extent_error(sl.objects, min_extent, min_seen, unused, &ObjectMeasurement::edges_untrimmed);
-  row.structured_light_extent_error_trimmed_pct =
-      worst_extent_error(sl.objects, min_extent, min_seen, unused, &ObjectMeasurement::measured_trimmed);
-  row.structured_light_extent_error_untrimmed_pct =
-      worst_extent_error(sl.objects, min_extent, min_seen, unused, &ObjectMeasurement::measured_untrimmed);
-  row.structured_light_objects_missed = missed(sl.objects, min_seen);
-  row.structured_light_objects_partly_seen = count_partly_seen(sl.objects, min_seen);
-  errors.add(sl.objects, options);
+  const ExtentScores extents = score_extents(sl.objects, options, errors);
+  row.structured_light_extent_error_pct = extents.worst_pct;
+  row.structured_light_extent_error_edges_untrimmed_pct = extents.edges_untrimmed_pct;
+  row.structured_light_extent_error_trimmed_pct = extents.trimmed_pct;
+  row.structured_light_extent_error_untrimmed_pct = extents.untrimmed_pct;
+  row.structured_light_objects_missed = extents.missed;
+  row.structured_light_objects_partly_seen = extents.partly_seen;
 }
 
 void mark_structured_light_not_run(FidelitySceneResult& row) {
