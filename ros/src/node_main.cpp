@@ -274,12 +274,9 @@ class Node {
 int main(int argc, char** argv) {
   using namespace stridemap::ros_adapter;
   if (asks_for_help(argc, argv)) {
-    const TableParameters none;
-    ParameterReader read(none);
-    (void)read_node_settings(read);
-    std::printf("stridemap_node: scans and poses in, the terrain map out (docs/ros.md)\n"
-                "usage: rosrun stridemap stridemap_node [_parameter:=value ...]\nparameters:\n%s",
-                read.help_text().c_str());
+    const std::string help =
+        node_help("stridemap_node", "scans and poses in, the terrain map out (docs/ros.md)", read_node_settings);
+    std::fputs(help.c_str(), stdout);
     return 0;
   }
   ros::init(argc, argv, "stridemap_node");

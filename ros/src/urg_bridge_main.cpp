@@ -38,12 +38,9 @@ BridgeSettings read_bridge_settings(stridemap::ros_adapter::ParameterReader& rea
 int main(int argc, char** argv) {
   using namespace stridemap::ros_adapter;
   if (asks_for_help(argc, argv)) {
-    const TableParameters none;
-    ParameterReader read(none);
-    (void)read_bridge_settings(read);
-    std::printf("stridemap_urg_bridge: a URG-04LX as LaserScan on /scan, a pose file as TF (docs/ros.md)\n"
-                "usage: rosrun stridemap stridemap_urg_bridge [_parameter:=value ...]\nparameters:\n%s",
-                read.help_text().c_str());
+    const std::string help =
+        node_help("stridemap_urg_bridge", "a URG-04LX as LaserScan on /scan, a pose file as TF (docs/ros.md)", read_bridge_settings);
+    std::fputs(help.c_str(), stdout);
     return 0;
   }
   ros::init(argc, argv, "stridemap_urg_bridge");

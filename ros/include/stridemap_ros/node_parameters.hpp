@@ -86,6 +86,17 @@ class ParameterReader {
   std::vector<DeclaredParameter> declared_;
 };
 
+/// A node's `--help`: what it does, then every parameter `read_settings`
+/// (a function of a ParameterReader&) declares, with its default.
+template <typename ReadSettings>
+std::string node_help(const std::string& program, const std::string& what, ReadSettings&& read_settings) {
+  const TableParameters none;
+  ParameterReader read(none);
+  (void)read_settings(read);
+  return program + ": " + what + "\nusage: rosrun stridemap " + program + " [_parameter:=value ...]\nparameters:\n" +
+         read.help_text();
+}
+
 /// $ROS_HOME, else $HOME/.ros: where ROS puts a node's relative files.
 std::string ros_home();
 
