@@ -32,7 +32,7 @@ LineExtractor::LineExtractor(const LineExtractionOptions& options) : options_(op
   options_.validate("LineExtractionOptions");
 }
 
-void LineExtractor::extract(const PlanarScan& scan, std::vector<LineSegment>& segments) {
+void LineExtractor::extract(const PlanarScan& scan, std::vector<LineSegment>& segments, Keep keep) {
   segments.clear();
   const std::size_t n = scan.size();
   const std::vector<double>& range = scan.range_m;
@@ -52,46 +52,10 @@ void LineExtractor::extract(const PlanarScan& scan, std::vector<LineSegment>& se
     y_m_[i] = range[i] * directions_.sin()[i];
   }
   RangeRatioBandCache bands(options_.max_incidence_angle_rad, false);
-
-  const auto process_cluster = [&](std::size_t first, std::size_t last) {
-    if (last - first + 1 < options_.min_points) return;
-    double max_sigma = 0.0;
-    for (std::size_t i = first; i <= last; ++i) {
-      max_sigma = std::max(max_sigma, options_.sigma.sigma_m(range[i], scan.range_error_m[i]));
-    }
-    const double split_distance =
-        std::max(options_.split_noise_sigmas * max_sigma, options_.min_split_distance_m);
-    pieces_.clear();
-    split_cluster(first, last, split_distance);
-
-    LineSegment merged;
-    LineSegment candidate;
-    Piece current = pieces_.front();
-    fit(current.first, current.last, merged);
-    const auto emit = [&](const Piece& piece, LineSegment& line) {
-      if (line.point_count < options_.min_points || line.length_m < options_.min_length_m) return;
-      line.occludes_before = piece.first == first && occludes(scan, first, false, line, split_distance);
-      line.occludes_after = piece.last == last && occludes(scan, last, true, line, split_distance);
-      segments.push_back(line);
-    };
-    for (std::size_t p = 1; p < pieces_.size(); ++p) {
-      fit(current.first, pieces_[p].last, candidate);
-      if (candidate.max_residual_m <= split_distance) {
-        current.last = pieces_[p].last;
-        merged = candidate;
-      } else {
-        emit(current, merged);
-        current = pieces_[p];
-        fit(current.first, current.last, merged);
-      }
-    }
-    emit(current, merged);
-  };
-
   std::size_t first = kNoIndex;
   for (std::size_t i = 0; i < n; ++i) {
     if (!is_usable_range(range[i])) {
-      if (first != kNoIndex) process_cluster(first, i - 1);
+      if (first != kNoIndex) process_cluster(scan, first, i - 1, keep, segments);
       first = kNoIndex;
       continue;
     }
@@ -100,13 +64,61 @@ void LineExtractor::extract(const PlanarScan& scan, std::vector<LineSegment>& se
           options_.break_noise_sigmas * options_.sigma.sigma_m(range[i - 1], scan.range_error_m[i - 1]);
       if (!ranges_on_one_surface(range[i - 1], range[i], tolerance,
                                  bands.band(scan.angle_rad[i] - scan.angle_rad[i - 1]))) {
-        process_cluster(first, i - 1);
+        process_cluster(scan, first, i - 1, keep, segments);
         first = kNoIndex;
       }
     }
     if (first == kNoIndex) first = i;
   }
-  if (first != kNoIndex) process_cluster(first, n - 1);
+  if (first != kNoIndex) process_cluster(scan, first, n - 1, keep, segments);
+}
+
+// Split, then merge neighbouring pieces left to right. Only a segment that
+// starts at the cluster's first beam or ends at its last can occlude, and
+// whether an end can is known before any fit (occluded_beam()): with
+// Keep::occluding a cluster with no such end is skipped, and one whose
+// last end cannot stops after its first segment.
+void LineExtractor::process_cluster(const PlanarScan& scan, std::size_t first, std::size_t last, Keep keep,
+                                    std::vector<LineSegment>& segments) {
+  if (last - first + 1 < options_.min_points) return;
+  const std::size_t beyond_first = occluded_beam(scan, first, false);
+  const std::size_t beyond_last = occluded_beam(scan, last, true);
+  const bool occluding_only = keep == Keep::occluding;
+  if (occluding_only && beyond_first == kNoIndex && beyond_last == kNoIndex) return;
+  double max_sigma = 0.0;
+  for (std::size_t i = first; i <= last; ++i) {
+    max_sigma = std::max(max_sigma, options_.sigma.sigma_m(scan.range_m[i], scan.range_error_m[i]));
+  }
+  const double split_distance = std::max(options_.split_noise_sigmas * max_sigma, options_.min_split_distance_m);
+  pieces_.clear();
+  split_cluster(first, last, split_distance);
+
+  LineSegment merged;
+  LineSegment candidate;
+  Piece current = pieces_.front();
+  fit(current.first, current.last, merged);
+  const auto emit = [&](const Piece& piece, LineSegment& line) {
+    if (line.point_count < options_.min_points || line.length_m < options_.min_length_m) return;
+    line.occludes_before = piece.first == first && occludes(beyond_first, scan, line, split_distance);
+    line.occludes_after = piece.last == last && occludes(beyond_last, scan, line, split_distance);
+    if (!occluding_only || line.occludes_before || line.occludes_after) segments.push_back(line);
+  };
+  // The segments after the first start past `first`: without an occluding
+  // last end, none of them is wanted.
+  const bool first_only = occluding_only && beyond_last == kNoIndex;
+  for (std::size_t p = 1; p < pieces_.size(); ++p) {
+    fit(current.first, pieces_[p].last, candidate);
+    if (candidate.max_residual_m <= split_distance) {
+      current.last = pieces_[p].last;
+      merged = candidate;
+    } else {
+      emit(current, merged);
+      if (first_only) return;
+      current = pieces_[p];
+      fit(current.first, current.last, merged);
+    }
+  }
+  emit(current, merged);
 }
 
 void LineExtractor::split_cluster(std::size_t first, std::size_t last, double split_distance_m) {
@@ -197,12 +209,14 @@ void LineExtractor::fit(std::size_t first, std::size_t last, LineSegment& line) 
   line.occludes_after = false;
 }
 
-bool LineExtractor::occludes(const PlanarScan& scan, std::size_t end_beam, bool forward, const LineSegment& line,
-                             double split_distance_m) const {
+// The first valid beam past `end_beam` (within occlusion_search_beams)
+// when it breaks from the end and lies farther: what an occluding end
+// needs whatever the line; kNoIndex otherwise.
+std::size_t LineExtractor::occluded_beam(const PlanarScan& scan, std::size_t end_beam, bool forward) const {
   const std::size_t n = scan.size();
   const double end_range = scan.range_m[end_beam];
   for (std::size_t step = 1; step <= options_.occlusion_search_beams; ++step) {
-    if (forward ? end_beam + step >= n : step > end_beam) return false;
+    if (forward ? end_beam + step >= n : step > end_beam) return kNoIndex;
     const std::size_t j = forward ? end_beam + step : end_beam - step;
     const double beyond = scan.range_m[j];
     if (!is_usable_range(beyond)) continue;
@@ -210,13 +224,21 @@ bool LineExtractor::occludes(const PlanarScan& scan, std::size_t end_beam, bool 
         options_.break_noise_sigmas * options_.sigma.sigma_m(end_range, scan.range_error_m[end_beam]);
     const RangeRatioBand band =
         range_ratio_band(scan.angle_rad[j] - scan.angle_rad[end_beam], options_.max_incidence_angle_rad);
-    if (beyond <= end_range || ranges_on_one_surface(end_range, beyond, tolerance, band)) return false;
-    const double off_line = std::abs(beyond * (directions_.cos()[j] * std::cos(line.normal_angle_rad) +
-                                               directions_.sin()[j] * std::sin(line.normal_angle_rad)) -
-                                     line.distance_m);
-    return off_line > split_distance_m;
+    if (beyond <= end_range || ranges_on_one_surface(end_range, beyond, tolerance, band)) return kNoIndex;
+    return j;
   }
-  return false;
+  return kNoIndex;
+}
+
+// The beam past the end (occluded_beam()) must also lie off the segment's line.
+bool LineExtractor::occludes(std::size_t beyond_beam, const PlanarScan& scan, const LineSegment& line,
+                             double split_distance_m) const {
+  if (beyond_beam == kNoIndex) return false;
+  const std::size_t j = beyond_beam;
+  const double off_line = std::abs(scan.range_m[j] * (directions_.cos()[j] * std::cos(line.normal_angle_rad) +
+                                                      directions_.sin()[j] * std::sin(line.normal_angle_rad)) -
+                                   line.distance_m);
+  return off_line > split_distance_m;
 }
 
 }  // namespace stridemap

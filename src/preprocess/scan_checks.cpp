@@ -1,7 +1,9 @@
 #include "stridemap/preprocess/scan_checks.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -12,6 +14,9 @@ namespace stridemap {
 namespace {
 
 constexpr std::size_t no_index = static_cast<std::size_t>(-1);
+
+// 1 when the exponent bits of a double's bits are all ones (inf or NaN), else 0.
+constexpr std::uint64_t exponent_all_ones(std::uint64_t bits) { return (((bits >> 52) & 0x7FF) + 1) >> 11; }
 
 std::string scan_label(std::string_view filter_name, std::size_t scan_index) {
   std::string label(filter_name);
@@ -31,7 +36,12 @@ void check_scan_shape(const PlanarScan& scan, std::string_view filter_name, std:
                      " angles, " + std::to_string(ranges) + " ranges and " + std::to_string(errors) +
                      " range errors; angle_rad, range_m and range_error_m must have the same length");
   }
-  for (std::size_t i = 0; i < angles; ++i) {
+  // One branch-free pass over all the angles, on their bits so that it
+  // vectorises (a double is not finite when its exponent bits are all
+  // ones); the loop that names the bad beam runs only when there is one.
+  std::uint64_t not_finite = 0;
+  for (std::size_t i = 0; i < angles; ++i) not_finite |= exponent_all_ones(std::bit_cast<std::uint64_t>(scan.angle_rad[i]));
+  for (std::size_t i = 0; not_finite != 0 && i < angles; ++i) {
     if (!std::isfinite(scan.angle_rad[i])) {
       std::ostringstream message;
       message << scan_label(filter_name, scan_index) << "beam " << i << " has angle " << scan.angle_rad[i]
@@ -46,14 +56,18 @@ ScanFilterStats prepare_scan_for_filter(PlanarScan& scan, std::vector<std::uint8
   check_scan_shape(scan, filter_name, scan_index);
   ScanFilterStats stats;
   stats.beams = scan.size();
-  for (double& range : scan.range_m) {
-    if (!is_usable_range(range)) {
-      // Counted even when already NaN: "invalid on input" is what the caller
-      // needs to tell filter removals from sensor dropouts.
-      range = std::numeric_limits<double>::quiet_NaN();
-      ++stats.invalid_input;
-    }
+  // is_usable_range without branches: dropouts come scattered among
+  // valid beams. Counted even when already NaN: "invalid on input" is what
+  // the caller needs to tell filter removals from sensor dropouts.
+  constexpr double kMax = std::numeric_limits<double>::max(), kNaN = std::numeric_limits<double>::quiet_NaN();
+  double* range = scan.range_m.data();
+  std::size_t invalid = 0;
+  for (std::size_t i = 0; i < stats.beams; ++i) {
+    const bool usable = (range[i] > 0.0) & (range[i] <= kMax);
+    range[i] = usable ? range[i] : kNaN;
+    invalid += static_cast<std::size_t>(!usable);
   }
+  stats.invalid_input = invalid;
   removed.assign(scan.size(), 0);
   return stats;
 }

@@ -207,7 +207,8 @@ void ScanFilterChain::take_sequence_masks() {
   if (spread_stage_ != absent) {
     std::vector<std::uint8_t>& spread = output_.removed[spread_stage_];
     spread = sequence_removed_;
-    for (std::size_t i = 0; i < spread.size() && i < between.size(); ++i) spread[i] &= static_cast<std::uint8_t>(!between[i]);
+    const std::size_t n = std::min(spread.size(), between.size());  // bounds hoisted: the loop vectorises
+    for (std::size_t i = 0; i < n; ++i) spread[i] &= static_cast<std::uint8_t>(!between[i]);
   }
   const ScanFilterStats& all = scan_sequence_.last_stats();
   for (const std::size_t stage : {spread_stage_, between_stage_}) {
@@ -273,9 +274,8 @@ void ScanFilterChain::finish_output(PlanarScan& out) {
   removed_any_.assign(out.size(), 0);
   for (std::size_t stage = 0; stage < stages_.size(); ++stage) {
     const std::vector<std::uint8_t>& removed = output_.removed[stage];
-    for (std::size_t i = 0; i < removed.size() && i < removed_any_.size(); ++i) {
-      removed_any_[i] = static_cast<std::uint8_t>(removed_any_[i] | removed[i]);
-    }
+    const std::size_t n = std::min(removed.size(), removed_any_.size());  // bounds hoisted: the loop vectorises
+    for (std::size_t i = 0; i < n; ++i) removed_any_[i] = static_cast<std::uint8_t>(removed_any_[i] | removed[i]);
   }
 }
 

@@ -160,7 +160,9 @@ void ScanSequenceFilter::judge_between_scans(std::vector<std::uint8_t>& removed)
 
 void ScanSequenceFilter::judge_spread(std::vector<std::uint8_t>& removed) {
   const std::size_t n = held_.size();
-  lines_.extract(previous_, segments_);
+  // Only occluding segments are judged when an occluding end is required.
+  lines_.extract(previous_, segments_,
+                 options_.require_occluding_end ? LineExtractor::Keep::occluding : LineExtractor::Keep::all);
   if (sectors_.capacity() < segments_.capacity()) sectors_.reserve(segments_.capacity());
   directions_k_.update(held_.angle_rad);
   directions_next_.update(incoming_.angle_rad);

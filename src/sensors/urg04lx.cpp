@@ -7,6 +7,7 @@
 #include <numbers>
 #include <sstream>
 #include <string>
+#include <type_traits>
 
 #if defined(__x86_64__)
 #include <immintrin.h>
@@ -162,38 +163,54 @@ void UrgModel::check_fits(const UrgRawScan& raw) const {
 UrgConversionStats UrgModel::to_planar_scan(const UrgRawScan& raw, PlanarScan& out) const {
   check_fits(raw);
   out.time_s = raw.time_s;
-  out.resize(raw.values_mm.size());
-  UrgConversionStats stats;
-  // check_fits() keeps every value's step within the table.
+  const std::size_t n = raw.values_mm.size();
+  out.resize(n);
+  // check_fits() keeps every value's step within the table. A cluster's
+  // value is the minimum over its steps and the sensor does not say which
+  // step gave it; SCIP drivers place it at the cluster's first step.
   const auto first = static_cast<std::size_t>(raw.first_step - parameters_.first_step);
   const auto cluster = static_cast<std::size_t>(raw.cluster);
-  for (std::size_t i = 0; i < raw.values_mm.size(); ++i) {
-    const std::uint32_t value = raw.values_mm[i];
-    const double raw_range_m = static_cast<double>(value) * 0.001;
-    // A cluster's value is the minimum over its steps and the sensor does not
-    // say which step gave it; SCIP drivers place it at the cluster's first step.
-    out.angle_rad[i] = step_angle_[first + i * cluster];
-    switch (classify(value)) {
-      case UrgValueClass::valid: {
-        const double range_m = calibration_.corrected_m(raw_range_m);
-        out.range_m[i] = range_m;
-        out.range_error_m[i] = spec_range_error_m(range_m);
-        ++stats.valid;
-        continue;
+  const std::uint32_t* values = raw.values_mm.data();
+  const double* step_angle = step_angle_.data() + first;
+  double* angle = out.angle_rad.data();
+  double* range = out.range_m.data();
+  double* error = out.range_error_m.data();
+  const std::uint64_t lowest = lowest_valid_mm_, highest = highest_valid_mm_;
+  const auto& c = calibration_.coefficients;
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  std::size_t valid = 0, below = 0;
+  // classify(), calibration_.corrected_m() and spec_range_error_m() as
+  // selects instead of branches (the same doubles), so that the error codes
+  // between valid runs cost no mispredictions. Uncalibrated, the correction
+  // is raw * 0 + 0: the raw range itself. Invalid beams keep a finite error
+  // (the bound at the raw value) so that a consumer summing or comparing
+  // errors never meets NaN there; the NaN range marks the beam as unusable.
+  const auto convert = [&](auto calibrated) {
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::uint64_t value = values[i];
+      const double raw_range_m = static_cast<double>(values[i]) * 0.001;
+      double range_m = raw_range_m;
+      if constexpr (decltype(calibrated)::value) {
+        range_m = raw_range_m + (c[0] + raw_range_m * (c[1] + raw_range_m * (c[2] + raw_range_m * c[3])));
       }
-      case UrgValueClass::error_code:
-        ++stats.error_codes;
-        break;
-      case UrgValueClass::beyond_max_range:
-        ++stats.beyond_max_range;
-        break;
+      const bool is_valid = (value >= lowest) & (value <= highest);
+      const double bounded_m = is_valid ? range_m : raw_range_m;
+      angle[i] = step_angle[i * cluster];
+      range[i] = is_valid ? range_m : kNaN;
+      error[i] = bounded_m <= 1.0 ? 0.010 : 0.01 * bounded_m;
+      valid += static_cast<std::size_t>(is_valid);
+      below += static_cast<std::size_t>(value < lowest);
     }
-    // Invalid beams keep a finite error (the bound at the raw value) so that a
-    // consumer summing or comparing errors never meets NaN there; the NaN range
-    // is what marks the beam as unusable.
-    out.range_m[i] = std::numeric_limits<double>::quiet_NaN();
-    out.range_error_m[i] = spec_range_error_m(raw_range_m);
+  };
+  if (calibrated_) {
+    convert(std::true_type{});
+  } else {
+    convert(std::false_type{});
   }
+  UrgConversionStats stats;
+  stats.valid = valid;
+  stats.error_codes = below;
+  stats.beyond_max_range = n - valid - below;
   return stats;
 }
 

@@ -3,6 +3,7 @@
 // Scans of one sensor repeat the same angles, so the filters that need
 // Cartesian points pay for the trigonometry once per stream, not per scan.
 #include <cmath>
+#include <cstring>
 #include <vector>
 
 namespace stridemap {
@@ -11,6 +12,14 @@ class BeamDirections {
  public:
   /// Makes cos()/sin() match `angle_rad`; an O(n) comparison when unchanged.
   void update(const std::vector<double>& angle_rad) {
+    // Equal bits are equal values (a NaN's cosine is NaN whichever it was):
+    // memcmp settles the common case at memory speed; == decides the rest
+    // (a -0 for a 0 keeps the directions, as it always did).
+    if (angle_rad.size() == angle_rad_.size() &&
+        (angle_rad.empty() ||
+         std::memcmp(angle_rad.data(), angle_rad_.data(), angle_rad.size() * sizeof(double)) == 0)) {
+      return;
+    }
     if (angle_rad == angle_rad_) return;
     angle_rad_.assign(angle_rad.begin(), angle_rad.end());
     cos_.resize(angle_rad.size());

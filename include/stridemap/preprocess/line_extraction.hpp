@@ -6,6 +6,7 @@
 // keep the pieces long enough to be structure. The scan-sequence filter uses
 // it on scan k-1 to find edges across the scan.
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "stridemap/core/planar_scan.hpp"
@@ -67,10 +68,20 @@ class LineExtractor {
 
   const LineExtractionOptions& options() const { return options_; }
 
+  /// Which segments extract() hands back.
+  enum class Keep : std::uint8_t {
+    all,
+    /// Only those with occludes_before or occludes_after: the same segments
+    /// as `all` with the others left out, found for less (a cluster neither
+    /// of whose ends can occlude is not split, and one whose last end cannot
+    /// is merged only up to its first segment).
+    occluding,
+  };
+
   /// Segments of `scan` in beam order. Invalid beams (range not finite and
   /// positive) never belong to a segment. The scan must be well formed
   /// (check_scan_shape); it is not modified.
-  void extract(const PlanarScan& scan, std::vector<LineSegment>& segments);
+  void extract(const PlanarScan& scan, std::vector<LineSegment>& segments, Keep keep = Keep::all);
 
   /// cos/sin of the angles of the scan given to extract() last.
   const BeamDirections& directions() const { return directions_; }
@@ -82,7 +93,10 @@ class LineExtractor {
   };
   void split_cluster(std::size_t first, std::size_t last, double split_distance_m);
   void fit(std::size_t first, std::size_t last, LineSegment& line) const;
-  bool occludes(const PlanarScan& scan, std::size_t end_beam, bool forward, const LineSegment& line,
+  void process_cluster(const PlanarScan& scan, std::size_t first, std::size_t last, Keep keep,
+                       std::vector<LineSegment>& segments);
+  std::size_t occluded_beam(const PlanarScan& scan, std::size_t end_beam, bool forward) const;
+  bool occludes(std::size_t beyond_beam, const PlanarScan& scan, const LineSegment& line,
                 double split_distance_m) const;
 
   LineExtractionOptions options_;
