@@ -3,6 +3,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
 
 #include "test_scans.hpp"
 
@@ -127,6 +130,44 @@ TEST(LineExtraction, NoisyLineStaysOneSegment) {
   extractor.extract(scan, segments);
   ASSERT_EQ(segments.size(), 1u);
   EXPECT_NEAR(segments[0].distance_m, 0.45, 0.002);
+}
+
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof(double)) == 0; }
+
+// Keep::occluding hands back exactly the occluding segments of Keep::all,
+// bit for bit, on rough scenes with boxes, dropouts and noise.
+TEST(LineExtraction, OccludingSegmentsAreThoseOfAllSegments) {
+  std::mt19937_64 rng(3);
+  std::uniform_real_distribution<double> box_x(0.25, 0.55), half_width(0.02, 0.15), dropout(0.0, 1.0);
+  std::size_t occluding_seen = 0;
+  for (int trial = 0; trial < 200; ++trial) {
+    PlanarScan scan = test::centred_scan(301);
+    test::put_box_scene(scan, 0.60, box_x(rng), half_width(rng));
+    test::add_noise(scan, 0.001 + 0.004 * dropout(rng), static_cast<unsigned>(trial));
+    for (double& r : scan.range_m) {
+      if (dropout(rng) < 0.03) r = std::numeric_limits<double>::quiet_NaN();
+    }
+    LineExtractor extractor;
+    std::vector<LineSegment> all, occluding;
+    extractor.extract(scan, all);
+    extractor.extract(scan, occluding, LineExtractor::Keep::occluding);
+    std::vector<LineSegment> expected;
+    for (const LineSegment& s : all) {
+      if (s.occludes_before || s.occludes_after) expected.push_back(s);
+    }
+    ASSERT_EQ(occluding.size(), expected.size()) << "trial " << trial;
+    for (std::size_t k = 0; k < expected.size(); ++k) {
+      const LineSegment &a = occluding[k], &b = expected[k];
+      EXPECT_TRUE(a.first_beam == b.first_beam && a.last_beam == b.last_beam && a.point_count == b.point_count &&
+                  same_bits(a.normal_angle_rad, b.normal_angle_rad) && same_bits(a.distance_m, b.distance_m) &&
+                  same_bits(a.length_m, b.length_m) && same_bits(a.max_residual_m, b.max_residual_m) &&
+                  same_bits(a.mid_x_m, b.mid_x_m) && same_bits(a.mid_y_m, b.mid_y_m) &&
+                  a.occludes_before == b.occludes_before && a.occludes_after == b.occludes_after)
+          << "trial " << trial << " segment " << k;
+    }
+    occluding_seen += expected.size();
+  }
+  EXPECT_GT(occluding_seen, 100u);
 }
 
 TEST(LineExtraction, RejectsTooFewMinPoints) {
