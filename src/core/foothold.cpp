@@ -195,6 +195,7 @@ void FootholdLayers::refresh(ElevationMap& map) {
 }
 
 void FootholdLayers::compute(ElevationMap& map) {
+  if (compute_without_known_cells(map)) return;
   FootholdChanges& c = changes_;
   c.set_slots(map);
   c.see_all(stencil_, map, {0, n_ - 1, 0, n_ - 1}, false);
@@ -209,6 +210,34 @@ void FootholdLayers::compute(ElevationMap& map) {
   std::fill(c.score_mark.begin(), c.score_mark.end(), std::uint8_t{1});
   std::fill(c.score_rows.begin(), c.score_rows.end(), RowSpan{0, n_ - 1});
   score_rows(map);
+}
+
+// A map without a known cell (a new pipeline's, or one cleared) has NaN in
+// every layer and no edge anywhere: written here as compute()'s full pass
+// leaves them, marks, counts and edge distances included, for a small part
+// of its cost. False, with nothing changed, when a cell is known.
+bool FootholdLayers::compute_without_known_cells(ElevationMap& map) {
+  const float* elevation = map.elevation_data();
+  const std::uint8_t* state = map.state_data();
+  const std::size_t cells = static_cast<std::size_t>(n_) * static_cast<std::size_t>(n_);
+  for (std::size_t s = 0; s < cells; ++s) {
+    if (foothold::known(elevation, state, s)) return false;
+  }
+  FootholdChanges& c = changes_;
+  c.set_slots(map);
+  std::fill(c.seen_elevation.begin(), c.seen_elevation.end(), kNaN);
+  std::copy_n(map.certainty_data(), cells, c.seen_certainty.begin());
+  std::fill(c.seen_edge2.begin(), c.seen_edge2.end(), static_cast<std::int32_t>(stencil_.edge_cells * stencil_.edge_cells + 1));
+  for (const LayerId<float> layer : {slope_, roughness_, step_, edge_distance_, score_}) {
+    std::fill_n(map.data(layer), cells, kNaN);
+  }
+  std::fill(c.geometry_mark.begin(), c.geometry_mark.end(), std::uint8_t{0});
+  std::fill(c.score_mark.begin(), c.score_mark.end(), std::uint8_t{0});
+  std::fill(c.geometry_rows.begin(), c.geometry_rows.end(), RowSpan{n_, -1});
+  std::fill(c.score_rows.begin(), c.score_rows.end(), RowSpan{n_, -1});
+  c.raised.clear();
+  last_geometry_cells_ = last_score_cells_ = last_edge_cells_ = cells;
+  return true;
 }
 
 // Redoes the marked cells' geometry (clearing the marks and the rows'

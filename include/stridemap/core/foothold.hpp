@@ -137,6 +137,7 @@ class FootholdLayers {
 
  private:
   void compute(ElevationMap& map);
+  bool compute_without_known_cells(ElevationMap& map);
   void geometry_rows(ElevationMap& map);
   void score_rows(ElevationMap& map);
   double edge_distance_m_of(std::int64_t squared_cells, std::int64_t none2) const;
