@@ -207,8 +207,12 @@ void ScanFilterChain::take_sequence_masks() {
   if (spread_stage_ != absent) {
     std::vector<std::uint8_t>& spread = output_.removed[spread_stage_];
     spread = sequence_removed_;
-    const std::size_t n = std::min(spread.size(), between.size());  // bounds hoisted: the loop vectorises
-    for (std::size_t i = 0; i < n; ++i) spread[i] &= static_cast<std::uint8_t>(!between[i]);
+    // Plain pointers: a byte store could alias a vector's own pointers, which
+    // would keep the loop from vectorising.
+    const std::size_t n = std::min(spread.size(), between.size());
+    std::uint8_t* to = spread.data();
+    const std::uint8_t* from = between.data();
+    for (std::size_t i = 0; i < n; ++i) to[i] &= static_cast<std::uint8_t>(!from[i]);
   }
   const ScanFilterStats& all = scan_sequence_.last_stats();
   for (const std::size_t stage : {spread_stage_, between_stage_}) {
@@ -273,9 +277,12 @@ void ScanFilterChain::reset() { scan_sequence_.reset(); }
 void ScanFilterChain::finish_output(PlanarScan& out) {
   removed_any_.assign(out.size(), 0);
   for (std::size_t stage = 0; stage < stages_.size(); ++stage) {
-    const std::vector<std::uint8_t>& removed = output_.removed[stage];
-    const std::size_t n = std::min(removed.size(), removed_any_.size());  // bounds hoisted: the loop vectorises
-    for (std::size_t i = 0; i < n; ++i) removed_any_[i] = static_cast<std::uint8_t>(removed_any_[i] | removed[i]);
+    // Plain pointers: a byte store could alias a vector's own pointers, which
+    // would keep the loop from vectorising.
+    const std::size_t n = std::min(output_.removed[stage].size(), removed_any_.size());
+    const std::uint8_t* removed = output_.removed[stage].data();
+    std::uint8_t* any = removed_any_.data();
+    for (std::size_t i = 0; i < n; ++i) any[i] = static_cast<std::uint8_t>(any[i] | removed[i]);
   }
 }
 
