@@ -136,18 +136,8 @@ void LineExtractor::split_cluster(std::size_t first, std::size_t last, double sp
       const double dx = x_m_[piece.last] - ax;
       const double dy = y_m_[piece.last] - ay;
       const double chord = std::hypot(dx, dy);
-      std::size_t farthest = kNoIndex;
-      double farthest_distance = split_distance_m;
-      for (std::size_t i = piece.first + 1; i < piece.last; ++i) {
-        const double px = x_m_[i] - ax;
-        const double py = y_m_[i] - ay;
-        // Degenerate chord (end points coincide): distance from the end point.
-        const double distance = chord > 1e-12 ? std::abs(px * dy - py * dx) / chord : std::hypot(px, py);
-        if (distance > farthest_distance) {
-          farthest_distance = distance;
-          farthest = i;
-        }
-      }
+      const std::size_t farthest = chord > 1e-12 ? farthest_from_chord(piece, ax, ay, dx, dy, chord, split_distance_m)
+                                                 : farthest_from_point(piece, ax, ay, split_distance_m);
       if (farthest != kNoIndex) {
         stack_.push_back({farthest, piece.last});
         stack_.push_back({piece.first, farthest});
@@ -156,6 +146,57 @@ void LineExtractor::split_cluster(std::size_t first, std::size_t last, double sp
     }
     pieces_.push_back(piece);
   }
+}
+
+// The first interior point of `piece` at the largest distance |p x d| /
+// chord from the chord, if that exceeds split_distance_m. Rounded division
+// by the same chord never reverses an order, so the largest cross product
+// gives the largest distance, and only a point whose cross product comes
+// within rounding of it can tie: one division for the winner instead of
+// one per point, the same point and distance as dividing each.
+std::size_t LineExtractor::farthest_from_chord(const Piece& piece, double ax, double ay, double dx, double dy,
+                                               double chord, double split_distance_m) const {
+  std::size_t best = kNoIndex;
+  double best_cross = -1.0;
+  double runner_up = -1.0;  // at least every other point's cross product
+  for (std::size_t i = piece.first + 1; i < piece.last; ++i) {
+    const double cross = std::abs((x_m_[i] - ax) * dy - (y_m_[i] - ay) * dx);
+    if (cross > best_cross) {
+      runner_up = best_cross;
+      best_cross = cross;
+      best = i;
+    } else {
+      runner_up = std::max(runner_up, cross);
+    }
+  }
+  if (best == kNoIndex) return kNoIndex;
+  const double distance = best_cross / chord;
+  if (!(distance > split_distance_m)) return kNoIndex;
+  // An earlier point whose smaller cross product rounds to the same
+  // distance came first in the per-point comparison; two doubles that
+  // round alike differ by far less than 1e-12 of either.
+  const double near_tie = best_cross * (1.0 - 1e-12);
+  if (runner_up < near_tie) return best;
+  for (std::size_t i = piece.first + 1; i < best; ++i) {
+    const double cross = std::abs((x_m_[i] - ax) * dy - (y_m_[i] - ay) * dx);
+    if (cross >= near_tie && cross / chord == distance) return i;
+  }
+  return best;
+}
+
+// Degenerate chord (end points coincide): the distance from the end point.
+std::size_t LineExtractor::farthest_from_point(const Piece& piece, double ax, double ay,
+                                               double split_distance_m) const {
+  std::size_t farthest = kNoIndex;
+  double farthest_distance = split_distance_m;
+  for (std::size_t i = piece.first + 1; i < piece.last; ++i) {
+    const double distance = std::hypot(x_m_[i] - ax, y_m_[i] - ay);
+    if (distance > farthest_distance) {
+      farthest_distance = distance;
+      farthest = i;
+    }
+  }
+  return farthest;
 }
 
 void LineExtractor::fit(std::size_t first, std::size_t last, LineSegment& line) const {

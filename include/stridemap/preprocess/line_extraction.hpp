@@ -92,6 +92,9 @@ class LineExtractor {
     std::size_t last = 0;
   };
   void split_cluster(std::size_t first, std::size_t last, double split_distance_m);
+  std::size_t farthest_from_chord(const Piece& piece, double ax, double ay, double dx, double dy, double chord,
+                                  double split_distance_m) const;
+  std::size_t farthest_from_point(const Piece& piece, double ax, double ay, double split_distance_m) const;
   void fit(std::size_t first, std::size_t last, LineSegment& line) const;
   void process_cluster(const PlanarScan& scan, std::size_t first, std::size_t last, Keep keep,
                        std::vector<LineSegment>& segments);
