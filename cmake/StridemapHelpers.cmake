@@ -40,10 +40,41 @@ function(stridemap_add_layer name)
     $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
   target_link_libraries(stridemap_${name} PUBLIC ${ARG_PUBLIC_DEPS} PRIVATE ${ARG_PRIVATE_DEPS})
   stridemap_set_warnings(stridemap_${name})
+  stridemap_skip_thread_sanitizer(stridemap_${name} ${name})
+  if(STRIDEMAP_BUILD_FUZZERS AND name IN_LIST STRIDEMAP_FUZZ_COVERAGE_LAYERS)
+    target_compile_options(stridemap_${name} PRIVATE -fsanitize=fuzzer-no-link)
+  endif()
   stridemap_unity_build_library(stridemap_${name})
   if(NOT STRIDEMAP_UNITY_BUILD)
     stridemap_precompile_common_headers(stridemap_${name})
   endif()
+endfunction()
+
+# The layers that parse what the fuzzers of fuzz/targets feed them: files,
+# device bytes, images. libFuzzer's coverage feedback goes into these alone.
+set(STRIDEMAP_FUZZ_COVERAGE_LAYERS io config render mapfile recordings sensors vision)
+
+# ThreadSanitizer looks for two threads touching the same memory, so a layer
+# whose code never runs on a second thread gains nothing from it and runs its
+# tests several times slower (`make test-tsan` names these layers). Its inline
+# functions stay hidden so that no instrumented library calls an
+# uninstrumented copy (which would hide the atomics TSan must see).
+# Configuring fails if such a layer's sources start a thread.
+set(STRIDEMAP_TSAN_UNINSTRUMENTED_LAYERS "" CACHE STRING
+  "Layers compiled without -fsanitize=thread in a ThreadSanitizer build (their code runs on one thread)")
+function(stridemap_skip_thread_sanitizer target layer)
+  if(NOT layer IN_LIST STRIDEMAP_TSAN_UNINSTRUMENTED_LAYERS)
+    return()
+  endif()
+  file(GLOB_RECURSE files ${PROJECT_SOURCE_DIR}/src/${layer}/* ${PROJECT_SOURCE_DIR}/include/stridemap/${layer}/*)
+  foreach(file IN LISTS files)
+    file(STRINGS ${file} starts REGEX "std::(thread|jthread|async)|pthread_create")
+    if(starts)
+      message(FATAL_ERROR "${file} starts a thread, so layer ${layer} must be instrumented: "
+        "take it out of STRIDEMAP_TSAN_UNINSTRUMENTED_LAYERS (Makefile, TSAN_UNINSTRUMENTED)")
+    endif()
+  endforeach()
+  target_compile_options(${target} PRIVATE -fno-sanitize=thread -fvisibility-inlines-hidden)
 endfunction()
 
 # Eigen and the standard headers every layer uses are parsed once per target
