@@ -3,7 +3,7 @@
 # checkout, so that uncommitted changes and this checkout's build folders
 # play no part. The clone goes to CHECK_DIR (default: a new folder under
 # the system's temporary folder); the log, with each stage's wall time, to
-# CHECK_DIR/check.log and the terminal. The clone is kept for a look at its
+# CHECK_DIR/check.log and the terminal, then the 20 slowest tests. The clone is kept for a look at its
 # builds; it is this command's own folder, so a later check may replace it.
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -28,4 +28,6 @@ status=${PIPESTATUS[0]}
 set -e
 echo "check: stage times of $head"
 grep -E '^=== (stage passed|stage FAILED|all stages)' "$dir/check.log" | sed 's/^=== /  /; s/ ===$//'
+echo "check: the 20 slowest tests, seconds per stage (docs/reliability.md)"
+python3 "$root/tools/slowest_tests.py" "$dir/check.log" 20 || true
 exit "$status"

@@ -1,6 +1,7 @@
 // Crash consistency (docs/reliability.md): `live`, mapping from the emulator
-// with --record and saving every 50 ms, is killed with SIGKILL at 50 random
-// (seeded) moments (12 under a sanitizer), 0.05 to 0.6 s after it connected (longer under a sanitizer). After each kill the output folder holds a complete set
+// with --record and saving every 100 ms, is killed with SIGKILL at 50 random
+// (seeded) moments (12 under a sanitizer), 0.05 to 0.6 s after it connected
+// (stretched as far as this build's tool is slower). After each kill the output folder holds a complete set
 // (its manifest lists exactly its files, each one readable) or does not
 // exist yet, the leftovers of earlier kills are gone, and the recorded log
 // replays (`stridemap map --log`) to the map of every scan in it.
@@ -8,6 +9,7 @@
 
 #include <signal.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -81,8 +83,12 @@ std::size_t leftovers(const fs::path& folder) {
 }
 
 // The tool under test is built like this test: under a sanitizer it runs
-// several times slower, and kills within the Release build's window would
-// all land before the first save, testing nothing. Stretch the window.
+// several times slower (how much depends on which layers are instrumented
+// and on the machine's load), and kills within the Release build's window
+// would all land before the first save, testing nothing. The window is
+// stretched by the first run's time against a Release run's; kSlowdown
+// bounds that stretch and sizes the emulator's lifetime.
+constexpr double kReleaseFirstRunS = 0.5;
 #if defined(__SANITIZE_THREAD__)
 constexpr double kSlowdown = 10.0;
 #elif defined(__SANITIZE_ADDRESS__)
@@ -111,14 +117,18 @@ TEST(LiveCrash, KilledAtFiftyRandomMomentsLeavesCompleteOutputsAndLogsThatReplay
                              " --motion cart-rail --poses-out " + shell_quoted(dir / "poses.txt") +
                              " --poses-clock host");
   ASSERT_TRUE(emulator.wait_for_output("emulating a URG-04LX on", 10.0)) << emulator.output();
-  std::mt19937 random(20261201);
-  std::uniform_real_distribution<double> moment_s(0.05 * kSlowdown, 0.6 * kSlowdown);
   const fs::path out = dir.path() / "out";
   const std::string live_command = cli() + " live --device " + shell_quoted(dir / "urg") + " --poses " +
                                    shell_quoted(dir / "poses.txt") + " --out " + shell_quoted(out.string());
   // A first set, so that every kill may hit its replacement.
+  const auto first_start = std::chrono::steady_clock::now();
   const auto first = run_cli(live_command.substr(cli().size() + 1) + " --max-scans 5 --connect-timeout-s 10");
   ASSERT_EQ(first.exit_code, 0) << first.output;
+  const double first_run_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - first_start).count();
+  const double stretch = std::clamp(first_run_s / kReleaseFirstRunS, 1.0, kSlowdown);
+  std::printf("[ crash    ] first run %.2f s: kill window stretched %.1fx\n", first_run_s, stretch);
+  std::mt19937 random(20261201);
+  std::uniform_real_distribution<double> moment_s(0.05 * stretch, 0.6 * stretch);
   std::string previous_summary = dir.read("out/summary.json");
   std::size_t sets_replaced = 0, scans_replayed = 0;
   for (int kill = 1; kill <= kKills; ++kill) {
