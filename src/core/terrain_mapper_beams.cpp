@@ -74,7 +74,17 @@ STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beam
   std::int32_t* __restrict column_out = located_column_.data();
   float* __restrict h_out = located_h_m_.data();
   float* __restrict dz_out = located_dz_max_m_.data();
+  double* __restrict x_out = hit_x_m_.data();
+  double* __restrict y_out = hit_y_m_.data();
+  double* __restrict z_out = hit_z_m_.data();
+  double* __restrict error_out = hit_error_m_.data();
   const std::size_t count = beams.count;
+  // Twelve arrays are more than GCC keeps apart by restrict alone (it asks
+  // to version the loop for aliasing and gives up); every one is its own
+  // vector, so no store can reach another beam's load.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC ivdep
+#endif
   for (std::size_t k = 0; k < count; ++k) {
     const double r = range[k], dr = range_error[k], ct = cos_t[k], st = sin_t[k];
     // PlanarBeamGeometry::point, written out per coordinate.
@@ -133,6 +143,10 @@ STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beam
     // keep the loop from vectorising.
     h_out[k] = static_cast<float>(h);
     dz_out[k] = static_cast<float>(dz);
+    x_out[k] = x;
+    y_out[k] = y;
+    z_out[k] = h;
+    error_out[k] = error;
   }
 }
 
@@ -278,6 +292,10 @@ ScanStats TerrainMapper::integrate(const PlanarBeams& beams, const TrunkPose& po
       located_slot_beam_.resize(2 * beams.range_m.size());
       located_h_m_.resize(beams.range_m.size());
       located_dz_max_m_.resize(beams.range_m.size());
+      hit_x_m_.resize(beams.range_m.size());
+      hit_y_m_.resize(beams.range_m.size());
+      hit_z_m_.resize(beams.range_m.size());
+      hit_error_m_.resize(beams.range_m.size());
     }
     // A point the first pass finds in the window has cx = x / cell within
     // the window's corners give or take 2 (its rounding of cx is off by at
@@ -302,6 +320,9 @@ ScanStats TerrainMapper::integrate(const PlanarBeams& beams, const TrunkPose& po
       if (turning == Turning::unbounded) locate_beams<Turning::unbounded, false>(beams, geometry, bound, origin);
     }
     update_located(beams.count, stats);
+    hits_ = {beams.beams, beams.count, beams.time_s, pose.yaw_rad, pose.pitch_rad, pose.roll_rad, origin,
+             hit_x_m_.data(), hit_y_m_.data(), hit_z_m_.data(), hit_error_m_.data(), beams.range_error_m.data()};
+    hits_valid_ = true;
   }
   finish(pose, beams.time_s, stats);
   previous_origin_ = origin;

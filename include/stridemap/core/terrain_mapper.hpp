@@ -157,6 +157,24 @@ class TerrainMapper {
   ScanStats integrate_points(std::span<const MapPoint> points, const TrunkPose& pose,
                              std::optional<double> time_s = std::nullopt);
 
+  /// The valid beams of the last scan as integrate(PlanarBeams) formed them
+  /// in its vector pass (eq. 5 and 6): what the visibility clean-up would
+  /// form again, the same doubles. Null when the last scan (accepted or
+  /// not) took another route. The pointers are good until the next scan;
+  /// range_error_m points into the beams integrated.
+  struct BeamHits {
+    std::size_t beams = 0, count = 0;  ///< as PlanarBeams
+    double time_s = 0.0;
+    double yaw_rad = 0.0, pitch_rad = 0.0, roll_rad = 0.0;  ///< of the pose
+    Eigen::Vector3d origin_m = Eigen::Vector3d::Zero();     ///< the sensor's, map frame
+    const double* x_m = nullptr;  ///< hit, map frame
+    const double* y_m = nullptr;
+    const double* z_m = nullptr;
+    const double* height_error_m = nullptr;  ///< the sensor's bound, without the motion terms
+    const double* range_error_m = nullptr;
+  };
+  const BeamHits* last_beam_hits() const { return hits_valid_ ? &hits_ : nullptr; }
+
   /// Time of the last accepted scan that carried one.
   std::optional<double> last_scan_time_s() const { return previous_time_s_; }
   /// Pose of the last accepted scan.
@@ -269,6 +287,10 @@ class TerrainMapper {
   // (one pointer for the cell loop, which is short of registers).
   std::vector<std::int32_t> located_row_, located_column_, located_slot_beam_;
   std::vector<float> located_h_m_, located_dz_max_m_;
+  // The same beams' hits and error bounds in doubles, for last_beam_hits().
+  std::vector<double> hit_x_m_, hit_y_m_, hit_z_m_, hit_error_m_;
+  BeamHits hits_;
+  bool hits_valid_ = false;
   // update_located()'s slot of a window-local row (times n) and column, for
   // the window's corner slot tables_corner_slot_.
   std::vector<std::uint32_t> row_slot_, column_slot_;
