@@ -39,7 +39,7 @@ static_assert(kOutsideRow >= kMaxGridCellsPerSide && kOutsideRow < 2147483647.0,
 
 }  // namespace
 
-template <TerrainMapper::Turning kTurning, bool kCheckXY>
+template <TerrainMapper::Turning kTurning, bool kCheckXY, bool kKeepHits>
 STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beams, const PlanarBeamGeometry& g,
                                  const MaxElevationChange& bound, const Eigen::Vector3d& origin) {
   // Everything the loop reads lives in locals, so that the compiler sees
@@ -79,9 +79,9 @@ STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beam
   double* __restrict z_out = hit_z_m_.data();
   double* __restrict error_out = hit_error_m_.data();
   const std::size_t count = beams.count;
-  // Twelve arrays are more than GCC keeps apart by restrict alone (it asks
-  // to version the loop for aliasing and gives up); every one is its own
-  // vector, so no store can reach another beam's load.
+  // With the hits kept, twelve arrays are more than GCC keeps apart by
+  // restrict alone (it asks to version the loop for aliasing and gives up);
+  // every one is its own vector, so no store can reach another beam's load.
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC ivdep
 #endif
@@ -143,10 +143,28 @@ STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beam
     // keep the loop from vectorising.
     h_out[k] = static_cast<float>(h);
     dz_out[k] = static_cast<float>(dz);
-    x_out[k] = x;
-    y_out[k] = y;
-    z_out[k] = h;
-    error_out[k] = error;
+    if constexpr (kKeepHits) {
+      x_out[k] = x;
+      y_out[k] = y;
+      z_out[k] = h;
+      error_out[k] = error;
+    }
+  }
+}
+
+template <bool kKeepHits>
+void TerrainMapper::locate_beams_for(Turning turning, bool check_xy, const PlanarBeams& beams,
+                                     const PlanarBeamGeometry& geometry, const MaxElevationChange& bound,
+                                     const Eigen::Vector3d& origin) {
+  constexpr Turning kNone = Turning::none, kFinite = Turning::finite, kUnbounded = Turning::unbounded;
+  if (check_xy) {
+    if (turning == kNone) locate_beams<kNone, true, kKeepHits>(beams, geometry, bound, origin);
+    if (turning == kFinite) locate_beams<kFinite, true, kKeepHits>(beams, geometry, bound, origin);
+    if (turning == kUnbounded) locate_beams<kUnbounded, true, kKeepHits>(beams, geometry, bound, origin);
+  } else {
+    if (turning == kNone) locate_beams<kNone, false, kKeepHits>(beams, geometry, bound, origin);
+    if (turning == kFinite) locate_beams<kFinite, false, kKeepHits>(beams, geometry, bound, origin);
+    if (turning == kUnbounded) locate_beams<kUnbounded, false, kKeepHits>(beams, geometry, bound, origin);
   }
 }
 
@@ -310,19 +328,15 @@ ScanStats TerrainMapper::integrate(const PlanarBeams& beams, const TrunkPose& po
     const bool check_xy = !(reach < 1.0e6 * inverse_cell);
     const double turn = bound.turn_term_per_m();
     const Turning turning = turn == 0.0 ? Turning::none : std::isfinite(turn) ? Turning::finite : Turning::unbounded;
-    if (check_xy) {
-      if (turning == Turning::none) locate_beams<Turning::none, true>(beams, geometry, bound, origin);
-      if (turning == Turning::finite) locate_beams<Turning::finite, true>(beams, geometry, bound, origin);
-      if (turning == Turning::unbounded) locate_beams<Turning::unbounded, true>(beams, geometry, bound, origin);
+    if (keep_hits_) {
+      locate_beams_for<true>(turning, check_xy, beams, geometry, bound, origin);
+      hits_ = {beams.beams, beams.count, beams.time_s, pose.yaw_rad, pose.pitch_rad, pose.roll_rad, origin,
+               hit_x_m_.data(), hit_y_m_.data(), hit_z_m_.data(), hit_error_m_.data(), beams.range_error_m.data()};
+      hits_valid_ = true;
     } else {
-      if (turning == Turning::none) locate_beams<Turning::none, false>(beams, geometry, bound, origin);
-      if (turning == Turning::finite) locate_beams<Turning::finite, false>(beams, geometry, bound, origin);
-      if (turning == Turning::unbounded) locate_beams<Turning::unbounded, false>(beams, geometry, bound, origin);
+      locate_beams_for<false>(turning, check_xy, beams, geometry, bound, origin);
     }
     update_located(beams.count, stats);
-    hits_ = {beams.beams, beams.count, beams.time_s, pose.yaw_rad, pose.pitch_rad, pose.roll_rad, origin,
-             hit_x_m_.data(), hit_y_m_.data(), hit_z_m_.data(), hit_error_m_.data(), beams.range_error_m.data()};
-    hits_valid_ = true;
   }
   finish(pose, beams.time_s, stats);
   previous_origin_ = origin;

@@ -233,6 +233,7 @@ void ScanIntegrator::finish_visibility(TerrainMapper& mapper) {
 // the one integrated last by contract; its time, size and pose guard
 // against a caller's slip.
 bool ScanIntegrator::clear_formed(double time_s, std::size_t beams, const TrunkPose& pose, TerrainMapper& mapper) {
+  mapper.keep_beam_hits(true);  // from the next scan on
   const TerrainMapper::BeamHits* hits = std::as_const(mapper).last_beam_hits();
   if (hits == nullptr || hits->beams != beams || !(hits->time_s == time_s) || hits->yaw_rad != pose.yaw_rad ||
       hits->pitch_rad != pose.pitch_rad || hits->roll_rad != pose.roll_rad ||
