@@ -113,6 +113,7 @@ ScanMotion TerrainMapper::motion_to(const TrunkPose& pose, const Eigen::Vector3d
 }
 
 bool TerrainMapper::accept(const TrunkPose& pose, std::optional<double> time_s, ScanStats& stats) {
+  hits_valid_ = false;  // every route starts here; only the packed pass sets them again
   if (!pose_is_finite(pose)) {
     stats.pose_rejected = true;
     ++totals_.scans_rejected_for_pose;

@@ -39,7 +39,7 @@ static_assert(kOutsideRow >= kMaxGridCellsPerSide && kOutsideRow < 2147483647.0,
 
 }  // namespace
 
-template <TerrainMapper::Turning kTurning, bool kCheckXY>
+template <TerrainMapper::Turning kTurning, bool kCheckXY, bool kKeepHits>
 STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beams, const PlanarBeamGeometry& g,
                                  const MaxElevationChange& bound, const Eigen::Vector3d& origin) {
   // Everything the loop reads lives in locals, so that the compiler sees
@@ -74,7 +74,17 @@ STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beam
   std::int32_t* __restrict column_out = located_column_.data();
   float* __restrict h_out = located_h_m_.data();
   float* __restrict dz_out = located_dz_max_m_.data();
+  double* __restrict x_out = hit_x_m_.data();
+  double* __restrict y_out = hit_y_m_.data();
+  double* __restrict z_out = hit_z_m_.data();
+  double* __restrict error_out = hit_error_m_.data();
   const std::size_t count = beams.count;
+  // With the hits kept, twelve arrays are more than GCC keeps apart by
+  // restrict alone (it asks to version the loop for aliasing and gives up);
+  // every one is its own vector, so no store can reach another beam's load.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC ivdep
+#endif
   for (std::size_t k = 0; k < count; ++k) {
     const double r = range[k], dr = range_error[k], ct = cos_t[k], st = sin_t[k];
     // PlanarBeamGeometry::point, written out per coordinate.
@@ -133,6 +143,28 @@ STRIDEMAP_VECTOR_CLONES void TerrainMapper::locate_beams(const PlanarBeams& beam
     // keep the loop from vectorising.
     h_out[k] = static_cast<float>(h);
     dz_out[k] = static_cast<float>(dz);
+    if constexpr (kKeepHits) {
+      x_out[k] = x;
+      y_out[k] = y;
+      z_out[k] = h;
+      error_out[k] = error;
+    }
+  }
+}
+
+template <bool kKeepHits>
+void TerrainMapper::locate_beams_for(Turning turning, bool check_xy, const PlanarBeams& beams,
+                                     const PlanarBeamGeometry& geometry, const MaxElevationChange& bound,
+                                     const Eigen::Vector3d& origin) {
+  constexpr Turning kNone = Turning::none, kFinite = Turning::finite, kUnbounded = Turning::unbounded;
+  if (check_xy) {
+    if (turning == kNone) locate_beams<kNone, true, kKeepHits>(beams, geometry, bound, origin);
+    if (turning == kFinite) locate_beams<kFinite, true, kKeepHits>(beams, geometry, bound, origin);
+    if (turning == kUnbounded) locate_beams<kUnbounded, true, kKeepHits>(beams, geometry, bound, origin);
+  } else {
+    if (turning == kNone) locate_beams<kNone, false, kKeepHits>(beams, geometry, bound, origin);
+    if (turning == kFinite) locate_beams<kFinite, false, kKeepHits>(beams, geometry, bound, origin);
+    if (turning == kUnbounded) locate_beams<kUnbounded, false, kKeepHits>(beams, geometry, bound, origin);
   }
 }
 
@@ -278,6 +310,10 @@ ScanStats TerrainMapper::integrate(const PlanarBeams& beams, const TrunkPose& po
       located_slot_beam_.resize(2 * beams.range_m.size());
       located_h_m_.resize(beams.range_m.size());
       located_dz_max_m_.resize(beams.range_m.size());
+      hit_x_m_.resize(beams.range_m.size());
+      hit_y_m_.resize(beams.range_m.size());
+      hit_z_m_.resize(beams.range_m.size());
+      hit_error_m_.resize(beams.range_m.size());
     }
     // A point the first pass finds in the window has cx = x / cell within
     // the window's corners give or take 2 (its rounding of cx is off by at
@@ -292,14 +328,13 @@ ScanStats TerrainMapper::integrate(const PlanarBeams& beams, const TrunkPose& po
     const bool check_xy = !(reach < 1.0e6 * inverse_cell);
     const double turn = bound.turn_term_per_m();
     const Turning turning = turn == 0.0 ? Turning::none : std::isfinite(turn) ? Turning::finite : Turning::unbounded;
-    if (check_xy) {
-      if (turning == Turning::none) locate_beams<Turning::none, true>(beams, geometry, bound, origin);
-      if (turning == Turning::finite) locate_beams<Turning::finite, true>(beams, geometry, bound, origin);
-      if (turning == Turning::unbounded) locate_beams<Turning::unbounded, true>(beams, geometry, bound, origin);
+    if (keep_hits_) {
+      locate_beams_for<true>(turning, check_xy, beams, geometry, bound, origin);
+      hits_ = {beams.beams, beams.count, beams.time_s, pose.yaw_rad, pose.pitch_rad, pose.roll_rad, origin,
+               hit_x_m_.data(), hit_y_m_.data(), hit_z_m_.data(), hit_error_m_.data(), beams.range_error_m.data()};
+      hits_valid_ = true;
     } else {
-      if (turning == Turning::none) locate_beams<Turning::none, false>(beams, geometry, bound, origin);
-      if (turning == Turning::finite) locate_beams<Turning::finite, false>(beams, geometry, bound, origin);
-      if (turning == Turning::unbounded) locate_beams<Turning::unbounded, false>(beams, geometry, bound, origin);
+      locate_beams_for<false>(turning, check_xy, beams, geometry, bound, origin);
     }
     update_located(beams.count, stats);
   }

@@ -463,10 +463,9 @@ bool narrow_walk(double dz, double t_stop, double& top, const Bound& bound, cons
 
 }  // namespace
 
-void VisibilityClearing::trace(ElevationMap& map, const VisibilityBeam& beam) {
-  // The thinning first: a beam it leaves out needs nothing else (an invalid
-  // beam is left out either way, and neither changes any state).
-  if (thinned(beam.hit_m.x(), beam.hit_m.y())) return;
+void VisibilityClearing::trace_unthinned(ElevationMap& map, const VisibilityBeam& beam) {
+  // An invalid beam is left out here as a thinned one is by trace(): neither
+  // changes any state.
   const Eigen::Vector3d d = beam.hit_m - beam.origin_m;
   const double range = d.norm();
   if (!(range > 0.0) || !std::isfinite(range) || !std::isfinite(beam.range_error_m) ||

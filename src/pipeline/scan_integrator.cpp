@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <utility>
@@ -225,11 +226,43 @@ void ScanIntegrator::finish_visibility(TerrainMapper& mapper) {
   stats_.cells_cleared += visibility_->stats().cells_cleared;
 }
 
-void ScanIntegrator::clear_visible(const PlanarScan& scan, const TrunkPose& pose, TerrainMapper& mapper) {
-  if (!options_.visibility.enabled) return;
+// The beams the mapper's packed pass formed for this scan, when it formed
+// them: the same hits and bounds as the loops below form (its error bound
+// may be +0 where theirs is -0, which no sum or comparison of the walk
+// tells apart), so the scan's geometry is not formed twice. The scan is
+// the one integrated last by contract; its time, size and pose guard
+// against a caller's slip.
+bool ScanIntegrator::clear_formed(double time_s, std::size_t beams, const TrunkPose& pose, TerrainMapper& mapper) {
+  mapper.keep_beam_hits(true);  // from the next scan on
+  const TerrainMapper::BeamHits* hits = std::as_const(mapper).last_beam_hits();
+  if (hits == nullptr || hits->beams != beams || !(hits->time_s == time_s) || hits->yaw_rad != pose.yaw_rad ||
+      hits->pitch_rad != pose.pitch_rad || hits->roll_rad != pose.roll_rad ||
+      hits->origin_m != sensor_origin_in_map(pose, mapper.mount())) {
+    return false;
+  }
   VisibilityClearing& clearing = visibility_for(mapper);
-  // A sensor's beam angles rarely change: their sines and cosines are kept.
-  if (scan.angle_rad != visibility_angles_) {
+  ElevationMap& map = mapper.map_without_raising();  // the clean-up only lowers and clears
+  VisibilityBeam beam;
+  beam.origin_m = hits->origin_m;
+  for (std::size_t k = 0; k < hits->count; ++k) {
+    if (clearing.thinned(hits->x_m[k], hits->y_m[k])) continue;
+    beam.hit_m = {hits->x_m[k], hits->y_m[k], hits->z_m[k]};
+    beam.height_error_m = hits->height_error_m[k];
+    beam.range_error_m = hits->range_error_m[k];
+    clearing.trace_unthinned(map, beam);
+  }
+  finish_visibility(mapper);
+  return true;
+}
+
+void ScanIntegrator::clear_visible(const PlanarScan& scan, const TrunkPose& pose, TerrainMapper& mapper) {
+  if (!options_.visibility.enabled || clear_formed(scan.time_s, scan.size(), pose, mapper)) return;
+  VisibilityClearing& clearing = visibility_for(mapper);
+  // A sensor's beam angles rarely change: their sines and cosines are kept,
+  // compared bit for bit (a -0 for a 0 is a new angle: its sine differs).
+  if (scan.angle_rad.size() != visibility_angles_.size() ||
+      (!scan.angle_rad.empty() &&
+       std::memcmp(scan.angle_rad.data(), visibility_angles_.data(), scan.angle_rad.size() * sizeof(double)) != 0)) {
     visibility_angles_ = scan.angle_rad;
     visibility_cos_.resize(scan.angle_rad.size());
     visibility_sin_.resize(scan.angle_rad.size());
@@ -252,7 +285,7 @@ void ScanIntegrator::clear_visible(const PlanarScan& scan, const TrunkPose& pose
     if (clearing.thinned(beam.hit_m.x(), beam.hit_m.y())) continue;
     beam.height_error_m = geometry.height_error(r, dr, visibility_cos_[i], visibility_sin_[i], update);
     beam.range_error_m = dr;
-    clearing.trace(map, beam);
+    clearing.trace_unthinned(map, beam);
   }
   finish_visibility(mapper);
 }
@@ -261,7 +294,7 @@ void ScanIntegrator::clear_visible(const PlanarScan& scan, const TrunkPose& pose
 // order and with the same doubles (the URG's angle table is std::cos and
 // std::sin of the angles the planar scan holds).
 void ScanIntegrator::clear_visible(const PlanarBeams& beams, const TrunkPose& pose, TerrainMapper& mapper) {
-  if (!options_.visibility.enabled) return;
+  if (!options_.visibility.enabled || clear_formed(beams.time_s, beams.beams, pose, mapper)) return;
   VisibilityClearing& clearing = visibility_for(mapper);
   const PlanarBeamGeometry geometry(pose, mapper.mount());
   const UpdateOptions& update = mapper.options().update;
@@ -274,7 +307,7 @@ void ScanIntegrator::clear_visible(const PlanarBeams& beams, const TrunkPose& po
     if (clearing.thinned(beam.hit_m.x(), beam.hit_m.y())) continue;
     beam.height_error_m = geometry.height_error(r, dr, c, s, update);
     beam.range_error_m = dr;
-    clearing.trace(map, beam);
+    clearing.trace_unthinned(map, beam);
   }
   finish_visibility(mapper);
 }

@@ -8,10 +8,12 @@
 
 #include <cmath>
 #include <cstring>
+#include <random>
 
 #include "pipeline_test_support.hpp"
 #include "stridemap/core/foothold.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
+#include "stridemap/pipeline/scan_integrator.hpp"
 
 // operator new is replaced once for this test program, in allocation_test.cpp.
 
@@ -124,6 +126,59 @@ TEST(PipelineVisibility, PerScanPathAllocatesNothing) {
   allocations = test::allocation_counter().allocations.load();
   EXPECT_EQ(allocations, 0u);
   EXPECT_GT(pipeline.stats().cells_contradicted, 0u);
+}
+
+// The clean-up takes the hits the mapper's packed pass formed; after the
+// per-point route there are none and it forms them itself. Both must leave
+// every layer the same, bit for bit, scan after scan of a turning walk
+// with a tilting trunk and an object to clear.
+TEST(PipelineVisibility, PackedHitsClearAsBeamsFormedAgain) {
+  PipelineOptions options;
+  options.mapper.window_ahead_m = 0.3;
+  options.visibility.enabled = true;
+  TerrainMapper packed(options.mapper, options.mount), formed(options.mapper, options.mount);
+  ScanIntegrator with_hits(options), without_hits(options);
+  PlanarScan scan;
+  scan.resize(682);
+  for (std::size_t i = 0; i < scan.size(); ++i) {
+    const double t = (static_cast<double>(i) + 44.0 - 384.0) * 2.0 * M_PI / 1024.0;
+    const double down = std::cos(t) * std::sin(options.mount.pitch_rad);
+    scan.angle_rad[i] = t;
+    scan.range_m[i] = down > 0.1 ? options.mount.height_m / down * (i % 50 < 10 ? 0.8 : 1.0) : NAN;
+    scan.range_error_m[i] = 0.01;
+  }
+  std::mt19937_64 rng(3);
+  std::normal_distribution<double> tilt(0.0, 0.02);
+  const auto no_sink = [](std::size_t, const Eigen::Vector3d&, const SensorPoint&) {};
+  TrunkPose pose;
+  for (int k = 0; k < 300; ++k) {
+    pose.x_m += 0.003;
+    pose.yaw_rad += 0.002;
+    pose.pitch_rad = tilt(rng);
+    pose.roll_rad = tilt(rng);
+    scan.time_s += 0.1;
+    packed.integrate(scan, pose);
+    if (k > 0) ASSERT_NE(packed.last_beam_hits(), nullptr);  // asked for by the first scan's clean-up
+    with_hits.clear_visible(scan, pose, packed);
+    formed.integrate(scan, pose, no_sink);
+    ASSERT_EQ(formed.last_beam_hits(), nullptr);
+    without_hits.clear_visible(scan, pose, formed);
+    if (k == 1) {
+      plant_object(packed.map(), 3.0f);
+      plant_object(formed.map(), 3.0f);
+    }
+    const ElevationMap& a = std::as_const(packed).map();
+    const ElevationMap& b = std::as_const(formed).map();
+    ASSERT_EQ(a.min_cell(), b.min_cell());
+    const auto cells = static_cast<std::size_t>(a.cells_per_side()) * static_cast<std::size_t>(a.cells_per_side());
+    for (std::size_t l = 0; l < a.layer_count(); ++l) {
+      ASSERT_EQ(std::memcmp(a.layer_bytes(l), b.layer_bytes(l), cells * layer_type_bytes(a.layer_spec(l).type)), 0)
+          << "scan " << k << ", layer " << a.layer_spec(l).name;
+    }
+  }
+  EXPECT_GT(with_hits.stats().cells_cleared, 0u);
+  EXPECT_EQ(with_hits.stats().cells_cleared, without_hits.stats().cells_cleared);
+  EXPECT_EQ(with_hits.stats().cells_contradicted, without_hits.stats().cells_contradicted);
 }
 
 }  // namespace

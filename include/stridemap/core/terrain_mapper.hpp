@@ -157,6 +157,28 @@ class TerrainMapper {
   ScanStats integrate_points(std::span<const MapPoint> points, const TrunkPose& pose,
                              std::optional<double> time_s = std::nullopt);
 
+  /// The valid beams of the last scan as integrate(PlanarBeams) formed them
+  /// in its vector pass (eq. 5 and 6): what the visibility clean-up would
+  /// form again, the same doubles. Null when the last scan (accepted or
+  /// not) took another route or they were not kept (keep_beam_hits()). The
+  /// pointers are good until the next scan; range_error_m points into the
+  /// beams integrated.
+  struct BeamHits {
+    std::size_t beams = 0, count = 0;  ///< as PlanarBeams
+    double time_s = 0.0;
+    double yaw_rad = 0.0, pitch_rad = 0.0, roll_rad = 0.0;  ///< of the pose
+    Eigen::Vector3d origin_m = Eigen::Vector3d::Zero();     ///< the sensor's, map frame
+    const double* x_m = nullptr;  ///< hit, map frame
+    const double* y_m = nullptr;
+    const double* z_m = nullptr;
+    const double* height_error_m = nullptr;  ///< the sensor's bound, without the motion terms
+    const double* range_error_m = nullptr;
+  };
+  const BeamHits* last_beam_hits() const { return hits_valid_ ? &hits_ : nullptr; }
+  /// Whether integrate(PlanarBeams) keeps them: off by default, since the
+  /// four stores a beam cost the update some 2.5 % of its instructions.
+  void keep_beam_hits(bool keep) { keep_hits_ = keep; }
+
   /// Time of the last accepted scan that carried one.
   std::optional<double> last_scan_time_s() const { return previous_time_s_; }
   /// Pose of the last accepted scan.
@@ -232,9 +254,12 @@ class TerrainMapper {
   void finish(const TrunkPose& pose, std::optional<double> time_s, const ScanStats& stats);
   void refresh_beam_directions(const std::vector<double>& angles);
   void pack(const PlanarScan& scan);
-  template <Turning kTurning, bool kCheckXY>
+  template <Turning kTurning, bool kCheckXY, bool kKeepHits>
   void locate_beams(const PlanarBeams& beams, const PlanarBeamGeometry& geometry, const MaxElevationChange& bound,
                     const Eigen::Vector3d& origin);
+  template <bool kKeepHits>
+  void locate_beams_for(Turning turning, bool check_xy, const PlanarBeams& beams, const PlanarBeamGeometry& geometry,
+                        const MaxElevationChange& bound, const Eigen::Vector3d& origin);
   void update_located(std::size_t count, ScanStats& stats);
   void integrate_far(const PlanarBeams& beams, const PlanarBeamGeometry& geometry, const MaxElevationChange& bound,
                      const Eigen::Vector3d& origin, ScanStats& stats);
@@ -269,6 +294,10 @@ class TerrainMapper {
   // (one pointer for the cell loop, which is short of registers).
   std::vector<std::int32_t> located_row_, located_column_, located_slot_beam_;
   std::vector<float> located_h_m_, located_dz_max_m_;
+  // The same beams' hits and error bounds in doubles, for last_beam_hits().
+  std::vector<double> hit_x_m_, hit_y_m_, hit_z_m_, hit_error_m_;
+  BeamHits hits_;
+  bool hits_valid_ = false, keep_hits_ = false;
   // update_located()'s slot of a window-local row (times n) and column, for
   // the window's corner slot tables_corner_slot_.
   std::vector<std::uint32_t> row_slot_, column_slot_;

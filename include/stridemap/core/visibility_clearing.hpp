@@ -133,7 +133,12 @@ class VisibilityClearing {
   void begin_scan(const TerrainMapper& mapper);
   /// Traces one beam on the map given to begin_scan(). Beams must come in
   /// the sensor's order for the thinning to keep the fan covered.
-  void trace(ElevationMap& map, const VisibilityBeam& beam);
+  void trace(ElevationMap& map, const VisibilityBeam& beam) {
+    if (!thinned(beam.hit_m.x(), beam.hit_m.y())) trace_unthinned(map, beam);
+  }
+  /// trace() for a beam the caller already found not thinned() (by its
+  /// hit's x and y), so that the fan's check runs once a beam.
+  void trace_unthinned(ElevationMap& map, const VisibilityBeam& beam);
   /// Whether trace() would leave out a beam ending at `hit_m` (map x, y)
   /// for the thinning: a caller may skip forming the rest of such a beam.
   bool thinned(const Eigen::Vector2d& hit_m, double cell_size_m) const {

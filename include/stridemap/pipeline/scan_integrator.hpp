@@ -132,6 +132,7 @@ class ScanIntegrator {
   ScanOutcome push_packed(const UrgRawScan& raw, const TrunkPose& pose, TerrainMapper& mapper,
                           std::span<const std::uint8_t> beam_tags);
   void clear_visible(const PlanarBeams& beams, const TrunkPose& pose, TerrainMapper& mapper);
+  bool clear_formed(double time_s, std::size_t beams, const TrunkPose& pose, TerrainMapper& mapper);
   ScanOutcome integrate_batch(std::optional<double> time_s, const TrunkPose& pose, TerrainMapper& mapper);
   void require(SensorKind kind) const;
   VisibilityClearing& visibility_for(TerrainMapper& mapper);
