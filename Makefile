@@ -38,7 +38,7 @@ build: configure
 # (clang); any report fails the run. The install test is left out: it builds
 # an unsanitized consumer against the sanitized libraries, and so is the
 # Python module (an extension under ASan needs the runtime preloaded into
-# python3). The libraries are also instrumented for libFuzzer's coverage, so
+# python3). The parsing layers are also instrumented for libFuzzer's coverage, so
 # `make fuzz` reuses this build instead of compiling everything a fourth time
 # (docs/reliability.md). The browser test (label browser) is left out too:
 # it runs Chromium and Node.js, which are not built with the sanitizers, on
