@@ -40,12 +40,13 @@ struct RockyWalkArgs {
   std::optional<double> imu_pitch_noise_deg, imu_roll_noise_deg, camera_yaw_noise_deg;
   std::optional<double> camera_position_noise_m, leg_height_noise_m;
   std::string sweep = "0,0.5,1,2,4";
-  std::optional<std::string> reference;           // map-footholds (urg), map (structured-light)
-  std::optional<std::string> calibrate_attitude;  // on (urg), off (structured-light)
+  std::optional<std::string> reference;           // map-footholds
+  std::optional<std::string> calibrate_attitude;  // on
   std::string calibrate_range = "off";  // URG only
   std::string feet = "stand";
   std::optional<double> foothold_map_sigma_m;
   std::optional<double> foothold_gate_sigmas;
+  std::string foothold_odometry = "on";
   std::string mixed_pixels = "off";
   std::string coupling = "on";
   std::string visibility = "off";
@@ -64,14 +65,14 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   RockyWalkOptions options;
   options.walk.seed = args.seed;
   options.pose_error_scales = parse_number_list("--sweep", args.sweep);
-  // Ours for the URG: h_ref from the fused layer where the stance feet stand, the IMU biases
-  // calibrated on a flat floor first (docs/walking.md). Structured light on
-  // Ragno's mount sees too little of the ground under the feet for any
-  // map-based h_ref and no floor from a pitched-up stance: the paper's.
+  // Ours for both sensors: h_ref from the fused layer where the stance feet
+  // stand, carried by leg odometry between readings, after calibrating the
+  // IMU's biases on a flat floor (docs/walking.md). The paper's (`map`)
+  // drifts by centimetres with structured light, whose stripe leaves the
+  // feet on unknown cells for seconds.
   const bool urg_sensor = sensor == SimulatedSensor::urg;
-  options.walk.pose_errors.reference =
-      parse_option<ReferenceElevationSource>("--reference", args.reference.value_or(urg_sensor ? "map-footholds" : "map"));
-  options.calibrate_attitude = parse_on_off("--calibrate-attitude", args.calibrate_attitude.value_or(urg_sensor ? "on" : "off"));
+  options.walk.pose_errors.reference = parse_option<ReferenceElevationSource>("--reference", args.reference.value_or("map-footholds"));
+  options.calibrate_attitude = parse_on_off("--calibrate-attitude", args.calibrate_attitude.value_or("on"));
   if (urg_sensor) options.sweep_references.push_back(ReferenceElevationSource::map_fused);
   if (args.feet != "stand" && args.feet != "slide") {
     throw InputError("--feet: '" + args.feet + "' is not one of stand, slide");
@@ -79,6 +80,7 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   options.walk.gait.feet_stand_in_stance = args.feet == "stand";
   if (args.foothold_map_sigma_m) options.walk.pose_errors.foothold_map_sigma_m = *args.foothold_map_sigma_m;
   if (args.foothold_gate_sigmas) options.walk.pose_errors.foothold_gate_sigmas = *args.foothold_gate_sigmas;
+  options.walk.pose_errors.foothold_odometry = parse_on_off("--foothold-odometry", args.foothold_odometry);
   constexpr double deg = std::numbers::pi / 180.0;
   if (args.imu_pitch_bias_deg) options.walk.pose_errors.imu_pitch_bias_rad = *args.imu_pitch_bias_deg * deg;
   if (args.imu_roll_bias_deg) options.walk.pose_errors.imu_roll_bias_rad = *args.imu_roll_bias_deg * deg;
@@ -213,11 +215,10 @@ void register_walk_experiments(CLI::App& app) {
                     "h_ref from the map (section 5.2: the elevation layer), map-mean (the cells' means of accepted "
                     "readings), map-fused (variance-weighted, Mahalanobis-gated layer, at the feet's nominal places), "
                     "map-footholds (that layer where the stance feet stand, by leg kinematics), legs (trunk z from leg "
-                    "kinematics + IMU on footholds fused with that layer) or truth; default map-footholds (urg), "
-                    "map (structured-light)");
+                    "kinematics + IMU on footholds fused with that layer) or truth; default map-footholds");
   rocky->add_option("--calibrate-attitude", rw->calibrate_attitude,
                     "on: measure the IMU's pitch and roll biases on a flat floor before each walk and take them off; "
-                    "default on (urg), off (structured-light)");
+                    "default on");
   rocky->add_option("--calibrate-range", rw->calibrate_range,
                     "on: calibrate the URG's range on a wall (Fig. 6's procedure, simulated) before the walk and map with "
                     "the correction; off: raw ranges (the paper's walk)")
@@ -234,6 +235,10 @@ void register_walk_experiments(CLI::App& app) {
                     "With --reference map-footholds: a stance foot whose trunk height is this many sigmas from the "
                     "other feet's is left out; default 2.5; a large value (1e9) keeps every foot")
       ->check(number_from_to(1e-3, 1e12));
+  rocky->add_option("--foothold-odometry", rw->foothold_odometry,
+                    "With --reference map-footholds: on, leg odometry carries the height between the feet's map "
+                    "readings and gates them; off, each scan's readings alone (a scan without one keeps the last)")
+      ->capture_default_str();
   rocky->add_option("--mixed-pixels", rw->mixed_pixels, "on: footprint beam model with mixed pixels at edges")
       ->capture_default_str();
   rocky->add_option("--coupling", rw->coupling,

@@ -56,6 +56,26 @@ json pose_json(const PoseErrorStats& p) {
           {"mean_sensor_height_m", p.mean_sensor_height_m}};
 }
 
+/// The walk's mean trunk-height error and its parts (they add up), and the
+/// share of scans on which no foot read the map.
+json height_error_json(const std::vector<HeightReferenceError>& errors) {
+  HeightReferenceError mean;
+  std::size_t unread = 0;
+  for (const HeightReferenceError& e : errors) {
+    mean.error_m += e.error_m;
+    mean.odometry_m += e.odometry_m;
+    mean.map_m += e.map_m;
+    mean.placement_m += e.placement_m;
+    mean.kinematics_m += e.kinematics_m;
+    unread += e.feet_read == 0;
+  }
+  const double n = errors.empty() ? 1.0 : static_cast<double>(errors.size());
+  return {{"mean_error_m", mean.error_m / n},          {"mean_from_odometry_m", mean.odometry_m / n},
+          {"mean_from_map_m", mean.map_m / n},         {"mean_from_placement_m", mean.placement_m / n},
+          {"mean_from_kinematics_m", mean.kinematics_m / n}, {"scans_without_reading", unread},
+          {"scans", errors.size()}};
+}
+
 io::CellMask state_mask(const MapSnapshot& s, CellState state) {
   const CellMask& states = s.state();
   io::CellMask mask(states.rows(), states.cols());
@@ -203,6 +223,7 @@ std::string rocky_walk_summary_json(const RockyWalkResult& r, const RockyWalkOpt
         {"invalid_range", w.mapper_totals.invalid_range}}},
       {"pose_error_sweep", sweep}};
   summary["local_map"].erase("unknown_swept_cells");
+  if (!w.height_errors.empty()) summary["h_ref_error"] = height_error_json(w.height_errors);
   if (reads_fused_layer(e.reference)) {
     const HeightFusionOptions& f = options.walk.height_fusion;
     summary["height_fusion"] = {{"mahalanobis_gate", f.mahalanobis_gate},
@@ -344,6 +365,20 @@ void write_rocky_walk_outputs(const RockyWalkResult& r, const RockyWalkOptions& 
     columns.layer_name = "path_x_m_y_m";
     columns.units = "m";
     io::write_grid_csv((dir / "path.csv").string(), track, columns);
+  }
+  if (!w.height_errors.empty()) {
+    // Per scan: the trunk-height error and its parts by cause, and the feet read.
+    Eigen::MatrixXf parts(static_cast<Eigen::Index>(w.height_errors.size()), 6);
+    for (std::size_t k = 0; k < w.height_errors.size(); ++k) {
+      const HeightReferenceError& e = w.height_errors[k];
+      parts.row(static_cast<Eigen::Index>(k)) << static_cast<float>(e.error_m), static_cast<float>(e.odometry_m),
+          static_cast<float>(e.map_m), static_cast<float>(e.placement_m), static_cast<float>(e.kinematics_m),
+          static_cast<float>(e.feet_read);
+    }
+    io::GridCsvOptions columns;
+    columns.layer_name = "error_m_odometry_m_map_m_placement_m_kinematics_m_feet_read";
+    columns.units = "m";
+    io::write_grid_csv((dir / "h_ref_error.csv").string(), parts, columns);
   }
   io::write_text_file((dir / "summary.json").string(), rocky_walk_summary_json(r, options, info), "summary");
   // The printed table, for the report page to show as it is.

@@ -76,6 +76,7 @@ WalkRun::WalkRun(const Scene& scene, const WalkPath& path, WalkSensor& sensor, c
   if (frames > 1e8) throw InputError("walk: the path needs " + std::to_string(frames) + " scans, more than 1e8");
   total_scans_ = static_cast<std::size_t>(frames);
   trajectory_.reserve(total_scans_);
+  if (options_.pose_errors.reference == ReferenceElevationSource::map_footholds) height_errors_.reserve(total_scans_);
 
   const HeightField& terrain = motion_.scene().terrain;
   if (!options_.mapper.follow_robot) {
@@ -170,6 +171,9 @@ void WalkRun::step() {
   for (int k = 0; k < 6; ++k) sum_sq_[k] += errors[k] * errors[k];
   sum_height_error_ += height_error;
   trajectory_.emplace_back(t.x_m, t.y_m);
+  if (options_.pose_errors.reference == ReferenceElevationSource::map_footholds) {
+    height_errors_.push_back(estimator_.last_height_error());
+  }
 
   if (mosaic_) {
     trace_swept(t);
@@ -221,6 +225,7 @@ WalkResult WalkRun::finish() {
   r.visibility_scans = visibility_scans_counted_;
   r.visibility_whole_map_scans = visibility_whole_map_;
   r.trajectory = trajectory_;
+  r.height_errors = height_errors_;
   if (next_scan_ > 0) {
     const double n = static_cast<double>(next_scan_);
     PoseErrorStats& p = r.pose_errors;

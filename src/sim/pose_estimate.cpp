@@ -184,17 +184,23 @@ double PoseEstimator::trunk_height_from_footholds(const TrunkState& truth, const
                                                   const float* fused_variance) {
   const std::pair<Eigen::Matrix3d, Eigen::Matrix3d> rotations{trunk_rotation(truth.pose), trunk_rotation(e)};
   const double sigma = options_.leg_height_noise_sigma_m;
+  const double leg_variance = sigma * sigma;
+  const double true_trunk_m = truth.pose.reference_elevation_m + truth.pose.height_change_m;
   // Per stance foot: the trunk's height above the map's zero as that foot
-  // gives it (foothold height + kinematic depth), and its variance.
-  std::array<double, 6> z{}, v{};
+  // gives it (foothold height + kinematic depth), its variance, and its
+  // error against the truth by cause.
+  std::array<double, 6> z{}, v{}, depth{};
+  std::array<HeightReferenceError, 6> parts{};
   std::array<bool, 6> use{};
   int n = 0;
   for (std::size_t f = 0; f < 6; ++f) {
     if (!truth.feet[f].in_stance) {
       soles_[f] = {};  // lifted: it lands on a new foothold
+      footholds_[f].known = false;
       continue;
     }
     const Eigen::Vector3d in_map = foot_from_trunk_in_map(truth, rotations, f);
+    depth[f] = -in_map.z();
     SoleAverage& sole = soles_[f];
     sole.sum_m += Eigen::Vector2d(e.x_m + in_map.x(), e.y_m + in_map.y());
     ++sole.scans;
@@ -204,13 +210,18 @@ double PoseEstimator::trunk_height_from_footholds(const TrunkState& truth, const
     // A sole mostly on unknown cells is likely in a shadow, and what is
     // known there is the top of what cast it: no say, as for an unknown foot.
     if (!r || r->known_share < kMinKnownSoleShare) continue;
-    z[f] = r->height_m - in_map.z();
-    v[f] = r->variance_m2 + r->spread_m2 + sigma * sigma;
+    z[f] = r->height_m + depth[f];
+    v[f] = r->variance_m2 + r->spread_m2 + leg_variance;
     use[f] = true;
     ++n;
+    const Eigen::Vector3d& sole_truth = truth.feet[f].position_m;
+    const std::optional<SoleReading> at_truth =
+        read_sole(map, fused, fused_variance, sole_truth.x(), sole_truth.y(), kFootRadius_m, kMaxFootReach);
+    const double map_at_truth_m = at_truth ? at_truth->height_m : r->height_m;
+    parts[f].placement_m = r->height_m - map_at_truth_m;
+    parts[f].map_m = map_at_truth_m - sole_truth.z();
+    parts[f].kinematics_m = depth[f] - (true_trunk_m - sole_truth.z());
   }
-  feet_from_map_ = n;
-  if (n == 0) return std::numeric_limits<double>::quiet_NaN();
   const auto weighted_mean = [&](std::size_t skip, double& mean, double& variance) {
     double weight_sum = 0.0, sum = 0.0;
     for (std::size_t f = 0; f < 6; ++f) {
@@ -242,9 +253,67 @@ double PoseEstimator::trunk_height_from_footholds(const TrunkState& truth, const
     use[worst] = false;
     --n;
   }
-  double mean = 0.0, variance = 0.0;
-  weighted_mean(6, mean, variance);
-  return mean;
+
+  // The prediction: the stance feet's footholds, set as each landed, plus
+  // their kinematic depths now. The footholds of one tripod share the error
+  // of the height they were set from, so their variances do not average
+  // down; the encoders' do. With none known (no double support) the last
+  // height stays, less certain by a tripod switch.
+  double predicted_m = std::numeric_limits<double>::quiet_NaN(), predicted_variance_m2 = 0.0;
+  if (options_.foothold_odometry) {
+    double sum = 0.0, variance_sum = 0.0;
+    int known = 0;
+    for (std::size_t f = 0; f < 6; ++f) {
+      if (!truth.feet[f].in_stance || !footholds_[f].known) continue;
+      sum += footholds_[f].z_m + depth[f];
+      variance_sum += footholds_[f].variance_m2;
+      ++known;
+    }
+    if (known > 0) {
+      predicted_m = sum / known;
+      predicted_variance_m2 = variance_sum / known + leg_variance / known;
+    } else {
+      predicted_m = trunk_z_m_;
+      predicted_variance_m2 = trunk_variance_m2_ + kTripodSwitchSigma_m * kTripodSwitchSigma_m;
+    }
+    // A zero variance (no encoder noise) would give the map no say at all.
+    predicted_variance_m2 = std::max(predicted_variance_m2, 1e-12);
+    for (std::size_t f = 0; f < 6; ++f) {
+      if (!use[f]) continue;
+      const double d = z[f] - predicted_m;
+      if (d * d > gate2 * (v[f] + predicted_variance_m2)) use[f] = false, --n;
+    }
+  }
+  feet_from_map_ = n;
+  if (n == 0 && !options_.foothold_odometry) return std::numeric_limits<double>::quiet_NaN();
+
+  double weight_sum = options_.foothold_odometry ? 1.0 / predicted_variance_m2 : 0.0;
+  double sum = options_.foothold_odometry ? predicted_m * weight_sum : 0.0;
+  HeightReferenceError split;
+  if (options_.foothold_odometry) split.odometry_m = weight_sum * (predicted_m - true_trunk_m);
+  for (std::size_t f = 0; f < 6; ++f) {
+    if (!use[f]) continue;
+    const double w = 1.0 / v[f];
+    weight_sum += w;
+    sum += w * z[f];
+    split.map_m += w * parts[f].map_m;
+    split.placement_m += w * parts[f].placement_m;
+    split.kinematics_m += w * parts[f].kinematics_m;
+  }
+  const double trunk_m = sum / weight_sum;
+  for (double* part : {&split.odometry_m, &split.map_m, &split.placement_m, &split.kinematics_m}) *part /= weight_sum;
+  split.error_m = trunk_m - true_trunk_m;
+  split.feet_read = n;
+  height_error_ = split;
+
+  trunk_z_m_ = trunk_m;
+  trunk_variance_m2_ = 1.0 / weight_sum;
+  // A foot that lands takes its foothold from the height just estimated.
+  for (std::size_t f = 0; f < 6; ++f) {
+    if (!truth.feet[f].in_stance || footholds_[f].known) continue;
+    footholds_[f] = {true, trunk_m - depth[f], trunk_variance_m2_ + leg_variance};
+  }
+  return trunk_m;
 }
 
 double PoseEstimator::trunk_height_from_legs(const TrunkState& truth, const TrunkPose& e, const ElevationMap& map,
@@ -332,6 +401,7 @@ TrunkPose PoseEstimator::estimate(const TrunkState& truth, const ElevationMap& m
   e.height_change_m = t.height_change_m + noise(options_.leg_height_noise_sigma_m);
 
   feet_from_map_ = 0;
+  height_error_ = {};
   if (options_.reference != ReferenceElevationSource::truth) {
     // The feet the map knows now give the ground; a foot on unknown cells
     // has no say (an old reading of it may be the top of a rock it has left).
@@ -354,9 +424,13 @@ TrunkPose PoseEstimator::estimate(const TrunkState& truth, const ElevationMap& m
                          "the map has " + map.layer_names());
       }
       const double trunk = trunk_height_from_footholds(truth, e, map, fused, map.data(LayerId<float>{*variance}));
-      // No stance foot on known cells: the last h_ref stays.
+      // No stance foot on known cells (without odometry): the last h_ref stays.
       if (std::isfinite(trunk)) reference_m_ = trunk - e.height_change_m;
       e.reference_elevation_m = reference_m_;
+      if (!std::isfinite(trunk)) {
+        const double held = (e.reference_elevation_m + e.height_change_m) - (t.reference_elevation_m + t.height_change_m);
+        height_error_ = {held, held, 0.0, 0.0, 0.0, 0};
+      }
       return e;
     }
     if (options_.reference == ReferenceElevationSource::legs) {

@@ -127,6 +127,9 @@ struct WalkResult {
   std::size_t visibility_whole_map_scans = 0;
   /// The true trunk positions, one per scan (for drawing the path).
   std::vector<Eigen::Vector2d> trajectory;
+  /// Per scan, the trunk-height error by cause (h_ref from `map_footholds`;
+  /// empty otherwise).
+  std::vector<HeightReferenceError> height_errors;
 };
 
 /// Cells of a map holding a value the layers must never hold: a measured
@@ -184,6 +187,7 @@ class WalkRun {
   std::size_t visibility_cleared_ = 0, visibility_wrong_ = 0, visibility_artifacts_ = 0, visibility_contradicted_ = 0;
   std::size_t visibility_scans_counted_ = 0, visibility_whole_map_ = 0;
   std::vector<Eigen::Vector2d> trajectory_;
+  std::vector<HeightReferenceError> height_errors_;
 };
 
 /// The whole walk.

@@ -57,9 +57,28 @@ enum class ReferenceElevationSource : std::uint8_t {
   /// the layer's variance and the spread of heights under the sole, and a
   /// foot that disagrees with the others beyond a Mahalanobis gate is left
   /// out; so is a sole under which fewer than half the cells are known (a
-  /// shadow). No chain from one foothold to the next (unlike `legs`). Needs the
-  /// fused_elevation and fused_variance layers.
+  /// shadow). Between readings (no stance foot on known cells, for many
+  /// steps under structured light) leg odometry carries the height: each
+  /// foot's foothold is set as it lands from the estimate, and a foot's
+  /// reading that disagrees with the odometry beyond the gate is left out
+  /// (PoseErrorOptions::foothold_odometry). Needs the fused_elevation and
+  /// fused_variance layers.
   map_footholds,
+};
+
+/// One scan's error of the estimated trunk height (h_ref + d_z) against the
+/// truth [m], split by where it came from: the parts add up to `error_m`.
+/// Each map reading's share splits into the map's error under the true
+/// sole, the sole misplaced (the map read where the estimate put it), and
+/// the kinematic depth; the leg odometry's share is what the prediction
+/// carried. The simulator knows the truth; a robot does not.
+struct HeightReferenceError {
+  double error_m = 0.0;
+  double odometry_m = 0.0;
+  double map_m = 0.0;
+  double placement_m = 0.0;
+  double kinematics_m = 0.0;
+  int feet_read = 0;
 };
 
 /// True for the sources that read the map's fused_elevation layer.
@@ -121,6 +140,12 @@ struct PoseErrorOptions {
   /// deviations is left out (> 0; infinity keeps every foot). Not an error
   /// of the robot: scaled() keeps it.
   double foothold_gate_sigmas = 2.5;
+  /// With the `map_footholds` reference: leg odometry predicts the trunk's
+  /// height and the feet's readings correct it (variance-weighted, gated
+  /// against the prediction). Off: each scan's readings alone give the
+  /// height and a scan without one keeps the last, while the ground under
+  /// the robot may rise or fall (the structured-light walk's drift).
+  bool foothold_odometry = true;
 
   /// Every noise sigma and bias times `factor` (>= 0); the reference source
   /// is kept.
@@ -148,6 +173,9 @@ class PoseEstimator {
   /// Feet whose height the map gave in the last call (0 to 6); with fewer
   /// than 3 the previous h_ref was kept.
   int feet_read_from_map() const { return feet_from_map_; }
+  /// The last call's trunk-height error by cause (`map_footholds` only;
+  /// zeros otherwise).
+  const HeightReferenceError& last_height_error() const { return height_error_; }
   const PoseErrorOptions& options() const { return options_; }
 
   /// Attitude biases known from a calibration (experiments/
@@ -210,6 +238,7 @@ class PoseEstimator {
   double reference_m_ = 0.0;
   bool started_ = false;
   int feet_from_map_ = 0;
+  HeightReferenceError height_error_;
   double pitch_correction_rad_ = 0.0, roll_correction_rad_ = 0.0;
 };
 
