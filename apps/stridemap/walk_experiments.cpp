@@ -46,7 +46,7 @@ struct RockyWalkArgs {
   std::string feet = "stand";
   std::optional<double> foothold_map_sigma_m;
   std::optional<double> foothold_gate_sigmas;
-  std::string foothold_odometry = "on";
+  std::optional<std::string> foothold_odometry;  // on (structured-light), off (urg)
   std::string mixed_pixels = "off";
   std::string coupling = "on";
   std::string visibility = "off";
@@ -66,10 +66,10 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   options.walk.seed = args.seed;
   options.pose_error_scales = parse_number_list("--sweep", args.sweep);
   // Ours for both sensors: h_ref from the fused layer where the stance feet
-  // stand, carried by leg odometry between readings, after calibrating the
-  // IMU's biases on a flat floor (docs/walking.md). The paper's (`map`)
-  // drifts by centimetres with structured light, whose stripe leaves the
-  // feet on unknown cells for seconds.
+  // stand, after calibrating the IMU's biases on a flat floor
+  // (docs/walking.md); for structured light, whose stripe leaves the feet
+  // on unknown cells for seconds, carried by leg odometry between readings
+  // (below). The paper's (`map`) drifts by centimetres there.
   const bool urg_sensor = sensor == SimulatedSensor::urg;
   options.walk.pose_errors.reference = parse_option<ReferenceElevationSource>("--reference", args.reference.value_or("map-footholds"));
   options.calibrate_attitude = parse_on_off("--calibrate-attitude", args.calibrate_attitude.value_or("on"));
@@ -80,7 +80,8 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   options.walk.gait.feet_stand_in_stance = args.feet == "stand";
   if (args.foothold_map_sigma_m) options.walk.pose_errors.foothold_map_sigma_m = *args.foothold_map_sigma_m;
   if (args.foothold_gate_sigmas) options.walk.pose_errors.foothold_gate_sigmas = *args.foothold_gate_sigmas;
-  options.walk.pose_errors.foothold_odometry = parse_on_off("--foothold-odometry", args.foothold_odometry);
+  options.walk.pose_errors.foothold_odometry =
+      parse_on_off("--foothold-odometry", args.foothold_odometry.value_or(urg_sensor ? "off" : "on"));
   constexpr double deg = std::numbers::pi / 180.0;
   if (args.imu_pitch_bias_deg) options.walk.pose_errors.imu_pitch_bias_rad = *args.imu_pitch_bias_deg * deg;
   if (args.imu_roll_bias_deg) options.walk.pose_errors.imu_roll_bias_rad = *args.imu_roll_bias_deg * deg;
@@ -237,8 +238,8 @@ void register_walk_experiments(CLI::App& app) {
       ->check(number_from_to(1e-3, 1e12));
   rocky->add_option("--foothold-odometry", rw->foothold_odometry,
                     "With --reference map-footholds: on, leg odometry carries the height between the feet's map "
-                    "readings and gates them; off, each scan's readings alone (a scan without one keeps the last)")
-      ->capture_default_str();
+                    "readings and gates them; off, each scan's readings alone (a scan without one keeps the last); "
+                    "default on (structured-light), off (urg)");
   rocky->add_option("--mixed-pixels", rw->mixed_pixels, "on: footprint beam model with mixed pixels at edges")
       ->capture_default_str();
   rocky->add_option("--coupling", rw->coupling,

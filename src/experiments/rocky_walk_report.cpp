@@ -284,6 +284,16 @@ std::string rocky_walk_table(const RockyWalkResult& r) {
                 p.x_m * 1000, p.y_m * 1000, p.yaw_rad * kDegPerRad, p.pitch_rad * kDegPerRad, p.roll_rad * kDegPerRad,
                 p.sensor_height_m * 1000, p.mean_sensor_height_m * 1000);
   out += line;
+  if (!w.height_errors.empty()) {
+    const json h = height_error_json(w.height_errors);
+    std::snprintf(line, sizeof line,
+                  "sensor height's mean error by cause: odometry %+.1f, map under the soles %+.1f, soles misplaced "
+                  "%+.1f, kinematics %+.1f mm; %zu of %zu scans without a map reading\n",
+                  h["mean_from_odometry_m"].get<double>() * 1000, h["mean_from_map_m"].get<double>() * 1000,
+                  h["mean_from_placement_m"].get<double>() * 1000, h["mean_from_kinematics_m"].get<double>() * 1000,
+                  h["scans_without_reading"].get<std::size_t>(), w.height_errors.size());
+    out += line;
+  }
   if (r.calibration) {
     std::snprintf(line, sizeof line,
                   "attitude calibration on a flat floor: pitch bias %+.3f deg, roll bias %+.3f deg (%zu points, "

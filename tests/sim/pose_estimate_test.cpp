@@ -333,6 +333,7 @@ TEST(PoseEstimate, MapFootholdsSplitsItsErrorByCause) {
   }
   PoseErrorOptions o;  // the default errors
   o.reference = ReferenceElevationSource::map_footholds;
+  o.foothold_odometry = true;
   PoseEstimator estimator(o, gait, 7);
   double map_part = 0.0;
   int scans = 0;

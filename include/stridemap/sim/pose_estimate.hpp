@@ -57,11 +57,11 @@ enum class ReferenceElevationSource : std::uint8_t {
   /// the layer's variance and the spread of heights under the sole, and a
   /// foot that disagrees with the others beyond a Mahalanobis gate is left
   /// out; so is a sole under which fewer than half the cells are known (a
-  /// shadow). Between readings (no stance foot on known cells, for many
-  /// steps under structured light) leg odometry carries the height: each
-  /// foot's foothold is set as it lands from the estimate, and a foot's
-  /// reading that disagrees with the odometry beyond the gate is left out
-  /// (PoseErrorOptions::foothold_odometry). Needs the fused_elevation and
+  /// shadow). With PoseErrorOptions::foothold_odometry, leg odometry
+  /// carries the height between readings (no stance foot on known cells,
+  /// for many steps under structured light): each foot's foothold is set as
+  /// it lands from the estimate, and a reading that disagrees with the
+  /// odometry beyond the gate is left out. Needs the fused_elevation and
   /// fused_variance layers.
   map_footholds,
 };
@@ -144,8 +144,11 @@ struct PoseErrorOptions {
   /// height and the feet's readings correct it (variance-weighted, gated
   /// against the prediction). Off: each scan's readings alone give the
   /// height and a scan without one keeps the last, while the ground under
-  /// the robot may rise or fall (the structured-light walk's drift).
-  bool foothold_odometry = true;
+  /// the robot may rise or fall. On suits a sensor that leaves the feet on
+  /// unknown cells for long (structured light: the rocky walk's default);
+  /// off, one that maps under the feet (the URG: its walks' 90th percentile
+  /// is lower, the odometry's own drift not added).
+  bool foothold_odometry = false;
 
   /// Every noise sigma and bias times `factor` (>= 0); the reference source
   /// is kept.
