@@ -185,7 +185,8 @@ TEST(PythonScanFeedAllocation, PointAndStripeFramesAllocateNothing) {
 // The feed is the pipeline fed the raw scan the sensor would have sent:
 // the same map bit for bit, whichever units the values came in.
 TEST(PythonScanFeed, MapsAsThePipelineFedTheRawScans) {
-  MappingPipeline direct{PipelineOptions{}}, fed_mm{PipelineOptions{}}, fed_m{PipelineOptions{}}, fed_batch{PipelineOptions{}};
+  const PipelineOptions options;
+  MappingPipeline direct(options), fed_mm(options), fed_m(options), fed_batch(options);
   ScanFeed feed_mm(fed_mm), feed_m(fed_m), feed_batch(fed_batch);
   constexpr int kScans = 40;
   for (int k = 0; k < kScans; ++k) {
