@@ -128,9 +128,9 @@ class Pipeline {
     warn_implausible_tilts(q, "poses");
     const auto h_ref = per_scan(reference_elevation_m, k, "reference_elevation_m");
     const auto d_z = per_scan(height_change_m, k, "height_change_m");
+    if (k == 0) return 0;
     UrgBatch batch;
     batch.scans = static_cast<std::size_t>(k);
-    if (k == 0) return 0;
     // One dtype for every row: checked once, naming the first row as a
     // row-by-row check would.
     batch.units = range_units(units);
@@ -216,7 +216,7 @@ class Pipeline {
     if (a.ndim() != 1 || a.shape(0) != k) {
       raise_input_error(argument + ": expected one value per scan (" + std::to_string(k) + "), got shape " + shape_text(a));
     }
-    for (py::ssize_t i = 0; i < k; ++i) finite_value(a.at(i), {argument.c_str(), i});  // "argument[i]"
+    for (py::ssize_t i = 0; i < k; ++i) finite_value(a.at(i), {argument.c_str(), i});
     return a;
   }
 

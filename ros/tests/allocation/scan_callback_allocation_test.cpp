@@ -101,6 +101,7 @@ void add_trunk_poses(tf2::BufferCore& tf, double& next_s, double until_s) {
 
 struct TfRun {
   std::size_t scans = 0, allocations = 0, mapped = 0, dropped = 0;
+  std::size_t waited = 0;  ///< scans not mapped on arrival
 };
 
 // TF `lead_s` ahead of the scans (negative: behind, so that every scan waits
@@ -115,6 +116,7 @@ TfRun run_with_tf(double lead_s, int warm_up, int counted) {
   LaserScanData scan;
   sensor_msgs::LaserScan msg;
   double next_pose_s = 99.0;
+  std::size_t waited = 0;
   allocation_counter().allocations = 0;
   for (int k = 0; k < warm_up + counted; ++k) {
     const bool counts = k >= warm_up;
@@ -124,18 +126,19 @@ TfRun run_with_tf(double lead_s, int warm_up, int counted) {
     g_now_s = stamp_s + 0.005;
     count(counts);
     take_laser_scan(msg, scan, mapper, test_now);
+    count(false);
+    if (mapper.waiting() > 0) ++waited;
     // The 20 Hz timer's ticks until the next scan; TF comes in between.
     for (int tick = 1; tick <= 2; ++tick) {
-      count(false);
       add_trunk_poses(tf, next_pose_s, stamp_s + lead_s + 0.05 * tick);
       g_now_s = stamp_s + 0.05 * tick;
       count(counts);
       map_waiting(mapper, g_now_s);
+      count(false);
     }
-    count(false);
   }
   return {static_cast<std::size_t>(counted), allocation_counter().allocations.load(), mapper.stats().mapped,
-          mapper.stats().dropped()};
+          mapper.stats().dropped(), waited};
 }
 
 TEST(RosScanCallbackAllocation, ScansWhosePoseTfHoldsAllocateNothing) {
@@ -143,6 +146,7 @@ TEST(RosScanCallbackAllocation, ScansWhosePoseTfHoldsAllocateNothing) {
   constexpr int kWarmUp = 20, kScans = 300;
   const TfRun run = run_with_tf(0.05, kWarmUp, kScans);
   EXPECT_EQ(run.allocations, 0u) << "over " << run.scans << " scans";
+  EXPECT_EQ(run.waited, 0u);
   EXPECT_EQ(run.mapped, static_cast<std::size_t>(kWarmUp + kScans));
   EXPECT_EQ(run.dropped, 0u);
 }
@@ -152,6 +156,7 @@ TEST(RosScanCallbackAllocation, ScansWaitingForTfAllocateNothing) {
   constexpr int kWarmUp = 20, kScans = 300;
   const TfRun run = run_with_tf(-0.03, kWarmUp, kScans);
   EXPECT_EQ(run.allocations, 0u) << "over " << run.scans << " scans";
+  EXPECT_EQ(run.waited, static_cast<std::size_t>(kWarmUp + kScans));
   EXPECT_EQ(run.mapped, static_cast<std::size_t>(kWarmUp + kScans));
   EXPECT_EQ(run.dropped, 0u);
 }
