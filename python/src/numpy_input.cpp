@@ -7,6 +7,7 @@
 #include <string>
 
 #include "bindings.hpp"
+#include "feed/scan_feed.hpp"
 #include "stridemap/core/error.hpp"
 
 namespace stridemap::python {
@@ -76,13 +77,7 @@ py::array_t<std::uint8_t, py::array::c_style> as_contiguous_uint8(const py::arra
 }
 
 std::string element_name(const std::string& argument, long long index) {
-  // Appended piece by piece: GCC 12 warns (-Wrestrict, a false positive)
-  // about "[" + std::to_string(i) + "]".
-  std::string name = argument;
-  name += '[';
-  name += std::to_string(index);
-  name += ']';
-  return name;
+  return ArgumentName{argument.c_str()}.element(index);
 }
 
 // The shortest text that reads back as `value`, as Python's repr: a user
@@ -98,35 +93,12 @@ std::string number_text(double value) {
 }
 
 double finite_number(double value, const std::string& argument) {
-  if (!std::isfinite(value)) raise_input_error(argument + ": expected a finite number, got " + std::to_string(value));
-  return value;
+  return finite_value(value, {argument.c_str()});
 }
 
 TrunkPose pose_from_values(const double* v, std::size_t count, double reference_elevation_m, double height_change_m,
                            const std::string& argument) {
-  static const char* const kFive[] = {"x_m", "y_m", "roll_rad", "pitch_rad", "yaw_rad"};
-  static const char* const kSix[] = {"x_m", "y_m", "z_m", "roll_rad", "pitch_rad", "yaw_rad"};
-  if (count != 5 && count != 6) {
-    raise_input_error(argument + ": expected 5 values (x_m, y_m, roll_rad, pitch_rad, yaw_rad) or 6 (x_m, y_m, "
-                      "z_m, roll_rad, pitch_rad, yaw_rad), got " + std::to_string(count));
-  }
-  for (std::size_t i = 0; i < count; ++i) {
-    if (!std::isfinite(v[i])) {
-      raise_input_error(argument + ": " + (count == 5 ? kFive[i] : kSix[i]) + " is not finite (" +
-                        std::to_string(v[i]) + ")");
-    }
-  }
-  TrunkPose pose;
-  pose.x_m = v[0];
-  pose.y_m = v[1];
-  std::size_t k = 2;
-  if (count == 6) pose.z_m = v[k++];
-  pose.roll_rad = v[k++];
-  pose.pitch_rad = v[k++];
-  pose.yaw_rad = v[k];
-  pose.reference_elevation_m = finite_number(reference_elevation_m, "reference_elevation_m");
-  pose.height_change_m = finite_number(height_change_m, "height_change_m");
-  return pose;
+  return pose_of_values(v, count, reference_elevation_m, height_change_m, {argument.c_str()});
 }
 
 namespace {

@@ -1,27 +1,20 @@
 // stridemap.Pipeline: the library's one entry point (MappingPipeline) fed
 // from NumPy. Every array is checked here, naming the argument, before the
 // library sees it; the library's own InputErrors pass through unchanged.
-#include <cmath>
-#include <cstdint>
-#include <limits>
 #include <optional>
 #include <string>
 #include <unordered_map>
-#include <vector>
 
 #include <pybind11/stl.h>
 
 #include "bindings.hpp"
+#include "feed/scan_feed.hpp"
 #include "stridemap/config/mapper_config.hpp"
 #include "stridemap/core/map_resume.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
 
 namespace stridemap::python {
 namespace {
-
-// Metres past which a range "in metres" must be millimetres: no URG, nor
-// any sensor a walking robot carries, measures 100 m.
-constexpr double kImplausibleRangeM = 100.0;
 
 py::dict scan_stats_dict(const ScanStats& s) {
   py::dict d;
@@ -87,7 +80,7 @@ std::unordered_map<const ElevationMap*, const Pipeline*>& live_pipelines() {
 
 class Pipeline {
  public:
-  Pipeline(const PipelineOptions& options, const ElevationMap* resume_from) : pipeline_(options), urg_(options.urg, options.calibration) {
+  Pipeline(const PipelineOptions& options, const ElevationMap* resume_from) : pipeline_(options), feed_(pipeline_) {
     if (resume_from) resume_from_map(pipeline_.mapper(), *resume_from);
     live_pipelines()[&pipeline_.mapper().map()] = this;
   }
@@ -107,14 +100,19 @@ class Pipeline {
                         std::optional<int> first_step, int cluster, double reference_elevation_m,
                         double height_change_m) {
     const TrunkPose p = pose_from_object(pose, reference_elevation_m, height_change_m, "pose");
-    fill_raw(ranges, "ranges", units, finite_number(time_s, "time_s"), first_step, cluster);
-    return outcome_dict(pipeline_.add(raw_, p));
+    finite_number(time_s, "time_s");
+    const RangeUnits u = range_units(units);
+    const auto values = range_values(ranges, "ranges", u);
+    if (values.ndim() != 1) raise_input_error("ranges: expected one scan (1-D), got shape " + shape_text(values));
+    return outcome_dict(
+        feed_.add_urg(values.data(), static_cast<std::size_t>(values.shape(0)), u, time_s, first_step, cluster, p));
   }
 
   std::size_t add_urg_scans(const py::handle& ranges, const py::handle& times_s, const py::handle& poses,
                             const std::string& units, const py::handle& reference_elevation_m,
                             const py::handle& height_change_m) {
-    const auto r = as_float64(ranges, "ranges");  // shape only; values are checked per row
+    const py::array rows = as_array(ranges, "ranges");
+    const auto r = as_float64(rows, "ranges");  // shape only; values are checked per row
     const auto t = as_float64(times_s, "times_s");
     const auto q = as_float64(poses, "poses");
     if (r.ndim() != 2) raise_input_error("ranges: expected a 2-D array (scans x values), got " + std::to_string(r.ndim()) + " dimensions");
@@ -128,28 +126,27 @@ class Pipeline {
     }
     // Before any scan is mapped: with warnings as errors nothing changes.
     warn_implausible_tilts(q, "poses");
-    const std::vector<double> h_ref = per_scan(reference_elevation_m, k, "reference_elevation_m");
-    const std::vector<double> d_z = per_scan(height_change_m, k, "height_change_m");
-    const py::array rows = as_array(ranges, "ranges");
-    const PipelineStats stats_before = pipeline_.stats();
-    const MapperTotals totals_before = pipeline_.mapper().totals();
+    const auto h_ref = per_scan(reference_elevation_m, k, "reference_elevation_m");
+    const auto d_z = per_scan(height_change_m, k, "height_change_m");
+    if (k == 0) return 0;
+    UrgBatch batch;
+    batch.scans = static_cast<std::size_t>(k);
+    // One dtype for every row: checked once, naming the first row as a
+    // row-by-row check would.
+    batch.units = range_units(units);
+    check_range_dtype(rows, element_name("ranges", 0), batch.units);
+    batch.ranges = r.data();
+    batch.values_per_scan = static_cast<std::size_t>(r.shape(1));
+    batch.times_s = t.data();
+    batch.poses = q.data();
+    batch.pose_values = static_cast<std::size_t>(q.shape(1));
+    batch.reference_elevation_m = h_ref ? h_ref->data() : nullptr;
+    batch.height_change_m = d_z ? d_z->data() : nullptr;
+    const UrgBatchCounts c = feed_.add_urg_batch(batch);
     std::optional<py::ssize_t> first_stale;
-    for (py::ssize_t i = 0; i < k; ++i) {
-      const TrunkPose p = pose_from_values(q.data(i, 0), static_cast<std::size_t>(q.shape(1)), h_ref[i], d_z[i],
-                                           element_name("poses", i));
-      fill_raw(rows[py::int_(i)], element_name("ranges", i), units, finite_number(t.at(i), element_name("times_s", i)),
-               std::nullopt, 1);
-      const ScanOutcome outcome = pipeline_.add(raw_, p);
-      if (outcome.stats.time_rejected && !first_stale) first_stale = i;
-    }
-    const PipelineStats stats = pipeline_.stats();
-    const MapperTotals& totals = pipeline_.mapper().totals();
-    const std::size_t stale = totals.scans_rejected_for_time - totals_before.scans_rejected_for_time;
-    const std::size_t bad_pose = totals.scans_rejected_for_pose - totals_before.scans_rejected_for_pose;
-    const std::size_t unfit = stats.rejected - stats_before.rejected;
-    const std::size_t mapped = stats.integrated - stats_before.integrated - stale - bad_pose;
-    warn_rejected(static_cast<std::size_t>(k), mapped, stale, bad_pose, unfit, first_stale);
-    return mapped;
+    if (c.first_stale) first_stale = static_cast<py::ssize_t>(*c.first_stale);
+    warn_rejected(batch.scans, c.mapped, c.stale, c.bad_pose, c.unfit, first_stale);
+    return c.mapped;
   }
 
   py::dict add_points(const py::handle& points, const py::handle& sigma_m, double time_s, const py::handle& pose,
@@ -163,15 +160,9 @@ class Pipeline {
       raise_input_error("sigma_m: expected one sigma per point (" + std::to_string(n) + ") or one for all, got shape " +
                         shape_text(sigma));
     }
-    PointFrame& frame = points_;
-    frame.time_s = finite_number(time_s, "time_s");
-    frame.points_m.resize(static_cast<std::size_t>(n));
-    frame.height_sigma_m.resize(static_cast<std::size_t>(n));
-    for (py::ssize_t i = 0; i < n; ++i) {
-      frame.points_m[i] = {xyz.at(i, 0), xyz.at(i, 1), xyz.at(i, 2)};
-      frame.height_sigma_m[i] = sigma.ndim() == 0 ? *sigma.data() : sigma.at(i);
-    }
-    return outcome_dict(pipeline_.add(frame, p));
+    finite_number(time_s, "time_s");
+    return outcome_dict(
+        feed_.add_points(xyz.data(), static_cast<std::size_t>(n), sigma.data(), sigma.ndim() == 0, time_s, p));
   }
 
   py::dict add_stripe(const py::handle& pixels, std::optional<double> time_s, const py::handle& pose,
@@ -179,10 +170,8 @@ class Pipeline {
     const TrunkPose p = pose_from_object(pose, reference_elevation_m, height_change_m, "pose");
     const auto uv = as_float64(pixels, "pixels");
     if (uv.ndim() != 2 || uv.shape(1) != 2) raise_input_error("pixels: expected shape (N, 2) of (u_px, v_px), got " + shape_text(uv));
-    stripe_.resize(static_cast<std::size_t>(uv.shape(0)));
-    for (py::ssize_t i = 0; i < uv.shape(0); ++i) stripe_[i] = {uv.at(i, 0), uv.at(i, 1)};
     if (time_s) finite_number(*time_s, "time_s");
-    return outcome_dict(pipeline_.add(stripe_, time_s, p));
+    return outcome_dict(feed_.add_stripe(uv.data(), static_cast<std::size_t>(uv.shape(0)), time_s, p));
   }
 
   MappingPipeline& pipeline() { return pipeline_; }
@@ -218,70 +207,45 @@ class Pipeline {
  private:
   static std::string shape_text(const py::array& a) { return py::str(py::object(a.attr("shape"))).cast<std::string>(); }
 
-  static std::vector<double> per_scan(const py::handle& values, py::ssize_t k, const std::string& argument) {
-    std::vector<double> out(static_cast<std::size_t>(k), 0.0);
-    if (values.is_none()) return out;
-    const auto a = as_float64(values, argument);
+  // One finite value per scan, or none (every scan's 0). Checked whole
+  // before any scan is mapped.
+  static std::optional<py::array_t<double, py::array::c_style>> per_scan(const py::handle& values, py::ssize_t k,
+                                                                         const std::string& argument) {
+    if (values.is_none()) return std::nullopt;
+    auto a = as_float64(values, argument);
     if (a.ndim() != 1 || a.shape(0) != k) {
       raise_input_error(argument + ": expected one value per scan (" + std::to_string(k) + "), got shape " + shape_text(a));
     }
-    for (py::ssize_t i = 0; i < k; ++i) out[i] = finite_number(a.at(i), element_name(argument, i));
-    return out;
+    for (py::ssize_t i = 0; i < k; ++i) finite_value(a.at(i), {argument.c_str(), i});
+    return a;
   }
 
-  // The raw scan the URG would have sent: millimetres as given (units
-  // "mm", integers: error codes below DMIN kept), or metres rounded to
-  // millimetres (units "m", floats: NaN / inf / 0 become code 0, "no echo").
-  void fill_raw(const py::handle& ranges, const std::string& argument, const std::string& units, double time_s,
-                std::optional<int> first_step, int cluster) {
-    if (units != "mm" && units != "m") raise_input_error("units: expected 'mm' (raw URG values) or 'm', got '" + units + "'");
-    const py::array array = as_array(ranges, argument);
+  // units='mm' takes the sensor's integers, units='m' floats: a mix-up
+  // would map millimetres as kilometres, or the reverse.
+  static void check_range_dtype(const py::array& array, const std::string& argument, RangeUnits units) {
     const char kind = array.dtype().kind();
-    const std::string dtype = py::str(array.dtype()).cast<std::string>();
-    if (units == "mm" && kind != 'i' && kind != 'u') {
-      throw py::type_error(argument + ": units='mm' takes the sensor's raw integer millimetres, got dtype " + dtype +
-                           "; pass units='m' for ranges in metres");
+    if (units == RangeUnits::mm && kind != 'i' && kind != 'u') {
+      throw py::type_error(argument + ": units='mm' takes the sensor's raw integer millimetres, got dtype " +
+                           dtype_text(array) + "; pass units='m' for ranges in metres");
     }
-    if (units == "m" && kind != 'f') {
-      throw py::type_error(argument + ": units='m' takes floating-point metres, got dtype " + dtype +
+    if (units == RangeUnits::m && kind != 'f') {
+      throw py::type_error(argument + ": units='m' takes floating-point metres, got dtype " + dtype_text(array) +
                            "; pass units='mm' for raw integer millimetres");
     }
-    const auto values = as_float64(array, argument);
-    if (values.ndim() != 1) raise_input_error(argument + ": expected one scan (1-D), got shape " + shape_text(values));
-    raw_.time_s = time_s;
-    raw_.first_step = first_step.value_or(pipeline_.options().urg.first_step);
-    raw_.cluster = cluster;
-    raw_.values_mm.resize(static_cast<std::size_t>(values.shape(0)));
-    for (py::ssize_t i = 0; i < values.shape(0); ++i) {
-      const double v = values.at(i);
-      const std::string at = element_name(argument, i);
-      if (units == "mm") {
-        if (v < 0.0 || v > static_cast<double>(std::numeric_limits<std::uint32_t>::max())) {
-          raise_input_error(at + ": a raw URG value is 0..4294967295 mm, got " + std::to_string(static_cast<long long>(v)));
-        }
-        raw_.values_mm[i] = static_cast<std::uint32_t>(v);
-      } else if (!std::isfinite(v) || v == 0.0) {
-        raw_.values_mm[i] = 0;
-      } else if (v < 0.0) {
-        raise_input_error(at + ": a range is not negative, got " + std::to_string(v) + " m");
-      } else if (v > kImplausibleRangeM) {
-        raise_input_error(at + ": " + std::to_string(v) + " m is no range a URG measures; are these millimetres "
-                          "(units='mm')?");
-      } else {
-        raw_.values_mm[i] = static_cast<std::uint32_t>(std::lround(v * 1000.0));
-      }
-    }
-    // The pipeline counts a scan that does not fit the sensor as rejected
-    // and goes on (a live stream must); a script wants to hear why.
-    urg_.to_planar_scan(raw_, scratch_);
+  }
+
+  static std::string dtype_text(const py::array& a) { return py::str(a.dtype()).cast<std::string>(); }
+
+  // One scan's ranges as float64, its dtype checked against the units first.
+  static py::array_t<double, py::array::c_style> range_values(const py::handle& ranges, const std::string& argument,
+                                                              RangeUnits units) {
+    const py::array array = as_array(ranges, argument);
+    check_range_dtype(array, argument, units);
+    return as_float64(array, argument);
   }
 
   MappingPipeline pipeline_;
-  UrgModel urg_;
-  UrgRawScan raw_;
-  PlanarScan scratch_;
-  PointFrame points_;
-  std::vector<StripePixel> stripe_;
+  ScanFeed feed_;  // every add_*'s per-scan work, after the checks only the binding can make
 };
 
 }  // namespace

@@ -113,7 +113,10 @@ def test_no_binding_converts_with_array_t_ensure():
     # ensure() returns a null array when the copy fails (the crash above);
     # every conversion goes through numpy_input.cpp's helpers instead.
     source = os.path.join(os.path.dirname(__file__), "..", "src")
-    for name in sorted(os.listdir(source)):
-        with open(os.path.join(source, name), encoding="utf-8") as f:
-            code = [line for line in f if not line.lstrip().startswith("//")]
-        assert not any("::ensure(" in line for line in code), f"python/src/{name} calls array_t::ensure"
+    for folder, _, names in os.walk(source):
+        for name in sorted(names):
+            path = os.path.join(folder, name)
+            with open(path, encoding="utf-8") as f:
+                code = [line for line in f if not line.lstrip().startswith("//")]
+            where = os.path.relpath(path, os.path.join(source, ".."))
+            assert not any("::ensure(" in line for line in code), f"python/{where} calls array_t::ensure"

@@ -10,6 +10,7 @@
 #include <tf2_msgs/TFMessage.h>
 
 #include "stridemap/core/error.hpp"
+#include "stridemap_ros/node_callbacks.hpp"
 #include "stridemap_ros/ros1_messages.hpp"
 
 namespace stridemap::ros_adapter {
@@ -95,13 +96,17 @@ void BagMapping::run(const std::function<void(std::size_t, std::size_t)>& progre
   try {
     rosbag::View view(bag_->bag, rosbag::TopicQuery(topics));
     const std::size_t total = view.size();
+    LaserScanData scan;
     PointCloudData cloud;
     std::string why;
     for (const rosbag::MessageInstance& m : view) {
       const double now = m.getTime().toSec();
       const std::string& topic = m.getTopic();
       if (topic == options_.scan_topic) {
-        if (auto scan = m.instantiate<sensor_msgs::LaserScan>()) mapper_->add(laser_scan_data(*scan), now);
+        if (auto msg = m.instantiate<sensor_msgs::LaserScan>()) {
+          read_laser_scan(*msg, scan);
+          mapper_->add(scan, now);
+        }
       } else if (topic == options_.cloud_topic) {
         if (auto msg = m.instantiate<sensor_msgs::PointCloud2>()) {
           if (point_cloud_data(*msg, cloud, why)) {

@@ -273,6 +273,7 @@ std::size_t MessageMapper::process(double now_s, bool end_of_stream) {
   const SensorMount& mount = impl_->config.mount;
   while (!impl_->waiting.empty()) {
     Impl::Waiting& w = impl_->waiting.front();
+    const bool may_wait = !end_of_stream && now_s - w.arrival_s <= options_.pose_wait_s;
     TrunkPose pose;
     std::string why;
     PoseAnswer answer = PoseAnswer::never;
@@ -288,10 +289,13 @@ std::size_t MessageMapper::process(double now_s, bool end_of_stream) {
           break;
         case PoseLookup::gap_too_large: answer = PoseAnswer::never; break;
       }
-      why = "the pose topic has no pose at that time";
     } else {
       Eigen::Isometry3d sensor;
-      answer = poses_.sensor_in_map(w.frame_id, w.time_s, sensor, why);
+      answer = poses_.sensor_in_map(w.frame_id, w.time_s, sensor, nullptr);
+      // The words only for a scan that will not be mapped: asked again.
+      if (answer == PoseAnswer::never || (answer == PoseAnswer::not_yet && !may_wait)) {
+        answer = poses_.sensor_in_map(w.frame_id, w.time_s, sensor, &why);
+      }
       older_than_first_pose = answer == PoseAnswer::never && why.find("into the past") != std::string::npos;
       if (answer == PoseAnswer::ok) {
         if (!sensor.matrix().allFinite()) {
@@ -302,7 +306,9 @@ std::size_t MessageMapper::process(double now_s, bool end_of_stream) {
         }
       }
     }
-    if (answer == PoseAnswer::not_yet && !end_of_stream && now_s - w.arrival_s <= options_.pose_wait_s) break;
+    if (answer == PoseAnswer::not_yet && may_wait) break;
+    // Put into words for a drop only: a scan mapped or waiting costs no string.
+    if (topic && answer != PoseAnswer::ok) why = "the pose topic has no pose at that time";
     if (answer == PoseAnswer::not_yet) {
       drop(stats_.pose_timeout, "no pose for the scan at " + std::to_string(w.time_s) + " within " +
                                     std::to_string(options_.pose_wait_s) + " s: " + why);
@@ -335,8 +341,7 @@ std::size_t MessageMapper::process(double now_s, bool end_of_stream) {
 
 void MessageMapper::clear() {
   impl_->pipeline = std::make_unique<MappingPipeline>(message_pipeline_options(impl_->config));
-  for (Impl::Waiting& w : impl_->waiting) impl_->spare.push_back(std::move(w));
-  impl_->waiting.clear();
+  for (; !impl_->waiting.empty(); impl_->waiting.pop_front()) impl_->spare.push_back(std::move(impl_->waiting.front()));
   last_stamp_.reset();
   last_mapped_stamp_.reset();
 }

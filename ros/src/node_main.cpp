@@ -22,6 +22,7 @@
 
 #include "stridemap/core/error.hpp"
 #include "stridemap_ros/map_saving.hpp"
+#include "stridemap_ros/node_callbacks.hpp"
 #include "stridemap_ros/node_parameters.hpp"
 #include "stridemap_ros/ros1_messages.hpp"
 
@@ -153,10 +154,7 @@ class Node {
   }
 
   void on_scan(const sensor_msgs::LaserScan::ConstPtr& msg) {
-    guarded("scan", [&] {
-      mapper_->add(laser_scan_data(*msg), wall_now());
-      process();
-    });
+    guarded("scan", [&] { warn_if_dropped(take_laser_scan(*msg, scan_, *mapper_, wall_now)); });
   }
 
   void on_cloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
@@ -173,32 +171,30 @@ class Node {
 
   // PoseStamped or Odometry, whichever the topic carries.
   void on_pose(const topic_tools::ShapeShifter::ConstPtr& msg) {
-    guarded("pose", [&] { take_pose(*msg); });
+    guarded("pose", [&] { pose_message(*msg); });
   }
 
-  void take_pose(const topic_tools::ShapeShifter& msg) {
-    const std::string& map_frame = mapper_->options().map_frame;
-    bool kept = false;
+  void pose_message(const topic_tools::ShapeShifter& msg) {
     if (msg.getDataType() == "geometry_msgs/PoseStamped") {
       const auto p = msg.instantiate<geometry_msgs::PoseStamped>();
-      kept = p->header.frame_id == map_frame && topic_poses_->add(p->header.stamp.toSec(), to_isometry(p->pose));
+      warn_if_dropped(
+          ros_adapter::take_pose(*mapper_, *topic_poses_, p->header.frame_id, p->header.stamp, p->pose, wall_now));
     } else if (msg.getDataType() == "nav_msgs/Odometry") {
       const auto o = msg.instantiate<nav_msgs::Odometry>();
-      kept = o->header.frame_id == map_frame && topic_poses_->add(o->header.stamp.toSec(), to_isometry(o->pose.pose));
+      warn_if_dropped(
+          ros_adapter::take_pose(*mapper_, *topic_poses_, o->header.frame_id, o->header.stamp, o->pose.pose, wall_now));
     } else {
       ROS_WARN_THROTTLE(5.0, "stridemap_node: pose topic carries %s, not PoseStamped or Odometry",
                         msg.getDataType().c_str());
+      mapper_->count_pose(false);
+      process();
     }
-    mapper_->count_pose(kept);
-    process();
   }
 
-  void process() {
-    const std::size_t dropped = mapper_->stats().dropped();
-    mapper_->process(wall_now(), false);
-    if (mapper_->stats().dropped() != dropped) {
-      ROS_WARN_THROTTLE(2.0, "stridemap_node: scan dropped: %s", mapper_->last_drop().c_str());
-    }
+  void process() { warn_if_dropped(map_waiting(*mapper_, wall_now())); }
+
+  void warn_if_dropped(bool dropped) {
+    if (dropped) ROS_WARN_THROTTLE(2.0, "stridemap_node: scan dropped: %s", mapper_->last_drop().c_str());
   }
 
   void publish() {
@@ -258,6 +254,7 @@ class Node {
   std::size_t occupancy_index_ = 0;  ///< in grid_map_names_
   std::string map_file_;
   std::set<std::string> written_;
+  LaserScanData scan_;  // the frame name's storage reused from scan to scan
   PointCloudData cloud_;
   std::size_t published_at_ = 0;
   ros::Subscriber scan_sub_, cloud_sub_, pose_sub_;

@@ -10,21 +10,6 @@
 
 namespace stridemap::ros_adapter {
 
-LaserScanData laser_scan_data(const sensor_msgs::LaserScan& msg) {
-  LaserScanData d;
-  d.stamp_s = msg.header.stamp.toSec();
-  d.frame_id = msg.header.frame_id;
-  d.angle_min_rad = msg.angle_min;
-  d.angle_increment_rad = msg.angle_increment;
-  d.range_min_m = msg.range_min;
-  d.range_max_m = msg.range_max;
-  d.ranges_m = msg.ranges.data();
-  d.range_count = msg.ranges.size();
-  d.intensities = msg.intensities.data();
-  d.intensity_count = msg.intensities.size();
-  return d;
-}
-
 namespace {
 
 const sensor_msgs::PointField* field(const sensor_msgs::PointCloud2& msg, const std::string& name) {
@@ -128,25 +113,38 @@ geometry_msgs::Transform to_transform(const Eigen::Isometry3d& pose) {
 }
 
 PoseAnswer TfPoseSource::sensor_in_map(const std::string& frame_id, double stamp_s, Eigen::Isometry3d& out,
-                                       std::string& why) {
+                                       std::string* why) {
   ros::Time stamp;
   try {
     stamp.fromSec(stamp_s);
   } catch (const std::exception&) {
-    why = "the stamp is not a ROS time";
+    if (why) *why = "the stamp is not a ROS time";
     return PoseAnswer::never;
   }
-  if (!buffer_.canTransform(map_frame_, frame_id, stamp, &why)) {
+  if (!buffer_.canTransform(map_frame_, frame_id, stamp)) {
+    // tf2 puts its reason into words (allocating) only when asked: a scan
+    // that only waits, the usual case, needs none.
+    if (!why && holds_before(frame_id, stamp)) return PoseAnswer::not_yet;
+    std::string reason;
+    buffer_.canTransform(map_frame_, frame_id, stamp, &reason);
+    if (why) *why = reason;
     // Older than everything TF holds: waiting cannot help.
-    return why.find("into the past") != std::string::npos ? PoseAnswer::never : PoseAnswer::not_yet;
+    return reason.find("into the past") != std::string::npos ? PoseAnswer::never : PoseAnswer::not_yet;
   }
   try {
     out = to_isometry(buffer_.lookupTransform(map_frame_, frame_id, stamp).transform);
   } catch (const tf2::TransformException& e) {
-    why = e.what();
+    if (why) *why = e.what();
     return PoseAnswer::not_yet;
   }
   return PoseAnswer::ok;
+}
+
+bool TfPoseSource::holds_before(const std::string& frame_id, const ros::Time& stamp) const {
+  // A second: far more than TF lags on a working robot, far less than the
+  // time it keeps. Asking at time 0 (the newest TF) instead allocates in tf2.
+  constexpr double kLookBackS = 1.0;
+  return stamp.toSec() > kLookBackS && buffer_.canTransform(map_frame_, frame_id, stamp - ros::Duration(kLookBackS));
 }
 
 namespace {

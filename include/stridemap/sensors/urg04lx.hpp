@@ -82,9 +82,11 @@ class UrgModel {
   /// once. The map is the one to_planar_scan + integrate(PlanarScan) make,
   /// bit for bit. Throws InputError as to_planar_scan does.
   UrgConversionStats to_beams(const UrgRawScan& raw, PlanarBeams& out) const;
+  /// Throws the InputError the conversions would for `raw`, converting
+  /// nothing: for a caller that must refuse a scan the pipeline would only count.
+  void check_fits(const UrgRawScan& raw) const;
 
  private:
-  void check_fits(const UrgRawScan& raw) const;
   template <bool kCalibrated>
   UrgConversionStats pack_beams(const UrgRawScan& raw, PlanarBeams& out) const;
 

@@ -121,10 +121,11 @@ class PoseSource {
  public:
   virtual ~PoseSource() = default;
   /// The sensor frame `frame_id` in the map frame at `stamp_s`. `not_yet`:
-  /// it may still come (TF has not reached the stamp). `why` says what is
-  /// missing, for messages.
+  /// it may still come (TF has not reached the stamp). `why`, when given,
+  /// says what is missing, for messages; words cost allocations, so the
+  /// mapper asks for them only for a scan it drops.
   virtual PoseAnswer sensor_in_map(const std::string& frame_id, double stamp_s, Eigen::Isometry3d& out,
-                                   std::string& why) = 0;
+                                   std::string* why) = 0;
 };
 
 /// Poses from a PoseStamped / Odometry topic: the trunk's pose, interpolated
@@ -136,8 +137,8 @@ class TopicPoseSource final : public PoseSource {
   ~TopicPoseSource() override;
   /// False (and nothing kept) for a pose not later than the last or not finite.
   bool add(double stamp_s, const Eigen::Isometry3d& trunk_in_map);
-  PoseAnswer sensor_in_map(const std::string&, double, Eigen::Isometry3d&, std::string& why) override {
-    why = "a pose topic gives the trunk";
+  PoseAnswer sensor_in_map(const std::string&, double, Eigen::Isometry3d&, std::string* why) override {
+    if (why) *why = "a pose topic gives the trunk";
     return PoseAnswer::never;
   }
   /// Forgets poses no longer needed for scans at or after `stamp_s`.

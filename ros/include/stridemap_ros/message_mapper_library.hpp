@@ -2,13 +2,13 @@
 // The library side of MessageMapper (C++20, no ROS): the pipeline and what
 // converts ROS poses into the library's. For the adapter's own sources, the
 // CLI's `map --bag` and tests; the ROS 1 sources never include it.
-#include <deque>
 #include <memory>
 #include <vector>
 
 #include "stridemap/config/mapper_config.hpp"
 #include "stridemap/core/planar_scan.hpp"
 #include "stridemap/core/pose.hpp"
+#include "stridemap/core/ring_queue.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
 #include "stridemap_ros/message_mapper.hpp"
 
@@ -38,8 +38,10 @@ struct MessageMapper::Impl {
   };
   MapperConfig config;
   std::unique_ptr<MappingPipeline> pipeline;
-  std::deque<Waiting> waiting;
-  std::vector<Waiting> spare;  // frames reused, so a steady stream does not allocate
+  // Frames reused, so a steady stream does not allocate: a std::deque
+  // freed and allocated a block every other scan.
+  RingQueue<Waiting> waiting;
+  std::vector<Waiting> spare;
 };
 
 }  // namespace stridemap::ros_adapter

@@ -1,8 +1,9 @@
 #pragma once
 // ROS 1 <-> the adapter's plain data (message_mapper.hpp), and the map as
 // ROS messages. Everything ROS-specific the node and `map --bag` share is
-// here; a ROS 2 port rewrites this file and the node, nothing else
-// (docs/ros.md, "Porting to ROS 2").
+// here and in node_callbacks.hpp (a LaserScan read, a pose taken); a ROS 2
+// port rewrites these two files and the node, nothing else (docs/ros.md,
+// "Porting to ROS 2").
 #include <optional>
 #include <string>
 #include <vector>
@@ -23,8 +24,6 @@
 
 namespace stridemap::ros_adapter {
 
-/// The scan's fields; the spans point into `msg`, which must outlive the result.
-LaserScanData laser_scan_data(const sensor_msgs::LaserScan& msg);
 /// x, y, z (FLOAT32 or FLOAT64) and an optional "sigma" field. False with
 /// `why` for a cloud without them or with sizes that do not add up.
 bool point_cloud_data(const sensor_msgs::PointCloud2& msg, PointCloudData& out, std::string& why);
@@ -42,9 +41,13 @@ class TfPoseSource final : public PoseSource {
   TfPoseSource(const tf2::BufferCore& buffer, std::string map_frame)
       : buffer_(buffer), map_frame_(std::move(map_frame)) {}
   PoseAnswer sensor_in_map(const std::string& frame_id, double stamp_s, Eigen::Isometry3d& out,
-                           std::string& why) override;
+                           std::string* why) override;
 
  private:
+  /// TF has the transform a while before `stamp`: then `stamp` is not in
+  /// TF's past, and a failure at it means the transform has not come yet.
+  bool holds_before(const std::string& frame_id, const ros::Time& stamp) const;
+
   const tf2::BufferCore& buffer_;
   std::string map_frame_;
 };

@@ -37,11 +37,11 @@ class FixedPose final : public PoseSource {
  public:
   PoseAnswer answer = PoseAnswer::ok;
   std::string why_not = "test";
-  PoseAnswer sensor_in_map(const std::string&, double, Eigen::Isometry3d& out, std::string& why) override {
+  PoseAnswer sensor_in_map(const std::string&, double, Eigen::Isometry3d& out, std::string* why) override {
     out = Eigen::Isometry3d::Identity();
     out.linear() = Eigen::AngleAxisd(0.6, Eigen::Vector3d::UnitY()).toRotationMatrix();
     out.translation() = Eigen::Vector3d(0, 0, 0.3);
-    why = why_not;
+    if (why) *why = why_not;
     return answer;
   }
 };
@@ -292,8 +292,7 @@ TEST(MessageMapper, AUrgScanAsALaserScanMapsAsTheLibrarysUrgPath) {
   mapper.add(d, 0.0);
   ASSERT_EQ(mapper.process(0.0, false), 1u);
   Eigen::Isometry3d sensor;
-  std::string why;
-  poses.sensor_in_map("laser", 1.0, sensor, why);
+  poses.sensor_in_map("laser", 1.0, sensor, nullptr);
   urg.add(raw, trunk_pose_from_sensor(sensor, MapperConfig{}.mount));
   const ExportedMap a = export_map(mapper.impl().pipeline->map());
   const ExportedMap b = export_map(urg.map());
