@@ -73,6 +73,7 @@ void run_rocky_walk_command(const RockyWalkArgs& args) {
   const bool urg_sensor = sensor == SimulatedSensor::urg;
   options.walk.pose_errors.reference = parse_option<ReferenceElevationSource>("--reference", args.reference.value_or("map-footholds"));
   options.calibrate_attitude = parse_on_off("--calibrate-attitude", args.calibrate_attitude.value_or("on"));
+  if (!urg_sensor) options.calibration = AttitudeCalibrationOptions::wide_stances();
   if (urg_sensor) options.sweep_references.push_back(ReferenceElevationSource::map_fused);
   if (args.feet != "stand" && args.feet != "slide") {
     throw InputError("--feet: '" + args.feet + "' is not one of stand, slide");

@@ -1,6 +1,7 @@
 #include "stridemap/experiments/attitude_calibration.hpp"
 
 #include <cmath>
+#include <numbers>
 #include <string>
 
 #include <Eigen/Dense>
@@ -39,6 +40,16 @@ void AttitudeCalibrationOptions::validate() const {
   if (!(std::isfinite(max_range_m) && max_range_m > 0.0)) {
     throw InputError("attitude calibration: max_range_m must be a positive number");
   }
+}
+
+AttitudeCalibrationOptions AttitudeCalibrationOptions::wide_stances() {
+  constexpr double kTilt_rad = 10.0 * std::numbers::pi / 180.0;
+  AttitudeCalibrationOptions o;
+  o.height_changes_m = {-0.04, -0.04, -0.04, -0.02, -0.02, -0.02, 0.0, 0.0, 0.0};
+  o.pitches_rad = {-kTilt_rad, 0.0, kTilt_rad, -kTilt_rad, 0.0, kTilt_rad, -kTilt_rad, 0.0, kTilt_rad};
+  o.scans_per_stance = 10;
+  o.imu_readings_per_stance = 1600;
+  return o;
 }
 
 Scene flat_calibration_floor(double reflectance) {
