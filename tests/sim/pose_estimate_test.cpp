@@ -220,41 +220,57 @@ Scene ramp_scene() {
   return terrain_along_x(0.05, [](double x) { return 0.1 * x; });
 }
 
+// One metre straight ahead from x = 0.5 m.
+WalkPath straight_path(double start_x_m = 0.5, double length_m = 1.0) {
+  WalkPath path;
+  path.start_x_m = start_x_m;
+  path.segments.push_back({WalkSegment::Kind::straight, length_m, 0.0, 0.0});
+  return path;
+}
+
+// A 4 x 4 m map centred at (centre_x_m, 0) whose fused layer knows the
+// scene everywhere, offset_m too high, with this variance (NaN: the
+// variance layer left unknown).
+ElevationMap fused_map_of(const Scene& scene, double centre_x_m, double offset_m, float variance_m2) {
+  ElevationMap map(GridOptions{400, 0.01});
+  map.move_to(centre_x_m, 0.0);
+  const HeightFusion fusion(map);
+  for (int i = 0; i < 400; ++i) {
+    for (int j = 0; j < 400; ++j) {
+      const CellIndex c = map.cell_at_local(i, j);
+      const Eigen::Vector2d centre = map.cell_center(c);
+      map.data(fusion.elevation_layer())[map.slot(c)] =
+          static_cast<float>(scene.surface_height_at(centre.x(), centre.y()) + offset_m);
+      if (!std::isnan(variance_m2)) map.data(fusion.variance_layer())[map.slot(c)] = variance_m2;
+    }
+  }
+  return map;
+}
+
+// The estimate's trunk height (h_ref + d_z) less the truth's.
+double height_error_m(const TrunkPose& estimate, const TrunkState& truth) {
+  return estimate.reference_elevation_m + estimate.height_change_m -
+         (truth.pose.reference_elevation_m + truth.pose.height_change_m);
+}
+
 // The `legs` reference: the trunk stands on its stance feet by the leg
 // kinematics, and a landing foot's height comes from the feet still standing
 // (every switch has a scan in double support at 10 Hz), so without errors the
 // odometry climbs the ramp exactly; trusting the map, it stands on the map.
 TEST(PoseEstimate, LegsCarryTheTrunkOnItsStanceFeet) {
   const Scene ramp = ramp_scene();
-  WalkPath path;
-  path.start_x_m = 0.5;
-  path.segments.push_back({WalkSegment::Kind::straight, 1.0, 0.0, 0.0});
   const GaitOptions gait;
-  const TrunkMotion motion(ramp, path, gait);
+  const TrunkMotion motion(ramp, straight_path(), gait);
   const auto walk = [&](double map_sigma_m, float map_offset_m) {
     PoseErrorOptions o = PoseErrorOptions{}.scaled(0.0);
     o.reference = ReferenceElevationSource::legs;
     o.foothold_map_sigma_m = map_sigma_m;
     PoseEstimator estimator(o, gait, 1);
-    // The fused layer knows the ramp everywhere, map_offset_m too high.
-    ElevationMap map(GridOptions{400, 0.01});
-    map.move_to(1.5, 0.0);
-    const HeightFusion fusion(map);
-    for (int i = 0; i < 400; ++i) {
-      for (int j = 0; j < 400; ++j) {
-        const CellIndex c = map.cell_at_local(i, j);
-        const Eigen::Vector2d centre = map.cell_center(c);
-        map.data(fusion.elevation_layer())[map.slot(c)] =
-            static_cast<float>(ramp.surface_height_at(centre.x(), centre.y())) + map_offset_m;
-      }
-    }
+    const ElevationMap map = fused_map_of(ramp, 1.5, map_offset_m, NAN);
     double worst = 0.0;
     for (double t = 0.0; t <= motion.duration_s(); t += 0.1) {
       const TrunkState truth = motion.at(t);
-      const TrunkPose e = estimator.estimate(truth, map);
-      const double error = e.reference_elevation_m + e.height_change_m -
-                           (truth.pose.reference_elevation_m + truth.pose.height_change_m);
-      worst = std::max(worst, std::abs(error));
+      worst = std::max(worst, std::abs(height_error_m(estimator.estimate(truth, map), truth)));
     }
     return worst;
   };
@@ -285,11 +301,8 @@ TEST(PoseEstimate, LegsCarryTheTrunkOnItsStanceFeet) {
 // ground rises 10 cm.
 TEST(PoseEstimate, MapFootholdsClimbsOnItsLegsWhereTheMapKnowsNothing) {
   const Scene ramp = ramp_scene();
-  WalkPath path;
-  path.start_x_m = 0.5;
-  path.segments.push_back({WalkSegment::Kind::straight, 1.0, 0.0, 0.0});
   const GaitOptions gait;
-  const TrunkMotion motion(ramp, path, gait);
+  const TrunkMotion motion(ramp, straight_path(), gait);
   ElevationMap map(GridOptions{100, 0.01});
   const HeightFusion fusion(map);  // both layers unknown everywhere
   const auto worst_error = [&](bool odometry) {
@@ -302,8 +315,7 @@ TEST(PoseEstimate, MapFootholdsClimbsOnItsLegsWhereTheMapKnowsNothing) {
       const TrunkState truth = motion.at(t);
       const TrunkPose e = estimator.estimate(truth, map);
       EXPECT_EQ(estimator.feet_read_from_map(), 0);
-      worst = std::max(worst, std::abs(e.reference_elevation_m + e.height_change_m -
-                                       (truth.pose.reference_elevation_m + truth.pose.height_change_m)));
+      worst = std::max(worst, std::abs(height_error_m(e, truth)));
     }
     return worst;
   };
@@ -315,22 +327,9 @@ TEST(PoseEstimate, MapFootholdsClimbsOnItsLegsWhereTheMapKnowsNothing) {
 // shows as the map's part once the feet stand on it.
 TEST(PoseEstimate, MapFootholdsSplitsItsErrorByCause) {
   const Scene ramp = ramp_scene();
-  WalkPath path;
-  path.start_x_m = 0.5;
-  path.segments.push_back({WalkSegment::Kind::straight, 1.0, 0.0, 0.0});
   const GaitOptions gait;
-  const TrunkMotion motion(ramp, path, gait);
-  ElevationMap map(GridOptions{400, 0.01});
-  map.move_to(1.5, 0.0);
-  const HeightFusion fusion(map);
-  for (int i = 0; i < 400; ++i) {
-    for (int j = 0; j < 400; ++j) {
-      const CellIndex c = map.cell_at_local(i, j);
-      const Eigen::Vector2d centre = map.cell_center(c);
-      map.data(fusion.elevation_layer())[map.slot(c)] = static_cast<float>(ramp.surface_height_at(centre.x(), centre.y()) + 0.005);
-      map.data(fusion.variance_layer())[map.slot(c)] = 0.001f * 0.001f;
-    }
-  }
+  const TrunkMotion motion(ramp, straight_path(), gait);
+  const ElevationMap map = fused_map_of(ramp, 1.5, 0.005, 0.001f * 0.001f);
   PoseErrorOptions o;  // the default errors
   o.reference = ReferenceElevationSource::map_footholds;
   o.foothold_odometry = true;
@@ -339,10 +338,8 @@ TEST(PoseEstimate, MapFootholdsSplitsItsErrorByCause) {
   int scans = 0;
   for (double t = 0.0; t <= motion.duration_s(); t += 0.1, ++scans) {
     const TrunkState truth = motion.at(t);
-    const TrunkPose e = estimator.estimate(truth, map);
+    const double error = height_error_m(estimator.estimate(truth, map), truth);
     const HeightReferenceError& split = estimator.last_height_error();
-    const double error = e.reference_elevation_m + e.height_change_m -
-                         (truth.pose.reference_elevation_m + truth.pose.height_change_m);
     EXPECT_NEAR(split.error_m, error, 1e-9);
     EXPECT_NEAR(split.odometry_m + split.map_m + split.placement_m + split.kinematics_m, error, 1e-9);
     EXPECT_EQ(split.feet_read, estimator.feet_read_from_map());
@@ -366,22 +363,9 @@ Scene step_scene() {
 // nominal place is still before it, or the reverse.
 TEST(PoseEstimate, MapFootholdsReadsTheMapWhereTheFeetLanded) {
   const Scene step = step_scene();
-  WalkPath path;
-  path.start_x_m = 0.3;
-  path.segments.push_back({WalkSegment::Kind::straight, 1.2, 0.0, 0.0});
   const GaitOptions gait;
-  const TrunkMotion motion(step, path, gait);
-  ElevationMap map(GridOptions{400, 0.01});
-  map.move_to(1.0, 0.0);
-  const HeightFusion fusion(map);
-  for (int i = 0; i < 400; ++i) {
-    for (int j = 0; j < 400; ++j) {
-      const CellIndex c = map.cell_at_local(i, j);
-      const Eigen::Vector2d centre = map.cell_center(c);
-      map.data(fusion.elevation_layer())[map.slot(c)] = static_cast<float>(step.surface_height_at(centre.x(), centre.y()));
-      map.data(fusion.variance_layer())[map.slot(c)] = 0.0015f * 0.0015f;
-    }
-  }
+  const TrunkMotion motion(step, straight_path(0.3, 1.2), gait);
+  const ElevationMap map = fused_map_of(step, 1.0, 0.0, 0.0015f * 0.0015f);
   const auto worst_error = [&](ReferenceElevationSource source) {
     PoseErrorOptions o = PoseErrorOptions{}.scaled(0.0);
     o.reference = source;
@@ -389,9 +373,7 @@ TEST(PoseEstimate, MapFootholdsReadsTheMapWhereTheFeetLanded) {
     double worst = 0.0;
     for (double t = 0.0; t <= motion.duration_s(); t += 0.1) {
       const TrunkState truth = motion.at(t);
-      const TrunkPose e = estimator.estimate(truth, map);
-      worst = std::max(worst, std::abs(e.reference_elevation_m + e.height_change_m -
-                                       (truth.pose.reference_elevation_m + truth.pose.height_change_m)));
+      worst = std::max(worst, std::abs(height_error_m(estimator.estimate(truth, map), truth)));
     }
     return worst;
   };
