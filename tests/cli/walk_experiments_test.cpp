@@ -101,6 +101,18 @@ TEST(RockyWalkCommand, StructuredLightVariantUsesFineCellsAndCas) {
   EXPECT_EQ(summary["sensor"], "structured-light");
   EXPECT_FALSE(summary.contains("coupling"));  // a URG matter
   EXPECT_EQ(summary["cells_per_side"], 200);
+  // Its own defaults: h_ref from the footholds carried by leg odometry,
+  // after the wide-stance calibration; the error by cause in the summary,
+  // per scan beside it, and in the printed table.
+  EXPECT_EQ(summary["pose_error_options"]["reference"], "map-footholds");
+  EXPECT_TRUE(summary.contains("attitude_calibration"));
+  const nlohmann::json& h = summary["h_ref_error"];
+  EXPECT_NEAR(h["mean_from_odometry_m"].get<double>() + h["mean_from_map_m"].get<double>() +
+                  h["mean_from_placement_m"].get<double>() + h["mean_from_kinematics_m"].get<double>(),
+              h["mean_error_m"].get<double>(), 1e-9);
+  EXPECT_EQ(h["scans"], summary["walk"]["scans"]);
+  EXPECT_TRUE(fs::exists(out / "rocky-walk-structured-light" / "h_ref_error.csv"));
+  EXPECT_NE(r.output.find("sensor height's mean error by cause: odometry"), std::string::npos) << r.output;
   const CommandResult bad = run_cli("experiment rocky-walk --sensor structured-light --mixed-pixels on --out " +
                                     shell_quoted(out.string()));
   EXPECT_EQ(bad.exit_code, 2) << bad.output;
