@@ -43,6 +43,19 @@ struct AllocationCounter {
 };
 AllocationCounter& allocation_counter();
 
+/// Counts the allocations made while it lives, from zero.
+class Counting {
+ public:
+  Counting() {
+    allocation_counter().allocations = 0;
+    allocation_counter().counting = true;
+  }
+  ~Counting() { allocation_counter().counting = false; }
+  Counting(const Counting&) = delete;
+  Counting& operator=(const Counting&) = delete;
+  std::size_t allocations() const { return allocation_counter().allocations.load(); }
+};
+
 }  // namespace stridemap::test
 
 #define STRIDEMAP_DEFINE_ALLOCATION_COUNTER()                       \

@@ -179,6 +179,25 @@ Eigen::Vector3d PoseEstimator::foot_from_trunk_in_map(const TrunkState& truth,
   return rotations.second * in_trunk;
 }
 
+bool PoseEstimator::trunk_on_footholds(const TrunkState& truth, const std::array<double, 6>& depth_m, double& z_m,
+                                       double& variance_m2) const {
+  double sum = 0.0, variance_sum = 0.0;
+  int n = 0;
+  for (std::size_t f = 0; f < 6; ++f) {
+    if (!truth.feet[f].in_stance || !footholds_[f].known) continue;
+    sum += footholds_[f].z_m + depth_m[f];
+    variance_sum += footholds_[f].variance_m2;
+    ++n;
+  }
+  if (n == 0) return false;
+  // The footholds of one tripod share the error of the height they were
+  // set from, so their variances do not average down; the encoders' do.
+  const double leg_variance = options_.leg_height_noise_sigma_m * options_.leg_height_noise_sigma_m;
+  z_m = sum / n;
+  variance_m2 = variance_sum / n + leg_variance / n;
+  return true;
+}
+
 double PoseEstimator::trunk_height_from_footholds(const TrunkState& truth, const TrunkPose& e,
                                                   const ElevationMap& map, const float* fused,
                                                   const float* fused_variance) {
@@ -255,24 +274,11 @@ double PoseEstimator::trunk_height_from_footholds(const TrunkState& truth, const
   }
 
   // The prediction: the stance feet's footholds, set as each landed, plus
-  // their kinematic depths now. The footholds of one tripod share the error
-  // of the height they were set from, so their variances do not average
-  // down; the encoders' do. With none known (no double support) the last
-  // height stays, less certain by a tripod switch.
+  // their kinematic depths now. With none known (no double support) the
+  // last height stays, less certain by a tripod switch.
   double predicted_m = std::numeric_limits<double>::quiet_NaN(), predicted_variance_m2 = 0.0;
   if (options_.foothold_odometry) {
-    double sum = 0.0, variance_sum = 0.0;
-    int known = 0;
-    for (std::size_t f = 0; f < 6; ++f) {
-      if (!truth.feet[f].in_stance || !footholds_[f].known) continue;
-      sum += footholds_[f].z_m + depth[f];
-      variance_sum += footholds_[f].variance_m2;
-      ++known;
-    }
-    if (known > 0) {
-      predicted_m = sum / known;
-      predicted_variance_m2 = variance_sum / known + leg_variance / known;
-    } else {
+    if (!trunk_on_footholds(truth, depth, predicted_m, predicted_variance_m2)) {
       predicted_m = trunk_z_m_;
       predicted_variance_m2 = trunk_variance_m2_ + kTripodSwitchSigma_m * kTripodSwitchSigma_m;
     }
@@ -332,24 +338,8 @@ double PoseEstimator::trunk_height_from_legs(const TrunkState& truth, const Trun
     sole[f] = Eigen::Vector2d(e.x_m + in_map.x(), e.y_m + in_map.y());
   }
   const double leg_variance = sigma * sigma;
-  const auto trunk_from_known = [&](double& z, double& variance) {
-    double sum = 0.0, variance_sum = 0.0;
-    int n = 0;
-    for (std::size_t f = 0; f < 6; ++f) {
-      if (!truth.feet[f].in_stance || !footholds_[f].known) continue;
-      sum += footholds_[f].z_m + depth[f];
-      variance_sum += footholds_[f].variance_m2;
-      ++n;
-    }
-    if (n == 0) return false;
-    // The footholds of one tripod share the error of the height they were
-    // set from, so their variances do not average down; the encoders' do.
-    z = sum / n;
-    variance = variance_sum / n + leg_variance / n;
-    return true;
-  };
   double predicted = trunk_z_m_, predicted_variance = trunk_variance_m2_ + kTripodSwitchSigma_m * kTripodSwitchSigma_m;
-  const bool switched = !trunk_from_known(predicted, predicted_variance);
+  const bool switched = !trunk_on_footholds(truth, depth, predicted, predicted_variance);
   if (switched && last_time_s_ > stance_start_time_s_) {
     // Across the switch the trunk keeps the climb rate it had over the last
     // stance: a whole step, over which the gait's bob nearly cancels.
@@ -369,7 +359,7 @@ double PoseEstimator::trunk_height_from_legs(const TrunkState& truth, const Trun
     h.z_m += gain * (from_map - h.z_m);
     h.variance_m2 *= 1.0 - gain;
   }
-  trunk_from_known(trunk_z_m_, trunk_variance_m2_);
+  trunk_on_footholds(truth, depth, trunk_z_m_, trunk_variance_m2_);
   if (switched) {
     stance_start_z_m_ = trunk_z_m_;
     stance_start_time_s_ = truth.time_s;

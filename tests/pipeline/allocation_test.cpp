@@ -22,15 +22,7 @@ using test::allocation_counter;
 using test::floor_scan;
 using test::pose_at;
 
-class Counting {
- public:
-  Counting() {
-    allocation_counter().allocations = 0;
-    allocation_counter().counting = true;
-  }
-  ~Counting() { allocation_counter().counting = false; }
-  std::size_t allocations() const { return allocation_counter().allocations.load(); }
-};
+using test::Counting;
 
 TEST(PipelineAllocation, UrgScansThroughTheFiltersAllocateNothing) {
   STRIDEMAP_SKIP_UNLESS_COUNTING_ALLOCATIONS();

@@ -64,20 +64,7 @@ bool same_bits(const std::vector<double>& a, const std::vector<double>& b) {
   return a.size() == b.size() && (a.empty() || std::memcmp(a.data(), b.data(), a.size() * sizeof(double)) == 0);
 }
 
-::testing::AssertionResult same_maps(const ElevationMap& a, const ElevationMap& b) {
-  if (a.layer_count() != b.layer_count() || a.cells_per_side() != b.cells_per_side() ||
-      a.min_cell().x != b.min_cell().x || a.min_cell().y != b.min_cell().y) {
-    return ::testing::AssertionFailure() << "the maps' windows or layer counts differ";
-  }
-  const std::size_t cells = static_cast<std::size_t>(a.cells_per_side()) * static_cast<std::size_t>(a.cells_per_side());
-  for (std::size_t k = 0; k < a.layer_count(); ++k) {
-    const std::size_t bytes = cells * layer_type_bytes(a.layer_spec(k).type);
-    if (std::memcmp(a.layer_bytes(k), b.layer_bytes(k), bytes) != 0) {
-      return ::testing::AssertionFailure() << "layer " << a.layer_spec(k).name << " differs";
-    }
-  }
-  return ::testing::AssertionSuccess();
-}
+using test::same_maps;
 
 // Read through const: the mapper counts a mutable map() as a change.
 const ElevationMap& map_of(const MappingPipeline& pipeline) { return pipeline.mapper().map(); }

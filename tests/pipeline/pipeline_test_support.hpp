@@ -1,9 +1,13 @@
 #pragma once
-// Scans and poses the pipeline tests share.
+// Scans, poses and the map comparison the pipeline tests share.
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <numbers>
 
+#include <gtest/gtest.h>
+
+#include "stridemap/core/grid_map.hpp"
 #include "stridemap/core/pose.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
 
@@ -30,6 +34,23 @@ inline TrunkPose pose_at(double x_m, double yaw_rad = 0.0) {
   p.x_m = x_m;
   p.yaw_rad = yaw_rad;
   return p;
+}
+
+/// Success when both maps cover the same window with the same layers,
+/// byte for byte.
+inline ::testing::AssertionResult same_maps(const ElevationMap& a, const ElevationMap& b) {
+  if (a.layer_count() != b.layer_count() || a.cells_per_side() != b.cells_per_side() ||
+      a.min_cell().x != b.min_cell().x || a.min_cell().y != b.min_cell().y) {
+    return ::testing::AssertionFailure() << "the maps' windows or layer counts differ";
+  }
+  const std::size_t cells = static_cast<std::size_t>(a.cells_per_side()) * static_cast<std::size_t>(a.cells_per_side());
+  for (std::size_t k = 0; k < a.layer_count(); ++k) {
+    const std::size_t bytes = cells * layer_type_bytes(a.layer_spec(k).type);
+    if (std::memcmp(a.layer_bytes(k), b.layer_bytes(k), bytes) != 0) {
+      return ::testing::AssertionFailure() << "layer " << a.layer_spec(k).name << " differs";
+    }
+  }
+  return ::testing::AssertionSuccess();
 }
 
 }  // namespace stridemap::test

@@ -28,15 +28,7 @@ using test::allocation_counter;
 using test::floor_scan;
 using test::pose_at;
 
-class Counting {
- public:
-  Counting() {
-    allocation_counter().allocations = 0;
-    allocation_counter().counting = true;
-  }
-  ~Counting() { allocation_counter().counting = false; }
-  std::size_t allocations() const { return allocation_counter().allocations.load(); }
-};
+using test::Counting;
 
 // Scan k of a floor seen while walking, as the float64 millimetres NumPy
 // hands over: every scan's values differ.
@@ -168,19 +160,7 @@ TEST(PythonScanFeedAllocation, PointAndStripeFramesAllocateNothing) {
   EXPECT_GT(points.mapper().totals().integrated, 0u);
 }
 
-::testing::AssertionResult same_maps(const ElevationMap& a, const ElevationMap& b) {
-  if (a.layer_count() != b.layer_count() || a.cells_per_side() != b.cells_per_side() ||
-      a.min_cell().x != b.min_cell().x || a.min_cell().y != b.min_cell().y) {
-    return ::testing::AssertionFailure() << "the maps' windows or layer counts differ";
-  }
-  const std::size_t cells = static_cast<std::size_t>(a.cells_per_side()) * static_cast<std::size_t>(a.cells_per_side());
-  for (std::size_t k = 0; k < a.layer_count(); ++k) {
-    if (std::memcmp(a.layer_bytes(k), b.layer_bytes(k), cells * layer_type_bytes(a.layer_spec(k).type)) != 0) {
-      return ::testing::AssertionFailure() << "layer " << a.layer_spec(k).name << " differs";
-    }
-  }
-  return ::testing::AssertionSuccess();
-}
+using test::same_maps;
 
 // The feed is the pipeline fed the raw scan the sensor would have sent:
 // the same map bit for bit, whichever units the values came in.

@@ -203,6 +203,12 @@ class PoseEstimator {
   Eigen::Vector3d foot_from_trunk_in_map(const TrunkState& truth, const std::pair<Eigen::Matrix3d, Eigen::Matrix3d>& rotations,
                                          std::size_t f);
 
+  /// The trunk's height above the known footholds of the stance feet, each
+  /// plus its kinematic depth, and its variance; false when no stance foot
+  /// has a known foothold (outputs untouched).
+  bool trunk_on_footholds(const TrunkState& truth, const std::array<double, 6>& depth_m, double& z_m,
+                          double& variance_m2) const;
+
   /// The `map_footholds` reference: the trunk's height (h_ref + d_z) from
   /// the fused layer at the stance feet's soles, or NaN when no stance foot
   /// stands on known cells.
