@@ -149,6 +149,9 @@ TEST(RockyWalkCommand, BadInputIsAClearErrorBeforeAnyWork) {
   r = run_cli("experiment rocky-walk --calibrate-range maybe" + out);
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--calibrate-range"), std::string::npos) << r.output;
+  r = run_cli("experiment rocky-walk --foothold-odometry maybe" + out);
+  EXPECT_EQ(r.exit_code, 2) << r.output;
+  EXPECT_NE(r.output.find("--foothold-odometry"), std::string::npos) << r.output;
   r = run_cli("experiment rocky-walk --sensor lidar" + out);
   EXPECT_EQ(r.exit_code, 2) << r.output;
   EXPECT_NE(r.output.find("--sensor: 'lidar' is not a sensor; expected one of: urg, structured-light"), std::string::npos)
