@@ -150,16 +150,19 @@ bench-instructions: configure
 	@bash tools/bench-instructions.sh $(BUILD_DIR)
 
 # stridemap against OctoMap and a plain per-point update on the same
-# simulated scans (bench/compare.cpp, docs/performance.md). OctoMap is a
-# bench-only dependency, installed here rather than by `make deps`, so that
-# CI does not pay for it.
+# simulated scans (bench/compare.cpp, docs/performance.md), then the replay
+# throughput of `map --log` and `map --bag` (tools/replay_throughput.py).
+# OctoMap is a bench-only dependency, installed here rather than by
+# `make deps`, so that CI does not pay for it.
 bench-compare: configure
 	@dpkg -s liboctomap-dev >/dev/null 2>&1 || { echo "installing liboctomap-dev (bench-compare only)"; \
 	  if [ "$$(id -u)" = 0 ]; then apt-get install -y --no-install-recommends liboctomap-dev; \
 	  else sudo apt-get install -y --no-install-recommends liboctomap-dev; fi; }
 	cmake -S . -B $(BUILD_DIR)
-	cmake --build $(BUILD_DIR) -j $(JOBS) --target compare
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target compare stridemap_cli
 	$(BUILD_DIR)/bin/compare $(CURDIR)
+	@echo; echo "Replay, one core:"; echo
+	/usr/bin/python3 tools/replay_throughput.py --tool $(BUILD_DIR)/bin/stridemap
 
 clean:
 	rm -rf $(BUILD_DIR) $(OUT)
