@@ -29,6 +29,17 @@ bool take_laser_scan(const sensor_msgs::LaserScan& msg, LaserScanData& scan, Mes
   return map_waiting(mapper, now_s());
 }
 
+bool take_point_cloud(const sensor_msgs::PointCloud2& msg, PointCloudData& cloud, MessageMapper& mapper,
+                      double (*now_s)()) {
+  std::string why;  // filled only for a cloud that cannot be read
+  if (point_cloud_data(msg, cloud, why)) {
+    mapper.add(cloud, now_s());
+  } else {
+    mapper.add_unreadable(msg.header.frame_id, why);
+  }
+  return map_waiting(mapper, now_s());
+}
+
 bool take_pose(MessageMapper& mapper, TopicPoseSource& poses, const std::string& frame_id, const ros::Time& stamp,
                const geometry_msgs::Pose& pose, double (*now_s)()) {
   mapper.count_pose(frame_id == mapper.options().map_frame && poses.add(stamp.toSec(), to_isometry(pose)));

@@ -158,15 +158,7 @@ class Node {
   }
 
   void on_cloud(const sensor_msgs::PointCloud2::ConstPtr& msg) {
-    guarded("cloud", [&] {
-      std::string why;
-      if (point_cloud_data(*msg, cloud_, why)) {
-        mapper_->add(cloud_, wall_now());
-      } else {
-        mapper_->add_unreadable(msg->header.frame_id, why);
-      }
-      process();
-    });
+    guarded("cloud", [&] { warn_if_dropped(take_point_cloud(*msg, cloud_, *mapper_, wall_now)); });
   }
 
   // PoseStamped or Odometry, whichever the topic carries.

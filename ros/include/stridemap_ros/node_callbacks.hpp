@@ -8,6 +8,7 @@
 #include <geometry_msgs/Pose.h>
 #include <ros/time.h>
 #include <sensor_msgs/LaserScan.h>
+#include <sensor_msgs/PointCloud2.h>
 
 #include "stridemap_ros/message_mapper.hpp"
 
@@ -24,6 +25,12 @@ bool map_waiting(MessageMapper& mapper, double now_s);
 /// The node's LaserScan callback: the message read into `scan` (reused),
 /// queued as arriving at now_s(), then map_waiting at now_s().
 bool take_laser_scan(const sensor_msgs::LaserScan& msg, LaserScanData& scan, MessageMapper& mapper, double (*now_s)());
+
+/// The node's PointCloud2 callback: the cloud read into `cloud` (reused;
+/// an unreadable one is counted and dropped with its reason), queued as
+/// arriving at now_s(), then map_waiting at now_s().
+bool take_point_cloud(const sensor_msgs::PointCloud2& msg, PointCloudData& cloud, MessageMapper& mapper,
+                      double (*now_s)());
 
 /// A PoseStamped's or Odometry's pose, offered to the pose topic's track:
 /// kept when in the map frame and later than the last, counted either way.

@@ -1,8 +1,8 @@
 // stridemap_node's per-scan work (ros/src/node_callbacks.cpp: what its
-// LaserScan and pose callbacks and its timer run once roscpp has delivered
-// the message) allocates nothing once warmed up: scans whose pose TF holds
-// already, scans that wait for TF and are mapped on a later timer tick, and
-// scans mapped against a pose topic. Inserting TF (the listener's thread in
+// LaserScan, PointCloud2 and pose callbacks and its timer run once roscpp
+// has delivered the message) allocates nothing once warmed up: scans whose
+// pose TF holds already, scans that wait for TF and are mapped on a later
+// timer tick, scans mapped against a pose topic, and stripe clouds. Inserting TF (the listener's thread in
 // the node) and filling the test's messages are not counted. No roscore:
 // TF is a tf2::BufferCore filled here. Global operator new is replaced in
 // this test binary to count allocations while a flag is set.
@@ -11,11 +11,13 @@
 #include "allocation_counting.hpp"
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <string>
 
 #include <geometry_msgs/TransformStamped.h>
 #include <sensor_msgs/LaserScan.h>
+#include <sensor_msgs/PointCloud2.h>
 #include <tf2/buffer_core.h>
 
 #include "stridemap_ros/node_callbacks.hpp"
@@ -187,6 +189,75 @@ TEST(RosScanCallbackAllocation, ScansAgainstAPoseTopicAllocateNothing) {
   EXPECT_EQ(allocation_counter().allocations.load(), 0u) << "over " << kScans << " scans";
   EXPECT_GE(mapper.stats().mapped, static_cast<std::size_t>(kWarmUp + kScans - 1));
   EXPECT_EQ(mapper.stats().dropped(), 0u);
+}
+
+// A structured-light stripe as a camera node publishes it: 640 points of
+// float32 x, y, z in the sensor frame, across the view 0.5 m ahead, one
+// with a NaN coordinate (a column without the stripe); they change per frame.
+void fill_stripe_cloud(sensor_msgs::PointCloud2& msg, int k) {
+  constexpr std::uint32_t kPoints = 640;
+  msg.header.stamp.fromSec(100.0 + kScanPeriodS * k);
+  msg.header.frame_id = kLaserFrame;
+  msg.height = 1;
+  msg.width = kPoints;
+  msg.is_bigendian = false;
+  msg.point_step = 3 * sizeof(float);
+  msg.row_step = msg.point_step * kPoints;
+  msg.fields.resize(3);
+  const char* names[3] = {"x", "y", "z"};
+  for (std::uint32_t i = 0; i < 3; ++i) {
+    msg.fields[i].name = names[i];
+    msg.fields[i].offset = i * sizeof(float);
+    msg.fields[i].datatype = sensor_msgs::PointField::FLOAT32;
+    msg.fields[i].count = 1;
+  }
+  msg.data.resize(msg.row_step);
+  for (std::uint32_t i = 0; i < kPoints; ++i) {
+    const float xyz[3] = {0.5f + 0.001f * static_cast<float>((i * 7 + static_cast<std::uint32_t>(k) * 3) % 20),
+                          -0.2f + 0.4f * static_cast<float>(i) / kPoints, 0.0f};
+    std::memcpy(msg.data.data() + i * msg.point_step, xyz, sizeof xyz);
+  }
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  std::memcpy(msg.data.data() + 5 * msg.point_step, &nan, sizeof nan);
+}
+
+TEST(RosScanCallbackAllocation, StripeCloudsWhosePoseTfHoldsAllocateNothing) {
+  STRIDEMAP_SKIP_UNLESS_COUNTING_ALLOCATIONS();
+  constexpr int kWarmUp = 20, kFrames = 300;
+  tf2::BufferCore tf(ros::Duration(10.0));
+  add_static_laser(tf);
+  TfPoseSource poses(tf, "map");
+  MessageMapper mapper(MessageMapperOptions{}, poses);
+  PointCloudData cloud;
+  sensor_msgs::PointCloud2 msg;
+  double next_pose_s = 99.0;
+  allocation_counter().allocations = 0;
+  for (int k = 0; k < kWarmUp + kFrames; ++k) {
+    fill_stripe_cloud(msg, k);
+    const double stamp_s = msg.header.stamp.toSec();
+    add_trunk_poses(tf, next_pose_s, stamp_s + 0.05);
+    g_now_s = stamp_s + 0.005;
+    count(k >= kWarmUp);
+    take_point_cloud(msg, cloud, mapper, test_now);
+    count(false);
+  }
+  EXPECT_EQ(allocation_counter().allocations.load(), 0u) << "over " << kFrames << " clouds";
+  EXPECT_EQ(mapper.stats().mapped, static_cast<std::size_t>(kWarmUp + kFrames));
+  EXPECT_EQ(mapper.stats().dropped(), 0u);
+  EXPECT_EQ(mapper.stats().beams_not_finite, static_cast<std::size_t>(kWarmUp + kFrames));
+}
+
+TEST(RosScanCallbackAllocation, AnUnreadableCloudIsDroppedWithItsReason) {
+  TopicPoseSource poses(1.0);
+  MessageMapper mapper(MessageMapperOptions{}, poses);
+  PointCloudData cloud;
+  sensor_msgs::PointCloud2 msg;
+  fill_stripe_cloud(msg, 0);
+  msg.data.pop_back();  // one byte short of width x point_step
+  g_now_s = 100.0;
+  take_point_cloud(msg, cloud, mapper, test_now);
+  EXPECT_EQ(mapper.stats().unreadable, 1u);
+  EXPECT_NE(mapper.last_drop().find("do not match the 7679 bytes of data"), std::string::npos) << mapper.last_drop();
 }
 
 }  // namespace
