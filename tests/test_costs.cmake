@@ -55,3 +55,23 @@ while(stridemap_test_costs)
     set_tests_properties(${name} PROPERTIES COST ${release_s})
   endif()
 endwhile()
+
+# Tests that spend most of their time waiting (the tool live against the
+# emulator in real time, roscore and the node), with the label of their
+# program: `waits` added, tools/ctest-lanes.sh runs them beside the others
+# (docs/reliability.md, "The check's time").
+set(stridemap_waiting_tests
+  LiveCrash.KilledAtFiftyRandomMomentsLeavesCompleteOutputsAndLogsThatReplay    cli
+  RosNodeTest.TheReadmesDemoLinePublishesTheGridMapAndTheOccupancyGrid          ros
+  RosNodeTest.MapsStripeCloudsLikeTheTruthAndLikeMapBagBitForBit                ros
+  RosNodeTest.BadCloudsAreCountedAndReportedNeverFatal                          ros
+  RosNodeTest.MapsSimulatedScansLikeTheTruthAndLikeMapBagBitForBit              ros
+  RosNodeTest.BadMessagesAreCountedAndReportedNeverFatal                        ros
+  RosNodeTest.PosesFromAnOdometryTopicGiveMapBagsMapBitForBit                   ros
+  RosNodeTest.ABadQueueSizeStopsTheNodeNamingTheParameter                       ros
+  RosNodeTest.AnUnknownOccupancyLayerStopsTheNodeNamingTheParameter             ros
+  RosNodeTest.AParameterOfTheWrongTypeOrRangeOrNameStopsTheNodeNamingIt         ros)
+while(stridemap_waiting_tests)
+  list(POP_FRONT stridemap_waiting_tests name program_label)
+  set_tests_properties(${name} PROPERTIES LABELS "${program_label};waits")
+endwhile()
