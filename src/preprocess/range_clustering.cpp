@@ -48,10 +48,19 @@ RangeClusteringFilter::RangeClusteringFilter(const RangeClusteringOptions& optio
 }
 
 ScanFilterStats RangeClusteringFilter::apply(PlanarScan& scan, std::vector<std::uint8_t>& removed) {
-  ScanFilterStats stats = prepare_scan_for_filter(scan, removed, clustering_filter_name);
+  const ScanFilterStats prepared = prepare_scan_for_filter(scan, removed, clustering_filter_name);
+  return apply_prepared(scan, removed, prepared.invalid_input);
+}
+
+ScanFilterStats RangeClusteringFilter::apply_prepared(PlanarScan& scan, std::vector<std::uint8_t>& removed,
+                                                      std::size_t invalid_input) {
+  ScanFilterStats stats;
+  stats.beams = scan.size();
+  stats.invalid_input = invalid_input;
   const std::size_t n = scan.size();
-  labels_.assign(n, -1);
-  const std::vector<double>& range = scan.range_m;
+  removed.assign(n, 0);
+  labels_.resize(n);
+  std::vector<double>& range = scan.range_m;
   const std::vector<double>& angle = scan.angle_rad;
   RangeRatioBandCache bands(options_.max_incidence_angle_rad, options_.messorsim_swapped_bounds);
 
@@ -65,9 +74,14 @@ ScanFilterStats RangeClusteringFilter::apply(PlanarScan& scan, std::vector<std::
       const double chord_sq = r0 * r0 + r1 * r1 - 2.0 * r0 * r1 * std::cos(angle[last] - angle[first]);
       reject = chord_sq < options_.min_cluster_extent_m * options_.min_cluster_extent_m;
     }
+    // Removed at once (apply_removal_mask's work): the loop reads only beams after `last`.
     if (reject) {
-      for (std::size_t i = first; i <= last; ++i)
-        if (!std::isnan(range[i])) removed[i] = 1;
+      for (std::size_t i = first; i <= last; ++i) {
+        if (std::isnan(range[i])) continue;
+        removed[i] = 1;
+        range[i] = std::numeric_limits<double>::quiet_NaN();
+        ++stats.removed;
+      }
     }
   };
 
@@ -79,6 +93,7 @@ ScanFilterStats RangeClusteringFilter::apply(PlanarScan& scan, std::vector<std::
   int label = -1;
   for (std::size_t i = 0; i < n; ++i) {
     if (std::isnan(range[i])) {
+      labels_[i] = -1;
       if (first != none && i - last_valid > max_gap) {
         close_cluster(first, last_valid, points);
         first = none;
@@ -104,8 +119,6 @@ ScanFilterStats RangeClusteringFilter::apply(PlanarScan& scan, std::vector<std::
     ++points;
   }
   if (first != none) close_cluster(first, last_valid, points);
-
-  stats.removed = apply_removal_mask(scan, removed);
   return stats;
 }
 

@@ -81,19 +81,35 @@ bool ScanSequenceFilter::push(const PlanarScan& next_scan, PlanarScan& out) {
 
 bool ScanSequenceFilter::flush(PlanarScan& out) { return flush(out, scratch_removed_); }
 
-bool ScanSequenceFilter::push(const PlanarScan& next_scan, PlanarScan& out, std::vector<std::uint8_t>& removed) {
-  const std::size_t index = scans_in_stream_;
-  check_scan_shape(next_scan, filter_name, index);
+void ScanSequenceFilter::check_length(const PlanarScan& next_scan) const {
   if (has_held_ && next_scan.size() != held_.size()) {
-    throw InputError(std::string(filter_name) + ": scan " + std::to_string(index) + " of the stream has " +
+    throw InputError(std::string(filter_name) + ": scan " + std::to_string(scans_in_stream_) + " of the stream has " +
                      std::to_string(next_scan.size()) + " beams, but the scans before it have " +
                      std::to_string(held_.size()) +
                      "; all scans of one stream must have the same beam count (flush() or reset() starts a "
                      "new stream)");
   }
+}
+
+bool ScanSequenceFilter::push(const PlanarScan& next_scan, PlanarScan& out, std::vector<std::uint8_t>& removed) {
+  const std::size_t index = scans_in_stream_;
+  check_scan_shape(next_scan, filter_name, index);
+  check_length(next_scan);
   detail::copy_scan(next_scan, incoming_);
   const std::size_t incoming_invalid =
       prepare_scan_for_filter(incoming_, normalize_mask_, filter_name, index).invalid_input;
+  return take_incoming(incoming_invalid, out, removed);
+}
+
+bool ScanSequenceFilter::push_prepared(PlanarScan& next_scan, std::size_t invalid_input, PlanarScan& out,
+                                       std::vector<std::uint8_t>& removed) {
+  check_length(next_scan);
+  std::swap(incoming_, next_scan);
+  return take_incoming(invalid_input, out, removed);
+}
+
+bool ScanSequenceFilter::take_incoming(std::size_t incoming_invalid, PlanarScan& out,
+                                       std::vector<std::uint8_t>& removed) {
   ++scans_in_stream_;
   if (!has_held_) {
     std::swap(held_, incoming_);

@@ -155,6 +155,12 @@ class ScanSequenceFilter {
   /// removed[i] = 1 for the beams this filter dropped, once there is a scan k.
   bool push(const PlanarScan& next_scan, PlanarScan& out, std::vector<std::uint8_t>& removed);
   bool push(const PlanarScan& next_scan, PlanarScan& out);
+  /// push() for a scan that prepare_scan_for_filter has already passed, its
+  /// only invalid ranges `invalid_input` NaNs (a chain's work scan): the
+  /// same result without checking, copying and rewriting it again. Takes
+  /// the scan's contents, leaving it another scan's buffers.
+  bool push_prepared(PlanarScan& next_scan, std::size_t invalid_input, PlanarScan& out,
+                     std::vector<std::uint8_t>& removed);
 
   /// Ends the stream: returns the held scan (unfiltered) if there is one.
   bool flush(PlanarScan& out, std::vector<std::uint8_t>& removed);
@@ -174,6 +180,8 @@ class ScanSequenceFilter {
   const std::vector<std::uint8_t>& last_removed_between_scans() const { return between_removed_; }
 
  private:
+  void check_length(const PlanarScan& next_scan) const;
+  bool take_incoming(std::size_t incoming_invalid, PlanarScan& out, std::vector<std::uint8_t>& removed);
   void judge_held_scan(std::vector<std::uint8_t>& removed);
   void judge_spread(std::vector<std::uint8_t>& removed);
   void judge_between_scans(std::vector<std::uint8_t>& removed);
