@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "option_checks.hpp"
+#include "range_breaks.hpp"
 #include "stridemap/preprocess/range_clustering.hpp"
 #include "stridemap/preprocess/scan_checks.hpp"
 
@@ -29,7 +30,7 @@ void LineExtractionOptions::validate(const char* owner) const {
 }
 
 LineExtractor::LineExtractor(const LineExtractionOptions& options)
-    : options_(options), occlusion_bands_(options.max_incidence_angle_rad, false) {
+    : options_(options), bands_(options.max_incidence_angle_rad, false) {
   options_.validate("LineExtractionOptions");
 }
 
@@ -48,6 +49,20 @@ void LineExtractor::extract(const PlanarScan& scan, std::vector<LineSegment>& se
   if (pieces_.capacity() < n) pieces_.reserve(n);
   if (stack_.capacity() < n + 1) stack_.reserve(n + 1);
   directions_.update(scan.angle_rad);
+  if (const RangeRatioBand* band = detail::uniform_step_band(scan, directions_, bands_)) {
+    // The loop below, its tests made in one pass: the same clusters in the same order.
+    detail::mark_range_breaks(scan, *band, options_.break_noise_sigmas, options_.sigma, breaks_);
+    for (std::size_t i = 0; i < n;) {
+      if (!is_usable_range(range[i])) {
+        ++i;
+        continue;
+      }
+      const std::size_t end = detail::run_end(breaks_, i);
+      process_cluster(scan, i, end - 1, keep, segments);
+      i = end;
+    }
+    return;
+  }
   RangeRatioBandCache bands(options_.max_incidence_angle_rad, false);
   std::size_t first = kNoIndex;
   for (std::size_t i = 0; i < n; ++i) {
@@ -265,7 +280,7 @@ std::size_t LineExtractor::occluded_beam(const PlanarScan& scan, std::size_t end
     if (beyond <= end_range) return kNoIndex;
     const double tolerance =
         options_.break_noise_sigmas * options_.sigma.sigma_m(end_range, scan.range_error_m[end_beam]);
-    if (ranges_on_one_surface(end_range, beyond, tolerance, occlusion_bands_.band(scan.angle_rad[j] - scan.angle_rad[end_beam])))
+    if (ranges_on_one_surface(end_range, beyond, tolerance, bands_.band(scan.angle_rad[j] - scan.angle_rad[end_beam])))
       return kNoIndex;
     return j;
   }

@@ -1,10 +1,12 @@
 #include "stridemap/preprocess/range_clustering.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
 
 #include "option_checks.hpp"
+#include "range_breaks.hpp"
 
 namespace stridemap {
 namespace {
@@ -43,7 +45,8 @@ void RangeClusteringOptions::validate() const {
   sigma.validate(owner);
 }
 
-RangeClusteringFilter::RangeClusteringFilter(const RangeClusteringOptions& options) : options_(options) {
+RangeClusteringFilter::RangeClusteringFilter(const RangeClusteringOptions& options)
+    : options_(options), bands_(options.max_incidence_angle_rad, options.messorsim_swapped_bounds) {
   options_.validate();
 }
 
@@ -84,6 +87,31 @@ ScanFilterStats RangeClusteringFilter::apply_prepared(PlanarScan& scan, std::vec
       }
     }
   };
+
+  // Without bridging a cluster is a run of joined neighbours: with one band
+  // for the scan, the loop below's tests are made in one pass.
+  const RangeRatioBand* band = nullptr;
+  if (options_.max_bridged_invalid_beams == 0) {
+    directions_.update(angle);
+    band = detail::uniform_step_band(scan, directions_, bands_);
+  }
+  if (band != nullptr) {
+    detail::mark_range_breaks(scan, *band, options_.noise_sigmas, options_.sigma, breaks_);
+    int run_label = -1;
+    for (std::size_t i = 0; i < n;) {
+      if (std::isnan(range[i])) {
+        labels_[i] = -1;
+        ++i;
+        continue;
+      }
+      const std::size_t end = detail::run_end(breaks_, i);
+      std::fill(labels_.begin() + static_cast<std::ptrdiff_t>(i), labels_.begin() + static_cast<std::ptrdiff_t>(end),
+                ++run_label);
+      close_cluster(i, end - 1, end - i);
+      i = end;
+    }
+    return stats;
+  }
 
   constexpr std::size_t none = static_cast<std::size_t>(-1);
   const std::size_t max_gap = options_.max_bridged_invalid_beams;

@@ -105,7 +105,8 @@ class LineExtractor {
 
   LineExtractionOptions options_;
   BeamDirections directions_;
-  mutable RangeRatioBandMemo occlusion_bands_;  // a cache: occluded_beam() stays a query
+  mutable RangeRatioBandMemo bands_;  // a cache: occluded_beam() stays a query
+  std::vector<std::uint8_t> breaks_;
   std::vector<double> x_m_;  // only inside the clusters process_cluster() splits
   std::vector<double> y_m_;
   std::vector<Piece> stack_;

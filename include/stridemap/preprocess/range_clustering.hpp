@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "stridemap/core/planar_scan.hpp"
+#include "stridemap/preprocess/beam_directions.hpp"
 #include "stridemap/preprocess/range_sigma.hpp"
 #include "stridemap/preprocess/scan_checks.hpp"
 
@@ -162,6 +163,9 @@ class RangeClusteringFilter {
  private:
   RangeClusteringOptions options_;
   std::vector<int> labels_;
+  BeamDirections directions_;  // for its step spread
+  RangeRatioBandMemo bands_;
+  std::vector<std::uint8_t> breaks_;
 };
 
 }  // namespace stridemap
