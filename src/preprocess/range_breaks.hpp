@@ -50,48 +50,9 @@ inline bool joined_pair(double previous, double next, double previous_error, con
 
 /// breaks[i] = 0 when beams i - 1 and i are both usable and pass
 /// ranges_on_one_surface with `band` and noise_sigmas * sigma_r of beam i - 1
-/// (the same doubles as the loops form), else 1; breaks[0] = 1. Four pairs
-/// at a time; a group with a beam whose sigma_r comes from the URG spec
-/// takes the scalar test.
-inline void mark_range_breaks(const PlanarScan& scan, const RangeRatioBand& band, double noise_sigmas,
-                              const RangeSigmaModel& sigma, std::vector<std::uint8_t>& breaks) {
-  using Doubles2 = double __attribute__((vector_size(16)));
-  using Lanes2 = std::int64_t __attribute__((vector_size(16)));
-  const std::size_t n = scan.size();
-  breaks.resize(n);
-  if (n == 0) return;
-  const double* range = scan.range_m.data();
-  const double* error = scan.range_error_m.data();
-  std::uint8_t* out = breaks.data();
-  constexpr double max = std::numeric_limits<double>::max();
-  const double lower = band.lower_factor, upper = band.upper_factor, per_error = sigma.sigma_per_range_error;
-  const Doubles2 lower2 = {lower, lower}, upper2 = {upper, upper}, max2 = {max, max}, zero2 = {0.0, 0.0};
-  const Doubles2 per_error2 = {per_error, per_error}, sigmas2 = {noise_sigmas, noise_sigmas};
-  out[0] = 1;
-  std::size_t i = 1;
-  for (; !sigma.always_use_urg_spec && i + 2 <= n; i += 2) {
-    Doubles2 previous, next, previous_error;
-    std::memcpy(&previous, range + i - 1, sizeof previous);
-    std::memcpy(&next, range + i, sizeof next);
-    std::memcpy(&previous_error, error + i - 1, sizeof previous_error);
-    const Lanes2 error_ok = (previous_error > zero2) & (previous_error <= max2);
-    if ((error_ok[0] & error_ok[1]) == 0) {
-      for (std::size_t k = i; k < i + 2; ++k) {
-        out[k] = static_cast<std::uint8_t>(!joined_pair(range[k - 1], range[k], error[k - 1], band, noise_sigmas, sigma));
-      }
-      continue;
-    }
-    // sigma_m's product for a beam with its own Delta r, then the test's.
-    const Doubles2 tolerance = sigmas2 * (per_error2 * previous_error);
-    const Lanes2 joined = (previous > zero2) & (previous <= max2) & (next > zero2) & (next <= max2) &
-                          (next > lower2 * previous - tolerance) & (next < upper2 * previous + tolerance);
-    out[i] = static_cast<std::uint8_t>(joined[0] == 0);
-    out[i + 1] = static_cast<std::uint8_t>(joined[1] == 0);
-  }
-  for (; i < n; ++i) {
-    out[i] = static_cast<std::uint8_t>(!joined_pair(range[i - 1], range[i], error[i - 1], band, noise_sigmas, sigma));
-  }
-}
+/// (the same doubles as the loops form), else 1; breaks[0] = 1.
+void mark_range_breaks(const PlanarScan& scan, const RangeRatioBand& band, double noise_sigmas,
+                       const RangeSigmaModel& sigma, std::vector<std::uint8_t>& breaks);
 
 /// The end (one past) of the run of joined beams that starts at `first`.
 inline std::size_t run_end(const std::vector<std::uint8_t>& breaks, std::size_t first) {
