@@ -118,7 +118,7 @@ bool ScanSequenceFilter::take_incoming(std::size_t incoming_invalid, PlanarScan&
     return false;
   }
   judge_held_scan(removed);
-  emit_held_scan(out, removed);
+  emit_held_scan(out);
   // The judged scan, mixed points removed, is the k-1 of the next decision.
   std::swap(previous_, held_);
   has_previous_ = true;
@@ -135,8 +135,9 @@ bool ScanSequenceFilter::flush(PlanarScan& out, std::vector<std::uint8_t>& remov
   }
   // No scan k+1: nothing to compare with, so the scan is returned as it is.
   removed.assign(held_.size(), 0);
+  removed_count_ = 0;
   between_removed_.assign(held_.size(), 0);
-  emit_held_scan(out, removed);
+  emit_held_scan(out);
   reset();
   return true;
 }
@@ -153,10 +154,11 @@ void ScanSequenceFilter::judge_held_scan(std::vector<std::uint8_t>& removed) {
   removed.assign(n, 0);
   between_removed_.assign(n, 0);
   sectors_.clear();
+  removed_count_ = 0;
   if (!has_previous_ || n == 0) return;
   if (options_.spread_test) judge_spread(removed);
   if (options_.between_scans.enabled) judge_between_scans(removed);
-  apply_removal_mask(held_, removed);
+  if (removed_count_ > 0) apply_removal_mask(held_, removed);
 }
 
 void ScanSequenceFilter::judge_between_scans(std::vector<std::uint8_t>& removed) {
@@ -170,7 +172,10 @@ void ScanSequenceFilter::judge_between_scans(std::vector<std::uint8_t>& removed)
     const double near = std::min(before, after), far = std::max(before, after);
     if (far - near <= o.min_jump_m) continue;
     const double margin = o.margin_sigmas * sigma.sigma_m(r, held_.range_error_m[i]);
-    if (r > near + margin && r < far - margin) removed[i] = between_removed_[i] = 1;
+    if (r > near + margin && r < far - margin) {
+      removed[i] = between_removed_[i] = 1;
+      ++removed_count_;
+    }
   }
 }
 
@@ -180,8 +185,7 @@ void ScanSequenceFilter::judge_spread(std::vector<std::uint8_t>& removed) {
   lines_.extract(previous_, segments_,
                  options_.require_occluding_end ? LineExtractor::Keep::occluding : LineExtractor::Keep::all);
   if (sectors_.capacity() < segments_.capacity()) sectors_.reserve(segments_.capacity());
-  directions_k_.update(held_.angle_rad);
-  directions_next_.update(incoming_.angle_rad);
+  bool directions_current = false;  // brought up to date for the first spread only
   const BeamDirections& directions_previous = lines_.directions();
   const double max_cos_to_beam = std::sin(options_.max_edge_tilt_rad);
   const RangeSigmaModel& sigma = options_.lines.sigma;
@@ -214,6 +218,11 @@ void ScanSequenceFilter::judge_spread(std::vector<std::uint8_t>& removed) {
     };
     widen(options_.sector_margin_beams, sector.first_beam, sector.last_beam);
     widen(options_.spread_margin_beams, sector.spread_first_beam, sector.spread_last_beam);
+    if (!directions_current) {
+      directions_k_.update(held_.angle_rad);
+      directions_next_.update(incoming_.angle_rad);
+      directions_current = true;
+    }
     const Spread now = spread_along(held_, directions_k_, sector.spread_first_beam, sector.spread_last_beam,
                                     axis_x, axis_y, sigma);
     const Spread next = spread_along(incoming_, directions_next_, sector.spread_first_beam,
@@ -228,19 +237,22 @@ void ScanSequenceFilter::judge_spread(std::vector<std::uint8_t>& removed) {
                      next.points >= options_.min_sector_points && now.spread_m > sector.threshold_m;
     if (sector.removed) {
       for (std::size_t i = sector.first_beam; i <= sector.last_beam; ++i) {
-        if (is_usable_range(held_.range_m[i])) removed[i] = 1;
+        if (removed[i] == 0 && is_usable_range(held_.range_m[i])) {
+          removed[i] = 1;
+          ++removed_count_;
+        }
       }
     }
     sectors_.push_back(sector);
   }
 }
 
-void ScanSequenceFilter::emit_held_scan(PlanarScan& out, const std::vector<std::uint8_t>& removed) {
+void ScanSequenceFilter::emit_held_scan(PlanarScan& out) {
   detail::copy_scan(held_, out);
   ScanFilterStats& stats = last_stats_;
   stats.beams = held_.size();
   stats.invalid_input = held_invalid_input_;
-  stats.removed = static_cast<std::size_t>(std::count(removed.begin(), removed.end(), std::uint8_t{1}));
+  stats.removed = removed_count_;  // the beams marked in `removed`, each once
 }
 
 }  // namespace stridemap

@@ -185,7 +185,7 @@ class ScanSequenceFilter {
   void judge_held_scan(std::vector<std::uint8_t>& removed);
   void judge_spread(std::vector<std::uint8_t>& removed);
   void judge_between_scans(std::vector<std::uint8_t>& removed);
-  void emit_held_scan(PlanarScan& out, const std::vector<std::uint8_t>& removed);
+  void emit_held_scan(PlanarScan& out);
 
   ScanSequenceOptions options_;
   LineExtractor lines_;
@@ -198,6 +198,7 @@ class ScanSequenceFilter {
   bool has_held_ = false;
   std::size_t scans_in_stream_ = 0;
   std::size_t held_invalid_input_ = 0;
+  std::size_t removed_count_ = 0;  // beams the last judgement marked
   ScanFilterStats last_stats_;
   std::vector<LineSegment> segments_;
   std::vector<ScanSequenceSector> sectors_;
