@@ -9,28 +9,21 @@
 #include <string>
 
 #include "stridemap/core/error.hpp"
+#include "vector_clones.hpp"
 
 namespace stridemap {
 namespace {
 
 constexpr std::size_t no_index = static_cast<std::size_t>(-1);
 
-// The passes over every beam run a copy built for AVX2 where the CPU has it
-// (four doubles a vector, chosen when the library loads); they compare and
-// select, so both copies give the same bits.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__) && \
-    !defined(STRIDEMAP_NO_AVX2_COPIES)
-#define STRIDEMAP_CHECK_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define STRIDEMAP_CHECK_CLONES
-#endif
+// The passes over every beam compare and select: an AVX2 copy gives the same bits.
 
 // 1 when the exponent bits of a double's bits are all ones (inf or NaN), else 0.
 constexpr std::uint64_t exponent_all_ones(std::uint64_t bits) { return (((bits >> 52) & 0x7FF) + 1) >> 11; }
 
 // Nonzero when some angle is not finite: on the bits, so that it vectorises
 // (a double is not finite when its exponent bits are all ones).
-STRIDEMAP_CHECK_CLONES std::uint64_t any_angle_not_finite(const double* angle, std::size_t n) {
+STRIDEMAP_PREPROCESS_CLONES std::uint64_t any_angle_not_finite(const double* angle, std::size_t n) {
   std::uint64_t not_finite = 0;
   for (std::size_t i = 0; i < n; ++i) not_finite |= exponent_all_ones(std::bit_cast<std::uint64_t>(angle[i]));
   return not_finite;
@@ -38,7 +31,7 @@ STRIDEMAP_CHECK_CLONES std::uint64_t any_angle_not_finite(const double* angle, s
 
 // is_usable_range without branches (dropouts come scattered among valid
 // beams): unusable ranges become NaN; returns how many.
-STRIDEMAP_CHECK_CLONES std::size_t normalize_ranges(double* range, std::size_t n) {
+STRIDEMAP_PREPROCESS_CLONES std::size_t normalize_ranges(double* range, std::size_t n) {
   constexpr double kMax = std::numeric_limits<double>::max(), kNaN = std::numeric_limits<double>::quiet_NaN();
   std::size_t invalid = 0;
   for (std::size_t i = 0; i < n; ++i) {

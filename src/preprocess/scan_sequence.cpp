@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <utility>
 
 #include "option_checks.hpp"
 #include "scan_copy.hpp"
 #include "stridemap/core/error.hpp"
+#include "vector_clones.hpp"
 
 namespace stridemap {
 namespace {
@@ -48,6 +50,14 @@ Spread spread_along(const PlanarScan& scan, const BeamDirections& directions, st
   result.spread_m = std::sqrt(squares / count);
   result.mean_sigma_m /= count;
   return result;
+}
+
+// jump[i] = 1 where beam i's ranges in scans k-1 and k+1 differ by more
+// than min_jump_m (|a - b| is max - min exactly; NaN never jumps): the
+// between-scans test's first condition for every beam in one pass.
+STRIDEMAP_PREPROCESS_CLONES void mark_jumps(const double* before, const double* after, std::size_t n,
+                                            double min_jump_m, std::uint8_t* jump) {
+  for (std::size_t i = 0; i < n; ++i) jump[i] = static_cast<std::uint8_t>(std::abs(after[i] - before[i]) > min_jump_m);
 }
 
 }  // namespace
@@ -166,7 +176,16 @@ void ScanSequenceFilter::judge_between_scans(std::vector<std::uint8_t>& removed)
   // pushed: the beam index is the same direction in the sensor frame.
   const BetweenScansOptions& o = options_.between_scans;
   const RangeSigmaModel& sigma = options_.lines.sigma;
-  for (std::size_t i = 0; i < held_.size(); ++i) {
+  const std::size_t n = held_.size();
+  jumps_.resize(n);
+  mark_jumps(previous_.range_m.data(), incoming_.range_m.data(), n, o.min_jump_m, jumps_.data());
+  // Only the beams that jump: the rest fail the test below anyway.
+  const std::uint8_t* jumps = jumps_.data();
+  const std::uint8_t* end = jumps + n;
+  for (const std::uint8_t* p = jumps; p < end; ++p) {
+    p = static_cast<const std::uint8_t*>(std::memchr(p, 1, static_cast<std::size_t>(end - p)));
+    if (p == nullptr) break;
+    const std::size_t i = static_cast<std::size_t>(p - jumps);
     const double r = held_.range_m[i], before = previous_.range_m[i], after = incoming_.range_m[i];
     if (removed[i] || !is_usable_range(r) || !is_usable_range(before) || !is_usable_range(after)) continue;
     const double near = std::min(before, after), far = std::max(before, after);

@@ -203,6 +203,7 @@ class ScanSequenceFilter {
   std::vector<LineSegment> segments_;
   std::vector<ScanSequenceSector> sectors_;
   std::vector<std::uint8_t> between_removed_;
+  std::vector<std::uint8_t> jumps_;  // the between-scans test's candidates
   std::vector<std::uint8_t> scratch_removed_;  // mask of the push/flush overloads without one
   std::vector<std::uint8_t> normalize_mask_;   // unused output of prepare_scan_for_filter
 };
