@@ -3,11 +3,16 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <string>
 
 #include "stridemap/core/error.hpp"
+
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
 
 namespace stridemap {
 namespace {
@@ -215,6 +220,55 @@ void TerrainMapper::refresh_beam_directions(const std::vector<double>& angles) {
   }
 }
 
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__) && \
+    !defined(STRIDEMAP_NO_AVX2_COPIES)
+#define STRIDEMAP_PACK_AVX2 1
+namespace {
+// pack()'s loop four beams at a time where the CPU has AVX2 (chosen at run
+// time), as the URG model's conversion packs: the same comparisons, the
+// kept lanes moved to the front by one permute per array and stored at
+// `count` (the lanes beyond are overwritten by the next block or left
+// beyond the packed count, as the scalar loop leaves its last rejected
+// beam). Returns the beams consumed (a multiple of 4).
+__attribute__((target("avx2"))) std::size_t pack_blocks_avx2(const double* range, const double* error,
+                                                              const double* cos_t, const double* sin_t, std::size_t n,
+                                                              double* out_range, double* out_error, double* out_cos,
+                                                              double* out_sin, std::size_t& count,
+                                                              std::size_t& invalid_range, std::size_t& invalid_beam) {
+  // For each mask of kept lanes, the 32-bit lane indices that bring the
+  // kept 64-bit lanes to the front in order.
+  alignas(32) static const std::int32_t kFront[16][8] = {
+      {0, 1, 2, 3, 4, 5, 6, 7}, {0, 1, 2, 3, 4, 5, 6, 7}, {2, 3, 0, 1, 4, 5, 6, 7}, {0, 1, 2, 3, 4, 5, 6, 7},
+      {4, 5, 0, 1, 2, 3, 6, 7}, {0, 1, 4, 5, 2, 3, 6, 7}, {2, 3, 4, 5, 0, 1, 6, 7}, {0, 1, 2, 3, 4, 5, 6, 7},
+      {6, 7, 0, 1, 2, 3, 4, 5}, {0, 1, 6, 7, 2, 3, 4, 5}, {2, 3, 6, 7, 0, 1, 4, 5}, {0, 1, 2, 3, 6, 7, 4, 5},
+      {4, 5, 6, 7, 0, 1, 2, 3}, {0, 1, 4, 5, 6, 7, 2, 3}, {2, 3, 4, 5, 6, 7, 0, 1}, {0, 1, 2, 3, 4, 5, 6, 7}};
+  const __m256d zero = _mm256_setzero_pd(), inf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
+  std::size_t i = 0;
+  for (; i + 4 <= n; i += 4) {
+    const __m256d r = _mm256_loadu_pd(range + i), dr = _mm256_loadu_pd(error + i), c = _mm256_loadu_pd(cos_t + i);
+    const __m256d range_ok = _mm256_and_pd(_mm256_cmp_pd(r, zero, _CMP_GT_OQ), _mm256_cmp_pd(r, inf, _CMP_LT_OQ));
+    const __m256d beam_ok = _mm256_and_pd(_mm256_cmp_pd(c, c, _CMP_EQ_OQ),
+                                          _mm256_and_pd(_mm256_cmp_pd(dr, zero, _CMP_GE_OQ), _mm256_cmp_pd(dr, inf, _CMP_LT_OQ)));
+    const auto range_mask = static_cast<unsigned>(_mm256_movemask_pd(range_ok));
+    const auto mask = static_cast<unsigned>(_mm256_movemask_pd(_mm256_and_pd(range_ok, beam_ok)));
+    invalid_range += static_cast<std::size_t>(4 - __builtin_popcount(range_mask));
+    invalid_beam += static_cast<std::size_t>(__builtin_popcount(range_mask & ~mask));
+    const __m256i front = _mm256_load_si256(reinterpret_cast<const __m256i*>(kFront[mask]));
+    const __m256 kept_r = _mm256_permutevar8x32_ps(_mm256_castpd_ps(r), front);
+    const __m256 kept_dr = _mm256_permutevar8x32_ps(_mm256_castpd_ps(dr), front);
+    const __m256 kept_c = _mm256_permutevar8x32_ps(_mm256_castpd_ps(c), front);
+    const __m256 kept_s = _mm256_permutevar8x32_ps(_mm256_castpd_ps(_mm256_loadu_pd(sin_t + i)), front);
+    _mm256_storeu_pd(out_range + count, _mm256_castps_pd(kept_r));
+    _mm256_storeu_pd(out_error + count, _mm256_castps_pd(kept_dr));
+    _mm256_storeu_pd(out_cos + count, _mm256_castps_pd(kept_c));
+    _mm256_storeu_pd(out_sin + count, _mm256_castps_pd(kept_s));
+    count += static_cast<std::size_t>(__builtin_popcount(mask));
+  }
+  return i;
+}
+}  // namespace
+#endif
+
 void TerrainMapper::pack(const PlanarScan& scan) {
   const std::size_t n = scan.size();
   packed_.prepare(n);
@@ -227,9 +281,17 @@ void TerrainMapper::pack(const PlanarScan& scan) {
   double* out_sin = packed_.sin_angle.data();
   constexpr double kInf = std::numeric_limits<double>::infinity();
   std::size_t count = 0, invalid_range = 0, invalid_beam = 0;
+  std::size_t i = 0;
+#ifdef STRIDEMAP_PACK_AVX2
+  static const bool has_avx2 = __builtin_cpu_supports("avx2");
+  if (has_avx2) {
+    i = pack_blocks_avx2(range, error, cos_angle_.data(), sin_angle_.data(), n, out_range, out_error, out_cos, out_sin,
+                         count, invalid_range, invalid_beam);
+  }
+#endif
   // Every beam is written and only a valid one kept: no branch to mispredict.
   // PlanarScanPoints::point's checks; a non-finite angle has a NaN cosine.
-  for (std::size_t i = 0; i < n; ++i) {
+  for (; i < n; ++i) {
     const double r = range[i], dr = error[i], c = cos_angle_[i];
     const bool range_ok = (r > 0.0) & (r < kInf);
     const bool beam_ok = (c == c) & (dr >= 0.0) & (dr < kInf);

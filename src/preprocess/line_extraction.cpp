@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "option_checks.hpp"
+#include "range_breaks.hpp"
 #include "stridemap/preprocess/range_clustering.hpp"
 #include "stridemap/preprocess/scan_checks.hpp"
 
@@ -28,7 +29,8 @@ void LineExtractionOptions::validate(const char* owner) const {
   sigma.validate(owner);
 }
 
-LineExtractor::LineExtractor(const LineExtractionOptions& options) : options_(options) {
+LineExtractor::LineExtractor(const LineExtractionOptions& options)
+    : options_(options), bands_(options.max_incidence_angle_rad, false) {
   options_.validate("LineExtractionOptions");
 }
 
@@ -47,9 +49,19 @@ void LineExtractor::extract(const PlanarScan& scan, std::vector<LineSegment>& se
   if (pieces_.capacity() < n) pieces_.reserve(n);
   if (stack_.capacity() < n + 1) stack_.reserve(n + 1);
   directions_.update(scan.angle_rad);
-  for (std::size_t i = 0; i < n; ++i) {
-    x_m_[i] = range[i] * directions_.cos()[i];
-    y_m_[i] = range[i] * directions_.sin()[i];
+  if (const RangeRatioBand* band = detail::uniform_step_band(scan, directions_, bands_)) {
+    // The loop below, its tests made in one pass: the same clusters in the same order.
+    detail::mark_range_breaks(scan, *band, options_.break_noise_sigmas, options_.sigma, breaks_);
+    for (std::size_t i = 0; i < n;) {
+      if (!is_usable_range(range[i])) {
+        ++i;
+        continue;
+      }
+      const std::size_t end = detail::run_end(breaks_, i);
+      process_cluster(scan, i, end - 1, keep, segments);
+      i = end;
+    }
+    return;
   }
   RangeRatioBandCache bands(options_.max_incidence_angle_rad, false);
   std::size_t first = kNoIndex;
@@ -85,8 +97,11 @@ void LineExtractor::process_cluster(const PlanarScan& scan, std::size_t first, s
   const std::size_t beyond_last = occluded_beam(scan, last, true);
   const bool occluding_only = keep == Keep::occluding;
   if (occluding_only && beyond_first == kNoIndex && beyond_last == kNoIndex) return;
+  // Points only for the clusters split and fitted: most are skipped above.
   double max_sigma = 0.0;
   for (std::size_t i = first; i <= last; ++i) {
+    x_m_[i] = scan.range_m[i] * directions_.cos()[i];
+    y_m_[i] = scan.range_m[i] * directions_.sin()[i];
     max_sigma = std::max(max_sigma, options_.sigma.sigma_m(scan.range_m[i], scan.range_error_m[i]));
   }
   const double split_distance = std::max(options_.split_noise_sigmas * max_sigma, options_.min_split_distance_m);
@@ -261,11 +276,12 @@ std::size_t LineExtractor::occluded_beam(const PlanarScan& scan, std::size_t end
     const std::size_t j = forward ? end_beam + step : end_beam - step;
     const double beyond = scan.range_m[j];
     if (!is_usable_range(beyond)) continue;
+    // Nearer is no occlusion whatever the band: its cosines only for a farther beam.
+    if (beyond <= end_range) return kNoIndex;
     const double tolerance =
         options_.break_noise_sigmas * options_.sigma.sigma_m(end_range, scan.range_error_m[end_beam]);
-    const RangeRatioBand band =
-        range_ratio_band(scan.angle_rad[j] - scan.angle_rad[end_beam], options_.max_incidence_angle_rad);
-    if (beyond <= end_range || ranges_on_one_surface(end_range, beyond, tolerance, band)) return kNoIndex;
+    if (ranges_on_one_surface(end_range, beyond, tolerance, bands_.band(scan.angle_rad[j] - scan.angle_rad[end_beam])))
+      return kNoIndex;
     return j;
   }
   return kNoIndex;

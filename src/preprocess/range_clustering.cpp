@@ -1,10 +1,12 @@
 #include "stridemap/preprocess/range_clustering.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
 
 #include "option_checks.hpp"
+#include "range_breaks.hpp"
 
 namespace stridemap {
 namespace {
@@ -43,15 +45,25 @@ void RangeClusteringOptions::validate() const {
   sigma.validate(owner);
 }
 
-RangeClusteringFilter::RangeClusteringFilter(const RangeClusteringOptions& options) : options_(options) {
+RangeClusteringFilter::RangeClusteringFilter(const RangeClusteringOptions& options)
+    : options_(options), bands_(options.max_incidence_angle_rad, options.messorsim_swapped_bounds) {
   options_.validate();
 }
 
 ScanFilterStats RangeClusteringFilter::apply(PlanarScan& scan, std::vector<std::uint8_t>& removed) {
-  ScanFilterStats stats = prepare_scan_for_filter(scan, removed, clustering_filter_name);
+  const ScanFilterStats prepared = prepare_scan_for_filter(scan, removed, clustering_filter_name);
+  return apply_prepared(scan, removed, prepared.invalid_input);
+}
+
+ScanFilterStats RangeClusteringFilter::apply_prepared(PlanarScan& scan, std::vector<std::uint8_t>& removed,
+                                                      std::size_t invalid_input) {
+  ScanFilterStats stats;
+  stats.beams = scan.size();
+  stats.invalid_input = invalid_input;
   const std::size_t n = scan.size();
-  labels_.assign(n, -1);
-  const std::vector<double>& range = scan.range_m;
+  removed.assign(n, 0);
+  labels_.resize(n);
+  std::vector<double>& range = scan.range_m;
   const std::vector<double>& angle = scan.angle_rad;
   RangeRatioBandCache bands(options_.max_incidence_angle_rad, options_.messorsim_swapped_bounds);
 
@@ -65,11 +77,41 @@ ScanFilterStats RangeClusteringFilter::apply(PlanarScan& scan, std::vector<std::
       const double chord_sq = r0 * r0 + r1 * r1 - 2.0 * r0 * r1 * std::cos(angle[last] - angle[first]);
       reject = chord_sq < options_.min_cluster_extent_m * options_.min_cluster_extent_m;
     }
+    // Removed at once (apply_removal_mask's work): the loop reads only beams after `last`.
     if (reject) {
-      for (std::size_t i = first; i <= last; ++i)
-        if (!std::isnan(range[i])) removed[i] = 1;
+      for (std::size_t i = first; i <= last; ++i) {
+        if (std::isnan(range[i])) continue;
+        removed[i] = 1;
+        range[i] = std::numeric_limits<double>::quiet_NaN();
+        ++stats.removed;
+      }
     }
   };
+
+  // Without bridging a cluster is a run of joined neighbours: with one band
+  // for the scan, the loop below's tests are made in one pass.
+  const RangeRatioBand* band = nullptr;
+  if (options_.max_bridged_invalid_beams == 0) {
+    directions_.update(angle);
+    band = detail::uniform_step_band(scan, directions_, bands_);
+  }
+  if (band != nullptr) {
+    detail::mark_range_breaks(scan, *band, options_.noise_sigmas, options_.sigma, breaks_);
+    int run_label = -1;
+    for (std::size_t i = 0; i < n;) {
+      if (std::isnan(range[i])) {
+        labels_[i] = -1;
+        ++i;
+        continue;
+      }
+      const std::size_t end = detail::run_end(breaks_, i);
+      std::fill(labels_.begin() + static_cast<std::ptrdiff_t>(i), labels_.begin() + static_cast<std::ptrdiff_t>(end),
+                ++run_label);
+      close_cluster(i, end - 1, end - i);
+      i = end;
+    }
+    return stats;
+  }
 
   constexpr std::size_t none = static_cast<std::size_t>(-1);
   const std::size_t max_gap = options_.max_bridged_invalid_beams;
@@ -79,6 +121,7 @@ ScanFilterStats RangeClusteringFilter::apply(PlanarScan& scan, std::vector<std::
   int label = -1;
   for (std::size_t i = 0; i < n; ++i) {
     if (std::isnan(range[i])) {
+      labels_[i] = -1;
       if (first != none && i - last_valid > max_gap) {
         close_cluster(first, last_valid, points);
         first = none;
@@ -104,8 +147,6 @@ ScanFilterStats RangeClusteringFilter::apply(PlanarScan& scan, std::vector<std::
     ++points;
   }
   if (first != none) close_cluster(first, last_valid, points);
-
-  stats.removed = apply_removal_mask(scan, removed);
   return stats;
 }
 

@@ -186,6 +186,11 @@ ScanFilterChain::ScanFilterChain(std::vector<ScanFilterKind> stages, const ScanF
     if (stages_[stage] == ScanFilterKind::scan_sequence) spread_stage_ = stage;
     if (stages_[stage] == ScanFilterKind::between_scans) between_stage_ = stage;
     const ScanFilterRegistration& filter = scan_filter_registration(stages_[stage]);
+    if (stages_[stage] == ScanFilterKind::range_clustering) {
+      range_clustering_.emplace(options.range_clustering);  // what its registration makes
+      stateless_.push_back(nullptr);
+      continue;
+    }
     stateless_.push_back(filter.make ? filter.make(options, parameter_values(filter, options)) : nullptr);
   }
   for (StageMasks* masks : {&incoming_, &held_, &output_}) {
@@ -230,23 +235,40 @@ void ScanFilterChain::take_sequence_masks() {
 }
 
 void ScanFilterChain::run_stateless(std::size_t stage, PlanarScan& scan, StageMasks& masks) {
+  if (stages_[stage] == ScanFilterKind::range_clustering) {
+    masks.stats[stage] = range_clustering_->apply(scan, masks.removed[stage]);
+    return;
+  }
   // The scan-sequence stages have none: they stream, handled by push/flush.
   if (stateless_[stage]) masks.stats[stage] = stateless_[stage]->apply(scan, masks.removed[stage]);
+}
+
+void ScanFilterChain::run_on_work(std::size_t stage, bool& prepared, std::size_t& invalid) {
+  if (prepared && stages_[stage] == ScanFilterKind::range_clustering) {
+    // It only turns valid ranges into NaN, each counted as removed.
+    incoming_.stats[stage] = range_clustering_->apply_prepared(work_, incoming_.removed[stage], invalid);
+    invalid += incoming_.stats[stage].removed;
+    return;
+  }
+  run_stateless(stage, work_, incoming_);
+  prepared = false;  // a registered filter may leave any value
 }
 
 bool ScanFilterChain::push(const PlanarScan& scan, PlanarScan& out) {
   detail::copy_scan(scan, work_);
   // Every chain, also an empty one, hands out scans whose only invalid value is NaN.
-  prepare_scan_for_filter(work_, normalize_mask_, "scan filter chain");
+  std::size_t invalid = prepare_scan_for_filter(work_, normalize_mask_, "scan filter chain").invalid_input;
+  bool prepared = true;
   const std::size_t before_sequence = has_scan_sequence_ ? scan_sequence_stage_ : stages_.size();
-  for (std::size_t stage = 0; stage < before_sequence; ++stage) run_stateless(stage, work_, incoming_);
+  for (std::size_t stage = 0; stage < before_sequence; ++stage) run_on_work(stage, prepared, invalid);
   if (!has_scan_sequence_) {
     std::swap(output_, incoming_);
     detail::copy_scan(work_, out);
     finish_output(out);
     return true;
   }
-  const bool ready = scan_sequence_.push(work_, out, sequence_removed_);
+  const bool ready = prepared ? scan_sequence_.push_prepared(work_, invalid, out, sequence_removed_)
+                              : scan_sequence_.push(work_, out, sequence_removed_);
   if (ready) {
     // `out` is the scan held since the previous push: its earlier stages'
     // masks were kept in held_.

@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <utility>
 
 #include "option_checks.hpp"
 #include "scan_copy.hpp"
 #include "stridemap/core/error.hpp"
+#include "vector_clones.hpp"
 
 namespace stridemap {
 namespace {
@@ -50,6 +52,14 @@ Spread spread_along(const PlanarScan& scan, const BeamDirections& directions, st
   return result;
 }
 
+// jump[i] = 1 where beam i's ranges in scans k-1 and k+1 differ by more
+// than min_jump_m (|a - b| is max - min exactly; NaN never jumps): the
+// between-scans test's first condition for every beam in one pass.
+STRIDEMAP_PREPROCESS_CLONES void mark_jumps(const double* before, const double* after, std::size_t n,
+                                            double min_jump_m, std::uint8_t* jump) {
+  for (std::size_t i = 0; i < n; ++i) jump[i] = static_cast<std::uint8_t>(std::abs(after[i] - before[i]) > min_jump_m);
+}
+
 }  // namespace
 
 void BetweenScansOptions::validate(const char* owner) const {
@@ -81,19 +91,35 @@ bool ScanSequenceFilter::push(const PlanarScan& next_scan, PlanarScan& out) {
 
 bool ScanSequenceFilter::flush(PlanarScan& out) { return flush(out, scratch_removed_); }
 
-bool ScanSequenceFilter::push(const PlanarScan& next_scan, PlanarScan& out, std::vector<std::uint8_t>& removed) {
-  const std::size_t index = scans_in_stream_;
-  check_scan_shape(next_scan, filter_name, index);
+void ScanSequenceFilter::check_length(const PlanarScan& next_scan) const {
   if (has_held_ && next_scan.size() != held_.size()) {
-    throw InputError(std::string(filter_name) + ": scan " + std::to_string(index) + " of the stream has " +
+    throw InputError(std::string(filter_name) + ": scan " + std::to_string(scans_in_stream_) + " of the stream has " +
                      std::to_string(next_scan.size()) + " beams, but the scans before it have " +
                      std::to_string(held_.size()) +
                      "; all scans of one stream must have the same beam count (flush() or reset() starts a "
                      "new stream)");
   }
+}
+
+bool ScanSequenceFilter::push(const PlanarScan& next_scan, PlanarScan& out, std::vector<std::uint8_t>& removed) {
+  const std::size_t index = scans_in_stream_;
+  check_scan_shape(next_scan, filter_name, index);
+  check_length(next_scan);
   detail::copy_scan(next_scan, incoming_);
   const std::size_t incoming_invalid =
       prepare_scan_for_filter(incoming_, normalize_mask_, filter_name, index).invalid_input;
+  return take_incoming(incoming_invalid, out, removed);
+}
+
+bool ScanSequenceFilter::push_prepared(PlanarScan& next_scan, std::size_t invalid_input, PlanarScan& out,
+                                       std::vector<std::uint8_t>& removed) {
+  check_length(next_scan);
+  std::swap(incoming_, next_scan);
+  return take_incoming(invalid_input, out, removed);
+}
+
+bool ScanSequenceFilter::take_incoming(std::size_t incoming_invalid, PlanarScan& out,
+                                       std::vector<std::uint8_t>& removed) {
   ++scans_in_stream_;
   if (!has_held_) {
     std::swap(held_, incoming_);
@@ -102,7 +128,7 @@ bool ScanSequenceFilter::push(const PlanarScan& next_scan, PlanarScan& out, std:
     return false;
   }
   judge_held_scan(removed);
-  emit_held_scan(out, removed);
+  emit_held_scan(out);
   // The judged scan, mixed points removed, is the k-1 of the next decision.
   std::swap(previous_, held_);
   has_previous_ = true;
@@ -119,8 +145,9 @@ bool ScanSequenceFilter::flush(PlanarScan& out, std::vector<std::uint8_t>& remov
   }
   // No scan k+1: nothing to compare with, so the scan is returned as it is.
   removed.assign(held_.size(), 0);
+  removed_count_ = 0;
   between_removed_.assign(held_.size(), 0);
-  emit_held_scan(out, removed);
+  emit_held_scan(out);
   reset();
   return true;
 }
@@ -137,10 +164,11 @@ void ScanSequenceFilter::judge_held_scan(std::vector<std::uint8_t>& removed) {
   removed.assign(n, 0);
   between_removed_.assign(n, 0);
   sectors_.clear();
+  removed_count_ = 0;
   if (!has_previous_ || n == 0) return;
   if (options_.spread_test) judge_spread(removed);
   if (options_.between_scans.enabled) judge_between_scans(removed);
-  apply_removal_mask(held_, removed);
+  if (removed_count_ > 0) apply_removal_mask(held_, removed);
 }
 
 void ScanSequenceFilter::judge_between_scans(std::vector<std::uint8_t>& removed) {
@@ -148,13 +176,25 @@ void ScanSequenceFilter::judge_between_scans(std::vector<std::uint8_t>& removed)
   // pushed: the beam index is the same direction in the sensor frame.
   const BetweenScansOptions& o = options_.between_scans;
   const RangeSigmaModel& sigma = options_.lines.sigma;
-  for (std::size_t i = 0; i < held_.size(); ++i) {
+  const std::size_t n = held_.size();
+  jumps_.resize(n);
+  mark_jumps(previous_.range_m.data(), incoming_.range_m.data(), n, o.min_jump_m, jumps_.data());
+  // Only the beams that jump: the rest fail the test below anyway.
+  const std::uint8_t* jumps = jumps_.data();
+  const std::uint8_t* end = jumps + n;
+  for (const std::uint8_t* p = jumps; p < end; ++p) {
+    p = static_cast<const std::uint8_t*>(std::memchr(p, 1, static_cast<std::size_t>(end - p)));
+    if (p == nullptr) break;
+    const std::size_t i = static_cast<std::size_t>(p - jumps);
     const double r = held_.range_m[i], before = previous_.range_m[i], after = incoming_.range_m[i];
     if (removed[i] || !is_usable_range(r) || !is_usable_range(before) || !is_usable_range(after)) continue;
     const double near = std::min(before, after), far = std::max(before, after);
     if (far - near <= o.min_jump_m) continue;
     const double margin = o.margin_sigmas * sigma.sigma_m(r, held_.range_error_m[i]);
-    if (r > near + margin && r < far - margin) removed[i] = between_removed_[i] = 1;
+    if (r > near + margin && r < far - margin) {
+      removed[i] = between_removed_[i] = 1;
+      ++removed_count_;
+    }
   }
 }
 
@@ -164,8 +204,7 @@ void ScanSequenceFilter::judge_spread(std::vector<std::uint8_t>& removed) {
   lines_.extract(previous_, segments_,
                  options_.require_occluding_end ? LineExtractor::Keep::occluding : LineExtractor::Keep::all);
   if (sectors_.capacity() < segments_.capacity()) sectors_.reserve(segments_.capacity());
-  directions_k_.update(held_.angle_rad);
-  directions_next_.update(incoming_.angle_rad);
+  bool directions_current = false;  // brought up to date for the first spread only
   const BeamDirections& directions_previous = lines_.directions();
   const double max_cos_to_beam = std::sin(options_.max_edge_tilt_rad);
   const RangeSigmaModel& sigma = options_.lines.sigma;
@@ -198,6 +237,11 @@ void ScanSequenceFilter::judge_spread(std::vector<std::uint8_t>& removed) {
     };
     widen(options_.sector_margin_beams, sector.first_beam, sector.last_beam);
     widen(options_.spread_margin_beams, sector.spread_first_beam, sector.spread_last_beam);
+    if (!directions_current) {
+      directions_k_.update(held_.angle_rad);
+      directions_next_.update(incoming_.angle_rad);
+      directions_current = true;
+    }
     const Spread now = spread_along(held_, directions_k_, sector.spread_first_beam, sector.spread_last_beam,
                                     axis_x, axis_y, sigma);
     const Spread next = spread_along(incoming_, directions_next_, sector.spread_first_beam,
@@ -212,19 +256,22 @@ void ScanSequenceFilter::judge_spread(std::vector<std::uint8_t>& removed) {
                      next.points >= options_.min_sector_points && now.spread_m > sector.threshold_m;
     if (sector.removed) {
       for (std::size_t i = sector.first_beam; i <= sector.last_beam; ++i) {
-        if (is_usable_range(held_.range_m[i])) removed[i] = 1;
+        if (removed[i] == 0 && is_usable_range(held_.range_m[i])) {
+          removed[i] = 1;
+          ++removed_count_;
+        }
       }
     }
     sectors_.push_back(sector);
   }
 }
 
-void ScanSequenceFilter::emit_held_scan(PlanarScan& out, const std::vector<std::uint8_t>& removed) {
+void ScanSequenceFilter::emit_held_scan(PlanarScan& out) {
   detail::copy_scan(held_, out);
   ScanFilterStats& stats = last_stats_;
   stats.beams = held_.size();
   stats.invalid_input = held_invalid_input_;
-  stats.removed = static_cast<std::size_t>(std::count(removed.begin(), removed.end(), std::uint8_t{1}));
+  stats.removed = removed_count_;  // the beams marked in `removed`, each once
 }
 
 }  // namespace stridemap

@@ -11,6 +11,7 @@
 
 #include "stridemap/core/planar_scan.hpp"
 #include "stridemap/preprocess/beam_directions.hpp"
+#include "stridemap/preprocess/range_clustering.hpp"
 #include "stridemap/preprocess/range_sigma.hpp"
 
 namespace stridemap {
@@ -104,7 +105,9 @@ class LineExtractor {
 
   LineExtractionOptions options_;
   BeamDirections directions_;
-  std::vector<double> x_m_;
+  mutable RangeRatioBandMemo bands_;  // a cache: occluded_beam() stays a query
+  std::vector<std::uint8_t> breaks_;
+  std::vector<double> x_m_;  // only inside the clusters process_cluster() splits
   std::vector<double> y_m_;
   std::vector<Piece> stack_;
   std::vector<Piece> pieces_;

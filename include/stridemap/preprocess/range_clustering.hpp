@@ -5,12 +5,16 @@
 // clusters too small or too short to be real. Removes the isolated single
 // points and small groups that mixed pixels form at thin objects and at edges
 // nearly parallel to the beams.
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
+#include <limits>
 #include <vector>
 
 #include "stridemap/core/planar_scan.hpp"
+#include "stridemap/preprocess/beam_directions.hpp"
 #include "stridemap/preprocess/range_sigma.hpp"
 #include "stridemap/preprocess/scan_checks.hpp"
 
@@ -53,6 +57,40 @@ class RangeRatioBandCache {
   bool swapped_;
   double step_ = -1.0;
   RangeRatioBand band_;
+};
+
+/// range_ratio_band of exact steps, remembered across scans: the steps
+/// between a sensor's beams (one beam, two across a dropout, ...) take a few
+/// values, rounded alike scan after scan, so the cosines are computed once.
+/// Keyed on the step's bits, it returns what range_ratio_band would, bit for bit.
+class RangeRatioBandMemo {
+ public:
+  RangeRatioBandMemo(double max_incidence_angle_rad, bool messorsim_swapped_bounds)
+      : max_incidence_angle_rad_(max_incidence_angle_rad), swapped_(messorsim_swapped_bounds) {
+    for (Slot& slot : slots_) slot.step = std::numeric_limits<double>::quiet_NaN();  // matches no step
+  }
+
+  const RangeRatioBand& band(double angle_step_rad) {
+    const double step = std::abs(angle_step_rad);
+    std::uint64_t bits;
+    std::memcpy(&bits, &step, sizeof bits);
+    Slot& slot = slots_[(bits ^ (bits >> 17) ^ (bits >> 31)) % kSlots];
+    if (!(slot.step == step)) {
+      slot.step = step;
+      slot.band = range_ratio_band(step, max_incidence_angle_rad_, swapped_);
+    }
+    return slot.band;
+  }
+
+ private:
+  struct Slot {
+    double step;
+    RangeRatioBand band;
+  };
+  static constexpr std::size_t kSlots = 64;
+  double max_incidence_angle_rad_;
+  bool swapped_;
+  std::array<Slot, kSlots> slots_;
 };
 
 /// The clustering test: k_lo r - n sigma < r_next < k_hi r + n sigma.
@@ -113,6 +151,10 @@ class RangeClusteringFilter {
   /// max_bridged_invalid_beams); they are never marked removed. Throws
   /// InputError on a malformed scan.
   ScanFilterStats apply(PlanarScan& scan, std::vector<std::uint8_t>& removed);
+  /// apply() for a scan that prepare_scan_for_filter has already passed, its
+  /// only invalid ranges `invalid_input` NaNs (a chain's work scan): the same
+  /// result without checking and rewriting the scan again.
+  ScanFilterStats apply_prepared(PlanarScan& scan, std::vector<std::uint8_t>& removed, std::size_t invalid_input);
 
   /// Cluster label of each beam from the last apply(): -1 for invalid beams,
   /// otherwise 0, 1, 2, ... in scan order (removed clusters keep their label).
@@ -121,6 +163,9 @@ class RangeClusteringFilter {
  private:
   RangeClusteringOptions options_;
   std::vector<int> labels_;
+  BeamDirections directions_;  // for its step spread
+  RangeRatioBandMemo bands_;
+  std::vector<std::uint8_t> breaks_;
 };
 
 }  // namespace stridemap

@@ -8,6 +8,7 @@
 #include <functional>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -108,6 +109,9 @@ class ScanFilterChain {
     std::vector<ScanFilterStats> stats;
   };
   void run_stateless(std::size_t stage, PlanarScan& scan, StageMasks& masks);
+  // run_stateless on work_; while `prepared`, work_'s only invalid ranges are
+  // its `invalid` NaNs and the built-in stages skip their checks.
+  void run_on_work(std::size_t stage, bool& prepared, std::size_t& invalid);
   void finish_output(PlanarScan& out);
   void take_sequence_masks();
 
@@ -118,6 +122,8 @@ class ScanFilterChain {
   std::size_t spread_stage_ = absent;   // scan-sequence's stage
   std::size_t between_stage_ = absent;  // between-scans' stage
   ScanSequenceFilter scan_sequence_;
+  // The range-clustering stage's filter, held here (not in stateless_) for its checked-scan entry.
+  std::optional<RangeClusteringFilter> range_clustering_;
   // One per stage, built by its registration; empty for the scan-sequence stages.
   std::vector<std::unique_ptr<ScanFilterStage>> stateless_;
   PlanarScan work_;

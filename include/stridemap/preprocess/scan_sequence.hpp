@@ -155,6 +155,12 @@ class ScanSequenceFilter {
   /// removed[i] = 1 for the beams this filter dropped, once there is a scan k.
   bool push(const PlanarScan& next_scan, PlanarScan& out, std::vector<std::uint8_t>& removed);
   bool push(const PlanarScan& next_scan, PlanarScan& out);
+  /// push() for a scan that prepare_scan_for_filter has already passed, its
+  /// only invalid ranges `invalid_input` NaNs (a chain's work scan): the
+  /// same result without checking, copying and rewriting it again. Takes
+  /// the scan's contents, leaving it another scan's buffers.
+  bool push_prepared(PlanarScan& next_scan, std::size_t invalid_input, PlanarScan& out,
+                     std::vector<std::uint8_t>& removed);
 
   /// Ends the stream: returns the held scan (unfiltered) if there is one.
   bool flush(PlanarScan& out, std::vector<std::uint8_t>& removed);
@@ -174,10 +180,12 @@ class ScanSequenceFilter {
   const std::vector<std::uint8_t>& last_removed_between_scans() const { return between_removed_; }
 
  private:
+  void check_length(const PlanarScan& next_scan) const;
+  bool take_incoming(std::size_t incoming_invalid, PlanarScan& out, std::vector<std::uint8_t>& removed);
   void judge_held_scan(std::vector<std::uint8_t>& removed);
   void judge_spread(std::vector<std::uint8_t>& removed);
   void judge_between_scans(std::vector<std::uint8_t>& removed);
-  void emit_held_scan(PlanarScan& out, const std::vector<std::uint8_t>& removed);
+  void emit_held_scan(PlanarScan& out);
 
   ScanSequenceOptions options_;
   LineExtractor lines_;
@@ -190,10 +198,12 @@ class ScanSequenceFilter {
   bool has_held_ = false;
   std::size_t scans_in_stream_ = 0;
   std::size_t held_invalid_input_ = 0;
+  std::size_t removed_count_ = 0;  // beams the last judgement marked
   ScanFilterStats last_stats_;
   std::vector<LineSegment> segments_;
   std::vector<ScanSequenceSector> sectors_;
   std::vector<std::uint8_t> between_removed_;
+  std::vector<std::uint8_t> jumps_;  // the between-scans test's candidates
   std::vector<std::uint8_t> scratch_removed_;  // mask of the push/flush overloads without one
   std::vector<std::uint8_t> normalize_mask_;   // unused output of prepare_scan_for_filter
 };
