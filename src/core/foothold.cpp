@@ -102,6 +102,7 @@ FootholdLayers::FootholdLayers(ElevationMap& map, const FootholdOptions& options
   }
   changes_ = FootholdChanges(n_, static_cast<std::int32_t>(none2), options_.full_certainty);
   edges_ = FootholdEdgeSearch(n_);
+  padded_ = PaddedElevations(n_, stencil_.foot_cells);
 }
 
 double FootholdLayers::edge_distance_m_of(std::int64_t b2, std::int64_t none2) const {
@@ -254,30 +255,21 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
   float* step = out.step_height_m;
   std::size_t cells = 0;
   const auto max_step = static_cast<float>(options_.max_step_m);
-  const int f = static_cast<int>(stencil_.foot_cells);
   const bool fast = stencil_.footprint.size() <= foothold::kKept;
   c.raised.clear();
+  const std::size_t* cols = c.col_slot.data();
+  foothold::LaneFits lanes;
+  // Known-ness and elevation from what this refresh saw (the map's: see_changes()).
+  if (fast) padded_.copy(c.geometry_rows, c.seen_elevation, c.row_slot, c.col_slot);
   for (int i = 0; i < n_; ++i) {
     RowSpan& s = c.geometry_rows[static_cast<std::size_t>(i)];
     if (s.lo > s.hi) continue;
     RowSpan& flip = c.flips[static_cast<std::size_t>(i)];
     std::uint8_t* mark = c.geometry_mark.data() + static_cast<std::size_t>(i) * static_cast<std::size_t>(n_);
-    const bool inner_row = fast && i >= f && i < n_ - f;
     const std::size_t row = c.row_slot[static_cast<std::size_t>(i)];
-    for (int j = s.lo; j <= s.hi; ++j) {
-      if (!mark[j]) continue;
-      mark[j] = 0;
-      ++cells;
-      const std::size_t t = row + c.col_slot[static_cast<std::size_t>(j)];
-      const float old_slope = slope[t], old_roughness = roughness[t], old_step = step[t];
-      if (inner_row && j >= f && j < n_ - f) {
-        // Its whole footprint is in the window: known-ness and elevation
-        // from what this refresh saw (the map's, see_changes()).
-        foothold::fit_footprint_inside(stencil_, c.seen_elevation.data(), c.row_slot.data() + i,
-                                       c.col_slot.data() + j, out);
-      } else {
-        foothold::fit_footprint(stencil_, slots, elevation, state, {slots.corner.x + i, slots.corner.y + j}, out);
-      }
+    // A new fit of cell (i, j), already written to slot t: its score is
+    // redone if it changed, and it may have become or stopped being an edge.
+    const auto fitted = [&](int j, std::size_t t, float old_slope, float old_roughness, float old_step) {
       if (!same_bits(old_slope, slope[t]) || !same_bits(old_roughness, roughness[t]) || !same_bits(old_step, step[t])) {
         c.mark_score(i, j);
       }
@@ -288,6 +280,33 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
         flip.lo = std::min(flip.lo, j);
         flip.hi = std::max(flip.hi, j);
       }
+    };
+    for (int j = s.lo; j <= s.hi; ++j) {
+      if (!mark[j]) continue;
+      if (fast) {
+        // kLanes cells at once (lanes past the row's end or unmarked are
+        // not stored).
+        foothold::fit_footprint_lanes(stencil_, inverses_, padded_.at(i, j), padded_.stride, lanes);
+        for (int l = 0; l < foothold::kLanes && j + l < n_; ++l) {
+          if (!mark[j + l]) continue;
+          mark[j + l] = 0;
+          ++cells;
+          const std::size_t t = row + cols[j + l];
+          const float old_slope = slope[t], old_roughness = roughness[t], old_step = step[t];
+          slope[t] = lanes.slope_deg[l];
+          roughness[t] = lanes.roughness_m[l];
+          step[t] = lanes.step_height_m[l];
+          fitted(j + l, t, old_slope, old_roughness, old_step);
+        }
+        j += foothold::kLanes - 1;
+        continue;
+      }
+      mark[j] = 0;
+      ++cells;
+      const std::size_t t = row + cols[j];
+      const float old_slope = slope[t], old_roughness = roughness[t], old_step = step[t];
+      foothold::fit_footprint(stencil_, slots, elevation, state, {slots.corner.x + i, slots.corner.y + j}, out);
+      fitted(j, t, old_slope, old_roughness, old_step);
     }
     s = RowSpan{n_, -1};
   }

@@ -37,3 +37,17 @@ inline double certainty_factor(float certainty, double full_certainty) {
 }
 
 }  // namespace stridemap::foothold
+
+// Where the CPU has AVX2, the foothold loops that vectorise run a copy
+// built for it (wider lanes, integer min), chosen when the library loads.
+// No FMA is enabled: every operation rounds as in the baseline copy.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__) && \
+    !defined(STRIDEMAP_NO_AVX2_COPIES)
+#define STRIDEMAP_FOOTHOLD_CLONES __attribute__((target_clones("avx2", "default")))
+#else
+#define STRIDEMAP_FOOTHOLD_CLONES
+#endif
+
+namespace stridemap::foothold {
+
+}  // namespace stridemap::foothold

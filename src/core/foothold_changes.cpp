@@ -60,13 +60,6 @@ void FootholdChanges::mark_edge(int i, int j) {
   r.hi = std::max(r.hi, j);
 }
 
-void FootholdChanges::mark_score(int i, int j) {
-  score_mark[static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)] = 1;
-  RowSpan& r = score_rows[static_cast<std::size_t>(i)];
-  r.lo = std::min(r.lo, j);
-  r.hi = std::max(r.hi, j);
-}
-
 // A neighbour's footprint lost the known ones among them, and the edge
 // distances within the search radius of one that was an edge may grow.
 void FootholdChanges::see_left(const FootholdStencil& stencil, const ElevationMap& map, const CellBox& b,

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <limits>
 
+#include "foothold_cells.hpp"
+
 namespace stridemap {
 
 FootholdEdgeSearch::FootholdEdgeSearch(int cells_per_side) {
@@ -16,8 +18,10 @@ FootholdEdgeSearch::FootholdEdgeSearch(int cells_per_side) {
   merged_rows.assign(n, none);
 }
 
-std::size_t search_edge_distances(FootholdEdgeSearch& search, FootholdChanges& changes, const FootholdStencil& stencil,
-                                  const float* step, float max_step, bool all) {
+// With AVX2 the row minima below take eight cells an instruction.
+STRIDEMAP_FOOTHOLD_CLONES std::size_t search_edge_distances(FootholdEdgeSearch& search, FootholdChanges& changes,
+                                                            const FootholdStencil& stencil, const float* step,
+                                                            float max_step, bool all) {
   const int n_cells = changes.n;
   const int r = static_cast<int>(stencil.edge_cells), none = r + 1;
   const std::int32_t none2 = r * r + 1;
@@ -88,7 +92,7 @@ std::size_t search_edge_distances(FootholdEdgeSearch& search, FootholdChanges& c
 // Cells that became edges are cheap one by one (raise_edges(), a pass over
 // the search disc each), but a cluster of them costs less searched for as
 // one region. Whichever costs less by the rough counts below (about ten
-// instructions a disc cell raised, a hundred and fifty a cell searched;
+// instructions a disc cell raised, eighty a cell searched with AVX2;
 // callgrind, the benchmark's walks) is taken: the values are the same.
 void search_or_raise_edges(FootholdEdgeSearch& search, FootholdChanges& changes, const FootholdStencil& stencil) {
   if (changes.raised.empty()) return;
@@ -106,7 +110,7 @@ void search_or_raise_edges(FootholdEdgeSearch& search, FootholdChanges& changes,
   }
   grow_rows(search.merged, search.merged_rows, stencil.edge_widths);
   const std::size_t extra = area(search.merged_rows) - area(search.edge_rows);
-  if (extra * 15 < changes.raised.size() * stencil.edge_disc_cells) {
+  if (extra * 8 < changes.raised.size() * stencil.edge_disc_cells) {
     search.edge_rows.swap(search.merged_rows);
     changes.raised.clear();
   }

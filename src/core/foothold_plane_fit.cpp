@@ -11,12 +11,9 @@
 #include "foothold_cells.hpp"
 
 namespace stridemap::foothold {
-namespace {
 
-// The inverse of the least-squares normal matrix of `count` cells with
-// these coordinate sums; false when the cells are collinear. Cell spacing
-// squared sets the scale of the determinant: collinear cells give one that
-// vanishes relative to it.
+// Cell spacing squared sets the scale of the determinant: collinear cells
+// give one that vanishes relative to it.
 bool invert_normal_matrix(std::size_t count, double sx, double sy, double sxx, double sxy, double syy,
                           double cell_size_m, Eigen::Matrix3d& inverse) {
   Eigen::Matrix3d a;
@@ -26,8 +23,6 @@ bool invert_normal_matrix(std::size_t count, double sx, double sy, double sxx, d
   a.computeInverseWithCheck(inverse, invertible, 1e-9 * scale * scale);
   return invertible;
 }
-
-}  // namespace
 
 void fit_footprint(const FootholdStencil& stencil, const WindowSlots& slots, const float* elevation,
                    const std::uint8_t* state, CellIndex cell, const GeometryLayers& out) {
@@ -91,68 +86,6 @@ void fit_footprint(const FootholdStencil& stencil, const WindowSlots& slots, con
     const double fit = plane[0] + plane[1] * static_cast<double>(o.x) * cell_size_m +
                        plane[2] * static_cast<double>(o.y) * cell_size_m;
     const double r = (elevation[t] - z0) - fit;
-    residual2 += r * r;
-  }
-  slope[s] = static_cast<float>(std::atan(std::hypot(plane[1], plane[2])) * 180.0 / std::numbers::pi);
-  roughness[s] = static_cast<float>(std::sqrt(residual2 / static_cast<double>(count)));
-}
-
-void fit_footprint_inside(const FootholdStencil& stencil, const float* seen, const std::size_t* rows,
-                          const std::size_t* cols, const GeometryLayers& out) {
-  const double cell_size_m = stencil.cell_size_m;
-  const std::size_t s = rows[0] + cols[0];
-  float* slope = out.slope_deg;
-  float* roughness = out.roughness_m;
-  float* step = out.step_height_m;
-  slope[s] = roughness[s] = step[s] = kNaN;
-  if (std::isnan(seen[s])) return;
-  const double z0 = seen[s];
-  double b0 = 0.0, b1 = 0.0, b2 = 0.0;
-  double lo = 0.0, hi = 0.0;
-  std::size_t count = 0;
-  std::array<double, kKept> kept_z;
-  std::array<std::uint8_t, kKept> kept_k;
-  const std::size_t m = stencil.footprint.size();
-  for (std::size_t k = 0; k < m; ++k) {
-    const CellIndex& o = stencil.footprint[k];
-    const float e = seen[rows[o.x] + cols[o.y]];
-    if (std::isnan(e)) continue;
-    const double z = e - z0;
-    b0 += z;
-    b1 += stencil.foot_x_m[k] * z;
-    b2 += stencil.foot_y_m[k] * z;
-    lo = std::min(lo, z);
-    hi = std::max(hi, z);
-    kept_z[count] = z;
-    kept_k[count] = static_cast<std::uint8_t>(k);
-    ++count;
-  }
-  if (count < stencil.min_known) return;
-  step[s] = static_cast<float>(hi - lo);
-  const Eigen::Matrix3d* inverse = &stencil.full_inverse;
-  Eigen::Matrix3d partial;
-  if (count != m) {
-    double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0, syy = 0.0;
-    for (std::size_t c = 0; c < count; ++c) {
-      const double x = stencil.foot_x_m[kept_k[c]], y = stencil.foot_y_m[kept_k[c]];
-      sx += x;
-      sy += y;
-      sxx += x * x;
-      sxy += x * y;
-      syy += y * y;
-    }
-    if (!invert_normal_matrix(count, sx, sy, sxx, sxy, syy, cell_size_m, partial)) return;
-    inverse = &partial;
-  }
-  const Eigen::Vector3d b(b0, b1, b2);
-  const Eigen::Vector3d plane = *inverse * b;
-  double residual2 = 0.0;
-  for (std::size_t c = 0; c < count; ++c) {
-    const std::size_t k = kept_k[c];
-    // (plane * offset in cells) * cell size, as fit_footprint(): the same bits.
-    const double fit =
-        plane[0] + plane[1] * stencil.foot_dx[k] * cell_size_m + plane[2] * stencil.foot_dy[k] * cell_size_m;
-    const double r = kept_z[c] - fit;
     residual2 += r * r;
   }
   slope[s] = static_cast<float>(std::atan(std::hypot(plane[1], plane[2])) * 180.0 / std::numbers::pi);

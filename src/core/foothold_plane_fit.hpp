@@ -5,13 +5,15 @@
 #include <cstddef>
 #include <cstdint>
 
+#include <Eigen/Core>
+
 #include "stridemap/core/foothold_stencil.hpp"
 #include "stridemap/core/grid_map.hpp"
 
 namespace stridemap::foothold {
 
-/// Footprints up to this size keep their cells for the residuals, and
-/// take the fast path for cells whose footprint lies in the window.
+/// Footprints up to this size keep their cells for the residuals and are
+/// fitted kLanes cells at once (fit_footprint_lanes()).
 inline constexpr std::size_t kKept = 64;
 
 /// Slots of the window addressed by global index, without a modulo per
@@ -48,12 +50,24 @@ struct GeometryLayers {
 void fit_footprint(const FootholdStencil& stencil, const WindowSlots& slots, const float* elevation,
                    const std::uint8_t* state, CellIndex cell, const GeometryLayers& out);
 
-/// fit_footprint() for a cell whose whole footprint lies in the window and
-/// whose footprint holds at most kKept cells: no bounds checks, slots from
-/// the per-row and per-column tables (`rows` and `cols` point at the cell's
-/// own entries), known-ness and elevation from `seen_elevation` (NaN:
-/// unknown). The same operations in the same order: the same bits.
-void fit_footprint_inside(const FootholdStencil& stencil, const float* seen_elevation, const std::size_t* rows,
-                          const std::size_t* cols, const GeometryLayers& out);
+/// Cells fit_footprint_lanes() fits at once.
+inline constexpr int kLanes = kFootholdLanes;
+
+/// One fit per lane: slope, roughness and step height.
+struct LaneFits {
+  float slope_deg[kLanes], roughness_m[kLanes], step_height_m[kLanes];
+};
+
+/// fit_footprint_inside() of kLanes consecutive cells of a row at once, one
+/// per vector lane: the same operations in the same order per cell, so the
+/// same bits. Known-ness and elevation from `centre` (the first cell's
+/// entry of PaddedElevations::values (core/foothold_stencil.hpp), NaN: unknown), rows `stride` apart.
+void fit_footprint_lanes(const FootholdStencil& stencil, PartialInverses& inverses, const float* centre,
+                         std::ptrdiff_t stride, LaneFits& out);
+
+/// The inverse of the least-squares normal matrix of `count` cells with
+/// these coordinate sums; false when the cells are collinear.
+bool invert_normal_matrix(std::size_t count, double sx, double sy, double sxx, double sxy, double syy,
+                          double cell_size_m, Eigen::Matrix3d& inverse);
 
 }  // namespace stridemap::foothold

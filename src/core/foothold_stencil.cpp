@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <limits>
 
 #include <Eigen/Dense>
 
@@ -67,6 +69,42 @@ void grow_rows(const std::vector<RowSpan>& from, std::vector<RowSpan>& to, const
       RowSpan& t = to[static_cast<std::size_t>(x + dx)];
       t.lo = std::min(t.lo, std::max(s.lo - w, 0));
       t.hi = std::max(t.hi, std::min(s.hi + w, n - 1));
+    }
+  }
+}
+
+PaddedElevations::PaddedElevations(int cells_per_side, std::int64_t foot_cells)
+    : n(cells_per_side),
+      margin(foot_cells),
+      stride(cells_per_side + 2 * foot_cells + kFootholdLanes),
+      values(static_cast<std::size_t>((cells_per_side + 2 * foot_cells) * stride),
+             std::numeric_limits<float>::quiet_NaN()),
+      needed(static_cast<std::size_t>(cells_per_side), RowSpan{cells_per_side, -1}) {}
+
+void PaddedElevations::copy(const std::vector<RowSpan>& marked, const std::vector<float>& seen,
+                            const std::vector<std::size_t>& row_slot, const std::vector<std::size_t>& col_slot) {
+  const int f = static_cast<int>(margin);
+  std::fill(needed.begin(), needed.end(), RowSpan{n, -1});
+  for (int x = 0; x < n; ++x) {
+    const RowSpan s = marked[static_cast<std::size_t>(x)];
+    if (s.lo > s.hi) continue;
+    for (int k = std::max(0, x - f); k <= std::min(n - 1, x + f); ++k) {
+      RowSpan& r = needed[static_cast<std::size_t>(k)];
+      r.lo = std::min(r.lo, std::max(0, s.lo - f));
+      r.hi = std::max(r.hi, std::min(n - 1, s.hi + f));
+    }
+  }
+  const auto cells = static_cast<std::size_t>(n);
+  for (int x = 0; x < n; ++x) {
+    const RowSpan r = needed[static_cast<std::size_t>(x)];
+    float* to = values.data() + (x + margin) * stride + margin;
+    const float* from = seen.data() + row_slot[static_cast<std::size_t>(x)];
+    // Storage columns wrap round once: at most two runs.
+    for (int y = r.lo; y <= r.hi;) {
+      const std::size_t s = col_slot[static_cast<std::size_t>(y)];
+      const int run = static_cast<int>(std::min<std::size_t>(static_cast<std::size_t>(r.hi - y + 1), cells - s));
+      std::memcpy(to + y, from + s, static_cast<std::size_t>(run) * sizeof(float));
+      y += run;
     }
   }
 }

@@ -148,6 +148,8 @@ class FootholdLayers {
   int n_ = 0;
   double cell_size_m_ = 0.0;
   FootholdStencil stencil_;
+  PartialInverses inverses_;
+  PaddedElevations padded_;
   FootholdChanges changes_;
   FootholdEdgeSearch edges_;
   // Per squared edge distance 0..r*r+1 (r*r+1: none within the radius):

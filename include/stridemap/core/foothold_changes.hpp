@@ -42,7 +42,12 @@ struct FootholdChanges {
   void set_slots(const ElevationMap& map);
   /// Marks every window cell whose footprint holds a cell of `b`.
   void mark_geometry(const FootholdStencil& stencil, const LocalBox& b);
-  void mark_score(int i, int j);
+  void mark_score(int i, int j) {  // inline: called per cell by every pass
+    score_mark[static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)] = 1;
+    RowSpan& r = score_rows[static_cast<std::size_t>(i)];
+    r.lo = r.lo < j ? r.lo : j;
+    r.hi = r.hi > j ? r.hi : j;
+  }
   void mark_edge(int i, int j);
   /// The cells of `b` (global, of the last refresh's window) that left
   /// every window since.
