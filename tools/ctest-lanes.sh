@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Runs a build folder's tests in two lanes at once (docs/reliability.md,
 # "The check's time"): the tests labelled `waits`, which spend most of their
-# time waiting (a live run against the emulator in real time, roscore, a
-# browser), in a lane of their own beside the rest, which keep JOBS
+# time waiting (a live run against the emulator in real time, roscore and
+# the node), in a lane of their own beside the rest, which keep JOBS
 # processes busy. On two cores a waiting test held one of ctest's two slots
 # while using a fifth of a core. The side lane's output follows the main
 # lane's; the run fails when either lane does.
