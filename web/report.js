@@ -655,13 +655,20 @@ async function main() {
   controls.addEventListener('start', () => { userMoved = true; });
   const shownViews = () => (state.sideBySide && views.length > 1 ? [views[0], views[state.second]] : [views[0]]);
   const aspectNow = () => (canvas.clientWidth / shownViews().length) / Math.max(1, canvas.clientHeight);
+  // A canvas not laid out yet (a page still loading on a busy machine, a
+  // hidden tab) has no width: framing for it would put the camera at
+  // infinity, NaN from then on, and the view would stay blank. Such a
+  // canvas is framed and drawn once it has a size (the observer below).
   const frame = () => {
-    camera.aspect = aspectNow();
+    const aspect = aspectNow();
+    if (!(aspect > 0 && Number.isFinite(aspect))) return;
+    camera.aspect = aspect;
     frameBox(THREE, camera, controls, knownBox(shownViews().map((v) => v.map), state.exaggeration));
   };
 
   const render = () => {
     const width = canvas.clientWidth, height = canvas.clientHeight;
+    if (!(width > 0 && height > 0)) return;
     if (canvas.width !== Math.floor(width * devicePixelRatio) || canvas.height !== Math.floor(height * devicePixelRatio)) {
       renderer.setPixelRatio(devicePixelRatio);
       renderer.setSize(width, height, false);
@@ -722,6 +729,7 @@ async function main() {
   }
   controls.addEventListener('change', render);
   window.addEventListener('resize', render);
+  new ResizeObserver(() => render()).observe(canvas);
   // The coarse level first, so that the view is on screen quickly; the full
   // one after that frame, in a task of its own.
   const coarseStep = Math.max(1, Math.ceil(Math.max(main.rows, main.cols) / coarseSide));

@@ -229,6 +229,31 @@ try {
   moved /= after.pixels.length;
   check(moved > 2 && raised.differ > 0.05, `heights x 10 changes the picture (mean channel change ${moved.toFixed(1)}) and it stays drawn`);
   check(good.errors.length === 0, 'still no console error after switching');
+  {
+    // A canvas with no width while the page starts (laid out late on a busy
+    // machine): once it gets its size the view is framed and drawn, not
+    // left with a camera at infinity.
+    const page = await browser.newPage({ viewport: { width: 1280, height: 800 } });
+    await page.addInitScript(() => {
+      new MutationObserver((_, observer) => {
+        if (!document.head) return;
+        const style = document.createElement('style');
+        style.id = 'test-no-width';
+        style.textContent = '#canvas3d { width: 0 !important; }';
+        document.head.appendChild(style);
+        observer.disconnect();
+      }).observe(document, { childList: true, subtree: true });
+    });
+    await page.goto('file://' + path.resolve(goodPage));
+    await page.waitForSelector('body[data-detail="full"]', { timeout: 30000 });
+    const narrow = await page.evaluate(() => document.getElementById('canvas3d').clientWidth);
+    await page.evaluate(() => document.getElementById('test-no-width').remove());
+    await page.evaluate(() => new Promise((done) => requestAnimationFrame(() => requestAnimationFrame(done))));
+    const f = await framing(page, data.maps[0]);
+    check(narrow === 0 && f.worst <= 1 && f.worst > 0.5,
+          `a canvas that starts ${narrow} px wide is framed once it has its size: corners at ${f.worst.toFixed(2)} of the way to the edge (0.5 to 1)`);
+    await page.close();
+  }
   // The layout at the two window sizes, on a small map with its path
   // (rocky walk) and on a large one with an object table (cart on a rail).
   const bigData = JSON.parse(fs.readFileSync(bigPage, 'utf8').split('<script type="application/json" id="stridemap-data">')[1].split('</script>')[0].replaceAll('<\\/', '</'));
