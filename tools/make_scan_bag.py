@@ -10,6 +10,7 @@ to scan; the robot moves 0.3 m/s. Deterministic. Needs Debian's python3-rosbag.
 """
 import argparse
 import math
+import os
 
 import rosbag
 import rospy
@@ -49,6 +50,9 @@ def main():
     parser.add_argument("--scans", type=int, required=True)
     parser.add_argument("--bag", required=True)
     args = parser.parse_args()
+    # As make_scan_log.py: a file already there is someone's, never replaced.
+    if os.path.lexists(args.bag):
+        parser.error("--bag %s: already exists; give a new file" % args.bag)
     with rosbag.Bag(args.bag, "w") as bag:
         bag.write("/tf_static", TFMessage([transform(T0, "base_link", "laser", 0.1, 0.3, 0.6)]), rospy.Time.from_sec(T0))
         for k in range(args.scans):

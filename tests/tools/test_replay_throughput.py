@@ -49,3 +49,14 @@ def test_a_recording_already_in_the_work_folder_is_kept(tmp_path):
     assert result.returncode == 1
     assert "writing a recording failed" in result.stderr
     assert kept.read_text() == "a user's log\n"
+
+
+def test_the_bag_writer_keeps_a_file_already_there(tmp_path):
+    pytest.importorskip("rosbag")
+    kept = tmp_path / "r.bag"
+    kept.write_bytes(b"a user's bag")
+    script = os.path.join(os.path.dirname(SCRIPT), "make_scan_bag.py")
+    result = subprocess.run([sys.executable, script, "--scans", "3", "--bag", str(kept)], capture_output=True, text=True)
+    assert result.returncode == 2
+    assert "already exists" in result.stderr
+    assert kept.read_bytes() == b"a user's bag"
