@@ -12,6 +12,8 @@
 
 #if defined(__x86_64__)
 #include <immintrin.h>
+
+#include "stridemap/core/detail/kept_lanes_avx2.hpp"
 #endif
 
 namespace stridemap {
@@ -235,13 +237,6 @@ __attribute__((target("avx2"))) std::size_t pack_blocks_avx2(const double* range
                                                               double* out_range, double* out_error, double* out_cos,
                                                               double* out_sin, std::size_t& count,
                                                               std::size_t& invalid_range, std::size_t& invalid_beam) {
-  // For each mask of kept lanes, the 32-bit lane indices that bring the
-  // kept 64-bit lanes to the front in order.
-  alignas(32) static const std::int32_t kFront[16][8] = {
-      {0, 1, 2, 3, 4, 5, 6, 7}, {0, 1, 2, 3, 4, 5, 6, 7}, {2, 3, 0, 1, 4, 5, 6, 7}, {0, 1, 2, 3, 4, 5, 6, 7},
-      {4, 5, 0, 1, 2, 3, 6, 7}, {0, 1, 4, 5, 2, 3, 6, 7}, {2, 3, 4, 5, 0, 1, 6, 7}, {0, 1, 2, 3, 4, 5, 6, 7},
-      {6, 7, 0, 1, 2, 3, 4, 5}, {0, 1, 6, 7, 2, 3, 4, 5}, {2, 3, 6, 7, 0, 1, 4, 5}, {0, 1, 2, 3, 6, 7, 4, 5},
-      {4, 5, 6, 7, 0, 1, 2, 3}, {0, 1, 4, 5, 6, 7, 2, 3}, {2, 3, 4, 5, 6, 7, 0, 1}, {0, 1, 2, 3, 4, 5, 6, 7}};
   const __m256d zero = _mm256_setzero_pd(), inf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
   std::size_t i = 0;
   for (; i + 4 <= n; i += 4) {
@@ -253,16 +248,7 @@ __attribute__((target("avx2"))) std::size_t pack_blocks_avx2(const double* range
     const auto mask = static_cast<unsigned>(_mm256_movemask_pd(_mm256_and_pd(range_ok, beam_ok)));
     invalid_range += static_cast<std::size_t>(4 - __builtin_popcount(range_mask));
     invalid_beam += static_cast<std::size_t>(__builtin_popcount(range_mask & ~mask));
-    const __m256i front = _mm256_load_si256(reinterpret_cast<const __m256i*>(kFront[mask]));
-    const __m256 kept_r = _mm256_permutevar8x32_ps(_mm256_castpd_ps(r), front);
-    const __m256 kept_dr = _mm256_permutevar8x32_ps(_mm256_castpd_ps(dr), front);
-    const __m256 kept_c = _mm256_permutevar8x32_ps(_mm256_castpd_ps(c), front);
-    const __m256 kept_s = _mm256_permutevar8x32_ps(_mm256_castpd_ps(_mm256_loadu_pd(sin_t + i)), front);
-    _mm256_storeu_pd(out_range + count, _mm256_castps_pd(kept_r));
-    _mm256_storeu_pd(out_error + count, _mm256_castps_pd(kept_dr));
-    _mm256_storeu_pd(out_cos + count, _mm256_castps_pd(kept_c));
-    _mm256_storeu_pd(out_sin + count, _mm256_castps_pd(kept_s));
-    count += static_cast<std::size_t>(__builtin_popcount(mask));
+    detail::store_kept_lanes(mask, r, dr, c, _mm256_loadu_pd(sin_t + i), out_range, out_error, out_cos, out_sin, count);
   }
   return i;
 }

@@ -11,6 +11,8 @@
 
 #if defined(__x86_64__)
 #include <immintrin.h>
+
+#include "stridemap/core/detail/kept_lanes_avx2.hpp"
 #endif
 
 #include "stridemap/core/error.hpp"
@@ -233,13 +235,6 @@ __attribute__((target("avx2"))) std::size_t pack_blocks_avx2(const std::uint32_t
                                                               double* range, double* error, double* out_cos,
                                                               double* out_sin, std::size_t& count, std::size_t& valid,
                                                               std::size_t& beyond) {
-  // For each mask of kept lanes, the 32-bit lane indices that bring the
-  // kept 64-bit lanes to the front in order.
-  alignas(32) static const std::int32_t kFront[16][8] = {
-      {0, 1, 2, 3, 4, 5, 6, 7}, {0, 1, 2, 3, 4, 5, 6, 7}, {2, 3, 0, 1, 4, 5, 6, 7}, {0, 1, 2, 3, 4, 5, 6, 7},
-      {4, 5, 0, 1, 2, 3, 6, 7}, {0, 1, 4, 5, 2, 3, 6, 7}, {2, 3, 4, 5, 0, 1, 6, 7}, {0, 1, 2, 3, 4, 5, 6, 7},
-      {6, 7, 0, 1, 2, 3, 4, 5}, {0, 1, 6, 7, 2, 3, 4, 5}, {2, 3, 6, 7, 0, 1, 4, 5}, {0, 1, 2, 3, 6, 7, 4, 5},
-      {4, 5, 6, 7, 0, 1, 2, 3}, {0, 1, 4, 5, 6, 7, 2, 3}, {2, 3, 4, 5, 6, 7, 0, 1}, {0, 1, 2, 3, 4, 5, 6, 7}};
   const __m256d lo = _mm256_set1_pd(lowest), hi = _mm256_set1_pd(highest);
   const __m256d milli = _mm256_set1_pd(0.001), centi = _mm256_set1_pd(0.01);
   [[maybe_unused]] const __m256d zero = _mm256_setzero_pd();
@@ -272,18 +267,10 @@ __attribute__((target("avx2"))) std::size_t pack_blocks_avx2(const std::uint32_t
       keep = _mm256_and_pd(keep, _mm256_cmp_pd(value, zero, _CMP_NEQ_OQ));
     }  // else a value in range is at least DMIN >= 1: never 0
     const auto mask = static_cast<unsigned>(_mm256_movemask_pd(keep));
-    const __m256i front = _mm256_load_si256(reinterpret_cast<const __m256i*>(kFront[mask]));
     // max(0.01, 0.01 r) as the scalar loop's std::max (r is finite here).
     const __m256d err = _mm256_max_pd(centi, _mm256_mul_pd(centi, r));
-    const __m256 kept_r = _mm256_permutevar8x32_ps(_mm256_castpd_ps(r), front);
-    const __m256 kept_err = _mm256_permutevar8x32_ps(_mm256_castpd_ps(err), front);
-    const __m256 kept_cos = _mm256_permutevar8x32_ps(_mm256_castpd_ps(_mm256_loadu_pd(cos_t + i)), front);
-    const __m256 kept_sin = _mm256_permutevar8x32_ps(_mm256_castpd_ps(_mm256_loadu_pd(sin_t + i)), front);
-    _mm256_storeu_pd(range + count, _mm256_castps_pd(kept_r));
-    _mm256_storeu_pd(error + count, _mm256_castps_pd(kept_err));
-    _mm256_storeu_pd(out_cos + count, _mm256_castps_pd(kept_cos));
-    _mm256_storeu_pd(out_sin + count, _mm256_castps_pd(kept_sin));
-    count += static_cast<std::size_t>(__builtin_popcount(mask));
+    detail::store_kept_lanes(mask, r, err, _mm256_loadu_pd(cos_t + i), _mm256_loadu_pd(sin_t + i), range, error, out_cos,
+                             out_sin, count);
   }
   alignas(32) std::uint64_t lanes[4];
   _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), valid_lanes);
