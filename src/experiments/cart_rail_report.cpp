@@ -116,6 +116,11 @@ std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOption
         {"mean_error_m", s.mean_error_m},
         {"rms_error_measured_m", s.rms_error_measured_m},
         {"rms_error_filled_m", s.rms_error_filled_m},
+        {"level_cells", s.level_cells},
+        {"rms_error_level_m", s.rms_error_level_m},
+        {"rms_beyond_span_m", s.rms_beyond_span_m},
+        {"max_beyond_span_m", s.max_beyond_span_m},
+        {"beyond_span_artifact_cells", s.beyond_span_artifact_cells},
         {"known_cells", s.known_cells},
         {"measured_cells", s.measured_cells},
         {"filled_cells", s.filled_cells},
@@ -172,6 +177,12 @@ std::string cart_rail_table(const CartRailResult& r, const CartRailRunInfo& info
   std::snprintf(line, sizeof line, "clear of objects (%.0f mm margin): %zu cells off by > %.0f mm, max %.1f mm\n",
                 kObjectMarginM * 1000, s.clear_artifact_cells, s.artifact_threshold_m * 1000,
                 s.clear_max_error_m * 1000);
+  out += line;
+  std::snprintf(line, sizeof line,
+                "level cells (relief <= %.0f mm): %zu, RMS %.1f mm; beyond each cell's true span: RMS %.1f mm, "
+                "max %.1f mm, %zu cells > %.0f mm\n",
+                s.level_relief_m * 1000, s.level_cells, s.rms_error_level_m * 1000, s.rms_beyond_span_m * 1000, s.max_beyond_span_m * 1000,
+                s.beyond_span_artifact_cells, s.artifact_threshold_m * 1000);
   out += line;
   if (r.stripe.frames > 0) {
     const StripeTally& t = r.stripe;

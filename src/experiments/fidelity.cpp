@@ -212,6 +212,8 @@ void score_urg(FidelitySceneResult& row, const FidelityOptions& options, const R
   row.urg_objects_missed = extents.missed;
   row.urg_objects_partly_seen = extents.partly_seen;
   row.urg_rms_error_mm = filtered.score.rms_error_m * 1000.0;
+  row.urg_rms_level_mm = filtered.score.rms_error_level_m * 1000.0;
+  row.urg_rms_beyond_span_mm = filtered.score.rms_beyond_span_m * 1000.0;
   row.artifact_cells_reference = reference.score.artifact_cells;
   row.artifact_cells_unfiltered = unfiltered.score.artifact_cells;
   row.artifact_cells_filtered = filtered.score.artifact_cells;
@@ -238,6 +240,9 @@ void score_structured_light(FidelitySceneResult& row, const FidelityOptions& opt
   row.structured_light_clear_max_error_mm = sl.score.clear_max_error_m * 1000.0;
   row.structured_light_max_error_mm = sl.score.max_error_m * 1000.0;
   row.structured_light_rms_error_mm = sl.score.rms_error_m * 1000.0;
+  row.structured_light_rms_level_mm = sl.score.rms_error_level_m * 1000.0;
+  row.structured_light_rms_beyond_span_mm = sl.score.rms_beyond_span_m * 1000.0;
+  row.structured_light_beyond_span_cells = static_cast<double>(sl.score.beyond_span_artifact_cells);
   row.structured_light_objects = sl.objects;
   const ExtentScores extents = score_extents(sl.objects, options, errors);
   row.structured_light_extent_error_pct = extents.worst_pct;
@@ -254,7 +259,8 @@ void mark_structured_light_not_run(FidelitySceneResult& row) {
   row.structured_light_lux = row.structured_light_false_detections_pct =
       row.structured_light_off_row_detections_pct = row.structured_light_clear_artifact_cells =
       row.structured_light_clear_max_error_mm = row.structured_light_max_error_mm =
-      row.structured_light_rms_error_mm = kNaN;
+      row.structured_light_rms_error_mm = row.structured_light_rms_level_mm =
+      row.structured_light_rms_beyond_span_mm = row.structured_light_beyond_span_cells = kNaN;
 }
 
 // Each figure's distribution over the scenes, in the table's order.
@@ -298,10 +304,15 @@ void add_figures(FidelityResult& result, bool structured_light, const ExtentErro
     figure("structured_light_max_error_clear_of_objects_mm", &R::structured_light_clear_max_error_mm, false);
     figure("structured_light_max_error_mm", &R::structured_light_max_error_mm, false);
     figure("structured_light_rms_error_mm", &R::structured_light_rms_error_mm, false);
+    figure("structured_light_rms_error_level_cells_mm", &R::structured_light_rms_level_mm, false);
+    figure("structured_light_rms_beyond_span_mm", &R::structured_light_rms_beyond_span_mm, false);
+    figure("structured_light_cells_beyond_span_20mm", &R::structured_light_beyond_span_cells, false);
   }
   figure("mixed_artifacts_removed_pct", &R::mixed_artifacts_removed_pct, true);
   figure("clean_beams_dropped_pct", &R::clean_beams_dropped_pct, false);
   figure("urg_rms_error_mm", &R::urg_rms_error_mm, false);
+  figure("urg_rms_error_level_cells_mm", &R::urg_rms_level_mm, false);
+  figure("urg_rms_beyond_span_mm", &R::urg_rms_beyond_span_mm, false);
 }
 
 }  // namespace
@@ -417,6 +428,8 @@ std::string fidelity_summary_json(const FidelityResult& result, const FidelityOp
                             {"urg_objects_missed", row.urg_objects_missed},
                             {"urg_objects_partly_seen", row.urg_objects_partly_seen},
                             {"urg_rms_error_mm", row.urg_rms_error_mm},
+                            {"urg_rms_error_level_cells_mm", row.urg_rms_level_mm},
+                            {"urg_rms_beyond_span_mm", row.urg_rms_beyond_span_mm},
                             {"artifact_cells",
                              {{"reference", row.artifact_cells_reference},
                               {"unfiltered", row.artifact_cells_unfiltered},
@@ -436,6 +449,9 @@ std::string fidelity_summary_json(const FidelityResult& result, const FidelityOp
       entry["structured_light_max_error_clear_of_objects_mm"] = row.structured_light_clear_max_error_mm;
       entry["structured_light_max_error_mm"] = row.structured_light_max_error_mm;
       entry["structured_light_rms_error_mm"] = row.structured_light_rms_error_mm;
+      entry["structured_light_rms_error_level_cells_mm"] = row.structured_light_rms_level_mm;
+      entry["structured_light_rms_beyond_span_mm"] = row.structured_light_rms_beyond_span_mm;
+      entry["structured_light_cells_beyond_span_20mm"] = row.structured_light_beyond_span_cells;
     }
     scenes.push_back(std::move(entry));
   }

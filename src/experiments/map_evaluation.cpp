@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "stridemap/core/error.hpp"
 
@@ -11,9 +12,10 @@ MapSnapshot snapshot_with_truth(const ElevationMap& map, const Scene& scene, dou
   if (!(object_margin_m >= 0.0) || !std::isfinite(object_margin_m)) {
     throw InputError("map evaluation: the object margin must be finite and >= 0 m");
   }
-  MapSnapshot snapshot{export_map(map), {}, {}};
+  MapSnapshot snapshot{export_map(map), {}, {}, {}};
   const int n = map.cells_per_side();
   snapshot.truth_m.resize(n, n);
+  snapshot.truth_low_m.resize(n, n);
   snapshot.clear_of_objects.resize(n, n);
   Scene bare;
   bare.terrain = scene.terrain;
@@ -25,6 +27,16 @@ MapSnapshot snapshot_with_truth(const ElevationMap& map, const Scene& scene, dou
       const double x0 = static_cast<double>(c.x) * s;
       const double y0 = static_cast<double>(c.y) * s;
       snapshot.truth_m(i, j) = static_cast<float>(scene.max_height_in_rect(x0, y0, x0 + s, y0 + s));
+      double low = std::numeric_limits<double>::infinity();
+      for (int a = 0; a < kSpanSamplesPerSide; ++a) {
+        for (int b = 0; b < kSpanSamplesPerSide; ++b) {
+          const double fx = (a + 0.5) / kSpanSamplesPerSide, fy = (b + 0.5) / kSpanSamplesPerSide;
+          low = std::min(low, scene.surface_height_at(x0 + fx * s, y0 + fy * s));
+        }
+      }
+      // Samples cannot find a point lower than the rectangle's lowest, but
+      // rounding must not put the low end above the high one.
+      snapshot.truth_low_m(i, j) = std::min(static_cast<float>(low), snapshot.truth_m(i, j));
       // An object raises the grown cell's highest point above the bare
       // terrain's; one flush with the ground does not, and is floor.
       const double with = scene.max_height_in_rect(x0 - m, y0 - m, x0 + s + m, y0 + s + m);
@@ -38,11 +50,16 @@ MapSnapshot snapshot_with_truth(const ElevationMap& map, const Scene& scene, dou
 MapScore score_map(const MapSnapshot& snapshot, const CellMask& area, const MapScoreOptions& options) {
   MapScore score;
   score.artifact_threshold_m = options.artifact_threshold_m;
-  double sum_sq = 0.0, sum = 0.0, sum_sq_measured = 0.0, sum_sq_filled = 0.0;
+  score.level_relief_m = options.level_relief_m;
+  if (!(options.level_relief_m >= 0.0) || !std::isfinite(options.level_relief_m)) {
+    throw InputError("map evaluation: level_relief_m must be finite and >= 0 m");
+  }
+  double sum_sq = 0.0, sum = 0.0, sum_sq_measured = 0.0, sum_sq_filled = 0.0, sum_sq_level = 0.0, sum_sq_span = 0.0;
   const Eigen::MatrixXf& elevation = snapshot.elevation_m();
   const CellMask& states = snapshot.state();
   const bool clear = snapshot.clear_of_objects.rows() == elevation.rows() &&
                      snapshot.clear_of_objects.cols() == elevation.cols();
+  const bool span = snapshot.truth_low_m.rows() == elevation.rows() && snapshot.truth_low_m.cols() == elevation.cols();
   for (Eigen::Index i = 0; i < elevation.rows(); ++i) {
     for (Eigen::Index j = 0; j < elevation.cols(); ++j) {
       if (!area(i, j)) continue;
@@ -62,6 +79,18 @@ MapScore score_map(const MapSnapshot& snapshot, const CellMask& area, const MapS
       }
       score.max_error_m = std::max(score.max_error_m, std::abs(error));
       if (std::abs(error) > options.artifact_threshold_m) ++score.artifact_cells;
+      if (span) {
+        const double low = snapshot.truth_low_m(i, j), high = snapshot.truth_m(i, j);
+        const double height = elevation(i, j);
+        const double beyond = height > high ? height - high : height < low ? low - height : 0.0;
+        sum_sq_span += beyond * beyond;
+        score.max_beyond_span_m = std::max(score.max_beyond_span_m, beyond);
+        if (beyond > options.artifact_threshold_m) ++score.beyond_span_artifact_cells;
+        if (high - low <= options.level_relief_m) {
+          ++score.level_cells;
+          sum_sq_level += error * error;
+        }
+      }
       if (clear && snapshot.clear_of_objects(i, j)) {
         ++score.clear_cells;
         score.clear_max_error_m = std::max(score.clear_max_error_m, std::abs(error));
@@ -75,6 +104,8 @@ MapScore score_map(const MapSnapshot& snapshot, const CellMask& area, const MapS
   score.rms_error_m = rms(sum_sq, score.known_cells);
   score.rms_error_measured_m = rms(sum_sq_measured, score.measured_cells);
   score.rms_error_filled_m = rms(sum_sq_filled, score.filled_cells);
+  score.rms_error_level_m = rms(sum_sq_level, score.level_cells);
+  score.rms_beyond_span_m = span ? rms(sum_sq_span, score.known_cells) : 0.0;
   score.mean_error_m = score.known_cells ? sum / static_cast<double>(score.known_cells) : 0.0;
   score.coverage =
       score.scored_area_cells ? static_cast<double>(score.known_cells) / static_cast<double>(score.scored_area_cells) : 0.0;

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include "stridemap/core/error.hpp"
 #include "stridemap/experiments/object_extents.hpp"
 
 namespace stridemap {
@@ -64,6 +65,56 @@ TEST(MapEvaluation, ErrorsArtifactsAndCoverageAreCounted) {
   EXPECT_NEAR(score.max_error_m, 0.03, 1e-6);
   EXPECT_NEAR(score.rms_error_m, std::sqrt((0.03 * 0.03 + 0.01 * 0.01) / 98.0), 1e-6);
   EXPECT_NEAR(score.coverage, 98.0 / 99.0, 1e-12);
+}
+
+// A cell across the box's edge that holds the floor is a sampling miss, not
+// a wrong height: it leaves the level-cell RMS and the error beyond the
+// span alone. A phantom on the floor and a cell above the box's top count
+// in both.
+TEST(MapEvaluation, EdgeCellsAreKeptApartFromLevelCellsAndTheSpan) {
+  const Scene scene = one_box_scene();
+  MapSnapshot s = perfect_snapshot(scene, 80, 0.01);
+  const CellMask all = CellMask::Ones(80, 80);
+  const MapScore perfect = score_map(s, all);
+  EXPECT_EQ(perfect.rms_beyond_span_m, 0.0);
+  EXPECT_EQ(perfect.rms_error_level_m, 0.0);
+  // The box spans x 0.403..0.603 and y -0.063..0.087: no edge lies on a
+  // cell boundary, so every cell it crosses is an edge cell.
+  const std::size_t edge_cells = perfect.known_cells - perfect.level_cells;
+  EXPECT_EQ(edge_cells, 2u * (21u + 16u) - 4u);
+
+  Eigen::Index ei = -1, ej = -1, fi = -1, fj = -1, ti = -1, tj = -1;
+  for (Eigen::Index i = 0; i < 80; ++i) {
+    for (Eigen::Index j = 0; j < 80; ++j) {
+      const double relief = s.truth_m(i, j) - s.truth_low_m(i, j);
+      if (relief > 0.05 && ei < 0) ei = i, ej = j;
+      if (relief == 0.0 && s.truth_m(i, j) == 0.0f && fi < 0) fi = i, fj = j;
+      if (relief == 0.0 && s.truth_m(i, j) > 0.05f && ti < 0) ti = i, tj = j;
+    }
+  }
+  ASSERT_GE(ei, 0);
+  ASSERT_GE(fi, 0);
+  ASSERT_GE(ti, 0);
+  s.elevation_m()(ei, ej) = 0.0f;  // the edge cell holds a floor reading
+  const MapScore sampled = score_map(s, all);
+  EXPECT_NEAR(sampled.max_error_m, 0.10, 1e-6);
+  EXPECT_EQ(sampled.artifact_cells, 1u);
+  EXPECT_EQ(sampled.rms_beyond_span_m, 0.0);
+  EXPECT_EQ(sampled.beyond_span_artifact_cells, 0u);
+  EXPECT_EQ(sampled.rms_error_level_m, 0.0);
+
+  s.elevation_m()(fi, fj) = 0.03f;         // a phantom on the floor
+  s.elevation_m()(ti, tj) = 0.10f + 0.04f;  // a spike on the top
+  const MapScore wrong = score_map(s, all);
+  EXPECT_EQ(wrong.beyond_span_artifact_cells, 2u);
+  EXPECT_NEAR(wrong.max_beyond_span_m, 0.04, 1e-6);
+  EXPECT_NEAR(wrong.rms_beyond_span_m, std::sqrt((0.03 * 0.03 + 0.04 * 0.04) / 6400.0), 1e-7);
+  EXPECT_NEAR(wrong.rms_error_level_m,
+              std::sqrt((0.03 * 0.03 + 0.04 * 0.04) / static_cast<double>(wrong.level_cells)), 1e-7);
+
+  MapScoreOptions bad;
+  bad.level_relief_m = -0.001;
+  EXPECT_THROW(score_map(s, all, bad), InputError);
 }
 
 TEST(ObjectExtents, PerfectMapMeasuresWithinACellAndHeightExactly) {

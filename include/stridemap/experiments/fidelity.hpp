@@ -80,6 +80,9 @@ struct FidelitySceneResult {
   /// Clean beams the paper's filters drop [%].
   double clean_beams_dropped_pct = 0.0;
   double urg_rms_error_mm = 0.0;
+  /// The map's RMS over level cells and beyond each cell's true span
+  /// (MapScore::rms_error_level_m, rms_beyond_span_m) [mm].
+  double urg_rms_level_mm = 0.0, urg_rms_beyond_span_mm = 0.0;
   /// Structured light (NaN without it): the ambient light of its run
   /// [lux]; detections off the true stripe [% of detections]; map cells
   /// clear of objects (MapSnapshot::clear_of_objects) off by more than
@@ -93,6 +96,9 @@ struct FidelitySceneResult {
   double structured_light_clear_max_error_mm = 0.0;
   double structured_light_max_error_mm = 0.0;
   double structured_light_rms_error_mm = 0.0;
+  double structured_light_rms_level_mm = 0.0, structured_light_rms_beyond_span_mm = 0.0;
+  /// Cells beyond their true span by more than the artifact threshold.
+  double structured_light_beyond_span_cells = 0.0;
 };
 
 /// Median, 90th percentile and worst of a figure over scenes; "worse" is

@@ -2,6 +2,15 @@
 // Scores a map against the simulator's ground truth: per-cell truth (the
 // highest terrain point inside the cell), error statistics, coverage and
 // artifact counts, as the experiments' summaries report them.
+//
+// A cell across an object's edge holds whichever reading fell in it: the
+// top, the face or the floor. Its error against the highest point says how
+// finely the sensor sampled the edge, not whether the map is wrong, and a
+// few such cells (off by an object's height) set the map's RMS. So the
+// score also keeps each cell's lowest surface point and reports apart the
+// level cells (the surface inside varies little) and the error beyond the
+// cell's span [lowest, highest]: a height no reading inside the cell could
+// have given, which is what a phantom or a bias leaves.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -18,6 +27,11 @@ namespace stridemap {
 /// the same window order.
 struct MapSnapshot : ExportedMap {
   Eigen::MatrixXf truth_m;  ///< highest scene point inside each cell
+  /// Lowest scene surface inside each cell, from kSpanSamplesPerSide^2
+  /// points spread evenly over its inside: an edge that leaves less than
+  /// a tenth of the cell at either height may be missed (the cell then
+  /// counts as level).
+  Eigen::MatrixXf truth_low_m;
   /// 1 where no object (box, cylinder) comes within the margin of the cell:
   /// free floor, where any height in the map is a phantom. Empty when the
   /// snapshot has no truth.
@@ -29,6 +43,9 @@ struct MapSnapshot : ExportedMap {
 /// so the cells next to an object are neither floor nor object.
 inline constexpr double kObjectMarginM = 0.01;
 
+/// Points per side of a cell at which truth_low_m is sampled.
+inline constexpr int kSpanSamplesPerSide = 5;
+
 MapSnapshot snapshot_with_truth(const ElevationMap& map, const Scene& scene,
                                 double object_margin_m = kObjectMarginM);
 
@@ -38,6 +55,11 @@ struct MapScoreOptions {
   /// two cell sizes, so range noise alone does not reach it while a spike,
   /// a phantom edge or a wrong fill does.
   double artifact_threshold_m = 0.02;
+  /// A cell whose surface varies inside by at most this is level [m]: its
+  /// truth is one height whatever reading fell in it. 5 mm is the URG's
+  /// and the stripe's height noise at a metre, so sloped floor stays level
+  /// while an object's edge (tens of mm) does not.
+  double level_relief_m = 0.005;
 };
 
 struct MapScore {
@@ -59,6 +81,18 @@ struct MapScore {
   std::size_t clear_cells = 0;
   std::size_t clear_artifact_cells = 0;
   double clear_max_error_m = 0.0;
+  /// Known level cells (MapScoreOptions::level_relief_m) and the RMS error
+  /// over them; the rest are edge cells.
+  std::size_t level_cells = 0;
+  double level_relief_m = 0.0;
+  double rms_error_level_m = 0.0;
+  /// How far each known cell's elevation lies outside its true span
+  /// [truth_low_m, truth_m] (0 inside): RMS, largest, and the cells beyond
+  /// it by more than the artifact threshold. 0 when the snapshot has no
+  /// truth_low_m.
+  double rms_beyond_span_m = 0.0;
+  double max_beyond_span_m = 0.0;
+  std::size_t beyond_span_artifact_cells = 0;
 };
 
 /// Scores the cells where `area` is non-zero (e.g. the swept area).
