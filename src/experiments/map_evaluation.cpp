@@ -12,10 +12,11 @@ MapSnapshot snapshot_with_truth(const ElevationMap& map, const Scene& scene, dou
   if (!(object_margin_m >= 0.0) || !std::isfinite(object_margin_m)) {
     throw InputError("map evaluation: the object margin must be finite and >= 0 m");
   }
-  MapSnapshot snapshot{export_map(map), {}, {}, {}};
+  MapSnapshot snapshot{export_map(map), {}, {}, {}, {}};
   const int n = map.cells_per_side();
   snapshot.truth_m.resize(n, n);
-  snapshot.truth_low_m.resize(n, n);
+  snapshot.span_low_m.resize(n, n);
+  snapshot.span_high_m.resize(n, n);
   snapshot.clear_of_objects.resize(n, n);
   Scene bare;
   bare.terrain = scene.terrain;
@@ -27,21 +28,22 @@ MapSnapshot snapshot_with_truth(const ElevationMap& map, const Scene& scene, dou
       const double x0 = static_cast<double>(c.x) * s;
       const double y0 = static_cast<double>(c.y) * s;
       snapshot.truth_m(i, j) = static_cast<float>(scene.max_height_in_rect(x0, y0, x0 + s, y0 + s));
-      double low = std::numeric_limits<double>::infinity();
-      for (int a = 0; a < kSpanSamplesPerSide; ++a) {
-        for (int b = 0; b < kSpanSamplesPerSide; ++b) {
-          const double fx = (a + 0.5) / kSpanSamplesPerSide, fy = (b + 0.5) / kSpanSamplesPerSide;
-          low = std::min(low, scene.surface_height_at(x0 + fx * s, y0 + fy * s));
-        }
-      }
-      // Samples cannot find a point lower than the rectangle's lowest, but
-      // rounding must not put the low end above the high one.
-      snapshot.truth_low_m(i, j) = std::min(static_cast<float>(low), snapshot.truth_m(i, j));
       // An object raises the grown cell's highest point above the bare
       // terrain's; one flush with the ground does not, and is floor.
       const double with = scene.max_height_in_rect(x0 - m, y0 - m, x0 + s + m, y0 + s + m);
       const double without = bare.max_height_in_rect(x0 - m, y0 - m, x0 + s + m, y0 + s + m);
       snapshot.clear_of_objects(i, j) = with <= without ? 1 : 0;
+      double low = std::numeric_limits<double>::infinity();
+      const double grown = s + 2.0 * m;
+      for (int a = 0; a < kSpanSamplesPerSide; ++a) {
+        for (int b = 0; b < kSpanSamplesPerSide; ++b) {
+          const double fx = (a + 0.5) / kSpanSamplesPerSide, fy = (b + 0.5) / kSpanSamplesPerSide;
+          low = std::min(low, scene.surface_height_at(x0 - m + fx * grown, y0 - m + fy * grown));
+        }
+      }
+      snapshot.span_high_m(i, j) = static_cast<float>(with);
+      // Sampled points are never below the lowest, but keep the ends ordered.
+      snapshot.span_low_m(i, j) = std::min(static_cast<float>(low), snapshot.span_high_m(i, j));
     }
   }
   return snapshot;
@@ -59,7 +61,8 @@ MapScore score_map(const MapSnapshot& snapshot, const CellMask& area, const MapS
   const CellMask& states = snapshot.state();
   const bool clear = snapshot.clear_of_objects.rows() == elevation.rows() &&
                      snapshot.clear_of_objects.cols() == elevation.cols();
-  const bool span = snapshot.truth_low_m.rows() == elevation.rows() && snapshot.truth_low_m.cols() == elevation.cols();
+  const bool span = snapshot.span_low_m.rows() == elevation.rows() && snapshot.span_low_m.cols() == elevation.cols() &&
+                    snapshot.span_high_m.rows() == elevation.rows() && snapshot.span_high_m.cols() == elevation.cols();
   for (Eigen::Index i = 0; i < elevation.rows(); ++i) {
     for (Eigen::Index j = 0; j < elevation.cols(); ++j) {
       if (!area(i, j)) continue;
@@ -80,7 +83,7 @@ MapScore score_map(const MapSnapshot& snapshot, const CellMask& area, const MapS
       score.max_error_m = std::max(score.max_error_m, std::abs(error));
       if (std::abs(error) > options.artifact_threshold_m) ++score.artifact_cells;
       if (span) {
-        const double low = snapshot.truth_low_m(i, j), high = snapshot.truth_m(i, j);
+        const double low = snapshot.span_low_m(i, j), high = snapshot.span_high_m(i, j);
         const double height = elevation(i, j);
         const double beyond = height > high ? height - high : height < low ? low - height : 0.0;
         sum_sq_span += beyond * beyond;

@@ -245,7 +245,7 @@ WalkResult WalkRun::finish() {
   r.map_config.fill = options_.fill;
   const auto snapshot = [&](const ElevationMap& map) {
     if (options_.score_against_truth) return snapshot_with_truth(map, scene);
-    MapSnapshot s{export_map(map), {}, {}, {}};
+    MapSnapshot s{export_map(map), {}, {}, {}, {}};
     s.truth_m = Eigen::MatrixXf::Constant(map.cells_per_side(), map.cells_per_side(), NAN);
     return s;
   };

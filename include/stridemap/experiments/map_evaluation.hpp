@@ -3,14 +3,16 @@
 // highest terrain point inside the cell), error statistics, coverage and
 // artifact counts, as the experiments' summaries report them.
 //
-// A cell across an object's edge holds whichever reading fell in it: the
-// top, the face or the floor. Its error against the highest point says how
-// finely the sensor sampled the edge, not whether the map is wrong, and a
-// few such cells (off by an object's height) set the map's RMS. So the
-// score also keeps each cell's lowest surface point and reports apart the
-// level cells (the surface inside varies little) and the error beyond the
-// cell's span [lowest, highest]: a height no reading inside the cell could
-// have given, which is what a phantom or a bias leaves.
+// A cell at an object's edge holds whichever reading fell in it: the top,
+// the face or the floor; and a reading a few millimetres off sideways puts
+// the top's height in the cell beside the edge. Such a cell's error against
+// its highest point (up to the object's height) says how finely and how
+// exactly in x-y the sensor sampled the edge, not that a height is wrong,
+// and a few of them set the map's RMS. So the score also reports apart the
+// level cells (the surface varies little within the object margin of the
+// cell) and the error beyond each cell's span: how far its height lies
+// outside the lowest and highest surface within that margin, a height no
+// reading near the cell could have given: what a phantom or a bias leaves.
 #include <cstddef>
 #include <cstdint>
 #include <vector>
@@ -27,15 +29,12 @@ namespace stridemap {
 /// the same window order.
 struct MapSnapshot : ExportedMap {
   Eigen::MatrixXf truth_m;  ///< highest scene point inside each cell
-  /// Lowest scene surface inside each cell, from kSpanSamplesPerSide^2
-  /// points spread evenly over its inside: an edge that leaves less than
-  /// a tenth of the cell at either height may be missed (the cell then
-  /// counts as level).
-  Eigen::MatrixXf truth_low_m;
-  /// 1 where no object (box, cylinder) comes within the margin of the cell:
-  /// free floor, where any height in the map is a phantom. Empty when the
-  /// snapshot has no truth.
   CellMask clear_of_objects;
+  /// The lowest and highest surface within the same margin of each cell:
+  /// the heights a reading near it can hold. The highest is exact; the
+  /// lowest is sampled at kSpanSamplesPerSide^2 points spread evenly over
+  /// the grown cell, so floor narrower than their spacing may be missed.
+  Eigen::MatrixXf span_low_m, span_high_m;
 };
 
 /// Default margin of clear_of_objects [m]: a reading of an object's edge
@@ -43,8 +42,9 @@ struct MapSnapshot : ExportedMap {
 /// so the cells next to an object are neither floor nor object.
 inline constexpr double kObjectMarginM = 0.01;
 
-/// Points per side of a cell at which truth_low_m is sampled.
-inline constexpr int kSpanSamplesPerSide = 5;
+/// Points per side of the grown cell at which span_low_m is sampled: 3 mm
+/// apart for 5 mm cells and the default margin.
+inline constexpr int kSpanSamplesPerSide = 9;
 
 MapSnapshot snapshot_with_truth(const ElevationMap& map, const Scene& scene,
                                 double object_margin_m = kObjectMarginM);
@@ -55,10 +55,9 @@ struct MapScoreOptions {
   /// two cell sizes, so range noise alone does not reach it while a spike,
   /// a phantom edge or a wrong fill does.
   double artifact_threshold_m = 0.02;
-  /// A cell whose surface varies inside by at most this is level [m]: its
-  /// truth is one height whatever reading fell in it. 5 mm is the URG's
-  /// and the stripe's height noise at a metre, so sloped floor stays level
-  /// while an object's edge (tens of mm) does not.
+  /// A cell whose span (MapSnapshot::span_low_m..span_high_m) is at most
+  /// this is level [m]: its truth is one height whatever reading fell near
+  /// it. 5 mm lets sloped floor count as level but no object's edge.
   double level_relief_m = 0.005;
 };
 
@@ -86,10 +85,9 @@ struct MapScore {
   std::size_t level_cells = 0;
   double level_relief_m = 0.0;
   double rms_error_level_m = 0.0;
-  /// How far each known cell's elevation lies outside its true span
-  /// [truth_low_m, truth_m] (0 inside): RMS, largest, and the cells beyond
-  /// it by more than the artifact threshold. 0 when the snapshot has no
-  /// truth_low_m.
+  /// How far each known cell's elevation lies outside its span (0
+  /// inside): RMS, largest, and the cells beyond it by more than the
+  /// artifact threshold. 0 when the snapshot has no span.
   double rms_beyond_span_m = 0.0;
   double max_beyond_span_m = 0.0;
   std::size_t beyond_span_artifact_cells = 0;
