@@ -14,6 +14,7 @@ namespace stridemap {
 namespace {
 
 constexpr std::size_t kNoIndex = static_cast<std::size_t>(-1);
+constexpr double kNoLimit = std::numeric_limits<double>::infinity();
 
 }  // namespace
 
@@ -111,7 +112,9 @@ void LineExtractor::process_cluster(const PlanarScan& scan, std::size_t first, s
   LineSegment merged;
   LineSegment candidate;
   Piece current = pieces_.front();
-  fit(current.first, current.last, merged);
+  PointSums merged_sums{0.0, 0.0, current.first};
+  add_points(merged_sums, current.last);
+  fit(current.first, current.last, merged_sums, kNoLimit, merged);
   const auto emit = [&](const Piece& piece, LineSegment& line) {
     if (line.point_count < options_.min_points || line.length_m < options_.min_length_m) return;
     line.occludes_before = piece.first == first && occludes(beyond_first, scan, line, split_distance);
@@ -122,15 +125,19 @@ void LineExtractor::process_cluster(const PlanarScan& scan, std::size_t first, s
   // last end, none of them is wanted.
   const bool first_only = occluding_only && beyond_last == kNoIndex;
   for (std::size_t p = 1; p < pieces_.size(); ++p) {
-    fit(current.first, pieces_[p].last, candidate);
-    if (candidate.max_residual_m <= split_distance) {
+    PointSums candidate_sums = merged_sums;
+    add_points(candidate_sums, pieces_[p].last);
+    if (fit(current.first, pieces_[p].last, candidate_sums, split_distance, candidate)) {
       current.last = pieces_[p].last;
       merged = candidate;
+      merged_sums = candidate_sums;
     } else {
       emit(current, merged);
       if (first_only) return;
       current = pieces_[p];
-      fit(current.first, current.last, merged);
+      merged_sums = {0.0, 0.0, current.first};
+      add_points(merged_sums, current.last);
+      fit(current.first, current.last, merged_sums, kNoLimit, merged);
     }
   }
   emit(current, merged);
@@ -214,16 +221,19 @@ std::size_t LineExtractor::farthest_from_point(const Piece& piece, double ax, do
   return farthest;
 }
 
-void LineExtractor::fit(std::size_t first, std::size_t last, LineSegment& line) const {
-  const std::size_t count = last - first + 1;
-  double mean_x = 0.0;
-  double mean_y = 0.0;
-  for (std::size_t i = first; i <= last; ++i) {
-    mean_x += x_m_[i];
-    mean_y += y_m_[i];
+void LineExtractor::add_points(PointSums& sums, std::size_t last) const {
+  for (std::size_t i = sums.next; i <= last; ++i) {
+    sums.x += x_m_[i];
+    sums.y += y_m_[i];
   }
-  mean_x /= static_cast<double>(count);
-  mean_y /= static_cast<double>(count);
+  sums.next = last + 1;
+}
+
+bool LineExtractor::fit(std::size_t first, std::size_t last, const PointSums& sums, double max_residual_m,
+                        LineSegment& line) const {
+  const std::size_t count = last - first + 1;
+  const double mean_x = sums.x / static_cast<double>(count);
+  const double mean_y = sums.y / static_cast<double>(count);
   double sxx = 0.0;
   double syy = 0.0;
   double sxy = 0.0;
@@ -247,7 +257,9 @@ void LineExtractor::fit(std::size_t first, std::size_t last, LineSegment& line) 
   double along_min = std::numeric_limits<double>::infinity();
   double along_max = -std::numeric_limits<double>::infinity();
   for (std::size_t i = first; i <= last; ++i) {
-    max_residual = std::max(max_residual, std::abs(x_m_[i] * nx + y_m_[i] * ny - rho));
+    const double residual = std::abs(x_m_[i] * nx + y_m_[i] * ny - rho);
+    if (residual > max_residual_m) return false;
+    max_residual = std::max(max_residual, residual);
     const double along = -x_m_[i] * ny + y_m_[i] * nx;
     along_min = std::min(along_min, along);
     along_max = std::max(along_max, along);
@@ -263,6 +275,7 @@ void LineExtractor::fit(std::size_t first, std::size_t last, LineSegment& line) 
   line.mid_y_m = mean_y;
   line.occludes_before = false;
   line.occludes_after = false;
+  return true;
 }
 
 // The first valid beam past `end_beam` (within occlusion_search_beams)

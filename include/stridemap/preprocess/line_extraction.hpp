@@ -96,7 +96,19 @@ class LineExtractor {
   std::size_t farthest_from_chord(const Piece& piece, double ax, double ay, double dx, double dy, double chord,
                                   double split_distance_m) const;
   std::size_t farthest_from_point(const Piece& piece, double ax, double ay, double split_distance_m) const;
-  void fit(std::size_t first, std::size_t last, LineSegment& line) const;
+  // Sums of x and y over the beams from a piece's first up to `next`, added
+  // in beam order: a merge candidate's continue those of the piece it grows,
+  // the same additions in the same order as summing it from scratch.
+  struct PointSums {
+    double x = 0.0;
+    double y = 0.0;
+    std::size_t next = 0;
+  };
+  void add_points(PointSums& sums, std::size_t last) const;
+  // False, `line` unfinished, once a point lies farther than max_residual_m
+  // from the line: a merge candidate that fails needs no more.
+  bool fit(std::size_t first, std::size_t last, const PointSums& sums, double max_residual_m,
+           LineSegment& line) const;
   void process_cluster(const PlanarScan& scan, std::size_t first, std::size_t last, Keep keep,
                        std::vector<LineSegment>& segments);
   std::size_t occluded_beam(const PlanarScan& scan, std::size_t end_beam, bool forward) const;
