@@ -5,6 +5,7 @@
 #include <limits>
 #include <numbers>
 
+#include "line_kernels.hpp"
 #include "option_checks.hpp"
 #include "range_breaks.hpp"
 #include "stridemap/preprocess/range_clustering.hpp"
@@ -99,12 +100,9 @@ void LineExtractor::process_cluster(const PlanarScan& scan, std::size_t first, s
   const bool occluding_only = keep == Keep::occluding;
   if (occluding_only && beyond_first == kNoIndex && beyond_last == kNoIndex) return;
   // Points only for the clusters split and fitted: most are skipped above.
-  double max_sigma = 0.0;
-  for (std::size_t i = first; i <= last; ++i) {
-    x_m_[i] = scan.range_m[i] * directions_.cos()[i];
-    y_m_[i] = scan.range_m[i] * directions_.sin()[i];
-    max_sigma = std::max(max_sigma, options_.sigma.sigma_m(scan.range_m[i], scan.range_error_m[i]));
-  }
+  const double max_sigma =
+      detail::cluster_points(scan.range_m.data(), scan.range_error_m.data(), directions_.cos().data(),
+                             directions_.sin().data(), first, last, options_.sigma, x_m_.data(), y_m_.data());
   const double split_distance = std::max(options_.split_noise_sigmas * max_sigma, options_.min_split_distance_m);
   pieces_.clear();
   split_cluster(first, last, split_distance);
@@ -178,19 +176,11 @@ void LineExtractor::split_cluster(std::size_t first, std::size_t last, double sp
 // one per point, the same point and distance as dividing each.
 std::size_t LineExtractor::farthest_from_chord(const Piece& piece, double ax, double ay, double dx, double dy,
                                                double chord, double split_distance_m) const {
-  std::size_t best = kNoIndex;
-  double best_cross = -1.0;
-  double runner_up = -1.0;  // at least every other point's cross product
-  for (std::size_t i = piece.first + 1; i < piece.last; ++i) {
-    const double cross = std::abs((x_m_[i] - ax) * dy - (y_m_[i] - ay) * dx);
-    if (cross > best_cross) {
-      runner_up = best_cross;
-      best_cross = cross;
-      best = i;
-    } else {
-      runner_up = std::max(runner_up, cross);
-    }
-  }
+  const detail::ChordFarthest far =
+      detail::farthest_from_chord(x_m_.data(), y_m_.data(), piece.first + 1, piece.last, ax, ay, dx, dy);
+  const std::size_t best = far.index;
+  const double best_cross = far.cross;
+  const double runner_up = far.runner_up;  // at least every other point's cross product
   if (best == kNoIndex) return kNoIndex;
   const double distance = best_cross / chord;
   if (!(distance > split_distance_m)) return kNoIndex;
@@ -253,24 +243,15 @@ bool LineExtractor::fit(std::size_t first, std::size_t last, const PointSums& su
   }
   const double nx = std::cos(alpha);
   const double ny = std::sin(alpha);
-  double max_residual = 0.0;
-  double along_min = std::numeric_limits<double>::infinity();
-  double along_max = -std::numeric_limits<double>::infinity();
-  for (std::size_t i = first; i <= last; ++i) {
-    const double residual = std::abs(x_m_[i] * nx + y_m_[i] * ny - rho);
-    if (residual > max_residual_m) return false;
-    max_residual = std::max(max_residual, residual);
-    const double along = -x_m_[i] * ny + y_m_[i] * nx;
-    along_min = std::min(along_min, along);
-    along_max = std::max(along_max, along);
-  }
+  detail::LineExtent extent;
+  if (!detail::line_extent(x_m_.data(), y_m_.data(), first, last, nx, ny, rho, max_residual_m, extent)) return false;
   line.first_beam = first;
   line.last_beam = last;
   line.point_count = count;
   line.normal_angle_rad = alpha;
   line.distance_m = rho;
-  line.length_m = along_max - along_min;
-  line.max_residual_m = max_residual;
+  line.length_m = extent.along_max_m - extent.along_min_m;
+  line.max_residual_m = extent.max_residual_m;
   line.mid_x_m = mean_x;
   line.mid_y_m = mean_y;
   line.occludes_before = false;
