@@ -218,6 +218,14 @@ PlanarScan rocky_scan(std::uint64_t seed, bool even_steps) {
     if (unit(engine) < 0.02) scan.range_error_m[i] = unit(engine) < 0.5 ? test::nan : 0.0;
     else scan.range_error_m[i] = scan.range_m[i] < 1.0 ? 0.010 : 0.01 * scan.range_m[i];
   }
+  // Now and then every point twice: ties for the farthest from a chord.
+  if (seed % 6 == 5) {
+    for (std::size_t i = 1; i < scan.size(); i += 2) {
+      scan.angle_rad[i] = scan.angle_rad[i - 1];
+      scan.range_m[i] = scan.range_m[i - 1];
+      scan.range_error_m[i] = scan.range_error_m[i - 1];
+    }
+  }
   // Now and then a run of repeated points: chords of no length.
   if (unit(engine) < 0.3) {
     const std::size_t at = static_cast<std::size_t>(600 * unit(engine));
