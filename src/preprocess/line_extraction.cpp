@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <utility>
 
 #include "line_kernels.hpp"
 #include "option_checks.hpp"
@@ -112,12 +113,16 @@ void LineExtractor::process_cluster(const PlanarScan& scan, std::size_t first, s
   Piece current = pieces_.front();
   PointSums merged_sums{0.0, 0.0, current.first};
   add_points(merged_sums, current.last);
-  fit(current.first, current.last, merged_sums, kNoLimit, merged);
-  const auto emit = [&](const Piece& piece, LineSegment& line) {
-    if (line.point_count < options_.min_points || line.length_m < options_.min_length_m) return;
-    line.occludes_before = piece.first == first && occludes(beyond_first, scan, line, split_distance);
-    line.occludes_after = piece.last == last && occludes(beyond_last, scan, line, split_distance);
-    if (!occluding_only || line.occludes_before || line.occludes_after) segments.push_back(line);
+  // A piece's own fit is wanted only if it is emitted unmerged and has the
+  // points: most pieces are merged first.
+  bool merged_fitted = false;
+  const auto emit = [&] {
+    if (current.last - current.first + 1 < options_.min_points) return;
+    if (!merged_fitted) fit(current.first, current.last, merged_sums, kNoLimit, merged);
+    if (merged.length_m < options_.min_length_m) return;
+    merged.occludes_before = current.first == first && occludes(beyond_first, scan, merged, split_distance);
+    merged.occludes_after = current.last == last && occludes(beyond_last, scan, merged, split_distance);
+    if (!occluding_only || merged.occludes_before || merged.occludes_after) segments.push_back(merged);
   };
   // The segments after the first start past `first`: without an occluding
   // last end, none of them is wanted.
@@ -127,18 +132,19 @@ void LineExtractor::process_cluster(const PlanarScan& scan, std::size_t first, s
     add_points(candidate_sums, pieces_[p].last);
     if (fit(current.first, pieces_[p].last, candidate_sums, split_distance, candidate)) {
       current.last = pieces_[p].last;
-      merged = candidate;
+      std::swap(merged, candidate);
       merged_sums = candidate_sums;
+      merged_fitted = true;
     } else {
-      emit(current, merged);
+      emit();
       if (first_only) return;
       current = pieces_[p];
       merged_sums = {0.0, 0.0, current.first};
       add_points(merged_sums, current.last);
-      fit(current.first, current.last, merged_sums, kNoLimit, merged);
+      merged_fitted = false;
     }
   }
-  emit(current, merged);
+  emit();
 }
 
 void LineExtractor::split_cluster(std::size_t first, std::size_t last, double split_distance_m) {
