@@ -161,9 +161,14 @@ void LineExtractor::split_cluster(std::size_t first, std::size_t last, double sp
       const double ay = y_m_[piece.first];
       const double dx = x_m_[piece.last] - ax;
       const double dy = y_m_[piece.last] - ay;
-      const double chord = std::hypot(dx, dy);
-      const std::size_t farthest = chord > 1e-12 ? farthest_from_chord(piece, ax, ay, dx, dy, chord, split_distance_m)
-                                                 : farthest_from_point(piece, ax, ay, split_distance_m);
+      // hypot() is slow and its bits are needed only near a decision: a
+      // squared length in this range puts the chord far above 1e-12, and
+      // its square root within a few units in the last place of hypot().
+      const double squared = dx * dx + dy * dy;
+      const bool plain = squared > 1e-20 && squared < 1e300;
+      const std::size_t farthest = plain || std::hypot(dx, dy) > 1e-12
+                                       ? farthest_from_chord(piece, ax, ay, dx, dy, plain, split_distance_m)
+                                       : farthest_from_point(piece, ax, ay, split_distance_m);
       if (farthest != kNoIndex) {
         stack_.push_back({farthest, piece.last});
         stack_.push_back({piece.first, farthest});
@@ -179,21 +184,29 @@ void LineExtractor::split_cluster(std::size_t first, std::size_t last, double sp
 // by the same chord never reverses an order, so the largest cross product
 // gives the largest distance, and only a point whose cross product comes
 // within rounding of it can tie: one division for the winner instead of
-// one per point, the same point and distance as dividing each.
+// one per point, the same point and distance as dividing each. With a
+// `plain` chord its square root decides unless the distance comes within
+// 1e-9 of split_distance_m, a margin millions of times the rounding.
 std::size_t LineExtractor::farthest_from_chord(const Piece& piece, double ax, double ay, double dx, double dy,
-                                               double chord, double split_distance_m) const {
+                                               bool plain, double split_distance_m) const {
   const detail::ChordFarthest far =
       detail::farthest_from_chord(x_m_.data(), y_m_.data(), piece.first + 1, piece.last, ax, ay, dx, dy);
   const std::size_t best = far.index;
   const double best_cross = far.cross;
   const double runner_up = far.runner_up;  // at least every other point's cross product
   if (best == kNoIndex) return kNoIndex;
-  const double distance = best_cross / chord;
-  if (!(distance > split_distance_m)) return kNoIndex;
   // An earlier point whose smaller cross product rounds to the same
   // distance came first in the per-point comparison; two doubles that
   // round alike differ by far less than 1e-12 of either.
   const double near_tie = best_cross * (1.0 - 1e-12);
+  if (plain && std::isfinite(best_cross)) {
+    const double roughly = best_cross / std::sqrt(dx * dx + dy * dy);
+    if (roughly < split_distance_m * (1.0 - 1e-9)) return kNoIndex;
+    if (roughly > split_distance_m * (1.0 + 1e-9) && runner_up < near_tie) return best;
+  }
+  const double chord = std::hypot(dx, dy);
+  const double distance = best_cross / chord;
+  if (!(distance > split_distance_m)) return kNoIndex;
   if (runner_up < near_tie) return best;
   for (std::size_t i = piece.first + 1; i < best; ++i) {
     const double cross = std::abs((x_m_[i] - ax) * dy - (y_m_[i] - ay) * dx);

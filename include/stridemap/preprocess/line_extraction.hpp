@@ -93,7 +93,7 @@ class LineExtractor {
     std::size_t last = 0;
   };
   void split_cluster(std::size_t first, std::size_t last, double split_distance_m);
-  std::size_t farthest_from_chord(const Piece& piece, double ax, double ay, double dx, double dy, double chord,
+  std::size_t farthest_from_chord(const Piece& piece, double ax, double ay, double dx, double dy, bool plain,
                                   double split_distance_m) const;
   std::size_t farthest_from_point(const Piece& piece, double ax, double ay, double split_distance_m) const;
   // Sums of x and y over the beams from a piece's first up to `next`, added
