@@ -91,48 +91,70 @@ __attribute__((target("avx2"))) std::size_t points_avx2(const double* range, con
   return i;
 }
 
-__attribute__((target("avx2"))) std::size_t farthest_avx2(const double* x, const double* y, std::size_t begin,
-                                                          std::size_t end, double ax, double ay, double dx,
-                                                          double dy, ChordFarthest& far) {
+// The lanes' maximum and minimum, in every lane.
+__attribute__((target("avx2"))) inline __m256d lanes_max(__m256d v) {
+  v = _mm256_max_pd(v, _mm256_permute_pd(v, 0b0101));
+  return _mm256_max_pd(v, _mm256_permute2f128_pd(v, v, 1));
+}
+__attribute__((target("avx2"))) inline __m256d lanes_min(__m256d v) {
+  v = _mm256_min_pd(v, _mm256_permute_pd(v, 0b0101));
+  return _mm256_min_pd(v, _mm256_permute2f128_pd(v, v, 1));
+}
+
+struct FarthestLanes {
+  __m256d best, second, best_index;
+};
+
+// Each lane keeps its first largest cross product, the beam's index and
+// the largest of the others; lanes in `skip` are held below any cross product.
+__attribute__((target("avx2"))) inline void farthest_block(const double* x, const double* y, __m256d vax, __m256d vay,
+                                                           __m256d vdx, __m256d vdy, __m256d index, __m256d skip,
+                                                           FarthestLanes& lanes) {
+  __m256d cross = _mm256_andnot_pd(
+      _mm256_set1_pd(-0.0), _mm256_sub_pd(_mm256_mul_pd(_mm256_sub_pd(_mm256_loadu_pd(x), vax), vdy),
+                                          _mm256_mul_pd(_mm256_sub_pd(_mm256_loadu_pd(y), vay), vdx)));
+  cross = _mm256_blendv_pd(cross, _mm256_set1_pd(-2.0), skip);
+  const __m256d greater = _mm256_cmp_pd(cross, lanes.best, _CMP_GT_OQ);
+  // A NaN cross makes min() hand back the lane's best: a runner-up too
+  // large, which the caller tolerates.
+  lanes.second = _mm256_max_pd(_mm256_min_pd(cross, lanes.best), lanes.second);
+  lanes.best = _mm256_blendv_pd(lanes.best, cross, greater);
+  lanes.best_index = _mm256_blendv_pd(lanes.best_index, index, greater);
+}
+
+// The piece's last points are a block ending at `end`, its lanes already
+// seen skipped.
+__attribute__((target("avx2"))) void farthest_avx2(const double* x, const double* y, std::size_t begin,
+                                                   std::size_t end, double ax, double ay, double dx, double dy,
+                                                   ChordFarthest& far) {
   const __m256d vax = _mm256_set1_pd(ax), vay = _mm256_set1_pd(ay);
-  const __m256d vdx = _mm256_set1_pd(dx), vdy = _mm256_set1_pd(dy), sign = _mm256_set1_pd(-0.0);
-  __m256d best = _mm256_set1_pd(-1.0), second = best, best_index = best;
-  __m256d index = _mm256_setr_pd(0.0, 1.0, 2.0, 3.0);
-  index = _mm256_add_pd(index, _mm256_set1_pd(static_cast<double>(begin)));
-  const __m256d four = _mm256_set1_pd(4.0);
+  const __m256d vdx = _mm256_set1_pd(dx), vdy = _mm256_set1_pd(dy);
+  const __m256d none = _mm256_set1_pd(-1.0), four = _mm256_set1_pd(4.0);
+  FarthestLanes lanes{none, none, none};
+  __m256d index = _mm256_add_pd(_mm256_setr_pd(0.0, 1.0, 2.0, 3.0), _mm256_set1_pd(static_cast<double>(begin)));
   std::size_t i = begin;
   for (; i + 4 <= end; i += 4) {
-    const __m256d cross = _mm256_andnot_pd(
-        sign, _mm256_sub_pd(_mm256_mul_pd(_mm256_sub_pd(_mm256_loadu_pd(x + i), vax), vdy),
-                            _mm256_mul_pd(_mm256_sub_pd(_mm256_loadu_pd(y + i), vay), vdx)));
-    const __m256d greater = _mm256_cmp_pd(cross, best, _CMP_GT_OQ);
-    // A NaN cross makes min() hand back the lane's best: a runner-up too
-    // large, which the caller tolerates.
-    second = _mm256_max_pd(_mm256_min_pd(cross, best), second);
-    best = _mm256_blendv_pd(best, cross, greater);
-    best_index = _mm256_blendv_pd(best_index, index, greater);
+    farthest_block(x + i, y + i, vax, vay, vdx, vdy, index, _mm256_setzero_pd(), lanes);
     index = _mm256_add_pd(index, four);
   }
-  if (i == begin) return i;
-  double bests[4], seconds[4], indices[4];
-  _mm256_storeu_pd(bests, best);
-  _mm256_storeu_pd(seconds, second);
-  _mm256_storeu_pd(indices, best_index);
-  // The lanes' first maxima; among equal ones the earliest beam wins.
-  int winner = -1;
-  for (int k = 0; k < 4; ++k) {
-    if (!(bests[k] > -1.0)) continue;
-    if (winner < 0 || bests[k] > bests[winner] || (bests[k] == bests[winner] && indices[k] < indices[winner])) winner = k;
+  if (i < end) {
+    const std::size_t back = 4 - (end - i);
+    index = _mm256_sub_pd(index, _mm256_set1_pd(static_cast<double>(back)));
+    const __m256d skip = _mm256_cmp_pd(index, _mm256_set1_pd(static_cast<double>(i)), _CMP_LT_OQ);
+    farthest_block(x + end - 4, y + end - 4, vax, vay, vdx, vdy, index, skip, lanes);
   }
-  for (int k = 0; k < 4; ++k) {
-    far.runner_up = std::max(far.runner_up, seconds[k]);
-    if (k != winner) far.runner_up = std::max(far.runner_up, bests[k]);
-  }
-  if (winner >= 0) {
-    far.cross = bests[winner];
-    far.index = static_cast<std::size_t>(indices[winner]);
-  }
-  return i;
+  // Lanes without a cross product above -1 hold -1 and index -1; among
+  // equal maxima the earliest beam wins.
+  const __m256d top = lanes_max(lanes.best);
+  const __m256d at_top =
+      _mm256_and_pd(_mm256_cmp_pd(lanes.best, top, _CMP_EQ_OQ), _mm256_cmp_pd(lanes.best, none, _CMP_GT_OQ));
+  const __m256d winner = lanes_min(
+      _mm256_blendv_pd(_mm256_set1_pd(std::numeric_limits<double>::infinity()), lanes.best_index, at_top));
+  const __m256d others = _mm256_blendv_pd(lanes.best, none, _mm256_cmp_pd(lanes.best_index, winner, _CMP_EQ_OQ));
+  far.runner_up = _mm256_cvtsd_f64(lanes_max(_mm256_max_pd(lanes.second, others)));
+  if (_mm256_movemask_pd(at_top) == 0) return;
+  far.cross = _mm256_cvtsd_f64(top);
+  far.index = static_cast<std::size_t>(_mm256_cvtsd_f64(winner));
 }
 
 __attribute__((target("avx2"))) std::size_t extent_avx2(const double* x, const double* y, std::size_t begin,
@@ -184,11 +206,13 @@ double cluster_points(const double* range, const double* range_error, const doub
 ChordFarthest farthest_from_chord(const double* x, const double* y, std::size_t begin, std::size_t end, double ax,
                                   double ay, double dx, double dy) {
   ChordFarthest far;
-  std::size_t i = begin;
 #ifdef STRIDEMAP_LINES_AVX2
-  if (has_avx2()) i = farthest_avx2(x, y, begin, end, ax, ay, dx, dy, far);
+  if (end - begin >= 4 && has_avx2()) {
+    farthest_avx2(x, y, begin, end, ax, ay, dx, dy, far);
+    return far;
+  }
 #endif
-  farthest_scalar(x, y, i, end, ax, ay, dx, dy, far);
+  farthest_scalar(x, y, begin, end, ax, ay, dx, dy, far);
   return far;
 }
 
