@@ -17,8 +17,9 @@ namespace {
 
 void points_scalar(const double* range, const double* range_error, const double* cos, const double* sin,
                    std::size_t first, std::size_t end, const RangeSigmaModel& sigma, double* x, double* y,
-                   double& max_sigma) {
+                   double& max_sigma, double& max_range) {
   for (std::size_t i = first; i < end; ++i) {
+    max_range = std::max(max_range, range[i]);
     x[i] = range[i] * cos[i];
     y[i] = range[i] * sin[i];
     max_sigma = std::max(max_sigma, sigma.sigma_m(range[i], range_error[i]));
@@ -37,6 +38,16 @@ void farthest_scalar(const double* x, const double* y, std::size_t begin, std::s
       far.runner_up = std::max(far.runner_up, cross);
     }
   }
+}
+
+Verdict within_scalar(const double* x, const double* y, std::size_t begin, std::size_t end, double nx, double ny,
+                      double rho, double inside_m, double outside_m, bool& unsure) {
+  for (std::size_t i = begin; i < end; ++i) {
+    const double residual = std::abs(x[i] * nx + y[i] * ny - rho);
+    if (residual > outside_m) return Verdict::outside;
+    unsure = unsure || !(residual <= inside_m);
+  }
+  return unsure ? Verdict::unsure : Verdict::inside;
 }
 
 bool extent_scalar(const double* x, const double* y, std::size_t begin, std::size_t end, double nx, double ny,
@@ -66,13 +77,14 @@ bool has_avx2() {
 __attribute__((target("avx2"))) std::size_t points_avx2(const double* range, const double* range_error,
                                                         const double* cos, const double* sin, std::size_t first,
                                                         std::size_t end, const RangeSigmaModel& sigma, double* x,
-                                                        double* y, double& max_sigma) {
+                                                        double* y, double& max_sigma, double& max_range) {
   const __m256d per_error = _mm256_set1_pd(sigma.sigma_per_range_error), zero = _mm256_setzero_pd();
   const __m256d largest = _mm256_set1_pd(std::numeric_limits<double>::max());
-  __m256d max = _mm256_set1_pd(max_sigma);
+  __m256d max = _mm256_set1_pd(max_sigma), farthest = _mm256_set1_pd(max_range);
   std::size_t i = first;
   for (; i + 4 <= end; i += 4) {
     const __m256d r = _mm256_loadu_pd(range + i);
+    farthest = _mm256_max_pd(r, farthest);
     _mm256_storeu_pd(x + i, _mm256_mul_pd(r, _mm256_loadu_pd(cos + i)));
     _mm256_storeu_pd(y + i, _mm256_mul_pd(r, _mm256_loadu_pd(sin + i)));
     const __m256d error = _mm256_loadu_pd(range_error + i);
@@ -88,6 +100,8 @@ __attribute__((target("avx2"))) std::size_t points_avx2(const double* range, con
   double lanes[4];
   _mm256_storeu_pd(lanes, max);
   max_sigma = std::max(std::max(lanes[0], lanes[1]), std::max(lanes[2], lanes[3]));
+  _mm256_storeu_pd(lanes, farthest);
+  max_range = std::max(std::max(lanes[0], lanes[1]), std::max(lanes[2], lanes[3]));
   return i;
 }
 
@@ -157,6 +171,30 @@ __attribute__((target("avx2"))) void farthest_avx2(const double* x, const double
   far.index = static_cast<std::size_t>(_mm256_cvtsd_f64(winner));
 }
 
+__attribute__((target("avx2"))) std::size_t within_avx2(const double* x, const double* y, std::size_t begin,
+                                                        std::size_t end, double nx, double ny, double rho,
+                                                        double inside_m, double outside_m, bool& outside,
+                                                        bool& unsure) {
+  const __m256d vnx = _mm256_set1_pd(nx), vny = _mm256_set1_pd(ny), vrho = _mm256_set1_pd(rho);
+  const __m256d inside = _mm256_set1_pd(inside_m), beyond = _mm256_set1_pd(outside_m);
+  const __m256d sign = _mm256_set1_pd(-0.0);
+  __m256d doubt = _mm256_setzero_pd();
+  std::size_t i = begin;
+  for (; i + 4 <= end; i += 4) {
+    const __m256d residual = _mm256_andnot_pd(
+        sign, _mm256_sub_pd(_mm256_add_pd(_mm256_mul_pd(_mm256_loadu_pd(x + i), vnx),
+                                          _mm256_mul_pd(_mm256_loadu_pd(y + i), vny)),
+                            vrho));
+    if (_mm256_movemask_pd(_mm256_cmp_pd(residual, beyond, _CMP_GT_OQ)) != 0) {
+      outside = true;
+      return i;
+    }
+    doubt = _mm256_or_pd(doubt, _mm256_cmp_pd(residual, inside, _CMP_NLE_UQ));
+  }
+  unsure = unsure || _mm256_movemask_pd(doubt) != 0;
+  return i;
+}
+
 __attribute__((target("avx2"))) std::size_t extent_avx2(const double* x, const double* y, std::size_t begin,
                                                         std::size_t end, double nx, double ny, double rho,
                                                         double limit_m, LineExtent& extent, bool& within) {
@@ -193,14 +231,30 @@ __attribute__((target("avx2"))) std::size_t extent_avx2(const double* x, const d
 }  // namespace
 
 double cluster_points(const double* range, const double* range_error, const double* cos, const double* sin,
-                      std::size_t first, std::size_t last, const RangeSigmaModel& sigma, double* x, double* y) {
+                      std::size_t first, std::size_t last, const RangeSigmaModel& sigma, double* x, double* y,
+                      double& max_range_m) {
   double max_sigma = 0.0;
+  max_range_m = 0.0;
   std::size_t i = first;
 #ifdef STRIDEMAP_LINES_AVX2
-  if (has_avx2()) i = points_avx2(range, range_error, cos, sin, first, last + 1, sigma, x, y, max_sigma);
+  if (has_avx2()) i = points_avx2(range, range_error, cos, sin, first, last + 1, sigma, x, y, max_sigma, max_range_m);
 #endif
-  points_scalar(range, range_error, cos, sin, i, last + 1, sigma, x, y, max_sigma);
+  points_scalar(range, range_error, cos, sin, i, last + 1, sigma, x, y, max_sigma, max_range_m);
   return max_sigma;
+}
+
+Verdict residuals_within(const double* x, const double* y, std::size_t first, std::size_t last, double nx, double ny,
+                         double rho, double inside_m, double outside_m) {
+  bool unsure = false;
+  std::size_t i = first;
+#ifdef STRIDEMAP_LINES_AVX2
+  if (has_avx2()) {
+    bool outside = false;
+    i = within_avx2(x, y, first, last + 1, nx, ny, rho, inside_m, outside_m, outside, unsure);
+    if (outside) return Verdict::outside;
+  }
+#endif
+  return within_scalar(x, y, i, last + 1, nx, ny, rho, inside_m, outside_m, unsure);
 }
 
 ChordFarthest farthest_from_chord(const double* x, const double* y, std::size_t begin, std::size_t end, double ax,

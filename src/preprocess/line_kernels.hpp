@@ -10,9 +10,11 @@
 
 namespace stridemap::detail {
 
-/// x = r cos, y = r sin of beams [first, last]; the largest sigma_r among them.
+/// x = r cos, y = r sin of beams [first, last]; the largest sigma_r among
+/// them, and the largest range (which bounds |x|, |y| and their means).
 double cluster_points(const double* range, const double* range_error, const double* cos, const double* sin,
-                      std::size_t first, std::size_t last, const RangeSigmaModel& sigma, double* x, double* y);
+                      std::size_t first, std::size_t last, const RangeSigmaModel& sigma, double* x, double* y,
+                      double& max_range_m);
 
 struct ChordFarthest {
   std::size_t index = static_cast<std::size_t>(-1);  ///< none when no cross product exceeds -1
@@ -38,5 +40,12 @@ struct LineExtent {
 /// soon as a residual exceeds `limit_m`.
 bool line_extent(const double* x, const double* y, std::size_t first, std::size_t last, double nx, double ny,
                  double rho, double limit_m, LineExtent& extent);
+
+enum class Verdict : unsigned char { inside, outside, unsure };
+
+/// Whether every |x nx + y ny - rho| over points [first, last] is at most
+/// `inside_m` (inside), one exceeds `outside_m` (outside), or neither.
+Verdict residuals_within(const double* x, const double* y, std::size_t first, std::size_t last, double nx, double ny,
+                         double rho, double inside_m, double outside_m);
 
 }  // namespace stridemap::detail

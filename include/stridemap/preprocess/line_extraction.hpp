@@ -105,10 +105,19 @@ class LineExtractor {
     std::size_t next = 0;
   };
   void add_points(PointSums& sums, std::size_t last) const;
+  struct Moments {
+    double mean_x = 0.0;
+    double mean_y = 0.0;
+    double sxx = 0.0;  // about the means
+    double syy = 0.0;
+    double sxy = 0.0;
+  };
+  Moments moments(std::size_t first, std::size_t last, const PointSums& sums) const;
+  // Whether every point lies within max_residual_m of the line fit() makes.
+  bool within(std::size_t first, std::size_t last, const Moments& m, double max_residual_m, double max_range_m) const;
   // False, `line` unfinished, once a point lies farther than max_residual_m
-  // from the line: a merge candidate that fails needs no more.
-  bool fit(std::size_t first, std::size_t last, const PointSums& sums, double max_residual_m,
-           LineSegment& line) const;
+  // from the line.
+  bool fit(std::size_t first, std::size_t last, const Moments& m, double max_residual_m, LineSegment& line) const;
   void process_cluster(const PlanarScan& scan, std::size_t first, std::size_t last, Keep keep,
                        std::vector<LineSegment>& segments);
   std::size_t occluded_beam(const PlanarScan& scan, std::size_t end_beam, bool forward) const;
