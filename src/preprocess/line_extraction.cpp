@@ -188,8 +188,9 @@ void LineExtractor::split_cluster(std::size_t first, std::size_t last, double sp
 // gives the largest distance, and only a point whose cross product comes
 // within rounding of it can tie: one division for the winner instead of
 // one per point, the same point and distance as dividing each. With a
-// `plain` chord its square root decides unless the distance comes within
-// 1e-9 of split_distance_m, a margin millions of times the rounding.
+// `plain` chord the squares decide, without hypot's slow bits, unless the
+// distance comes within 1e-9 of split_distance_m, a margin millions of
+// times their rounding.
 std::size_t LineExtractor::farthest_from_chord(const Piece& piece, double ax, double ay, double dx, double dy,
                                                bool plain, double split_distance_m) const {
   const detail::ChordFarthest far =
@@ -202,10 +203,13 @@ std::size_t LineExtractor::farthest_from_chord(const Piece& piece, double ax, do
   // distance came first in the per-point comparison; two doubles that
   // round alike differ by far less than 1e-12 of either.
   const double near_tie = best_cross * (1.0 - 1e-12);
-  if (plain && std::isfinite(best_cross)) {
-    const double roughly = best_cross / std::sqrt(dx * dx + dy * dy);
-    if (roughly < split_distance_m * (1.0 - 1e-9)) return kNoIndex;
-    if (roughly > split_distance_m * (1.0 + 1e-9) && runner_up < near_tie) return best;
+  if (plain && best_cross < 1e150) {
+    const double cross_squared = best_cross * best_cross;
+    const double limit_squared = split_distance_m * split_distance_m * (dx * dx + dy * dy);
+    if (limit_squared > 1e-250) {
+      if (cross_squared < limit_squared * (1.0 - 2e-9)) return kNoIndex;
+      if (cross_squared > limit_squared * (1.0 + 2e-9) && runner_up < near_tie) return best;
+    }
   }
   const double chord = std::hypot(dx, dy);
   const double distance = best_cross / chord;
