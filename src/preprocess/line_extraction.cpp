@@ -260,30 +260,25 @@ LineExtractor::Moments LineExtractor::moments(std::size_t first, std::size_t las
   return m;
 }
 
-// fit()'s normal comes from atan2, cos and sin; half-angle formulas give it
-// to within a few units in the last place for a fraction of the time, which
-// moves no residual by more than about 1e-14 of the largest range. Only a
-// point within 1e-9 of it from the limit sends the question to fit().
+// fit()'s normal has half the angle of (a, b) = (syy - sxx, -2 sxy), from
+// atan2, cos and sin. The bisector of (1, 0) and (a, b) / r has it too, and
+// without the trigonometry, a division or cancellation: (a + r, b), or
+// (b, r - a) (the normal or its opposite, which is the same line), of length
+// sqrt(2 r (r + |a|)). Residuals scaled by that length move by no more than
+// about 1e-14 of the largest range; only a point within 1e-9 of it from the
+// limit sends the question to fit().
 bool LineExtractor::within(std::size_t first, std::size_t last, const Moments& m, double max_residual_m,
                            double max_range_m) const {
   const double a = m.syy - m.sxx;
   const double b = -2.0 * m.sxy;
   const double r = std::sqrt(a * a + b * b);
   if (r > 1e-150 && r < 1e150) {
-    const double cos_2 = a / r;
-    const double sin_2 = b / r;
-    double nx = 0.0;
-    double ny = 0.0;
-    if (cos_2 >= 0.0) {
-      nx = std::sqrt(0.5 * (1.0 + cos_2));
-      ny = sin_2 / (2.0 * nx);
-    } else {
-      ny = std::copysign(std::sqrt(0.5 * (1.0 - cos_2)), b);
-      nx = sin_2 / (2.0 * ny);
-    }
+    const double wx = a >= 0.0 ? a + r : b;
+    const double wy = a >= 0.0 ? b : r - a;
+    const double length = std::sqrt(2.0 * r * (r + std::abs(a)));
     const double margin = 1e-9 * max_range_m;
-    switch (detail::residuals_within(x_m_.data(), y_m_.data(), first, last, nx, ny, m.mean_x * nx + m.mean_y * ny,
-                                     max_residual_m - margin, max_residual_m + margin)) {
+    switch (detail::residuals_within(x_m_.data(), y_m_.data(), first, last, wx, wy, m.mean_x * wx + m.mean_y * wy,
+                                     (max_residual_m - margin) * length, (max_residual_m + margin) * length)) {
       case detail::Verdict::inside:
         return true;
       case detail::Verdict::outside:
