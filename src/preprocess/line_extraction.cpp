@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numbers>
 #include <utility>
@@ -55,14 +56,15 @@ void LineExtractor::extract(const PlanarScan& scan, std::vector<LineSegment>& se
   if (const RangeRatioBand* band = detail::uniform_step_band(scan, directions_, bands_)) {
     // The loop below, its tests made in one pass: the same clusters in the same order.
     detail::mark_range_breaks(scan, *band, options_.break_noise_sigmas, options_.sigma, breaks_);
-    for (std::size_t i = 0; i < n;) {
-      if (!is_usable_range(range[i])) {
-        ++i;
-        continue;
-      }
-      const std::size_t end = detail::run_end(breaks_, i);
-      process_cluster(scan, i, end - 1, keep, segments);
-      i = end;
+    // A cluster of two beams or more starts before a joined pair (whose
+    // beams are usable); the others are single beams, below min_points.
+    for (std::size_t i = 1; i < n;) {
+      const void* joined = std::memchr(breaks_.data() + i, 0, n - i);
+      if (joined == nullptr) break;
+      const std::size_t start = static_cast<std::size_t>(static_cast<const std::uint8_t*>(joined) - breaks_.data()) - 1;
+      const std::size_t end = detail::run_end(breaks_, start);
+      process_cluster(scan, start, end - 1, keep, segments);
+      i = end + 1;
     }
     return;
   }

@@ -1,9 +1,9 @@
 #pragma once
 // The passes over a cluster's points that the line extractor repeats
-// (internal): its points, the farthest from a chord, a fitted line's
-// residuals and extent. Four points a vector where the CPU has AVX2, chosen
-// at run time; no FMA and no reordered sums, so each gives the bits of the
-// plain loop it stands for.
+// (internal): its points, the farthest from a chord, a merge's residual
+// test, a fitted line's residuals and extent. Four points a vector where
+// the CPU has AVX2, chosen at run time; no FMA and no reordered sums, so
+// each gives the bits of the plain loop it stands for.
 #include <cstddef>
 
 #include "stridemap/preprocess/range_sigma.hpp"
