@@ -280,5 +280,38 @@ TEST(LineExtractionReference, MatchesSplitAndMergeAsDefinedBitForBit) {
   EXPECT_GT(segments, 3000u);  // the scans gave the extractor plenty to do
 }
 
+// A line bent at its middle beam by `bend_rad`: one segment for a slight
+// bend (split at the corner, merged back), two beyond the bend at which
+// the union's largest residual reaches the split distance.
+PlanarScan bent_line(double bend_rad) {
+  PlanarScan scan = test::centred_scan(201);
+  test::put_on_line_x(scan, 0, 100, 0.5);
+  const double corner_y = 0.5 * std::tan(scan.angle_rad[100]);
+  const double distance = 0.5 * std::cos(bend_rad) + corner_y * std::sin(bend_rad);
+  for (std::size_t i = 101; i < scan.size(); ++i) scan.range_m[i] = distance / std::cos(scan.angle_rad[i] - bend_rad);
+  return scan;
+}
+
+TEST(LineExtractionReference, MatchesAtTheBendWhereAMergeIsDecided) {
+  // Bisect for the bend where the merge flips: there the union's largest
+  // residual lies within rounding of the limit, which no margin can settle.
+  const LineExtractionOptions options;
+  ReferenceLines reference(options);
+  double merged = 0.0, split = 0.5;
+  ASSERT_EQ(reference.extract(bent_line(merged)).size(), 1u);
+  ASSERT_EQ(reference.extract(bent_line(split)).size(), 2u);
+  while (true) {
+    const double middle = 0.5 * (merged + split);
+    if (middle <= merged || middle >= split) break;
+    (reference.extract(bent_line(middle)).size() == 1 ? merged : split) = middle;
+  }
+  std::size_t segments = 0;
+  for (double bend : {merged, split, std::nextafter(merged, 0.0), std::nextafter(split, 1.0)}) {
+    SCOPED_TRACE(bend);
+    expect_same(options, bent_line(bend), segments);
+  }
+  EXPECT_EQ(segments, 1u + 2u + 1u + 2u);
+}
+
 }  // namespace
 }  // namespace stridemap
