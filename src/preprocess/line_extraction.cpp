@@ -122,10 +122,11 @@ void LineExtractor::process_cluster(const PlanarScan& scan, std::size_t first, s
   const auto emit = [&] {
     if (current.last - current.first + 1 < options_.min_points) return;
     if (!merged_has_moments) merged_moments = moments(current.first, current.last, merged_sums);
-    fit(current.first, current.last, merged_moments, kNoLimit, merged);
+    Normal normal;
+    fit(current.first, current.last, merged_moments, kNoLimit, merged, normal);
     if (merged.length_m < options_.min_length_m) return;
-    merged.occludes_before = current.first == first && occludes(beyond_first, scan, merged, split_distance);
-    merged.occludes_after = current.last == last && occludes(beyond_last, scan, merged, split_distance);
+    merged.occludes_before = current.first == first && occludes(beyond_first, scan, merged, normal, split_distance);
+    merged.occludes_after = current.last == last && occludes(beyond_last, scan, merged, normal, split_distance);
     if (!occluding_only || merged.occludes_before || merged.occludes_after) segments.push_back(merged);
   };
   // The segments after the first start past `first`: without an occluding
@@ -290,11 +291,12 @@ bool LineExtractor::within(std::size_t first, std::size_t last, const Moments& m
     }
   }
   LineSegment line;
-  return fit(first, last, m, max_residual_m, line);
+  Normal normal;
+  return fit(first, last, m, max_residual_m, line, normal);
 }
 
 bool LineExtractor::fit(std::size_t first, std::size_t last, const Moments& m, double max_residual_m,
-                        LineSegment& line) const {
+                        LineSegment& line, Normal& normal) const {
   const std::size_t count = last - first + 1;
   const double mean_x = m.mean_x, mean_y = m.mean_y, sxx = m.sxx, syy = m.syy, sxy = m.sxy;
   // Total least squares in polar form (algorithms.md 3.2 step 4).
@@ -319,6 +321,7 @@ bool LineExtractor::fit(std::size_t first, std::size_t last, const Moments& m, d
   line.mid_y_m = mean_y;
   line.occludes_before = false;
   line.occludes_after = false;
+  normal = {nx, ny};
   return true;
 }
 
@@ -344,14 +347,14 @@ std::size_t LineExtractor::occluded_beam(const PlanarScan& scan, std::size_t end
   return kNoIndex;
 }
 
-// The beam past the end (occluded_beam()) must also lie off the segment's line.
+// The beam past the end (occluded_beam()) must also lie off the segment's
+// line; `normal` is the cos and sin of its normal_angle_rad, from fit().
 bool LineExtractor::occludes(std::size_t beyond_beam, const PlanarScan& scan, const LineSegment& line,
-                             double split_distance_m) const {
+                             const Normal& normal, double split_distance_m) const {
   if (beyond_beam == kNoIndex) return false;
   const std::size_t j = beyond_beam;
-  const double off_line = std::abs(scan.range_m[j] * (directions_.cos()[j] * std::cos(line.normal_angle_rad) +
-                                                      directions_.sin()[j] * std::sin(line.normal_angle_rad)) -
-                                   line.distance_m);
+  const double off_line =
+      std::abs(scan.range_m[j] * (directions_.cos()[j] * normal.x + directions_.sin()[j] * normal.y) - line.distance_m);
   return off_line > split_distance_m;
 }
 

@@ -115,13 +115,18 @@ class LineExtractor {
   Moments moments(std::size_t first, std::size_t last, const PointSums& sums) const;
   // Whether every point lies within max_residual_m of the line fit() makes.
   bool within(std::size_t first, std::size_t last, const Moments& m, double max_residual_m, double max_range_m) const;
+  struct Normal {
+    double x = 0.0;
+    double y = 0.0;
+  };
   // False, `line` unfinished, once a point lies farther than max_residual_m
-  // from the line.
-  bool fit(std::size_t first, std::size_t last, const Moments& m, double max_residual_m, LineSegment& line) const;
+  // from the line; `normal` is its unit normal, for occludes().
+  bool fit(std::size_t first, std::size_t last, const Moments& m, double max_residual_m, LineSegment& line,
+           Normal& normal) const;
   void process_cluster(const PlanarScan& scan, std::size_t first, std::size_t last, Keep keep,
                        std::vector<LineSegment>& segments);
   std::size_t occluded_beam(const PlanarScan& scan, std::size_t end_beam, bool forward) const;
-  bool occludes(std::size_t beyond_beam, const PlanarScan& scan, const LineSegment& line,
+  bool occludes(std::size_t beyond_beam, const PlanarScan& scan, const LineSegment& line, const Normal& normal,
                 double split_distance_m) const;
 
   LineExtractionOptions options_;
