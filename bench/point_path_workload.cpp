@@ -7,14 +7,18 @@
 // and of the changed rows after each scan, so that two builds' maps can be
 // compared bit for bit.
 //
-//   point_path_workload [packed|planar|pipeline|pipeline-paper|pipeline-foothold] [scans]
+//   point_path_workload [packed|planar|pipeline|pipeline-paper|pipeline-walk|pipeline-foothold] [scans]
 //     packed: UrgModel::to_beams + TerrainMapper::integrate(PlanarBeams) (default)
 //     planar: UrgModel::to_planar_scan + TerrainMapper::integrate(PlanarScan)
 //     pipeline: ScanIntegrator::push, no scan filters (its packed route)
 //     pipeline-paper: the same with the paper's scan filters
+//     pipeline-walk: pipeline-paper on the scans of make bench-compare's walk
+//       (bench/compare.cpp), whose rocks give the line extraction more to fit
+//       than the floor; simulating them is counted apart (UrgSimulator::scan)
 //     pipeline-foothold: MappingPipeline::add with foothold.update_every_scan
 //       (the foothold layers refreshed after every scan, as they are layers
 //       of the digest read from mapper().map(); otherwise its defaults)
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -23,9 +27,13 @@
 #include <string>
 #include <vector>
 
+#include "stridemap/config/scene_yaml.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
 #include "stridemap/sensors/urg04lx.hpp"
+#include "stridemap/sim/urg_simulator.hpp"
+#include "stridemap/sim/walk_motion.hpp"
+#include "test_paths.hpp"
 
 using namespace stridemap;
 
@@ -51,11 +59,13 @@ UrgRawScan floor_scan(const UrgParameters& urg, const SensorMount& mount, std::m
 int main(int argc, char** argv) {
   const std::string mode = argc > 1 ? argv[1] : "packed";
   const int scans = argc > 2 ? std::atoi(argv[2]) : 750;
-  if ((mode != "packed" && mode != "planar" && mode != "pipeline" && mode != "pipeline-paper" &&
+  const bool walk = mode == "pipeline-walk";
+  if ((mode != "packed" && mode != "planar" && mode != "pipeline" && mode != "pipeline-paper" && !walk &&
        mode != "pipeline-foothold") ||
       scans < 1) {
     std::fprintf(stderr,
-                 "usage: point_path_workload [packed|planar|pipeline|pipeline-paper|pipeline-foothold] [scans >= 1]\n");
+                 "usage: point_path_workload [packed|planar|pipeline|pipeline-paper|pipeline-walk|pipeline-foothold] "
+                 "[scans >= 1]\n");
     return 2;
   }
   const UrgParameters urg;
@@ -67,7 +77,7 @@ int main(int argc, char** argv) {
   pipeline_options.mapper = options;
   pipeline_options.urg = urg;
   pipeline_options.mount = mount;
-  if (mode == "pipeline-paper") pipeline_options.filters = parse_scan_filter_list(std::string_view("paper"));
+  if (mode == "pipeline-paper" || walk) pipeline_options.filters = parse_scan_filter_list(std::string_view("paper"));
   pipeline_options.foothold.update_every_scan = true;
   ScanIntegrator integrator(pipeline_options);
   MappingPipeline pipeline(pipeline_options);
@@ -77,7 +87,20 @@ int main(int argc, char** argv) {
   std::normal_distribution<double> tilt(0.0, 0.02);
   // A handful of different scans, made before the measured loop.
   std::vector<UrgRawScan> raw_scans;
-  for (int k = 0; k < 8; ++k) raw_scans.push_back(floor_scan(urg, mount, rng));
+  std::vector<TrunkPose> walk_poses;
+  if (walk) {
+    // As bench/compare.cpp makes them: true poses, seed 1, 0.1 s apart.
+    const Scene scene = load_scene_yaml(std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/rocky_mockup.yaml");
+    const WalkMotion motion(scene);
+    UrgSimulator simulator(scene, urg, UrgSimOptions{}, 1);
+    raw_scans.resize(static_cast<std::size_t>(scans));
+    for (std::size_t k = 0; k < raw_scans.size(); ++k) {
+      walk_poses.push_back(motion.pose_at(std::min(0.1 * static_cast<double>(k), motion.duration_s())));
+      simulator.scan(walk_poses.back(), mount, 0.1 * static_cast<double>(k + 1), raw_scans[k]);
+    }
+  } else {
+    for (int k = 0; k < 8; ++k) raw_scans.push_back(floor_scan(urg, mount, rng));
+  }
   PlanarScan planar;
   PlanarBeams beams;
   TrunkPose pose;
@@ -94,6 +117,7 @@ int main(int argc, char** argv) {
     pose.pitch_rad = tilt(rng);
     pose.roll_rad = tilt(rng);
     raw.time_s = 0.1 * (k + 1);
+    if (walk) pose = walk_poses[static_cast<std::size_t>(k)];
     ScanStats stats;
     if (mode == "packed") {
       model.to_beams(raw, beams);

@@ -2,9 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numbers>
+#include <utility>
 
+#include "line_kernels.hpp"
 #include "option_checks.hpp"
 #include "range_breaks.hpp"
 #include "stridemap/preprocess/range_clustering.hpp"
@@ -14,6 +17,7 @@ namespace stridemap {
 namespace {
 
 constexpr std::size_t kNoIndex = static_cast<std::size_t>(-1);
+constexpr double kNoLimit = std::numeric_limits<double>::infinity();
 
 }  // namespace
 
@@ -52,14 +56,15 @@ void LineExtractor::extract(const PlanarScan& scan, std::vector<LineSegment>& se
   if (const RangeRatioBand* band = detail::uniform_step_band(scan, directions_, bands_)) {
     // The loop below, its tests made in one pass: the same clusters in the same order.
     detail::mark_range_breaks(scan, *band, options_.break_noise_sigmas, options_.sigma, breaks_);
-    for (std::size_t i = 0; i < n;) {
-      if (!is_usable_range(range[i])) {
-        ++i;
-        continue;
-      }
-      const std::size_t end = detail::run_end(breaks_, i);
-      process_cluster(scan, i, end - 1, keep, segments);
-      i = end;
+    // A cluster of two beams or more starts before a joined pair (whose
+    // beams are usable); the others are single beams, below min_points.
+    for (std::size_t i = 1; i < n;) {
+      const void* joined = std::memchr(breaks_.data() + i, 0, n - i);
+      if (joined == nullptr) break;
+      const std::size_t start = static_cast<std::size_t>(static_cast<const std::uint8_t*>(joined) - breaks_.data()) - 1;
+      const std::size_t end = detail::run_end(breaks_, start);
+      process_cluster(scan, start, end - 1, keep, segments);
+      i = end + 1;
     }
     return;
   }
@@ -98,42 +103,54 @@ void LineExtractor::process_cluster(const PlanarScan& scan, std::size_t first, s
   const bool occluding_only = keep == Keep::occluding;
   if (occluding_only && beyond_first == kNoIndex && beyond_last == kNoIndex) return;
   // Points only for the clusters split and fitted: most are skipped above.
-  double max_sigma = 0.0;
-  for (std::size_t i = first; i <= last; ++i) {
-    x_m_[i] = scan.range_m[i] * directions_.cos()[i];
-    y_m_[i] = scan.range_m[i] * directions_.sin()[i];
-    max_sigma = std::max(max_sigma, options_.sigma.sigma_m(scan.range_m[i], scan.range_error_m[i]));
-  }
+  double max_range = 0.0;
+  const double max_sigma =
+      detail::cluster_points(scan.range_m.data(), scan.range_error_m.data(), directions_.cos().data(),
+                             directions_.sin().data(), first, last, options_.sigma, x_m_.data(), y_m_.data(), max_range);
   const double split_distance = std::max(options_.split_noise_sigmas * max_sigma, options_.min_split_distance_m);
   pieces_.clear();
   split_cluster(first, last, split_distance);
 
   LineSegment merged;
-  LineSegment candidate;
   Piece current = pieces_.front();
-  fit(current.first, current.last, merged);
-  const auto emit = [&](const Piece& piece, LineSegment& line) {
-    if (line.point_count < options_.min_points || line.length_m < options_.min_length_m) return;
-    line.occludes_before = piece.first == first && occludes(beyond_first, scan, line, split_distance);
-    line.occludes_after = piece.last == last && occludes(beyond_last, scan, line, split_distance);
-    if (!occluding_only || line.occludes_before || line.occludes_after) segments.push_back(line);
+  PointSums merged_sums{0.0, 0.0, current.first};
+  add_points(merged_sums, current.last);
+  // Lines are fitted only for the segments emitted: a merge needs only to
+  // know that the union is still a line, and most pieces are merged.
+  Moments merged_moments;
+  bool merged_has_moments = false;
+  const auto emit = [&] {
+    if (current.last - current.first + 1 < options_.min_points) return;
+    if (!merged_has_moments) merged_moments = moments(current.first, current.last, merged_sums);
+    Normal normal;
+    fit(current.first, current.last, merged_moments, kNoLimit, merged, normal);
+    if (merged.length_m < options_.min_length_m) return;
+    merged.occludes_before = current.first == first && occludes(beyond_first, scan, merged, normal, split_distance);
+    merged.occludes_after = current.last == last && occludes(beyond_last, scan, merged, normal, split_distance);
+    if (!occluding_only || merged.occludes_before || merged.occludes_after) segments.push_back(merged);
   };
   // The segments after the first start past `first`: without an occluding
   // last end, none of them is wanted.
   const bool first_only = occluding_only && beyond_last == kNoIndex;
   for (std::size_t p = 1; p < pieces_.size(); ++p) {
-    fit(current.first, pieces_[p].last, candidate);
-    if (candidate.max_residual_m <= split_distance) {
+    PointSums candidate_sums = merged_sums;
+    add_points(candidate_sums, pieces_[p].last);
+    const Moments candidate = moments(current.first, pieces_[p].last, candidate_sums);
+    if (within(current.first, pieces_[p].last, candidate, split_distance, max_range)) {
       current.last = pieces_[p].last;
-      merged = candidate;
+      merged_sums = candidate_sums;
+      merged_moments = candidate;
+      merged_has_moments = true;
     } else {
-      emit(current, merged);
+      emit();
       if (first_only) return;
       current = pieces_[p];
-      fit(current.first, current.last, merged);
+      merged_sums = {0.0, 0.0, current.first};
+      add_points(merged_sums, current.last);
+      merged_has_moments = false;
     }
   }
-  emit(current, merged);
+  emit();
 }
 
 void LineExtractor::split_cluster(std::size_t first, std::size_t last, double split_distance_m) {
@@ -150,9 +167,14 @@ void LineExtractor::split_cluster(std::size_t first, std::size_t last, double sp
       const double ay = y_m_[piece.first];
       const double dx = x_m_[piece.last] - ax;
       const double dy = y_m_[piece.last] - ay;
-      const double chord = std::hypot(dx, dy);
-      const std::size_t farthest = chord > 1e-12 ? farthest_from_chord(piece, ax, ay, dx, dy, chord, split_distance_m)
-                                                 : farthest_from_point(piece, ax, ay, split_distance_m);
+      // hypot() is slow and its bits are needed only near a decision: a
+      // squared length in this range puts the chord far above 1e-12, and
+      // its square root within a few units in the last place of hypot().
+      const double squared = dx * dx + dy * dy;
+      const bool plain = squared > 1e-20 && squared < 1e300;
+      const std::size_t farthest = plain || std::hypot(dx, dy) > 1e-12
+                                       ? farthest_from_chord(piece, ax, ay, dx, dy, plain, split_distance_m)
+                                       : farthest_from_point(piece, ax, ay, split_distance_m);
       if (farthest != kNoIndex) {
         stack_.push_back({farthest, piece.last});
         stack_.push_back({piece.first, farthest});
@@ -168,29 +190,33 @@ void LineExtractor::split_cluster(std::size_t first, std::size_t last, double sp
 // by the same chord never reverses an order, so the largest cross product
 // gives the largest distance, and only a point whose cross product comes
 // within rounding of it can tie: one division for the winner instead of
-// one per point, the same point and distance as dividing each.
+// one per point, the same point and distance as dividing each. With a
+// `plain` chord the squares decide, without hypot's slow bits, unless the
+// distance comes within 1e-9 of split_distance_m, a margin millions of
+// times their rounding.
 std::size_t LineExtractor::farthest_from_chord(const Piece& piece, double ax, double ay, double dx, double dy,
-                                               double chord, double split_distance_m) const {
-  std::size_t best = kNoIndex;
-  double best_cross = -1.0;
-  double runner_up = -1.0;  // at least every other point's cross product
-  for (std::size_t i = piece.first + 1; i < piece.last; ++i) {
-    const double cross = std::abs((x_m_[i] - ax) * dy - (y_m_[i] - ay) * dx);
-    if (cross > best_cross) {
-      runner_up = best_cross;
-      best_cross = cross;
-      best = i;
-    } else {
-      runner_up = std::max(runner_up, cross);
-    }
-  }
+                                               bool plain, double split_distance_m) const {
+  const detail::ChordFarthest far =
+      detail::farthest_from_chord(x_m_.data(), y_m_.data(), piece.first + 1, piece.last, ax, ay, dx, dy);
+  const std::size_t best = far.index;
+  const double best_cross = far.cross;
+  const double runner_up = far.runner_up;  // at least every other point's cross product
   if (best == kNoIndex) return kNoIndex;
-  const double distance = best_cross / chord;
-  if (!(distance > split_distance_m)) return kNoIndex;
   // An earlier point whose smaller cross product rounds to the same
   // distance came first in the per-point comparison; two doubles that
   // round alike differ by far less than 1e-12 of either.
   const double near_tie = best_cross * (1.0 - 1e-12);
+  if (plain && best_cross < 1e150) {
+    const double cross_squared = best_cross * best_cross;
+    const double limit_squared = split_distance_m * split_distance_m * (dx * dx + dy * dy);
+    if (limit_squared > 1e-250) {
+      if (cross_squared < limit_squared * (1.0 - 2e-9)) return kNoIndex;
+      if (cross_squared > limit_squared * (1.0 + 2e-9) && runner_up < near_tie) return best;
+    }
+  }
+  const double chord = std::hypot(dx, dy);
+  const double distance = best_cross / chord;
+  if (!(distance > split_distance_m)) return kNoIndex;
   if (runner_up < near_tie) return best;
   for (std::size_t i = piece.first + 1; i < best; ++i) {
     const double cross = std::abs((x_m_[i] - ax) * dy - (y_m_[i] - ay) * dx);
@@ -214,26 +240,65 @@ std::size_t LineExtractor::farthest_from_point(const Piece& piece, double ax, do
   return farthest;
 }
 
-void LineExtractor::fit(std::size_t first, std::size_t last, LineSegment& line) const {
+void LineExtractor::add_points(PointSums& sums, std::size_t last) const {
+  for (std::size_t i = sums.next; i <= last; ++i) {
+    sums.x += x_m_[i];
+    sums.y += y_m_[i];
+  }
+  sums.next = last + 1;
+}
+
+LineExtractor::Moments LineExtractor::moments(std::size_t first, std::size_t last, const PointSums& sums) const {
+  const double count = static_cast<double>(last - first + 1);
+  Moments m;
+  m.mean_x = sums.x / count;
+  m.mean_y = sums.y / count;
+  for (std::size_t i = first; i <= last; ++i) {
+    const double dx = x_m_[i] - m.mean_x;
+    const double dy = y_m_[i] - m.mean_y;
+    m.sxx += dx * dx;
+    m.syy += dy * dy;
+    m.sxy += dx * dy;
+  }
+  return m;
+}
+
+// fit()'s normal has half the angle of (a, b) = (syy - sxx, -2 sxy), from
+// atan2, cos and sin. The bisector of (1, 0) and (a, b) / r has it too, and
+// without the trigonometry, a division or cancellation: (a + r, b), or
+// (b, r - a) (the normal or its opposite, which is the same line), of length
+// sqrt(2 r (r + |a|)). Residuals scaled by that length move by no more than
+// about 1e-14 of the largest range; only a point within 1e-9 of it from the
+// limit sends the question to fit().
+bool LineExtractor::within(std::size_t first, std::size_t last, const Moments& m, double max_residual_m,
+                           double max_range_m) const {
+  const double a = m.syy - m.sxx;
+  const double b = -2.0 * m.sxy;
+  const double r = std::sqrt(a * a + b * b);
+  if (r > 1e-150 && r < 1e150) {
+    const double wx = a >= 0.0 ? a + r : b;
+    const double wy = a >= 0.0 ? b : r - a;
+    const double length = std::sqrt(2.0 * r * (r + std::abs(a)));
+    const double margin = 1e-9 * max_range_m;
+    switch (detail::residuals_within(x_m_.data(), y_m_.data(), first, last, wx, wy, m.mean_x * wx + m.mean_y * wy,
+                                     (max_residual_m - margin) * length, (max_residual_m + margin) * length)) {
+      case detail::Verdict::inside:
+        return true;
+      case detail::Verdict::outside:
+        return false;
+      case detail::Verdict::unsure:
+        break;
+    }
+  }
+  LineSegment line;
+  Normal normal;
+  return fit(first, last, m, max_residual_m, line, normal);
+}
+
+bool LineExtractor::fit(std::size_t first, std::size_t last, const Moments& m, double max_residual_m,
+                        LineSegment& line, Normal& normal) const {
   const std::size_t count = last - first + 1;
-  double mean_x = 0.0;
-  double mean_y = 0.0;
-  for (std::size_t i = first; i <= last; ++i) {
-    mean_x += x_m_[i];
-    mean_y += y_m_[i];
-  }
-  mean_x /= static_cast<double>(count);
-  mean_y /= static_cast<double>(count);
-  double sxx = 0.0;
-  double syy = 0.0;
-  double sxy = 0.0;
-  for (std::size_t i = first; i <= last; ++i) {
-    const double dx = x_m_[i] - mean_x;
-    const double dy = y_m_[i] - mean_y;
-    sxx += dx * dx;
-    syy += dy * dy;
-    sxy += dx * dy;
-  }
+  const double mean_x = m.mean_x, mean_y = m.mean_y, sxx = m.sxx, syy = m.syy, sxy = m.sxy;
   // Total least squares in polar form (algorithms.md 3.2 step 4).
   double alpha = 0.5 * std::atan2(-2.0 * sxy, syy - sxx);
   double rho = mean_x * std::cos(alpha) + mean_y * std::sin(alpha);
@@ -243,26 +308,21 @@ void LineExtractor::fit(std::size_t first, std::size_t last, LineSegment& line) 
   }
   const double nx = std::cos(alpha);
   const double ny = std::sin(alpha);
-  double max_residual = 0.0;
-  double along_min = std::numeric_limits<double>::infinity();
-  double along_max = -std::numeric_limits<double>::infinity();
-  for (std::size_t i = first; i <= last; ++i) {
-    max_residual = std::max(max_residual, std::abs(x_m_[i] * nx + y_m_[i] * ny - rho));
-    const double along = -x_m_[i] * ny + y_m_[i] * nx;
-    along_min = std::min(along_min, along);
-    along_max = std::max(along_max, along);
-  }
+  detail::LineExtent extent;
+  if (!detail::line_extent(x_m_.data(), y_m_.data(), first, last, nx, ny, rho, max_residual_m, extent)) return false;
   line.first_beam = first;
   line.last_beam = last;
   line.point_count = count;
   line.normal_angle_rad = alpha;
   line.distance_m = rho;
-  line.length_m = along_max - along_min;
-  line.max_residual_m = max_residual;
+  line.length_m = extent.along_max_m - extent.along_min_m;
+  line.max_residual_m = extent.max_residual_m;
   line.mid_x_m = mean_x;
   line.mid_y_m = mean_y;
   line.occludes_before = false;
   line.occludes_after = false;
+  normal = {nx, ny};
+  return true;
 }
 
 // The first valid beam past `end_beam` (within occlusion_search_beams)
@@ -287,14 +347,14 @@ std::size_t LineExtractor::occluded_beam(const PlanarScan& scan, std::size_t end
   return kNoIndex;
 }
 
-// The beam past the end (occluded_beam()) must also lie off the segment's line.
+// The beam past the end (occluded_beam()) must also lie off the segment's
+// line; `normal` is the cos and sin of its normal_angle_rad, from fit().
 bool LineExtractor::occludes(std::size_t beyond_beam, const PlanarScan& scan, const LineSegment& line,
-                             double split_distance_m) const {
+                             const Normal& normal, double split_distance_m) const {
   if (beyond_beam == kNoIndex) return false;
   const std::size_t j = beyond_beam;
-  const double off_line = std::abs(scan.range_m[j] * (directions_.cos()[j] * std::cos(line.normal_angle_rad) +
-                                                      directions_.sin()[j] * std::sin(line.normal_angle_rad)) -
-                                   line.distance_m);
+  const double off_line =
+      std::abs(scan.range_m[j] * (directions_.cos()[j] * normal.x + directions_.sin()[j] * normal.y) - line.distance_m);
   return off_line > split_distance_m;
 }
 

@@ -93,14 +93,40 @@ class LineExtractor {
     std::size_t last = 0;
   };
   void split_cluster(std::size_t first, std::size_t last, double split_distance_m);
-  std::size_t farthest_from_chord(const Piece& piece, double ax, double ay, double dx, double dy, double chord,
+  std::size_t farthest_from_chord(const Piece& piece, double ax, double ay, double dx, double dy, bool plain,
                                   double split_distance_m) const;
   std::size_t farthest_from_point(const Piece& piece, double ax, double ay, double split_distance_m) const;
-  void fit(std::size_t first, std::size_t last, LineSegment& line) const;
+  // Sums of x and y over the beams from a piece's first up to `next`, added
+  // in beam order: a merge candidate's continue those of the piece it grows,
+  // the same additions in the same order as summing it from scratch.
+  struct PointSums {
+    double x = 0.0;
+    double y = 0.0;
+    std::size_t next = 0;
+  };
+  void add_points(PointSums& sums, std::size_t last) const;
+  struct Moments {
+    double mean_x = 0.0;
+    double mean_y = 0.0;
+    double sxx = 0.0;  // about the means
+    double syy = 0.0;
+    double sxy = 0.0;
+  };
+  Moments moments(std::size_t first, std::size_t last, const PointSums& sums) const;
+  // Whether every point lies within max_residual_m of the line fit() makes.
+  bool within(std::size_t first, std::size_t last, const Moments& m, double max_residual_m, double max_range_m) const;
+  struct Normal {
+    double x = 0.0;
+    double y = 0.0;
+  };
+  // False, `line` unfinished, once a point lies farther than max_residual_m
+  // from the line; `normal` is its unit normal, for occludes().
+  bool fit(std::size_t first, std::size_t last, const Moments& m, double max_residual_m, LineSegment& line,
+           Normal& normal) const;
   void process_cluster(const PlanarScan& scan, std::size_t first, std::size_t last, Keep keep,
                        std::vector<LineSegment>& segments);
   std::size_t occluded_beam(const PlanarScan& scan, std::size_t end_beam, bool forward) const;
-  bool occludes(std::size_t beyond_beam, const PlanarScan& scan, const LineSegment& line,
+  bool occludes(std::size_t beyond_beam, const PlanarScan& scan, const LineSegment& line, const Normal& normal,
                 double split_distance_m) const;
 
   LineExtractionOptions options_;
