@@ -1,33 +1,49 @@
 #include "stridemap/core/foothold_edge_search.hpp"
 
 #include <algorithm>
-#include <limits>
+#include <cstring>
 
 #include "foothold_cells.hpp"
 
 namespace stridemap {
+
+namespace {
+
+// Eight cells a block: one AVX2 instruction, two SSE2 ones.
+constexpr int kBlock = FootholdEdgeSearch::kBlock;
+using Lanes = std::int32_t __attribute__((vector_size(kBlock * sizeof(std::int32_t))));
+
+}  // namespace
 
 FootholdEdgeSearch::FootholdEdgeSearch(int cells_per_side) {
   const auto n = static_cast<std::size_t>(cells_per_side);
   const RowSpan none{cells_per_side, -1};
   edge_rows.assign(n, none);
   distance_rows.assign(n, none);
-  distance2.assign(n * n, 0);
-  best2.assign(n, 0);
+  stride = n + kBlock;
+  distance2.assign(n * stride, 0);
+  best2.assign(n + kBlock, 0);
+  cost.assign(3 * n + kBlock, 0);
   merged.assign(n, none);
   merged_rows.assign(n, none);
 }
 
-// With AVX2 the row minima below take eight cells an instruction.
+// Both passes are minima over 2r + 1 shifted copies of a row, taken a block
+// of columns at a time with the block's minimum in a register: a loop per
+// shift would pay its set-up and tail 2r + 1 times a row, more than the
+// minima themselves on the short spans a refresh searches. A block may run
+// past a span's end into the rows' padding; what it computes there is not
+// read.
 STRIDEMAP_FOOTHOLD_CLONES std::size_t search_edge_distances(FootholdEdgeSearch& search, FootholdChanges& changes,
                                                             const FootholdStencil& stencil, const float* step,
                                                             float max_step, bool all) {
   const int n_cells = changes.n;
-  const int r = static_cast<int>(stencil.edge_cells), none = r + 1;
+  const int r = static_cast<int>(stencil.edge_cells);
   const std::int32_t none2 = r * r + 1;
-  // Far beyond any r * r + r * r, and no overflow when dx * dx is added.
+  // Far beyond any r * r + r * r, and no overflow when two of them are added.
   constexpr std::int32_t kFar = 1 << 29;
   const auto n = static_cast<std::size_t>(n_cells);
+  const std::size_t stride = search.stride;
   std::size_t cells = 0;
   // The along-row distances a row must supply: its columns wherever a row
   // within r of it has cells to redo.
@@ -42,24 +58,37 @@ STRIDEMAP_FOOTHOLD_CLONES std::size_t search_edge_distances(FootholdEdgeSearch& 
     }
   }
   // Per row: the squared distance along the row to the nearest edge within
-  // r (kFar beyond), two sweeps over the needed columns and r either side.
+  // r (kFar or more beyond), the least of m * m plus the cost of the cell m
+  // columns away (0 on an edge, kFar elsewhere and outside the window).
+  std::int32_t* cost = search.cost.data() + n;
   for (int x = 0; x < n_cells; ++x) {
     const RowSpan need = search.distance_rows[static_cast<std::size_t>(x)];
     if (need.lo > need.hi) continue;
-    std::int32_t* out = search.distance2.data() + static_cast<std::size_t>(x) * n;
     const int lo = std::max(need.lo - r, 0), hi = std::min(need.hi + r, n_cells - 1);
+    std::fill(cost + need.lo - r, cost + lo, kFar);
+    std::fill(cost + hi + 1, cost + need.hi + r + kBlock, kFar);
+    // The window's columns lo..hi are at most two runs of the storage row
+    // (the ring wraps once).
     const float* row = step + changes.row_slot[static_cast<std::size_t>(x)];
-    const std::size_t* cols = changes.col_slot.data();
-    int last = std::numeric_limits<int>::min() / 2;
-    for (int y = lo; y <= hi; ++y) {
-      if (row[cols[y]] > max_step) last = y;
-      out[y] = std::min(none, y - last);
+    for (int y = lo; y <= hi;) {
+      const std::size_t first = changes.col_slot[static_cast<std::size_t>(y)];
+      const int end = std::min(hi, y + static_cast<int>(n - first) - 1);
+      const float* run = row + first - y;
+      for (int k = y; k <= end; ++k) cost[k] = run[k] > max_step ? 0 : kFar;
+      y = end + 1;
     }
-    int next = std::numeric_limits<int>::max() / 2;
-    for (int y = hi; y >= lo; --y) {
-      if (row[cols[y]] > max_step) next = y;
-      const int d = std::min(out[y], std::min(none, next - y));
-      out[y] = d <= r ? d * d : kFar;
+    std::int32_t* out = search.distance2.data() + static_cast<std::size_t>(x) * stride;
+    for (int y = need.lo; y <= need.hi; y += kBlock) {
+      Lanes least;
+      std::memcpy(&least, cost + y - r, sizeof least);
+      least += r * r;
+      for (int m = -r + 1; m <= r; ++m) {
+        Lanes v;
+        std::memcpy(&v, cost + y + m, sizeof v);
+        v += m * m;
+        least = v < least ? v : least;
+      }
+      std::memcpy(out + y, &least, sizeof least);
     }
   }
   for (int x = 0; x < n_cells; ++x) {
@@ -67,14 +96,21 @@ STRIDEMAP_FOOTHOLD_CLONES std::size_t search_edge_distances(FootholdEdgeSearch& 
     if (e.lo > e.hi) continue;
     // min over the rows within r of dx^2 + (along-row distance)^2: exact
     // within the search disc (the nearest edge in Euclidean distance is the
-    // nearest along its own row). Contiguous, so it vectorises.
+    // nearest along its own row).
     cells += static_cast<std::size_t>(e.hi - e.lo + 1);
     std::int32_t* best = search.best2.data();
-    std::fill(best + e.lo, best + e.hi + 1, kFar);
-    for (int k = std::max(0, x - r); k <= std::min(n_cells - 1, x + r); ++k) {
-      const std::int32_t dx2 = (k - x) * (k - x);
-      const std::int32_t* row = search.distance2.data() + static_cast<std::size_t>(k) * n;
-      for (int y = e.lo; y <= e.hi; ++y) best[y] = std::min(best[y], dx2 + row[y]);
+    const int k0 = std::max(0, x - r), k1 = std::min(n_cells - 1, x + r);
+    for (int y = e.lo; y <= e.hi; y += kBlock) {
+      Lanes least;
+      std::memcpy(&least, search.distance2.data() + static_cast<std::size_t>(k0) * stride + y, sizeof least);
+      least += (k0 - x) * (k0 - x);
+      for (int k = k0 + 1; k <= k1; ++k) {
+        Lanes v;
+        std::memcpy(&v, search.distance2.data() + static_cast<std::size_t>(k) * stride + y, sizeof v);
+        v += (k - x) * (k - x);
+        least = v < least ? v : least;
+      }
+      std::memcpy(best + y, &least, sizeof least);
     }
     const std::size_t row = changes.row_slot[static_cast<std::size_t>(x)];
     for (int y = e.lo; y <= e.hi; ++y) {
