@@ -23,7 +23,10 @@ FootholdEdgeSearch::FootholdEdgeSearch(int cells_per_side) {
   stride = n + kBlock;
   distance2.assign(n * stride, 0);
   best2.assign(n + kBlock, 0);
-  cost.assign(3 * n + kBlock, 0);
+  // A row's columns from -2n to 3n + 2 * kBlock: the search radius is at
+  // most n, the shifts reach at most 2n + 1 and a block runs on by kBlock.
+  row_a.assign(5 * n + 2 * kBlock + 2, 0);
+  row_b.assign(5 * n + 2 * kBlock + 2, 0);
   merged.assign(n, none);
   merged_rows.assign(n, none);
 }
@@ -58,15 +61,22 @@ STRIDEMAP_FOOTHOLD_CLONES std::size_t search_edge_distances(FootholdEdgeSearch& 
     }
   }
   // Per row: the squared distance along the row to the nearest edge within
-  // r (kFar or more beyond), the least of m * m plus the cost of the cell m
-  // columns away (0 on an edge, kFar elsewhere and outside the window).
-  std::int32_t* cost = search.cost.data() + n;
+  // r (kFar beyond). Distances in cells first, by shifts of 1, 2, 4, ...
+  // (each the least of a cell's distance and its neighbours' s away plus
+  // s): a walk to the nearest edge, t <= r cells away, is t's binary digits
+  // in one direction, and any other walk is no shorter than where it ends,
+  // so a distance <= r is exact and one above r stands for none.
+  int reach = 0, levels = 0;  // reach = 2^levels - 1 >= r
+  while (reach < r) reach = 2 * reach + 1, ++levels;
+  const std::int32_t none = r + 1;  // a cell without an edge; any walk from it stays above r
+  std::int32_t* from = search.row_a.data() + 2 * n;
+  std::int32_t* to = search.row_b.data() + 2 * n;
   for (int x = 0; x < n_cells; ++x) {
     const RowSpan need = search.distance_rows[static_cast<std::size_t>(x)];
     if (need.lo > need.hi) continue;
-    const int lo = std::max(need.lo - r, 0), hi = std::min(need.hi + r, n_cells - 1);
-    std::fill(cost + need.lo - r, cost + lo, kFar);
-    std::fill(cost + hi + 1, cost + need.hi + r + kBlock, kFar);
+    const int lo = std::max(need.lo - reach, 0), hi = std::min(need.hi + reach + kBlock - 1, n_cells - 1);
+    std::fill(from + need.lo - reach, from + lo, none);
+    std::fill(from + hi + 1, from + need.hi + reach + kBlock, none);
     // The window's columns lo..hi are at most two runs of the storage row
     // (the ring wraps once).
     const float* row = step + changes.row_slot[static_cast<std::size_t>(x)];
@@ -74,22 +84,35 @@ STRIDEMAP_FOOTHOLD_CLONES std::size_t search_edge_distances(FootholdEdgeSearch& 
       const std::size_t first = changes.col_slot[static_cast<std::size_t>(y)];
       const int end = std::min(hi, y + static_cast<int>(n - first) - 1);
       const float* run = row + first - y;
-      for (int k = y; k <= end; ++k) cost[k] = run[k] > max_step ? 0 : kFar;
+      for (int k = y; k <= end; ++k) from[k] = run[k] > max_step ? 0 : none;
       y = end + 1;
+    }
+    // Each level's columns reach as far beyond need as the shifts after it.
+    int rest = reach;
+    for (int level = 0, shift = 1; level < levels; ++level, shift *= 2) {
+      rest -= shift;
+      for (int y = need.lo - rest; y <= need.hi + rest; y += kBlock) {
+        Lanes here, left, right;
+        std::memcpy(&here, from + y, sizeof here);
+        std::memcpy(&left, from + y - shift, sizeof left);
+        std::memcpy(&right, from + y + shift, sizeof right);
+        left = right < left ? right : left;
+        left += shift;
+        here = left < here ? left : here;
+        std::memcpy(to + y, &here, sizeof here);
+      }
+      std::swap(from, to);
     }
     std::int32_t* out = search.distance2.data() + static_cast<std::size_t>(x) * stride;
     for (int y = need.lo; y <= need.hi; y += kBlock) {
-      Lanes least;
-      std::memcpy(&least, cost + y - r, sizeof least);
-      least += r * r;
-      for (int m = -r + 1; m <= r; ++m) {
-        Lanes v;
-        std::memcpy(&v, cost + y + m, sizeof v);
-        v += m * m;
-        least = v < least ? v : least;
-      }
-      std::memcpy(out + y, &least, sizeof least);
+      Lanes d;
+      std::memcpy(&d, from + y, sizeof d);
+      d = d < none ? d : none;
+      const Lanes far = d - d + kFar;
+      d = d < none ? d * d : far;
+      std::memcpy(out + y, &d, sizeof d);
     }
+    if (levels % 2 == 1) std::swap(from, to);  // from: row_a again
   }
   for (int x = 0; x < n_cells; ++x) {
     const RowSpan e = search.edge_rows[static_cast<std::size_t>(x)];

@@ -28,9 +28,7 @@ struct FootholdEdgeSearch {
   std::size_t stride = 0;  ///< of distance2's rows: n and a block's padding
   std::vector<std::int32_t> distance2;  ///< n rows: squared along-row distance to an edge, or far (or more)
   std::vector<std::int32_t> best2;      ///< one row of squared edge distances (padded)
-  /// One row's edge costs by window-local column, from -n to 2n + kBlock - 1
-  /// (the search radius is at most n).
-  std::vector<std::int32_t> cost;
+  std::vector<std::int32_t> row_a, row_b;  ///< one row's distances in cells, by window-local column
   std::vector<RowSpan> merged, merged_rows;  ///< search_or_raise_edges()'s scratch
 };
 
