@@ -22,7 +22,8 @@ FootholdEdgeSearch::FootholdEdgeSearch(int cells_per_side) {
   distance_rows.assign(n, none);
   stride = n + kBlock;
   distance2.assign(n * stride, 0);
-  best2.assign(n + kBlock, 0);
+  best2.assign(2 * (n + kBlock), 0);
+  offset2.assign(2 * n + 3, 0);
   // A row's columns from -2n to 3n + 2 * kBlock: the search radius is at
   // most n, the shifts reach at most 2n + 1 and a block runs on by kBlock.
   row_a.assign(5 * n + 2 * kBlock + 2, 0);
@@ -83,8 +84,8 @@ STRIDEMAP_FOOTHOLD_CLONES std::size_t search_edge_distances(FootholdEdgeSearch& 
     for (int y = lo; y <= hi;) {
       const std::size_t first = changes.col_slot[static_cast<std::size_t>(y)];
       const int end = std::min(hi, y + static_cast<int>(n - first) - 1);
-      const float* run = row + first - y;
-      for (int k = y; k <= end; ++k) from[k] = run[k] > max_step ? 0 : none;
+      const float* run = row + first;
+      for (int k = y; k <= end; ++k) from[k] = run[k - y] > max_step ? 0 : none;
       y = end + 1;
     }
     // Each level's columns reach as far beyond need as the shifts after it.
@@ -114,36 +115,60 @@ STRIDEMAP_FOOTHOLD_CLONES std::size_t search_edge_distances(FootholdEdgeSearch& 
     }
     if (levels % 2 == 1) std::swap(from, to);  // from: row_a again
   }
-  for (int x = 0; x < n_cells; ++x) {
-    const RowSpan e = search.edge_rows[static_cast<std::size_t>(x)];
-    if (e.lo > e.hi) continue;
-    // min over the rows within r of dx^2 + (along-row distance)^2: exact
-    // within the search disc (the nearest edge in Euclidean distance is the
-    // nearest along its own row).
-    cells += static_cast<std::size_t>(e.hi - e.lo + 1);
-    std::int32_t* best = search.best2.data();
-    const int k0 = std::max(0, x - r), k1 = std::min(n_cells - 1, x + r);
-    for (int y = e.lo; y <= e.hi; y += kBlock) {
-      Lanes least;
-      std::memcpy(&least, search.distance2.data() + static_cast<std::size_t>(k0) * stride + y, sizeof least);
-      least += (k0 - x) * (k0 - x);
+  // The cells of row x's span e take their distances from `best` (by
+  // column), marking the score of each whose distance changed (`all`: of
+  // each); returns the cells.
+  const auto settle = [&](int x, RowSpan e, const std::int32_t* best) -> std::size_t {
+    if (e.lo > e.hi) return 0;
+    std::int32_t* seen_row = changes.seen_edge2.data() + changes.row_slot[static_cast<std::size_t>(x)];
+    for (int y = e.lo; y <= e.hi;) {
+      const std::size_t first = changes.col_slot[static_cast<std::size_t>(y)];
+      const int count = std::min(e.hi - y + 1, static_cast<int>(n - first));
+      std::int32_t* seen = seen_row + first;
+      const std::int32_t* found = best + y;
+      for (int k = 0; k < count; ++k) {
+        const std::int32_t b = std::min(found[k], none2);
+        if (b != seen[k] || all) {
+          seen[k] = b;
+          changes.mark_score(x, y + k);
+        }
+      }
+      y += count;
+    }
+    return static_cast<std::size_t>(e.hi - e.lo + 1);
+  };
+  // min over the rows within r of dx^2 + (along-row distance)^2: exact
+  // within the search disc (the nearest edge in Euclidean distance is the
+  // nearest along its own row). Two rows at once, which share all but two
+  // of the rows they read; a row outside one's disc adds kFar to it.
+  std::int32_t* offset2 = search.offset2.data() + n + 1;  // -(r + 1)..r + 1
+  for (int d = -r - 1; d <= r + 1; ++d) offset2[d] = d >= -r && d <= r ? d * d : kFar;
+  std::int32_t* best0 = search.best2.data();
+  std::int32_t* best1 = best0 + n + kBlock;
+  for (int x = 0; x < n_cells; x += 2) {
+    const RowSpan e0 = search.edge_rows[static_cast<std::size_t>(x)];
+    const RowSpan e1 = x + 1 < n_cells ? search.edge_rows[static_cast<std::size_t>(x) + 1] : RowSpan{n_cells, -1};
+    const int lo = std::min(e0.lo, e1.lo), hi = std::max(e0.hi, e1.hi);
+    if (lo > hi) continue;
+    const int k0 = std::max(0, x - r), k1 = std::min(n_cells - 1, x + 1 + r);
+    for (int y = lo; y <= hi; y += kBlock) {
+      const std::int32_t* at = search.distance2.data() + static_cast<std::size_t>(k0) * stride + y;
+      Lanes least0, least1;
+      std::memcpy(&least0, at, sizeof least0);
+      least1 = least0 + offset2[k0 - x - 1];
+      least0 += offset2[k0 - x];
       for (int k = k0 + 1; k <= k1; ++k) {
+        at += stride;
         Lanes v;
-        std::memcpy(&v, search.distance2.data() + static_cast<std::size_t>(k) * stride + y, sizeof v);
-        v += (k - x) * (k - x);
-        least = v < least ? v : least;
+        std::memcpy(&v, at, sizeof v);
+        const Lanes v0 = v + offset2[k - x], v1 = v + offset2[k - x - 1];
+        least0 = v0 < least0 ? v0 : least0;
+        least1 = v1 < least1 ? v1 : least1;
       }
-      std::memcpy(best + y, &least, sizeof least);
+      std::memcpy(best0 + y, &least0, sizeof least0);
+      std::memcpy(best1 + y, &least1, sizeof least1);
     }
-    const std::size_t row = changes.row_slot[static_cast<std::size_t>(x)];
-    for (int y = e.lo; y <= e.hi; ++y) {
-      const std::int32_t b = std::min(best[y], none2);
-      std::int32_t& seen = changes.seen_edge2[row + changes.col_slot[static_cast<std::size_t>(y)]];
-      if (b != seen || all) {
-        seen = b;
-        changes.mark_score(x, y);
-      }
-    }
+    cells += settle(x, e0, best0) + settle(x + 1, e1, best1);
   }
   return cells;
 }

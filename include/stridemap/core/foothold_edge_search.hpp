@@ -27,7 +27,8 @@ struct FootholdEdgeSearch {
   std::vector<RowSpan> distance_rows;
   std::size_t stride = 0;  ///< of distance2's rows: n and a block's padding
   std::vector<std::int32_t> distance2;  ///< n rows: squared along-row distance to an edge, or far (or more)
-  std::vector<std::int32_t> best2;      ///< one row of squared edge distances (padded)
+  std::vector<std::int32_t> best2;      ///< two rows of squared edge distances (padded)
+  std::vector<std::int32_t> offset2;    ///< squared row offsets of the two rows' search
   std::vector<std::int32_t> row_a, row_b;  ///< one row's distances in cells, by window-local column
   std::vector<RowSpan> merged, merged_rows;  ///< search_or_raise_edges()'s scratch
 };
