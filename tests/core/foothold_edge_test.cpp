@@ -1,12 +1,12 @@
-// The foothold layers' edge distances against a search written from their
-// definition (the nearest cell whose step height exceeds max_step_m, by
-// brute force over the search disc), and every layer against a refresh
-// from scratch, bit for bit. The refresh searches row by row in blocks of
+// The foothold layers' edge distances and scores against their definitions
+// (the nearest cell whose step height exceeds max_step_m, by brute force
+// over the search disc; the score's product, one cell at a time), and every
+// layer against a refresh from scratch, bit for bit. The refresh searches row by row in blocks of
 // columns, with shifts that reach past the disc and rows read in pairs;
 // noisy readings here move steps back and forth across max_step_m all over
 // a wandering window, read at uneven intervals, with search radii that
 // round to each case of those shifts and windows that are no multiple of
-// a block.
+// a block. The scores are computed four cells at a time.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -25,14 +25,15 @@ namespace {
 
 bool same_edge_bits(float a, float b) { return std::memcmp(&a, &b, sizeof a) == 0; }
 
-// The edge distance of window-local cell (i, j), as the layers define it.
-float reference_edge_distance(const ElevationMap& map, const FootholdLayers& f, int i, int j) {
+// The edge distance of window-local cell (i, j) [m], as the layers define
+// it before it is rounded to float.
+double reference_edge_distance(const ElevationMap& map, const FootholdLayers& f, int i, int j) {
   const FootholdOptions& o = f.options();
   const int n = map.cells_per_side();
   const std::size_t s = map.slot(map.cell_at_local(i, j));
   const float z = map.elevation_data()[s];
   if (map.state_data()[s] == static_cast<std::uint8_t>(CellState::unknown) || !std::isfinite(z)) {
-    return std::numeric_limits<float>::quiet_NaN();
+    return std::numeric_limits<double>::quiet_NaN();
   }
   const double cell = map.cell_size_m();
   const auto r = static_cast<int>(
@@ -46,8 +47,24 @@ float reference_edge_distance(const ElevationMap& map, const FootholdLayers& f, 
       if (d2 < best && d2 <= r * r && step[map.slot(map.cell_at_local(a, b))] > max_step) best = d2;
     }
   }
-  const double distance_m = best <= r * r ? std::sqrt(static_cast<double>(best)) * cell : o.edge_search_radius_m;
-  return static_cast<float>(distance_m);
+  return best <= r * r ? std::sqrt(static_cast<double>(best)) * cell : o.edge_search_radius_m;
+}
+
+double reference_ramp(double value, double limit) { return std::clamp(1.0 - value / limit, 0.0, 1.0); }
+
+// The score of the cell in slot s, edge distance distance_m, as the layers
+// define it.
+float reference_score(const ElevationMap& map, const FootholdLayers& f, std::size_t s, double distance_m) {
+  const FootholdOptions& o = f.options();
+  const float slope = map.data(f.slope())[s], step = map.data(f.step_height())[s];
+  const float roughness = map.data(f.roughness())[s];
+  if (std::isnan(slope) || std::isnan(step) || std::isnan(roughness) || std::isnan(distance_m)) {
+    return std::numeric_limits<float>::quiet_NaN();
+  }
+  const double edge_factor = std::min(1.0, distance_m / o.edge_clearance_m);
+  return static_cast<float>(reference_ramp(slope, o.max_slope_deg) * reference_ramp(step, o.max_step_m) *
+                            reference_ramp(roughness, o.max_roughness_m) * edge_factor *
+                            std::clamp(static_cast<double>(map.certainty_data()[s]) / o.full_certainty, 0.0, 1.0));
 }
 
 void noisy_edge_walk(int cells, double edge_radius_m, unsigned seed) {
@@ -71,7 +88,7 @@ void noisy_edge_walk(int cells, double edge_radius_m, unsigned seed) {
   double x = 0.0, y = 0.0;
   std::vector<MapPoint> points;
   int next_read = gap(rng), refreshes = 0;
-  std::size_t edges_seen = 0, distances = 0;
+  std::size_t edges_seen = 0, distances = 0, scores = 0;
   for (int scan = 0; scan < 90; ++scan) {
     // Drift both ways, a jump now and then (once beyond the window).
     x += scan % 19 == 18 ? 0.2 * unit(rng) : 0.015 * unit(rng) + 0.004;
@@ -97,9 +114,15 @@ void noisy_edge_walk(int cells, double edge_radius_m, unsigned seed) {
     for (int i = 0; i < cells; ++i) {
       for (int j = 0; j < cells; ++j) {
         const std::size_t s = map.slot(map.cell_at_local(i, j));
-        const float want = reference_edge_distance(map, foothold, i, j);
+        const double distance_m = reference_edge_distance(map, foothold, i, j);
+        const auto want = static_cast<float>(distance_m);
         ASSERT_TRUE(same_edge_bits(edge_distance[s], want))
             << "scan " << scan << " cell " << i << "," << j << ": " << edge_distance[s] << ", not " << want;
+        const float score = reference_score(map, foothold, s, distance_m);
+        ASSERT_TRUE(same_edge_bits(map.data(foothold.score())[s], score))
+            << "score, scan " << scan << " cell " << i << "," << j << ": " << map.data(foothold.score())[s] << ", not "
+            << score;
+        scores += std::isfinite(score) && score > 0.0f && score < 1.0f ? 1 : 0;
         distances += std::isfinite(want) && want < static_cast<float>(edge_radius_m) ? 1 : 0;
         edges_seen += want == 0.0f ? 1 : 0;
       }
@@ -116,6 +139,7 @@ void noisy_edge_walk(int cells, double edge_radius_m, unsigned seed) {
   }
   EXPECT_GE(refreshes, 12);
   EXPECT_GT(edges_seen, 100u);  // edges, and cells near them, all along
+  if (edge_radius_m >= 0.01) EXPECT_GT(scores, 1000u);  // scores between the bounds
   if (edge_radius_m >= 0.01) EXPECT_GT(distances, 1000u);
 }
 
