@@ -284,7 +284,9 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
       if (fast) {
         // kLanes cells at once (lanes past the row's end or unmarked are
         // not stored).
-        foothold::fit_footprint_lanes(stencil_, inverses_, padded_.at(i, j), padded_.stride, lanes);
+        unsigned wanted = 0;
+        for (int l = 0; l < foothold::kLanes && j + l < n_; ++l) wanted |= (mark[j + l] ? 1u : 0u) << l;
+        foothold::fit_footprint_lanes(stencil_, inverses_, padded_.at(i, j), padded_.stride, wanted, lanes);
         for (int l = 0; l < foothold::kLanes && j + l < n_; ++l) {
           if (!mark[j + l]) continue;
           mark[j + l] = 0;
