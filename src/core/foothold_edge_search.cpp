@@ -32,12 +32,11 @@ FootholdEdgeSearch::FootholdEdgeSearch(int cells_per_side) {
   merged_rows.assign(n, none);
 }
 
-// Both passes are minima over 2r + 1 shifted copies of a row, taken a block
-// of columns at a time with the block's minimum in a register: a loop per
-// shift would pay its set-up and tail 2r + 1 times a row, more than the
-// minima themselves on the short spans a refresh searches. A block may run
-// past a span's end into the rows' padding; what it computes there is not
-// read.
+// Both passes take minima over shifted copies of a row a block of columns
+// at a time, the block's minimum in a register: a loop per shifted copy
+// would pay its set-up and tail once a copy, more than the minima
+// themselves on the short spans a refresh searches. A block may run past a
+// span's end into the rows' padding; what it computes there is not read.
 STRIDEMAP_FOOTHOLD_CLONES std::size_t search_edge_distances(FootholdEdgeSearch& search, FootholdChanges& changes,
                                                             const FootholdStencil& stencil, const float* step,
                                                             float max_step, bool all) {
@@ -109,11 +108,10 @@ STRIDEMAP_FOOTHOLD_CLONES std::size_t search_edge_distances(FootholdEdgeSearch& 
       Lanes d;
       std::memcpy(&d, from + y, sizeof d);
       d = d < none ? d : none;
-      const Lanes far = d - d + kFar;
+      const Lanes far = Lanes{} + kFar;
       d = d < none ? d * d : far;
       std::memcpy(out + y, &d, sizeof d);
     }
-    if (levels % 2 == 1) std::swap(from, to);  // from: row_a again
   }
   // The cells of row x's span e take their distances from `best` (by
   // column), marking the score of each whose distance changed (`all`: of
@@ -146,7 +144,8 @@ STRIDEMAP_FOOTHOLD_CLONES std::size_t search_edge_distances(FootholdEdgeSearch& 
   // min over the rows within r of dx^2 + (along-row distance)^2: exact
   // within the search disc (the nearest edge in Euclidean distance is the
   // nearest along its own row). Two rows at once, which share all but two
-  // of the rows they read; a row outside one's disc adds kFar to it.
+  // of the rows they read; a row outside one's disc (its columns may be
+  // stale there) adds kFar or more to it.
   std::int32_t* offset2 = search.offset2.data() + n + 1;  // -(r + 1)..r + 1
   for (int d = -r - 1; d <= r + 1; ++d) offset2[d] = d >= -r && d <= r ? d * d : kFar;
   std::int32_t* best0 = search.best2.data();
