@@ -19,6 +19,8 @@ using foothold::same_bits;
 
 // Squared edge distances beyond this are computed, not looked up.
 constexpr std::int64_t kEdgeTable = 1 << 16;
+// Cells scored at once: enough to keep the lanes full, small beside a window.
+constexpr std::size_t kScoreBatch = 256;
 
 void require(bool ok, const char* field, double value, const char* rule) {
   if (!ok) {
@@ -98,8 +100,8 @@ FootholdLayers::FootholdLayers(ElevationMap& map, const FootholdOptions& options
   }
   changes_ = FootholdChanges(n_, static_cast<std::int32_t>(none2), options_.full_certainty);
   edges_ = FootholdEdgeSearch(n_);
-  score_slots_.assign(static_cast<std::size_t>(n_) * static_cast<std::size_t>(n_), 0);
-  score_edge_factors_.assign(score_slots_.size(), 0.0);
+  score_slots_.assign(kScoreBatch, 0);
+  score_edge_factors_.assign(kScoreBatch, 0.0);
   padded_ = PaddedElevations(n_, stencil_.foot_cells);
 }
 
@@ -314,7 +316,7 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
 }
 
 // Edge distance and score of the marked cells (clearing the marks and the
-// rows' hulls); the scores of the cells that have one all at once at the end.
+// rows' hulls); the scores of the cells that have one in batches.
 void FootholdLayers::score_rows(ElevationMap& map) {
   const float* certainty = map.certainty_data();
   const float* step = map.data(step_);
@@ -324,6 +326,13 @@ void FootholdLayers::score_rows(ElevationMap& map) {
   float* score = map.data(score_);
   const std::int64_t none2 = stencil_.edge_cells * stencil_.edge_cells + 1;
   std::size_t cells = 0, scored = 0;
+  const auto score_batch = [&] {
+    const foothold::ScoreCells batch{score_slots_.data(), score_edge_factors_.data(), scored, slope, step, roughness,
+                                     certainty, options_.max_slope_deg, options_.max_step_m, options_.max_roughness_m,
+                                     options_.full_certainty};
+    foothold::score_cells(batch, score);
+    scored = 0;
+  };
   for (int x = 0; x < n_; ++x) {
     RowSpan& e = changes_.score_rows[static_cast<std::size_t>(x)];
     if (e.lo > e.hi) continue;
@@ -349,14 +358,12 @@ void FootholdLayers::score_rows(ElevationMap& map) {
       score_slots_[scored] = s;
       score_edge_factors_[scored++] =
           tabled ? edge_factor_of_[static_cast<std::size_t>(b)] : edge_factor_of_distance(distance_m);
+      if (scored == kScoreBatch) score_batch();
     }
     e = RowSpan{n_, -1};
   }
   last_score_cells_ = cells;
-  const foothold::ScoreCells to_score{score_slots_.data(), score_edge_factors_.data(), scored, slope, step, roughness,
-                                      certainty, options_.max_slope_deg, options_.max_step_m, options_.max_roughness_m,
-                                      options_.full_certainty};
-  foothold::score_cells(to_score, score);
+  score_batch();
 }
 
 }  // namespace stridemap
