@@ -115,8 +115,8 @@ STRIDEMAP_FOOTHOLD_CLONES std::size_t search_edge_distances(FootholdEdgeSearch& 
   }
   // The cells of row x's span e take their distances from `best` (by
   // column), marking the score of each whose distance changed (`all`: of
-  // each); returns the cells. Without branches on the change, which a third
-  // of the cells see at random.
+  // each); returns the cells. The change goes into the marks and the hull as
+  // a value, not an if around them: a third of the cells change, at random.
   const auto settle = [&](int x, RowSpan e, const std::int32_t* best) -> std::size_t {
     if (e.lo > e.hi) return 0;
     std::int32_t* seen_row = changes.seen_edge2.data() + changes.row_slot[static_cast<std::size_t>(x)];
