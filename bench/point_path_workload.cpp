@@ -7,7 +7,7 @@
 // and of the changed rows after each scan, so that two builds' maps can be
 // compared bit for bit.
 //
-//   point_path_workload [packed|planar|pipeline|pipeline-paper|pipeline-walk|pipeline-foothold] [scans]
+//   point_path_workload [packed|planar|pipeline|pipeline-paper|pipeline-walk|pipeline-foothold|pipeline-foothold-every10] [scans]
 //     packed: UrgModel::to_beams + TerrainMapper::integrate(PlanarBeams) (default)
 //     planar: UrgModel::to_planar_scan + TerrainMapper::integrate(PlanarScan)
 //     pipeline: ScanIntegrator::push, no scan filters (its packed route)
@@ -18,6 +18,8 @@
 //     pipeline-foothold: MappingPipeline::add with foothold.update_every_scan
 //       (the foothold layers refreshed after every scan, as they are layers
 //       of the digest read from mapper().map(); otherwise its defaults)
+//     pipeline-foothold-every10: MappingPipeline::add with its defaults and
+//       map() read after every 10th scan (pipeline_bench's FootholdEvery10)
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -61,11 +63,11 @@ int main(int argc, char** argv) {
   const int scans = argc > 2 ? std::atoi(argv[2]) : 750;
   const bool walk = mode == "pipeline-walk";
   if ((mode != "packed" && mode != "planar" && mode != "pipeline" && mode != "pipeline-paper" && !walk &&
-       mode != "pipeline-foothold") ||
+       mode != "pipeline-foothold" && mode != "pipeline-foothold-every10") ||
       scans < 1) {
     std::fprintf(stderr,
-                 "usage: point_path_workload [packed|planar|pipeline|pipeline-paper|pipeline-walk|pipeline-foothold] "
-                 "[scans >= 1]\n");
+                 "usage: point_path_workload [packed|planar|pipeline|pipeline-paper|pipeline-walk|pipeline-foothold|"
+                 "pipeline-foothold-every10] [scans >= 1]\n");
     return 2;
   }
   const UrgParameters urg;
@@ -78,11 +80,12 @@ int main(int argc, char** argv) {
   pipeline_options.urg = urg;
   pipeline_options.mount = mount;
   if (mode == "pipeline-paper" || walk) pipeline_options.filters = parse_scan_filter_list(std::string_view("paper"));
-  pipeline_options.foothold.update_every_scan = true;
+  const bool every10 = mode == "pipeline-foothold-every10";
+  pipeline_options.foothold.update_every_scan = !every10;
   ScanIntegrator integrator(pipeline_options);
   MappingPipeline pipeline(pipeline_options);
   TerrainMapper own_mapper(options, mount);
-  TerrainMapper& mapper = mode == "pipeline-foothold" ? pipeline.mapper() : own_mapper;
+  TerrainMapper& mapper = mode == "pipeline-foothold" || every10 ? pipeline.mapper() : own_mapper;
   std::mt19937_64 rng(1);
   std::normal_distribution<double> tilt(0.0, 0.02);
   // A handful of different scans, made before the measured loop.
@@ -127,6 +130,9 @@ int main(int argc, char** argv) {
       stats = mapper.integrate(planar, pose);
     } else if (mode == "pipeline-foothold") {
       stats = pipeline.add(raw, pose).stats;
+    } else if (every10) {
+      stats = pipeline.add(raw, pose).stats;
+      if ((k + 1) % 10 == 0) pipeline.map();
     } else {
       stats = integrator.push(raw, pose, mapper).stats;
     }
@@ -141,9 +147,10 @@ int main(int argc, char** argv) {
     const std::size_t counts[] = {stats.integrated, stats.outside_map, stats.first, stats.plausible,
                                   stats.implausible, stats.replaced};
     mix(counts, sizeof counts);
-    if (mode != "pipeline-foothold") mapper.clear_changed_cells();  // MappingPipeline clears its own
+    if (mode != "pipeline-foothold" && !every10) mapper.clear_changed_cells();  // MappingPipeline clears its own
   }
-  const ElevationMap& map = mapper.map();
+  // The layers as a reader sees them (every10: refreshed for the last scans).
+  const ElevationMap& map = every10 ? pipeline.map() : mapper.map();
   const std::size_t cells = static_cast<std::size_t>(map.cells_per_side()) * map.cells_per_side();
   for (std::size_t layer = 0; layer < map.layer_count(); ++layer) {
     mix(map.layer_bytes(layer), cells * layer_type_bytes(map.layer_spec(layer).type));

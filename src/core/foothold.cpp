@@ -8,6 +8,7 @@
 
 #include "foothold_cells.hpp"
 #include "foothold_plane_fit.hpp"
+#include "foothold_score.hpp"
 #include "stridemap/core/error.hpp"
 
 namespace stridemap {
@@ -18,6 +19,8 @@ using foothold::same_bits;
 
 // Squared edge distances beyond this are computed, not looked up.
 constexpr std::int64_t kEdgeTable = 1 << 16;
+// Cells scored at once: enough to keep the lanes full, small beside a window.
+constexpr std::size_t kScoreBatch = 256;
 
 void require(bool ok, const char* field, double value, const char* rule) {
   if (!ok) {
@@ -27,11 +30,6 @@ void require(bool ok, const char* field, double value, const char* rule) {
 
 bool finite_positive(double v) { return std::isfinite(v) && v > 0.0; }
 bool finite_non_negative(double v) { return std::isfinite(v) && v >= 0.0; }
-
-double ramp_down(double value, double limit) {
-  if (!(limit > 0.0)) return value > 0.0 ? 0.0 : 1.0;
-  return std::clamp(1.0 - value / limit, 0.0, 1.0);
-}
 
 // The parts of `outer` outside `inner` (inner within outer), as up to four
 // boxes: whole rows before and after inner's, then columns either side.
@@ -102,6 +100,8 @@ FootholdLayers::FootholdLayers(ElevationMap& map, const FootholdOptions& options
   }
   changes_ = FootholdChanges(n_, static_cast<std::int32_t>(none2), options_.full_certainty);
   edges_ = FootholdEdgeSearch(n_);
+  score_slots_.assign(kScoreBatch, 0);
+  score_edge_factors_.assign(kScoreBatch, 0.0);
   padded_ = PaddedElevations(n_, stencil_.foot_cells);
 }
 
@@ -286,7 +286,9 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
       if (fast) {
         // kLanes cells at once (lanes past the row's end or unmarked are
         // not stored).
-        foothold::fit_footprint_lanes(stencil_, inverses_, padded_.at(i, j), padded_.stride, lanes);
+        unsigned wanted = 0;
+        for (int l = 0; l < foothold::kLanes && j + l < n_; ++l) wanted |= (mark[j + l] ? 1u : 0u) << l;
+        foothold::fit_footprint_lanes(stencil_, inverses_, padded_.at(i, j), padded_.stride, wanted, lanes);
         for (int l = 0; l < foothold::kLanes && j + l < n_; ++l) {
           if (!mark[j + l]) continue;
           mark[j + l] = 0;
@@ -314,7 +316,7 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
 }
 
 // Edge distance and score of the marked cells (clearing the marks and the
-// rows' hulls).
+// rows' hulls); the scores of the cells that have one in batches.
 void FootholdLayers::score_rows(ElevationMap& map) {
   const float* certainty = map.certainty_data();
   const float* step = map.data(step_);
@@ -323,7 +325,14 @@ void FootholdLayers::score_rows(ElevationMap& map) {
   float* edge_distance = map.data(edge_distance_);
   float* score = map.data(score_);
   const std::int64_t none2 = stencil_.edge_cells * stencil_.edge_cells + 1;
-  std::size_t cells = 0;
+  std::size_t cells = 0, scored = 0;
+  const auto score_batch = [&] {
+    const foothold::ScoreCells batch{score_slots_.data(), score_edge_factors_.data(), scored, slope, step, roughness,
+                                     certainty, options_.max_slope_deg, options_.max_step_m, options_.max_roughness_m,
+                                     options_.full_certainty};
+    foothold::score_cells(batch, score);
+    scored = 0;
+  };
   for (int x = 0; x < n_; ++x) {
     RowSpan& e = changes_.score_rows[static_cast<std::size_t>(x)];
     if (e.lo > e.hi) continue;
@@ -346,15 +355,15 @@ void FootholdLayers::score_rows(ElevationMap& map) {
         score[s] = kNaN;
         continue;
       }
-      const double edge_factor =
+      score_slots_[scored] = s;
+      score_edge_factors_[scored++] =
           tabled ? edge_factor_of_[static_cast<std::size_t>(b)] : edge_factor_of_distance(distance_m);
-      score[s] = static_cast<float>(ramp_down(slope[s], options_.max_slope_deg) * ramp_down(step[s], options_.max_step_m) *
-                                    ramp_down(roughness[s], options_.max_roughness_m) * edge_factor *
-                                    foothold::certainty_factor(certainty[s], options_.full_certainty));
+      if (scored == kScoreBatch) score_batch();
     }
     e = RowSpan{n_, -1};
   }
   last_score_cells_ = cells;
+  score_batch();
 }
 
 }  // namespace stridemap

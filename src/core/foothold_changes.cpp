@@ -128,11 +128,15 @@ void FootholdChanges::see_changes(const FootholdStencil& stencil, const Elevatio
           if (std::isnan(elevation_now) != std::isnan(before)) mark_score(i, j);
           if (seen_edge2[s] == kEdgeUnknown && !std::isnan(elevation_now)) mark_edge(i, j);
         }
-        if (!foothold::same_bits(foothold::certainty_factor(certainty[s], full_certainty),
-                                 foothold::certainty_factor(seen_certainty[s], full_certainty))) {
-          mark_score(i, j);
+        // The same certainty, the same factor: most noted cells skip both
+        // divisions.
+        if (!foothold::same_bits(certainty[s], seen_certainty[s])) {
+          if (!foothold::same_bits(foothold::certainty_factor(certainty[s], full_certainty),
+                                   foothold::certainty_factor(seen_certainty[s], full_certainty))) {
+            mark_score(i, j);
+          }
+          seen_certainty[s] = certainty[s];
         }
-        seen_certainty[s] = certainty[s];
       }
       if (changed && !in_run) {
         run = y;

@@ -1,33 +1,52 @@
 #include "stridemap/core/foothold_edge_search.hpp"
 
 #include <algorithm>
-#include <limits>
+#include <cstring>
 
 #include "foothold_cells.hpp"
 
 namespace stridemap {
+
+namespace {
+
+// Eight cells a block: one AVX2 instruction, two SSE2 ones.
+constexpr int kBlock = FootholdEdgeSearch::kBlock;
+using Lanes = std::int32_t __attribute__((vector_size(kBlock * sizeof(std::int32_t))));
+
+}  // namespace
 
 FootholdEdgeSearch::FootholdEdgeSearch(int cells_per_side) {
   const auto n = static_cast<std::size_t>(cells_per_side);
   const RowSpan none{cells_per_side, -1};
   edge_rows.assign(n, none);
   distance_rows.assign(n, none);
-  distance2.assign(n * n, 0);
-  best2.assign(n, 0);
+  stride = n + kBlock;
+  distance2.assign(n * stride, 0);
+  best2.assign(2 * (n + kBlock), 0);
+  offset2.assign(2 * n + 3, 0);
+  // A row's columns from -2n to 3n + 2 * kBlock: the search radius is at
+  // most n, the shifts reach at most 2n + 1 and a block runs on by kBlock.
+  row_a.assign(5 * n + 2 * kBlock + 2, 0);
+  row_b.assign(5 * n + 2 * kBlock + 2, 0);
   merged.assign(n, none);
   merged_rows.assign(n, none);
 }
 
-// With AVX2 the row minima below take eight cells an instruction.
+// Both passes take minima over shifted copies of a row a block of columns
+// at a time, the block's minimum in a register: a loop per shifted copy
+// would pay its set-up and tail once a copy, more than the minima
+// themselves on the short spans a refresh searches. A block may run past a
+// span's end into the rows' padding; what it computes there is not read.
 STRIDEMAP_FOOTHOLD_CLONES std::size_t search_edge_distances(FootholdEdgeSearch& search, FootholdChanges& changes,
                                                             const FootholdStencil& stencil, const float* step,
                                                             float max_step, bool all) {
   const int n_cells = changes.n;
-  const int r = static_cast<int>(stencil.edge_cells), none = r + 1;
+  const int r = static_cast<int>(stencil.edge_cells);
   const std::int32_t none2 = r * r + 1;
-  // Far beyond any r * r + r * r, and no overflow when dx * dx is added.
+  // Far beyond any r * r + r * r, and no overflow when two of them are added.
   constexpr std::int32_t kFar = 1 << 29;
   const auto n = static_cast<std::size_t>(n_cells);
+  const std::size_t stride = search.stride;
   std::size_t cells = 0;
   // The along-row distances a row must supply: its columns wherever a row
   // within r of it has cells to redo.
@@ -42,49 +61,119 @@ STRIDEMAP_FOOTHOLD_CLONES std::size_t search_edge_distances(FootholdEdgeSearch& 
     }
   }
   // Per row: the squared distance along the row to the nearest edge within
-  // r (kFar beyond), two sweeps over the needed columns and r either side.
+  // r (kFar beyond). Distances in cells first, by shifts of 1, 2, 4, ...
+  // (each the least of a cell's distance and its neighbours' s away plus
+  // s): a walk to the nearest edge, t <= r cells away, is t's binary digits
+  // in one direction, and any other walk is no shorter than where it ends,
+  // so a distance <= r is exact and one above r stands for none.
+  int reach = 0, levels = 0;  // reach = 2^levels - 1 >= r
+  while (reach < r) reach = 2 * reach + 1, ++levels;
+  const std::int32_t none = r + 1;  // a cell without an edge; any walk from it stays above r
+  std::int32_t* from = search.row_a.data() + 2 * n;
+  std::int32_t* to = search.row_b.data() + 2 * n;
   for (int x = 0; x < n_cells; ++x) {
     const RowSpan need = search.distance_rows[static_cast<std::size_t>(x)];
     if (need.lo > need.hi) continue;
-    std::int32_t* out = search.distance2.data() + static_cast<std::size_t>(x) * n;
-    const int lo = std::max(need.lo - r, 0), hi = std::min(need.hi + r, n_cells - 1);
+    const int lo = std::max(need.lo - reach, 0), hi = std::min(need.hi + reach + kBlock - 1, n_cells - 1);
+    std::fill(from + need.lo - reach, from + lo, none);
+    std::fill(from + hi + 1, from + need.hi + reach + kBlock, none);
+    // The window's columns lo..hi are at most two runs of the storage row
+    // (the ring wraps once).
     const float* row = step + changes.row_slot[static_cast<std::size_t>(x)];
-    const std::size_t* cols = changes.col_slot.data();
-    int last = std::numeric_limits<int>::min() / 2;
-    for (int y = lo; y <= hi; ++y) {
-      if (row[cols[y]] > max_step) last = y;
-      out[y] = std::min(none, y - last);
+    for (int y = lo; y <= hi;) {
+      const std::size_t first = changes.col_slot[static_cast<std::size_t>(y)];
+      const int end = std::min(hi, y + static_cast<int>(n - first) - 1);
+      const float* run = row + first;
+      for (int k = y; k <= end; ++k) from[k] = run[k - y] > max_step ? 0 : none;
+      y = end + 1;
     }
-    int next = std::numeric_limits<int>::max() / 2;
-    for (int y = hi; y >= lo; --y) {
-      if (row[cols[y]] > max_step) next = y;
-      const int d = std::min(out[y], std::min(none, next - y));
-      out[y] = d <= r ? d * d : kFar;
+    // Each level's columns reach as far beyond need as the shifts after it.
+    int rest = reach;
+    for (int level = 0, shift = 1; level < levels; ++level, shift *= 2) {
+      rest -= shift;
+      for (int y = need.lo - rest; y <= need.hi + rest; y += kBlock) {
+        Lanes here, left, right;
+        std::memcpy(&here, from + y, sizeof here);
+        std::memcpy(&left, from + y - shift, sizeof left);
+        std::memcpy(&right, from + y + shift, sizeof right);
+        left = right < left ? right : left;
+        left += shift;
+        here = left < here ? left : here;
+        std::memcpy(to + y, &here, sizeof here);
+      }
+      std::swap(from, to);
+    }
+    std::int32_t* out = search.distance2.data() + static_cast<std::size_t>(x) * stride;
+    for (int y = need.lo; y <= need.hi; y += kBlock) {
+      Lanes d;
+      std::memcpy(&d, from + y, sizeof d);
+      d = d < none ? d : none;
+      const Lanes far = Lanes{} + kFar;
+      d = d < none ? d * d : far;
+      std::memcpy(out + y, &d, sizeof d);
     }
   }
-  for (int x = 0; x < n_cells; ++x) {
-    const RowSpan e = search.edge_rows[static_cast<std::size_t>(x)];
-    if (e.lo > e.hi) continue;
-    // min over the rows within r of dx^2 + (along-row distance)^2: exact
-    // within the search disc (the nearest edge in Euclidean distance is the
-    // nearest along its own row). Contiguous, so it vectorises.
-    cells += static_cast<std::size_t>(e.hi - e.lo + 1);
-    std::int32_t* best = search.best2.data();
-    std::fill(best + e.lo, best + e.hi + 1, kFar);
-    for (int k = std::max(0, x - r); k <= std::min(n_cells - 1, x + r); ++k) {
-      const std::int32_t dx2 = (k - x) * (k - x);
-      const std::int32_t* row = search.distance2.data() + static_cast<std::size_t>(k) * n;
-      for (int y = e.lo; y <= e.hi; ++y) best[y] = std::min(best[y], dx2 + row[y]);
-    }
-    const std::size_t row = changes.row_slot[static_cast<std::size_t>(x)];
-    for (int y = e.lo; y <= e.hi; ++y) {
-      const std::int32_t b = std::min(best[y], none2);
-      std::int32_t& seen = changes.seen_edge2[row + changes.col_slot[static_cast<std::size_t>(y)]];
-      if (b != seen || all) {
-        seen = b;
-        changes.mark_score(x, y);
+  // The cells of row x's span e take their distances from `best` (by
+  // column), marking the score of each whose distance changed (`all`: of
+  // each); returns the cells. The change goes into the marks and the hull as
+  // a value, not an if around them: a third of the cells change, at random.
+  const auto settle = [&](int x, RowSpan e, const std::int32_t* best) -> std::size_t {
+    if (e.lo > e.hi) return 0;
+    std::int32_t* seen_row = changes.seen_edge2.data() + changes.row_slot[static_cast<std::size_t>(x)];
+    std::uint8_t* marks = changes.score_mark.data() + static_cast<std::size_t>(x) * n;
+    RowSpan& marked = changes.score_rows[static_cast<std::size_t>(x)];
+    int lo = marked.lo, hi = marked.hi;
+    for (int y = e.lo; y <= e.hi;) {
+      const std::size_t first = changes.col_slot[static_cast<std::size_t>(y)];
+      const int count = std::min(e.hi - y + 1, static_cast<int>(n - first));
+      std::int32_t* seen = seen_row + first;
+      const std::int32_t* found = best + y;
+      for (int k = 0; k < count; ++k) {
+        const std::int32_t b = std::min(found[k], none2);
+        const bool changed = b != seen[k] || all;
+        seen[k] = b;
+        marks[y + k] |= static_cast<std::uint8_t>(changed);
+        lo = changed && y + k < lo ? y + k : lo;
+        hi = changed && y + k > hi ? y + k : hi;
       }
+      y += count;
     }
+    marked = RowSpan{lo, hi};
+    return static_cast<std::size_t>(e.hi - e.lo + 1);
+  };
+  // min over the rows within r of dx^2 + (along-row distance)^2: exact
+  // within the search disc (the nearest edge in Euclidean distance is the
+  // nearest along its own row). Two rows at once, which share all but two
+  // of the rows they read; a row outside one's disc (its columns may be
+  // stale there) adds kFar or more to it.
+  std::int32_t* offset2 = search.offset2.data() + n + 1;  // -(r + 1)..r + 1
+  for (int d = -r - 1; d <= r + 1; ++d) offset2[d] = d >= -r && d <= r ? d * d : kFar;
+  std::int32_t* best0 = search.best2.data();
+  std::int32_t* best1 = best0 + n + kBlock;
+  for (int x = 0; x < n_cells; x += 2) {
+    const RowSpan e0 = search.edge_rows[static_cast<std::size_t>(x)];
+    const RowSpan e1 = x + 1 < n_cells ? search.edge_rows[static_cast<std::size_t>(x) + 1] : RowSpan{n_cells, -1};
+    const int lo = std::min(e0.lo, e1.lo), hi = std::max(e0.hi, e1.hi);
+    if (lo > hi) continue;
+    const int k0 = std::max(0, x - r), k1 = std::min(n_cells - 1, x + 1 + r);
+    for (int y = lo; y <= hi; y += kBlock) {
+      const std::int32_t* at = search.distance2.data() + static_cast<std::size_t>(k0) * stride + y;
+      Lanes least0, least1;
+      std::memcpy(&least0, at, sizeof least0);
+      least1 = least0 + offset2[k0 - x - 1];
+      least0 += offset2[k0 - x];
+      for (int k = k0 + 1; k <= k1; ++k) {
+        at += stride;
+        Lanes v;
+        std::memcpy(&v, at, sizeof v);
+        const Lanes v0 = v + offset2[k - x], v1 = v + offset2[k - x - 1];
+        least0 = v0 < least0 ? v0 : least0;
+        least1 = v1 < least1 ? v1 : least1;
+      }
+      std::memcpy(best0 + y, &least0, sizeof least0);
+      std::memcpy(best1 + y, &least1, sizeof least1);
+    }
+    cells += settle(x, e0, best0) + settle(x + 1, e1, best1);
   }
   return cells;
 }

@@ -62,8 +62,10 @@ struct LaneFits {
 /// per vector lane: the same operations in the same order per cell, so the
 /// same bits. Known-ness and elevation from `centre` (the first cell's
 /// entry of PaddedElevations::values (core/foothold_stencil.hpp), NaN: unknown), rows `stride` apart.
+/// Lanes not in `wanted` (bit l: lane l) are left NaN: the plane, the
+/// atan and the hypot of a cell whose fit will not be stored are skipped.
 void fit_footprint_lanes(const FootholdStencil& stencil, PartialInverses& inverses, const float* centre,
-                         std::ptrdiff_t stride, LaneFits& out);
+                         std::ptrdiff_t stride, unsigned wanted, LaneFits& out);
 
 /// The inverse of the least-squares normal matrix of `count` cells with
 /// these coordinate sums; false when the cells are collinear.

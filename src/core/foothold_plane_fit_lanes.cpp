@@ -30,7 +30,8 @@ using Masks = std::int64_t __attribute__((vector_size(kLanes * sizeof(std::int64
 }  // namespace
 
 STRIDEMAP_FOOTHOLD_CLONES void fit_footprint_lanes(const FootholdStencil& stencil, PartialInverses& inverses,
-                                                   const float* centre_entry, std::ptrdiff_t stride, LaneFits& out) {
+                                                   const float* centre_entry, std::ptrdiff_t stride, unsigned wanted,
+                                                   LaneFits& out) {
   const double cell_size_m = stencil.cell_size_m;
   const std::size_t m = stencil.footprint.size();
   const Doubles zero = {0.0, 0.0, 0.0, 0.0};
@@ -66,7 +67,7 @@ STRIDEMAP_FOOTHOLD_CLONES void fit_footprint_lanes(const FootholdStencil& stenci
   for (int l = 0; l < kLanes; ++l) {
     out.slope_deg[l] = out.roughness_m[l] = out.step_height_m[l] = kNaN;
     const auto known_cells = static_cast<std::size_t>(count[l]);
-    if (std::isnan(z0[l]) || known_cells < stencil.min_known) continue;
+    if (!(wanted >> l & 1u) || std::isnan(z0[l]) || known_cells < stencil.min_known) continue;
     out.step_height_m[l] = static_cast<float>(hi[l] - lo[l]);
     const Eigen::Matrix3d* inverse = &stencil.full_inverse;
     if (known_cells != m) {

@@ -2,6 +2,7 @@
 // in a ring of one window's rows.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <limits>
 
@@ -103,6 +104,36 @@ TEST(ChangedRows, AddsBoxesAndOtherRecords) {
   EXPECT_FALSE(a.span(5, lo, hi));
   a.add(CellBox{});  // empty: nothing
   EXPECT_EQ(a.bounds().max, (CellIndex{6, 5}));
+}
+
+TEST(ChangedRows, AnotherRecordAddedAtOnceMatchesItsSpansAddedRowByRow) {
+  // Rings of other sizes, rows either side of 0 and across the rings' wrap,
+  // a row replaced in the other record and one already in this one.
+  for (const int other_rows : {4, 7, 10}) {
+    for (const std::int64_t first : {-13, -1, 0, 7, 98}) {
+      ChangedRows other(other_rows), at_once(7), one_by_one(7);
+      for (std::int64_t k = 0; k < 9; ++k) other.add_span(first + k, -k, 2 * k - 3);
+      other.add_span(first + 8 - other_rows, 1, 1);  // replaced: not in other any more
+      for (ChangedRows* rows : {&at_once, &one_by_one}) rows->add_span(first + 7, -20, -19);
+      at_once.add(other);
+      std::int64_t lo = 0, hi = 0;  // other's last rows() rows, those it can hold
+      for (std::int64_t x = std::max(other.bounds().min.x, other.bounds().max.x - other_rows + 1);
+           x <= other.bounds().max.x; ++x) {
+        if (other.span(x, lo, hi)) one_by_one.add_span(x, lo, hi);
+      }
+      EXPECT_EQ(at_once.bounds().min, one_by_one.bounds().min) << first;
+      EXPECT_EQ(at_once.bounds().max, one_by_one.bounds().max) << first;
+      for (std::int64_t x = first - 12; x < first + 24; ++x) {
+        std::int64_t lo_a = 0, hi_a = 0, lo_b = 0, hi_b = 0;
+        const bool a = at_once.span(x, lo_a, hi_a), b = one_by_one.span(x, lo_b, hi_b);
+        ASSERT_EQ(a, b) << "row " << x << ", first " << first << ", other's rows " << other_rows;
+        if (a) {
+          EXPECT_EQ(lo_a, lo_b) << "row " << x << ", first " << first;
+          EXPECT_EQ(hi_a, hi_b) << "row " << x << ", first " << first;
+        }
+      }
+    }
+  }
 }
 
 }  // namespace

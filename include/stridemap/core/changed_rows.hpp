@@ -84,13 +84,26 @@ class ChangedRows {
     const std::int64_t first = std::max(box.min.x, box.max.x - static_cast<std::int64_t>(rows_.size()) + 1);
     for (std::int64_t x = first; x <= box.max.x; ++x) add_span(x, box.min.y, box.max.y);
   }
+  /// Every span of `other`, as add_span() of each, with one modulo per
+  /// ring rather than two per row (the foothold layers note every scan's).
   void add(const ChangedRows& other) {
-    if (other.empty()) return;
+    if (other.empty() || rows_.empty()) return;
     const CellBox& b = other.bounds_;
     const std::int64_t first = std::max(b.min.x, b.max.x - static_cast<std::int64_t>(other.rows_.size()) + 1);
-    std::int64_t lo = 0, hi = 0;
+    const std::size_t n_other = other.rows_.size(), n = rows_.size();
+    std::size_t from = other.place(first), to = place(first);
     for (std::int64_t x = first; x <= b.max.x; ++x) {
-      if (other.span(x, lo, hi)) add_span(x, lo, hi);
+      const Row& o = other.rows_[from];
+      if (o.x == x && o.lo <= o.hi) {
+        Row& r = rows_[to];
+        if (r.x != x) r = Row{x, std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::min()};
+        r.lo = std::min(r.lo, o.lo);
+        r.hi = std::max(r.hi, o.hi);
+        bounds_.add(CellIndex{x, o.lo});
+        bounds_.add(CellIndex{x, o.hi});
+      }
+      if (++from == n_other) from = 0;
+      if (++to == n) to = 0;
     }
   }
 

@@ -155,6 +155,10 @@ class FootholdLayers {
   // Per squared edge distance 0..r*r+1 (r*r+1: none within the radius):
   // the distance [m] and the score's edge factor, as the score computes them.
   std::vector<double> edge_distance_of_, edge_factor_of_;
+  // score_rows()'s scratch: a batch of the cells it scores, with their
+  // edge factors.
+  std::vector<std::size_t> score_slots_;
+  std::vector<double> score_edge_factors_;
   std::size_t last_geometry_cells_ = 0;
   std::size_t last_score_cells_ = 0;
   std::size_t last_edge_cells_ = 0;

@@ -18,12 +18,18 @@ struct FootholdEdgeSearch {
   FootholdEdgeSearch() = default;
   explicit FootholdEdgeSearch(int cells_per_side);
 
+  /// Columns the search takes at once; rows are padded by as many.
+  static constexpr int kBlock = 8;
+
   /// Per window-local row: the cells whose edge distance is searched for.
   std::vector<RowSpan> edge_rows;
   /// Per row: the columns whose along-row edge distances are needed.
   std::vector<RowSpan> distance_rows;
-  std::vector<std::int32_t> distance2;  ///< n x n: squared along-row distance to an edge, or far
-  std::vector<std::int32_t> best2;      ///< one row of squared edge distances
+  std::size_t stride = 0;  ///< of distance2's rows: n and a block's padding
+  std::vector<std::int32_t> distance2;  ///< n rows: squared along-row distance to an edge, or far (or more)
+  std::vector<std::int32_t> best2;      ///< two rows of squared edge distances (padded)
+  std::vector<std::int32_t> offset2;    ///< squared row offsets of the two rows' search
+  std::vector<std::int32_t> row_a, row_b;  ///< one row's distances in cells, by window-local column
   std::vector<RowSpan> merged, merged_rows;  ///< search_or_raise_edges()'s scratch
 };
 
