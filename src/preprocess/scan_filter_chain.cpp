@@ -260,14 +260,20 @@ bool ScanFilterChain::push(const PlanarScan& scan, PlanarScan& out) {
   std::size_t invalid = prepare_scan_for_filter(work_, normalize_mask_, "scan filter chain").invalid_input;
   bool prepared = true;
   const std::size_t before_sequence = has_scan_sequence_ ? scan_sequence_stage_ : stages_.size();
-  for (std::size_t stage = 0; stage < before_sequence; ++stage) run_on_work(stage, prepared, invalid);
+  // Range clustering's test on this scan, while the work scan differs from
+  // the one it tested only by the NaNs of its removals.
+  const RangeBreaks* breaks = nullptr;
+  for (std::size_t stage = 0; stage < before_sequence; ++stage) {
+    run_on_work(stage, prepared, invalid);
+    breaks = prepared && stages_[stage] == ScanFilterKind::range_clustering ? &range_clustering_->last_breaks() : nullptr;
+  }
   if (!has_scan_sequence_) {
     std::swap(output_, incoming_);
     detail::copy_scan(work_, out);
     finish_output(out);
     return true;
   }
-  const bool ready = prepared ? scan_sequence_.push_prepared(work_, invalid, out, sequence_removed_)
+  const bool ready = prepared ? scan_sequence_.push_prepared(work_, invalid, out, sequence_removed_, breaks)
                               : scan_sequence_.push(work_, out, sequence_removed_);
   if (ready) {
     // `out` is the scan held since the previous push: its earlier stages'
