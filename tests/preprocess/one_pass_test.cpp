@@ -7,6 +7,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <string_view>
 #include <vector>
 
 #include "stridemap/preprocess/line_extraction.hpp"
@@ -221,13 +222,17 @@ TEST(OnePassClustering, TheScanSequenceCarriesTheMasksThroughItsRemovals) {
   }
 }
 
+// Each stage's count is its mask's: the sequence stages' split of the
+// filter's removals, for either of them alone and both.
 TEST(OnePassClustering, TheChainMatchesItsStagesRunOneByOne) {
-  for (const bool between : {false, true}) {
+  for (const char* stages : {"paper", "urg", "range-clustering,between-scans"}) {
+    const bool between = std::string_view(stages) != "paper";
     ScanFilterChainOptions options;
-    ScanFilterChain chain(parse_scan_filter_list(between ? "urg" : "paper"), options);
+    ScanFilterChain chain(parse_scan_filter_list(stages), options);
     RangeClusteringFilter clustering(options.range_clustering);
     ScanSequenceOptions sequence_options = options.scan_sequence;
     sequence_options.between_scans.enabled = between;
+    sequence_options.spread_test = std::string_view(stages) != "range-clustering,between-scans";
     ScanSequenceFilter sequence(sequence_options);
     PlanarScan out, expected;
     std::vector<std::uint8_t> removed, sequence_removed;
@@ -244,8 +249,13 @@ TEST(OnePassClustering, TheChainMatchesItsStagesRunOneByOne) {
       if (!ready) continue;
       ASSERT_TRUE(same_bits(out.range_m, expected.range_m)) << seed;
       ASSERT_EQ(sequence.last_stats().invalid_input, chain.stats_of_stage(1).invalid_input) << seed;
-      ASSERT_EQ(sequence.last_stats().removed,
-                chain.stats_of_stage(1).removed + (between ? chain.stats_of_stage(2).removed : 0)) << seed;
+      std::size_t stage_removals = 0;
+      for (std::size_t stage = 0; stage < chain.stage_count(); ++stage) {
+        ASSERT_EQ(chain.stats_of_stage(stage).removed, test::count_marked(chain.removed_by_stage(stage)))
+            << stages << " " << seed << " " << stage;
+        if (stage > 0) stage_removals += chain.stats_of_stage(stage).removed;
+      }
+      ASSERT_EQ(sequence.last_stats().removed, stage_removals) << stages << " " << seed;
       ++compared;
       removed_beams += sequence.last_stats().removed;
     }
