@@ -38,7 +38,8 @@ LineExtractor::LineExtractor(const LineExtractionOptions& options)
   options_.validate("LineExtractionOptions");
 }
 
-void LineExtractor::extract(const PlanarScan& scan, std::vector<LineSegment>& segments, Keep keep) {
+void LineExtractor::extract(const PlanarScan& scan, std::vector<LineSegment>& segments, Keep keep,
+                            const RangeBreaks* known) {
   segments.clear();
   const std::size_t n = scan.size();
   const std::vector<double>& range = scan.range_m;
@@ -55,7 +56,11 @@ void LineExtractor::extract(const PlanarScan& scan, std::vector<LineSegment>& se
   directions_.update(scan.angle_rad);
   if (const RangeRatioBand* band = detail::uniform_step_band(scan, directions_, bands_)) {
     // The loop below, its tests made in one pass: the same clusters in the same order.
-    detail::mark_range_breaks(scan, *band, options_.break_noise_sigmas, options_.sigma, breaks_);
+    if (known != nullptr && detail::made_with(*known, n, *band, options_.break_noise_sigmas, options_.sigma)) {
+      breaks_ = known->breaks;
+    } else {
+      detail::mark_range_breaks(scan, *band, options_.break_noise_sigmas, options_.sigma, breaks_);
+    }
     // A cluster of two beams or more starts before a joined pair (whose
     // beams are usable); the others are single beams, below min_points.
     for (std::size_t i = 1; i < n;) {

@@ -103,7 +103,17 @@ __attribute__((target("avx2"))) std::size_t mark_avx2(const PlanarScan& scan, co
 }
 #endif
 
+bool same_bits(double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; }
+
 }  // namespace
+
+bool made_with(const RangeBreaks& known, std::size_t beams, const RangeRatioBand& band, double noise_sigmas,
+               const RangeSigmaModel& sigma) {
+  return known.valid && known.breaks.size() == beams && same_bits(known.band.lower_factor, band.lower_factor) &&
+         same_bits(known.band.upper_factor, band.upper_factor) && same_bits(known.noise_sigmas, noise_sigmas) &&
+         same_bits(known.sigma.sigma_per_range_error, sigma.sigma_per_range_error) &&
+         known.sigma.always_use_urg_spec == sigma.always_use_urg_spec;
+}
 
 void mark_range_breaks(const PlanarScan& scan, const RangeRatioBand& band, double noise_sigmas,
                        const RangeSigmaModel& sigma, std::vector<std::uint8_t>& breaks) {

@@ -54,6 +54,12 @@ inline bool joined_pair(double previous, double next, double previous_error, con
 void mark_range_breaks(const PlanarScan& scan, const RangeRatioBand& band, double noise_sigmas,
                        const RangeSigmaModel& sigma, std::vector<std::uint8_t>& breaks);
 
+/// Whether `known` (of a scan of `beams` beams) is what mark_range_breaks
+/// makes with `band`, noise_sigmas and sigma, bit for bit: the same
+/// verdicts, for a scan its maker tested.
+bool made_with(const RangeBreaks& known, std::size_t beams, const RangeRatioBand& band, double noise_sigmas,
+               const RangeSigmaModel& sigma);
+
 /// The end (one past) of the run of joined beams that starts at `first`.
 inline std::size_t run_end(const std::vector<std::uint8_t>& breaks, std::size_t first) {
   const std::size_t from = first + 1;

@@ -69,7 +69,7 @@ ScanFilterStats RangeClusteringFilter::apply_prepared(PlanarScan& scan, std::vec
 
   // A cluster is [first, last] with `points` valid beams; invalid beams
   // inside it (bridged gaps) are skipped when it is judged and removed.
-  const auto close_cluster = [&](std::size_t first, std::size_t last, std::size_t points) {
+  const auto close_cluster = [&](std::size_t first, std::size_t last, std::size_t points) -> bool {
     bool reject = points < options_.min_cluster_points;
     if (!reject && options_.min_cluster_extent_m > 0.0) {
       const double r0 = range[first];
@@ -86,6 +86,7 @@ ScanFilterStats RangeClusteringFilter::apply_prepared(PlanarScan& scan, std::vec
         ++stats.removed;
       }
     }
+    return reject;
   };
 
   // Without bridging a cluster is a run of joined neighbours: with one band
@@ -95,8 +96,12 @@ ScanFilterStats RangeClusteringFilter::apply_prepared(PlanarScan& scan, std::vec
     directions_.update(angle);
     band = detail::uniform_step_band(scan, directions_, bands_);
   }
+  breaks_.valid = band != nullptr;
   if (band != nullptr) {
-    detail::mark_range_breaks(scan, *band, options_.noise_sigmas, options_.sigma, breaks_);
+    detail::mark_range_breaks(scan, *band, options_.noise_sigmas, options_.sigma, breaks_.breaks);
+    breaks_.band = *band;
+    breaks_.noise_sigmas = options_.noise_sigmas;
+    breaks_.sigma = options_.sigma;
     int run_label = -1;
     for (std::size_t i = 0; i < n;) {
       if (std::isnan(range[i])) {
@@ -104,10 +109,15 @@ ScanFilterStats RangeClusteringFilter::apply_prepared(PlanarScan& scan, std::vec
         ++i;
         continue;
       }
-      const std::size_t end = detail::run_end(breaks_, i);
+      const std::size_t end = detail::run_end(breaks_.breaks, i);
       std::fill(labels_.begin() + static_cast<std::ptrdiff_t>(i), labels_.begin() + static_cast<std::ptrdiff_t>(end),
                 ++run_label);
-      close_cluster(i, end - 1, end - i);
+      // A run's beams are all usable: removed, each pair inside it breaks
+      // (those at its ends already do).
+      if (close_cluster(i, end - 1, end - i)) {
+        std::fill(breaks_.breaks.begin() + static_cast<std::ptrdiff_t>(i) + 1,
+                  breaks_.breaks.begin() + static_cast<std::ptrdiff_t>(end), std::uint8_t{1});
+      }
       i = end;
     }
     return stats;

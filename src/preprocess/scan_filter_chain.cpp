@@ -208,27 +208,33 @@ ScanFilterChain::ScanFilterChain(std::vector<ScanFilterKind> stages, const ScanF
 // between the stages, so that each removed beam is marked by one stage.
 void ScanFilterChain::take_sequence_masks() {
   const std::vector<std::uint8_t>& between = scan_sequence_.last_removed_between_scans();
-  if (between_stage_ != absent) output_.removed[between_stage_] = between;
-  if (spread_stage_ != absent) {
-    std::vector<std::uint8_t>& spread = output_.removed[spread_stage_];
-    spread = sequence_removed_;
-    // Plain pointers: a byte store could alias a vector's own pointers, which
-    // would keep the loop from vectorising.
-    const std::size_t n = std::min(spread.size(), between.size());
-    std::uint8_t* to = spread.data();
-    const std::uint8_t* from = between.data();
-    for (std::size_t i = 0; i < n; ++i) to[i] &= static_cast<std::uint8_t>(!from[i]);
-  }
   const ScanFilterStats& all = scan_sequence_.last_stats();
-  for (const std::size_t stage : {spread_stage_, between_stage_}) {
-    if (stage == absent) continue;
-    ScanFilterStats& stats = output_.stats[stage];
-    stats = all;
-    stats.removed = static_cast<std::size_t>(
-        std::count(output_.removed[stage].begin(), output_.removed[stage].end(), std::uint8_t{1}));
+  const bool both = spread_stage_ != absent && between_stage_ != absent;
+  // A stage alone has all of them; the between-scans ones are a subset of all.
+  const std::size_t between_removed =
+      both ? static_cast<std::size_t>(std::count(between.begin(), between.end(), std::uint8_t{1})) : all.removed;
+  if (between_stage_ != absent) {
+    output_.removed[between_stage_] = between;
+    output_.stats[between_stage_] = all;
+    output_.stats[between_stage_].removed = between_removed;
+  }
+  if (spread_stage_ != absent) {
+    // The filter refills its mask on the next push: this one is handed on.
+    std::vector<std::uint8_t>& spread = output_.removed[spread_stage_];
+    std::swap(spread, sequence_removed_);
+    if (both) {
+      // Plain pointers: a byte store could alias a vector's own pointers,
+      // which would keep the loop from vectorising.
+      const std::size_t n = std::min(spread.size(), between.size());
+      std::uint8_t* to = spread.data();
+      const std::uint8_t* from = between.data();
+      for (std::size_t i = 0; i < n; ++i) to[i] &= static_cast<std::uint8_t>(!from[i]);
+    }
+    output_.stats[spread_stage_] = all;
+    output_.stats[spread_stage_].removed = both ? all.removed - between_removed : all.removed;
   }
   // The later of the two stages sees the earlier one's removals as unusable input.
-  if (spread_stage_ != absent && between_stage_ != absent) {
+  if (both) {
     output_.stats[std::max(spread_stage_, between_stage_)].invalid_input +=
         output_.stats[std::min(spread_stage_, between_stage_)].removed;
   }
@@ -260,14 +266,20 @@ bool ScanFilterChain::push(const PlanarScan& scan, PlanarScan& out) {
   std::size_t invalid = prepare_scan_for_filter(work_, normalize_mask_, "scan filter chain").invalid_input;
   bool prepared = true;
   const std::size_t before_sequence = has_scan_sequence_ ? scan_sequence_stage_ : stages_.size();
-  for (std::size_t stage = 0; stage < before_sequence; ++stage) run_on_work(stage, prepared, invalid);
+  // Range clustering's test on this scan, while the work scan differs from
+  // the one it tested only by the NaNs of its removals.
+  const RangeBreaks* breaks = nullptr;
+  for (std::size_t stage = 0; stage < before_sequence; ++stage) {
+    run_on_work(stage, prepared, invalid);
+    breaks = prepared && stages_[stage] == ScanFilterKind::range_clustering ? &range_clustering_->last_breaks() : nullptr;
+  }
   if (!has_scan_sequence_) {
     std::swap(output_, incoming_);
     detail::copy_scan(work_, out);
     finish_output(out);
     return true;
   }
-  const bool ready = prepared ? scan_sequence_.push_prepared(work_, invalid, out, sequence_removed_)
+  const bool ready = prepared ? scan_sequence_.push_prepared(work_, invalid, out, sequence_removed_, breaks)
                               : scan_sequence_.push(work_, out, sequence_removed_);
   if (ready) {
     // `out` is the scan held since the previous push: its earlier stages'

@@ -106,15 +106,21 @@ bool ScanSequenceFilter::push(const PlanarScan& next_scan, PlanarScan& out, std:
   check_scan_shape(next_scan, filter_name, index);
   check_length(next_scan);
   detail::copy_scan(next_scan, incoming_);
+  incoming_breaks_.valid = false;
   const std::size_t incoming_invalid =
       prepare_scan_for_filter(incoming_, normalize_mask_, filter_name, index).invalid_input;
   return take_incoming(incoming_invalid, out, removed);
 }
 
 bool ScanSequenceFilter::push_prepared(PlanarScan& next_scan, std::size_t invalid_input, PlanarScan& out,
-                                       std::vector<std::uint8_t>& removed) {
+                                       std::vector<std::uint8_t>& removed, const RangeBreaks* breaks) {
   check_length(next_scan);
   std::swap(incoming_, next_scan);
+  if (breaks != nullptr && breaks->valid) {
+    incoming_breaks_ = *breaks;  // into the buffer it had: no allocation once grown
+  } else {
+    incoming_breaks_.valid = false;
+  }
   return take_incoming(invalid_input, out, removed);
 }
 
@@ -123,6 +129,7 @@ bool ScanSequenceFilter::take_incoming(std::size_t incoming_invalid, PlanarScan&
   ++scans_in_stream_;
   if (!has_held_) {
     std::swap(held_, incoming_);
+    std::swap(held_breaks_, incoming_breaks_);
     held_invalid_input_ = incoming_invalid;
     has_held_ = true;
     return false;
@@ -131,8 +138,10 @@ bool ScanSequenceFilter::take_incoming(std::size_t incoming_invalid, PlanarScan&
   emit_held_scan(out);
   // The judged scan, mixed points removed, is the k-1 of the next decision.
   std::swap(previous_, held_);
+  std::swap(previous_breaks_, held_breaks_);
   has_previous_ = true;
   std::swap(held_, incoming_);
+  std::swap(held_breaks_, incoming_breaks_);
   held_invalid_input_ = incoming_invalid;
   return true;
 }
@@ -168,7 +177,14 @@ void ScanSequenceFilter::judge_held_scan(std::vector<std::uint8_t>& removed) {
   if (!has_previous_ || n == 0) return;
   if (options_.spread_test) judge_spread(removed);
   if (options_.between_scans.enabled) judge_between_scans(removed);
-  if (removed_count_ > 0) apply_removal_mask(held_, removed);
+  if (removed_count_ == 0) return;
+  apply_removal_mask(held_, removed);
+  if (!held_breaks_.valid) return;
+  // The pairs of each beam removed break, as the clustering test would find
+  // (breaks[0] is 1 already). Plain pointers, so that the loop vectorises.
+  std::uint8_t* breaks = held_breaks_.breaks.data();
+  const std::uint8_t* gone = removed.data();
+  for (std::size_t i = 1; i < n; ++i) breaks[i] = static_cast<std::uint8_t>(breaks[i] | gone[i] | gone[i - 1]);
 }
 
 void ScanSequenceFilter::judge_between_scans(std::vector<std::uint8_t>& removed) {
@@ -202,7 +218,8 @@ void ScanSequenceFilter::judge_spread(std::vector<std::uint8_t>& removed) {
   const std::size_t n = held_.size();
   // Only occluding segments are judged when an occluding end is required.
   lines_.extract(previous_, segments_,
-                 options_.require_occluding_end ? LineExtractor::Keep::occluding : LineExtractor::Keep::all);
+                 options_.require_occluding_end ? LineExtractor::Keep::occluding : LineExtractor::Keep::all,
+                 &previous_breaks_);
   if (sectors_.capacity() < segments_.capacity()) sectors_.reserve(segments_.capacity());
   bool directions_current = false;  // brought up to date for the first spread only
   const BeamDirections& directions_previous = lines_.directions();

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <numbers>
 #include <sstream>
@@ -162,60 +163,6 @@ void UrgModel::check_fits(const UrgRawScan& raw) const {
   }
 }
 
-UrgConversionStats UrgModel::to_planar_scan(const UrgRawScan& raw, PlanarScan& out) const {
-  check_fits(raw);
-  out.time_s = raw.time_s;
-  const std::size_t n = raw.values_mm.size();
-  out.resize(n);
-  // check_fits() keeps every value's step within the table. A cluster's
-  // value is the minimum over its steps and the sensor does not say which
-  // step gave it; SCIP drivers place it at the cluster's first step.
-  const auto first = static_cast<std::size_t>(raw.first_step - parameters_.first_step);
-  const auto cluster = static_cast<std::size_t>(raw.cluster);
-  const std::uint32_t* values = raw.values_mm.data();
-  const double* step_angle = step_angle_.data() + first;
-  double* angle = out.angle_rad.data();
-  double* range = out.range_m.data();
-  double* error = out.range_error_m.data();
-  const std::uint64_t lowest = lowest_valid_mm_, highest = highest_valid_mm_;
-  const auto& c = calibration_.coefficients;
-  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
-  std::size_t valid = 0, below = 0;
-  // classify(), calibration_.corrected_m() and spec_range_error_m() as
-  // selects instead of branches (the same doubles), so that the error codes
-  // between valid runs cost no mispredictions. Uncalibrated, the correction
-  // is raw * 0 + 0: the raw range itself. Invalid beams keep a finite error
-  // (the bound at the raw value) so that a consumer summing or comparing
-  // errors never meets NaN there; the NaN range marks the beam as unusable.
-  const auto convert = [&](auto calibrated) {
-    for (std::size_t i = 0; i < n; ++i) {
-      const std::uint64_t value = values[i];
-      const double raw_range_m = static_cast<double>(values[i]) * 0.001;
-      double range_m = raw_range_m;
-      if constexpr (decltype(calibrated)::value) {
-        range_m = raw_range_m + (c[0] + raw_range_m * (c[1] + raw_range_m * (c[2] + raw_range_m * c[3])));
-      }
-      const bool is_valid = (value >= lowest) & (value <= highest);
-      const double bounded_m = is_valid ? range_m : raw_range_m;
-      angle[i] = step_angle[i * cluster];
-      range[i] = is_valid ? range_m : kNaN;
-      error[i] = bounded_m <= 1.0 ? 0.010 : 0.01 * bounded_m;
-      valid += static_cast<std::size_t>(is_valid);
-      below += static_cast<std::size_t>(value < lowest);
-    }
-  };
-  if (calibrated_) {
-    convert(std::true_type{});
-  } else {
-    convert(std::false_type{});
-  }
-  UrgConversionStats stats;
-  stats.valid = valid;
-  stats.error_codes = below;
-  stats.beyond_max_range = n - valid - below;
-  return stats;
-}
-
 // STRIDEMAP_NO_AVX2_COPIES: the scalar loop only (to test it on an AVX2 CPU).
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__) && \
     !defined(STRIDEMAP_NO_AVX2_COPIES)
@@ -279,8 +226,116 @@ __attribute__((target("avx2"))) std::size_t pack_blocks_avx2(const std::uint32_t
   beyond += static_cast<std::size_t>(lanes[0] + lanes[1] + lanes[2] + lanes[3]);
   return i;
 }
+
+// to_planar_scan's loop four beams at a time, as pack_blocks_avx2 is
+// pack_beams': the same operations in the same order, selects as blends.
+// The caller copies the angles and finishes the rest.
+template <bool kCalibrated>
+__attribute__((target("avx2"))) std::size_t planar_blocks_avx2(const std::uint32_t* values, std::size_t n,
+                                                                double lowest, double highest, const double* c,
+                                                                double* range, double* error, std::size_t& valid,
+                                                                std::size_t& below) {
+  const __m256d lo = _mm256_set1_pd(lowest), hi = _mm256_set1_pd(highest);
+  const __m256d milli = _mm256_set1_pd(0.001), centi = _mm256_set1_pd(0.01), one = _mm256_set1_pd(1.0);
+  const __m256d nan = _mm256_set1_pd(std::numeric_limits<double>::quiet_NaN());
+  const __m128i sign = _mm_set1_epi32(static_cast<int>(0x80000000u));
+  const __m256d two_31 = _mm256_set1_pd(2147483648.0);
+  __m256i valid_lanes = _mm256_setzero_si256(), below_lanes = _mm256_setzero_si256();
+  std::size_t i = 0;
+  for (; i + 4 <= n; i += 4) {
+    const __m128i v = _mm_xor_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(values + i)), sign);
+    const __m256d value = _mm256_add_pd(_mm256_cvtepi32_pd(v), two_31);
+    const __m256d in_range = _mm256_and_pd(_mm256_cmp_pd(value, lo, _CMP_GE_OQ), _mm256_cmp_pd(value, hi, _CMP_LE_OQ));
+    valid_lanes = _mm256_sub_epi64(valid_lanes, _mm256_castpd_si256(in_range));
+    below_lanes = _mm256_sub_epi64(below_lanes, _mm256_castpd_si256(_mm256_cmp_pd(value, lo, _CMP_LT_OQ)));
+    const __m256d raw_m = _mm256_mul_pd(value, milli);
+    __m256d r = raw_m;
+    if constexpr (kCalibrated) {
+      __m256d poly = _mm256_mul_pd(raw_m, _mm256_set1_pd(c[3]));
+      poly = _mm256_mul_pd(raw_m, _mm256_add_pd(_mm256_set1_pd(c[2]), poly));
+      poly = _mm256_mul_pd(raw_m, _mm256_add_pd(_mm256_set1_pd(c[1]), poly));
+      r = _mm256_add_pd(raw_m, _mm256_add_pd(_mm256_set1_pd(c[0]), poly));
+    }
+    const __m256d bounded = _mm256_blendv_pd(raw_m, r, in_range);
+    _mm256_storeu_pd(range + i, _mm256_blendv_pd(nan, r, in_range));
+    _mm256_storeu_pd(error + i, _mm256_blendv_pd(_mm256_mul_pd(centi, bounded), centi,
+                                                 _mm256_cmp_pd(bounded, one, _CMP_LE_OQ)));
+  }
+  alignas(32) std::uint64_t lanes[4];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), valid_lanes);
+  valid += static_cast<std::size_t>(lanes[0] + lanes[1] + lanes[2] + lanes[3]);
+  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), below_lanes);
+  below += static_cast<std::size_t>(lanes[0] + lanes[1] + lanes[2] + lanes[3]);
+  return i;
+}
 }  // namespace
 #endif
+
+UrgConversionStats UrgModel::to_planar_scan(const UrgRawScan& raw, PlanarScan& out) const {
+  check_fits(raw);
+  out.time_s = raw.time_s;
+  const std::size_t n = raw.values_mm.size();
+  out.resize(n);
+  // check_fits() keeps every value's step within the table. A cluster's
+  // value is the minimum over its steps and the sensor does not say which
+  // step gave it; SCIP drivers place it at the cluster's first step.
+  const auto first = static_cast<std::size_t>(raw.first_step - parameters_.first_step);
+  const auto cluster = static_cast<std::size_t>(raw.cluster);
+  const std::uint32_t* values = raw.values_mm.data();
+  const double* step_angle = step_angle_.data() + first;
+  double* angle = out.angle_rad.data();
+  double* range = out.range_m.data();
+  double* error = out.range_error_m.data();
+  const std::uint64_t lowest = lowest_valid_mm_, highest = highest_valid_mm_;
+  const auto& c = calibration_.coefficients;
+  constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+  std::size_t valid = 0, below = 0;
+  // classify(), calibration_.corrected_m() and spec_range_error_m() as
+  // selects instead of branches (the same doubles), so that the error codes
+  // between valid runs cost no mispredictions. Uncalibrated, the correction
+  // is raw * 0 + 0: the raw range itself. Invalid beams keep a finite error
+  // (the bound at the raw value) so that a consumer summing or comparing
+  // errors never meets NaN there; the NaN range marks the beam as unusable.
+  const auto convert = [&](auto calibrated) {
+    std::size_t i = 0;
+#ifdef STRIDEMAP_URG_AVX2
+    // Beams at consecutive steps: the angles are the table's, the rest four
+    // a vector (thresholds as doubles, exact: both below 2^33).
+    static const bool has_avx2 = __builtin_cpu_supports("avx2");
+    if (has_avx2 && cluster == 1) {
+      if (n > 0) std::memcpy(angle, step_angle, n * sizeof(double));
+      i = planar_blocks_avx2<decltype(calibrated)::value>(values, n, static_cast<double>(lowest),
+                                                          static_cast<double>(highest), c.data(), range, error, valid,
+                                                          below);
+    }
+#endif
+    for (; i < n; ++i) {
+      const std::uint64_t value = values[i];
+      const double raw_range_m = static_cast<double>(values[i]) * 0.001;
+      double range_m = raw_range_m;
+      if constexpr (decltype(calibrated)::value) {
+        range_m = raw_range_m + (c[0] + raw_range_m * (c[1] + raw_range_m * (c[2] + raw_range_m * c[3])));
+      }
+      const bool is_valid = (value >= lowest) & (value <= highest);
+      const double bounded_m = is_valid ? range_m : raw_range_m;
+      angle[i] = step_angle[i * cluster];
+      range[i] = is_valid ? range_m : kNaN;
+      error[i] = bounded_m <= 1.0 ? 0.010 : 0.01 * bounded_m;
+      valid += static_cast<std::size_t>(is_valid);
+      below += static_cast<std::size_t>(value < lowest);
+    }
+  };
+  if (calibrated_) {
+    convert(std::true_type{});
+  } else {
+    convert(std::false_type{});
+  }
+  UrgConversionStats stats;
+  stats.valid = valid;
+  stats.error_codes = below;
+  stats.beyond_max_range = n - valid - below;
+  return stats;
+}
 
 template <bool kCalibrated>
 UrgConversionStats UrgModel::pack_beams(const UrgRawScan& raw, PlanarBeams& out) const {

@@ -4,6 +4,7 @@
 // sensors, clustered scans and every kind of raw value.
 #include <cmath>
 #include <cstring>
+#include <limits>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -122,6 +123,47 @@ TEST(UrgPackedBeams, PackedBeamsAreThePlanarScansValidBeamsBitForBit) {
         EXPECT_EQ(k, beams.count) << "cluster " << cluster << ", first step " << first_step;
         EXPECT_EQ(beams.invalid_range, raw.values_mm.size() - k);
         if (::testing::Test::HasFailure()) return;
+      }
+    }
+  }
+}
+
+// to_planar_scan itself, every beam against classify(), corrected_m() and
+// spec_range_error_m() (the bound at the raw value for an invalid beam):
+// the four-beams-at-a-time loop (unclustered, where AVX2 is) and the
+// beam-by-beam one, for scans of every length modulo 4.
+TEST(UrgPackedBeams, ThePlanarScanIsTheClassifiedCorrectedValueBitForBit) {
+  const UrgParameters p;
+  const RangeCalibration calibrations[] = {RangeCalibration{}, RangeCalibration{{0.004, -0.01, 0.002, -0.0005}},
+                                           RangeCalibration{{-0.3, 0.0, 0.0, 0.0}}};
+  const auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
+  std::mt19937_64 rng(11);
+  PlanarScan scan;
+  for (const RangeCalibration& calibration : calibrations) {
+    const UrgModel model(p, calibration);
+    for (const int cluster : {1, 2}) {
+      for (const int first_step : {44, 45, 46, 47, 300}) {
+        const UrgRawScan raw = random_scan(rng, p, first_step, cluster);
+        const UrgConversionStats stats = model.to_planar_scan(raw, scan);
+        ASSERT_EQ(scan.size(), raw.values_mm.size());
+        UrgConversionStats expected;
+        for (std::size_t i = 0; i < scan.size(); ++i) {
+          const std::uint32_t value = raw.values_mm[i];
+          const double raw_m = static_cast<double>(value) * 0.001;
+          const UrgValueClass kind = model.classify(value);
+          const bool valid = kind == UrgValueClass::valid;
+          expected.valid += valid ? 1 : 0;
+          expected.error_codes += kind == UrgValueClass::error_code ? 1 : 0;
+          const double range = valid ? calibration.corrected_m(raw_m) : std::numeric_limits<double>::quiet_NaN();
+          const double angle = p.step_angle_rad(first_step + static_cast<int>(i) * cluster);
+          ASSERT_TRUE(same(scan.range_m[i], range)) << "beam " << i << ", value " << value;
+          ASSERT_TRUE(same(scan.range_error_m[i], UrgModel::spec_range_error_m(valid ? range : raw_m)))
+              << "beam " << i << ", value " << value;
+          ASSERT_TRUE(same(scan.angle_rad[i], angle)) << "beam " << i;
+        }
+        EXPECT_EQ(stats.valid, expected.valid);
+        EXPECT_EQ(stats.error_codes, expected.error_codes);
+        EXPECT_EQ(stats.beyond_max_range, scan.size() - expected.valid - expected.error_codes);
       }
     }
   }

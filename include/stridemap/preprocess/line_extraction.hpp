@@ -81,8 +81,12 @@ class LineExtractor {
 
   /// Segments of `scan` in beam order. Invalid beams (range not finite and
   /// positive) never belong to a segment. The scan must be well formed
-  /// (check_scan_shape); it is not modified.
-  void extract(const PlanarScan& scan, std::vector<LineSegment>& segments, Keep keep = Keep::all);
+  /// (check_scan_shape); it is not modified. `known`, when given, is range
+  /// clustering's test on this very scan (RangeBreaks): where that is this
+  /// extractor's pre-segmentation test (the same band, noise sigmas and
+  /// sigma model) it is taken instead of testing every pair again.
+  void extract(const PlanarScan& scan, std::vector<LineSegment>& segments, Keep keep = Keep::all,
+               const RangeBreaks* known = nullptr);
 
   /// cos/sin of the angles of the scan given to extract() last.
   const BeamDirections& directions() const { return directions_; }

@@ -138,6 +138,21 @@ struct RangeClusteringOptions {
   void validate() const;
 };
 
+/// The clustering test between every pair of neighbouring beams of one scan
+/// and what decided it, so that a later filter running the same test on the
+/// same scan need not run it again. A filter that turns beams NaN breaks
+/// their pairs here too (a pair with an unusable beam is never joined), so
+/// that the mask stays the test of the scan it hands on.
+struct RangeBreaks {
+  /// breaks[i] = 1 unless beams i - 1 and i are joined; breaks[0] = 1.
+  std::vector<std::uint8_t> breaks;
+  RangeRatioBand band;  ///< the one band of every pair
+  double noise_sigmas = 0.0;
+  RangeSigmaModel sigma;
+  /// False when no single band decided the scan: `breaks` is not set.
+  bool valid = false;
+};
+
 /// Stateless apart from scratch buffers; one object per thread.
 class RangeClusteringFilter {
  public:
@@ -159,13 +174,16 @@ class RangeClusteringFilter {
   /// Cluster label of each beam from the last apply(): -1 for invalid beams,
   /// otherwise 0, 1, 2, ... in scan order (removed clusters keep their label).
   const std::vector<int>& cluster_labels() const { return labels_; }
+  /// Of the last apply(), on the scan it returned (valid only without
+  /// bridging, with evenly spaced beams).
+  const RangeBreaks& last_breaks() const { return breaks_; }
 
  private:
   RangeClusteringOptions options_;
   std::vector<int> labels_;
   BeamDirections directions_;  // for its step spread
   RangeRatioBandMemo bands_;
-  std::vector<std::uint8_t> breaks_;
+  RangeBreaks breaks_;
 };
 
 }  // namespace stridemap

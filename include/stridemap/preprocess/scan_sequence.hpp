@@ -158,9 +158,11 @@ class ScanSequenceFilter {
   /// push() for a scan that prepare_scan_for_filter has already passed, its
   /// only invalid ranges `invalid_input` NaNs (a chain's work scan): the
   /// same result without checking, copying and rewriting it again. Takes
-  /// the scan's contents, leaving it another scan's buffers.
+  /// the scan's contents, leaving it another scan's buffers. `breaks`, when
+  /// given, is range clustering's test on this scan before its removals,
+  /// kept for the line extraction two pushes later (LineExtractor::extract).
   bool push_prepared(PlanarScan& next_scan, std::size_t invalid_input, PlanarScan& out,
-                     std::vector<std::uint8_t>& removed);
+                     std::vector<std::uint8_t>& removed, const RangeBreaks* breaks = nullptr);
 
   /// Ends the stream: returns the held scan (unfiltered) if there is one.
   bool flush(PlanarScan& out, std::vector<std::uint8_t>& removed);
@@ -194,6 +196,9 @@ class ScanSequenceFilter {
   PlanarScan previous_;  // k-1, as returned (filtered)
   PlanarScan held_;      // k, waiting for k+1
   PlanarScan incoming_;  // k+1
+  RangeBreaks previous_breaks_;  // what push_prepared was given with each
+  RangeBreaks held_breaks_;
+  RangeBreaks incoming_breaks_;
   bool has_previous_ = false;
   bool has_held_ = false;
   std::size_t scans_in_stream_ = 0;
