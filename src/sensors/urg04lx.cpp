@@ -168,6 +168,22 @@ void UrgModel::check_fits(const UrgRawScan& raw) const {
     !defined(STRIDEMAP_NO_AVX2_COPIES)
 #define STRIDEMAP_URG_AVX2 1
 namespace {
+// Raw values [mm] -> doubles, exactly: flip the sign bit, convert as
+// int32, add 2^31 (AVX2 has no unsigned conversion).
+__attribute__((target("avx2"))) inline __m256d values_as_doubles(const std::uint32_t* values) {
+  const __m128i sign = _mm_set1_epi32(static_cast<int>(0x80000000u));
+  const __m128i v = _mm_xor_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(values)), sign);
+  return _mm256_add_pd(_mm256_cvtepi32_pd(v), _mm256_set1_pd(2147483648.0));
+}
+
+// raw + (c0 + raw (c1 + raw (c2 + raw c3))), as the scalar loop.
+__attribute__((target("avx2"))) inline __m256d calibrated(__m256d raw_m, const double* c) {
+  __m256d poly = _mm256_mul_pd(raw_m, _mm256_set1_pd(c[3]));
+  poly = _mm256_mul_pd(raw_m, _mm256_add_pd(_mm256_set1_pd(c[2]), poly));
+  poly = _mm256_mul_pd(raw_m, _mm256_add_pd(_mm256_set1_pd(c[1]), poly));
+  return _mm256_add_pd(raw_m, _mm256_add_pd(_mm256_set1_pd(c[0]), poly));
+}
+
 // pack_beams' loop four beams at a time where the CPU has AVX2 (chosen at
 // run time; x86-64's baseline has no blend and no lane permute). The same
 // operations in the same order as the scalar loop, without FMA, so every
@@ -186,16 +202,12 @@ __attribute__((target("avx2"))) std::size_t pack_blocks_avx2(const std::uint32_t
   const __m256d milli = _mm256_set1_pd(0.001), centi = _mm256_set1_pd(0.01);
   [[maybe_unused]] const __m256d zero = _mm256_setzero_pd();
   const __m256d inf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
-  const __m128i sign = _mm_set1_epi32(static_cast<int>(0x80000000u));
-  const __m256d two_31 = _mm256_set1_pd(2147483648.0);
   // The valid and beyond counts per lane: a true compare is all ones (-1 as
   // an int64), so subtracting it counts one.
   __m256i valid_lanes = _mm256_setzero_si256(), beyond_lanes = _mm256_setzero_si256();
   std::size_t i = 0;
   for (; i + 4 <= n; i += 4) {
-    // uint32 -> double exactly: flip the sign bit, convert as int32, add 2^31.
-    const __m128i v = _mm_xor_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(values + i)), sign);
-    const __m256d value = _mm256_add_pd(_mm256_cvtepi32_pd(v), two_31);
+    const __m256d value = values_as_doubles(values + i);
     const __m256d in_range = _mm256_and_pd(_mm256_cmp_pd(value, lo, _CMP_GE_OQ), _mm256_cmp_pd(value, hi, _CMP_LE_OQ));
     valid_lanes = _mm256_sub_epi64(valid_lanes, _mm256_castpd_si256(in_range));
     beyond_lanes = _mm256_sub_epi64(beyond_lanes, _mm256_castpd_si256(_mm256_cmp_pd(value, hi, _CMP_GT_OQ)));
@@ -204,11 +216,7 @@ __attribute__((target("avx2"))) std::size_t pack_blocks_avx2(const std::uint32_t
     __m256d r = raw_m;
     __m256d keep = in_range;
     if constexpr (kCalibrated) {
-      // raw + (c0 + raw (c1 + raw (c2 + raw c3))), as the scalar loop.
-      __m256d poly = _mm256_mul_pd(raw_m, _mm256_set1_pd(c[3]));
-      poly = _mm256_mul_pd(raw_m, _mm256_add_pd(_mm256_set1_pd(c[2]), poly));
-      poly = _mm256_mul_pd(raw_m, _mm256_add_pd(_mm256_set1_pd(c[1]), poly));
-      r = _mm256_add_pd(raw_m, _mm256_add_pd(_mm256_set1_pd(c[0]), poly));
+      r = calibrated(raw_m, c);
       keep = _mm256_and_pd(keep, _mm256_and_pd(_mm256_cmp_pd(r, zero, _CMP_GT_OQ), _mm256_cmp_pd(r, inf, _CMP_LT_OQ)));
     } else if constexpr (kZeroInRange) {
       keep = _mm256_and_pd(keep, _mm256_cmp_pd(value, zero, _CMP_NEQ_OQ));
@@ -238,24 +246,16 @@ __attribute__((target("avx2"))) std::size_t planar_blocks_avx2(const std::uint32
   const __m256d lo = _mm256_set1_pd(lowest), hi = _mm256_set1_pd(highest);
   const __m256d milli = _mm256_set1_pd(0.001), centi = _mm256_set1_pd(0.01), one = _mm256_set1_pd(1.0);
   const __m256d nan = _mm256_set1_pd(std::numeric_limits<double>::quiet_NaN());
-  const __m128i sign = _mm_set1_epi32(static_cast<int>(0x80000000u));
-  const __m256d two_31 = _mm256_set1_pd(2147483648.0);
   __m256i valid_lanes = _mm256_setzero_si256(), below_lanes = _mm256_setzero_si256();
   std::size_t i = 0;
   for (; i + 4 <= n; i += 4) {
-    const __m128i v = _mm_xor_si128(_mm_loadu_si128(reinterpret_cast<const __m128i*>(values + i)), sign);
-    const __m256d value = _mm256_add_pd(_mm256_cvtepi32_pd(v), two_31);
+    const __m256d value = values_as_doubles(values + i);
     const __m256d in_range = _mm256_and_pd(_mm256_cmp_pd(value, lo, _CMP_GE_OQ), _mm256_cmp_pd(value, hi, _CMP_LE_OQ));
     valid_lanes = _mm256_sub_epi64(valid_lanes, _mm256_castpd_si256(in_range));
     below_lanes = _mm256_sub_epi64(below_lanes, _mm256_castpd_si256(_mm256_cmp_pd(value, lo, _CMP_LT_OQ)));
     const __m256d raw_m = _mm256_mul_pd(value, milli);
     __m256d r = raw_m;
-    if constexpr (kCalibrated) {
-      __m256d poly = _mm256_mul_pd(raw_m, _mm256_set1_pd(c[3]));
-      poly = _mm256_mul_pd(raw_m, _mm256_add_pd(_mm256_set1_pd(c[2]), poly));
-      poly = _mm256_mul_pd(raw_m, _mm256_add_pd(_mm256_set1_pd(c[1]), poly));
-      r = _mm256_add_pd(raw_m, _mm256_add_pd(_mm256_set1_pd(c[0]), poly));
-    }
+    if constexpr (kCalibrated) r = calibrated(raw_m, c);
     const __m256d bounded = _mm256_blendv_pd(raw_m, r, in_range);
     _mm256_storeu_pd(range + i, _mm256_blendv_pd(nan, r, in_range));
     _mm256_storeu_pd(error + i, _mm256_blendv_pd(_mm256_mul_pd(centi, bounded), centi,
