@@ -7,7 +7,8 @@
 // and of the changed rows after each scan, so that two builds' maps can be
 // compared bit for bit.
 //
-//   point_path_workload [packed|planar|pipeline|pipeline-paper|pipeline-walk|pipeline-foothold|pipeline-foothold-every10] [scans]
+//   point_path_workload [packed|packed-walk|planar|pipeline|pipeline-paper|pipeline-walk|pipeline-foothold|
+//                        pipeline-foothold-every10|walk-every10] [scans]
 //     packed: UrgModel::to_beams + TerrainMapper::integrate(PlanarBeams) (default)
 //     planar: UrgModel::to_planar_scan + TerrainMapper::integrate(PlanarScan)
 //     pipeline: ScanIntegrator::push, no scan filters (its packed route)
@@ -20,6 +21,9 @@
 //       of the digest read from mapper().map(); otherwise its defaults)
 //     pipeline-foothold-every10: MappingPipeline::add with its defaults and
 //       map() read after every 10th scan (pipeline_bench's FootholdEvery10)
+//     packed-walk, walk-every10: packed and pipeline-foothold-every10 on the
+//       walk's scans, the two sides of make bench-compare's "map read every
+//       10th scan" ratio
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -59,15 +63,19 @@ UrgRawScan floor_scan(const UrgParameters& urg, const SensorMount& mount, std::m
 }  // namespace
 
 int main(int argc, char** argv) {
-  const std::string mode = argc > 1 ? argv[1] : "packed";
   const int scans = argc > 2 ? std::atoi(argv[2]) : 750;
-  const bool walk = mode == "pipeline-walk";
-  if ((mode != "packed" && mode != "planar" && mode != "pipeline" && mode != "pipeline-paper" && !walk &&
-       mode != "pipeline-foothold" && mode != "pipeline-foothold-every10") ||
+  const std::string mode_arg = argc > 1 ? argv[1] : "packed";
+  const bool walk = mode_arg == "pipeline-walk" || mode_arg == "packed-walk" || mode_arg == "walk-every10";
+  // The walk's variants run as their floor counterparts on the walk's scans.
+  const std::string mode = mode_arg == "packed-walk"    ? "packed"
+                           : mode_arg == "walk-every10" ? "pipeline-foothold-every10"
+                                                        : mode_arg;
+  if ((mode != "packed" && mode != "planar" && mode != "pipeline" && mode != "pipeline-paper" &&
+       mode != "pipeline-walk" && mode != "pipeline-foothold" && mode != "pipeline-foothold-every10") ||
       scans < 1) {
     std::fprintf(stderr,
-                 "usage: point_path_workload [packed|planar|pipeline|pipeline-paper|pipeline-walk|pipeline-foothold|"
-                 "pipeline-foothold-every10] [scans >= 1]\n");
+                 "usage: point_path_workload [packed|packed-walk|planar|pipeline|pipeline-paper|pipeline-walk|"
+                 "pipeline-foothold|pipeline-foothold-every10|walk-every10] [scans >= 1]\n");
     return 2;
   }
   const UrgParameters urg;
@@ -79,7 +87,9 @@ int main(int argc, char** argv) {
   pipeline_options.mapper = options;
   pipeline_options.urg = urg;
   pipeline_options.mount = mount;
-  if (mode == "pipeline-paper" || walk) pipeline_options.filters = parse_scan_filter_list(std::string_view("paper"));
+  if (mode == "pipeline-paper" || mode == "pipeline-walk") {
+    pipeline_options.filters = parse_scan_filter_list(std::string_view("paper"));
+  }
   const bool every10 = mode == "pipeline-foothold-every10";
   pipeline_options.foothold.update_every_scan = !every10;
   ScanIntegrator integrator(pipeline_options);
