@@ -71,10 +71,16 @@ void FootholdChanges::see_left(const FootholdStencil& stencil, const ElevationMa
     if (i < -foot_cells - edge_cells || i > n - 1 + foot_cells + edge_cells) continue;  // reaches no window cell
     bool in_run = false;
     std::int64_t run = 0;
+    // Slots along the row step by one and wrap: map.slot()'s two modulos
+    // once a row, not once a cell.
+    const std::size_t first = map.slot({x, b.min.y});
+    const std::size_t row = first - first % static_cast<std::size_t>(n);
+    std::size_t col = first - row;
     for (std::int64_t y = b.min.y; y <= b.max.y + 1; ++y) {
       bool was_known = false;
       if (y <= b.max.y) {
-        const std::size_t s = map.slot({x, y});
+        const std::size_t s = row + col;
+        col = col + 1 == static_cast<std::size_t>(n) ? 0 : col + 1;
         was_known = !std::isnan(seen_elevation[s]);
         if (seen_edge2[s] == 0) {  // it was an edge
           RowSpan& f = flips[static_cast<std::size_t>(clamp(i))];
@@ -157,6 +163,9 @@ void FootholdChanges::see_all(const FootholdStencil& stencil, const ElevationMap
   const float* certainty = map.certainty_data();
   for (std::int64_t i = b.i0; i <= b.i1; ++i) {
     const std::size_t row = row_slot[static_cast<std::size_t>(i)];
+    // Runs of consecutive known cells are marked as one box.
+    std::int64_t run = 0;
+    bool in_run = false;
     for (std::int64_t j = b.j0; j <= b.j1; ++j) {
       const std::size_t s = row + col_slot[static_cast<std::size_t>(j)];
       seen_elevation[s] = foothold::known_elevation(elevation, state, s);
@@ -164,12 +173,17 @@ void FootholdChanges::see_all(const FootholdStencil& stencil, const ElevationMap
       if (!mark) continue;
       // Its edge distance is searched for when it is known (then or later).
       seen_edge2[s] = kEdgeUnknown;
-      if (!std::isnan(seen_elevation[s])) {
-        mark_geometry(stencil, {i, i, j, j});
+      const bool known = !std::isnan(seen_elevation[s]);
+      if (known) {
         mark_score(static_cast<int>(i), static_cast<int>(j));
         mark_edge(static_cast<int>(i), static_cast<int>(j));
+        if (!in_run) run = j;
+      } else if (in_run) {
+        mark_geometry(stencil, {i, i, run, j - 1});
       }
+      in_run = known;
     }
+    if (in_run) mark_geometry(stencil, {i, i, run, b.j1});
   }
 }
 
