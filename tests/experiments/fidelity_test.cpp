@@ -121,12 +121,17 @@ TEST(Fidelity, StructuredLightFiguresIncludeFalseDetectionsAndFloorErrors) {
   EXPECT_EQ(row.structured_light_clear_artifact_cells, 0.0);
   EXPECT_GT(row.structured_light_rms_error_mm, 0.0);
   EXPECT_GE(row.structured_light_max_error_mm, row.structured_light_clear_max_error_mm);
+  EXPECT_GE(row.structured_light_rms_level_mm, 0.0);
+  EXPECT_LE(row.structured_light_rms_beyond_span_mm, row.structured_light_max_error_mm);
   EXPECT_NE(row.scene_yaml.find(kBystanderPrefix), std::string::npos);
   const std::string json = fidelity_summary_json(result, options);
   for (const char* key : {"structured_light_false_detections_pct", "structured_light_false_detections_off_row_pct",
                           "structured_light_cells_off_20mm_clear_of_objects",
                           "structured_light_max_error_clear_of_objects_mm", "structured_light_max_error_mm",
-                          "structured_light_rms_error_mm", "structured_light_lux", "saturation_halo_dn"}) {
+                          "structured_light_rms_error_mm", "structured_light_rms_error_level_cells_mm",
+                          "structured_light_rms_beyond_span_mm", "structured_light_cells_beyond_span_20mm",
+                          "urg_rms_error_level_cells_mm", "urg_rms_beyond_span_mm", "structured_light_lux",
+                          "saturation_halo_dn"}) {
     EXPECT_NE(json.find(key), std::string::npos) << key;
   }
   const std::string table = fidelity_table(result);
