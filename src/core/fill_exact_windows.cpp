@@ -22,7 +22,7 @@
 // Not target_clones: the baseline copy needs other code for its
 // comparisons (bits_where_at_most). No FMA is enabled: every operation
 // rounds as in the baseline copy.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && !defined(STRIDEMAP_NO_AVX2_COPIES)
 #define STRIDEMAP_FILL_AVX2 1
 #endif
 

@@ -16,7 +16,7 @@
 // AVX2 too, chosen at run time (GCC on x86-64): twice the cells a vector.
 // Bit operations, comparisons and single products only, no FMA: every copy
 // gives the same bits.
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__ELF__)
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__ELF__) && !defined(STRIDEMAP_NO_AVX2_COPIES)
 #define STRIDEMAP_MAP_LOOPS __attribute__((target_clones("avx2", "default")))
 #else
 #define STRIDEMAP_MAP_LOOPS
