@@ -184,6 +184,13 @@ __attribute__((target("avx2"))) inline __m256d calibrated(__m256d raw_m, const d
   return _mm256_add_pd(raw_m, _mm256_add_pd(_mm256_set1_pd(c[0]), poly));
 }
 
+// The four 64-bit lane counts of a vector, added.
+__attribute__((target("avx2"))) inline std::size_t lane_total(__m256i counts) {
+  alignas(32) std::uint64_t lanes[4];
+  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), counts);
+  return static_cast<std::size_t>(lanes[0] + lanes[1] + lanes[2] + lanes[3]);
+}
+
 // pack_beams' loop four beams at a time where the CPU has AVX2 (chosen at
 // run time; x86-64's baseline has no blend and no lane permute). The same
 // operations in the same order as the scalar loop, without FMA, so every
@@ -227,11 +234,8 @@ __attribute__((target("avx2"))) std::size_t pack_blocks_avx2(const std::uint32_t
     detail::store_kept_lanes(mask, r, err, _mm256_loadu_pd(cos_t + i), _mm256_loadu_pd(sin_t + i), range, error, out_cos,
                              out_sin, count);
   }
-  alignas(32) std::uint64_t lanes[4];
-  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), valid_lanes);
-  valid += static_cast<std::size_t>(lanes[0] + lanes[1] + lanes[2] + lanes[3]);
-  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), beyond_lanes);
-  beyond += static_cast<std::size_t>(lanes[0] + lanes[1] + lanes[2] + lanes[3]);
+  valid += lane_total(valid_lanes);
+  beyond += lane_total(beyond_lanes);
   return i;
 }
 
@@ -261,11 +265,8 @@ __attribute__((target("avx2"))) std::size_t planar_blocks_avx2(const std::uint32
     _mm256_storeu_pd(error + i, _mm256_blendv_pd(_mm256_mul_pd(centi, bounded), centi,
                                                  _mm256_cmp_pd(bounded, one, _CMP_LE_OQ)));
   }
-  alignas(32) std::uint64_t lanes[4];
-  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), valid_lanes);
-  valid += static_cast<std::size_t>(lanes[0] + lanes[1] + lanes[2] + lanes[3]);
-  _mm256_store_si256(reinterpret_cast<__m256i*>(lanes), below_lanes);
-  below += static_cast<std::size_t>(lanes[0] + lanes[1] + lanes[2] + lanes[3]);
+  valid += lane_total(valid_lanes);
+  below += lane_total(below_lanes);
   return i;
 }
 }  // namespace

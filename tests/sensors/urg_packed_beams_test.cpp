@@ -6,6 +6,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -92,14 +93,18 @@ TEST(UrgPackedBeams, SameMapAsThePlanarScanPath) {
   run(RangeCalibration{{-0.3, 0.0, 0.0, 0.0}}, 44, 1, 5);  // unclustered: four beams at a time where AVX2 is
 }
 
+// None, a small polynomial, and an offset that pushes short ranges to 0 or below.
+std::vector<RangeCalibration> some_calibrations() {
+  return {RangeCalibration{}, RangeCalibration{{0.004, -0.01, 0.002, -0.0005}}, RangeCalibration{{-0.3, 0.0, 0.0, 0.0}}};
+}
+
 // Every packed beam is the planar scan's valid beam, bit for bit and in
 // order: the four-beams-at-a-time conversion (x86-64 with AVX2) and the
 // beam-by-beam one alike, over every kind of raw value, with and without
 // calibration, clustered or not, scans of every length modulo 4.
 TEST(UrgPackedBeams, PackedBeamsAreThePlanarScansValidBeamsBitForBit) {
   const UrgParameters p;
-  const RangeCalibration calibrations[] = {RangeCalibration{}, RangeCalibration{{0.004, -0.01, 0.002, -0.0005}},
-                                           RangeCalibration{{-0.3, 0.0, 0.0, 0.0}}};
+  const std::vector<RangeCalibration> calibrations = some_calibrations();
   std::mt19937_64 rng(7);
   PlanarBeams beams;
   PlanarScan scan;
@@ -134,8 +139,7 @@ TEST(UrgPackedBeams, PackedBeamsAreThePlanarScansValidBeamsBitForBit) {
 // beam-by-beam one, for scans of every length modulo 4.
 TEST(UrgPackedBeams, ThePlanarScanIsTheClassifiedCorrectedValueBitForBit) {
   const UrgParameters p;
-  const RangeCalibration calibrations[] = {RangeCalibration{}, RangeCalibration{{0.004, -0.01, 0.002, -0.0005}},
-                                           RangeCalibration{{-0.3, 0.0, 0.0, 0.0}}};
+  const std::vector<RangeCalibration> calibrations = some_calibrations();
   const auto same = [](double a, double b) { return std::memcmp(&a, &b, sizeof a) == 0; };
   std::mt19937_64 rng(11);
   PlanarScan scan;
