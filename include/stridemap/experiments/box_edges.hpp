@@ -49,6 +49,18 @@ struct BoxEdgeOptions {
   /// "Facing sides"), so it is there to be chosen, not the default.
   double facing_edge_quantile = 0.9;
   double facing_cos = 0.5;
+  /// A side that runs along the view (neither facing it nor turned away
+  /// from it by more than facing_cos) takes its edge from where its
+  /// readings lie in their cells, not from a quantile, when the readings'
+  /// cells are given. Each scan crosses a cell along one line across the
+  /// view, the stripe, whose beams sample it far finer than a cell; the
+  /// cell keeps one of the readings on the part of that line the top
+  /// covers, any of them alike (eq. (10)'s highest: range noise picks it),
+  /// so the reading lies on average at the middle of that part. The edge is
+  /// where the side's readings average their parts' middles. A quantile of
+  /// the readings stays inside the edge by a share of the covered part,
+  /// which reaches a whole cell on a side square to the grid.
+  bool stripe_midpoint = true;
 };
 
 /// The rectangle the cells give, in a frame turned by `yaw_rad` (u along
@@ -71,11 +83,17 @@ struct BoxEdgeFit {
   std::array<double, 4> edges_m{};
   /// Which sides were taken as faces the sensor saw (facing_edge_quantile).
   std::array<bool, 4> facing{};
+  /// Which sides took their edge from the stripes' covered parts
+  /// (BoxEdgeOptions::stripe_midpoint).
+  std::array<bool, 4> stripe{};
 };
 
 /// Fits the four edges to `readings` (map frame, any origin) with the
 /// sides placed by `frame` and `cell_size_m` setting the corner margin.
+/// `reading_cells`, when it holds one entry per reading, gives the centre of
+/// the cell each reading set (same frame), for BoxEdgeOptions::stripe_midpoint.
 BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const BoxFrame& frame, double cell_size_m,
-                         bool trim, const BoxEdgeOptions& options = {});
+                         bool trim, const BoxEdgeOptions& options = {},
+                         const std::vector<Eigen::Vector2d>& reading_cells = {});
 
 }  // namespace stridemap
