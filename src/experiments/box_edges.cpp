@@ -150,8 +150,8 @@ BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const Box
     const bool along_view = std::isfinite(options.view_heading_rad) && std::abs(outward_normal.dot(view)) <= options.facing_cos;
     // How far the side drifts across the grid over its readings' length: a
     // side that drifts a cell or more crosses its cells at every phase, so
-    // some of its border cells hold only a sliver of top and their readings
-    // lie at the edge, which the quantile then reaches.
+    // some border cells hold only a sliver of top, their readings lie at the
+    // edge and the quantile reaches it.
     const Eigen::Vector2d along = k < 2 ? v_axis : u_axis;
     double first = std::numeric_limits<double>::infinity(), last = -first;
     for (const Reading& r : sorted) {
@@ -164,7 +164,7 @@ BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const Box
     std::vector<double> offsets;
     std::vector<std::array<double, 3>> parts;  // offset, then the chord's inner and outer end, outwards
     const double slope = outward_normal.dot(stripe_direction);
-    const bool by_stripes = options.stripe_midpoint && cells_known && along_view && on_grid;
+    const bool by_stripes = options.stripe_chords && cells_known && along_view && on_grid;
     for (const Reading& r : sorted) {
       if (r.side != k) continue;
       const double offset = outward * r.residual;

@@ -8,7 +8,9 @@
 // A reading that set an edge cell lies on the box's top inside the edge,
 // or on its face at the edge, so the edge is the outer envelope of the
 // side's readings, not their mean: each side's line is moved out to an
-// upper quantile of its readings' offsets.
+// upper quantile of its readings' offsets, or, on a side square to the
+// grid, to the end of their even spread over the covered parts of their
+// cells (BoxEdgeOptions::stripe_chords).
 //
 // Trimmed: readings further from their side's line than a multiple of the
 // robust spread (median absolute deviation) are left out and the fit
@@ -49,18 +51,19 @@ struct BoxEdgeOptions {
   /// "Facing sides"), so it is there to be chosen, not the default.
   double facing_edge_quantile = 0.9;
   double facing_cos = 0.5;
-  /// A side that runs along the view (neither facing it nor turned away
-  /// from it by more than facing_cos) takes its edge from where its
-  /// readings lie in their cells, not from a quantile, when the readings'
-  /// cells are given. Each scan crosses a cell along one line across the
-  /// view, the stripe, whose beams sample it far finer than a cell; the
-  /// cell keeps one of the readings on the part of that line the top
-  /// covers, any of them alike (eq. (10)'s highest: range noise picks it),
-  /// so the reading lies on average at the middle of that part. The edge is
-  /// where the side's readings average their parts' middles. A quantile of
-  /// the readings stays inside the edge by a share of the covered part,
-  /// which reaches a whole cell on a side square to the grid.
-  bool stripe_midpoint = true;
+  /// A side that runs along the view (its outward normal's cosine to the
+  /// view within +-facing_cos) and drifts less than a cell across the grid over its
+  /// length takes its edge from where its readings lie on their stripes, not
+  /// from a quantile, when the readings' cells are given. Each scan crosses
+  /// a cell along one line square to the view, the stripe, whose beams
+  /// sample it far finer than a cell, and the cell keeps one of the readings
+  /// on the part of that chord the top covers, any of them alike (eq. (10)'s
+  /// highest: range noise picks it). On such a side every border cell's
+  /// covered part is the same share of a cell, up to a whole cell, and a
+  /// quantile of readings spread evenly over it stays inside the edge by a
+  /// share of it; the end of a uniform spread is estimated from its
+  /// outermost reading instead (box_edges.cpp, stripe_edge).
+  bool stripe_chords = true;
 };
 
 /// The rectangle the cells give, in a frame turned by `yaw_rad` (u along
@@ -83,15 +86,15 @@ struct BoxEdgeFit {
   std::array<double, 4> edges_m{};
   /// Which sides were taken as faces the sensor saw (facing_edge_quantile).
   std::array<bool, 4> facing{};
-  /// Which sides took their edge from the stripes' covered parts
-  /// (BoxEdgeOptions::stripe_midpoint).
+  /// Which sides took their edge from their readings' stripe chords
+  /// (BoxEdgeOptions::stripe_chords).
   std::array<bool, 4> stripe{};
 };
 
 /// Fits the four edges to `readings` (map frame, any origin) with the
 /// sides placed by `frame` and `cell_size_m` setting the corner margin.
 /// `reading_cells`, when it holds one entry per reading, gives the centre of
-/// the cell each reading set (same frame), for BoxEdgeOptions::stripe_midpoint.
+/// the cell each reading set (same frame), for BoxEdgeOptions::stripe_chords.
 BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const BoxFrame& frame, double cell_size_m,
                          bool trim, const BoxEdgeOptions& options = {},
                          const std::vector<Eigen::Vector2d>& reading_cells = {});
