@@ -161,10 +161,19 @@ BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const Box
     }
     const double drift = (last - first) * std::min(std::abs(along.x()), std::abs(along.y()));
     const bool on_grid = drift < cell_size_m;
+    Eigen::Vector2d on_side = Eigen::Vector2d::Zero();
+    int side_count = 0;
+    for (const Reading& r : sorted) {
+      if (!r.active || r.side != k) continue;
+      on_side += readings[r.index];
+      ++side_count;
+    }
+    const bool face_hidden = options.view_path_point_m.allFinite() && side_count > 0 &&
+                             outward_normal.dot(options.view_path_point_m - on_side / side_count) < 0.0;
     std::vector<double> offsets;
     std::vector<std::array<double, 3>> parts;  // offset, then the chord's inner and outer end, outwards
     const double slope = outward_normal.dot(stripe_direction);
-    const bool by_stripes = options.stripe_chords && cells_known && along_view && on_grid;
+    const bool by_stripes = options.stripe_chords && cells_known && along_view && on_grid && face_hidden;
     for (const Reading& r : sorted) {
       if (r.side != k) continue;
       const double offset = outward * r.residual;

@@ -237,17 +237,19 @@ void measure_box(ObjectMeasurement& out, const std::vector<Eigen::Vector2d>& cel
   const auto [u_lo, u_hi] = trimmed_span(axes, 0, s);
   const auto [v_lo, v_hi] = trimmed_span(axes, 1, s);
   const BoxFrame frame{yaw, u_lo - s / 2, u_hi + s / 2, v_lo - s / 2, v_hi + s / 2};
+  BoxEdgeOptions edge_options = options.edges;
+  edge_options.view_path_point_m = options.travel_point_m - Eigen::Vector2d(id.cx, id.cy);
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   out.edges_trimmed = out.edges_untrimmed = {kNaN, kNaN, height};
   // The top's border first; where a side of it holds too few readings
   // (a top broken up by noise), the whole region's border.
   const BorderReadings* border = &top_border;
-  BoxEdgeFit trimmed = fit_box_edges(border->points, frame, s, true, options.edges, border->cells);
+  BoxEdgeFit trimmed = fit_box_edges(border->points, frame, s, true, edge_options, border->cells);
   if (!trimmed.ok) {
     border = &region_border;
-    trimmed = fit_box_edges(border->points, frame, s, true, options.edges, border->cells);
+    trimmed = fit_box_edges(border->points, frame, s, true, edge_options, border->cells);
   }
-  const BoxEdgeFit untrimmed = fit_box_edges(border->points, frame, s, false, options.edges, border->cells);
+  const BoxEdgeFit untrimmed = fit_box_edges(border->points, frame, s, false, edge_options, border->cells);
   if (trimmed.ok) {
     out.edges_trimmed = {trimmed.length_m, trimmed.width_m, height};
     out.edge_errors_m = edge_errors(trimmed, id, options.travel_heading_rad);

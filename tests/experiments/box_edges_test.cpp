@@ -166,7 +166,11 @@ TEST(BoxEdges, SidesSquareToTheGridReachTheEdgeFromTheirStripes) {
                          cell_centre(y1) + s / 2};
     BoxEdgeOptions options;
     options.view_heading_rad = 0.0;
+    options.view_path_point_m = {0.0, 0.0};  // the rail runs along x through the box
     const BoxEdgeFit by_stripes = fit_box_edges(readings, frame, s, true, options, cells);
+    // A rail beyond the +y side: the beams meet that face, it keeps the quantile.
+    options.view_path_point_m = {0.0, 0.3};
+    EXPECT_EQ(fit_box_edges(readings, frame, s, true, options, cells).stripe, (std::array<bool, 4>{false, false, true, false}));
     options.stripe_chords = false;
     const BoxEdgeFit by_quantile = fit_box_edges(readings, frame, s, true, options, cells);
     ASSERT_TRUE(by_stripes.ok && by_quantile.ok);
@@ -267,6 +271,7 @@ TEST(BoxEdges, OffGridBoxesMeasureWithinAFewMillimetres) {
     // The same map with every side at the outer envelope (the default).
     ObjectMeasureOptions envelope = options.objects;
     envelope.edges.view_heading_rad = result.rail.yaw_rad;
+    envelope.travel_point_m = {result.rail.start_x_m, result.rail.y_m};
     envelope.edges.facing_edge_quantile = envelope.edges.edge_quantile;
     const std::vector<ObjectMeasurement> blind = measure_objects(result.snapshot, scene, envelope);
     for (const std::string name : {"a", "b"}) {
@@ -301,6 +306,7 @@ TEST(BoxEdges, TheTruthOnlySaysWhichObjectIsWhich) {
   }
   ObjectMeasureOptions objects = options.objects;
   objects.edges.view_heading_rad = result.rail.yaw_rad;  // as the cart rail measured them
+  objects.travel_point_m = {result.rail.start_x_m, result.rail.y_m};
   const std::vector<ObjectMeasurement> again = measure_objects(result.snapshot, wrong, objects);
   ASSERT_EQ(again.size(), result.objects.size());
   for (std::size_t k = 0; k < again.size(); ++k) {

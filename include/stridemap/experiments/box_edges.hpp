@@ -63,7 +63,14 @@ struct BoxEdgeOptions {
   /// quantile of readings spread evenly over it stays inside the edge by a
   /// share of it; the end of a uniform spread is estimated from its
   /// outermost reading instead (box_edges.cpp, stripe_edge).
+  /// Only a side whose face the beams cannot meet: the sensor's path (a
+  /// point on it, `view_path_point_m`, in the readings' frame) lies on the
+  /// box's side of the side's line. Range noise moves the readings on a face
+  /// the beams meet towards the sensor and upwards, past the edge, where
+  /// eq. (10) keeps them; the outermost reading is then no bound.
   bool stripe_chords = true;
+  /// NaN when unknown, and then no side takes stripe chords.
+  Eigen::Vector2d view_path_point_m = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
 };
 
 /// The rectangle the cells give, in a frame turned by `yaw_rad` (u along
