@@ -164,6 +164,9 @@ void finish_rail_map(const Scene& scene, const CartRailOptions& options, Mapping
     objects.edges.view_heading_rad = result.rail.yaw_rad;
   }
   objects.travel_heading_rad = result.rail.yaw_rad;
+  if (!std::isfinite(objects.travel_point_m.x())) {
+    objects.travel_point_m = sensor_origin_in_map(cart_rail_poses(result.rail).front(), pipeline.mapper().mount()).head<2>();
+  }
   result.objects = measure_objects(result.snapshot, scene, objects);
   const std::vector<double> seen = visibility.seen_shares();
   for (std::size_t k = 0; k < result.objects.size() && k < seen.size(); ++k) result.objects[k].seen_share = seen[k];

@@ -162,8 +162,13 @@ Flood flood_from(Eigen::Index n, CellIndex seed, const Admit& admit) {
 
 // The readings that set the border cells of `mask` (a measured cell with a
 // neighbour outside), relative to `centre`, for the sub-cell edges.
-std::vector<Eigen::Vector2d> border_readings(const MapSnapshot& m, const CellMask& mask, const Eigen::Vector2d& centre) {
-  std::vector<Eigen::Vector2d> border;
+struct BorderReadings {
+  std::vector<Eigen::Vector2d> points;
+  std::vector<Eigen::Vector2d> cells;  ///< the centre of the cell each point set
+};
+
+BorderReadings border_readings(const MapSnapshot& m, const CellMask& mask, const Eigen::Vector2d& centre) {
+  BorderReadings border;
   const ExportedLayer* top_x = m.find("top_point_x");
   const ExportedLayer* top_y = m.find("top_point_y");
   if (!top_x || !top_y || top_x->spec.type != LayerType::f32 || top_y->spec.type != LayerType::f32) return border;
@@ -179,7 +184,10 @@ std::vector<Eigen::Vector2d> border_readings(const MapSnapshot& m, const CellMas
             break;
           }
       const Eigen::Vector2d p(top_x->f32(i, j), top_y->f32(i, j));
-      if (!inside && p.allFinite()) border.push_back(p - centre);
+      if (!inside && p.allFinite()) {
+        border.points.push_back(p - centre);
+        border.cells.push_back(m.cell_center(i, j) - centre);
+      }
     }
   }
   return border;
@@ -211,8 +219,8 @@ double ring_ground(const MapSnapshot& m, const CellMask& region, double ring_m, 
 
 // A box's length and width from its cells (relative to the truth's centre)
 // by every estimate, and the one `options.extent` picks as `measured`.
-void measure_box(ObjectMeasurement& out, const std::vector<Eigen::Vector2d>& cells, const std::vector<Eigen::Vector2d>& top_border,
-                 const std::vector<Eigen::Vector2d>& region_border, double s, double height, const Identity& id,
+void measure_box(ObjectMeasurement& out, const std::vector<Eigen::Vector2d>& cells, const BorderReadings& top_border,
+                 const BorderReadings& region_border, double s, double height, const Identity& id,
                  const ObjectMeasureOptions& options) {
   // The measured axes, the first one turned to the nearer of the truth's
   // length axis (truth names the dimensions, it does not place them).
@@ -229,17 +237,19 @@ void measure_box(ObjectMeasurement& out, const std::vector<Eigen::Vector2d>& cel
   const auto [u_lo, u_hi] = trimmed_span(axes, 0, s);
   const auto [v_lo, v_hi] = trimmed_span(axes, 1, s);
   const BoxFrame frame{yaw, u_lo - s / 2, u_hi + s / 2, v_lo - s / 2, v_hi + s / 2};
+  BoxEdgeOptions edge_options = options.edges;
+  edge_options.view_path_point_m = options.travel_point_m - Eigen::Vector2d(id.cx, id.cy);
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   out.edges_trimmed = out.edges_untrimmed = {kNaN, kNaN, height};
   // The top's border first; where a side of it holds too few readings
   // (a top broken up by noise), the whole region's border.
-  const std::vector<Eigen::Vector2d>* border = &top_border;
-  BoxEdgeFit trimmed = fit_box_edges(*border, frame, s, true, options.edges);
+  const BorderReadings* border = &top_border;
+  BoxEdgeFit trimmed = fit_box_edges(border->points, frame, s, true, edge_options, border->cells);
   if (!trimmed.ok) {
     border = &region_border;
-    trimmed = fit_box_edges(*border, frame, s, true, options.edges);
+    trimmed = fit_box_edges(border->points, frame, s, true, edge_options, border->cells);
   }
-  const BoxEdgeFit untrimmed = fit_box_edges(*border, frame, s, false, options.edges);
+  const BoxEdgeFit untrimmed = fit_box_edges(border->points, frame, s, false, edge_options, border->cells);
   if (trimmed.ok) {
     out.edges_trimmed = {trimmed.length_m, trimmed.width_m, height};
     out.edge_errors_m = edge_errors(trimmed, id, options.travel_heading_rad);

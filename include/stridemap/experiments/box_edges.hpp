@@ -8,7 +8,9 @@
 // A reading that set an edge cell lies on the box's top inside the edge,
 // or on its face at the edge, so the edge is the outer envelope of the
 // side's readings, not their mean: each side's line is moved out to an
-// upper quantile of its readings' offsets.
+// upper quantile of its readings' offsets, or, on a side square to the
+// grid, to the end of their even spread over the covered parts of their
+// cells (BoxEdgeOptions::stripe_chords).
 //
 // Trimmed: readings further from their side's line than a multiple of the
 // robust spread (median absolute deviation) are left out and the fit
@@ -49,6 +51,26 @@ struct BoxEdgeOptions {
   /// "Facing sides"), so it is there to be chosen, not the default.
   double facing_edge_quantile = 0.9;
   double facing_cos = 0.5;
+  /// A side that runs along the view (its outward normal's cosine to the
+  /// view within +-facing_cos) and drifts less than a cell across the grid over its
+  /// length takes its edge from where its readings lie on their stripes, not
+  /// from a quantile, when the readings' cells are given. Each scan crosses
+  /// a cell along one line square to the view, the stripe, whose beams
+  /// sample it far finer than a cell, and the cell keeps one of the readings
+  /// on the part of that chord the top covers, any of them alike (eq. (10)'s
+  /// highest: range noise picks it). On such a side every border cell's
+  /// covered part is the same share of a cell, up to a whole cell, and a
+  /// quantile of readings spread evenly over it stays inside the edge by a
+  /// share of it; the end of a uniform spread is estimated from its
+  /// outermost reading instead (box_edges.cpp, stripe_edge).
+  /// Only a side whose face the beams cannot meet: the sensor's path (a
+  /// point on it, `view_path_point_m`, in the readings' frame) lies on the
+  /// box's side of the side's line. Range noise moves the readings on a face
+  /// the beams meet towards the sensor and upwards, past the edge, where
+  /// eq. (10) keeps them; the outermost reading is then no bound.
+  bool stripe_chords = true;
+  /// NaN when unknown, and then no side takes stripe chords.
+  Eigen::Vector2d view_path_point_m = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
 };
 
 /// The rectangle the cells give, in a frame turned by `yaw_rad` (u along
@@ -71,11 +93,17 @@ struct BoxEdgeFit {
   std::array<double, 4> edges_m{};
   /// Which sides were taken as faces the sensor saw (facing_edge_quantile).
   std::array<bool, 4> facing{};
+  /// Which sides took their edge from their readings' stripe chords
+  /// (BoxEdgeOptions::stripe_chords).
+  std::array<bool, 4> stripe{};
 };
 
 /// Fits the four edges to `readings` (map frame, any origin) with the
 /// sides placed by `frame` and `cell_size_m` setting the corner margin.
+/// `reading_cells`, when it holds one entry per reading, gives the centre of
+/// the cell each reading set (same frame), for BoxEdgeOptions::stripe_chords.
 BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const BoxFrame& frame, double cell_size_m,
-                         bool trim, const BoxEdgeOptions& options = {});
+                         bool trim, const BoxEdgeOptions& options = {},
+                         const std::vector<Eigen::Vector2d>& reading_cells = {});
 
 }  // namespace stridemap

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Core>
+
 #include "stridemap/experiments/box_edges.hpp"
 #include "stridemap/experiments/map_evaluation.hpp"
 #include "stridemap/sim/scene.hpp"
@@ -89,6 +91,10 @@ struct ObjectMeasureOptions {
   /// The direction the sensor travelled (map frame) [rad]: it names the
   /// sides of ObjectMeasurement::edge_errors_m.
   double travel_heading_rad = 0.0;
+  /// A point on the line the sensor travelled (map frame) [m]; NaN when
+  /// unknown. Each object's edge fit gets it in its own frame
+  /// (BoxEdgeOptions::view_path_point_m).
+  Eigen::Vector2d travel_point_m = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
   BoxEdgeOptions edges{};
 };
 
