@@ -152,22 +152,20 @@ BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const Box
     // side that drifts a cell or more crosses its cells at every phase, so
     // some border cells hold only a sliver of top, their readings lie at the
     // edge and the quantile reaches it.
+    // The side's middle tells which way its face looks from the path.
     const Eigen::Vector2d along = k < 2 ? v_axis : u_axis;
     double first = std::numeric_limits<double>::infinity(), last = -first;
-    for (const Reading& r : sorted) {
-      if (!r.active || r.side != k) continue;
-      first = std::min(first, along.dot(readings[r.index]));
-      last = std::max(last, along.dot(readings[r.index]));
-    }
-    const double drift = (last - first) * std::min(std::abs(along.x()), std::abs(along.y()));
-    const bool on_grid = drift < cell_size_m;
     Eigen::Vector2d on_side = Eigen::Vector2d::Zero();
     int side_count = 0;
     for (const Reading& r : sorted) {
       if (!r.active || r.side != k) continue;
+      first = std::min(first, along.dot(readings[r.index]));
+      last = std::max(last, along.dot(readings[r.index]));
       on_side += readings[r.index];
       ++side_count;
     }
+    const double drift = (last - first) * std::min(std::abs(along.x()), std::abs(along.y()));
+    const bool on_grid = drift < cell_size_m;
     const bool face_hidden = options.view_path_point_m.allFinite() && side_count > 0 &&
                              outward_normal.dot(options.view_path_point_m - on_side / side_count) < 0.0;
     std::vector<double> offsets;
