@@ -18,6 +18,7 @@
 #include "test_paths.hpp"
 
 namespace stridemap {
+namespace empty_run_cli_test {
 namespace {
 
 using test::map_straight_run;
@@ -144,4 +145,5 @@ TEST(EmptyRunCli, LiveWithAWindowHoldingNoneOfThePointsFailsNamingWindow) {
 }
 
 }  // namespace
+}  // namespace empty_run_cli_test
 }  // namespace stridemap

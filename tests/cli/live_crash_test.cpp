@@ -33,6 +33,7 @@
 #include "test_paths.hpp"
 
 namespace stridemap {
+namespace live_crash_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -183,4 +184,5 @@ TEST(LiveCrash, KilledAtFiftyRandomMomentsLeavesCompleteOutputsAndLogsThatReplay
 }
 
 }  // namespace
+}  // namespace live_crash_test
 }  // namespace stridemap

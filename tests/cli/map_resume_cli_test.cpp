@@ -18,6 +18,7 @@
 #include "test_paths.hpp"
 
 namespace stridemap {
+namespace map_resume_cli_test {
 namespace {
 
 using test::BackgroundProcess;
@@ -166,4 +167,5 @@ TEST(MapResumeCli, ResumedMapIsNeverAnOutputAndABadOneIsNamed) {
 }
 
 }  // namespace
+}  // namespace map_resume_cli_test
 }  // namespace stridemap

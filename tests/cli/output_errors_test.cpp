@@ -14,6 +14,7 @@
 #include "test_paths.hpp"
 
 namespace stridemap {
+namespace output_errors_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -87,4 +88,5 @@ TEST(CliOutputErrors, OutputFolderThatCannotBeCreated) {
 }
 
 }  // namespace
+}  // namespace output_errors_test
 }  // namespace stridemap

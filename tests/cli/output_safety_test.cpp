@@ -22,6 +22,7 @@
 #include "test_paths.hpp"
 
 namespace stridemap {
+namespace output_safety_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -389,4 +390,5 @@ TEST(OutputSafety, RecordAppendsToItsOwnLog) {
 }
 
 }  // namespace
+}  // namespace output_safety_test
 }  // namespace stridemap

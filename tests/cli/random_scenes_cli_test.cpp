@@ -11,6 +11,7 @@
 
 #include "cli/cli_runner.hpp"
 
+namespace random_scenes_cli_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -89,3 +90,4 @@ TEST(FidelityCommand, StructuredLightOptionsAreCheckedBeforeAnyWork) {
 }
 
 }  // namespace
+}  // namespace random_scenes_cli_test

@@ -17,6 +17,7 @@
 #include "stridemap/render/png_image.hpp"
 #include "test_paths.hpp"
 
+namespace sensor_report_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -125,3 +126,4 @@ TEST_F(SensorReportCli, MissingConfigFile) {
 }
 
 }  // namespace
+}  // namespace sensor_report_test

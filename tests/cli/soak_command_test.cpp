@@ -12,6 +12,7 @@
 #include "test_paths.hpp"
 
 namespace stridemap {
+namespace soak_command_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -63,4 +64,5 @@ TEST(SoakCommand, BadSceneAndOptionsAreErrors) {
 }
 
 }  // namespace
+}  // namespace soak_command_test
 }  // namespace stridemap

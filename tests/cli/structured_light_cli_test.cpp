@@ -17,6 +17,7 @@
 #include "stridemap/render/png_image.hpp"
 #include "test_paths.hpp"
 
+namespace structured_light_cli_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -218,3 +219,4 @@ TEST_F(StructuredLightCli, CartRailAndLightingExperiments) {
 }
 
 }  // namespace
+}  // namespace structured_light_cli_test

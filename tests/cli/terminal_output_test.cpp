@@ -12,6 +12,7 @@
 #include "test_paths.hpp"
 
 namespace stridemap {
+namespace terminal_output_test {
 namespace {
 
 using test::run_cli;
@@ -84,4 +85,5 @@ TEST(TerminalOutput, DefaultSceneNowhereIsNamedWithWhereItWasLookedFor) {
 }
 
 }  // namespace
+}  // namespace terminal_output_test
 }  // namespace stridemap

@@ -13,6 +13,7 @@
 #include "cli/cli_runner.hpp"
 #include "test_paths.hpp"
 
+namespace walk_experiments_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -211,3 +212,4 @@ TEST(MountAnalysisCommand, AnEmptySweepGridIsAClearError) {
 }
 
 }  // namespace
+}  // namespace walk_experiments_test

@@ -9,6 +9,7 @@
 #include "test_paths.hpp"
 
 namespace stridemap {
+namespace mapper_config_test {
 namespace {
 
 std::string error_of(const std::string& text) {
@@ -119,4 +120,5 @@ TEST(MapperConfig, MissingFileIsNamed) {
 }
 
 }  // namespace
+}  // namespace mapper_config_test
 }  // namespace stridemap

@@ -14,6 +14,7 @@
 #include "test_paths.hpp"
 
 namespace stridemap {
+namespace scene_yaml_test {
 namespace {
 
 // A valid scene; the tests below break one line of it at a time, so the
@@ -299,4 +300,5 @@ TEST(ShippedScene, CartRailBoxesMatchesThePaperSetUp) {
 }
 
 }  // namespace
+}  // namespace scene_yaml_test
 }  // namespace stridemap

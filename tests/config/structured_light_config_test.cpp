@@ -11,6 +11,7 @@
 #include "test_paths.hpp"
 
 namespace stridemap {
+namespace structured_light_config_test {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
@@ -173,4 +174,5 @@ TEST(StructuredLightConfig, UnreadableFiles) {
 }
 
 }  // namespace
+}  // namespace structured_light_config_test
 }  // namespace stridemap

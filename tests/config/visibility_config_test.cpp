@@ -8,6 +8,7 @@
 #include "stridemap/core/error.hpp"
 
 namespace stridemap {
+namespace visibility_config_test {
 namespace {
 
 std::string error_of(const std::string& text) {
@@ -49,4 +50,5 @@ TEST(VisibilityConfig, BadValuesAreNamed) {
 }
 
 }  // namespace
+}  // namespace visibility_config_test
 }  // namespace stridemap

@@ -11,6 +11,7 @@
 #include "test_paths.hpp"
 
 namespace stridemap {
+namespace walk_path_yaml_test {
 namespace {
 
 std::string error_of(const std::string& text, const HeightField* terrain = nullptr) {
@@ -121,4 +122,5 @@ TEST(WalkPathYaml, TheShippedMockUpLoadsWithItsPath) {
 }
 
 }  // namespace
+}  // namespace walk_path_yaml_test
 }  // namespace stridemap

@@ -9,6 +9,7 @@
 #include "stridemap/core/error.hpp"
 
 namespace stridemap {
+namespace terrain_mapper_test {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -210,4 +211,5 @@ TEST(TerrainMapper, RejectsBadOptionsAndMounts) {
 }
 
 }  // namespace
+}  // namespace terrain_mapper_test
 }  // namespace stridemap

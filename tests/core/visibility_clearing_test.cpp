@@ -11,6 +11,7 @@
 #include "stridemap/core/visibility_clearing.hpp"
 
 namespace stridemap {
+namespace visibility_clearing_test {
 namespace {
 
 constexpr double kCell = 0.01;
@@ -247,4 +248,5 @@ TEST(VisibilityClearing, BadOptionsAreNamed) {
 }
 
 }  // namespace
+}  // namespace visibility_clearing_test
 }  // namespace stridemap

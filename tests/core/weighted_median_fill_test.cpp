@@ -7,6 +7,7 @@
 #include "stridemap/core/error.hpp"
 
 namespace stridemap {
+namespace weighted_median_fill_test {
 namespace {
 
 void measure(ElevationMap& map, int i, int j, float h, float c = 3.0f) {
@@ -118,4 +119,5 @@ TEST(WeightedMedianFill, RejectsBadOptions) {
 }
 
 }  // namespace
+}  // namespace weighted_median_fill_test
 }  // namespace stridemap

@@ -8,6 +8,7 @@
 #include "stridemap/experiments/object_extents.hpp"
 
 namespace stridemap {
+namespace map_evaluation_test {
 namespace {
 
 // A map that equals the truth of a scene with one box, built cell by cell.
@@ -191,4 +192,5 @@ TEST(ObjectExtents, EmptyMapFindsNothing) {
 }
 
 }  // namespace
+}  // namespace map_evaluation_test
 }  // namespace stridemap

@@ -10,6 +10,7 @@
 #include "stridemap/experiments/urg_walk_sensor.hpp"
 
 namespace stridemap {
+namespace mount_analysis_test {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
@@ -108,4 +109,5 @@ TEST(MountAnalysis, BadInputIsRejectedBeforeAnyWalk) {
 }
 
 }  // namespace
+}  // namespace mount_analysis_test
 }  // namespace stridemap

@@ -20,6 +20,7 @@
 
 
 namespace stridemap {
+namespace soak_test {
 namespace {
 
 std::atomic<bool>& counting = test::allocation_counter().counting;
@@ -186,4 +187,5 @@ TEST(Soak, BadOptionsAreErrors) {
 }
 
 }  // namespace
+}  // namespace soak_test
 }  // namespace stridemap

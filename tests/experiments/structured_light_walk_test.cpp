@@ -14,6 +14,7 @@
 #include "test_paths.hpp"
 
 namespace stridemap {
+namespace structured_light_walk_test {
 namespace {
 
 constexpr double kDeg = 3.14159265358979323846 / 180.0;
@@ -121,4 +122,5 @@ TEST(StructuredLightWalk, FigureFiveMountsRankAsSectionThreeThreeSays) {
 }
 
 }  // namespace
+}  // namespace structured_light_walk_test
 }  // namespace stridemap

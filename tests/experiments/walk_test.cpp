@@ -13,6 +13,7 @@
 #include "test_paths.hpp"
 
 namespace stridemap {
+namespace walk_test {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -174,4 +175,5 @@ TEST(Walk, BadInputIsRejectedBeforeTheFirstScan) {
 }
 
 }  // namespace
+}  // namespace walk_test
 }  // namespace stridemap

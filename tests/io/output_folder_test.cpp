@@ -14,6 +14,7 @@
 #include "stridemap/io/output_folder.hpp"
 
 namespace stridemap {
+namespace output_folder_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -91,4 +92,5 @@ TEST(OutputFolderOwnership, AUsersFileWithAnOutputsNameIsNeverReplaced) {
 }
 
 }  // namespace
+}  // namespace output_folder_test
 }  // namespace stridemap

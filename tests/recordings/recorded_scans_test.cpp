@@ -9,6 +9,7 @@
 #include "stridemap/core/error.hpp"
 
 namespace stridemap::io {
+namespace recorded_scans_test {
 namespace {
 
 std::string breezyslam_line(std::size_t values, const std::string& last = "1000") {
@@ -48,4 +49,5 @@ TEST(RecordedScans, BadBreezySlamLinesAreNamed) {
 }
 
 }  // namespace
+}  // namespace recorded_scans_test
 }  // namespace stridemap::io

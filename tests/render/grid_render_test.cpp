@@ -11,6 +11,7 @@
 #include "stridemap/core/error.hpp"
 
 namespace stridemap::io {
+namespace grid_render_test {
 namespace {
 
 using Rgb = std::array<std::uint8_t, 3>;
@@ -230,9 +231,11 @@ TEST(GridRender, BadInputIsRejected) {
 }
 
 }  // namespace
+}  // namespace grid_render_test
 }  // namespace stridemap::io
 
 namespace stridemap::io {
+namespace grid_render_test {
 namespace {
 
 TEST(GridRenderAxisLabels, CompassLabelsAreOptions) {
@@ -249,4 +252,5 @@ TEST(GridRenderAxisLabels, CompassLabelsAreOptions) {
 }
 
 }  // namespace
+}  // namespace grid_render_test
 }  // namespace stridemap::io

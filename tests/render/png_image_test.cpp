@@ -18,6 +18,7 @@
 #include "stridemap/vision/stripe_detector.hpp"
 
 namespace stridemap::io {
+namespace png_image_test {
 namespace {
 
 namespace fs = std::filesystem;
@@ -390,4 +391,5 @@ TEST_F(PngImageTest, AnInterlacedFileTooShortForItsImageIsRefusedBeforeAllocatin
 }
 
 }  // namespace
+}  // namespace png_image_test
 }  // namespace stridemap::io

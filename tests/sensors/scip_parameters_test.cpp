@@ -14,6 +14,7 @@
 #include "stridemap/sensors/scip_scan.hpp"
 
 namespace stridemap::scip {
+namespace scip_parameters_test {
 namespace {
 
 std::string message_of(auto&& call) {
@@ -210,4 +211,5 @@ TEST(ScipStatusInfo, BadFieldsAreNamed) {
 }
 
 }  // namespace
+}  // namespace scip_parameters_test
 }  // namespace stridemap::scip

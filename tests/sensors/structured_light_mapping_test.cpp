@@ -12,6 +12,7 @@
 #include "stridemap/sensors/structured_light_mapping.hpp"
 
 namespace stridemap {
+namespace structured_light_mapping_test {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
@@ -271,4 +272,5 @@ TEST(StructuredLightMapping, MapperBuildsFlatGroundFromStripes) {
 }
 
 }  // namespace
+}  // namespace structured_light_mapping_test
 }  // namespace stridemap

@@ -11,6 +11,7 @@
 #include "stridemap/sensors/structured_light_report.hpp"
 
 namespace stridemap {
+namespace structured_light_report_test {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
@@ -145,4 +146,5 @@ TEST(StructuredLightReport, SheetInViewOfFig3) {
 }
 
 }  // namespace
+}  // namespace structured_light_report_test
 }  // namespace stridemap

@@ -13,6 +13,7 @@
 #include "stridemap/sensors/structured_light.hpp"
 
 namespace stridemap {
+namespace structured_light_test {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
@@ -260,4 +261,5 @@ TEST(StructuredLightParametersCheck, NamesTheFieldAndTheValue) {
 }
 
 }  // namespace
+}  // namespace structured_light_test
 }  // namespace stridemap

@@ -11,6 +11,7 @@
 #include "stridemap/sensors/structured_light_uncertainty.hpp"
 
 namespace stridemap {
+namespace structured_light_uncertainty_test {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
@@ -117,4 +118,5 @@ TEST(StructuredLightUncertainty, BadOptionsAreNamed) {
 }
 
 }  // namespace
+}  // namespace structured_light_uncertainty_test
 }  // namespace stridemap

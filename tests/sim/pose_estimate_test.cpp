@@ -11,6 +11,7 @@
 #include "stridemap/core/height_fusion.hpp"
 
 namespace stridemap {
+namespace pose_estimate_test {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
@@ -443,4 +444,5 @@ TEST(PoseEstimate, MapFootholdsIgnoresASoleInAShadowAndASwingingFoot) {
 }
 
 }  // namespace
+}  // namespace pose_estimate_test
 }  // namespace stridemap

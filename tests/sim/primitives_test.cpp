@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 
 namespace stridemap {
+namespace primitives_test {
 namespace {
 
 Eigen::Vector3d unit(double x, double y, double z) { return Eigen::Vector3d(x, y, z).normalized(); }
@@ -168,4 +169,5 @@ TEST(Footprint, CircleOverlap) {
 }
 
 }  // namespace
+}  // namespace primitives_test
 }  // namespace stridemap

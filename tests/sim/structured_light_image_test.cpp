@@ -9,6 +9,7 @@
 #include "stridemap/core/error.hpp"
 
 namespace stridemap {
+namespace structured_light_image_test {
 namespace {
 
 Scene floor_scene() {
@@ -214,9 +215,11 @@ TEST(StructuredLightImage, RejectsBadOptionsAndPoses) {
 }
 
 }  // namespace
+}  // namespace structured_light_image_test
 }  // namespace stridemap
 
 namespace stridemap {
+namespace structured_light_image_test {
 namespace {
 
 // A white box on the grey floor, where metering on the mean clips the box
@@ -257,4 +260,5 @@ TEST(StructuredLightImage, HighlightMeteringKeepsAWhiteBoxBelowTheClip) {
 }
 
 }  // namespace
+}  // namespace structured_light_image_test
 }  // namespace stridemap

@@ -12,6 +12,7 @@
 #include "stridemap/sensors/structured_light_report.hpp"
 
 namespace stridemap {
+namespace structured_light_simulator_test {
 namespace {
 
 constexpr double kDeg = std::numbers::pi / 180.0;
@@ -210,4 +211,5 @@ TEST(StructuredLightSimulator, RejectsBadPosesAndOptions) {
 }
 
 }  // namespace
+}  // namespace structured_light_simulator_test
 }  // namespace stridemap

@@ -36,6 +36,7 @@ void operator delete(void* memory, std::size_t) noexcept { std::free(memory); }
 #endif
 
 namespace stridemap {
+namespace urg_simulator_test {
 namespace {
 
 const double alpha = 35.0 * std::numbers::pi / 180.0;  // the default mount's pitch
@@ -394,4 +395,5 @@ TEST(UrgSimulator, RejectsBadInput) {
 }
 
 }  // namespace
+}  // namespace urg_simulator_test
 }  // namespace stridemap

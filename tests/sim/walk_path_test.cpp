@@ -8,6 +8,7 @@
 #include "stridemap/core/error.hpp"
 
 namespace stridemap {
+namespace walk_path_test {
 namespace {
 
 constexpr double kPi = std::numbers::pi;
@@ -97,4 +98,5 @@ TEST(WalkPath, SamplesCoverEverySegmentEnd) {
 }
 
 }  // namespace
+}  // namespace walk_path_test
 }  // namespace stridemap
