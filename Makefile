@@ -123,8 +123,9 @@ test-tsan: deps
 	CC=clang CXX=clang++ cmake -S . -B $(TSAN_DIR) -DCMAKE_BUILD_TYPE=RelWithDebInfo $(SAN_OPT_FLAGS) \
 	  -DSTRIDEMAP_TSAN_UNINSTRUMENTED_LAYERS="$(subst $(eval) ,;,$(strip $(TSAN_UNINSTRUMENTED)))" \
 	  -DSTRIDEMAP_BUILD_BENCHMARKS=OFF -DSTRIDEMAP_BUILD_PYTHON=OFF -DCMAKE_CXX_FLAGS="$(TSAN_FLAGS)" \
-	  -DCMAKE_EXE_LINKER_FLAGS="$(TSAN_FLAGS)" -DCMAKE_SHARED_LINKER_FLAGS="$(TSAN_FLAGS)"
-	cmake --build $(TSAN_DIR) -j $(JOBS) --target stridemap_cli $(foreach l,$(TSAN_LAYERS),stridemap_$(l)_tests)
+	  -DCMAKE_EXE_LINKER_FLAGS="$(TSAN_FLAGS)" -DCMAKE_SHARED_LINKER_FLAGS="$(TSAN_FLAGS)" \
+	  -DSTRIDEMAP_TEST_TARGET_LAYERS="$(subst $(eval) ,;,$(strip $(TSAN_LAYERS)))"
+	cmake --build $(TSAN_DIR) -j $(JOBS) --target stridemap_layer_tests
 	cd $(TSAN_DIR) && TSAN_OPTIONS=halt_on_error=1:second_deadlock_stack=1:suppressions=$(CURDIR)/tools/tsan.supp:$(TSAN_SHADOW) \
 	  ctest --output-on-failure -j $(JOBS) -L '^($(subst $(eval) ,|,$(strip $(TSAN_LAYERS))))$$'
 

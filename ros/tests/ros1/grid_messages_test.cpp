@@ -14,6 +14,7 @@
 #include "stridemap_ros/ros1_messages.hpp"
 
 namespace stridemap::ros_adapter {
+namespace grid_messages_test {
 namespace {
 
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
@@ -113,4 +114,5 @@ TEST(GridMessages, GridMapFollowsGridMapsStorageOrder) {
 }
 
 }  // namespace
+}  // namespace grid_messages_test
 }  // namespace stridemap::ros_adapter

@@ -6,6 +6,7 @@
 #include "stridemap_ros/node_parameters.hpp"
 
 namespace stridemap::ros_adapter {
+namespace node_parameters_test {
 namespace {
 
 TEST(NodeParameters, AnIntegerIsANumberAndDefaultsStandWhereNothingIsSet) {
@@ -50,4 +51,5 @@ TEST(NodeParameters, RelativePathsAreUnderTheBaseAndEmptyStaysEmpty) {
 }
 
 }  // namespace
+}  // namespace node_parameters_test
 }  // namespace stridemap::ros_adapter

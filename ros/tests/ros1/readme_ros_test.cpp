@@ -16,6 +16,7 @@
 #include "test_paths.hpp"
 
 namespace stridemap::ros_test {
+namespace readme_ros_test {
 namespace {
 
 std::string readme_ros_command() {
@@ -62,4 +63,5 @@ TEST_F(RosNodeTest, TheReadmesDemoLinePublishesTheGridMapAndTheOccupancyGrid) {
 }
 
 }  // namespace
+}  // namespace readme_ros_test
 }  // namespace stridemap::ros_test

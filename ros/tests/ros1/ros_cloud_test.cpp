@@ -29,6 +29,7 @@
 #include "test_paths.hpp"
 
 namespace stridemap::ros_test {
+namespace ros_cloud_test {
 namespace {
 
 // The objects lined up on the rail, inside the camera's narrow view.
@@ -248,4 +249,5 @@ TEST_F(RosNodeTest, BadCloudsAreCountedAndReportedNeverFatal) {
 }
 
 }  // namespace
+}  // namespace ros_cloud_test
 }  // namespace stridemap::ros_test

@@ -35,6 +35,7 @@
 #include "test_paths.hpp"
 
 namespace stridemap::ros_test {
+namespace ros_node_test {
 namespace {
 
 const std::string kScene = std::string(STRIDEMAP_SOURCE_DIR) + "/scenes/cart_rail_boxes.yaml";
@@ -410,4 +411,5 @@ TEST_F(RosNodeTest, HelpListsTheParametersWithoutAMaster) {
 }
 
 }  // namespace
+}  // namespace ros_node_test
 }  // namespace stridemap::ros_test
