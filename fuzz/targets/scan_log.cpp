@@ -25,6 +25,7 @@
 #include "stridemap/core/error.hpp"
 #include "stridemap/recordings/scan_log.hpp"
 
+namespace scan_log_fuzz {
 namespace {
 
 using namespace stridemap;
@@ -308,3 +309,5 @@ STRIDEMAP_FUZZ_TARGET(scan_log) {
     damaged_log(in);
   }
 }
+
+}  // namespace scan_log_fuzz

@@ -22,6 +22,7 @@
 #include "stridemap/sensors/structured_light_mapping.hpp"
 #include "stridemap/vision/stripe_detector.hpp"
 
+namespace stripe_detector_fuzz {
 namespace {
 
 using namespace stridemap;
@@ -132,3 +133,5 @@ STRIDEMAP_FUZZ_TARGET(stripe_detector) {
     }
   }
 }
+
+}  // namespace stripe_detector_fuzz

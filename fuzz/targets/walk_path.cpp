@@ -13,6 +13,7 @@
 #include "stridemap/sim/scene.hpp"
 #include "stridemap/sim/trunk_motion.hpp"
 
+namespace walk_path_fuzz {
 namespace {
 
 using namespace stridemap;
@@ -80,3 +81,5 @@ STRIDEMAP_FUZZ_TARGET(walk_path) {
     fuzz::failure(std::string("the reader accepted a path the gait refuses: ") + e.what());
   }
 }
+
+}  // namespace walk_path_fuzz
