@@ -101,8 +101,9 @@ class LineExtractor {
                                   double split_distance_m) const;
   std::size_t farthest_from_point(const Piece& piece, double ax, double ay, double split_distance_m) const;
   // Sums of x and y over the beams from a piece's first up to `next`, added
-  // in beam order: a merge candidate's continue those of the piece it grows,
-  // the same additions in the same order as summing it from scratch.
+  // in beam order: a merge candidate's continue those of the piece it grows
+  // (grown()), the same additions in the same order as summing it from
+  // scratch.
   struct PointSums {
     double x = 0.0;
     double y = 0.0;
@@ -117,6 +118,7 @@ class LineExtractor {
     double sxy = 0.0;
   };
   Moments moments(std::size_t first, std::size_t last, const PointSums& sums) const;
+  Moments grown(const Moments& m, std::size_t first, std::size_t new_last, PointSums& sums) const;
   // Whether every point lies within max_residual_m of the line fit() makes.
   bool within(std::size_t first, std::size_t last, const Moments& m, double max_residual_m, double max_range_m) const;
   struct Normal {
