@@ -51,7 +51,6 @@ void LineExtractor::extract(const PlanarScan& scan, std::vector<LineSegment>& se
   // segments.
   const std::size_t max_segments = n / (options_.min_points - 1) + 1;
   if (segments.capacity() < max_segments) segments.reserve(max_segments);
-  if (pieces_.capacity() < n) pieces_.reserve(n);
   if (stack_.capacity() < n + 1) stack_.reserve(n + 1);
   directions_.update(scan.angle_rad);
   if (const RangeRatioBand* band = detail::uniform_step_band(scan, directions_, bands_)) {
@@ -113,11 +112,14 @@ void LineExtractor::process_cluster(const PlanarScan& scan, std::size_t first, s
       detail::cluster_points(scan.range_m.data(), scan.range_error_m.data(), directions_.cos().data(),
                              directions_.sin().data(), first, last, options_.sigma, x_m_.data(), y_m_.data(), max_range);
   const double split_distance = std::max(options_.split_noise_sigmas * max_sigma, options_.min_split_distance_m);
-  pieces_.clear();
-  split_cluster(first, last, split_distance);
+  // Pieces are split off one at a time as the merge asks for them: a merge
+  // that stops after the first segment leaves the rest of the cluster unsplit.
+  stack_.clear();
+  stack_.push_back({first, last});
 
   LineSegment merged;
-  Piece current = pieces_.front();
+  Piece current;
+  next_piece(split_distance, current);
   PointSums merged_sums{0.0, 0.0, current.first};
   add_points(merged_sums, current.last);
   Moments merged_moments = moments(current.first, current.last, merged_sums);
@@ -125,6 +127,10 @@ void LineExtractor::process_cluster(const PlanarScan& scan, std::size_t first, s
   // know that the union is still a line, and most pieces are merged.
   const auto emit = [&] {
     if (current.last - current.first + 1 < options_.min_points) return;
+    // A segment that starts past `first` and ends before `last` occludes nothing.
+    const bool may_occlude = (current.first == first && beyond_first != kNoIndex) ||
+                             (current.last == last && beyond_last != kNoIndex);
+    if (occluding_only && !may_occlude) return;
     Normal normal;
     fit(current.first, current.last, merged_moments, kNoLimit, merged, normal);
     if (merged.length_m < options_.min_length_m) return;
@@ -135,17 +141,17 @@ void LineExtractor::process_cluster(const PlanarScan& scan, std::size_t first, s
   // The segments after the first start past `first`: without an occluding
   // last end, none of them is wanted.
   const bool first_only = occluding_only && beyond_last == kNoIndex;
-  for (std::size_t p = 1; p < pieces_.size(); ++p) {
+  for (Piece next; next_piece(split_distance, next);) {
     PointSums candidate_sums = merged_sums;
-    const Moments candidate = grown(merged_moments, current.first, pieces_[p].last, candidate_sums);
-    if (within(current.first, pieces_[p].last, candidate, split_distance, max_range)) {
-      current.last = pieces_[p].last;
+    const Moments candidate = grown(merged_moments, current.first, next.last, candidate_sums);
+    if (within(current.first, next.last, candidate, split_distance, max_range)) {
+      current.last = next.last;
       merged_sums = candidate_sums;
       merged_moments = candidate;
     } else {
       emit();
       if (first_only) return;
-      current = pieces_[p];
+      current = next;
       merged_sums = {0.0, 0.0, current.first};
       add_points(merged_sums, current.last);
       merged_moments = moments(current.first, current.last, merged_sums);
@@ -154,14 +160,12 @@ void LineExtractor::process_cluster(const PlanarScan& scan, std::size_t first, s
   emit();
 }
 
-void LineExtractor::split_cluster(std::size_t first, std::size_t last, double split_distance_m) {
+bool LineExtractor::next_piece(double split_distance_m, Piece& piece) {
   // Iterative end-point fit with an explicit stack; the right part is pushed
   // first so that pieces come out in beam order. The split point belongs to
   // both parts: it is the corner they share.
-  stack_.clear();
-  stack_.push_back({first, last});
   while (!stack_.empty()) {
-    const Piece piece = stack_.back();
+    piece = stack_.back();
     stack_.pop_back();
     if (piece.last - piece.first >= 2) {
       const double ax = x_m_[piece.first];
@@ -182,8 +186,9 @@ void LineExtractor::split_cluster(std::size_t first, std::size_t last, double sp
         continue;
       }
     }
-    pieces_.push_back(piece);
+    return true;
   }
+  return false;
 }
 
 // The first interior point of `piece` at the largest distance |p x d| /

@@ -75,7 +75,7 @@ class LineExtractor {
     /// Only those with occludes_before or occludes_after: the same segments
     /// as `all` with the others left out, found for less (a cluster neither
     /// of whose ends can occlude is not split, and one whose last end cannot
-    /// is merged only up to its first segment).
+    /// is split and merged only up to its first segment).
     occluding,
   };
 
@@ -96,7 +96,9 @@ class LineExtractor {
     std::size_t first = 0;
     std::size_t last = 0;
   };
-  void split_cluster(std::size_t first, std::size_t last, double split_distance_m);
+  // The next piece, in beam order, of the cluster on stack_ (split until it
+  // lies within split_distance_m of its chord); false when none is left.
+  bool next_piece(double split_distance_m, Piece& piece);
   std::size_t farthest_from_chord(const Piece& piece, double ax, double ay, double dx, double dy, bool plain,
                                   double split_distance_m) const;
   std::size_t farthest_from_point(const Piece& piece, double ax, double ay, double split_distance_m) const;
@@ -141,8 +143,7 @@ class LineExtractor {
   std::vector<std::uint8_t> breaks_;
   std::vector<double> x_m_;  // only inside the clusters process_cluster() splits
   std::vector<double> y_m_;
-  std::vector<Piece> stack_;
-  std::vector<Piece> pieces_;
+  std::vector<Piece> stack_;  // parts of a cluster not yet split into pieces
 };
 
 }  // namespace stridemap
