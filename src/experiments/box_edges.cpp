@@ -69,9 +69,14 @@ double quantile(std::vector<double>& values, double q) {
 }  // namespace
 
 BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const BoxFrame& frame, double cell_size_m,
-                         bool trim, const BoxEdgeOptions& options, const std::vector<Eigen::Vector2d>& reading_cells) {
+                         bool trim, const BoxEdgeOptions& options, const std::vector<Eigen::Vector2d>& reading_cells,
+                         const std::vector<Eigen::Vector2d>& level_readings) {
   BoxEdgeFit fit;
   const double c = std::cos(frame.yaw_rad), s = std::sin(frame.yaw_rad);
+  const auto shared_normal_frame = [&](const Eigen::Vector2d& p, int side) {
+    const double u = c * p.x() + s * p.y(), v = -s * p.x() + c * p.y();
+    return side < 2 ? Eigen::Vector2d(u, v) : Eigen::Vector2d(v, -u);
+  };
   std::vector<Reading> sorted;
   sorted.reserve(readings.size());
   for (std::size_t index = 0; index < readings.size(); ++index) {
@@ -83,7 +88,7 @@ BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const Box
     std::sort(order.begin(), order.end(), [&](int a, int b) { return distance[a] < distance[b]; });
     if (distance[order[1]] < options.corner_cells * cell_size_m) continue;
     const int side = order[0];
-    sorted.push_back({side < 2 ? Eigen::Vector2d(u, v) : Eigen::Vector2d(v, -u), side, index});
+    sorted.push_back({shared_normal_frame(p, side), side, index});
   }
   // A short side may hold its readings only near its corners: use them
   // rather than give up.
@@ -92,7 +97,7 @@ BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const Box
   if (*std::min_element(per_side.begin(), per_side.end()) < 2 && options.corner_cells > 0.0) {
     BoxEdgeOptions no_corners = options;
     no_corners.corner_cells = 0.0;
-    return fit_box_edges(readings, frame, cell_size_m, trim, no_corners, reading_cells);
+    return fit_box_edges(readings, frame, cell_size_m, trim, no_corners, reading_cells, level_readings);
   }
 
   Eigen::Vector2d normal(1.0, 0.0);
@@ -142,6 +147,7 @@ BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const Box
   const Eigen::Vector2d view(std::cos(options.view_heading_rad), std::sin(options.view_heading_rad));
   const Eigen::Vector2d stripe_direction(-view.y(), view.x());
   const bool cells_known = reading_cells.size() == readings.size();
+  const bool levels_known = level_readings.size() == readings.size();
   std::array<double, 4> edge{};
   for (int k = 0; k < 4; ++k) {
     const double outward = (k == 1 || k == 3) ? 1.0 : -1.0;
@@ -172,15 +178,22 @@ BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const Box
     std::vector<std::array<double, 3>> parts;  // offset, then the chord's inner and outer end, outwards
     const double slope = outward_normal.dot(stripe_direction);
     const bool by_stripes = options.stripe_chords && cells_known && along_view && on_grid && face_hidden;
+    // A side along the view: its readings' across-track place is where
+    // their beams meet the top, not where range noise left them. The line
+    // and the trimming keep the readings as found, so the other sides and
+    // the orientation stay as they were.
+    const bool on_level = levels_known && along_view;
     for (const Reading& r : sorted) {
       if (r.side != k) continue;
-      const double offset = outward * r.residual;
+      const Eigen::Vector2d& at = on_level ? level_readings[r.index] : readings[r.index];
+      const double offset =
+          on_level ? outward * normal.dot(shared_normal_frame(at, k) - centroid[k]) : outward * r.residual;
       if (r.active) offsets.push_back(offset);
       // Every reading: trimming takes the line's spread for noise, but on
       // such a side the readings spread over the covered parts of their
       // cells, and the outermost, the ones the estimate rests on, go first.
       if (!by_stripes) continue;
-      const auto [t_lo, t_hi] = chord(readings[r.index], stripe_direction, reading_cells[r.index], cell_size_m);
+      const auto [t_lo, t_hi] = chord(at, stripe_direction, reading_cells[r.index], cell_size_m);
       parts.push_back({offset, offset + std::min(t_lo * slope, t_hi * slope), offset + std::max(t_lo * slope, t_hi * slope)});
     }
     const double stripe = stripe_edge(parts);

@@ -167,6 +167,11 @@ void finish_rail_map(const Scene& scene, const CartRailOptions& options, Mapping
   if (!std::isfinite(objects.travel_point_m.x())) {
     objects.travel_point_m = sensor_origin_in_map(cart_rail_poses(result.rail).front(), pipeline.mapper().mount()).head<2>();
   }
+  // The URG's readings lie on its beams from that origin; the structured
+  // light's errors lie along the camera's rays, which start elsewhere.
+  if (options.sensor == CartRailSensor::urg && !std::isfinite(objects.sensor_height_m)) {
+    objects.sensor_height_m = sensor_origin_in_map(cart_rail_poses(result.rail).front(), pipeline.mapper().mount()).z();
+  }
   result.objects = measure_objects(result.snapshot, scene, objects);
   const std::vector<double> seen = visibility.seen_shares();
   for (std::size_t k = 0; k < result.objects.size() && k < seen.size(); ++k) result.objects[k].seen_share = seen[k];

@@ -165,6 +165,10 @@ Flood flood_from(Eigen::Index n, CellIndex seed, const Admit& admit) {
 struct BorderReadings {
   std::vector<Eigen::Vector2d> points;
   std::vector<Eigen::Vector2d> cells;  ///< the centre of the cell each point set
+  std::vector<double> heights_m;       ///< the elevation each point set
+  /// Each point moved along its beam to the top's level; empty when the
+  /// sensor's height is not known (ObjectMeasureOptions::sensor_height_m).
+  std::vector<Eigen::Vector2d> on_level;
 };
 
 BorderReadings border_readings(const MapSnapshot& m, const CellMask& mask, const Eigen::Vector2d& centre) {
@@ -187,10 +191,28 @@ BorderReadings border_readings(const MapSnapshot& m, const CellMask& mask, const
       if (!inside && p.allFinite()) {
         border.points.push_back(p - centre);
         border.cells.push_back(m.cell_center(i, j) - centre);
+        border.heights_m.push_back(m.elevation_m()(i, j));
       }
     }
   }
   return border;
+}
+
+// Each reading moved across the track along its beam to `level_m`
+// (ObjectMeasureOptions::sensor_height_m); `path_point_m` is on the track,
+// in the readings' frame.
+void to_top_level(BorderReadings& border, const Eigen::Vector2d& path_point_m, double heading_rad,
+                  double sensor_height_m, double level_m) {
+  const Eigen::Vector2d across(-std::sin(heading_rad), std::cos(heading_rad));
+  const double drop_to_level = sensor_height_m - level_m;
+  border.on_level = border.points;
+  for (std::size_t k = 0; k < border.points.size(); ++k) {
+    const double drop = sensor_height_m - border.heights_m[k];
+    // A reading level with or above the sensor has no usable beam.
+    if (!(drop > 0.0) || !(drop_to_level > 0.0)) continue;
+    const double run = across.dot(border.points[k] - path_point_m);
+    border.on_level[k] += across * (run * (drop_to_level / drop - 1.0));
+  }
 }
 
 // The ground the height is measured from: the median of a ring of known
@@ -244,12 +266,13 @@ void measure_box(ObjectMeasurement& out, const std::vector<Eigen::Vector2d>& cel
   // The top's border first; where a side of it holds too few readings
   // (a top broken up by noise), the whole region's border.
   const BorderReadings* border = &top_border;
-  BoxEdgeFit trimmed = fit_box_edges(border->points, frame, s, true, edge_options, border->cells);
+  BoxEdgeFit trimmed = fit_box_edges(border->points, frame, s, true, edge_options, border->cells, border->on_level);
   if (!trimmed.ok) {
     border = &region_border;
-    trimmed = fit_box_edges(border->points, frame, s, true, edge_options, border->cells);
+    trimmed = fit_box_edges(border->points, frame, s, true, edge_options, border->cells, border->on_level);
   }
-  const BoxEdgeFit untrimmed = fit_box_edges(border->points, frame, s, false, edge_options, border->cells);
+  const BoxEdgeFit untrimmed =
+      fit_box_edges(border->points, frame, s, false, edge_options, border->cells, border->on_level);
   if (trimmed.ok) {
     out.edges_trimmed = {trimmed.length_m, trimmed.width_m, height};
     out.edge_errors_m = edge_errors(trimmed, id, options.travel_heading_rad);
@@ -349,8 +372,13 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
         {2.0 * radius, 2.0 * radius, height};
     return out;
   }
-  measure_box(out, cells, border_readings(m, top.mask, centre), border_readings(m, region.mask, centre), s, height, id,
-              options);
+  BorderReadings top_border = border_readings(m, top.mask, centre);
+  if (std::isfinite(options.sensor_height_m) && options.travel_point_m.allFinite()) {
+    const double robust_sd = deviations.empty() ? 0.0 : 1.4826 * median(deviations);
+    to_top_level(top_border, options.travel_point_m - centre, options.travel_heading_rad, options.sensor_height_m,
+                 top_level - options.level_below_top_sds * robust_sd);
+  }
+  measure_box(out, cells, top_border, border_readings(m, region.mask, centre), s, height, id, options);
   return out;
 }
 

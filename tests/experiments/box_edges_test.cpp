@@ -18,12 +18,20 @@
 #include <gtest/gtest.h>
 
 #include "stridemap/config/scene_yaml.hpp"
+#include "stridemap/core/sensor_transform.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
 #include "stridemap/pipeline/top_point_observer.hpp"
+#include "stridemap/sim/cart_rail.hpp"
 #include "stridemap/sim/footprint_beam_model.hpp"
 
 namespace stridemap {
 namespace {
+
+// The height the cart rail's URG scanned from, as its edge fits take it
+// (ObjectMeasureOptions::sensor_height_m).
+double scanner_height_m(const CartRailResult& result, const CartRailOptions& options) {
+  return sensor_origin_in_map(cart_rail_poses(result.rail).front(), options.mount).z();
+}
 
 // Boxes whose sides are no whole number of 10 mm cells, one square to the
 // rail and one turned, on the rail's line (simulated URG, Messor mount).
@@ -272,6 +280,7 @@ TEST(BoxEdges, OffGridBoxesMeasureWithinAFewMillimetres) {
     ObjectMeasureOptions envelope = options.objects;
     envelope.edges.view_heading_rad = result.rail.yaw_rad;
     envelope.travel_point_m = {result.rail.start_x_m, result.rail.y_m};
+    envelope.sensor_height_m = scanner_height_m(result, options);
     envelope.edges.facing_edge_quantile = envelope.edges.edge_quantile;
     const std::vector<ObjectMeasurement> blind = measure_objects(result.snapshot, scene, envelope);
     for (const std::string name : {"a", "b"}) {
@@ -307,6 +316,7 @@ TEST(BoxEdges, TheTruthOnlySaysWhichObjectIsWhich) {
   ObjectMeasureOptions objects = options.objects;
   objects.edges.view_heading_rad = result.rail.yaw_rad;  // as the cart rail measured them
   objects.travel_point_m = {result.rail.start_x_m, result.rail.y_m};
+  objects.sensor_height_m = scanner_height_m(result, options);
   const std::vector<ObjectMeasurement> again = measure_objects(result.snapshot, wrong, objects);
   ASSERT_EQ(again.size(), result.objects.size());
   for (std::size_t k = 0; k < again.size(); ++k) {

@@ -102,8 +102,13 @@ struct BoxEdgeFit {
 /// sides placed by `frame` and `cell_size_m` setting the corner margin.
 /// `reading_cells`, when it holds one entry per reading, gives the centre of
 /// the cell each reading set (same frame), for BoxEdgeOptions::stripe_chords.
+/// `level_readings`, when it holds one entry per reading, gives each
+/// reading moved along its beam to the top's level (same frame): the sides
+/// running along the view take their edges from those, the line, the
+/// trimming and the other sides from `readings`.
 BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const BoxFrame& frame, double cell_size_m,
                          bool trim, const BoxEdgeOptions& options = {},
-                         const std::vector<Eigen::Vector2d>& reading_cells = {});
+                         const std::vector<Eigen::Vector2d>& reading_cells = {},
+                         const std::vector<Eigen::Vector2d>& level_readings = {});
 
 }  // namespace stridemap

@@ -95,6 +95,23 @@ struct ObjectMeasureOptions {
   /// unknown. Each object's edge fit gets it in its own frame
   /// (BoxEdgeOptions::view_path_point_m).
   Eigen::Vector2d travel_point_m = Eigen::Vector2d::Constant(std::numeric_limits<double>::quiet_NaN());
+  /// The height of the scanner's origin in the map frame while it travelled
+  /// [m]; NaN when unknown, and then the readings stay where they are. A
+  /// cell keeps its highest reading (eq. (10)), one whose range came short,
+  /// which lies up its beam, towards the sensor: at a side running along
+  /// the track, inwards by its height over the top times the beam's
+  /// across-track run over its drop. Known, the sides along the view take
+  /// their readings moved back along that run to the top's level
+  /// (fit_box_edges's `level_readings`). Along the track
+  /// the beam's run is its look-ahead, which the map does not keep: the
+  /// near and far sides keep their readings.
+  double sensor_height_m = std::numeric_limits<double>::quiet_NaN();
+  /// The top's level for that move, in robust standard deviations (1.4826 x
+  /// the median absolute deviation) of the top's cells below their median:
+  /// each cell holds its highest reading, so the surface lies below them.
+  /// Tuned on seeds 1 and 2 of the URG fidelity run (2 and 3 did about as
+  /// well; docs/experiments.md).
+  double level_below_top_sds = 2.5;
   BoxEdgeOptions edges{};
 };
 
