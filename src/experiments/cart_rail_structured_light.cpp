@@ -2,21 +2,53 @@
 // frame, either rendered and searched by the detector (the full path) or
 // taken from the geometric simulator's truth, then eq. (1), (5) and (8) and
 // the same update rule as the laser.
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
 
 #include "cart_rail_internal.hpp"
 #include "stridemap/core/error.hpp"
+#include "stridemap/core/sensor_transform.hpp"
 #include "stridemap/sensors/structured_light_report.hpp"
 
 namespace stridemap {
 namespace {
 
+// How far `point` lies above the highest or below the lowest surface of
+// `scene` within `radius_m` of it across (0 inside that span). The lowest
+// is sampled on a 5 x 5 grid: floor between two samples may be missed,
+// which only makes a point count as off less often.
+double beyond_surfaces_m(const Scene& scene, const Eigen::Vector3d& point, double radius_m) {
+  const double x = point.x(), y = point.y();
+  const double high = scene.max_height_in_rect(x - radius_m, y - radius_m, x + radius_m, y + radius_m);
+  double low = std::numeric_limits<double>::infinity();
+  constexpr int kSamples = 5;
+  for (int a = 0; a < kSamples; ++a) {
+    for (int b = 0; b < kSamples; ++b) {
+      const double fx = -1.0 + 2.0 * a / (kSamples - 1), fy = -1.0 + 2.0 * b / (kSamples - 1);
+      low = std::min(low, scene.surface_height_at(x + fx * radius_m, y + fy * radius_m));
+    }
+  }
+  return std::max({0.0, point.z() - high, std::min(low, high) - point.z()});
+}
+
+// What a false detection puts in the map: whether its point lies off every
+// surface. A pixel without a point (its ray misses the sheet) adds none.
+bool off_every_surface(const io::StripeColumnDetection& d, const StructuredLightModel& model, const TrunkPose& pose,
+                       const Scene& scene, double off_surface_m) {
+  Eigen::Vector3d camera_point;
+  if (model.back_project(d.u_px, d.v_px, camera_point) != StripePointStatus::valid) return false;
+  const Eigen::Vector3d world =
+      sensor_point_to_map(camera_to_sensor_frame(camera_point), pose, model.parameters().mount);
+  return beyond_surfaces_m(scene, world, off_surface_m) > off_surface_m;
+}
+
 // Scores one frame's detections against the truth; returns the sum of the
 // squared row errors of the correct ones.
 double tally_frame(const io::StripeDetection& detection, const StructuredLightFrameTruth& truth,
-                   const StructuredLightRailOptions& options, StripeTally& tally) {
+                   const StructuredLightRailOptions& options, const StructuredLightModel& model, const TrunkPose& pose,
+                   const Scene& scene, StripeTally& tally) {
   double sum_sq = 0.0;
   for (std::size_t i = 0; i < truth.columns.size(); ++i) {
     const StripeColumnTruth& t = truth.columns[i];
@@ -33,6 +65,7 @@ double tally_frame(const io::StripeDetection& detection, const StructuredLightFr
     } else {
       ++tally.false_detections;
       tally.hidden_on_true_row += t.label == StripeColumnLabel::hidden_from_camera && std::abs(error) <= options.row_tolerance_px;
+      tally.off_surface += off_every_surface(d, model, pose, scene, options.off_surface_m);
     }
   }
   return sum_sq;
@@ -79,8 +112,11 @@ namespace detail {
 void run_structured_light_rail(const Scene& scene, const CartRailOptions& options,
                                const std::vector<TrunkPose>& poses, CartRailResult& result) {
   const StructuredLightRailOptions& sl = options.structured_light;
-  if (!(sl.row_tolerance_px > 0.0) || !(sl.min_confidence >= 0.0 && sl.min_confidence <= 1.0)) {
-    throw InputError("cart rail: structured light: row_tolerance_px must be > 0 and min_confidence in [0, 1]");
+  if (!(sl.row_tolerance_px > 0.0) || !(sl.min_confidence >= 0.0 && sl.min_confidence <= 1.0) ||
+      !(sl.off_surface_m > 0.0 && sl.off_surface_m < 1.0)) {
+    throw InputError(
+        "cart rail: structured light: row_tolerance_px must be > 0, min_confidence in [0, 1] and off_surface_m in "
+        "(0, 1) m");
   }
   const StructuredLightModel model(sl.parameters);
   ground_stripe_report(model);  // a clear error when this mount cannot see the ground
@@ -124,7 +160,7 @@ void run_structured_light_rail(const Scene& scene, const CartRailOptions& option
       renderer->render(pose, image.rgb, &truth);
       detector.detect(image, detection);
       detection.pixels(pixels, sl.min_confidence);
-      sum_sq += tally_frame(detection, truth, sl, result.stripe);
+      sum_sq += tally_frame(detection, truth, sl, model, pose, scene, result.stripe);
     } else {
       simulator->simulate(pose, truth);
       pixels = truth.stripe;

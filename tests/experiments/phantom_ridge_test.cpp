@@ -43,6 +43,9 @@ TEST(PhantomRidge, TheWhiteBoxAt1000LuxLeavesTheFloorInFrontOfItFlat) {
   EXPECT_EQ(fixed.score.clear_artifact_cells, 0u);
   EXPECT_LT(fixed.score.clear_max_error_m, 0.01);
   EXPECT_LT(fixed.stripe.off_row_rate(), 0.005);
+  // What is left false is light on the box, not points in the air.
+  EXPECT_LE(fixed.stripe.off_surface, fixed.stripe.false_detections);
+  EXPECT_LT(fixed.stripe.off_surface_rate(), 0.001);
   // Nothing anywhere lies beyond the heights a reading near it could hold,
   // and the level cells (floor and top away from the edges) are exact.
   EXPECT_EQ(fixed.score.beyond_span_artifact_cells, 0u);
@@ -53,6 +56,8 @@ TEST(PhantomRidge, TheWhiteBoxAt1000LuxLeavesTheFloorInFrontOfItFlat) {
   EXPECT_GT(ridge.score.clear_artifact_cells, 50u);
   EXPECT_GT(ridge.score.clear_max_error_m, 0.08);
   EXPECT_GT(ridge.stripe.off_row_rate(), 0.02);
+  // The box top taken for the stripe maps above the floor in front of it.
+  EXPECT_GT(ridge.stripe.off_surface_rate(), 0.02);
   // The span score sees the ridge too: its floor cells are level.
   EXPECT_GE(ridge.score.beyond_span_artifact_cells, ridge.score.clear_artifact_cells);
   EXPECT_GT(ridge.score.rms_error_level_m, 0.01);

@@ -76,6 +76,12 @@ struct StructuredLightRailOptions {
   /// A detection within this many rows of the true stripe is correct [px];
   /// farther, or where the truth has no visible stripe, it is false.
   double row_tolerance_px = 2.0;
+  /// A false detection is off every surface when its point (eq. 1, then
+  /// eq. 5 at the frame's pose) lies more than this above the highest or
+  /// below the lowest scene surface within this distance of it across [m].
+  /// 5 mm: one 5 mm cell, and over twice the height a 2-row error gives at
+  /// the rail's ranges; a lit box face is a surface, so light on it is not.
+  double off_surface_m = 0.005;
 };
 
 /// The detector against the simulator's truth, over all frames.
@@ -91,6 +97,11 @@ struct StripeTally {
   /// edge the truth's visibility test and the rendered image can differ by
   /// a pixel, and such a row maps to the right point.
   std::size_t hidden_on_true_row = 0;
+  /// Of the false detections, those whose point lies off every surface
+  /// (StructuredLightRailOptions::off_surface_m): where the map would put
+  /// a height no surface has. The rest are laser light on a real surface
+  /// that the truth's one stripe per column does not name.
+  std::size_t off_surface = 0;
   double row_error_rms_px = 0.0;    ///< over correct detections
   std::size_t map_points = 0;       ///< stripe pixels that became map points
 
@@ -99,6 +110,10 @@ struct StripeTally {
   }
   double false_rate() const {
     return detected ? static_cast<double>(false_detections) / static_cast<double>(detected) : 0.0;
+  }
+  /// False detections off every surface, per detection.
+  double off_surface_rate() const {
+    return detected ? static_cast<double>(off_surface) / static_cast<double>(detected) : 0.0;
   }
   /// False detections off the true row, per detection.
   double off_row_rate() const {
