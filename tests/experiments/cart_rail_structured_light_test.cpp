@@ -93,6 +93,19 @@ TEST(CartRailStructuredLight, MountThatCannotSeeTheGroundIsAnError) {
   }
 }
 
+TEST(CartRailStructuredLight, OffSurfaceDistanceOutOfRangeIsAnError) {
+  for (double bad : {0.0, -0.005, 1.0, std::nan("")}) {
+    CartRailOptions options = structured_light(StripePipeline::geometric);
+    options.structured_light.off_surface_m = bad;
+    try {
+      run_cart_rail(one_box_scene(), options);
+      FAIL() << "no error for " << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("off_surface_m"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(LightingExperiment, DaylightDrownsTheStripeAndLeavesTheUrgAlone) {
   const Scene scene = one_box_scene(0.11);
   LightingOptions options;

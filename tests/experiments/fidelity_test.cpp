@@ -118,6 +118,7 @@ TEST(Fidelity, StructuredLightFiguresIncludeFalseDetectionsAndFloorErrors) {
   EXPECT_GE(row.structured_light_lux, 50.0);
   EXPECT_LE(row.structured_light_lux, 1000.0);
   EXPECT_EQ(row.structured_light_false_detections_pct, 0.0);  // the true stripe
+  EXPECT_EQ(row.structured_light_off_surface_detections_pct, 0.0);
   EXPECT_EQ(row.structured_light_clear_artifact_cells, 0.0);
   EXPECT_GT(row.structured_light_rms_error_mm, 0.0);
   EXPECT_GE(row.structured_light_max_error_mm, row.structured_light_clear_max_error_mm);
@@ -126,6 +127,7 @@ TEST(Fidelity, StructuredLightFiguresIncludeFalseDetectionsAndFloorErrors) {
   EXPECT_NE(row.scene_yaml.find(kBystanderPrefix), std::string::npos);
   const std::string json = fidelity_summary_json(result, options);
   for (const char* key : {"structured_light_false_detections_pct", "structured_light_false_detections_off_row_pct",
+                          "structured_light_false_detections_off_surface_pct",
                           "structured_light_cells_off_20mm_clear_of_objects",
                           "structured_light_max_error_clear_of_objects_mm", "structured_light_max_error_mm",
                           "structured_light_rms_error_mm", "structured_light_rms_error_level_cells_mm",
