@@ -169,7 +169,7 @@ bench-compare: configure
 	  if [ "$$(id -u)" = 0 ]; then apt-get install -y --no-install-recommends liboctomap-dev; \
 	  else sudo apt-get install -y --no-install-recommends liboctomap-dev; fi; }
 	cmake -S . -B $(BUILD_DIR)
-	cmake --build $(BUILD_DIR) -j $(JOBS) --target compare stridemap_cli
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target stridemap_bench_compare
 	$(BUILD_DIR)/bin/compare $(CURDIR)
 	@echo; echo "Replay, one core:"; echo
 	/usr/bin/python3 tools/replay_throughput.py --tool $(BUILD_DIR)/bin/stridemap
