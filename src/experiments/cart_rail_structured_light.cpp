@@ -10,28 +10,11 @@
 #include "cart_rail_internal.hpp"
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/sensor_transform.hpp"
+#include "stridemap/experiments/map_evaluation.hpp"
 #include "stridemap/sensors/structured_light_report.hpp"
 
 namespace stridemap {
 namespace {
-
-// How far `point` lies above the highest or below the lowest surface of
-// `scene` within `radius_m` of it across (0 inside that span). The lowest
-// is sampled on a 5 x 5 grid: floor between two samples may be missed,
-// which only makes a point count as off less often.
-double beyond_surfaces_m(const Scene& scene, const Eigen::Vector3d& point, double radius_m) {
-  const double x = point.x(), y = point.y();
-  const double high = scene.max_height_in_rect(x - radius_m, y - radius_m, x + radius_m, y + radius_m);
-  double low = std::numeric_limits<double>::infinity();
-  constexpr int kSamples = 5;
-  for (int a = 0; a < kSamples; ++a) {
-    for (int b = 0; b < kSamples; ++b) {
-      const double fx = -1.0 + 2.0 * a / (kSamples - 1), fy = -1.0 + 2.0 * b / (kSamples - 1);
-      low = std::min(low, scene.surface_height_at(x + fx * radius_m, y + fy * radius_m));
-    }
-  }
-  return std::max({0.0, point.z() - high, std::min(low, high) - point.z()});
-}
 
 // What a false detection puts in the map: whether its point lies off every
 // surface. A pixel without a point (its ray misses the sheet) adds none.
@@ -41,7 +24,9 @@ bool off_every_surface(const io::StripeColumnDetection& d, const StructuredLight
   if (model.back_project(d.u_px, d.v_px, camera_point) != StripePointStatus::valid) return false;
   const Eigen::Vector3d world =
       sensor_point_to_map(camera_to_sensor_frame(camera_point), pose, model.parameters().mount);
-  return beyond_surfaces_m(scene, world, off_surface_m) > off_surface_m;
+  const double r = off_surface_m;
+  const SurfaceSpan span = surface_span(scene, world.x() - r, world.y() - r, world.x() + r, world.y() + r);
+  return world.z() > span.high_m + r || world.z() < std::min(span.low_m, span.high_m) - r;
 }
 
 // Scores one frame's detections against the truth; returns the sum of the

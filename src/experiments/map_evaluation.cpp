@@ -8,6 +8,21 @@
 
 namespace stridemap {
 
+SurfaceSpan surface_span(const Scene& scene, double min_x_m, double min_y_m, double max_x_m, double max_y_m,
+                         int samples_per_side) {
+  SurfaceSpan span;
+  span.high_m = scene.max_height_in_rect(min_x_m, min_y_m, max_x_m, max_y_m);
+  span.low_m = std::numeric_limits<double>::infinity();
+  const double width = max_x_m - min_x_m, depth = max_y_m - min_y_m;
+  for (int a = 0; a < samples_per_side; ++a) {
+    for (int b = 0; b < samples_per_side; ++b) {
+      const double fx = (a + 0.5) / samples_per_side, fy = (b + 0.5) / samples_per_side;
+      span.low_m = std::min(span.low_m, scene.surface_height_at(min_x_m + fx * width, min_y_m + fy * depth));
+    }
+  }
+  return span;
+}
+
 MapSnapshot snapshot_with_truth(const ElevationMap& map, const Scene& scene, double object_margin_m) {
   if (!(object_margin_m >= 0.0) || !std::isfinite(object_margin_m)) {
     throw InputError("map evaluation: the object margin must be finite and >= 0 m");
@@ -30,20 +45,12 @@ MapSnapshot snapshot_with_truth(const ElevationMap& map, const Scene& scene, dou
       snapshot.truth_m(i, j) = static_cast<float>(scene.max_height_in_rect(x0, y0, x0 + s, y0 + s));
       // An object raises the grown cell's highest point above the bare
       // terrain's; one flush with the ground does not, and is floor.
-      const double with = scene.max_height_in_rect(x0 - m, y0 - m, x0 + s + m, y0 + s + m);
+      const SurfaceSpan span = surface_span(scene, x0 - m, y0 - m, x0 + s + m, y0 + s + m);
       const double without = bare.max_height_in_rect(x0 - m, y0 - m, x0 + s + m, y0 + s + m);
-      snapshot.clear_of_objects(i, j) = with <= without ? 1 : 0;
-      double low = std::numeric_limits<double>::infinity();
-      const double grown = s + 2.0 * m;
-      for (int a = 0; a < kSpanSamplesPerSide; ++a) {
-        for (int b = 0; b < kSpanSamplesPerSide; ++b) {
-          const double fx = (a + 0.5) / kSpanSamplesPerSide, fy = (b + 0.5) / kSpanSamplesPerSide;
-          low = std::min(low, scene.surface_height_at(x0 - m + fx * grown, y0 - m + fy * grown));
-        }
-      }
-      snapshot.span_high_m(i, j) = static_cast<float>(with);
+      snapshot.clear_of_objects(i, j) = span.high_m <= without ? 1 : 0;
+      snapshot.span_high_m(i, j) = static_cast<float>(span.high_m);
       // Sampled points are never below the lowest, but keep the ends ordered.
-      snapshot.span_low_m(i, j) = std::min(static_cast<float>(low), snapshot.span_high_m(i, j));
+      snapshot.span_low_m(i, j) = std::min(static_cast<float>(span.low_m), snapshot.span_high_m(i, j));
     }
   }
   return snapshot;

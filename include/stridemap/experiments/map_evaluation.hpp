@@ -46,6 +46,17 @@ inline constexpr double kObjectMarginM = 0.01;
 /// apart for 5 mm cells and the default margin.
 inline constexpr int kSpanSamplesPerSide = 9;
 
+/// The lowest and highest scene surface over a rectangle [m]: the highest
+/// exact (Scene::max_height_in_rect), the lowest sampled at
+/// `samples_per_side`^2 points spread evenly over it, so floor narrower
+/// than their spacing may be missed. NaN high for a non-finite rectangle.
+struct SurfaceSpan {
+  double low_m = 0.0;
+  double high_m = 0.0;
+};
+SurfaceSpan surface_span(const Scene& scene, double min_x_m, double min_y_m, double max_x_m, double max_y_m,
+                         int samples_per_side = kSpanSamplesPerSide);
+
 MapSnapshot snapshot_with_truth(const ElevationMap& map, const Scene& scene,
                                 double object_margin_m = kObjectMarginM);
 
