@@ -261,57 +261,77 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
   foothold::LaneFits lanes;
   // Known-ness and elevation from what this refresh saw (the map's: see_changes()).
   if (fast) padded_.copy(c.geometry_rows, c.seen_elevation, c.row_slot, c.col_slot);
+  // A new fit of cell (i, j), already written to slot t: its score is
+  // redone if it changed, and it may have become or stopped being an edge.
+  const auto fitted = [&](int i, int j, std::size_t t, float old_slope, float old_roughness, float old_step) {
+    if (!same_bits(old_slope, slope[t]) || !same_bits(old_roughness, roughness[t]) || !same_bits(old_step, step[t])) {
+      c.mark_score(i, j);
+    }
+    const bool edge = step[t] > max_step;
+    if (edge && !(old_step > max_step)) {
+      c.raised.push_back(static_cast<std::int32_t>(i * n_ + j));
+    } else if (!edge && old_step > max_step) {
+      RowSpan& flip = c.flips[static_cast<std::size_t>(i)];
+      flip.lo = std::min(flip.lo, j);
+      flip.hi = std::max(flip.hi, j);
+    }
+  };
+  const auto store = [&](int i, int j, float new_slope, float new_roughness, float new_step) {
+    ++cells;
+    const std::size_t t = c.row_slot[static_cast<std::size_t>(i)] + cols[j];
+    const float old_slope = slope[t], old_roughness = roughness[t], old_step = step[t];
+    slope[t] = new_slope;
+    roughness[t] = new_roughness;
+    step[t] = new_step;
+    fitted(i, j, t, old_slope, old_roughness, old_step);
+  };
+  // The marked cells of known elevation, kLanes at a time whether
+  // neighbours or not, rows included; a cell of unknown elevation has no fit.
+  CellIndex group[foothold::kLanes];
+  int filled = 0;
+  const auto fit_group = [&] {
+    const unsigned wanted = (1u << filled) - 1u;
+    const CellIndex& first = group[0];
+    if (filled == foothold::kLanes && group[filled - 1].x == first.x && group[filled - 1].y - first.y == filled - 1) {
+      const auto i = static_cast<int>(first.x), j = static_cast<int>(first.y);
+      foothold::fit_footprint_lanes(stencil_, inverses_, padded_.at(i, j), padded_.stride, wanted, lanes);
+    } else {
+      foothold::LaneCentres centres;
+      for (int l = 0; l < foothold::kLanes; ++l) {
+        const CellIndex& g = group[l < filled ? l : 0];
+        centres.entry[l] = padded_.at(static_cast<int>(g.x), static_cast<int>(g.y));
+      }
+      foothold::fit_footprint_cells(stencil_, inverses_, centres, padded_.stride, wanted, lanes);
+    }
+    for (int l = 0; l < filled; ++l) {
+      store(static_cast<int>(group[l].x), static_cast<int>(group[l].y), lanes.slope_deg[l], lanes.roughness_m[l],
+            lanes.step_height_m[l]);
+    }
+    filled = 0;
+  };
   for (int i = 0; i < n_; ++i) {
     RowSpan& s = c.geometry_rows[static_cast<std::size_t>(i)];
     if (s.lo > s.hi) continue;
-    RowSpan& flip = c.flips[static_cast<std::size_t>(i)];
     std::uint8_t* mark = c.geometry_mark.data() + static_cast<std::size_t>(i) * static_cast<std::size_t>(n_);
-    const std::size_t row = c.row_slot[static_cast<std::size_t>(i)];
-    // A new fit of cell (i, j), already written to slot t: its score is
-    // redone if it changed, and it may have become or stopped being an edge.
-    const auto fitted = [&](int j, std::size_t t, float old_slope, float old_roughness, float old_step) {
-      if (!same_bits(old_slope, slope[t]) || !same_bits(old_roughness, roughness[t]) || !same_bits(old_step, step[t])) {
-        c.mark_score(i, j);
-      }
-      const bool edge = step[t] > max_step;
-      if (edge && !(old_step > max_step)) {
-        c.raised.push_back(static_cast<std::int32_t>(i * n_ + j));
-      } else if (!edge && old_step > max_step) {
-        flip.lo = std::min(flip.lo, j);
-        flip.hi = std::max(flip.hi, j);
-      }
-    };
     for (int j = s.lo; j <= s.hi; ++j) {
       if (!mark[j]) continue;
-      if (fast) {
-        // kLanes cells at once (lanes past the row's end or unmarked are
-        // not stored).
-        unsigned wanted = 0;
-        for (int l = 0; l < foothold::kLanes && j + l < n_; ++l) wanted |= (mark[j + l] ? 1u : 0u) << l;
-        foothold::fit_footprint_lanes(stencil_, inverses_, padded_.at(i, j), padded_.stride, wanted, lanes);
-        for (int l = 0; l < foothold::kLanes && j + l < n_; ++l) {
-          if (!mark[j + l]) continue;
-          mark[j + l] = 0;
-          ++cells;
-          const std::size_t t = row + cols[j + l];
-          const float old_slope = slope[t], old_roughness = roughness[t], old_step = step[t];
-          slope[t] = lanes.slope_deg[l];
-          roughness[t] = lanes.roughness_m[l];
-          step[t] = lanes.step_height_m[l];
-          fitted(j + l, t, old_slope, old_roughness, old_step);
-        }
-        j += foothold::kLanes - 1;
-        continue;
-      }
       mark[j] = 0;
-      ++cells;
-      const std::size_t t = row + cols[j];
-      const float old_slope = slope[t], old_roughness = roughness[t], old_step = step[t];
-      foothold::fit_footprint(stencil_, slots, elevation, state, {slots.corner.x + i, slots.corner.y + j}, out);
-      fitted(j, t, old_slope, old_roughness, old_step);
+      if (!fast) {
+        const std::size_t t = c.row_slot[static_cast<std::size_t>(i)] + cols[j];
+        const float old_slope = slope[t], old_roughness = roughness[t], old_step = step[t];
+        ++cells;
+        foothold::fit_footprint(stencil_, slots, elevation, state, {slots.corner.x + i, slots.corner.y + j}, out);
+        fitted(i, j, t, old_slope, old_roughness, old_step);
+      } else if (std::isnan(*padded_.at(i, j))) {
+        store(i, j, kNaN, kNaN, kNaN);
+      } else {
+        group[filled++] = CellIndex{i, j};
+        if (filled == foothold::kLanes) fit_group();
+      }
     }
     s = RowSpan{n_, -1};
   }
+  if (filled != 0) fit_group();
   last_geometry_cells_ = cells;
 }
 

@@ -2,8 +2,11 @@
 // The foothold layers' plane fits (core/foothold.hpp): slope, roughness and
 // step height of one cell from the least-squares plane through its
 // footprint. Private to the core library.
+#include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
+#include <numbers>
 
 #include <Eigen/Core>
 
@@ -12,7 +15,7 @@
 
 namespace stridemap::foothold {
 
-/// Footprints up to this size keep their cells for the residuals and are
+/// Footprints up to this size (one bit per cell in a 64-bit mask) are
 /// fitted kLanes cells at once (fit_footprint_lanes()).
 inline constexpr std::size_t kKept = 64;
 
@@ -43,6 +46,30 @@ struct GeometryLayers {
   float* step_height_m;
 };
 
+/// The least-squares plane (relative height, x and y gradients) from the
+/// normal matrix's inverse and the right side b; written out so that the
+/// lanes (foothold_plane_fit_lanes.cpp) can do the same in vector registers.
+inline Eigen::Vector3d plane_of(const Eigen::Matrix3d& inverse, const Eigen::Vector3d& b) {
+  return {inverse(0, 0) * b[0] + inverse(0, 1) * b[1] + inverse(0, 2) * b[2],
+          inverse(1, 0) * b[0] + inverse(1, 1) * b[1] + inverse(1, 2) * b[2],
+          inverse(2, 0) * b[0] + inverse(2, 1) * b[1] + inverse(2, 2) * b[2]};
+}
+
+/// Slope in degrees from the plane's squared gradient.
+inline float slope_deg_of_gradient2(double gradient2) {
+  return static_cast<float>(std::atan(std::sqrt(gradient2)) * 180.0 / std::numbers::pi);
+}
+
+/// RMS residual of the least-squares plane through `count` cells from their
+/// residuals' sum of squares, sum z^2 - plane . b by the normal equations
+/// (z the cells' elevations relative to the centre's), so that the cells are
+/// not visited again. Relative elevations of millimetres to centimetres
+/// leave the difference some ten significant digits; rounding can take an
+/// exact plane's zero just below, hence the clamp.
+inline float roughness_m_of_residual2(double residual2, std::size_t count) {
+  return static_cast<float>(std::sqrt(std::max(0.0, residual2) / static_cast<double>(count)));
+}
+
 /// Fits the plane over `cell`'s footprint from the map's elevation and
 /// state, cells outside the window counting as unknown, and writes the
 /// cell's slope, roughness and step height (NaN where the footprint holds
@@ -62,9 +89,21 @@ struct LaneFits {
 /// per vector lane: the same operations in the same order per cell, so the
 /// same bits. Known-ness and elevation from `centre` (the first cell's
 /// entry of PaddedElevations::values (core/foothold_stencil.hpp), NaN: unknown), rows `stride` apart.
-/// Lanes not in `wanted` (bit l: lane l) are left NaN: the plane, the
-/// atan and the hypot of a cell whose fit will not be stored are skipped.
+/// Lanes not in `wanted` (bit l: lane l) are left NaN: the plane and the
+/// atan of a cell whose fit will not be stored are skipped.
 void fit_footprint_lanes(const FootholdStencil& stencil, PartialInverses& inverses, const float* centre,
+                         std::ptrdiff_t stride, unsigned wanted, LaneFits& out);
+
+/// Where each lane's cell is in PaddedElevations::values: any kLanes cells,
+/// neighbours or not.
+struct LaneCentres {
+  const float* entry[kLanes];
+};
+
+/// fit_footprint_lanes() of kLanes cells anywhere in the window (a lane not
+/// in `wanted` may repeat another's entry): a row's marked cells with gaps
+/// between them fill every lane. The same bits per cell.
+void fit_footprint_cells(const FootholdStencil& stencil, PartialInverses& inverses, const LaneCentres& centres,
                          std::ptrdiff_t stride, unsigned wanted, LaneFits& out);
 
 /// The inverse of the least-squares normal matrix of `count` cells with

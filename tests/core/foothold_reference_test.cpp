@@ -54,8 +54,8 @@ ReferenceGeometry reference_fit(const ElevationMap& map, const FootholdOptions& 
   if (!known(i, j, centre)) return {nan, nan, nan};
   const double z0 = centre;
   double sx = 0.0, sy = 0.0, sxx = 0.0, sxy = 0.0, syy = 0.0, lo = 0.0, hi = 0.0;
-  double b0 = 0.0, b1 = 0.0, b2 = 0.0;
-  std::vector<Eigen::Vector3d> kept;  // z, dx, dy
+  double b0 = 0.0, b1 = 0.0, b2 = 0.0, sum_z2 = 0.0;
+  std::size_t kept = 0;
   for (const Eigen::Vector2i& d : footprint) {
     float e = 0.0f;
     if (!known(i + d.x(), j + d.y(), e)) continue;
@@ -69,14 +69,15 @@ ReferenceGeometry reference_fit(const ElevationMap& map, const FootholdOptions& 
     b0 += z;
     b1 += x * z;
     b2 += y * z;
+    sum_z2 += z * z;
     lo = std::min(lo, z);
     hi = std::max(hi, z);
-    kept.emplace_back(z, d.x(), d.y());
+    ++kept;
   }
-  if (kept.size() < min_known) return {nan, nan, nan};
+  if (kept < min_known) return {nan, nan, nan};
   ReferenceGeometry g{nan, nan, static_cast<float>(hi - lo)};
   Eigen::Matrix3d inverse;
-  if (kept.size() == m) {
+  if (kept == m) {
     Eigen::Matrix3d full = Eigen::Matrix3d::Zero();
     for (const Eigen::Vector2i& d : footprint) {
       const Eigen::Vector3d v(1.0, d.x() * cell, d.y() * cell);
@@ -85,19 +86,20 @@ ReferenceGeometry reference_fit(const ElevationMap& map, const FootholdOptions& 
     inverse = full.inverse();
   } else {
     Eigen::Matrix3d a;
-    a << static_cast<double>(kept.size()), sx, sy, sx, sxx, sxy, sy, sxy, syy;
+    a << static_cast<double>(kept), sx, sy, sx, sxx, sxy, sy, sxy, syy;
     bool invertible = false;
     a.computeInverseWithCheck(inverse, invertible, 1e-9 * cell * cell * cell * cell);
     if (!invertible) return g;
   }
-  const Eigen::Vector3d plane = inverse * Eigen::Vector3d(b0, b1, b2);
-  double residual2 = 0.0;
-  for (const Eigen::Vector3d& k : kept) {
-    const double r = k[0] - (plane[0] + plane[1] * k[1] * cell + plane[2] * k[2] * cell);
-    residual2 += r * r;
-  }
-  g.slope_deg = static_cast<float>(std::atan(std::hypot(plane[1], plane[2])) * 180.0 / std::numbers::pi);
-  g.roughness_m = static_cast<float>(std::sqrt(residual2 / static_cast<double>(kept.size())));
+  // The plane row by row, left to right; the residuals' sum of squares
+  // from the normal equations: sum z^2 - plane . b.
+  const Eigen::Vector3d plane(inverse(0, 0) * b0 + inverse(0, 1) * b1 + inverse(0, 2) * b2,
+                              inverse(1, 0) * b0 + inverse(1, 1) * b1 + inverse(1, 2) * b2,
+                              inverse(2, 0) * b0 + inverse(2, 1) * b1 + inverse(2, 2) * b2);
+  const double residual2 = std::max(0.0, sum_z2 - (plane[0] * b0 + plane[1] * b1 + plane[2] * b2));
+  g.slope_deg = static_cast<float>(std::atan(std::sqrt(plane[1] * plane[1] + plane[2] * plane[2])) * 180.0 /
+                                   std::numbers::pi);
+  g.roughness_m = static_cast<float>(std::sqrt(residual2 / static_cast<double>(kept)));
   return g;
 }
 
@@ -143,7 +145,7 @@ void walk_against_reference_fits(const FootholdOptions& o, unsigned seed) {
         const std::size_t s = map.slot(map.cell_at_local(i, j));
         const ReferenceGeometry r = reference_fit(map, o, i, j);
         ASSERT_TRUE(same_float_bits(map.data(foothold.slope())[s], r.slope_deg))
-            << "slope, scan " << scan << " cell " << i << "," << j;
+            << "slope, scan " << scan << " cell " << i << "," << j << " " << map.data(foothold.slope())[s] << " vs " << r.slope_deg;
         ASSERT_TRUE(same_float_bits(map.data(foothold.roughness())[s], r.roughness_m)) << "roughness, scan " << scan;
         ASSERT_TRUE(same_float_bits(map.data(foothold.step_height())[s], r.step_height_m)) << "step, scan " << scan;
         compared += std::isfinite(r.roughness_m) ? 1 : 0;

@@ -49,7 +49,7 @@ struct FootholdStencil {
 /// few sets along a map's border recur refresh after refresh. Direct-mapped,
 /// allocated once.
 struct PartialInverses {
-  static constexpr int kBits = 8;  ///< 256 entries, 22 kB
+  static constexpr int kBits = 10;  ///< 1,024 entries, 90 kB
   struct Entry {
     std::uint64_t known = 0;  ///< 0: empty (a fitted footprint has >= 3 known cells)
     bool invertible = false;
