@@ -70,7 +70,8 @@ double quantile(std::vector<double>& values, double q) {
 
 BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const BoxFrame& frame, double cell_size_m,
                          bool trim, const BoxEdgeOptions& options, const std::vector<Eigen::Vector2d>& reading_cells,
-                         const std::vector<Eigen::Vector2d>& level_readings) {
+                         const std::vector<Eigen::Vector2d>& level_readings,
+                         const std::vector<Eigen::Vector2d>& beam_level_readings) {
   BoxEdgeFit fit;
   const double c = std::cos(frame.yaw_rad), s = std::sin(frame.yaw_rad);
   const auto shared_normal_frame = [&](const Eigen::Vector2d& p, int side) {
@@ -97,7 +98,8 @@ BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const Box
   if (*std::min_element(per_side.begin(), per_side.end()) < 2 && options.corner_cells > 0.0) {
     BoxEdgeOptions no_corners = options;
     no_corners.corner_cells = 0.0;
-    return fit_box_edges(readings, frame, cell_size_m, trim, no_corners, reading_cells, level_readings);
+    return fit_box_edges(readings, frame, cell_size_m, trim, no_corners, reading_cells, level_readings,
+                         beam_level_readings);
   }
 
   Eigen::Vector2d normal(1.0, 0.0);
@@ -148,6 +150,7 @@ BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const Box
   const Eigen::Vector2d stripe_direction(-view.y(), view.x());
   const bool cells_known = reading_cells.size() == readings.size();
   const bool levels_known = level_readings.size() == readings.size();
+  const bool beam_levels_known = beam_level_readings.size() == readings.size();
   std::array<double, 4> edge{};
   for (int k = 0; k < 4; ++k) {
     const double outward = (k == 1 || k == 3) ? 1.0 : -1.0;
@@ -183,11 +186,17 @@ BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const Box
     // and the trimming keep the readings as found, so the other sides and
     // the orientation stay as they were.
     const bool on_level = levels_known && along_view;
+    // A side facing away: its readings lie on the last scans over the top,
+    // spread along their beams; back at the top's level, on those scans.
+    const bool away = std::isfinite(options.view_heading_rad) && outward_normal.dot(view) > options.facing_cos;
+    const bool on_beam_level = beam_levels_known && away;
     for (const Reading& r : sorted) {
       if (r.side != k) continue;
-      const Eigen::Vector2d& at = on_level ? level_readings[r.index] : readings[r.index];
-      const double offset =
-          on_level ? outward * normal.dot(shared_normal_frame(at, k) - centroid[k]) : outward * r.residual;
+      const Eigen::Vector2d& at = on_level        ? level_readings[r.index]
+                                  : on_beam_level ? beam_level_readings[r.index]
+                                                  : readings[r.index];
+      const double offset = on_level || on_beam_level ? outward * normal.dot(shared_normal_frame(at, k) - centroid[k])
+                                                      : outward * r.residual;
       if (r.active) offsets.push_back(offset);
       // Every reading: trimming takes the line's spread for noise, but on
       // such a side the readings spread over the covered parts of their

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <numbers>
 #include <optional>
 #include <span>
 #include <vector>
@@ -171,6 +172,15 @@ void finish_rail_map(const Scene& scene, const CartRailOptions& options, Mapping
   // light's errors lie along the camera's rays, which start elsewhere.
   if (options.sensor == CartRailSensor::urg && !std::isfinite(objects.sensor_height_m)) {
     objects.sensor_height_m = sensor_origin_in_map(cart_rail_poses(result.rail).front(), pipeline.mapper().mount()).z();
+  }
+  // Its beams run ahead cot(pitch) per unit of drop only while the scan
+  // plane is turned about the across-track axis alone.
+  const SensorMount& mount = pipeline.mapper().mount();
+  const TrunkPose rail_start = cart_rail_poses(result.rail).front();
+  if (options.sensor == CartRailSensor::urg && std::isnan(objects.sensor_pitch_rad) && mount.roll_rad == 0.0 &&
+      mount.yaw_rad == 0.0 && rail_start.roll_rad == 0.0) {
+    const double pitch = mount.pitch_rad + rail_start.pitch_rad;
+    if (pitch > 0.0 && pitch < std::numbers::pi / 2) objects.sensor_pitch_rad = pitch;
   }
   result.objects = measure_objects(result.snapshot, scene, objects);
   const std::vector<double> seen = visibility.seen_shares();

@@ -5,6 +5,9 @@
 #include <deque>
 #include <limits>
 #include <numbers>
+#include <string>
+
+#include "stridemap/core/error.hpp"
 
 namespace stridemap {
 namespace {
@@ -169,6 +172,9 @@ struct BorderReadings {
   /// Each point moved along its beam to the top's level; empty when the
   /// sensor's height is not known (ObjectMeasureOptions::sensor_height_m).
   std::vector<Eigen::Vector2d> on_level;
+  /// The same move along the track too (ObjectMeasureOptions::sensor_pitch_rad);
+  /// empty when the pitch is not known.
+  std::vector<Eigen::Vector2d> on_beam_level;
 };
 
 BorderReadings border_readings(const MapSnapshot& m, const CellMask& mask, const Eigen::Vector2d& centre) {
@@ -200,11 +206,13 @@ BorderReadings border_readings(const MapSnapshot& m, const CellMask& mask, const
 
 // Each reading moved across the track along its beam to `level_m`
 // (ObjectMeasureOptions::sensor_height_m); `path_point_m` is on the track,
-// in the readings' frame.
+// in the readings' frame. With `pitch_rad` known (else NaN), the same
+// readings moved along the track as well, by cot(pitch) per unit of drop.
 void to_top_level(BorderReadings& border, const Eigen::Vector2d& path_point_m, double heading_rad,
-                  double sensor_height_m, double level_m) {
-  const Eigen::Vector2d across(-std::sin(heading_rad), std::cos(heading_rad));
+                  double sensor_height_m, double pitch_rad, double level_m) {
+  const Eigen::Vector2d ahead(std::cos(heading_rad), std::sin(heading_rad)), across(-ahead.y(), ahead.x());
   const double drop_to_level = sensor_height_m - level_m;
+  const bool along_known = std::isfinite(pitch_rad);
   border.on_level = border.points;
   for (std::size_t k = 0; k < border.points.size(); ++k) {
     const double drop = sensor_height_m - border.heights_m[k];
@@ -212,6 +220,13 @@ void to_top_level(BorderReadings& border, const Eigen::Vector2d& path_point_m, d
     if (!(drop > 0.0) || !(drop_to_level > 0.0)) continue;
     const double run = across.dot(border.points[k] - path_point_m);
     border.on_level[k] += across * (run * (drop_to_level / drop - 1.0));
+  }
+  if (!along_known) return;
+  border.on_beam_level = border.on_level;
+  for (std::size_t k = 0; k < border.points.size(); ++k) {
+    const double drop = sensor_height_m - border.heights_m[k];
+    if (!(drop > 0.0) || !(drop_to_level > 0.0)) continue;
+    border.on_beam_level[k] += ahead * ((drop_to_level - drop) / std::tan(pitch_rad));
   }
 }
 
@@ -266,13 +281,15 @@ void measure_box(ObjectMeasurement& out, const std::vector<Eigen::Vector2d>& cel
   // The top's border first; where a side of it holds too few readings
   // (a top broken up by noise), the whole region's border.
   const BorderReadings* border = &top_border;
-  BoxEdgeFit trimmed = fit_box_edges(border->points, frame, s, true, edge_options, border->cells, border->on_level);
+  BoxEdgeFit trimmed = fit_box_edges(border->points, frame, s, true, edge_options, border->cells, border->on_level,
+                                     border->on_beam_level);
   if (!trimmed.ok) {
     border = &region_border;
-    trimmed = fit_box_edges(border->points, frame, s, true, edge_options, border->cells, border->on_level);
+    trimmed = fit_box_edges(border->points, frame, s, true, edge_options, border->cells, border->on_level,
+                            border->on_beam_level);
   }
-  const BoxEdgeFit untrimmed =
-      fit_box_edges(border->points, frame, s, false, edge_options, border->cells, border->on_level);
+  const BoxEdgeFit untrimmed = fit_box_edges(border->points, frame, s, false, edge_options, border->cells,
+                                             border->on_level, border->on_beam_level);
   if (trimmed.ok) {
     out.edges_trimmed = {trimmed.length_m, trimmed.width_m, height};
     out.edge_errors_m = edge_errors(trimmed, id, options.travel_heading_rad);
@@ -376,7 +393,7 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
   if (std::isfinite(options.sensor_height_m) && options.travel_point_m.allFinite()) {
     const double robust_sd = deviations.empty() ? 0.0 : 1.4826 * median(deviations);
     to_top_level(top_border, options.travel_point_m - centre, options.travel_heading_rad, options.sensor_height_m,
-                 top_level - options.level_below_top_sds * robust_sd);
+                 options.sensor_pitch_rad, top_level - options.level_below_top_sds * robust_sd);
   }
   measure_box(out, cells, top_border, border_readings(m, region.mask, centre), s, height, id, options);
   return out;
@@ -398,8 +415,21 @@ double relative_error_pct(double measured, double truth) {
   return truth != 0.0 ? (measured - truth) / truth * 100.0 : std::numeric_limits<double>::quiet_NaN();
 }
 
+void validate(const ObjectMeasureOptions& options) {
+  const double pitch = options.sensor_pitch_rad;
+  if (!std::isnan(pitch) && !(pitch > 0.0 && pitch < std::numbers::pi / 2)) {
+    throw InputError("object measurement: sensor_pitch_rad must be NaN (unknown) or in (0, pi/2), got " +
+                     std::to_string(pitch));
+  }
+  if (!(std::isfinite(options.level_below_top_sds) && options.level_below_top_sds >= 0.0)) {
+    throw InputError("object measurement: level_below_top_sds must be finite and >= 0, got " +
+                     std::to_string(options.level_below_top_sds));
+  }
+}
+
 std::vector<ObjectMeasurement> measure_objects(const MapSnapshot& snapshot, const Scene& scene,
                                                const ObjectMeasureOptions& options) {
+  validate(options);
   std::vector<ObjectMeasurement> results;
   for (const BoxObject& box : scene.boxes) {
     ObjectMeasurement m = measure_one(

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
 #include <random>
 #include <string>
 
@@ -189,75 +190,135 @@ TEST(ObjectExtents, TurnedBoxAxesComeFromTheMapNotTheTruth) {
   EXPECT_NEAR(after[0].measured_untrimmed.length_m - before[0].measured_untrimmed.length_m, 0.02, 1e-9);
 }
 
-// A cell keeps its highest reading (eq. (10)), one whose range came short:
-// it stands above the top and lies up its beam, towards the sensor, which
-// at a side running along the track is inwards. A map of one box whose
-// border cells hold such readings, the rest of the top level: with the
-// scanner's height known the widths come out as from the readings where
-// their beams meet the top; without it, millimetres short. The near and far
-// sides, and with them the lengths, keep their readings either way.
-TEST(ObjectExtents, SidesAlongTheTrackTakeTheirReadingsBackDownTheirBeams) {
-  const Scene scene = one_box_scene();
+constexpr double kSensorHeightM = 0.26, kTopM = 0.10;
+const double kPitchRad = 35.0 * std::numbers::pi / 180.0;
+
+// One box's map with 1 cm cells and its border cells' readings, the track
+// along x through y = 0, beams every 2 mm across. Raised, a border cell
+// keeps a reading 2-6 mm above the top, up its beam from where the beam met
+// the top: on the sides along the track (`raise_sides`) inwards by the
+// beam's across-track run, on the far side (`raise_far`) back towards the
+// sensor by cot(pitch) per unit of height.
+MapSnapshot border_reading_map(const Scene& scene, bool raise_sides, bool raise_far) {
   const BoxObject& box = scene.boxes[0];
-  constexpr double cell = 0.01, sensor_height_m = 0.26, spacing_m = 0.002, top_m = 0.10;
+  constexpr double cell = 0.01, spacing_m = 0.002;
   const double x0 = box.center_x_m - box.length_m / 2, x1 = box.center_x_m + box.length_m / 2;
   const double y0 = box.center_y_m - box.width_m / 2, y1 = box.center_y_m + box.width_m / 2;
-  // The track runs along x through y = 0, under the box.
-  const auto map_of = [&](bool raised) {
-    ElevationMap map({80, cell, {top_point_x_layer(), top_point_y_layer()}});
-    map.move_to(0.5, 0.0);
-    const TopPoints top_points(map);
-    std::mt19937_64 rng(5);
-    std::uniform_real_distribution<double> unit(0.0, 1.0);
-    for (int i = 0; i < 80; ++i) {
-      for (int j = 0; j < 80; ++j) {
-        const CellIndex c = map.cell_at_local(i, j);
-        const double lo_x = static_cast<double>(c.x) * cell, lo_y = static_cast<double>(c.y) * cell;
-        const std::size_t slot = map.slot(c);
-        map.certainty_data()[slot] = 3.0f;
-        map.state_data()[slot] = static_cast<std::uint8_t>(CellState::measured);
-        const double cover_x0 = std::max(lo_x, x0), cover_x1 = std::min(lo_x + cell, x1);
-        const double cover_y0 = std::max(lo_y, y0), cover_y1 = std::min(lo_y + cell, y1);
-        double h = 0.0, x = lo_x + cell / 2, y = lo_y + cell / 2;
-        if (cover_x0 < cover_x1 && cover_y0 < cover_y1) {
-          h = top_m;
-          const bool border = cover_x1 - cover_x0 < cell || cover_y1 - cover_y0 < cell;
-          if (border) {
-            // The outermost beam on the covered part: beams every 2 mm across.
-            const bool outward_up = y > box.center_y_m;
-            y = outward_up ? spacing_m * std::floor(cover_y1 / spacing_m) : spacing_m * std::ceil(cover_y0 / spacing_m);
-            x = std::clamp(x, cover_x0 + 0.001, cover_x1 - 0.001);
-            if (raised) {
-              const double dz = 0.002 + 0.004 * unit(rng);
-              y *= (sensor_height_m - top_m - dz) / (sensor_height_m - top_m);
-              h += dz;
-            }
+  ElevationMap map({80, cell, {top_point_x_layer(), top_point_y_layer()}});
+  map.move_to(0.5, 0.0);
+  const TopPoints top_points(map);
+  std::mt19937_64 rng(5);
+  std::uniform_real_distribution<double> unit(0.0, 1.0);
+  for (int i = 0; i < 80; ++i) {
+    for (int j = 0; j < 80; ++j) {
+      const CellIndex c = map.cell_at_local(i, j);
+      const double lo_x = static_cast<double>(c.x) * cell, lo_y = static_cast<double>(c.y) * cell;
+      const std::size_t slot = map.slot(c);
+      map.certainty_data()[slot] = 3.0f;
+      map.state_data()[slot] = static_cast<std::uint8_t>(CellState::measured);
+      const double cover_x0 = std::max(lo_x, x0), cover_x1 = std::min(lo_x + cell, x1);
+      const double cover_y0 = std::max(lo_y, y0), cover_y1 = std::min(lo_y + cell, y1);
+      double h = 0.0, x = lo_x + cell / 2, y = lo_y + cell / 2;
+      if (cover_x0 < cover_x1 && cover_y0 < cover_y1) {
+        h = kTopM;
+        const bool side_border = cover_y1 - cover_y0 < cell;
+        const bool far_border = cover_x1 < lo_x + cell;
+        if (side_border || cover_x1 - cover_x0 < cell) {
+          // The outermost beam on the covered part.
+          const bool outward_up = y > box.center_y_m;
+          y = outward_up ? spacing_m * std::floor(cover_y1 / spacing_m) : spacing_m * std::ceil(cover_y0 / spacing_m);
+          x = std::clamp(x, cover_x0 + 0.001, cover_x1 - 0.001);
+          const double dz = 0.002 + 0.004 * unit(rng);
+          if (raise_sides && side_border) {
+            y *= (kSensorHeightM - kTopM - dz) / (kSensorHeightM - kTopM);
+            h += dz;
+          } else if (raise_far && far_border) {
+            x -= dz / std::tan(kPitchRad);
+            h += dz;
           }
         }
-        map.elevation_data()[slot] = static_cast<float>(h);
-        map.data(top_points.x_layer())[slot] = static_cast<float>(x);
-        map.data(top_points.y_layer())[slot] = static_cast<float>(y);
       }
+      map.elevation_data()[slot] = static_cast<float>(h);
+      map.data(top_points.x_layer())[slot] = static_cast<float>(x);
+      map.data(top_points.y_layer())[slot] = static_cast<float>(y);
     }
-    MapSnapshot snapshot = snapshot_with_truth(map, scene);
-    const std::string layers[] = {"top_point_x", "top_point_y"};
-    for (ExportedLayer& layer : export_map(map, layers).layers) snapshot.layers.push_back(std::move(layer));
-    return snapshot;
-  };
+  }
+  MapSnapshot snapshot = snapshot_with_truth(map, scene);
+  const std::string layers[] = {"top_point_x", "top_point_y"};
+  for (ExportedLayer& layer : export_map(map, layers).layers) snapshot.layers.push_back(std::move(layer));
+  return snapshot;
+}
+
+ObjectMeasureOptions along_x_through_origin() {
   ObjectMeasureOptions options;
   options.travel_heading_rad = 0.0;
   options.travel_point_m = {0.0, 0.0};
   options.edges.view_heading_rad = 0.0;
-  const ObjectMeasurement on_the_top = measure_objects(map_of(false), scene, options)[0];
-  const MapSnapshot raised = map_of(true);
+  return options;
+}
+
+// A cell keeps its highest reading (eq. (10)), one whose range came short:
+// it stands above the top and lies up its beam, towards the sensor, which
+// at a side running along the track is inwards. With the scanner's height
+// known the widths come out as from the readings where their beams meet the
+// top; without it, millimetres short. The scan's pitch unknown, the near
+// and far sides, and with them the lengths, keep their readings either way.
+TEST(ObjectExtents, SidesAlongTheTrackTakeTheirReadingsBackDownTheirBeams) {
+  const Scene scene = one_box_scene();
+  ObjectMeasureOptions options = along_x_through_origin();
+  const ObjectMeasurement on_the_top = measure_objects(border_reading_map(scene, false, false), scene, options)[0];
+  const MapSnapshot raised = border_reading_map(scene, true, false);
   const ObjectMeasurement unknown = measure_objects(raised, scene, options)[0];
-  options.sensor_height_m = sensor_height_m;
+  options.sensor_height_m = kSensorHeightM;
   const ObjectMeasurement known = measure_objects(raised, scene, options)[0];
   ASSERT_TRUE(on_the_top.found && unknown.found && known.found);
   ASSERT_TRUE(std::isfinite(on_the_top.edges_trimmed.width_m) && std::isfinite(known.edges_trimmed.width_m));
   EXPECT_NEAR(known.measured.width_m, on_the_top.measured.width_m, 0.0005);
   EXPECT_LT(unknown.measured.width_m, on_the_top.measured.width_m - 0.0015);
   EXPECT_EQ(known.measured.length_m, unknown.measured.length_m);
+}
+
+// The far side's readings lie on the last scans over the top, the ones
+// kept up their beams back towards the sensor, by cot(pitch) per unit of
+// height: with the scan plane's pitch known the length comes out as from
+// where the beams met the top; without it, millimetres short. The widths
+// keep their readings.
+TEST(ObjectExtents, FarSideTakesItsReadingsBackDownTheirBeamsWithThePitchKnown) {
+  const Scene scene = one_box_scene();
+  ObjectMeasureOptions options = along_x_through_origin();
+  options.sensor_height_m = kSensorHeightM;
+  options.sensor_pitch_rad = kPitchRad;
+  const ObjectMeasurement on_the_top = measure_objects(border_reading_map(scene, false, false), scene, options)[0];
+  const MapSnapshot raised = border_reading_map(scene, false, true);
+  const ObjectMeasurement known = measure_objects(raised, scene, options)[0];
+  options.sensor_pitch_rad = std::numeric_limits<double>::quiet_NaN();
+  const ObjectMeasurement unknown = measure_objects(raised, scene, options)[0];
+  ASSERT_TRUE(on_the_top.found && unknown.found && known.found);
+  ASSERT_TRUE(std::isfinite(on_the_top.edges_trimmed.length_m) && std::isfinite(known.edges_trimmed.length_m));
+  EXPECT_NEAR(known.measured.length_m, on_the_top.measured.length_m, 0.0005);
+  EXPECT_LT(unknown.measured.length_m, on_the_top.measured.length_m - 0.002);
+  EXPECT_NEAR(known.edge_errors_m[static_cast<int>(EdgeSide::far)],
+              on_the_top.edge_errors_m[static_cast<int>(EdgeSide::far)], 0.0005);
+  EXPECT_EQ(known.edge_errors_m[static_cast<int>(EdgeSide::near)], unknown.edge_errors_m[static_cast<int>(EdgeSide::near)]);
+  EXPECT_EQ(known.measured.width_m, unknown.measured.width_m);
+}
+
+TEST(ObjectExtents, OutOfRangeLevelOptionsAreInputErrors) {
+  const Scene scene = one_box_scene();
+  const MapSnapshot map = border_reading_map(scene, false, false);
+  for (const double pitch : {0.0, -0.1, std::numbers::pi / 2, 2.0, std::numeric_limits<double>::infinity()}) {
+    ObjectMeasureOptions options = along_x_through_origin();
+    options.sensor_pitch_rad = pitch;
+    EXPECT_THROW(measure_objects(map, scene, options), InputError) << pitch;
+  }
+  for (const double sds : {-0.5, std::numeric_limits<double>::quiet_NaN()}) {
+    ObjectMeasureOptions options = along_x_through_origin();
+    options.level_below_top_sds = sds;
+    EXPECT_THROW(measure_objects(map, scene, options), InputError) << sds;
+  }
+  ObjectMeasureOptions options = along_x_through_origin();
+  options.sensor_pitch_rad = 0.6;
+  EXPECT_NO_THROW(measure_objects(map, scene, options));
 }
 
 TEST(ObjectExtents, EmptyMapFindsNothing) {

@@ -105,10 +105,15 @@ struct BoxEdgeFit {
 /// `level_readings`, when it holds one entry per reading, gives each
 /// reading moved along its beam to the top's level (same frame): the sides
 /// running along the view take their edges from those, the line, the
-/// trimming and the other sides from `readings`.
+/// trimming and the other sides from `readings`. `beam_level_readings`,
+/// likewise, gives each reading moved down its beam to the top's level
+/// along the view as well: the sides whose outward normal points along the
+/// view (cosine above facing_cos), faces the beams cannot meet, take their
+/// edges from those.
 BoxEdgeFit fit_box_edges(const std::vector<Eigen::Vector2d>& readings, const BoxFrame& frame, double cell_size_m,
                          bool trim, const BoxEdgeOptions& options = {},
                          const std::vector<Eigen::Vector2d>& reading_cells = {},
-                         const std::vector<Eigen::Vector2d>& level_readings = {});
+                         const std::vector<Eigen::Vector2d>& level_readings = {},
+                         const std::vector<Eigen::Vector2d>& beam_level_readings = {});
 
 }  // namespace stridemap

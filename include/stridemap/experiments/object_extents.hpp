@@ -102,10 +102,26 @@ struct ObjectMeasureOptions {
   /// the track, inwards by its height over the top times the beam's
   /// across-track run over its drop. Known, the sides along the view take
   /// their readings moved back along that run to the top's level
-  /// (fit_box_edges's `level_readings`). Along the track
-  /// the beam's run is its look-ahead, which the map does not keep: the
-  /// near and far sides keep their readings.
+  /// (fit_box_edges's `level_readings`). Along the track see
+  /// sensor_pitch_rad.
   double sensor_height_m = std::numeric_limits<double>::quiet_NaN();
+  /// The scan plane's pitch below the horizontal [rad], in (0, pi/2), for a
+  /// planar scanner turned about its across-track axis only; NaN when
+  /// unknown (or the scanner is rolled or yawed), and then the near and far
+  /// sides keep their readings as found. Every beam of such a plane runs
+  /// ahead cot(pitch) per unit of drop, whatever its angle in the scan, so
+  /// a reading's along-track place at the top's level follows from its
+  /// height alone. The far side's readings (a face the beams cannot meet)
+  /// lie on the last scans that crossed the top, spread up and down their
+  /// beams by range noise, by mixed pixels between the edge and the floor
+  /// behind it, and by eq. (10) keeping the highest; moved back along their
+  /// beams to the top's level they fall on the lines where those scans
+  /// crossed it, and that side takes its edge from them (fit_box_edges's
+  /// `beam_level_readings`). The near side keeps its readings: those on the
+  /// face the beams met are at the edge whatever their height, and moved to
+  /// the top's level they would leave it by their depth on the face times
+  /// cot(pitch).
+  double sensor_pitch_rad = std::numeric_limits<double>::quiet_NaN();
   /// The top's level for that move, in robust standard deviations (1.4826 x
   /// the median absolute deviation) of the top's cells below their median:
   /// each cell holds its highest reading, so the surface lies below them.
@@ -125,8 +141,13 @@ struct ObjectMeasureOptions {
 /// border cells (their top-point layers), sorted to the sides of the
 /// cells' rectangle; nothing of the truth enters them. Height is the median of the region's measured elevations
 /// above the median of a ring of cells around it.
+/// Validates `options` first (validate).
 std::vector<ObjectMeasurement> measure_objects(const MapSnapshot& snapshot, const Scene& scene,
                                                const ObjectMeasureOptions& options = {});
+
+/// Throws InputError when an option is out of range: sensor_pitch_rad
+/// neither NaN nor in (0, pi/2); level_below_top_sds not finite or negative.
+void validate(const ObjectMeasureOptions& options);
 
 /// Relative error in per cent, (measured - truth) / truth * 100.
 double relative_error_pct(double measured, double truth);
