@@ -24,18 +24,30 @@ std::span<const std::uint8_t> beam_tags(const std::vector<BeamLabel>& labels) {
 }
 
 // Scores the filters on each scan that reaches the map against the
-// simulator's labels, which travel with the scan as its beam tags.
+// simulator's labels, which travel with the scan as its beam tags, and
+// against where its beams truly end (`in_window`, per scan by sequence
+// number: 1 where the ideal ray ends inside the map's window).
 class BeamTallyObserver final : public PipelineObserver {
  public:
-  BeamTallyObserver(BeamTally& tally, bool drop_labelled_mixed) : tally_(tally), drop_labelled_mixed_(drop_labelled_mixed) {}
+  BeamTallyObserver(BeamTally& tally, bool drop_labelled_mixed, const std::vector<std::vector<std::uint8_t>>& in_window)
+      : tally_(tally), drop_labelled_mixed_(drop_labelled_mixed), in_window_(in_window) {}
   void on_scan(const ScanReport& report) override {
     const std::vector<std::uint8_t>& tags = report.payload.beam_tags;
+    const std::size_t sequence = report.payload.sequence;
+    const std::vector<std::uint8_t>* in_window = sequence < in_window_.size() ? &in_window_[sequence] : nullptr;
     for (std::size_t i = 0; i < tags.size(); ++i) {
       const auto label = static_cast<BeamLabel>(tags[i]);
       const bool was_removed =
           (i < report.removed.size() && report.removed[i]) || (drop_labelled_mixed_ && label == BeamLabel::mixed);
       switch (label) {
-        case BeamLabel::clean: ++tally_.clean; tally_.clean_removed += was_removed; break;
+        case BeamLabel::clean:
+          ++tally_.clean;
+          tally_.clean_removed += was_removed;
+          if (in_window != nullptr && i < in_window->size() && (*in_window)[i] != 0) {
+            ++tally_.clean_in_window;
+            tally_.clean_in_window_removed += was_removed;
+          }
+          break;
         case BeamLabel::mixed: ++tally_.mixed; tally_.mixed_removed += was_removed; break;
         case BeamLabel::dropped: ++tally_.dropped; break;
       }
@@ -45,6 +57,7 @@ class BeamTallyObserver final : public PipelineObserver {
  private:
   BeamTally& tally_;
   bool drop_labelled_mixed_;
+  const std::vector<std::vector<std::uint8_t>>& in_window_;
 };
 
 // Where each beam of one pose meets the floor plane, NaN when it does not
@@ -66,16 +79,21 @@ std::vector<Eigen::Vector2d> floor_hits(const TrunkPose& pose, const SensorMount
   return hits;
 }
 
-// The beams of one pose as a sensor without noise or spread sees them.
+// The beams of one pose as a sensor without noise or spread sees them;
+// `in_window` gets 1 for each beam that ends inside the map's window.
 void add_ideal_hits(const SceneRayCaster& caster, const TrunkPose& pose, const SensorMount& mount,
-                    const UrgParameters& urg, TopVisibility& visibility) {
+                    const UrgParameters& urg, const ElevationMap& map, TopVisibility& visibility,
+                    std::vector<std::uint8_t>& in_window) {
   const Eigen::Matrix3d rotation = sensor_to_map_rotation(pose, mount);
   const Eigen::Vector3d origin = sensor_origin_in_map(pose, mount);
+  in_window.assign(static_cast<std::size_t>(urg.beam_count()), 0);
   for (int i = 0; i < urg.beam_count(); ++i) {
     const double t = urg.step_angle_rad(urg.first_step + i);
     const Eigen::Vector3d dir = rotation * Eigen::Vector3d(std::cos(t), std::sin(t), 0.0);
     if (const std::optional<RayHit> hit = caster.cast(origin, dir, urg.max_range_m)) {
       visibility.add_hit(hit->object_index, hit->point_m);
+      std::size_t slot = 0;
+      in_window[static_cast<std::size_t>(i)] = map.slot_at(hit->point_m.x(), hit->point_m.y(), slot) ? 1 : 0;
     }
   }
 }
@@ -228,7 +246,8 @@ CartRailResult run_cart_rail(const Scene& scene, const CartRailOptions& options)
   MappingPipeline pipeline(pipeline_options);
   detail::centre_rail_map(lo, hi, pipeline);
   TopPointObserver top_points(pipeline);
-  BeamTallyObserver tally(result.beams, options.drop_labelled_mixed);
+  std::vector<std::vector<std::uint8_t>> in_window(poses.size());
+  BeamTallyObserver tally(result.beams, options.drop_labelled_mixed, in_window);
   pipeline.integrator().add_observer(tally);
 
   std::unique_ptr<BeamModel> beam_model;
@@ -244,7 +263,8 @@ CartRailResult run_cart_rail(const Scene& scene, const CartRailOptions& options)
   std::vector<BeamLabel> labels;
   for (std::size_t k = 0; k < poses.size(); ++k) {
     const double time_s = static_cast<double>(k) * options.urg.scan_period_s;
-    add_ideal_hits(ideal_beams, poses[k], options.mount, options.urg, visibility);
+    add_ideal_hits(ideal_beams, poses[k], options.mount, options.urg, pipeline.mapper().map(), visibility,
+                   in_window[k]);
     simulator.scan(poses[k], options.mount, time_s, raw, &labels);
     pipeline.add(raw, poses[k], beam_tags(labels));
     if (options.progress) options.progress(k + 1, poses.size());

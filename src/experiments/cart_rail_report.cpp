@@ -154,6 +154,9 @@ std::string cart_rail_summary_json(const CartRailResult& r, const CartRailOption
         {"mixed_removed", r.beams.mixed_removed},
         {"mixed_recall", r.beams.mixed_recall()},
         {"clean_drop_rate", r.beams.clean_drop_rate()},
+        {"clean_in_window", r.beams.clean_in_window},
+        {"clean_in_window_removed", r.beams.clean_in_window_removed},
+        {"clean_in_window_drop_rate", r.beams.clean_in_window_drop_rate()},
         {"f1", r.beams.f1()}}},
       {"objects", objects}};
   summary.update(io::detail::run_settings_json(scan_filter_list_name(options.filters), options.map_filter));

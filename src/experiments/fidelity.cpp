@@ -201,6 +201,10 @@ void score_urg(FidelitySceneResult& row, const FidelityOptions& options, const R
   urg.sim.receiver.enabled = coupling;
   urg.mixed_pixels = true;
   const CartRailResult unfiltered = run(urg);
+  // The yardstick: drop exactly the beams the simulator labels mixed.
+  urg.drop_labelled_mixed = true;
+  const CartRailResult ideal = run(urg);
+  urg.drop_labelled_mixed = false;
   urg.filters = options.filters;
   const CartRailResult filtered = run(urg);
   row.urg_objects = filtered.objects;
@@ -217,13 +221,18 @@ void score_urg(FidelitySceneResult& row, const FidelityOptions& options, const R
   row.artifact_cells_reference = reference.score.artifact_cells;
   row.artifact_cells_unfiltered = unfiltered.score.artifact_cells;
   row.artifact_cells_filtered = filtered.score.artifact_cells;
+  row.artifact_cells_ideal = ideal.score.artifact_cells;
   const double added = static_cast<double>(row.artifact_cells_unfiltered) -
                        static_cast<double>(row.artifact_cells_reference);
-  row.mixed_artifacts_removed_pct =
-      added > 0.0 ? 100.0 * (static_cast<double>(row.artifact_cells_unfiltered) -
-                             static_cast<double>(row.artifact_cells_filtered)) / added
-                  : kNaN;
+  const auto removed_pct = [&](std::size_t cells) {
+    return added > 0.0
+               ? 100.0 * (static_cast<double>(row.artifact_cells_unfiltered) - static_cast<double>(cells)) / added
+               : kNaN;
+  };
+  row.mixed_artifacts_removed_pct = removed_pct(row.artifact_cells_filtered);
+  row.ideal_filter_artifacts_removed_pct = removed_pct(row.artifact_cells_ideal);
   row.clean_beams_dropped_pct = 100.0 * filtered.beams.clean_drop_rate();
+  row.clean_beams_in_map_dropped_pct = 100.0 * filtered.beams.clean_in_window_drop_rate();
 }
 
 // The structured-light run of one scene, at the scene's drawn light level.
@@ -313,7 +322,9 @@ void add_figures(FidelityResult& result, bool structured_light, const ExtentErro
     figure("structured_light_cells_beyond_span_20mm", &R::structured_light_beyond_span_cells, false);
   }
   figure("mixed_artifacts_removed_pct", &R::mixed_artifacts_removed_pct, true);
+  figure("ideal_filter_artifacts_removed_pct", &R::ideal_filter_artifacts_removed_pct, true);
   figure("clean_beams_dropped_pct", &R::clean_beams_dropped_pct, false);
+  figure("clean_beams_in_map_dropped_pct", &R::clean_beams_in_map_dropped_pct, false);
   figure("urg_rms_error_mm", &R::urg_rms_error_mm, false);
   figure("urg_rms_error_level_cells_mm", &R::urg_rms_level_mm, false);
   figure("urg_rms_beyond_span_mm", &R::urg_rms_beyond_span_mm, false);
@@ -437,9 +448,12 @@ std::string fidelity_summary_json(const FidelityResult& result, const FidelityOp
                             {"artifact_cells",
                              {{"reference", row.artifact_cells_reference},
                               {"unfiltered", row.artifact_cells_unfiltered},
-                              {"filtered", row.artifact_cells_filtered}}},
+                              {"filtered", row.artifact_cells_filtered},
+                              {"ideal_filter", row.artifact_cells_ideal}}},
                             {"mixed_artifacts_removed_pct", number_or_null(row.mixed_artifacts_removed_pct)},
+                            {"ideal_filter_artifacts_removed_pct", number_or_null(row.ideal_filter_artifacts_removed_pct)},
                             {"clean_beams_dropped_pct", row.clean_beams_dropped_pct},
+                            {"clean_beams_in_map_dropped_pct", row.clean_beams_in_map_dropped_pct},
                             {"urg_objects", objects_json(row.urg_objects, options.min_seen_share)}};
     if (options.structured_light) {
       entry["structured_light_box_extent_error_pct"] = number_or_null(row.structured_light_extent_error_pct);

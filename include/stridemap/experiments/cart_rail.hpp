@@ -178,10 +178,17 @@ struct BeamTally {
   std::size_t dropped = 0;         ///< error codes from the sensor
   std::size_t clean_removed = 0;   ///< clean beams a filter removed
   std::size_t mixed_removed = 0;   ///< mixed beams a filter removed
+  /// Clean beams whose true end lies inside the map's window: what the map
+  /// would have used. A filter that drops a beam outside it loses nothing.
+  std::size_t clean_in_window = 0;
+  std::size_t clean_in_window_removed = 0;  ///< of those, removed by a filter
 
   double mixed_recall() const { return mixed ? static_cast<double>(mixed_removed) / static_cast<double>(mixed) : 0.0; }
   double clean_drop_rate() const {
     return clean ? static_cast<double>(clean_removed) / static_cast<double>(clean) : 0.0;
+  }
+  double clean_in_window_drop_rate() const {
+    return clean_in_window ? static_cast<double>(clean_in_window_removed) / static_cast<double>(clean_in_window) : 0.0;
   }
   /// Of the beams removed, the share that was mixed.
   double precision() const {

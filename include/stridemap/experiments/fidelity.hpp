@@ -72,13 +72,21 @@ struct FidelitySceneResult {
   std::size_t urg_objects_partly_seen = 0;
   std::size_t structured_light_objects_partly_seen = 0;
   /// Artifact cells of the map: without mixed pixels, with them unfiltered,
-  /// with them and the paper's filters.
+  /// with them and the filters, and with them and the ideal filter (the
+  /// beams the simulator labels mixed dropped, nothing else).
   std::size_t artifact_cells_reference = 0, artifact_cells_unfiltered = 0, artifact_cells_filtered = 0;
+  std::size_t artifact_cells_ideal = 0;
   /// Of the artifact cells mixed pixels add (unfiltered minus reference),
   /// the share the filters remove [%]; NaN when mixed pixels add none.
   double mixed_artifacts_removed_pct = 0.0;
-  /// Clean beams the paper's filters drop [%].
+  /// The same for the ideal filter: what dropping beams can remove at best,
+  /// the rest being the receiver's lag and range noise at faces [%].
+  double ideal_filter_artifacts_removed_pct = 0.0;
+  /// Clean beams the filters drop [%].
   double clean_beams_dropped_pct = 0.0;
+  /// The same of the clean beams that end inside the map's window [%]: what
+  /// the map loses (BeamTally::clean_in_window).
+  double clean_beams_in_map_dropped_pct = 0.0;
   double urg_rms_error_mm = 0.0;
   /// The map's RMS over level cells and beyond each cell's true span
   /// (MapScore::rms_error_level_m, rms_beyond_span_m) [mm].
