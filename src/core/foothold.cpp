@@ -323,7 +323,13 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
         foothold::fit_footprint(stencil_, slots, elevation, state, {slots.corner.x + i, slots.corner.y + j}, out);
         fitted(i, j, t, old_slope, old_roughness, old_step);
       } else if (std::isnan(*padded_.at(i, j))) {
-        store(i, j, kNaN, kNaN, kNaN);
+        // Most such cells were unknown at the last refresh too: nothing to store.
+        const std::size_t t = c.row_slot[static_cast<std::size_t>(i)] + cols[j];
+        if (same_bits(slope[t], kNaN) && same_bits(roughness[t], kNaN) && same_bits(step[t], kNaN)) {
+          ++cells;
+        } else {
+          store(i, j, kNaN, kNaN, kNaN);
+        }
       } else {
         group[filled++] = CellIndex{i, j};
         if (filled == foothold::kLanes) fit_group();

@@ -137,7 +137,9 @@ void FootholdChanges::see_changes(const FootholdStencil& stencil, const Elevatio
         // The same certainty, the same factor: most noted cells skip both
         // divisions.
         if (!foothold::same_bits(certainty[s], seen_certainty[s])) {
-          if (!foothold::same_bits(foothold::certainty_factor(certainty[s], full_certainty),
+          // Both at or past full certainty: the same factor, 1, without dividing.
+          const bool both_full = certainty[s] >= full_certainty && seen_certainty[s] >= full_certainty;
+          if (!both_full && !foothold::same_bits(foothold::certainty_factor(certainty[s], full_certainty),
                                    foothold::certainty_factor(seen_certainty[s], full_certainty))) {
             mark_score(i, j);
           }
