@@ -200,6 +200,9 @@ void finish_rail_map(const Scene& scene, const CartRailOptions& options, Mapping
     const double pitch = mount.pitch_rad + rail_start.pitch_rad;
     if (pitch > 0.0 && pitch < std::numbers::pi / 2) objects.sensor_pitch_rad = pitch;
   }
+  // A rail step no longer than a cell measures the tops throughout; the
+  // cells it leaves to the fill are then the shadows between objects.
+  if (result.rail.step_m <= pipeline.mapper().map().cell_size_m() * (1.0 + 1e-9)) objects.region_measured_only = true;
   result.objects = measure_objects(result.snapshot, scene, objects);
   const std::vector<double> seen = visibility.seen_shares();
   for (std::size_t k = 0; k < result.objects.size() && k < seen.size(); ++k) result.objects[k].seen_share = seen[k];

@@ -335,7 +335,10 @@ ObjectMeasurement measure_one(const MapSnapshot& m, const Identity& id, const Ob
   if (!(top_m > ground_guess)) return out;
   const double threshold = ground_guess + options.height_fraction * (top_m - ground_guess);
   const auto qualifies = [&](Eigen::Index i, Eigen::Index j) {
-    return known(i, j) && heights(i, j) > threshold && distance(i, j) <= options.neighbourhood_m;
+    const bool admitted = options.region_measured_only
+                              ? static_cast<CellState>(states(i, j)) == CellState::measured
+                              : known(i, j);
+    return admitted && heights(i, j) > threshold && distance(i, j) <= options.neighbourhood_m;
   };
 
   Eigen::Index seed_i = -1, seed_j = -1;

@@ -287,6 +287,7 @@ TEST(BoxEdges, OffGridBoxesMeasureWithinAFewMillimetres) {
     envelope.travel_point_m = {result.rail.start_x_m, result.rail.y_m};
     envelope.sensor_height_m = scanner_height_m(result, options);
     envelope.sensor_pitch_rad = scanner_pitch_rad(result, options);
+    envelope.region_measured_only = true;  // a 10 mm step over 10 mm cells
     envelope.edges.facing_edge_quantile = envelope.edges.edge_quantile;
     const std::vector<ObjectMeasurement> blind = measure_objects(result.snapshot, scene, envelope);
     for (const std::string name : {"a", "b"}) {
@@ -324,6 +325,7 @@ TEST(BoxEdges, TheTruthOnlySaysWhichObjectIsWhich) {
   objects.travel_point_m = {result.rail.start_x_m, result.rail.y_m};
   objects.sensor_height_m = scanner_height_m(result, options);
   objects.sensor_pitch_rad = scanner_pitch_rad(result, options);
+  objects.region_measured_only = true;
   const std::vector<ObjectMeasurement> again = measure_objects(result.snapshot, wrong, objects);
   ASSERT_EQ(again.size(), result.objects.size());
   for (std::size_t k = 0; k < again.size(); ++k) {

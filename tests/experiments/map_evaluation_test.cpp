@@ -148,6 +148,49 @@ TEST(ObjectExtents, PerfectMapMeasuresWithinACellAndHeightExactly) {
   EXPECT_NEAR(objects[0].measured.height_m, 0.10, 1e-6);
 }
 
+// The fill spans the shadowed gap between a box and a taller neighbour at
+// their height; a region grown through filled cells would join the two.
+TEST(ObjectExtents, AFilledGapDoesNotJoinTwoObjects) {
+  Scene scene = one_box_scene();
+  BoxObject neighbour = scene.boxes[0];
+  neighbour.name = "neighbour";
+  neighbour.center_y_m = scene.boxes[0].center_y_m + 0.5 * (0.15 + 0.10) + 0.03;  // a 3 cm gap
+  neighbour.width_m = 0.10;
+  neighbour.height_m = 0.15;
+  scene.boxes.push_back(neighbour);
+  const int n = 80;
+  const double cell = 0.01;
+  ElevationMap map({n, cell});
+  map.move_to(0.5, 0.0);
+  const double gap_lo_m = scene.boxes[0].center_y_m + 0.075, gap_hi_m = neighbour.center_y_m - 0.05;
+  std::size_t filled = 0;
+  for (int i = 0; i < n; ++i) {
+    for (int j = 0; j < n; ++j) {
+      const CellIndex c = map.cell_at_local(i, j);
+      const double x0 = static_cast<double>(c.x) * cell, y0 = static_cast<double>(c.y) * cell;
+      const std::size_t slot = map.slot(c);
+      const double truth = scene.max_height_in_rect(x0, y0, x0 + cell, y0 + cell);
+      const bool in_gap = y0 >= gap_lo_m && y0 + cell <= gap_hi_m && x0 >= 0.41 && x0 + cell <= 0.59;
+      map.elevation_data()[slot] = static_cast<float>(in_gap ? 0.12 : truth);
+      map.certainty_data()[slot] = in_gap ? 0.0f : 3.0f;
+      map.state_data()[slot] = static_cast<std::uint8_t>(in_gap ? CellState::filled : CellState::measured);
+      filled += in_gap ? 1 : 0;
+    }
+  }
+  ASSERT_GT(filled, 20u);
+  const MapSnapshot snapshot = snapshot_with_truth(map, scene);
+  ObjectMeasureOptions options;
+  options.region_measured_only = true;
+  const auto objects = measure_objects(snapshot, scene, options);
+  ASSERT_EQ(objects.size(), 2u);
+  ASSERT_TRUE(objects[0].found);
+  EXPECT_NEAR(objects[0].measured.width_m, 0.15, 0.0101);
+  EXPECT_NEAR(objects[0].measured.length_m, 0.20, 0.0101);
+  // Through the filled cells the two are one region.
+  const auto joined = measure_objects(snapshot, scene);
+  EXPECT_GT(joined[0].measured.width_m, 0.25);
+}
+
 TEST(ObjectExtents, CentreSpreadIsUnbiasedOverPlacements) {
   // Over many sub-cell placements the mean measured length equals the truth.
   double sum = 0.0;

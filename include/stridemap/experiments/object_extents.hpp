@@ -128,10 +128,17 @@ struct ObjectMeasureOptions {
   /// Tuned on seeds 1 and 2 of the URG fidelity run (2 and 3 did about as
   /// well; docs/experiments.md).
   double level_below_top_sds = 2.5;
+  /// Grow the region through measured cells only, not filled ones: the fill
+  /// (eq. 11) spans a shadowed gap between two tall objects at their height
+  /// and would join them. Only where the tops are measured throughout (a
+  /// sweep no coarser than the grid): with cells finer than the sweep, the
+  /// fill closes the rows between scans and a top would fall apart.
+  bool region_measured_only = false;
   BoxEdgeOptions edges{};
 };
 
-/// For each object: the connected region of known cells higher than half
+/// For each object: the connected region of known (or, with
+/// region_measured_only, measured) cells higher than half
 /// way between the local ground and the top at the object's centre, grown
 /// from the cell nearest that centre. The scene's truth says only which
 /// object is which (its centre seeds the region, its length names the
