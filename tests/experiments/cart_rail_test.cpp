@@ -1,4 +1,5 @@
 #include "stridemap/experiments/cart_rail.hpp"
+#include "stridemap/experiments/cart_rail_report.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -83,6 +84,28 @@ TEST(CartRailExperiment, SameSeedSameMapOtherSeedOtherNoise) {
   };
   EXPECT_TRUE(same(a.snapshot.elevation_m(), b.snapshot.elevation_m()));
   EXPECT_FALSE(same(a.snapshot.elevation_m(), c.snapshot.elevation_m()));
+}
+
+TEST(CartRailExperiment, TheTableSaysWhichObjectsTheSweepSawInPart) {
+  CartRailResult r;
+  ObjectMeasurement whole;
+  whole.name = "whole";
+  whole.kind = "box";
+  whole.found = true;
+  whole.truth.length_m = whole.measured.length_m = 0.2;
+  whole.truth.width_m = whole.measured.width_m = 0.15;
+  whole.truth.height_m = whole.measured.height_m = 0.1;
+  whole.seen_share = 1.0;
+  ObjectMeasurement part = whole;
+  part.name = "part";
+  part.measured.width_m = 0.09;
+  part.seen_share = 0.65;
+  r.objects = {whole, part};
+  const std::string table = cart_rail_table(r, {"urg", "scene.yaml"});
+  const std::size_t at = table.find("partly seen: the sweep reaches 65 % of its top");
+  ASSERT_NE(at, std::string::npos) << table;
+  EXPECT_GT(at, table.find("part "));
+  EXPECT_EQ(table.find("partly seen"), at);  // the whole one is not marked
 }
 
 TEST(CartRailExperiment, PerfectSensorOnFlatFloorIsExact) {
