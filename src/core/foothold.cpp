@@ -276,9 +276,10 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
       flip.hi = std::max(flip.hi, j);
     }
   };
+  const auto slot_of = [&](int i, int j) { return c.row_slot[static_cast<std::size_t>(i)] + cols[j]; };
   const auto store = [&](int i, int j, float new_slope, float new_roughness, float new_step) {
     ++cells;
-    const std::size_t t = c.row_slot[static_cast<std::size_t>(i)] + cols[j];
+    const std::size_t t = slot_of(i, j);
     const float old_slope = slope[t], old_roughness = roughness[t], old_step = step[t];
     slope[t] = new_slope;
     roughness[t] = new_roughness;
@@ -317,14 +318,14 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
       if (!mark[j]) continue;
       mark[j] = 0;
       if (!fast) {
-        const std::size_t t = c.row_slot[static_cast<std::size_t>(i)] + cols[j];
+        const std::size_t t = slot_of(i, j);
         const float old_slope = slope[t], old_roughness = roughness[t], old_step = step[t];
         ++cells;
         foothold::fit_footprint(stencil_, slots, elevation, state, {slots.corner.x + i, slots.corner.y + j}, out);
         fitted(i, j, t, old_slope, old_roughness, old_step);
       } else if (std::isnan(*padded_.at(i, j))) {
         // Most such cells were unknown at the last refresh too: nothing to store.
-        const std::size_t t = c.row_slot[static_cast<std::size_t>(i)] + cols[j];
+        const std::size_t t = slot_of(i, j);
         if (same_bits(slope[t], kNaN) && same_bits(roughness[t], kNaN) && same_bits(step[t], kNaN)) {
           ++cells;
         } else {

@@ -62,8 +62,8 @@ void fit_footprint(const FootholdStencil& stencil, const WindowSlots& slots, con
     return;
   }
   const Eigen::Vector3d plane = plane_of(inverse, b);
-  slope[s] = slope_deg_of_gradient2(plane[1] * plane[1] + plane[2] * plane[2]);
-  roughness[s] = roughness_m_of_residual2(sum_z2 - (plane[0] * b[0] + plane[1] * b[1] + plane[2] * b[2]), count);
+  slope[s] = slope_deg(plane);
+  roughness[s] = roughness_m(sum_z2, plane, b, count);
 }
 
 }  // namespace stridemap::foothold

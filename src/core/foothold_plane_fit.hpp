@@ -46,27 +46,31 @@ struct GeometryLayers {
   float* step_height_m;
 };
 
+// The one-cell fit and the lanes share these, so that both give the same
+// bits; each sum is written out left to right, as the reference test's.
+
 /// The least-squares plane (relative height, x and y gradients) from the
-/// normal matrix's inverse and the right side b; written out so that the
-/// lanes (foothold_plane_fit_lanes.cpp) can do the same in vector registers.
+/// normal matrix's inverse and the right side b.
 inline Eigen::Vector3d plane_of(const Eigen::Matrix3d& inverse, const Eigen::Vector3d& b) {
   return {inverse(0, 0) * b[0] + inverse(0, 1) * b[1] + inverse(0, 2) * b[2],
           inverse(1, 0) * b[0] + inverse(1, 1) * b[1] + inverse(1, 2) * b[2],
           inverse(2, 0) * b[0] + inverse(2, 1) * b[1] + inverse(2, 2) * b[2]};
 }
 
-/// Slope in degrees from the plane's squared gradient.
-inline float slope_deg_of_gradient2(double gradient2) {
-  return static_cast<float>(std::atan(std::sqrt(gradient2)) * 180.0 / std::numbers::pi);
+/// The plane's inclination in degrees.
+inline float slope_deg(const Eigen::Vector3d& plane) {
+  return static_cast<float>(std::atan(std::sqrt(plane[1] * plane[1] + plane[2] * plane[2])) * 180.0 /
+                            std::numbers::pi);
 }
 
-/// RMS residual of the least-squares plane through `count` cells from their
-/// residuals' sum of squares, sum z^2 - plane . b by the normal equations
-/// (z the cells' elevations relative to the centre's), so that the cells are
-/// not visited again. Relative elevations of millimetres to centimetres
-/// leave the difference some ten significant digits; rounding can take an
-/// exact plane's zero just below, hence the clamp.
-inline float roughness_m_of_residual2(double residual2, std::size_t count) {
+/// RMS residual of the plane through `count` cells from their relative
+/// elevations' sum of squares: the residuals' sum of squares is
+/// sum z^2 - plane . b by the normal equations, so the cells are not
+/// visited again. Relative elevations of millimetres to centimetres leave
+/// the difference some ten significant digits; rounding can take an exact
+/// plane's zero just below, hence the clamp.
+inline float roughness_m(double sum_z2, const Eigen::Vector3d& plane, const Eigen::Vector3d& b, std::size_t count) {
+  const double residual2 = sum_z2 - (plane[0] * b[0] + plane[1] * b[1] + plane[2] * b[2]);
   return static_cast<float>(std::sqrt(std::max(0.0, residual2) / static_cast<double>(count)));
 }
 

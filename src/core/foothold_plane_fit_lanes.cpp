@@ -1,6 +1,6 @@
-// fit_footprint() for kLanes neighbouring cells at once: most of a
-// refresh's plane fits are of cells side by side in a row, and their sums
-// are independent, so each lane runs one cell's fit. Per lane the operations
+// fit_footprint() for kLanes cells at once: their sums are independent,
+// so each lane runs one cell's fit (one load per footprint cell where the
+// lanes' cells are neighbours in a row, one per lane where not). Per lane the operations
 // and their order are fit_footprint()'s; an unknown footprint cell,
 // which that skips, adds +0.0 here: every sum starts at +0.0 and so is
 // never -0.0, and x + 0.0 == x bit for bit for any other x. The step's
@@ -28,8 +28,7 @@ using Masks = std::int64_t __attribute__((vector_size(kLanes * sizeof(std::int64
 
 static_assert(kLanes == 4);
 
-// Lane l's entry at `offset` from its centre: one load where the lanes'
-// cells are neighbours in a row, one per lane where they are not.
+// Lane l's entry at `offset` from its centre.
 template <bool kNeighbours>
 [[gnu::always_inline]] inline Floats load_lanes(const float* const* centres, std::ptrdiff_t offset) {
   Floats v;
@@ -95,8 +94,8 @@ template <bool kNeighbours>
     }
     const Eigen::Vector3d b(b0[l], b1[l], b2[l]);
     const Eigen::Vector3d plane = plane_of(*inverse, b);
-    out.slope_deg[l] = slope_deg_of_gradient2(plane[1] * plane[1] + plane[2] * plane[2]);
-    out.roughness_m[l] = roughness_m_of_residual2(z2[l] - (plane[0] * b[0] + plane[1] * b[1] + plane[2] * b[2]), known_cells);
+    out.slope_deg[l] = slope_deg(plane);
+    out.roughness_m[l] = roughness_m(z2[l], plane, b, known_cells);
   }
 }
 

@@ -202,6 +202,7 @@ std::string cart_rail_table(const CartRailResult& r, const CartRailRunInfo& info
   }
   out += line;
   out += "object        dim      truth [mm]  map [mm]  error [%]\n";
+  const double min_seen_share = FidelityOptions{}.min_seen_share;
   for (const ObjectMeasurement& m : r.objects) {
     const double truth[] = {m.truth.length_m, m.truth.width_m, m.truth.height_m};
     const double measured[] = {m.measured.length_m, m.measured.width_m, m.measured.height_m};
@@ -218,7 +219,7 @@ std::string cart_rail_table(const CartRailResult& r, const CartRailRunInfo& info
     }
     // As the fidelity experiment judges it: an extent of a top the sweep
     // did not reach in full is not an error of the map.
-    if (std::isfinite(m.seen_share) && m.seen_share < FidelityOptions{}.min_seen_share) {
+    if (std::isfinite(m.seen_share) && m.seen_share < min_seen_share) {
       std::snprintf(line, sizeof line, "%-13s partly seen: the sweep reaches %.0f %% of its top\n", "",
                     100.0 * m.seen_share);
       out += line;
