@@ -425,8 +425,8 @@ struct Axis {
 // shrinks) can first (falling beam) or last (rising beam) lie above the
 // beam by more than the margin. False when no cell can.
 template <typename Bound, typename Clearance>
-[[gnu::always_inline]] inline bool narrow_walk(double dz, double t_stop, double& top, const Bound& bound, const Clearance& clearance, double& t_skip,
-                 double& t_last) {
+[[gnu::always_inline]] inline bool narrow_walk(double dz, double t_stop, double& top, const Bound& bound,
+                                               const Clearance& clearance, double& t_skip, double& t_last) {
   constexpr double kNoBound = -std::numeric_limits<double>::infinity();
   if (dz < 0.0) {
     t_skip = clearance(top) / -dz;
@@ -534,7 +534,9 @@ template <typename Bound, typename Clearance>
   double t_last = std::numeric_limits<double>::infinity();  // nor cells ending at or after it
   if (!narrow_walk(dz, t_stop, top, bound, clearance, t_skip, t_last)) return;
   if (dz > 0.0) {
-    walk<true>(map, ox, oy, dx, dy, z0, dz, margin, t_skip, std::min(t_stop, std::nextafter(t_last, 0.0)));
+    // The last cell ending before t_last: the one ending at or before the double just below it.
+    const double t_end = std::min(t_stop, std::nextafter(t_last, -std::numeric_limits<double>::infinity()));
+    walk<true>(map, ox, oy, dx, dy, z0, dz, margin, t_skip, t_end);
   } else {
     walk<false>(map, ox, oy, dx, dy, z0, dz, margin, t_skip, t_stop);
   }
@@ -587,9 +589,14 @@ void VisibilityClearing::trace_unthinned(ElevationMap& map, const VisibilityBeam
 
 void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) {
   if (!fan.origin_m.allFinite()) return;  // no beam of the fan is valid
-  for (std::size_t k = 0; k < fan.count; ++k) {
-    if (thinned(fan.x_m[k], fan.y_m[k])) continue;
-    trace_from(map, fan.origin_m, {fan.x_m[k], fan.y_m[k], fan.z_m[k]}, fan.range_error_m[k], fan.height_error_m[k]);
+  // Locals, which the traces' stores cannot change: kept in registers.
+  const Eigen::Vector3d origin_m = fan.origin_m;
+  const double *x_m = fan.x_m, *y_m = fan.y_m, *z_m = fan.z_m;
+  const double *range_error_m = fan.range_error_m, *height_error_m = fan.height_error_m;
+  const std::size_t count = fan.count;
+  for (std::size_t k = 0; k < count; ++k) {
+    if (thinned(x_m[k], y_m[k])) continue;
+    trace_from(map, origin_m, {x_m[k], y_m[k], z_m[k]}, range_error_m[k], height_error_m[k]);
   }
 }
 

@@ -32,6 +32,12 @@
 // crosses hold (and a rising beam's walk ends where it has risen above it);
 // the bound is taken from the window's highest cell first, then again over
 // the rows and columns left of the walk, a few times, as the start moves on.
+// The window's highest cell is tried before the beam's range is taken (a
+// square root and a division): a falling beam that comes down to it only at
+// t >= 1 ends before it (its walk stops by t = 1 for a range error >= 0),
+// a rising or level one that starts above it never passes below a cell.
+// The walk itself is a separate step, entered by the quarter of the beams
+// that are left, and trace_fan() runs a whole fan's beams in one loop.
 // Those maxima are upper bounds for the whole scan (the clean-up itself
 // only lowers cells). begin_scan(map) takes them from the whole map;
 // begin_scan(mapper) keeps them up to date from the mapper's changed rows
@@ -177,8 +183,8 @@ class VisibilityClearing {
   std::size_t window_cells() const { return stamp_.size(); }
 
  private:
-  void trace_from(ElevationMap& map, const Eigen::Vector3d& origin_m, const Eigen::Vector3d& hit_m, double range_error_m,
-                  double height_error_m);
+  void trace_from(ElevationMap& map, const Eigen::Vector3d& origin_m, const Eigen::Vector3d& hit_m,
+                  double range_error_m, double height_error_m);
   /// Walks the window's cells the beam o + t d (in cells) crosses from the
   /// one holding t_skip to the last ending at or before t_end.
   template <bool kRising>
