@@ -32,12 +32,6 @@
 // crosses hold (and a rising beam's walk ends where it has risen above it);
 // the bound is taken from the window's highest cell first, then again over
 // the rows and columns left of the walk, a few times, as the start moves on.
-// The window's highest cell is tried before the beam's range is taken (a
-// square root and a division): a falling beam that comes down to it only at
-// t >= 1 ends before it (its walk stops by t = 1 for a range error >= 0),
-// a rising or level one that starts above it never passes below a cell.
-// The walk itself is a separate step, entered by the quarter of the beams
-// that are left, and trace_fan() runs a whole fan's beams in one loop.
 // Those maxima are upper bounds for the whole scan (the clean-up itself
 // only lowers cells). begin_scan(map) takes them from the whole map;
 // begin_scan(mapper) keeps them up to date from the mapper's changed rows
@@ -47,6 +41,13 @@
 // (TerrainMapper::changes()). A bound may stay above its row's highest cell
 // (a reading that lowered a cell), never below it. A walk also
 // ends where it leaves the window for good: no cell beyond can be touched.
+// The window's highest cell is tried before the beam's range is taken (a
+// square root and a division): a falling beam that comes down to it only at
+// t >= 1 ends before it (its walk stops by t = 1 for a range error >= 0),
+// a rising or level one starting more than the margin above it stays so.
+// The walk is a step of its own, entered only by the beams the bounds
+// leave; trace_fan() runs a whole fan's beams in one loop, the origin
+// checked once.
 // Every crossing parameter of the walk is computed from its cell boundary,
 // not summed step by step, so a walk started part-way reaches the very
 // cells and values the whole walk would: the pruning changes nothing. (Against
