@@ -425,8 +425,8 @@ struct Axis {
 // shrinks) can first (falling beam) or last (rising beam) lie above the
 // beam by more than the margin. False when no cell can.
 template <typename Bound, typename Clearance>
-bool narrow_walk(double dz, double t_stop, double& top, const Bound& bound, const Clearance& clearance, double& t_skip,
-                 double& t_last) {
+[[gnu::always_inline]] inline bool narrow_walk(double dz, double t_stop, double& top, const Bound& bound,
+                                               const Clearance& clearance, double& t_skip, double& t_last) {
   constexpr double kNoBound = -std::numeric_limits<double>::infinity();
   if (dz < 0.0) {
     t_skip = clearance(top) / -dz;
@@ -463,26 +463,48 @@ bool narrow_walk(double dz, double t_stop, double& top, const Bound& bound, cons
 
 }  // namespace
 
-void VisibilityClearing::trace_unthinned(ElevationMap& map, const VisibilityBeam& beam) {
+// Inlined into both callers: for a fan, the loop over its beams then keeps
+// the scan's constants in registers.
+[[gnu::always_inline]] inline void VisibilityClearing::trace_from(ElevationMap& map, const Eigen::Vector3d& origin_m,
+                                                                  const Eigen::Vector3d& hit_m, double range_error_m,
+                                                                  double height_error_m) {
   // An invalid beam is left out here as a thinned one is by trace(): neither
-  // changes any state.
-  const Eigen::Vector3d d = beam.hit_m - beam.origin_m;
-  const double range = d.norm();
-  if (!(range > 0.0) || !std::isfinite(range) || !std::isfinite(beam.range_error_m) ||
-      !std::isfinite(beam.height_error_m) || !beam.origin_m.allFinite()) {
+  // changes any state. The range's square tells a valid beam as the range
+  // would (norm() is its root), and most beams are settled before the root
+  // is needed. The origin was found finite by the caller.
+  const Eigen::Vector3d d = hit_m - origin_m;
+  const double range2 = d.squaredNorm();
+  if (!(range2 > 0.0 && range2 < std::numeric_limits<double>::infinity()) || !std::isfinite(range_error_m) ||
+      !std::isfinite(height_error_m)) {
     return;
   }
   have_last_hit_ = true;
-  last_hit_ = beam.hit_m.head<2>();
+  last_hit_ = hit_m.head<2>();
   ++stats_.beams_traced;
 
+  const double margin = options_.uncertainty_factor * height_error_m + relief_m_;
+  const double z0 = origin_m.z(), dz = d.z();
+  // The beam's height over a bound at t = 0, less the margin. The slack
+  // outweighs the rounding of both this and the walk's own comparison, so
+  // that no cell the full walk would contradict is skipped.
+  const double slack_sum = 1.0 + std::abs(z0) + std::abs(dz) + std::abs(margin);
+  const auto clearance = [&](double bound_m) {
+    const double slack = 1e-9 * (slack_sum + std::abs(bound_m));
+    return z0 + margin - (bound_m + slack);
+  };
+  // Nothing known in the window (-inf: a NaN clearance), or no cell as high
+  // as its highest that the beam could pass below: a falling beam comes down
+  // to it only at t >= 1, past its stop when the range error is >= 0; a
+  // rising or level beam starts above it.
+  double top = window_top_;
+  if (dz < 0.0 ? range_error_m >= 0.0 && !(clearance(top) < -dz) : !(clearance(top) < 0.0)) return;
+
   // Only the part of the beam that cannot hold the true surface.
-  const double t_stop = 1.0 - beam.range_error_m / range;
+  const double t_stop = 1.0 - range_error_m / std::sqrt(range2);
   if (!(t_stop > 0.0)) return;
-  const double margin = options_.uncertainty_factor * beam.height_error_m + relief_m_;
 
   const double inverse_cell = inverse_cell_;
-  const double ox = beam.origin_m.x() * inverse_cell, oy = beam.origin_m.y() * inverse_cell;
+  const double ox = origin_m.x() * inverse_cell, oy = origin_m.y() * inverse_cell;
   const double dx = d.x() * inverse_cell, dy = d.y() * inverse_cell;
   // Far outside any window the index arithmetic below would overflow.
   constexpr double kMaxIndex = 1e15;
@@ -492,56 +514,60 @@ void VisibilityClearing::trace_unthinned(ElevationMap& map, const VisibilityBeam
   }
   const std::int64_t n = n_;
   const CellIndex corner = corner_;
-  const double z0 = beam.origin_m.z(), dz = d.z();
 
   // The highest known elevation of the window's rows and columns the beam
   // crosses from t0 to t1 (its cells there lie between its places at t0 and
   // t1, one more each way for rounding): an upper bound for every cell the
   // walk visits between them; -inf when none of them is in the window or
-  // known.
+  // known. t0 <= t1, so the direction tells which place is lower.
   const auto bound = [&](double t0, double t1) {
     constexpr float kNone = -std::numeric_limits<float>::infinity();
     const double x0 = ox + dx * t0, x1 = ox + dx * t1, y0 = oy + dy * t0, y1 = oy + dy * t1;
-    const std::int64_t lo_i = std::max<std::int64_t>(floor_index(std::min(x0, x1)) - 1 - corner.x, 0);
-    const std::int64_t hi_i = std::min<std::int64_t>(floor_index(std::max(x0, x1)) + 1 - corner.x, n - 1);
-    const std::int64_t lo_j = std::max<std::int64_t>(floor_index(std::min(y0, y1)) - 1 - corner.y, 0);
-    const std::int64_t hi_j = std::min<std::int64_t>(floor_index(std::max(y0, y1)) + 1 - corner.y, n - 1);
+    const std::int64_t lo_i = std::max<std::int64_t>(floor_index(dx < 0.0 ? x1 : x0) - 1 - corner.x, 0);
+    const std::int64_t hi_i = std::min<std::int64_t>(floor_index(dx < 0.0 ? x0 : x1) + 1 - corner.x, n - 1);
+    const std::int64_t lo_j = std::max<std::int64_t>(floor_index(dy < 0.0 ? y1 : y0) - 1 - corner.y, 0);
+    const std::int64_t hi_j = std::min<std::int64_t>(floor_index(dy < 0.0 ? y0 : y1) + 1 - corner.y, n - 1);
     if (lo_i > hi_i || lo_j > hi_j) return kNone;
     return std::min(range_max(row_max_, lo_i, hi_i), range_max(column_max_, lo_j, hi_j));
-  };
-  constexpr double kNoBound = -std::numeric_limits<double>::infinity();
-  double top = window_top_;  // first the whole window's, two look-ups fewer than a beam's rows'
-  if (!(top > kNoBound)) return;  // nothing known there
-
-  // Where a cell of that height can first (falling beam) or last (rising
-  // beam) lie above the beam by more than the margin. `slack` outweighs the
-  // rounding of both this and the walk's own comparison, so that no cell the
-  // full walk would contradict is skipped.
-  const auto clearance = [&](double bound_m) {  // beam's height over the bound at t = 0
-    const double slack = 1e-9 * (1.0 + std::abs(z0) + std::abs(dz) + std::abs(margin) + std::abs(bound_m));
-    return z0 + margin - (bound_m + slack);
   };
   double t_skip = -1.0;                                     // cells ending at or before it cannot be contradicted
   double t_last = std::numeric_limits<double>::infinity();  // nor cells ending at or after it
   if (!narrow_walk(dz, t_stop, top, bound, clearance, t_skip, t_last)) return;
+  if (dz > 0.0) {
+    // The last cell ending before t_last: the one ending at or before the double just below it.
+    const double t_end = std::min(t_stop, std::nextafter(t_last, -std::numeric_limits<double>::infinity()));
+    walk<true>(map, ox, oy, dx, dy, z0, dz, margin, t_skip, t_end);
+  } else {
+    walk<false>(map, ox, oy, dx, dy, z0, dz, margin, t_skip, t_stop);
+  }
+}
 
+template <bool kRising>
+void VisibilityClearing::walk(ElevationMap& map, double ox, double oy, double dx, double dy, double z0, double dz,
+                              double margin, double t_skip, double t_end) {
   Axis ax(ox, dx), ay(oy, dy);
   double t_in = 0.0;
   if (t_skip > 0.0) t_in = std::max(0.0, std::max(ax.skip_to(t_skip, dx), ay.skip_to(t_skip, dy)));
 
+  const std::int64_t n = n_;
+  const CellIndex corner = corner_;
   const std::int64_t slot_x0 = slot_x0_, slot_y0 = slot_y0_;
   const float* elevation = map.elevation_data();
+  std::size_t crossed = 0;
   while (true) {
     const double t_out = std::min(ax.next, ay.next);
-    if (t_out > t_stop || t_out >= t_last) break;
+    if (!(t_out <= t_end)) break;
     const std::int64_t i = ax.index - corner.x, j = ay.index - corner.y;
-    if (i >= 0 && i < n && j >= 0 && j < n) {
-      ++stats_.cells_crossed;
+    // Both inside 0..n-1 at once, as unsigned.
+    if (static_cast<std::uint64_t>(i) < static_cast<std::uint64_t>(n) &&
+        static_cast<std::uint64_t>(j) < static_cast<std::uint64_t>(n)) {
+      ++crossed;
       std::int64_t si = slot_x0 + i, sj = slot_y0 + j;
       si -= si >= n ? n : 0;
       sj -= sj >= n ? n : 0;
       const auto s = static_cast<std::size_t>(si * n + sj);
-      const double z_beam_max = z0 + dz * (dz > 0 ? t_out : t_in);
+      // The beam's highest point over the cell: its exit rising, its entry falling.
+      const double z_beam_max = z0 + dz * (kRising ? t_out : t_in);
       // NaN (unknown) fails the comparison: nothing to clear.
       if (elevation[s] > z_beam_max + margin) contradict(map, {ax.index, ay.index}, s);
     } else if (ax.left(i, n) || ay.left(j, n)) {
@@ -553,6 +579,24 @@ void VisibilityClearing::trace_unthinned(ElevationMap& map, const VisibilityBeam
     } else {
       ay.advance();
     }
+  }
+  stats_.cells_crossed += crossed;
+}
+
+void VisibilityClearing::trace_unthinned(ElevationMap& map, const VisibilityBeam& beam) {
+  if (beam.origin_m.allFinite()) trace_from(map, beam.origin_m, beam.hit_m, beam.range_error_m, beam.height_error_m);
+}
+
+void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) {
+  if (!fan.origin_m.allFinite()) return;  // no beam of the fan is valid
+  // Locals, which the traces' stores cannot change: kept in registers.
+  const Eigen::Vector3d origin_m = fan.origin_m;
+  const double *x_m = fan.x_m, *y_m = fan.y_m, *z_m = fan.z_m;
+  const double *range_error_m = fan.range_error_m, *height_error_m = fan.height_error_m;
+  const std::size_t count = fan.count;
+  for (std::size_t k = 0; k < count; ++k) {
+    if (thinned(x_m[k], y_m[k])) continue;
+    trace_from(map, origin_m, {x_m[k], y_m[k], z_m[k]}, range_error_m[k], height_error_m[k]);
   }
 }
 

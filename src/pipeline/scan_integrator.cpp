@@ -242,15 +242,8 @@ bool ScanIntegrator::clear_formed(double time_s, std::size_t beams, const TrunkP
   }
   VisibilityClearing& clearing = visibility_for(mapper);
   ElevationMap& map = mapper.map_without_raising();  // the clean-up only lowers and clears
-  VisibilityBeam beam;
-  beam.origin_m = hits->origin_m;
-  for (std::size_t k = 0; k < hits->count; ++k) {
-    if (clearing.thinned(hits->x_m[k], hits->y_m[k])) continue;
-    beam.hit_m = {hits->x_m[k], hits->y_m[k], hits->z_m[k]};
-    beam.height_error_m = hits->height_error_m[k];
-    beam.range_error_m = hits->range_error_m[k];
-    clearing.trace_unthinned(map, beam);
-  }
+  clearing.trace_fan(map, {hits->origin_m, hits->count, hits->x_m, hits->y_m, hits->z_m, hits->height_error_m,
+                           hits->range_error_m});
   finish_visibility(mapper);
   return true;
 }
