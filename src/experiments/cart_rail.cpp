@@ -200,6 +200,10 @@ void finish_rail_map(const Scene& scene, const CartRailOptions& options, Mapping
     const double pitch = mount.pitch_rad + rail_start.pitch_rad;
     if (pitch > 0.0 && pitch < std::numbers::pi / 2) objects.sensor_pitch_rad = pitch;
   }
+  // The stripe's sheet never lights a far side (ObjectMeasureOptions::unlit_far_side_step_m).
+  if (options.sensor == CartRailSensor::structured_light && std::isnan(objects.unlit_far_side_step_m)) {
+    objects.unlit_far_side_step_m = result.rail.step_m;
+  }
   // A rail step no longer than a cell measures the tops throughout; the
   // cells it leaves to the fill are then the shadows between objects.
   if (result.rail.step_m <= pipeline.mapper().map().cell_size_m() * (1.0 + 1e-9)) objects.region_measured_only = true;

@@ -1,6 +1,7 @@
 #include "stridemap/experiments/object_extents.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <deque>
 #include <limits>
@@ -256,6 +257,30 @@ double ring_ground(const MapSnapshot& m, const CellMask& region, double ring_m, 
 
 // A box's length and width from its cells (relative to the truth's centre)
 // by every estimate, and the one `options.extent` picks as `measured`.
+// ObjectMeasureOptions::unlit_far_side_step_m. A far side turned to the
+// travel direction meets the frames at many points, the last of them near
+// its far corner, and stays as read; one running less than a step along
+// the travel direction ends, in the map, at the last frame's stripe, short
+// by the part of the step beyond it.
+void place_unlit_far_side(BoxEdgeFit& fit, const ObjectMeasureOptions& options) {
+  const double step_m = options.unlit_far_side_step_m;
+  if (!fit.ok || !(step_m > 0.0)) return;
+  const Eigen::Vector2d u(std::cos(fit.yaw_rad), std::sin(fit.yaw_rad)), v(-u.y(), u.x());
+  const std::array<Eigen::Vector2d, 4> outward{-u, u, -v, v};  // of edges_m's sides
+  const Eigen::Vector2d ahead(std::cos(options.travel_heading_rad), std::sin(options.travel_heading_rad));
+  std::size_t far = 0;
+  for (std::size_t k = 1; k < outward.size(); ++k) {
+    if (outward[k].dot(ahead) > outward[far].dot(ahead)) far = k;
+  }
+  const double cos_turn = outward[far].dot(ahead);
+  const double side_length_m = far < 2 ? fit.width_m : fit.length_m;
+  const double along_travel_m = side_length_m * std::sqrt(std::max(0.0, 1.0 - cos_turn * cos_turn));
+  const double out_m = 0.5 * std::max(0.0, step_m - along_travel_m) * cos_turn;
+  fit.edges_m[far] += far % 2 == 0 ? -out_m : out_m;
+  fit.length_m = fit.edges_m[1] - fit.edges_m[0];
+  fit.width_m = fit.edges_m[3] - fit.edges_m[2];
+}
+
 void measure_box(ObjectMeasurement& out, const std::vector<Eigen::Vector2d>& cells, const BorderReadings& top_border,
                  const BorderReadings& region_border, double s, double height, const Identity& id,
                  const ObjectMeasureOptions& options) {
@@ -288,8 +313,10 @@ void measure_box(ObjectMeasurement& out, const std::vector<Eigen::Vector2d>& cel
     trimmed = fit_box_edges(border->points, frame, s, true, edge_options, border->cells, border->on_level,
                             border->on_beam_level);
   }
-  const BoxEdgeFit untrimmed = fit_box_edges(border->points, frame, s, false, edge_options, border->cells,
-                                             border->on_level, border->on_beam_level);
+  place_unlit_far_side(trimmed, options);
+  BoxEdgeFit untrimmed = fit_box_edges(border->points, frame, s, false, edge_options, border->cells,
+                                       border->on_level, border->on_beam_level);
+  place_unlit_far_side(untrimmed, options);
   if (trimmed.ok) {
     out.edges_trimmed = {trimmed.length_m, trimmed.width_m, height};
     out.edge_errors_m = edge_errors(trimmed, id, options.travel_heading_rad);
@@ -427,6 +454,11 @@ void validate(const ObjectMeasureOptions& options) {
   if (!(std::isfinite(options.level_below_top_sds) && options.level_below_top_sds >= 0.0)) {
     throw InputError("object measurement: level_below_top_sds must be finite and >= 0, got " +
                      std::to_string(options.level_below_top_sds));
+  }
+  const double step = options.unlit_far_side_step_m;
+  if (!std::isnan(step) && !(step > 0.0 && step < 1.0)) {
+    throw InputError("object measurement: unlit_far_side_step_m must be NaN (sides as read) or in (0, 1) m, got " +
+                     std::to_string(step));
   }
 }
 

@@ -346,6 +346,36 @@ TEST(ObjectExtents, FarSideTakesItsReadingsBackDownTheirBeamsWithThePitchKnown) 
   EXPECT_EQ(known.measured.width_m, unknown.measured.width_m);
 }
 
+// A sensor that never lights a far side reads a top up to its last
+// frame's stripe, up to a step before the edge: a far side square to the
+// travel direction is placed half a step out, one turned far enough to
+// meet many frames is left as read, and the other sides never move.
+TEST(ObjectExtents, AnUnlitFarSideSquareToTheTravelIsPlacedHalfAStepOut) {
+  const Scene scene = one_box_scene();
+  const MapSnapshot map = border_reading_map(scene, false, false);
+  ObjectMeasureOptions as_read = along_x_through_origin();
+  ObjectMeasureOptions unlit = as_read;
+  unlit.unlit_far_side_step_m = 0.01;
+  const auto far = static_cast<int>(EdgeSide::far), near = static_cast<int>(EdgeSide::near);
+  const ObjectMeasurement square_read = measure_objects(map, scene, as_read)[0];
+  const ObjectMeasurement square_placed = measure_objects(map, scene, unlit)[0];
+  ASSERT_TRUE(square_read.found && square_placed.found);
+  ASSERT_TRUE(std::isfinite(square_read.edge_errors_m[far]));
+  EXPECT_NEAR(square_placed.edge_errors_m[far] - square_read.edge_errors_m[far], 0.005, 1e-4);
+  EXPECT_EQ(square_placed.edge_errors_m[near], square_read.edge_errors_m[near]);
+  EXPECT_NEAR(square_placed.measured.length_m - square_read.measured.length_m, 0.005, 1e-4);
+  EXPECT_EQ(square_placed.measured.width_m, square_read.measured.width_m);
+
+  // Travelling 0.3 rad off the box's axis, its far side runs 15 cm x
+  // sin(0.3) = 44 mm along the travel: more than a step.
+  as_read.travel_heading_rad = unlit.travel_heading_rad = 0.3;
+  const ObjectMeasurement turned_read = measure_objects(map, scene, as_read)[0];
+  const ObjectMeasurement turned_placed = measure_objects(map, scene, unlit)[0];
+  ASSERT_TRUE(turned_read.found && turned_placed.found);
+  EXPECT_EQ(turned_placed.measured.length_m, turned_read.measured.length_m);
+  EXPECT_EQ(turned_placed.measured.width_m, turned_read.measured.width_m);
+}
+
 TEST(ObjectExtents, OutOfRangeLevelOptionsAreInputErrors) {
   const Scene scene = one_box_scene();
   const MapSnapshot map = border_reading_map(scene, false, false);
@@ -359,8 +389,14 @@ TEST(ObjectExtents, OutOfRangeLevelOptionsAreInputErrors) {
     options.level_below_top_sds = sds;
     EXPECT_THROW(measure_objects(map, scene, options), InputError) << sds;
   }
+  for (const double step : {0.0, -0.01, 1.0, std::numeric_limits<double>::infinity()}) {
+    ObjectMeasureOptions options = along_x_through_origin();
+    options.unlit_far_side_step_m = step;
+    EXPECT_THROW(measure_objects(map, scene, options), InputError) << step;
+  }
   ObjectMeasureOptions options = along_x_through_origin();
   options.sensor_pitch_rad = 0.6;
+  options.unlit_far_side_step_m = 0.01;
   EXPECT_NO_THROW(measure_objects(map, scene, options));
 }
 

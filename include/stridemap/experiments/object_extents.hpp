@@ -134,6 +134,14 @@ struct ObjectMeasureOptions {
   /// sweep no coarser than the grid): with cells finer than the sweep, the
   /// fill closes the rows between scans and a top would fall apart.
   bool region_measured_only = false;
+  /// The sweep's step along travel_heading_rad [m] for a sensor that never
+  /// lights a far side (structured light: the sheet leaves a top for the
+  /// floor beyond it); NaN (the default): sides as read. The top is read up
+  /// to its last frame's stripe on it, anywhere within a step before the
+  /// edge; a far side running less than a step along the travel direction
+  /// is placed at the middle of the part left unread, half a step out when
+  /// square to it (set by the cart rail for structured light).
+  double unlit_far_side_step_m = std::numeric_limits<double>::quiet_NaN();
   BoxEdgeOptions edges{};
 };
 
@@ -153,7 +161,8 @@ std::vector<ObjectMeasurement> measure_objects(const MapSnapshot& snapshot, cons
                                                const ObjectMeasureOptions& options = {});
 
 /// Throws InputError when an option is out of range: sensor_pitch_rad
-/// neither NaN nor in (0, pi/2); level_below_top_sds not finite or negative.
+/// neither NaN nor in (0, pi/2); level_below_top_sds not finite or negative;
+/// unlit_far_side_step_m neither NaN nor in (0, 1) m.
 void validate(const ObjectMeasureOptions& options);
 
 /// Relative error in per cent, (measured - truth) / truth * 100.
