@@ -135,9 +135,10 @@ inline void expect_same_maps(const ElevationMap& a, const ElevationMap& b) {
   EXPECT_EQ(std::memcmp(a.mean_count_data(), b.mean_count_data(), cells * sizeof(std::uint16_t)), 0);
 }
 
-/// The clean-up's account of a scan against the reference's.
-template <typename Clearing>
-void expect_same_account(const Clearing& clearing, const FullWalk& full) {
+/// The clean-up's account of a scan against the reference's (the full
+/// walk, or another clean-up); a pruned walk crosses no more cells.
+template <typename Clearing, typename Reference>
+void expect_same_account(const Clearing& clearing, const Reference& full) {
   EXPECT_EQ(clearing.stats().beams_traced, full.stats().beams_traced);
   EXPECT_EQ(clearing.stats().cells_contradicted, full.stats().cells_contradicted);
   EXPECT_EQ(clearing.stats().cells_cleared, full.stats().cells_cleared);
