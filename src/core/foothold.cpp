@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "foothold_cells.hpp"
 #include "foothold_plane_fit.hpp"
@@ -200,7 +202,7 @@ void FootholdLayers::compute(ElevationMap& map) {
   FootholdChanges& c = changes_;
   c.set_slots(map);
   c.see_all(stencil_, map, {0, n_ - 1, 0, n_ - 1}, false);
-  std::fill(c.geometry_mark.begin(), c.geometry_mark.end(), std::uint8_t{1});
+  for (int i = 0; i < n_; ++i) c.mark_geometry_span(i, 0, n_ - 1);
   std::fill(c.geometry_rows.begin(), c.geometry_rows.end(), RowSpan{0, n_ - 1});
   std::fill(c.flips.begin(), c.flips.end(), RowSpan{n_, -1});
   geometry_rows(map);
@@ -232,7 +234,7 @@ bool FootholdLayers::compute_without_known_cells(ElevationMap& map) {
   for (const LayerId<float> layer : {slope_, roughness_, step_, edge_distance_, score_}) {
     std::fill_n(map.data(layer), cells, kNaN);
   }
-  std::fill(c.geometry_mark.begin(), c.geometry_mark.end(), std::uint8_t{0});
+  std::fill(c.geometry_mark.begin(), c.geometry_mark.end(), std::uint64_t{0});
   std::fill(c.score_mark.begin(), c.score_mark.end(), std::uint8_t{0});
   std::fill(c.geometry_rows.begin(), c.geometry_rows.end(), RowSpan{n_, -1});
   std::fill(c.score_rows.begin(), c.score_rows.end(), RowSpan{n_, -1});
@@ -310,30 +312,38 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
     }
     filled = 0;
   };
+  // One marked cell: fitted in a lane group, stored NaN, or (a footprint
+  // too large for the lanes) fitted alone.
+  const auto redo = [&](int i, int j) {
+    if (!fast) {
+      const std::size_t t = slot_of(i, j);
+      const float old_slope = slope[t], old_roughness = roughness[t], old_step = step[t];
+      ++cells;
+      foothold::fit_footprint(stencil_, slots, elevation, state, {slots.corner.x + i, slots.corner.y + j}, out);
+      fitted(i, j, t, old_slope, old_roughness, old_step);
+    } else if (std::isnan(*padded_.at(i, j))) {
+      // Most such cells were unknown at the last refresh too: nothing to store.
+      const std::size_t t = slot_of(i, j);
+      if (same_bits(slope[t], kNaN) && same_bits(roughness[t], kNaN) && same_bits(step[t], kNaN)) {
+        ++cells;
+      } else {
+        store(i, j, kNaN, kNaN, kNaN);
+      }
+    } else {
+      group[filled++] = CellIndex{i, j};
+      if (filled == foothold::kLanes) fit_group();
+    }
+  };
   for (int i = 0; i < n_; ++i) {
     RowSpan& s = c.geometry_rows[static_cast<std::size_t>(i)];
     if (s.lo > s.hi) continue;
-    std::uint8_t* mark = c.geometry_mark.data() + static_cast<std::size_t>(i) * static_cast<std::size_t>(n_);
-    for (int j = s.lo; j <= s.hi; ++j) {
-      if (!mark[j]) continue;
-      mark[j] = 0;
-      if (!fast) {
-        const std::size_t t = slot_of(i, j);
-        const float old_slope = slope[t], old_roughness = roughness[t], old_step = step[t];
-        ++cells;
-        foothold::fit_footprint(stencil_, slots, elevation, state, {slots.corner.x + i, slots.corner.y + j}, out);
-        fitted(i, j, t, old_slope, old_roughness, old_step);
-      } else if (std::isnan(*padded_.at(i, j))) {
-        // Most such cells were unknown at the last refresh too: nothing to store.
-        const std::size_t t = slot_of(i, j);
-        if (same_bits(slope[t], kNaN) && same_bits(roughness[t], kNaN) && same_bits(step[t], kNaN)) {
-          ++cells;
-        } else {
-          store(i, j, kNaN, kNaN, kNaN);
-        }
-      } else {
-        group[filled++] = CellIndex{i, j};
-        if (filled == foothold::kLanes) fit_group();
+    // The row's marks lie within its hull: only the hull's words are read,
+    // each cleared as it is.
+    std::uint64_t* words = c.geometry_mark.data() + static_cast<std::size_t>(i) * c.mark_words;
+    const auto last = static_cast<std::size_t>(s.hi) / 64;
+    for (auto w = static_cast<std::size_t>(s.lo) / 64; w <= last; ++w) {
+      for (std::uint64_t marked = std::exchange(words[w], 0); marked != 0; marked &= marked - 1) {
+        redo(i, static_cast<int>(w * 64) + std::countr_zero(marked));
       }
     }
     s = RowSpan{n_, -1};

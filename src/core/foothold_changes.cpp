@@ -16,7 +16,8 @@ FootholdChanges::FootholdChanges(int cells_per_side, std::int32_t none2, double 
   seen_edge2.assign(cells * cells, none2);
   row_slot.assign(cells, 0);
   col_slot.assign(cells, 0);
-  geometry_mark.assign(cells * cells, 0);
+  mark_words = (cells + 63) / 64;
+  geometry_mark.assign(cells * mark_words, 0);
   score_mark.assign(cells * cells, 0);
   for (std::vector<RowSpan>* rows : {&geometry_rows, &score_rows, &flips, &unseen_edge_rows}) {
     rows->assign(cells, RowSpan{n, -1});
@@ -47,7 +48,7 @@ void FootholdChanges::mark_geometry(const FootholdStencil& stencil, const LocalB
     const int lo = static_cast<int>(std::max<std::int64_t>(b.j0 - w, 0));
     const int hi = static_cast<int>(std::min<std::int64_t>(b.j1 + w, side - 1));
     if (lo > hi) continue;
-    std::fill_n(geometry_mark.data() + x * side + lo, hi - lo + 1, std::uint8_t{1});
+    mark_geometry_span(x, lo, hi);
     RowSpan& r = geometry_rows[static_cast<std::size_t>(x)];
     r.lo = std::min(r.lo, lo);
     r.hi = std::max(r.hi, hi);

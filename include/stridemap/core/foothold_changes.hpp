@@ -76,9 +76,27 @@ struct FootholdChanges {
   // Storage slot = row_slot[local row] + col_slot[local column], for the
   // window of the refresh under way.
   std::vector<std::size_t> row_slot, col_slot;
-  // Per window-local cell (i * n + j): its geometry, or its edge distance
-  // and score, are to be redone; cleared as they are.
-  std::vector<std::uint8_t> geometry_mark, score_mark;
+  // Per window-local cell: its geometry is to be redone (bit j % 64 of word
+  // i * mark_words + j / 64: a run of marked cells is set a word at a time,
+  // and the fits find the next marked cell by counting zeros), or its edge
+  // distance and score (byte i * n + j); cleared as they are.
+  std::vector<std::uint64_t> geometry_mark;
+  std::size_t mark_words = 0;  ///< words of geometry_mark per row
+  std::vector<std::uint8_t> score_mark;
+  /// Marks the geometry of window-local row i, columns lo..hi (0 <= lo <= hi < n).
+  void mark_geometry_span(std::int64_t i, int lo, int hi) {
+    std::uint64_t* row = geometry_mark.data() + static_cast<std::size_t>(i) * mark_words;
+    const auto first = static_cast<std::size_t>(lo) / 64, last = static_cast<std::size_t>(hi) / 64;
+    const std::uint64_t from_lo = ~std::uint64_t{0} << (lo % 64);
+    const std::uint64_t to_hi = ~std::uint64_t{0} >> (63 - hi % 64);
+    if (first == last) {
+      row[first] |= from_lo & to_hi;
+      return;
+    }
+    row[first] |= from_lo;
+    for (std::size_t w = first + 1; w < last; ++w) row[w] = ~std::uint64_t{0};
+    row[last] |= to_hi;
+  }
   // Per window-local row: the hulls of the marks, the cells that stopped
   // being edges (step no longer above max_step_m) or that left as edges,
   // and the cells whose edge distance is searched for because they became
