@@ -188,7 +188,8 @@ ExtentScores score_extents(const std::vector<ObjectMeasurement>& objects, const 
 // The URG's three runs of one scene: the ideal sensor as the reference, then
 // with mixed pixels unfiltered and filtered.
 template <typename Run>
-void score_urg(FidelitySceneResult& row, const FidelityOptions& options, const Run& run, ExtentErrors& errors) {
+void score_urg(FidelitySceneResult& row, const FidelityOptions& options, const Run& run, ExtentErrors& errors,
+               ExtentErrors& ideal_sensor_errors) {
   CartRailOptions urg = options.urg;
   urg.sensor = CartRailSensor::urg;
   urg.mixed_pixels = false;
@@ -198,6 +199,8 @@ void score_urg(FidelitySceneResult& row, const FidelityOptions& options, const R
   const bool coupling = urg.sim.receiver.enabled;
   urg.sim.receiver.enabled = false;
   const CartRailResult reference = run(urg);
+  row.urg_ideal_sensor_objects = reference.objects;
+  ideal_sensor_errors.add(reference.objects, options);
   urg.sim.receiver.enabled = coupling;
   urg.mixed_pixels = true;
   const CartRailResult unfiltered = run(urg);
@@ -276,7 +279,7 @@ void mark_structured_light_not_run(FidelitySceneResult& row) {
 
 // Each figure's distribution over the scenes, in the table's order.
 void add_figures(FidelityResult& result, bool structured_light, const ExtentErrors& urg_errors,
-                 const ExtentErrors& sl_errors) {
+                 const ExtentErrors& urg_ideal_errors, const ExtentErrors& sl_errors) {
   const auto figure = [&](const std::string& name, auto field, bool higher_is_better) {
     std::vector<double> values;
     for (const FidelitySceneResult& row : result.scenes) values.push_back(static_cast<double>(row.*field));
@@ -288,6 +291,10 @@ void add_figures(FidelityResult& result, bool structured_light, const ExtentErro
   result.figures.push_back(distribution_of("urg_box_width_error_mm (every width, |error|)", urg_errors.width_abs_mm, false));
   result.figures.push_back(
       distribution_of("urg_box_length_error_mm (every length, |error|)", urg_errors.length_abs_mm, false));
+  result.figures.push_back(distribution_of("urg_ideal_sensor_box_width_error_mm (every width, |error|)",
+                                           urg_ideal_errors.width_abs_mm, false));
+  result.figures.push_back(distribution_of("urg_ideal_sensor_box_length_error_mm (every length, |error|)",
+                                           urg_ideal_errors.length_abs_mm, false));
   figure("urg_box_extent_error_pct, sub-cell edges untrimmed", &R::urg_extent_error_edges_untrimmed_pct, false);
   figure("urg_box_extent_error_pct, trimmed cells", &R::urg_extent_error_trimmed_pct, false);
   figure("urg_box_extent_error_pct, untrimmed cells", &R::urg_extent_error_untrimmed_pct, false);
@@ -335,7 +342,7 @@ void add_figures(FidelityResult& result, bool structured_light, const ExtentErro
 FidelityResult run_fidelity(const FidelityOptions& options) {
   check_fidelity_options(options);
   FidelityResult result;
-  ExtentErrors urg_errors, sl_errors;
+  ExtentErrors urg_errors, urg_ideal_errors, sl_errors;
   const std::size_t runs_per_scene = options.structured_light ? 4 : 3;
   for (std::size_t k = 0; k < options.scenes; ++k) {
     FidelitySceneResult row;
@@ -348,7 +355,7 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
       run_options.progress = progress_of_part(options.progress, part++, options.scenes * runs_per_scene);
       return run_cart_rail(scene, run_options);
     };
-    score_urg(row, options, run, urg_errors);
+    score_urg(row, options, run, urg_errors, urg_ideal_errors);
     if (options.structured_light) {
       score_structured_light(row, options, run, sl_errors);
     } else {
@@ -356,8 +363,9 @@ FidelityResult run_fidelity(const FidelityOptions& options) {
     }
     result.scenes.push_back(std::move(row));
   }
-  add_figures(result, options.structured_light, urg_errors, sl_errors);
+  add_figures(result, options.structured_light, urg_errors, urg_ideal_errors, sl_errors);
   add_edge_spreads("urg", urg_errors, result.edges);
+  add_edge_spreads("urg_ideal_sensor", urg_ideal_errors, result.edges);
   if (options.structured_light) add_edge_spreads("structured_light", sl_errors, result.edges);
   return result;
 }
@@ -454,7 +462,9 @@ std::string fidelity_summary_json(const FidelityResult& result, const FidelityOp
                             {"ideal_filter_artifacts_removed_pct", number_or_null(row.ideal_filter_artifacts_removed_pct)},
                             {"clean_beams_dropped_pct", row.clean_beams_dropped_pct},
                             {"clean_beams_in_map_dropped_pct", row.clean_beams_in_map_dropped_pct},
-                            {"urg_objects", objects_json(row.urg_objects, options.min_seen_share)}};
+                            {"urg_objects", objects_json(row.urg_objects, options.min_seen_share)},
+                            {"urg_ideal_sensor_objects",
+                             objects_json(row.urg_ideal_sensor_objects, options.min_seen_share)}};
     if (options.structured_light) {
       entry["structured_light_box_extent_error_pct"] = number_or_null(row.structured_light_extent_error_pct);
       entry["structured_light_objects_missed"] = row.structured_light_objects_missed;

@@ -1,4 +1,5 @@
 // Random scenes and the fidelity experiment's distributions.
+#include <algorithm>
 #include <cmath>
 #include <set>
 #include <string>
@@ -79,6 +80,22 @@ TEST(Fidelity, OneSceneGivesEveryFigureAndIsDeterministic) {
   const FidelitySceneResult& row = a.scenes.front();
   EXPECT_EQ(row.scene_seed, 3000u);
   EXPECT_FALSE(row.urg_objects.empty());
+  // The ideal sensor measures the same objects: the extents' floor.
+  ASSERT_EQ(row.urg_ideal_sensor_objects.size(), row.urg_objects.size());
+  for (std::size_t k = 0; k < row.urg_objects.size(); ++k) {
+    EXPECT_EQ(row.urg_ideal_sensor_objects[k].name, row.urg_objects[k].name);
+  }
+  const auto has_figure = [&](const std::string& name) {
+    return std::any_of(a.figures.begin(), a.figures.end(), [&](const FigureDistribution& d) {
+      return d.figure.starts_with(name) && d.count > 0;
+    });
+  };
+  EXPECT_TRUE(has_figure("urg_ideal_sensor_box_width_error_mm"));
+  EXPECT_TRUE(has_figure("urg_ideal_sensor_box_length_error_mm"));
+  EXPECT_TRUE(std::any_of(a.edges.begin(), a.edges.end(), [](const EdgeErrorSpread& e) {
+    return e.sensor == "urg_ideal_sensor" && e.count > 0;
+  }));
+  EXPECT_NE(fidelity_summary_json(a, options).find("\"urg_ideal_sensor_objects\""), std::string::npos);
   EXPECT_GE(row.artifact_cells_unfiltered, row.artifact_cells_reference);
   EXPECT_LT(row.clean_beams_dropped_pct, 10.0);
   EXPECT_GE(a.figures.size(), 5u);

@@ -56,6 +56,10 @@ struct FidelitySceneResult {
   std::uint64_t scene_seed = 0;
   std::string scene_yaml;
   std::vector<ObjectMeasurement> urg_objects;
+  /// The same objects as the URG without mixed measurements of any kind
+  /// (the artifact figures' reference run) maps them: what the beam
+  /// spacing, the range noise and the grid leave of the extents.
+  std::vector<ObjectMeasurement> urg_ideal_sensor_objects;
   std::vector<ObjectMeasurement> structured_light_objects;
   /// Largest |relative error| [%] over the box extents (length, width) of
   /// at least min_scored_extent_m; NaN when the scene has none.
