@@ -55,12 +55,6 @@ void FootholdChanges::mark_geometry(const FootholdStencil& stencil, const LocalB
   }
 }
 
-void FootholdChanges::mark_edge(int i, int j) {
-  RowSpan& r = unseen_edge_rows[static_cast<std::size_t>(i)];
-  r.lo = std::min(r.lo, j);
-  r.hi = std::max(r.hi, j);
-}
-
 // A neighbour's footprint lost the known ones among them, and the edge
 // distances within the search radius of one that was an edge may grow.
 void FootholdChanges::see_left(const FootholdStencil& stencil, const ElevationMap& map, const CellBox& b,

@@ -92,6 +92,9 @@ class ChangedRows {
     const std::int64_t first = std::max(b.min.x, b.max.x - static_cast<std::int64_t>(other.rows_.size()) + 1);
     const std::size_t n_other = other.rows_.size(), n = rows_.size();
     std::size_t from = other.place(first), to = place(first);
+    // The box of the rows added, grown once at the end by its two corners.
+    std::int64_t first_x = 0, last_x = 0;
+    std::int64_t lo_y = std::numeric_limits<std::int64_t>::max(), hi_y = std::numeric_limits<std::int64_t>::min();
     for (std::int64_t x = first; x <= b.max.x; ++x) {
       const Row& o = other.rows_[from];
       if (o.x == x && o.lo <= o.hi) {
@@ -99,12 +102,17 @@ class ChangedRows {
         if (r.x != x) r = Row{x, std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::min()};
         r.lo = std::min(r.lo, o.lo);
         r.hi = std::max(r.hi, o.hi);
-        bounds_.add(CellIndex{x, o.lo});
-        bounds_.add(CellIndex{x, o.hi});
+        if (lo_y > hi_y) first_x = x;
+        last_x = x;
+        lo_y = std::min(lo_y, o.lo);
+        hi_y = std::max(hi_y, o.hi);
       }
       if (++from == n_other) from = 0;
       if (++to == n) to = 0;
     }
+    if (lo_y > hi_y) return;
+    bounds_.add(CellIndex{first_x, lo_y});
+    bounds_.add(CellIndex{last_x, hi_y});
   }
 
   bool empty() const { return bounds_.empty(); }

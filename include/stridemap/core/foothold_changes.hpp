@@ -48,7 +48,11 @@ struct FootholdChanges {
     r.lo = r.lo < j ? r.lo : j;
     r.hi = r.hi > j ? r.hi : j;
   }
-  void mark_edge(int i, int j);
+  void mark_edge(int i, int j) {  // inline: called per changed cell
+    RowSpan& r = unseen_edge_rows[static_cast<std::size_t>(i)];
+    r.lo = r.lo < j ? r.lo : j;
+    r.hi = r.hi > j ? r.hi : j;
+  }
   /// The cells of `b` (global, of the last refresh's window) that left
   /// every window since.
   void see_left(const FootholdStencil& stencil, const ElevationMap& map, const CellBox& b, CellIndex corner);
