@@ -37,19 +37,23 @@ void FootholdChanges::set_slots(const ElevationMap& map) {
   }
 }
 
-// The box grown by the footprint's disc, row by row.
-void FootholdChanges::mark_geometry(const FootholdStencil& stencil, const LocalBox& b) {
+// The run grown by the footprint's disc, row by row.
+void FootholdChanges::mark_geometry(const FootholdStencil& stencil, std::int64_t i, std::int64_t j0, std::int64_t j1) {
   const std::int64_t f = stencil.foot_cells, side = n;
-  const std::int64_t x0 = std::max<std::int64_t>(b.i0 - f, 0), x1 = std::min<std::int64_t>(b.i1 + f, side - 1);
-  for (std::int64_t x = x0; x <= x1; ++x) {
-    const std::int64_t dx = x < b.i0 ? b.i0 - x : (x > b.i1 ? x - b.i1 : 0);
-    const int w = stencil.foot_widths[static_cast<std::size_t>(dx + f)];
+  const int* widths = stencil.foot_widths.data() + f;  // by row offset, -f..f
+  std::uint64_t* marks = geometry_mark.data();
+  RowSpan* hulls = geometry_rows.data();
+  const std::size_t words = mark_words;
+  const std::int64_t first = std::max(-f, -i), last = std::min(f, side - 1 - i);
+  for (std::int64_t d = first; d <= last; ++d) {
+    const std::int64_t w = widths[d < 0 ? -d : d];
     if (w < 0) continue;
-    const int lo = static_cast<int>(std::max<std::int64_t>(b.j0 - w, 0));
-    const int hi = static_cast<int>(std::min<std::int64_t>(b.j1 + w, side - 1));
+    const auto lo = static_cast<int>(std::max<std::int64_t>(j0 - w, 0));
+    const auto hi = static_cast<int>(std::min<std::int64_t>(j1 + w, side - 1));
     if (lo > hi) continue;
-    mark_geometry_span(x, lo, hi);
-    RowSpan& r = geometry_rows[static_cast<std::size_t>(x)];
+    const auto x = static_cast<std::size_t>(i + d);
+    set_bits(marks + x * words, static_cast<std::size_t>(lo), static_cast<std::size_t>(hi));
+    RowSpan& r = hulls[x];
     r.lo = std::min(r.lo, lo);
     r.hi = std::max(r.hi, hi);
   }
@@ -87,7 +91,7 @@ void FootholdChanges::see_left(const FootholdStencil& stencil, const ElevationMa
         run = y;
         in_run = true;
       } else if (!was_known && in_run) {
-        mark_geometry(stencil, {i, i, run - corner.y, y - 1 - corner.y});
+        mark_geometry(stencil, i, run - corner.y, y - 1 - corner.y);
         in_run = false;
       }
     }
@@ -145,7 +149,7 @@ void FootholdChanges::see_changes(const FootholdStencil& stencil, const Elevatio
         run = y;
         in_run = true;
       } else if (!changed && in_run) {
-        mark_geometry(stencil, {i, i, run - corner.y, y - 1 - corner.y});
+        mark_geometry(stencil, i, run - corner.y, y - 1 - corner.y);
         in_run = false;
       }
     }
@@ -176,11 +180,11 @@ void FootholdChanges::see_all(const FootholdStencil& stencil, const ElevationMap
         mark_edge(static_cast<int>(i), static_cast<int>(j));
         if (!in_run) run = j;
       } else if (in_run) {
-        mark_geometry(stencil, {i, i, run, j - 1});
+        mark_geometry(stencil, i, run, j - 1);
       }
       in_run = known;
     }
-    if (in_run) mark_geometry(stencil, {i, i, run, b.j1});
+    if (in_run) mark_geometry(stencil, i, run, b.j1);
   }
 }
 

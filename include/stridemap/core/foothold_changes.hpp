@@ -40,8 +40,9 @@ struct FootholdChanges {
 
   /// row_slot and col_slot for the map's window as it is now.
   void set_slots(const ElevationMap& map);
-  /// Marks every window cell whose footprint holds a cell of `b`.
-  void mark_geometry(const FootholdStencil& stencil, const LocalBox& b);
+  /// Marks every window cell whose footprint holds a cell of window-local
+  /// row i, columns j0..j1 (which may lie outside the window).
+  void mark_geometry(const FootholdStencil& stencil, std::int64_t i, std::int64_t j0, std::int64_t j1);
   void mark_score(int i, int j) {  // inline: called per cell by every pass
     score_mark[static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)] = 1;
     RowSpan& r = score_rows[static_cast<std::size_t>(i)];
@@ -89,8 +90,12 @@ struct FootholdChanges {
   std::vector<std::uint8_t> score_mark;
   /// Marks the geometry of window-local row i, columns lo..hi (0 <= lo <= hi < n).
   void mark_geometry_span(std::int64_t i, int lo, int hi) {
-    std::uint64_t* row = geometry_mark.data() + static_cast<std::size_t>(i) * mark_words;
-    const auto first = static_cast<std::size_t>(lo) / 64, last = static_cast<std::size_t>(hi) / 64;
+    set_bits(geometry_mark.data() + static_cast<std::size_t>(i) * mark_words, static_cast<std::size_t>(lo),
+             static_cast<std::size_t>(hi));
+  }
+  /// Sets bits lo..hi (lo <= hi) of a row of words.
+  static void set_bits(std::uint64_t* row, std::size_t lo, std::size_t hi) {
+    const std::size_t first = lo / 64, last = hi / 64;
     const std::uint64_t from_lo = ~std::uint64_t{0} << (lo % 64);
     const std::uint64_t to_hi = ~std::uint64_t{0} >> (63 - hi % 64);
     if (first == last) {
