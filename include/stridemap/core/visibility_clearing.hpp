@@ -186,6 +186,10 @@ class VisibilityClearing {
  private:
   void trace_from(ElevationMap& map, const Eigen::Vector3d& origin_m, const Eigen::Vector3d& hit_m,
                   double range_error_m, double height_error_m);
+  /// trace_from() for a valid beam, already counted: d = hit - origin,
+  /// range2 its squared norm.
+  void trace_valid(ElevationMap& map, const Eigen::Vector3d& origin_m, const Eigen::Vector3d& d, double range2,
+                   double range_error_m, double height_error_m);
   /// Walks the window's cells the beam o + t d (in cells) crosses from the
   /// one holding t_skip to the last ending at or before t_end.
   template <bool kRising>
