@@ -564,81 +564,121 @@ STRIDEMAP_AVX2_INLINE __m256d bound4(const ScreenScan& c, __m256d dx, __m256d dy
   return _mm256_blendv_pd(_mm256_set1_pd(-std::numeric_limits<double>::infinity()), both, inside);
 }
 
+// Four beams of the screen: what narrow_walk() and the tests before it
+// hold, lane by lane.
+struct ScreenLanes {
+  __m256d dz, falling, slack_sum, z0_margin, t_stop, dx, dy, margin;
+  __m256d settled, left, fall, rise, level, t_skip, t_last, top;
+};
+
+// trace_valid()'s tests before narrow_walk()'s rounds.
+STRIDEMAP_AVX2_INLINE void screen_start(const ScreenScan& c, const ScreenBatch& b, std::size_t k, ScreenLanes& l) {
+  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0), sign = _mm256_set1_pd(-0.0);
+  const __m256d max_index = _mm256_set1_pd(1e15);
+  const __m256d dz = _mm256_load_pd(b.dz_m + k), range_error = _mm256_load_pd(b.range_error_m + k);
+  const __m256d margin = _mm256_add_pd(
+      _mm256_mul_pd(_mm256_set1_pd(c.uncertainty_factor), _mm256_load_pd(b.height_error_m + k)),
+      _mm256_set1_pd(c.relief_m));
+  l.dz = dz;
+  l.margin = margin;
+  l.slack_sum = _mm256_add_pd(_mm256_add_pd(_mm256_set1_pd(c.one_abs_z0), abs4(dz)), abs4(margin));
+  l.z0_margin = _mm256_add_pd(_mm256_set1_pd(c.z0), margin);
+  const __m256d falling = lt4(dz, zero), rising = _mm256_cmp_pd(dz, zero, _CMP_GT_OQ);
+  l.falling = falling;
+  l.top = _mm256_set1_pd(c.top);
+  const __m256d top_clearance = clearance4(l.z0_margin, l.slack_sum, l.top);
+  // The window's highest cell.
+  __m256d settled = _mm256_blendv_pd(not_lt4(top_clearance, zero),
+                                     _mm256_and_pd(_mm256_cmp_pd(range_error, zero, _CMP_GE_OQ),
+                                                   not_lt4(top_clearance, _mm256_xor_pd(dz, sign))),
+                                     falling);
+  const __m256d t_stop = _mm256_sub_pd(one, _mm256_div_pd(range_error, _mm256_sqrt_pd(_mm256_load_pd(b.range2 + k))));
+  l.t_stop = t_stop;
+  settled = _mm256_or_pd(settled, _mm256_cmp_pd(t_stop, zero, _CMP_NGT_UQ));
+  const __m256d inverse_cell = _mm256_set1_pd(c.inverse_cell);
+  l.dx = _mm256_mul_pd(_mm256_load_pd(b.dx_m + k), inverse_cell);
+  l.dy = _mm256_mul_pd(_mm256_load_pd(b.dy_m + k), inverse_cell);
+  settled = _mm256_or_pd(settled, _mm256_or_pd(not_lt4(abs4(_mm256_add_pd(_mm256_set1_pd(c.ox), l.dx)), max_index),
+                                               not_lt4(abs4(_mm256_add_pd(_mm256_set1_pd(c.oy), l.dy)), max_index)));
+  // narrow_walk(): falling, rising and level lanes side by side.
+  const __m256d open = _mm256_andnot_pd(settled, _mm256_cmp_pd(t_stop, one, _CMP_LE_OQ));
+  l.left = _mm256_andnot_pd(_mm256_or_pd(settled, open), _mm256_castsi256_pd(_mm256_set1_epi64x(-1)));
+  l.fall = _mm256_and_pd(open, falling);
+  l.rise = _mm256_and_pd(open, rising);
+  l.level = _mm256_andnot_pd(_mm256_or_pd(falling, rising), open);
+  // c / -dz and -c / dz are both -(c / dz) exactly: one division for the
+  // start of a falling beam's walk and the end of a rising one's.
+  l.t_skip = _mm256_xor_pd(_mm256_div_pd(top_clearance, dz), sign);
+  l.t_last = l.t_skip;
+  l.settled = _mm256_or_pd(settled, _mm256_and_pd(l.fall, not_lt4(l.t_skip, t_stop)));
+  l.fall = _mm256_and_pd(l.fall, lt4(l.t_skip, t_stop));
+}
+
+STRIDEMAP_AVX2_INLINE bool screen_active(const ScreenLanes& l) {
+  const __m256d active = _mm256_or_pd(_mm256_or_pd(l.fall, l.rise), l.level);
+  return !_mm256_testz_pd(active, active);
+}
+
+// One of narrow_walk()'s rounds; nothing changes in lanes already done.
+STRIDEMAP_AVX2_INLINE void screen_round(const ScreenScan& c, ScreenLanes& l) {
+  const __m256d zero = _mm256_setzero_pd(), sign = _mm256_set1_pd(-0.0);
+  const __m256d active = _mm256_or_pd(_mm256_or_pd(l.fall, l.rise), l.level);
+  const __m256d t0 = _mm256_and_pd(_mm256_blendv_pd(l.t_skip, zero, lt4(l.t_skip, zero)), l.fall);
+  const __m256d t1 =
+      _mm256_blendv_pd(l.t_stop, _mm256_blendv_pd(l.t_last, l.t_stop, lt4(l.t_stop, l.t_last)), l.rise);
+  const __m256d lower = bound4(c, l.dx, l.dy, t0, t1);
+  const __m256d none =
+      _mm256_cmp_pd(lower, _mm256_set1_pd(-std::numeric_limits<double>::infinity()), _CMP_NGT_UQ);
+  __m256d settled = _mm256_or_pd(l.settled, _mm256_and_pd(active, none));
+  const __m256d lower_clearance = clearance4(l.z0_margin, l.slack_sum, lower);
+  settled = _mm256_or_pd(settled, _mm256_andnot_pd(none, _mm256_and_pd(l.level, not_lt4(lower_clearance, zero))));
+  l.level = zero;
+  // A lower bound than the last moves the walk's ends on.
+  const __m256d lower_top = _mm256_andnot_pd(none, lt4(lower, l.top));
+  __m256d fall = _mm256_and_pd(l.fall, lower_top), rise = _mm256_and_pd(l.rise, lower_top);
+  l.top = _mm256_blendv_pd(l.top, lower, _mm256_or_pd(fall, rise));
+  const __m256d t_moved = _mm256_xor_pd(_mm256_div_pd(lower_clearance, l.dz), sign);
+  l.t_skip = _mm256_blendv_pd(l.t_skip, t_moved, fall);
+  settled = _mm256_or_pd(settled, _mm256_and_pd(fall, not_lt4(l.t_skip, l.t_stop)));
+  l.fall = _mm256_and_pd(fall, lt4(l.t_skip, l.t_stop));
+  settled = _mm256_or_pd(settled, _mm256_and_pd(rise, not_lt4(lower_clearance, zero)));
+  l.rise = _mm256_and_pd(rise, lt4(lower_clearance, zero));
+  l.t_last = _mm256_blendv_pd(l.t_last, t_moved, l.rise);
+  l.settled = settled;
+}
+
+STRIDEMAP_AVX2_INLINE void screen_store(const ScreenLanes& l, ScreenBatch& b, std::size_t k) {
+  b.settled[k / 4] = static_cast<std::uint8_t>(_mm256_movemask_pd(l.settled));
+  b.left[k / 4] = static_cast<std::uint8_t>(_mm256_movemask_pd(l.left));
+  _mm256_store_pd(b.dx_cells + k, l.dx);
+  _mm256_store_pd(b.dy_cells + k, l.dy);
+  _mm256_store_pd(b.margin_m + k, l.margin);
+  _mm256_store_pd(b.t_stop + k, l.t_stop);
+  _mm256_store_pd(b.t_skip + k, _mm256_blendv_pd(_mm256_set1_pd(-1.0), l.t_skip, l.falling));
+  _mm256_store_pd(b.t_last + k, l.t_last);
+}
+
 // Settles, four beams a vector, every beam of the batch that trace_valid()
 // would end before its walk: the same tests on the same values, operation
 // for operation, so a beam is settled here exactly when it would end there
-// (the tables do not change during the scan). The rest are left to
-// trace_valid(), among them beams whose stop lies beyond the hit, whose
-// places along the beam the double index arithmetic here is not sure to
-// hold exactly.
+// (the tables do not change during the scan), and the rest get the very
+// walk arguments it would pass. Beams whose stop lies beyond the hit are
+// left to trace_valid(): their places along the beam may lie beyond where
+// the index arithmetic here is exact. Two vectors go side by side, their
+// rounds' long chains of dependent steps overlapping.
+// Settles, four beams a vector, every beam of the batch that trace_valid()
+// would end before its walk: the same tests on the same values, operation
+// for operation, so a beam is settled here exactly when it would end there
+// (the tables do not change during the scan), and the rest get the very
+// walk arguments it would pass. Beams whose stop lies beyond the hit are
+// left to trace_valid(): their places along the beam may lie beyond where
+// the index arithmetic here is exact.
 __attribute__((target("avx2"))) void screen_avx2(const ScreenScan& c, ScreenBatch& b, std::size_t count) {
-  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0), sign = _mm256_set1_pd(-0.0);
-  const __m256d no_bound = _mm256_set1_pd(-std::numeric_limits<double>::infinity());
-  const __m256d max_index = _mm256_set1_pd(1e15);
-  const __m256d window_top = _mm256_set1_pd(c.top);
   for (std::size_t k = 0; k < count; k += 4) {
-    const __m256d dz = _mm256_load_pd(b.dz_m + k), range_error = _mm256_load_pd(b.range_error_m + k);
-    const __m256d margin = _mm256_add_pd(
-        _mm256_mul_pd(_mm256_set1_pd(c.uncertainty_factor), _mm256_load_pd(b.height_error_m + k)),
-        _mm256_set1_pd(c.relief_m));
-    const __m256d slack_sum = _mm256_add_pd(_mm256_add_pd(_mm256_set1_pd(c.one_abs_z0), abs4(dz)), abs4(margin));
-    const __m256d z0_margin = _mm256_add_pd(_mm256_set1_pd(c.z0), margin);
-    const __m256d falling = lt4(dz, zero), rising = _mm256_cmp_pd(dz, zero, _CMP_GT_OQ);
-    const __m256d minus_dz = _mm256_xor_pd(dz, sign);
-    const __m256d top_clearance = clearance4(z0_margin, slack_sum, window_top);
-    // The window's highest cell.
-    __m256d settled = _mm256_blendv_pd(
-        not_lt4(top_clearance, zero),
-        _mm256_and_pd(_mm256_cmp_pd(range_error, zero, _CMP_GE_OQ), not_lt4(top_clearance, minus_dz)), falling);
-    const __m256d t_stop =
-        _mm256_sub_pd(one, _mm256_div_pd(range_error, _mm256_sqrt_pd(_mm256_load_pd(b.range2 + k))));
-    settled = _mm256_or_pd(settled, _mm256_cmp_pd(t_stop, zero, _CMP_NGT_UQ));
-    const __m256d inverse_cell = _mm256_set1_pd(c.inverse_cell);
-    const __m256d dx = _mm256_mul_pd(_mm256_load_pd(b.dx_m + k), inverse_cell);
-    const __m256d dy = _mm256_mul_pd(_mm256_load_pd(b.dy_m + k), inverse_cell);
-    settled = _mm256_or_pd(settled, _mm256_or_pd(not_lt4(abs4(_mm256_add_pd(_mm256_set1_pd(c.ox), dx)), max_index),
-                                                 not_lt4(abs4(_mm256_add_pd(_mm256_set1_pd(c.oy), dy)), max_index)));
-    // narrow_walk(): falling, rising and level lanes side by side.
-    const __m256d open = _mm256_andnot_pd(settled, _mm256_cmp_pd(t_stop, one, _CMP_LE_OQ));
-    const __m256d left = _mm256_andnot_pd(_mm256_or_pd(settled, open), _mm256_castsi256_pd(_mm256_set1_epi64x(-1)));
-    __m256d fall = _mm256_and_pd(open, falling), rise = _mm256_and_pd(open, rising);
-    __m256d level = _mm256_andnot_pd(_mm256_or_pd(falling, rising), open);
-    __m256d t_skip = _mm256_div_pd(top_clearance, minus_dz);
-    settled = _mm256_or_pd(settled, _mm256_and_pd(fall, not_lt4(t_skip, t_stop)));
-    fall = _mm256_and_pd(fall, lt4(t_skip, t_stop));
-    __m256d t_last = _mm256_div_pd(_mm256_xor_pd(top_clearance, sign), dz);
-    __m256d top = window_top;
-    for (int round = 0; round < 4; ++round) {
-      const __m256d active = _mm256_or_pd(_mm256_or_pd(fall, rise), level);
-      if (_mm256_testz_pd(active, active)) break;
-      const __m256d t0 = _mm256_and_pd(_mm256_blendv_pd(t_skip, zero, lt4(t_skip, zero)), fall);
-      const __m256d t1 = _mm256_blendv_pd(t_stop, _mm256_blendv_pd(t_last, t_stop, lt4(t_stop, t_last)), rise);
-      const __m256d lower = bound4(c, dx, dy, t0, t1);
-      const __m256d none = _mm256_cmp_pd(lower, no_bound, _CMP_NGT_UQ);
-      settled = _mm256_or_pd(settled, _mm256_and_pd(active, none));
-      const __m256d lower_clearance = clearance4(z0_margin, slack_sum, lower);
-      settled = _mm256_or_pd(settled, _mm256_andnot_pd(none, _mm256_and_pd(level, not_lt4(lower_clearance, zero))));
-      level = zero;
-      // A lower bound than the last moves the walk's ends on.
-      const __m256d lower_top = _mm256_andnot_pd(none, lt4(lower, top));
-      fall = _mm256_and_pd(fall, lower_top);
-      rise = _mm256_and_pd(rise, lower_top);
-      top = _mm256_blendv_pd(top, lower, _mm256_or_pd(fall, rise));
-      t_skip = _mm256_blendv_pd(t_skip, _mm256_div_pd(lower_clearance, minus_dz), fall);
-      settled = _mm256_or_pd(settled, _mm256_and_pd(fall, not_lt4(t_skip, t_stop)));
-      fall = _mm256_and_pd(fall, lt4(t_skip, t_stop));
-      settled = _mm256_or_pd(settled, _mm256_and_pd(rise, not_lt4(lower_clearance, zero)));
-      rise = _mm256_and_pd(rise, lt4(lower_clearance, zero));
-      t_last = _mm256_blendv_pd(t_last, _mm256_div_pd(_mm256_xor_pd(lower_clearance, sign), dz), rise);
-    }
-    b.settled[k / 4] = static_cast<std::uint8_t>(_mm256_movemask_pd(settled));
-    b.left[k / 4] = static_cast<std::uint8_t>(_mm256_movemask_pd(left));
-    _mm256_store_pd(b.dx_cells + k, dx);
-    _mm256_store_pd(b.dy_cells + k, dy);
-    _mm256_store_pd(b.margin_m + k, margin);
-    _mm256_store_pd(b.t_stop + k, t_stop);
-    _mm256_store_pd(b.t_skip + k, _mm256_blendv_pd(_mm256_set1_pd(-1.0), t_skip, falling));
-    _mm256_store_pd(b.t_last + k, t_last);
+    ScreenLanes l;
+    screen_start(c, b, k, l);
+    for (int round = 0; round < 4 && screen_active(l); ++round) screen_round(c, l);
+    screen_store(l, b, k);
   }
 }
 #endif
