@@ -778,33 +778,40 @@ void VisibilityClearing::walk(ElevationMap& map, double ox, double oy, double dx
 
   const std::int64_t n = n_;
   const CellIndex corner = corner_;
-  const std::int64_t slot_x0 = slot_x0_, slot_y0 = slot_y0_;
   const float* elevation = map.elevation_data();
   std::size_t crossed = 0;
+  // The window-local indices, and the slot row (times n) and column they
+  // fall in whether inside or not, moved along with the walk.
+  std::int64_t i = ax.index - corner.x, j = ay.index - corner.y;
+  std::int64_t row = static_cast<std::int64_t>(wrap_index(slot_x0_ + i, n)) * n;
+  std::int64_t column = static_cast<std::int64_t>(wrap_index(slot_y0_ + j, n));
+  const std::int64_t row_step = ax.step * n, rows_end = n * n;
   while (true) {
     const double t_out = std::min(ax.next, ay.next);
     if (!(t_out <= t_end)) break;
-    const std::int64_t i = ax.index - corner.x, j = ay.index - corner.y;
     // Both inside 0..n-1 at once, as unsigned.
     if (static_cast<std::uint64_t>(i) < static_cast<std::uint64_t>(n) &&
         static_cast<std::uint64_t>(j) < static_cast<std::uint64_t>(n)) {
       ++crossed;
-      std::int64_t si = slot_x0 + i, sj = slot_y0 + j;
-      si -= si >= n ? n : 0;
-      sj -= sj >= n ? n : 0;
-      const auto s = static_cast<std::size_t>(si * n + sj);
+      const auto s = static_cast<std::size_t>(row + column);
       // The beam's highest point over the cell: its exit rising, its entry falling.
       const double z_beam_max = z0 + dz * (kRising ? t_out : t_in);
       // NaN (unknown) fails the comparison: nothing to clear.
-      if (elevation[s] > z_beam_max + margin) contradict(map, {ax.index, ay.index}, s);
+      if (elevation[s] > z_beam_max + margin) contradict(map, {corner.x + i, corner.y + j}, s);
     } else if (ax.left(i, n) || ay.left(j, n)) {
       break;  // out of the window for good: every cell from here lies outside
     }
     t_in = t_out;
     if (ax.next < ay.next) {
       ax.advance();
+      i += ax.step;
+      row += row_step;
+      row = row >= rows_end ? 0 : row < 0 ? rows_end - n : row;
     } else {
       ay.advance();
+      j += ay.step;
+      column += ay.step;
+      column = column >= n ? 0 : column < 0 ? n - 1 : column;
     }
   }
   stats_.cells_crossed += crossed;
