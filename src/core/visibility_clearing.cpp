@@ -864,26 +864,27 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
   constexpr double kMaxIndex = 1e15;
   const bool origin_far = !(std::abs(scan.ox) < kMaxIndex && std::abs(scan.oy) < kMaxIndex);
   ScreenBatch batch;
-  bool have_last = have_last_hit_;
-  double last_x = last_hit_.x(), last_y = last_hit_.y();
+  // No last hit as NaN, to which no distance is below the spacing.
+  constexpr double kNoHit = std::numeric_limits<double>::quiet_NaN();
+  double last_x = have_last_hit_ ? last_hit_.x() : kNoHit, last_y = have_last_hit_ ? last_hit_.y() : kNoHit;
   const double spacing_m2 = spacing_m2_;
   std::size_t k = 0;
   while (k < count) {
     // The beams trace_from() would trace, in order: the thinning follows
     // the last valid beam whatever its walk does.
     std::size_t m = 0;
-    for (; k < count && m < kScreenBeams; ++k) {
-      const double x = x_m[k], y = y_m[k];
+    while (k < count) {
+      const std::size_t at = k++;
+      const double x = x_m[at], y = y_m[at];
       const double ex = x - last_x, ey = y - last_y;
-      if (have_last && ex * ex + ey * ey < spacing_m2) continue;
-      const Eigen::Vector3d d = Eigen::Vector3d(x, y, z_m[k]) - origin_m;
+      if (ex * ex + ey * ey < spacing_m2) continue;
+      const Eigen::Vector3d d = Eigen::Vector3d(x, y, z_m[at]) - origin_m;
       const double range2 = d.squaredNorm();
-      const double range_error = range_error_m[k], height_error = height_error_m[k];
+      const double range_error = range_error_m[at], height_error = height_error_m[at];
       if (!(range2 > 0.0 && range2 < std::numeric_limits<double>::infinity()) || !std::isfinite(range_error) ||
           !std::isfinite(height_error)) {
         continue;
       }
-      have_last = true;
       last_x = x;
       last_y = y;
       batch.dx_m[m] = d.x();
@@ -892,7 +893,7 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
       batch.range2[m] = range2;
       batch.range_error_m[m] = range_error;
       batch.height_error_m[m] = height_error;
-      ++m;
+      if (++m == kScreenBeams) break;
     }
     if (m == 0) break;
     stats_.beams_traced += m;
@@ -928,8 +929,10 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
       }
     }
   }
-  have_last_hit_ = have_last;
-  last_hit_ = {last_x, last_y};
+  if (!std::isnan(last_x)) {
+    have_last_hit_ = true;
+    last_hit_ = {last_x, last_y};
+  }
 #endif
 }
 
