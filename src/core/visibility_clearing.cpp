@@ -664,14 +664,6 @@ STRIDEMAP_AVX2_INLINE void screen_store(const ScreenLanes& l, ScreenBatch& b, st
 // (the tables do not change during the scan), and the rest get the very
 // walk arguments it would pass. Beams whose stop lies beyond the hit are
 // left to trace_valid(): their places along the beam may lie beyond where
-// the index arithmetic here is exact. Two vectors go side by side, their
-// rounds' long chains of dependent steps overlapping.
-// Settles, four beams a vector, every beam of the batch that trace_valid()
-// would end before its walk: the same tests on the same values, operation
-// for operation, so a beam is settled here exactly when it would end there
-// (the tables do not change during the scan), and the rest get the very
-// walk arguments it would pass. Beams whose stop lies beyond the hit are
-// left to trace_valid(): their places along the beam may lie beyond where
 // the index arithmetic here is exact.
 __attribute__((target("avx2"))) void screen_avx2(const ScreenScan& c, ScreenBatch& b, std::size_t count) {
   for (std::size_t k = 0; k < count; k += 4) {
