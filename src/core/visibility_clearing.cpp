@@ -822,10 +822,11 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
   const std::size_t count = fan.count;
 #if defined(STRIDEMAP_VISIBILITY_SCREEN)
   // The screen's index arithmetic in doubles needs the corner well inside
-  // 2^53; the walk's own limit keeps the origin below 1e15 cells.
+  // 2^53 (the walk's own limit keeps the origin below 1e15 cells), its
+  // range lengths as floats and table indices as int32 a side below 2^24.
   constexpr double kMaxCorner = 1e15;
   const bool screen = cpu_has_avx2() && std::abs(static_cast<double>(corner_.x)) < kMaxCorner &&
-                      std::abs(static_cast<double>(corner_.y)) < kMaxCorner;
+                      std::abs(static_cast<double>(corner_.y)) < kMaxCorner && n_ < (1 << 24);
 #else
   constexpr bool screen = false;
 #endif
