@@ -775,8 +775,12 @@ void VisibilityClearing::walk(ElevationMap& map, double ox, double oy, double dx
   // The window-local indices, and the slot row (times n) and column they
   // fall in whether inside or not, moved along with the walk.
   std::int64_t i = ax.index - corner.x, j = ay.index - corner.y;
-  std::int64_t row = static_cast<std::int64_t>(wrap_index(slot_x0_ + i, n)) * n;
-  std::int64_t column = static_cast<std::int64_t>(wrap_index(slot_y0_ + j, n));
+  // A walk nearly always starts inside the window: no division then.
+  const auto slot_of = [n](std::int64_t x) {
+    return x >= 0 && x < 2 * n ? x - (x >= n ? n : 0) : static_cast<std::int64_t>(wrap_index(x, n));
+  };
+  std::int64_t row = slot_of(slot_x0_ + i) * n;
+  std::int64_t column = slot_of(slot_y0_ + j);
   const std::int64_t row_step = ax.step * n, rows_end = n * n;
   while (true) {
     const double t_out = std::min(ax.next, ay.next);
