@@ -106,6 +106,68 @@ TEST(VisibilityFan, TracesTheSameBeamsAsTraceOneByOne) {
   EXPECT_GT(contradicted, 100u);
 }
 
+// trace_fan() screens its traced beams together, in batches and vectors of
+// four, before walking the rest in order: fans of every length around
+// those sizes, from origins that settle nearly every beam (high above the
+// floor) or almost none (among the blocks), level and rising beams, stops
+// beyond the hit (a range error below 0), an empty window and one far from
+// the origin, all against trace() beam by beam.
+TEST(VisibilityFan, ScreenedBeamsAgreeWithBeamByBeam) {
+  std::size_t traced = 0, contradicted = 0;
+  for (std::uint64_t seed = 1; seed <= 40; ++seed) {
+    SCOPED_TRACE("seed " + std::to_string(seed));
+    std::mt19937_64 rng(seed);
+    std::uniform_real_distribution<double> u(0.0, 1.0);
+    const int n = 40;
+    const double cell = 0.02;
+    ElevationMap fan_map = seed % 10 == 0 ? ElevationMap(GridOptions{n, cell}) : random_floor_with_blocks(rng, n, cell);
+    ElevationMap beam_map = fan_map;
+    VisibilityOptions options;
+    options.beam_spacing_cells = seed % 2 == 0 ? 0.0 : 0.25;
+    VisibilityClearing by_fan(fan_map, options), by_beam(beam_map, options);
+    const Eigen::Vector2d lo(fan_map.min_cell().x * cell, fan_map.min_cell().y * cell);
+    for (int scan = 0; scan < 4; ++scan) {
+      const double height = scan == 0 ? 2.0 : scan == 1 ? 0.13 : 0.02 + 0.4 * u(rng);
+      const double away = seed % 7 == 0 ? 3.0 * n * cell : 0.0;  // an origin outside the window
+      const Eigen::Vector3d origin(lo.x() + away + n * cell * u(rng), lo.y() + n * cell * u(rng), height);
+      const std::size_t count = 120 + 3 * seed + static_cast<std::size_t>(scan) * 61;
+      std::vector<double> x, y, z, range_error, height_error;
+      for (std::size_t k = 0; k < count; ++k) {
+        const double angle = 2.0 * M_PI * static_cast<double>(k) / static_cast<double>(count);
+        const double reach = n * cell * (0.05 + 1.2 * u(rng));
+        x.push_back(origin.x() + reach * std::cos(angle));
+        y.push_back(origin.y() + reach * std::sin(angle));
+        const double kind = u(rng);
+        z.push_back(kind < 0.1 ? origin.z() + 0.2 * u(rng) : kind < 0.2 ? origin.z() : 0.15 * u(rng) - 0.02);
+        const double error = u(rng);
+        range_error.push_back(error < 0.1 ? -0.05 * u(rng) : error < 0.15 ? 0.0 : 0.02 * u(rng));
+        height_error.push_back(u(rng) < 0.1 ? 0.0 : 0.01 * u(rng));
+        if (u(rng) < 0.02) z.back() = std::numeric_limits<double>::quiet_NaN();
+      }
+      by_fan.begin_scan(fan_map);
+      by_beam.begin_scan(beam_map);
+      by_fan.trace_fan(fan_map,
+                       {origin, x.size(), x.data(), y.data(), z.data(), height_error.data(), range_error.data()});
+      for (std::size_t k = 0; k < x.size(); ++k) {
+        VisibilityBeam beam;
+        beam.origin_m = origin;
+        beam.hit_m = {x[k], y[k], z[k]};
+        beam.range_error_m = range_error[k];
+        beam.height_error_m = height_error[k];
+        by_beam.trace(beam_map, beam);
+      }
+      expect_same_maps(fan_map, beam_map);
+      test::expect_same_account(by_fan, by_beam);
+      EXPECT_EQ(by_fan.stats().cells_crossed, by_beam.stats().cells_crossed);
+      EXPECT_EQ(by_fan.thinned(x[0], y[0]), by_beam.thinned(x[0], y[0]));
+      traced += by_fan.stats().beams_traced;
+      contradicted += by_fan.stats().cells_contradicted;
+    }
+  }
+  EXPECT_GT(traced, 10000u);
+  EXPECT_GT(contradicted, 100u);
+}
+
 TEST(VisibilityFan, AnOriginNotFiniteTracesNothing) {
   ElevationMap map(GridOptions{20, 0.01});
   VisibilityClearing clearing(map, VisibilityOptions{});

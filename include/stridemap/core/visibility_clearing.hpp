@@ -47,7 +47,11 @@
 // a rising or level one starting more than the margin above it stays so.
 // The walk is a step of its own, entered only by the beams the bounds
 // leave; trace_fan() runs a whole fan's beams in one loop, the origin
-// checked once.
+// checked once. Where the CPU has AVX2 it first picks out the beams to
+// trace (the thinning and validity), then screens them four at a time
+// with the very tests and bound rounds above, operation for operation
+// (the bounds cannot change during the scan), and walks those left in the
+// fan's order, since a walk reads what the walks before it cleared.
 // Every crossing parameter of the walk is computed from its cell boundary,
 // not summed step by step, so a walk started part-way reaches the very
 // cells and values the whole walk would: the pruning changes nothing. (Against
@@ -186,6 +190,10 @@ class VisibilityClearing {
  private:
   void trace_from(ElevationMap& map, const Eigen::Vector3d& origin_m, const Eigen::Vector3d& hit_m,
                   double range_error_m, double height_error_m);
+  /// trace_from() for a valid beam, already counted: d = hit - origin,
+  /// range2 its squared norm.
+  void trace_valid(ElevationMap& map, const Eigen::Vector3d& origin_m, const Eigen::Vector3d& d, double range2,
+                   double range_error_m, double height_error_m);
   /// Walks the window's cells the beam o + t d (in cells) crosses from the
   /// one holding t_skip to the last ending at or before t_end.
   template <bool kRising>
