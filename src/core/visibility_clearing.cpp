@@ -1,6 +1,7 @@
 #include "stridemap/core/visibility_clearing.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -19,6 +20,7 @@
 
 #include "stridemap/core/error.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
+#include "visibility_screen.hpp"
 
 namespace stridemap {
 namespace {
@@ -461,219 +463,6 @@ template <typename Bound, typename Clearance>
   return true;
 }
 
-// trace_fan() takes a fan's traced beams this many at a time: screened
-// together, then walked in their order.
-constexpr std::size_t kScreenBeams = 128;
-
-// The traced beams of one batch as trace_valid() takes them, padded to a
-// whole number of vectors.
-struct ScreenBatch {
-  alignas(32) double dx_m[kScreenBeams];
-  alignas(32) double dy_m[kScreenBeams];
-  alignas(32) double dz_m[kScreenBeams];
-  alignas(32) double range2[kScreenBeams];
-  alignas(32) double range_error_m[kScreenBeams];
-  alignas(32) double height_error_m[kScreenBeams];
-  // What the screen found, per vector of 4 (bit b: beam b): settled, its
-  // walk not needed; left, for trace_valid() to take from the start.
-  std::uint8_t settled[kScreenBeams / 4];
-  std::uint8_t left[kScreenBeams / 4];
-  // For the rest, the walk's arguments as trace_valid() would pass them
-  // (t_last: where a rising beam's walk ends, before the stop).
-  alignas(32) double dx_cells[kScreenBeams];
-  alignas(32) double dy_cells[kScreenBeams];
-  alignas(32) double margin_m[kScreenBeams];
-  alignas(32) double t_stop[kScreenBeams];
-  alignas(32) double t_skip[kScreenBeams];
-  alignas(32) double t_last[kScreenBeams];
-};
-
-// What the screen needs of the scan and the fan's origin.
-struct ScreenScan {
-  double z0 = 0.0, ox = 0.0, oy = 0.0, inverse_cell = 1.0;
-  double uncertainty_factor = 0.0, relief_m = 0.0, one_abs_z0 = 0.0, top = 0.0;
-  double corner_x = 0.0, corner_y = 0.0, last_index = 0.0;
-  int n = 0;
-  const float* row_max = nullptr;
-  const float* column_max = nullptr;
-};
-
-#if defined(STRIDEMAP_AVX_PASS) && !defined(STRIDEMAP_NO_AVX2_COPIES)
-#define STRIDEMAP_VISIBILITY_SCREEN 1
-#define STRIDEMAP_AVX2_INLINE __attribute__((target("avx2"), always_inline)) inline
-
-bool cpu_has_avx2() {
-  static const bool has = __builtin_cpu_supports("avx2");
-  return has;
-}
-
-STRIDEMAP_AVX2_INLINE __m256d lt4(__m256d a, __m256d b) { return _mm256_cmp_pd(a, b, _CMP_LT_OQ); }
-// !(a < b), true for a NaN as the scalar test is.
-STRIDEMAP_AVX2_INLINE __m256d not_lt4(__m256d a, __m256d b) { return _mm256_cmp_pd(a, b, _CMP_NLT_UQ); }
-STRIDEMAP_AVX2_INLINE __m256d abs4(__m256d v) { return _mm256_andnot_pd(_mm256_set1_pd(-0.0), v); }
-
-// trace_valid()'s clearance(), lane by lane: (z0 + margin) - (bound + slack).
-STRIDEMAP_AVX2_INLINE __m256d clearance4(__m256d z0_margin, __m256d slack_sum, __m256d bound) {
-  const __m256d slack = _mm256_mul_pd(_mm256_set1_pd(1e-9), _mm256_add_pd(slack_sum, abs4(bound)));
-  return _mm256_sub_pd(z0_margin, _mm256_add_pd(bound, slack));
-}
-
-// range_max() on four ranges 0 <= lo <= hi < n: floor(log2(len)) read
-// from the exponent of len as a float (exact below 2^24).
-STRIDEMAP_AVX2_INLINE __m128 range_max4(const float* table, __m128i lo, __m128i hi, __m128i n) {
-  const __m128i one = _mm_set1_epi32(1);
-  const __m128i len = _mm_add_epi32(_mm_sub_epi32(hi, lo), one);
-  const __m128i level =
-      _mm_sub_epi32(_mm_srli_epi32(_mm_castps_si128(_mm_cvtepi32_ps(len)), 23), _mm_set1_epi32(127));
-  const __m128i base = _mm_mullo_epi32(level, n);
-  const __m128i first = _mm_add_epi32(base, lo);
-  const __m128i second = _mm_add_epi32(base, _mm_add_epi32(_mm_sub_epi32(hi, _mm_sllv_epi32(one, level)), one));
-  const __m128 a = _mm_i32gather_ps(table, first, 4), b = _mm_i32gather_ps(table, second, 4);
-  return _mm_max_ps(b, a);  // a < b ? b : a
-}
-
-// trace_valid()'s bound(t0, t1), lane by lane. The indices are worked in
-// doubles: whole numbers below 2^53 there (the caller sees to it), so
-// every step is exact, as the scalar int64 steps are.
-STRIDEMAP_AVX2_INLINE __m256d bound4(const ScreenScan& c, __m256d dx, __m256d dy, __m256d t0, __m256d t1) {
-  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0), last = _mm256_set1_pd(c.last_index);
-  const __m256d ox = _mm256_set1_pd(c.ox), oy = _mm256_set1_pd(c.oy);
-  const __m256d x0 = _mm256_add_pd(ox, _mm256_mul_pd(dx, t0)), x1 = _mm256_add_pd(ox, _mm256_mul_pd(dx, t1));
-  const __m256d y0 = _mm256_add_pd(oy, _mm256_mul_pd(dy, t0)), y1 = _mm256_add_pd(oy, _mm256_mul_pd(dy, t1));
-  const __m256d back_x = lt4(dx, zero), back_y = lt4(dy, zero);
-  const __m256d cx = _mm256_set1_pd(c.corner_x), cy = _mm256_set1_pd(c.corner_y);
-  __m256d lo_i = _mm256_max_pd(
-      _mm256_sub_pd(_mm256_sub_pd(_mm256_floor_pd(_mm256_blendv_pd(x0, x1, back_x)), one), cx), zero);
-  __m256d hi_i = _mm256_min_pd(
-      _mm256_sub_pd(_mm256_add_pd(_mm256_floor_pd(_mm256_blendv_pd(x1, x0, back_x)), one), cx), last);
-  __m256d lo_j = _mm256_max_pd(
-      _mm256_sub_pd(_mm256_sub_pd(_mm256_floor_pd(_mm256_blendv_pd(y0, y1, back_y)), one), cy), zero);
-  __m256d hi_j = _mm256_min_pd(
-      _mm256_sub_pd(_mm256_add_pd(_mm256_floor_pd(_mm256_blendv_pd(y1, y0, back_y)), one), cy), last);
-  const __m256d inside =
-      _mm256_and_pd(_mm256_cmp_pd(lo_i, hi_i, _CMP_LE_OQ), _mm256_cmp_pd(lo_j, hi_j, _CMP_LE_OQ));
-  // Lanes with no range look up row and column 0, their value unused.
-  lo_i = _mm256_and_pd(lo_i, inside);
-  hi_i = _mm256_and_pd(hi_i, inside);
-  lo_j = _mm256_and_pd(lo_j, inside);
-  hi_j = _mm256_and_pd(hi_j, inside);
-  const __m128i n = _mm_set1_epi32(c.n);
-  const __m128 rows = range_max4(c.row_max, _mm256_cvttpd_epi32(lo_i), _mm256_cvttpd_epi32(hi_i), n);
-  const __m128 columns = range_max4(c.column_max, _mm256_cvttpd_epi32(lo_j), _mm256_cvttpd_epi32(hi_j), n);
-  const __m256d both = _mm256_cvtps_pd(_mm_min_ps(columns, rows));  // std::min(rows, columns)
-  return _mm256_blendv_pd(_mm256_set1_pd(-std::numeric_limits<double>::infinity()), both, inside);
-}
-
-// Four beams of the screen: what narrow_walk() and the tests before it
-// hold, lane by lane.
-struct ScreenLanes {
-  __m256d dz, falling, slack_sum, z0_margin, t_stop, dx, dy, margin;
-  __m256d settled, left, fall, rise, level, t_skip, t_last, top;
-};
-
-// trace_valid()'s tests before narrow_walk()'s rounds.
-STRIDEMAP_AVX2_INLINE void screen_start(const ScreenScan& c, const ScreenBatch& b, std::size_t k, ScreenLanes& l) {
-  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0), sign = _mm256_set1_pd(-0.0);
-  const __m256d max_index = _mm256_set1_pd(1e15);
-  const __m256d dz = _mm256_load_pd(b.dz_m + k), range_error = _mm256_load_pd(b.range_error_m + k);
-  const __m256d margin = _mm256_add_pd(
-      _mm256_mul_pd(_mm256_set1_pd(c.uncertainty_factor), _mm256_load_pd(b.height_error_m + k)),
-      _mm256_set1_pd(c.relief_m));
-  l.dz = dz;
-  l.margin = margin;
-  l.slack_sum = _mm256_add_pd(_mm256_add_pd(_mm256_set1_pd(c.one_abs_z0), abs4(dz)), abs4(margin));
-  l.z0_margin = _mm256_add_pd(_mm256_set1_pd(c.z0), margin);
-  const __m256d falling = lt4(dz, zero), rising = _mm256_cmp_pd(dz, zero, _CMP_GT_OQ);
-  l.falling = falling;
-  l.top = _mm256_set1_pd(c.top);
-  const __m256d top_clearance = clearance4(l.z0_margin, l.slack_sum, l.top);
-  // The window's highest cell.
-  __m256d settled = _mm256_blendv_pd(not_lt4(top_clearance, zero),
-                                     _mm256_and_pd(_mm256_cmp_pd(range_error, zero, _CMP_GE_OQ),
-                                                   not_lt4(top_clearance, _mm256_xor_pd(dz, sign))),
-                                     falling);
-  const __m256d t_stop = _mm256_sub_pd(one, _mm256_div_pd(range_error, _mm256_sqrt_pd(_mm256_load_pd(b.range2 + k))));
-  l.t_stop = t_stop;
-  settled = _mm256_or_pd(settled, _mm256_cmp_pd(t_stop, zero, _CMP_NGT_UQ));
-  const __m256d inverse_cell = _mm256_set1_pd(c.inverse_cell);
-  l.dx = _mm256_mul_pd(_mm256_load_pd(b.dx_m + k), inverse_cell);
-  l.dy = _mm256_mul_pd(_mm256_load_pd(b.dy_m + k), inverse_cell);
-  settled = _mm256_or_pd(settled, _mm256_or_pd(not_lt4(abs4(_mm256_add_pd(_mm256_set1_pd(c.ox), l.dx)), max_index),
-                                               not_lt4(abs4(_mm256_add_pd(_mm256_set1_pd(c.oy), l.dy)), max_index)));
-  // narrow_walk(): falling, rising and level lanes side by side.
-  const __m256d open = _mm256_andnot_pd(settled, _mm256_cmp_pd(t_stop, one, _CMP_LE_OQ));
-  l.left = _mm256_andnot_pd(_mm256_or_pd(settled, open), _mm256_castsi256_pd(_mm256_set1_epi64x(-1)));
-  l.fall = _mm256_and_pd(open, falling);
-  l.rise = _mm256_and_pd(open, rising);
-  l.level = _mm256_andnot_pd(_mm256_or_pd(falling, rising), open);
-  // c / -dz and -c / dz are both -(c / dz) exactly: one division for the
-  // start of a falling beam's walk and the end of a rising one's.
-  l.t_skip = _mm256_xor_pd(_mm256_div_pd(top_clearance, dz), sign);
-  l.t_last = l.t_skip;
-  l.settled = _mm256_or_pd(settled, _mm256_and_pd(l.fall, not_lt4(l.t_skip, t_stop)));
-  l.fall = _mm256_and_pd(l.fall, lt4(l.t_skip, t_stop));
-}
-
-STRIDEMAP_AVX2_INLINE bool screen_active(const ScreenLanes& l) {
-  const __m256d active = _mm256_or_pd(_mm256_or_pd(l.fall, l.rise), l.level);
-  return !_mm256_testz_pd(active, active);
-}
-
-// One of narrow_walk()'s rounds; nothing changes in lanes already done.
-STRIDEMAP_AVX2_INLINE void screen_round(const ScreenScan& c, ScreenLanes& l) {
-  const __m256d zero = _mm256_setzero_pd(), sign = _mm256_set1_pd(-0.0);
-  const __m256d active = _mm256_or_pd(_mm256_or_pd(l.fall, l.rise), l.level);
-  const __m256d t0 = _mm256_and_pd(_mm256_blendv_pd(l.t_skip, zero, lt4(l.t_skip, zero)), l.fall);
-  const __m256d t1 =
-      _mm256_blendv_pd(l.t_stop, _mm256_blendv_pd(l.t_last, l.t_stop, lt4(l.t_stop, l.t_last)), l.rise);
-  const __m256d lower = bound4(c, l.dx, l.dy, t0, t1);
-  const __m256d none =
-      _mm256_cmp_pd(lower, _mm256_set1_pd(-std::numeric_limits<double>::infinity()), _CMP_NGT_UQ);
-  __m256d settled = _mm256_or_pd(l.settled, _mm256_and_pd(active, none));
-  const __m256d lower_clearance = clearance4(l.z0_margin, l.slack_sum, lower);
-  settled = _mm256_or_pd(settled, _mm256_andnot_pd(none, _mm256_and_pd(l.level, not_lt4(lower_clearance, zero))));
-  l.level = zero;
-  // A lower bound than the last moves the walk's ends on.
-  const __m256d lower_top = _mm256_andnot_pd(none, lt4(lower, l.top));
-  __m256d fall = _mm256_and_pd(l.fall, lower_top), rise = _mm256_and_pd(l.rise, lower_top);
-  l.top = _mm256_blendv_pd(l.top, lower, _mm256_or_pd(fall, rise));
-  const __m256d t_moved = _mm256_xor_pd(_mm256_div_pd(lower_clearance, l.dz), sign);
-  l.t_skip = _mm256_blendv_pd(l.t_skip, t_moved, fall);
-  settled = _mm256_or_pd(settled, _mm256_and_pd(fall, not_lt4(l.t_skip, l.t_stop)));
-  l.fall = _mm256_and_pd(fall, lt4(l.t_skip, l.t_stop));
-  settled = _mm256_or_pd(settled, _mm256_and_pd(rise, not_lt4(lower_clearance, zero)));
-  l.rise = _mm256_and_pd(rise, lt4(lower_clearance, zero));
-  l.t_last = _mm256_blendv_pd(l.t_last, t_moved, l.rise);
-  l.settled = settled;
-}
-
-STRIDEMAP_AVX2_INLINE void screen_store(const ScreenLanes& l, ScreenBatch& b, std::size_t k) {
-  b.settled[k / 4] = static_cast<std::uint8_t>(_mm256_movemask_pd(l.settled));
-  b.left[k / 4] = static_cast<std::uint8_t>(_mm256_movemask_pd(l.left));
-  _mm256_store_pd(b.dx_cells + k, l.dx);
-  _mm256_store_pd(b.dy_cells + k, l.dy);
-  _mm256_store_pd(b.margin_m + k, l.margin);
-  _mm256_store_pd(b.t_stop + k, l.t_stop);
-  _mm256_store_pd(b.t_skip + k, _mm256_blendv_pd(_mm256_set1_pd(-1.0), l.t_skip, l.falling));
-  _mm256_store_pd(b.t_last + k, l.t_last);
-}
-
-// Settles, four beams a vector, every beam of the batch that trace_valid()
-// would end before its walk: the same tests on the same values, operation
-// for operation, so a beam is settled here exactly when it would end there
-// (the tables do not change during the scan), and the rest get the very
-// walk arguments it would pass. Beams whose stop lies beyond the hit are
-// left to trace_valid(): their places along the beam may lie beyond where
-// the index arithmetic here is exact.
-__attribute__((target("avx2"))) void screen_avx2(const ScreenScan& c, ScreenBatch& b, std::size_t count) {
-  for (std::size_t k = 0; k < count; k += 4) {
-    ScreenLanes l;
-    screen_start(c, b, k, l);
-    for (int round = 0; round < 4 && screen_active(l); ++round) screen_round(c, l);
-    screen_store(l, b, k);
-  }
-}
-#endif
 
 }  // namespace
 
@@ -824,16 +613,12 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
   const double *x_m = fan.x_m, *y_m = fan.y_m, *z_m = fan.z_m;
   const double *range_error_m = fan.range_error_m, *height_error_m = fan.height_error_m;
   const std::size_t count = fan.count;
-#if defined(STRIDEMAP_VISIBILITY_SCREEN)
   // The screen's index arithmetic in doubles needs the corner well inside
   // 2^53 (the walk's own limit keeps the origin below 1e15 cells), its
   // range lengths as floats and table indices as int32 a side below 2^24.
   constexpr double kMaxCorner = 1e15;
-  const bool screen = cpu_has_avx2() && std::abs(static_cast<double>(corner_.x)) < kMaxCorner &&
+  const bool screen = visibility::screen_available() && std::abs(static_cast<double>(corner_.x)) < kMaxCorner &&
                       std::abs(static_cast<double>(corner_.y)) < kMaxCorner && n_ < (1 << 24);
-#else
-  constexpr bool screen = false;
-#endif
   if (!screen) {
     for (std::size_t k = 0; k < count; ++k) {
       if (thinned(x_m[k], y_m[k])) continue;
@@ -841,8 +626,7 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
     }
     return;
   }
-#if defined(STRIDEMAP_VISIBILITY_SCREEN)
-  ScreenScan scan;
+  visibility::ScreenScan scan;
   scan.z0 = origin_m.z();
   scan.inverse_cell = inverse_cell_;
   scan.ox = origin_m.x() * inverse_cell_;
@@ -860,7 +644,8 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
   // An origin this far out ends every beam before its walk.
   constexpr double kMaxIndex = 1e15;
   const bool origin_far = !(std::abs(scan.ox) < kMaxIndex && std::abs(scan.oy) < kMaxIndex);
-  ScreenBatch batch;
+  // On the stack (about 12 kB): nothing allocated per scan.
+  visibility::ScreenBatch batch;
   // No last hit as NaN, to which no distance is below the spacing.
   constexpr double kNoHit = std::numeric_limits<double>::quiet_NaN();
   double last_x = have_last_hit_ ? last_hit_.x() : kNoHit, last_y = have_last_hit_ ? last_hit_.y() : kNoHit;
@@ -890,7 +675,7 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
       batch.range2[m] = range2;
       batch.range_error_m[m] = range_error;
       batch.height_error_m[m] = height_error;
-      if (++m == kScreenBeams) break;
+      if (++m == visibility::kScreenBeams) break;
     }
     if (m == 0) break;
     stats_.beams_traced += m;
@@ -903,12 +688,12 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
       batch.range_error_m[p] = batch.range_error_m[m - 1];
       batch.height_error_m[p] = batch.height_error_m[m - 1];
     }
-    screen_avx2(scan, batch, m);
+    visibility::screen(scan, batch, m);
     // The rest walk in the fan's order: a walk reads the cells the walks
     // before it may have cleared.
     for (std::size_t v = 0; v < m; v += 4) {
       for (unsigned rest = ~batch.settled[v / 4] & 15u; rest != 0; rest &= rest - 1) {
-        const std::size_t p = v + static_cast<std::size_t>(__builtin_ctz(rest));
+        const std::size_t p = v + static_cast<std::size_t>(std::countr_zero(rest));
         if (p >= m) break;
         const double dz = batch.dz_m[p];
         if (batch.left[v / 4] >> (p - v) & 1u) {
@@ -930,7 +715,6 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
     have_last_hit_ = true;
     last_hit_ = {last_x, last_y};
   }
-#endif
 }
 
 void VisibilityClearing::contradict(ElevationMap& map, CellIndex cell, std::size_t slot) {

@@ -1,0 +1,204 @@
+#include "visibility_screen.hpp"
+
+#include <limits>
+
+// The screen is an AVX2 copy chosen at run time (GCC and clang on x86-64);
+// elsewhere a fan is traced beam by beam and screen() is never called.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(STRIDEMAP_NO_AVX2_COPIES)
+#define STRIDEMAP_VISIBILITY_SCREEN 1
+#include <immintrin.h>
+#endif
+
+namespace stridemap::visibility {
+
+#if defined(STRIDEMAP_VISIBILITY_SCREEN)
+namespace {
+
+#define STRIDEMAP_AVX2_INLINE __attribute__((target("avx2"), always_inline)) inline
+
+bool cpu_has_avx2() {
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+}
+
+STRIDEMAP_AVX2_INLINE __m256d lt4(__m256d a, __m256d b) { return _mm256_cmp_pd(a, b, _CMP_LT_OQ); }
+// !(a < b), true for a NaN as the scalar test is.
+STRIDEMAP_AVX2_INLINE __m256d not_lt4(__m256d a, __m256d b) { return _mm256_cmp_pd(a, b, _CMP_NLT_UQ); }
+STRIDEMAP_AVX2_INLINE __m256d abs4(__m256d v) { return _mm256_andnot_pd(_mm256_set1_pd(-0.0), v); }
+
+// trace_valid()'s clearance(), lane by lane: (z0 + margin) - (bound + slack).
+STRIDEMAP_AVX2_INLINE __m256d clearance4(__m256d z0_margin, __m256d slack_sum, __m256d bound) {
+  const __m256d slack = _mm256_mul_pd(_mm256_set1_pd(1e-9), _mm256_add_pd(slack_sum, abs4(bound)));
+  return _mm256_sub_pd(z0_margin, _mm256_add_pd(bound, slack));
+}
+
+// range_max() on four ranges 0 <= lo <= hi < n: floor(log2(len)) read
+// from the exponent of len as a float (exact below 2^24).
+STRIDEMAP_AVX2_INLINE __m128 range_max4(const float* table, __m128i lo, __m128i hi, __m128i n) {
+  const __m128i one = _mm_set1_epi32(1);
+  const __m128i len = _mm_add_epi32(_mm_sub_epi32(hi, lo), one);
+  const __m128i level =
+      _mm_sub_epi32(_mm_srli_epi32(_mm_castps_si128(_mm_cvtepi32_ps(len)), 23), _mm_set1_epi32(127));
+  const __m128i base = _mm_mullo_epi32(level, n);
+  const __m128i first = _mm_add_epi32(base, lo);
+  const __m128i second = _mm_add_epi32(base, _mm_add_epi32(_mm_sub_epi32(hi, _mm_sllv_epi32(one, level)), one));
+  const __m128 a = _mm_i32gather_ps(table, first, 4), b = _mm_i32gather_ps(table, second, 4);
+  return _mm_max_ps(b, a);  // a < b ? b : a
+}
+
+// trace_valid()'s bound(t0, t1), lane by lane. The indices are worked in
+// doubles: whole numbers below 2^53 there (the caller sees to it), so
+// every step is exact, as the scalar int64 steps are.
+STRIDEMAP_AVX2_INLINE __m256d bound4(const ScreenScan& c, __m256d dx, __m256d dy, __m256d t0, __m256d t1) {
+  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0), last = _mm256_set1_pd(c.last_index);
+  const __m256d ox = _mm256_set1_pd(c.ox), oy = _mm256_set1_pd(c.oy);
+  const __m256d x0 = _mm256_add_pd(ox, _mm256_mul_pd(dx, t0)), x1 = _mm256_add_pd(ox, _mm256_mul_pd(dx, t1));
+  const __m256d y0 = _mm256_add_pd(oy, _mm256_mul_pd(dy, t0)), y1 = _mm256_add_pd(oy, _mm256_mul_pd(dy, t1));
+  const __m256d back_x = lt4(dx, zero), back_y = lt4(dy, zero);
+  const __m256d cx = _mm256_set1_pd(c.corner_x), cy = _mm256_set1_pd(c.corner_y);
+  __m256d lo_i = _mm256_max_pd(
+      _mm256_sub_pd(_mm256_sub_pd(_mm256_floor_pd(_mm256_blendv_pd(x0, x1, back_x)), one), cx), zero);
+  __m256d hi_i = _mm256_min_pd(
+      _mm256_sub_pd(_mm256_add_pd(_mm256_floor_pd(_mm256_blendv_pd(x1, x0, back_x)), one), cx), last);
+  __m256d lo_j = _mm256_max_pd(
+      _mm256_sub_pd(_mm256_sub_pd(_mm256_floor_pd(_mm256_blendv_pd(y0, y1, back_y)), one), cy), zero);
+  __m256d hi_j = _mm256_min_pd(
+      _mm256_sub_pd(_mm256_add_pd(_mm256_floor_pd(_mm256_blendv_pd(y1, y0, back_y)), one), cy), last);
+  const __m256d inside =
+      _mm256_and_pd(_mm256_cmp_pd(lo_i, hi_i, _CMP_LE_OQ), _mm256_cmp_pd(lo_j, hi_j, _CMP_LE_OQ));
+  // Lanes with no range look up row and column 0, their value unused.
+  lo_i = _mm256_and_pd(lo_i, inside);
+  hi_i = _mm256_and_pd(hi_i, inside);
+  lo_j = _mm256_and_pd(lo_j, inside);
+  hi_j = _mm256_and_pd(hi_j, inside);
+  const __m128i n = _mm_set1_epi32(c.n);
+  const __m128 rows = range_max4(c.row_max, _mm256_cvttpd_epi32(lo_i), _mm256_cvttpd_epi32(hi_i), n);
+  const __m128 columns = range_max4(c.column_max, _mm256_cvttpd_epi32(lo_j), _mm256_cvttpd_epi32(hi_j), n);
+  const __m256d both = _mm256_cvtps_pd(_mm_min_ps(columns, rows));  // std::min(rows, columns)
+  return _mm256_blendv_pd(_mm256_set1_pd(-std::numeric_limits<double>::infinity()), both, inside);
+}
+
+// Four beams of the screen: what narrow_walk() and the tests before it
+// hold, lane by lane.
+struct ScreenLanes {
+  __m256d dz, falling, slack_sum, z0_margin, t_stop, dx, dy, margin;
+  __m256d settled, left, fall, rise, level, t_skip, t_last, top;
+};
+
+// trace_valid()'s tests before narrow_walk()'s rounds.
+STRIDEMAP_AVX2_INLINE void screen_start(const ScreenScan& c, const ScreenBatch& b, std::size_t k, ScreenLanes& l) {
+  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0), sign = _mm256_set1_pd(-0.0);
+  const __m256d max_index = _mm256_set1_pd(1e15);
+  const __m256d dz = _mm256_load_pd(b.dz_m + k), range_error = _mm256_load_pd(b.range_error_m + k);
+  const __m256d margin = _mm256_add_pd(
+      _mm256_mul_pd(_mm256_set1_pd(c.uncertainty_factor), _mm256_load_pd(b.height_error_m + k)),
+      _mm256_set1_pd(c.relief_m));
+  l.dz = dz;
+  l.margin = margin;
+  l.slack_sum = _mm256_add_pd(_mm256_add_pd(_mm256_set1_pd(c.one_abs_z0), abs4(dz)), abs4(margin));
+  l.z0_margin = _mm256_add_pd(_mm256_set1_pd(c.z0), margin);
+  const __m256d falling = lt4(dz, zero), rising = _mm256_cmp_pd(dz, zero, _CMP_GT_OQ);
+  l.falling = falling;
+  l.top = _mm256_set1_pd(c.top);
+  const __m256d top_clearance = clearance4(l.z0_margin, l.slack_sum, l.top);
+  // The window's highest cell.
+  __m256d settled = _mm256_blendv_pd(not_lt4(top_clearance, zero),
+                                     _mm256_and_pd(_mm256_cmp_pd(range_error, zero, _CMP_GE_OQ),
+                                                   not_lt4(top_clearance, _mm256_xor_pd(dz, sign))),
+                                     falling);
+  const __m256d t_stop = _mm256_sub_pd(one, _mm256_div_pd(range_error, _mm256_sqrt_pd(_mm256_load_pd(b.range2 + k))));
+  l.t_stop = t_stop;
+  settled = _mm256_or_pd(settled, _mm256_cmp_pd(t_stop, zero, _CMP_NGT_UQ));
+  const __m256d inverse_cell = _mm256_set1_pd(c.inverse_cell);
+  l.dx = _mm256_mul_pd(_mm256_load_pd(b.dx_m + k), inverse_cell);
+  l.dy = _mm256_mul_pd(_mm256_load_pd(b.dy_m + k), inverse_cell);
+  settled = _mm256_or_pd(settled, _mm256_or_pd(not_lt4(abs4(_mm256_add_pd(_mm256_set1_pd(c.ox), l.dx)), max_index),
+                                               not_lt4(abs4(_mm256_add_pd(_mm256_set1_pd(c.oy), l.dy)), max_index)));
+  // narrow_walk(): falling, rising and level lanes side by side.
+  const __m256d open = _mm256_andnot_pd(settled, _mm256_cmp_pd(t_stop, one, _CMP_LE_OQ));
+  l.left = _mm256_andnot_pd(_mm256_or_pd(settled, open), _mm256_castsi256_pd(_mm256_set1_epi64x(-1)));
+  l.fall = _mm256_and_pd(open, falling);
+  l.rise = _mm256_and_pd(open, rising);
+  l.level = _mm256_andnot_pd(_mm256_or_pd(falling, rising), open);
+  // c / -dz and -c / dz are both -(c / dz) exactly: one division for the
+  // start of a falling beam's walk and the end of a rising one's.
+  l.t_skip = _mm256_xor_pd(_mm256_div_pd(top_clearance, dz), sign);
+  l.t_last = l.t_skip;
+  l.settled = _mm256_or_pd(settled, _mm256_and_pd(l.fall, not_lt4(l.t_skip, t_stop)));
+  l.fall = _mm256_and_pd(l.fall, lt4(l.t_skip, t_stop));
+}
+
+STRIDEMAP_AVX2_INLINE bool screen_active(const ScreenLanes& l) {
+  const __m256d active = _mm256_or_pd(_mm256_or_pd(l.fall, l.rise), l.level);
+  return !_mm256_testz_pd(active, active);
+}
+
+// One of narrow_walk()'s rounds; nothing changes in lanes already done.
+STRIDEMAP_AVX2_INLINE void screen_round(const ScreenScan& c, ScreenLanes& l) {
+  const __m256d zero = _mm256_setzero_pd(), sign = _mm256_set1_pd(-0.0);
+  const __m256d active = _mm256_or_pd(_mm256_or_pd(l.fall, l.rise), l.level);
+  const __m256d t0 = _mm256_and_pd(_mm256_blendv_pd(l.t_skip, zero, lt4(l.t_skip, zero)), l.fall);
+  const __m256d t1 =
+      _mm256_blendv_pd(l.t_stop, _mm256_blendv_pd(l.t_last, l.t_stop, lt4(l.t_stop, l.t_last)), l.rise);
+  const __m256d lower = bound4(c, l.dx, l.dy, t0, t1);
+  const __m256d none =
+      _mm256_cmp_pd(lower, _mm256_set1_pd(-std::numeric_limits<double>::infinity()), _CMP_NGT_UQ);
+  __m256d settled = _mm256_or_pd(l.settled, _mm256_and_pd(active, none));
+  const __m256d lower_clearance = clearance4(l.z0_margin, l.slack_sum, lower);
+  settled = _mm256_or_pd(settled, _mm256_andnot_pd(none, _mm256_and_pd(l.level, not_lt4(lower_clearance, zero))));
+  l.level = zero;
+  // A lower bound than the last moves the walk's ends on.
+  const __m256d lower_top = _mm256_andnot_pd(none, lt4(lower, l.top));
+  __m256d fall = _mm256_and_pd(l.fall, lower_top), rise = _mm256_and_pd(l.rise, lower_top);
+  l.top = _mm256_blendv_pd(l.top, lower, _mm256_or_pd(fall, rise));
+  const __m256d t_moved = _mm256_xor_pd(_mm256_div_pd(lower_clearance, l.dz), sign);
+  l.t_skip = _mm256_blendv_pd(l.t_skip, t_moved, fall);
+  settled = _mm256_or_pd(settled, _mm256_and_pd(fall, not_lt4(l.t_skip, l.t_stop)));
+  l.fall = _mm256_and_pd(fall, lt4(l.t_skip, l.t_stop));
+  settled = _mm256_or_pd(settled, _mm256_and_pd(rise, not_lt4(lower_clearance, zero)));
+  l.rise = _mm256_and_pd(rise, lt4(lower_clearance, zero));
+  l.t_last = _mm256_blendv_pd(l.t_last, t_moved, l.rise);
+  l.settled = settled;
+}
+
+STRIDEMAP_AVX2_INLINE void screen_store(const ScreenLanes& l, ScreenBatch& b, std::size_t k) {
+  b.settled[k / 4] = static_cast<std::uint8_t>(_mm256_movemask_pd(l.settled));
+  b.left[k / 4] = static_cast<std::uint8_t>(_mm256_movemask_pd(l.left));
+  _mm256_store_pd(b.dx_cells + k, l.dx);
+  _mm256_store_pd(b.dy_cells + k, l.dy);
+  _mm256_store_pd(b.margin_m + k, l.margin);
+  _mm256_store_pd(b.t_stop + k, l.t_stop);
+  _mm256_store_pd(b.t_skip + k, _mm256_blendv_pd(_mm256_set1_pd(-1.0), l.t_skip, l.falling));
+  _mm256_store_pd(b.t_last + k, l.t_last);
+}
+
+__attribute__((target("avx2"))) void screen_avx2(const ScreenScan& c, ScreenBatch& b, std::size_t count) {
+  for (std::size_t k = 0; k < count; k += 4) {
+    ScreenLanes l;
+    screen_start(c, b, k, l);
+    for (int round = 0; round < 4 && screen_active(l); ++round) screen_round(c, l);
+    screen_store(l, b, k);
+  }
+}
+
+}  // namespace
+
+bool screen_available() { return cpu_has_avx2(); }
+
+void screen(const ScreenScan& scan, ScreenBatch& batch, std::size_t count) { screen_avx2(scan, batch, count); }
+
+#else
+
+bool screen_available() { return false; }
+
+// Never called (screen_available() is false): every beam left to the walk's own tests.
+void screen(const ScreenScan&, ScreenBatch& batch, std::size_t count) {
+  for (std::size_t v = 0; v < count; v += 4) {
+    batch.settled[v / 4] = 0;
+    batch.left[v / 4] = 15;
+  }
+}
+
+#endif
+
+}  // namespace stridemap::visibility
