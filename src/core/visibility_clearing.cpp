@@ -374,15 +374,17 @@ inline double crossing(double b, double o, double inverse_d) { return (b - o) * 
 struct Axis {
   std::int64_t index = 0;
   std::int64_t step = 1;
+  double s = 1.0;  // the step as a double
   double o = 0.0, inverse_d = 0.0;
   double boundary = 0.0;  // the next boundary's coordinate [cells]
   double next = 0.0;      // crossing(boundary)
   bool moves = false;
 
-  /// inverse_d_cells: 1 / d_cells, any value for a 0.
-  Axis(double o_cells, double d_cells, double inverse_d_cells) : o(o_cells), inverse_d(inverse_d_cells) {
-    index = floor_index(o_cells);
+  /// o_index: floor(o_cells); inverse_d_cells: 1 / d_cells, any value for a 0.
+  Axis(double o_cells, std::int64_t o_index, double d_cells, double inverse_d_cells)
+      : index(o_index), o(o_cells), inverse_d(inverse_d_cells) {
     step = d_cells > 0 ? 1 : -1;
+    s = d_cells > 0 ? 1.0 : -1.0;
     // A direction too small to invert never reaches a boundary in the beam.
     moves = d_cells != 0.0 && std::isfinite(inverse_d);
     boundary = static_cast<double>(index + (d_cells > 0 ? 1 : 0));
@@ -396,7 +398,7 @@ struct Axis {
   }
   void advance() {
     index += step;
-    boundary += static_cast<double>(step);
+    boundary += s;
     next = crossing(boundary, o, inverse_d);
   }
   /// Moves past every boundary crossed at or before t (t finite, within the
@@ -409,7 +411,6 @@ struct Axis {
     // crossings grow along the step, and the next boundary's is <= t, so
     // the boundary sought lies a step on or more, and the search back
     // stops at the next one without a bound of its own.
-    const double s = static_cast<double>(step);
     const double at = o + t * d_cells;
     const double nearest = boundary + s;
     double target = static_cast<double>(step > 0 ? floor_index(at) + 1 : -floor_index(-at) - 1);
@@ -554,16 +555,18 @@ template <typename Bound, typename Clearance>
   if (dz > 0.0) {
     // The last cell ending before t_last: the one ending at or before the double just below it.
     const double t_end = std::min(t_stop, std::nextafter(t_last, -std::numeric_limits<double>::infinity()));
-    walk<true>(map, {ox, oy, dx, dy, 1.0 / dx, 1.0 / dy, z0, dz, margin, t_skip, t_end});
+    walk<true>(map, {ox, oy, floor_index(ox), floor_index(oy), dx, dy, 1.0 / dx, 1.0 / dy, z0, dz, margin, t_skip,
+                     t_end});
   } else {
-    walk<false>(map, {ox, oy, dx, dy, 1.0 / dx, 1.0 / dy, z0, dz, margin, t_skip, t_stop});
+    walk<false>(map, {ox, oy, floor_index(ox), floor_index(oy), dx, dy, 1.0 / dx, 1.0 / dy, z0, dz, margin, t_skip,
+                      t_stop});
   }
 }
 
 template <bool kRising>
 void VisibilityClearing::walk(ElevationMap& map, const WalkBeam& beam) {
   const double z0 = beam.z0, dz = beam.dz, margin = beam.margin, t_skip = beam.t_skip, t_end = beam.t_end;
-  Axis ax(beam.ox, beam.dx, beam.inverse_dx), ay(beam.oy, beam.dy, beam.inverse_dy);
+  Axis ax(beam.ox, beam.ix, beam.dx, beam.inverse_dx), ay(beam.oy, beam.iy, beam.dy, beam.inverse_dy);
   double t_in = 0.0;
   if (t_skip > 0.0) t_in = std::max(0.0, std::max(ax.skip_to(t_skip, beam.dx), ay.skip_to(t_skip, beam.dy)));
 
@@ -665,6 +668,8 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
   // An origin this far out ends every beam before its walk.
   constexpr double kMaxIndex = 1e15;
   const bool origin_far = !(std::abs(scan.ox) < kMaxIndex && std::abs(scan.oy) < kMaxIndex);
+  // The origin's cell, for every walk of the fan.
+  const std::int64_t ix = origin_far ? 0 : floor_index(scan.ox), iy = origin_far ? 0 : floor_index(scan.oy);
   // On the stack (about 12 kB): nothing allocated per scan.
   visibility::ScreenBatch batch;
   // No last hit as NaN, to which no distance is below the spacing.
@@ -718,10 +723,10 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
         } else if (dz > 0.0) {
           const double t_end =
               std::min(batch.t_stop[p], std::nextafter(batch.t_last[p], -std::numeric_limits<double>::infinity()));
-          walk<true>(map, {scan.ox, scan.oy, batch.dx_cells[p], batch.dy_cells[p], batch.inverse_dx[p],
+          walk<true>(map, {scan.ox, scan.oy, ix, iy, batch.dx_cells[p], batch.dy_cells[p], batch.inverse_dx[p],
                            batch.inverse_dy[p], scan.z0, dz, batch.margin_m[p], batch.t_skip[p], t_end});
         } else {
-          walk<false>(map, {scan.ox, scan.oy, batch.dx_cells[p], batch.dy_cells[p], batch.inverse_dx[p],
+          walk<false>(map, {scan.ox, scan.oy, ix, iy, batch.dx_cells[p], batch.dy_cells[p], batch.inverse_dx[p],
                             batch.inverse_dy[p], scan.z0, dz, batch.margin_m[p], batch.t_skip[p], batch.t_stop[p]});
         }
       }

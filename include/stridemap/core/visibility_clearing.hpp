@@ -194,10 +194,13 @@ class VisibilityClearing {
   /// range2 its squared norm.
   void trace_valid(ElevationMap& map, const Eigen::Vector3d& origin_m, const Eigen::Vector3d& d, double range2,
                    double range_error_m, double height_error_m);
-  /// A walk's beam o + t d (in cells): inverse_dx, inverse_dy are 1 / dx,
-  /// 1 / dy (any value for a 0), taken where the beam is at hand.
+  /// A walk's beam o + t d (in cells): ix, iy are floor(ox), floor(oy) and
+  /// inverse_dx, inverse_dy 1 / dx, 1 / dy (any value for a 0), taken
+  /// where they are shared or at hand.
   struct WalkBeam {
-    double ox, oy, dx, dy, inverse_dx, inverse_dy, z0, dz, margin, t_skip, t_end;
+    double ox, oy;
+    std::int64_t ix, iy;
+    double dx, dy, inverse_dx, inverse_dy, z0, dz, margin, t_skip, t_end;
   };
   /// Walks the window's cells the beam crosses from the one holding t_skip
   /// to the last ending at or before t_end.
