@@ -564,7 +564,7 @@ template <typename Bound, typename Clearance>
 }
 
 template <bool kRising>
-void VisibilityClearing::walk(ElevationMap& map, const WalkBeam& beam) {
+inline void VisibilityClearing::walk(ElevationMap& map, const WalkBeam& beam) {
   const double z0 = beam.z0, dz = beam.dz, margin = beam.margin, t_skip = beam.t_skip, t_end = beam.t_end;
   Axis ax(beam.ox, beam.ix, beam.dx, beam.inverse_dx), ay(beam.oy, beam.iy, beam.dy, beam.inverse_dy);
   double t_in = 0.0;

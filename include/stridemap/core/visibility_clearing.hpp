@@ -204,8 +204,9 @@ class VisibilityClearing {
   };
   /// Walks the window's cells the beam crosses from the one holding t_skip
   /// to the last ending at or before t_end.
+  /// Inlined into its callers: the beam's values stay in registers.
   template <bool kRising>
-  void walk(ElevationMap& map, const WalkBeam& beam);
+  [[gnu::always_inline]] inline void walk(ElevationMap& map, const WalkBeam& beam);
   void contradict(ElevationMap& map, CellIndex cell, std::size_t slot);
   double spacing_m2(double cell_size_m) const {
     const double spacing_m = options_.beam_spacing_cells * cell_size_m;
