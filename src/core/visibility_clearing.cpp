@@ -579,7 +579,8 @@ inline void VisibilityClearing::walk(ElevationMap& map, const WalkBeam& beam) {
   std::int64_t i = ax.index - corner.x, j = ay.index - corner.y;
   // A walk nearly always starts inside the window: no division then.
   const auto slot_of = [n](std::int64_t x) {
-    return x >= 0 && x < 2 * n ? x - (x >= n ? n : 0) : static_cast<std::int64_t>(wrap_index(x, n));
+    return static_cast<std::uint64_t>(x) < static_cast<std::uint64_t>(2 * n) ? x - (x >= n ? n : 0)
+                                                                              : static_cast<std::int64_t>(wrap_index(x, n));
   };
   std::int64_t row = slot_of(slot_x0_ + i) * n;
   std::int64_t column = slot_of(slot_y0_ + j);
