@@ -645,13 +645,6 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
     return;
   }
   visibility::ScreenScan scan;
-  scan.x_m = x_m;
-  scan.y_m = y_m;
-  scan.z_m = z_m;
-  scan.range_error_m = range_error_m;
-  scan.height_error_m = height_error_m;
-  scan.x0_m = origin_m.x();
-  scan.y0_m = origin_m.y();
   scan.z0 = origin_m.z();
   scan.inverse_cell = inverse_cell_;
   scan.ox = origin_m.x() * inverse_cell_;
@@ -677,38 +670,44 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
   constexpr double kNoHit = std::numeric_limits<double>::quiet_NaN();
   double last_x = have_last_hit_ ? last_hit_.x() : kNoHit, last_y = have_last_hit_ ? last_hit_.y() : kNoHit;
   const double spacing_m2 = spacing_m2_;
-  // Which beams are valid, a chunk at a time, four in a vector: the
-  // sequential pass below then tests a bit.
-  std::uint64_t valid[visibility::kValidBeams / 64];
-  std::size_t valid_from = 0, valid_end = 0;
   std::size_t k = 0;
   while (k < count) {
     // The beams trace_from() would trace, in order: the thinning follows
     // the last valid beam whatever its walk does.
     std::size_t m = 0;
-    while (k < count && m < visibility::kScreenBeams) {
-      if (k == valid_end) {
-        valid_from = k;
-        valid_end = std::min(count, k + visibility::kValidBeams);
-        visibility::valid_beams(scan, valid_from, valid_end - valid_from, valid);
+    while (k < count) {
+      const std::size_t at = k++;
+      const double x = x_m[at], y = y_m[at];
+      const double ex = x - last_x, ey = y - last_y;
+      if (ex * ex + ey * ey < spacing_m2) continue;
+      const Eigen::Vector3d d = Eigen::Vector3d(x, y, z_m[at]) - origin_m;
+      const double range2 = d.squaredNorm();
+      const double range_error = range_error_m[at], height_error = height_error_m[at];
+      if (!(range2 > 0.0 && range2 < std::numeric_limits<double>::infinity()) || !std::isfinite(range_error) ||
+          !std::isfinite(height_error)) {
+        continue;
       }
-      while (k < valid_end) {
-        const std::size_t at = k++;
-        const double x = x_m[at], y = y_m[at];
-        const double ex = x - last_x, ey = y - last_y;
-        if (ex * ex + ey * ey < spacing_m2) continue;
-        const std::size_t bit = at - valid_from;
-        if (!(valid[bit / 64] >> (bit % 64) & 1u)) continue;
-        last_x = x;
-        last_y = y;
-        batch.index[m] = static_cast<std::int64_t>(at);
-        if (++m == visibility::kScreenBeams) break;
-      }
+      last_x = x;
+      last_y = y;
+      batch.dx_m[m] = d.x();
+      batch.dy_m[m] = d.y();
+      batch.dz_m[m] = d.z();
+      batch.range2[m] = range2;
+      batch.range_error_m[m] = range_error;
+      batch.height_error_m[m] = height_error;
+      if (++m == visibility::kScreenBeams) break;
     }
     if (m == 0) break;
     stats_.beams_traced += m;
     if (origin_far) continue;
-    for (std::size_t p = m; p % 4 != 0; ++p) batch.index[p] = batch.index[m - 1];  // padding, results unused
+    for (std::size_t p = m; p % 4 != 0; ++p) {  // padding: copies of the last beam, results unused
+      batch.dx_m[p] = batch.dx_m[m - 1];
+      batch.dy_m[p] = batch.dy_m[m - 1];
+      batch.dz_m[p] = batch.dz_m[m - 1];
+      batch.range2[p] = batch.range2[m - 1];
+      batch.range_error_m[p] = batch.range_error_m[m - 1];
+      batch.height_error_m[p] = batch.height_error_m[m - 1];
+    }
     visibility::screen(scan, batch, m);
     // The rest walk in the fan's order: a walk reads the cells the walks
     // before it may have cleared.
@@ -718,9 +717,8 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
         if (p >= m) break;
         const double dz = batch.dz_m[p];
         if (batch.left[v / 4] >> (p - v) & 1u) {
-          const auto at = static_cast<std::size_t>(batch.index[p]);
-          const Eigen::Vector3d d = Eigen::Vector3d(x_m[at], y_m[at], z_m[at]) - origin_m;
-          trace_valid(map, origin_m, d, d.squaredNorm(), range_error_m[at], height_error_m[at]);
+          trace_valid(map, origin_m, {batch.dx_m[p], batch.dy_m[p], dz}, batch.range2[p], batch.range_error_m[p],
+                      batch.height_error_m[p]);
         } else if (dz > 0.0) {
           const double t_end =
               std::min(batch.t_stop[p], std::nextafter(batch.t_last[p], -std::numeric_limits<double>::infinity()));

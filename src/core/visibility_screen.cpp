@@ -1,6 +1,5 @@
 #include "visibility_screen.hpp"
 
-#include <cmath>
 #include <limits>
 
 // The screen is an AVX2 copy chosen at run time (GCC and clang on x86-64);
@@ -90,17 +89,9 @@ struct ScreenLanes {
 STRIDEMAP_AVX2_INLINE void screen_start(const ScreenScan& c, const ScreenBatch& b, std::size_t k, ScreenLanes& l) {
   const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0), sign = _mm256_set1_pd(-0.0);
   const __m256d max_index = _mm256_set1_pd(1e15);
-  // The beams from the fan by their index, as trace_fan() forms them:
-  // d = hit - origin, its squared norm as (x^2 + y^2) + z^2.
-  const __m256i index = _mm256_load_si256(reinterpret_cast<const __m256i*>(b.index + k));
-  const __m256d dx_m = _mm256_sub_pd(_mm256_i64gather_pd(c.x_m, index, 8), _mm256_set1_pd(c.x0_m));
-  const __m256d dy_m = _mm256_sub_pd(_mm256_i64gather_pd(c.y_m, index, 8), _mm256_set1_pd(c.y0_m));
-  const __m256d dz = _mm256_sub_pd(_mm256_i64gather_pd(c.z_m, index, 8), _mm256_set1_pd(c.z0));
-  const __m256d range2 = _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx_m, dx_m), _mm256_mul_pd(dy_m, dy_m)),
-                                       _mm256_mul_pd(dz, dz));
-  const __m256d range_error = _mm256_i64gather_pd(c.range_error_m, index, 8);
+  const __m256d dz = _mm256_load_pd(b.dz_m + k), range_error = _mm256_load_pd(b.range_error_m + k);
   const __m256d margin = _mm256_add_pd(
-      _mm256_mul_pd(_mm256_set1_pd(c.uncertainty_factor), _mm256_i64gather_pd(c.height_error_m, index, 8)),
+      _mm256_mul_pd(_mm256_set1_pd(c.uncertainty_factor), _mm256_load_pd(b.height_error_m + k)),
       _mm256_set1_pd(c.relief_m));
   l.dz = dz;
   l.margin = margin;
@@ -115,12 +106,12 @@ STRIDEMAP_AVX2_INLINE void screen_start(const ScreenScan& c, const ScreenBatch& 
                                      _mm256_and_pd(_mm256_cmp_pd(range_error, zero, _CMP_GE_OQ),
                                                    not_lt4(top_clearance, _mm256_xor_pd(dz, sign))),
                                      falling);
-  const __m256d t_stop = _mm256_sub_pd(one, _mm256_div_pd(range_error, _mm256_sqrt_pd(range2)));
+  const __m256d t_stop = _mm256_sub_pd(one, _mm256_div_pd(range_error, _mm256_sqrt_pd(_mm256_load_pd(b.range2 + k))));
   l.t_stop = t_stop;
   settled = _mm256_or_pd(settled, _mm256_cmp_pd(t_stop, zero, _CMP_NGT_UQ));
   const __m256d inverse_cell = _mm256_set1_pd(c.inverse_cell);
-  l.dx = _mm256_mul_pd(dx_m, inverse_cell);
-  l.dy = _mm256_mul_pd(dy_m, inverse_cell);
+  l.dx = _mm256_mul_pd(_mm256_load_pd(b.dx_m + k), inverse_cell);
+  l.dy = _mm256_mul_pd(_mm256_load_pd(b.dy_m + k), inverse_cell);
   settled = _mm256_or_pd(settled, _mm256_or_pd(not_lt4(abs4(_mm256_add_pd(_mm256_set1_pd(c.ox), l.dx)), max_index),
                                                not_lt4(abs4(_mm256_add_pd(_mm256_set1_pd(c.oy), l.dy)), max_index)));
   // narrow_walk(): falling, rising and level lanes side by side.
@@ -173,7 +164,6 @@ STRIDEMAP_AVX2_INLINE void screen_round(const ScreenScan& c, ScreenLanes& l) {
 STRIDEMAP_AVX2_INLINE void screen_store(const ScreenLanes& l, ScreenBatch& b, std::size_t k) {
   b.settled[k / 4] = static_cast<std::uint8_t>(_mm256_movemask_pd(l.settled));
   b.left[k / 4] = static_cast<std::uint8_t>(_mm256_movemask_pd(l.left));
-  _mm256_store_pd(b.dz_m + k, l.dz);
   _mm256_store_pd(b.dx_cells + k, l.dx);
   _mm256_store_pd(b.dy_cells + k, l.dy);
   // The walk's divisions, four at a time here rather than one by one on its way in.
@@ -194,52 +184,15 @@ __attribute__((target("avx2"))) void screen_avx2(const ScreenScan& c, ScreenBatc
   }
 }
 
-// The validity of four beams from `first`, as four bits.
-STRIDEMAP_AVX2_INLINE unsigned valid4(const ScreenScan& c, std::size_t first) {
-  const __m256d dx = _mm256_sub_pd(_mm256_loadu_pd(c.x_m + first), _mm256_set1_pd(c.x0_m));
-  const __m256d dy = _mm256_sub_pd(_mm256_loadu_pd(c.y_m + first), _mm256_set1_pd(c.y0_m));
-  const __m256d dz = _mm256_sub_pd(_mm256_loadu_pd(c.z_m + first), _mm256_set1_pd(c.z0));
-  const __m256d range2 =
-      _mm256_add_pd(_mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy)), _mm256_mul_pd(dz, dz));
-  const __m256d inf = _mm256_set1_pd(std::numeric_limits<double>::infinity());
-  const __m256d ok = _mm256_and_pd(
-      _mm256_and_pd(_mm256_cmp_pd(range2, _mm256_setzero_pd(), _CMP_GT_OQ), lt4(range2, inf)),
-      _mm256_and_pd(lt4(abs4(_mm256_loadu_pd(c.range_error_m + first)), inf),
-                    lt4(abs4(_mm256_loadu_pd(c.height_error_m + first)), inf)));
-  return static_cast<unsigned>(_mm256_movemask_pd(ok));
-}
-
-__attribute__((target("avx2"))) void valid_beams_avx2(const ScreenScan& c, std::size_t first, std::size_t count,
-                                                      std::uint64_t* valid) {
-  for (std::size_t w = 0; w * 64 < count; ++w) valid[w] = 0;
-  std::size_t b = 0;
-  for (; b + 4 <= count; b += 4) valid[b / 64] |= std::uint64_t{valid4(c, first + b)} << (b % 64);
-  for (; b < count; ++b) {
-    const std::size_t at = first + b;
-    const double dx = c.x_m[at] - c.x0_m, dy = c.y_m[at] - c.y0_m, dz = c.z_m[at] - c.z0;
-    const double range2 = (dx * dx + dy * dy) + dz * dz;
-    const double inf = std::numeric_limits<double>::infinity();
-    const bool ok = range2 > 0.0 && range2 < inf && std::abs(c.range_error_m[at]) < inf &&
-                    std::abs(c.height_error_m[at]) < inf;
-    valid[b / 64] |= std::uint64_t{ok} << (b % 64);
-  }
-}
-
 }  // namespace
 
 bool screen_available() { return cpu_has_avx2(); }
-
-void valid_beams(const ScreenScan& scan, std::size_t first, std::size_t count, std::uint64_t* valid) {
-  valid_beams_avx2(scan, first, count, valid);
-}
 
 void screen(const ScreenScan& scan, ScreenBatch& batch, std::size_t count) { screen_avx2(scan, batch, count); }
 
 #else
 
 bool screen_available() { return false; }
-
-void valid_beams(const ScreenScan&, std::size_t, std::size_t, std::uint64_t*) {}
 
 // Never called (screen_available() is false): every beam left to the walk's own tests.
 void screen(const ScreenScan&, ScreenBatch& batch, std::size_t count) {

@@ -12,20 +12,21 @@ namespace stridemap::visibility {
 /// together, then walked in their order.
 inline constexpr std::size_t kScreenBeams = 128;
 
-/// valid_beams() takes a fan's beams this many at a time.
-inline constexpr std::size_t kValidBeams = 256;
-
-// The traced beams of one batch, by their index in the fan, padded to a
-// whole number of vectors (the last one's index again).
+// The traced beams of one batch as trace_valid() takes them, padded to a
+// whole number of vectors.
 struct ScreenBatch {
-  alignas(32) std::int64_t index[kScreenBeams];
+  alignas(32) double dx_m[kScreenBeams];
+  alignas(32) double dy_m[kScreenBeams];
+  alignas(32) double dz_m[kScreenBeams];
+  alignas(32) double range2[kScreenBeams];
+  alignas(32) double range_error_m[kScreenBeams];
+  alignas(32) double height_error_m[kScreenBeams];
   // What the screen found, per vector of 4 (bit b: beam b): settled, its
   // walk not needed; left, for trace_valid() to take from the start.
   std::uint8_t settled[kScreenBeams / 4];
   std::uint8_t left[kScreenBeams / 4];
   // For the rest, the walk's arguments as trace_valid() would pass them
   // (t_last: where a rising beam's walk ends, before the stop).
-  alignas(32) double dz_m[kScreenBeams];
   alignas(32) double dx_cells[kScreenBeams];
   alignas(32) double dy_cells[kScreenBeams];
   alignas(32) double inverse_dx[kScreenBeams];  // 1 / dx_cells, 1 / dy_cells
@@ -36,11 +37,8 @@ struct ScreenBatch {
   alignas(32) double t_last[kScreenBeams];
 };
 
-// What the screen needs of the scan and the fan.
+// What the screen needs of the scan and the fan's origin.
 struct ScreenScan {
-  const double *x_m = nullptr, *y_m = nullptr, *z_m = nullptr;  // the fan's hits, errors
-  const double *range_error_m = nullptr, *height_error_m = nullptr;
-  double x0_m = 0.0, y0_m = 0.0;  // the origin's x and y [m]; z0 below
   double z0 = 0.0, ox = 0.0, oy = 0.0, inverse_cell = 1.0;
   double uncertainty_factor = 0.0, relief_m = 0.0, one_abs_z0 = 0.0, top = 0.0;
   double corner_x = 0.0, corner_y = 0.0, last_index = 0.0;
@@ -52,11 +50,6 @@ struct ScreenScan {
 /// Whether this build and CPU run the screen (an AVX2 copy, chosen at run
 /// time); without it a fan is traced beam by beam.
 bool screen_available();
-
-/// Sets bit b of valid[b / 64] for each of the fan's beams first + b,
-/// b < count <= kValidBeams, that trace_from() finds valid (its range's
-/// square finite and above 0, its errors finite) and clears the others'.
-void valid_beams(const ScreenScan& scan, std::size_t first, std::size_t count, std::uint64_t* valid);
 
 /// Settles, four beams a vector, every beam of the batch that trace_valid()
 /// would end before its walk: the same tests on the same values, operation
