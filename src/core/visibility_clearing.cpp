@@ -374,16 +374,18 @@ inline double crossing(double b, double o, double inverse_d) { return (b - o) * 
 struct Axis {
   std::int64_t index = 0;
   std::int64_t step = 1;
+  double s = 1.0;  // the step as a double
   double o = 0.0, inverse_d = 0.0;
   double boundary = 0.0;  // the next boundary's coordinate [cells]
   double next = 0.0;      // crossing(boundary)
   bool moves = false;
 
-  Axis(double o_cells, double d_cells) : o(o_cells) {
-    index = floor_index(o_cells);
+  /// o_index: floor(o_cells); inverse_d_cells: 1 / d_cells, any value for a 0.
+  Axis(double o_cells, std::int64_t o_index, double d_cells, double inverse_d_cells)
+      : index(o_index), o(o_cells), inverse_d(inverse_d_cells) {
     step = d_cells > 0 ? 1 : -1;
+    s = d_cells > 0 ? 1.0 : -1.0;
     // A direction too small to invert never reaches a boundary in the beam.
-    inverse_d = d_cells != 0.0 ? 1.0 / d_cells : 0.0;
     moves = d_cells != 0.0 && std::isfinite(inverse_d);
     boundary = static_cast<double>(index + (d_cells > 0 ? 1 : 0));
     next = moves ? crossing(boundary, o, inverse_d) : std::numeric_limits<double>::infinity();
@@ -396,7 +398,7 @@ struct Axis {
   }
   void advance() {
     index += step;
-    boundary += static_cast<double>(step);
+    boundary += s;
     next = crossing(boundary, o, inverse_d);
   }
   /// Moves past every boundary crossed at or before t (t finite, within the
@@ -405,20 +407,29 @@ struct Axis {
   double skip_to(double t, double d_cells) {
     constexpr double kNone = -std::numeric_limits<double>::infinity();
     if (!moves || !(next <= t)) return kNone;
-    // First guess from the line, then set right with the same formula.
+    // First guess from the line, then set right with the same formula: the
+    // crossings grow along the step, and the next boundary's is <= t, so
+    // the boundary sought lies a step on or more, and the search back
+    // stops at the next one without a bound of its own.
     const double at = o + t * d_cells;
-    const double first = boundary;
+    const double nearest = boundary + s;
     double target = static_cast<double>(step > 0 ? floor_index(at) + 1 : -floor_index(-at) - 1);
-    if ((target - first) * static_cast<double>(step) < 0.0) target = first;
-    while ((target - first) * static_cast<double>(step) > 0.0 &&
-           crossing(target - static_cast<double>(step), o, inverse_d) > t) {
-      target -= static_cast<double>(step);
+    if ((target - nearest) * s < 0.0) target = nearest;
+    double before = crossing(target - s, o, inverse_d);
+    while (before > t) {
+      target -= s;
+      before = crossing(target - s, o, inverse_d);
     }
-    while (crossing(target, o, inverse_d) <= t) target += static_cast<double>(step);
-    index += static_cast<std::int64_t>(target - first);  // one cell per boundary, in the step's direction
+    double after = crossing(target, o, inverse_d);
+    while (after <= t) {
+      before = after;
+      target += s;
+      after = crossing(target, o, inverse_d);
+    }
+    index += static_cast<std::int64_t>(target - boundary);  // one cell per boundary, in the step's direction
     boundary = target;
-    next = crossing(target, o, inverse_d);
-    return crossing(target - static_cast<double>(step), o, inverse_d);
+    next = after;
+    return before;
   }
 };
 
@@ -544,18 +555,20 @@ template <typename Bound, typename Clearance>
   if (dz > 0.0) {
     // The last cell ending before t_last: the one ending at or before the double just below it.
     const double t_end = std::min(t_stop, std::nextafter(t_last, -std::numeric_limits<double>::infinity()));
-    walk<true>(map, ox, oy, dx, dy, z0, dz, margin, t_skip, t_end);
+    walk<true>(map, {ox, oy, floor_index(ox), floor_index(oy), dx, dy, 1.0 / dx, 1.0 / dy, z0, dz, margin, t_skip,
+                     t_end});
   } else {
-    walk<false>(map, ox, oy, dx, dy, z0, dz, margin, t_skip, t_stop);
+    walk<false>(map, {ox, oy, floor_index(ox), floor_index(oy), dx, dy, 1.0 / dx, 1.0 / dy, z0, dz, margin, t_skip,
+                      t_stop});
   }
 }
 
 template <bool kRising>
-void VisibilityClearing::walk(ElevationMap& map, double ox, double oy, double dx, double dy, double z0, double dz,
-                              double margin, double t_skip, double t_end) {
-  Axis ax(ox, dx), ay(oy, dy);
+inline void VisibilityClearing::walk(ElevationMap& map, const WalkBeam& beam) {
+  const double z0 = beam.z0, dz = beam.dz, margin = beam.margin, t_skip = beam.t_skip, t_end = beam.t_end;
+  Axis ax(beam.ox, beam.ix, beam.dx, beam.inverse_dx), ay(beam.oy, beam.iy, beam.dy, beam.inverse_dy);
   double t_in = 0.0;
-  if (t_skip > 0.0) t_in = std::max(0.0, std::max(ax.skip_to(t_skip, dx), ay.skip_to(t_skip, dy)));
+  if (t_skip > 0.0) t_in = std::max(0.0, std::max(ax.skip_to(t_skip, beam.dx), ay.skip_to(t_skip, beam.dy)));
 
   const std::int64_t n = n_;
   const CellIndex corner = corner_;
@@ -566,11 +579,16 @@ void VisibilityClearing::walk(ElevationMap& map, double ox, double oy, double dx
   std::int64_t i = ax.index - corner.x, j = ay.index - corner.y;
   // A walk nearly always starts inside the window: no division then.
   const auto slot_of = [n](std::int64_t x) {
-    return x >= 0 && x < 2 * n ? x - (x >= n ? n : 0) : static_cast<std::int64_t>(wrap_index(x, n));
+    return static_cast<std::uint64_t>(x) < static_cast<std::uint64_t>(2 * n) ? x - (x >= n ? n : 0)
+                                                                              : static_cast<std::int64_t>(wrap_index(x, n));
   };
   std::int64_t row = slot_of(slot_x0_ + i) * n;
   std::int64_t column = slot_of(slot_y0_ + j);
+  // Past the window's last slot row (column) the walk goes on from its
+  // first, and the other way round: one comparison for the way it moves.
   const std::int64_t row_step = ax.step * n, rows_end = n * n;
+  const std::int64_t row_wrap = ax.step > 0 ? rows_end : -n, row_reset = ax.step > 0 ? 0 : rows_end - n;
+  const std::int64_t column_wrap = ay.step > 0 ? n : -1, column_reset = ay.step > 0 ? 0 : n - 1;
   while (true) {
     const double t_out = std::min(ax.next, ay.next);
     if (!(t_out <= t_end)) break;
@@ -591,12 +609,12 @@ void VisibilityClearing::walk(ElevationMap& map, double ox, double oy, double dx
       ax.advance();
       i += ax.step;
       row += row_step;
-      row = row >= rows_end ? 0 : row < 0 ? rows_end - n : row;
+      row = row == row_wrap ? row_reset : row;
     } else {
       ay.advance();
       j += ay.step;
       column += ay.step;
-      column = column >= n ? 0 : column < 0 ? n - 1 : column;
+      column = column == column_wrap ? column_reset : column;
     }
   }
   stats_.cells_crossed += crossed;
@@ -644,7 +662,9 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
   // An origin this far out ends every beam before its walk.
   constexpr double kMaxIndex = 1e15;
   const bool origin_far = !(std::abs(scan.ox) < kMaxIndex && std::abs(scan.oy) < kMaxIndex);
-  // On the stack (about 12 kB): nothing allocated per scan.
+  // The origin's cell, for every walk of the fan.
+  const std::int64_t ix = origin_far ? 0 : floor_index(scan.ox), iy = origin_far ? 0 : floor_index(scan.oy);
+  // On the stack (about 14 kB): nothing allocated per scan.
   visibility::ScreenBatch batch;
   // No last hit as NaN, to which no distance is below the spacing.
   constexpr double kNoHit = std::numeric_limits<double>::quiet_NaN();
@@ -702,11 +722,11 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
         } else if (dz > 0.0) {
           const double t_end =
               std::min(batch.t_stop[p], std::nextafter(batch.t_last[p], -std::numeric_limits<double>::infinity()));
-          walk<true>(map, scan.ox, scan.oy, batch.dx_cells[p], batch.dy_cells[p], scan.z0, dz, batch.margin_m[p],
-                     batch.t_skip[p], t_end);
+          walk<true>(map, {scan.ox, scan.oy, ix, iy, batch.dx_cells[p], batch.dy_cells[p], batch.inverse_dx[p],
+                           batch.inverse_dy[p], scan.z0, dz, batch.margin_m[p], batch.t_skip[p], t_end});
         } else {
-          walk<false>(map, scan.ox, scan.oy, batch.dx_cells[p], batch.dy_cells[p], scan.z0, dz, batch.margin_m[p],
-                      batch.t_skip[p], batch.t_stop[p]);
+          walk<false>(map, {scan.ox, scan.oy, ix, iy, batch.dx_cells[p], batch.dy_cells[p], batch.inverse_dx[p],
+                            batch.inverse_dy[p], scan.z0, dz, batch.margin_m[p], batch.t_skip[p], batch.t_stop[p]});
         }
       }
     }

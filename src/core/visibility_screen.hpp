@@ -29,6 +29,8 @@ struct ScreenBatch {
   // (t_last: where a rising beam's walk ends, before the stop).
   alignas(32) double dx_cells[kScreenBeams];
   alignas(32) double dy_cells[kScreenBeams];
+  alignas(32) double inverse_dx[kScreenBeams];  // 1 / dx_cells, 1 / dy_cells
+  alignas(32) double inverse_dy[kScreenBeams];
   alignas(32) double margin_m[kScreenBeams];
   alignas(32) double t_stop[kScreenBeams];
   alignas(32) double t_skip[kScreenBeams];

@@ -194,11 +194,19 @@ class VisibilityClearing {
   /// range2 its squared norm.
   void trace_valid(ElevationMap& map, const Eigen::Vector3d& origin_m, const Eigen::Vector3d& d, double range2,
                    double range_error_m, double height_error_m);
-  /// Walks the window's cells the beam o + t d (in cells) crosses from the
-  /// one holding t_skip to the last ending at or before t_end.
+  /// A walk's beam o + t d (in cells): ix, iy are floor(ox), floor(oy) and
+  /// inverse_dx, inverse_dy 1 / dx, 1 / dy (any value for a 0), taken
+  /// where they are shared or at hand.
+  struct WalkBeam {
+    double ox, oy;
+    std::int64_t ix, iy;
+    double dx, dy, inverse_dx, inverse_dy, z0, dz, margin, t_skip, t_end;
+  };
+  /// Walks the window's cells the beam crosses from the one holding t_skip
+  /// to the last ending at or before t_end.
+  /// Inlined into its callers: the beam's values stay in registers.
   template <bool kRising>
-  void walk(ElevationMap& map, double ox, double oy, double dx, double dy, double z0, double dz, double margin,
-            double t_skip, double t_end);
+  [[gnu::always_inline]] inline void walk(ElevationMap& map, const WalkBeam& beam);
   void contradict(ElevationMap& map, CellIndex cell, std::size_t slot);
   double spacing_m2(double cell_size_m) const {
     const double spacing_m = options_.beam_spacing_cells * cell_size_m;
