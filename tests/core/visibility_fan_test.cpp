@@ -39,6 +39,37 @@ ElevationMap random_floor_with_blocks(std::mt19937_64& rng, int n, double cell_m
   return map;
 }
 
+// A fan's beams as arrays: given to trace_fan() at once, or one by one.
+struct FanBeams {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  std::vector<double> x, y, z, range_error, height_error;
+
+  VisibilityFan fan() const {
+    return {origin, x.size(), x.data(), y.data(), z.data(), height_error.data(), range_error.data()};
+  }
+  template <typename Trace>
+  void each(Trace&& trace) const {
+    for (std::size_t k = 0; k < x.size(); ++k) {
+      VisibilityBeam beam;
+      beam.origin_m = origin;
+      beam.hit_m = {x[k], y[k], z[k]};
+      beam.range_error_m = range_error[k];
+      beam.height_error_m = height_error[k];
+      trace(beam);
+    }
+  }
+};
+
+// The fan traced at once against the same beams one by one: maps, account,
+// cells crossed and where the thinning goes on from.
+void expect_fan_as_beams(const VisibilityClearing& by_fan, const ElevationMap& fan_map,
+                         const VisibilityClearing& by_beam, const ElevationMap& beam_map, const FanBeams& beams) {
+  expect_same_maps(fan_map, beam_map);
+  test::expect_same_account(by_fan, by_beam);
+  EXPECT_EQ(by_fan.stats().cells_crossed, by_beam.stats().cells_crossed);
+  EXPECT_EQ(by_fan.thinned(beams.x[0], beams.y[0]), by_beam.thinned(beams.x[0], beams.y[0]));
+}
+
 TEST(VisibilityFan, TracesTheSameBeamsAsTraceOneByOne) {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   constexpr double kInf = std::numeric_limits<double>::infinity();
@@ -58,7 +89,10 @@ TEST(VisibilityFan, TracesTheSameBeamsAsTraceOneByOne) {
     const Eigen::Vector2d lo(fan_map.min_cell().x * cell, fan_map.min_cell().y * cell);
     for (int scan = 0; scan < 3; ++scan) {
       const Eigen::Vector3d origin(lo.x() + n * cell * u(rng), lo.y() + n * cell * u(rng), 0.05 + 0.3 * u(rng));
-      std::vector<double> x, y, z, range_error, height_error;
+      FanBeams beams;
+      beams.origin = origin;
+      auto &x = beams.x, &y = beams.y, &z = beams.z, &range_error = beams.range_error,
+           &height_error = beams.height_error;
       for (int k = 0; k < 400; ++k) {
         const double angle = 2.0 * M_PI * k / 400.0, reach = n * cell * (0.1 + 0.8 * u(rng));
         x.push_back(origin.x() + reach * std::cos(angle));
@@ -78,26 +112,16 @@ TEST(VisibilityFan, TracesTheSameBeamsAsTraceOneByOne) {
       by_fan.begin_scan(fan_map);
       by_beam.begin_scan(beam_map);
       full.begin_scan();
-      by_fan.trace_fan(fan_map,
-                       {origin, x.size(), x.data(), y.data(), z.data(), height_error.data(), range_error.data()});
-      for (std::size_t k = 0; k < x.size(); ++k) {
-        VisibilityBeam beam;
-        beam.origin_m = origin;
-        beam.hit_m = {x[k], y[k], z[k]};
-        beam.range_error_m = range_error[k];
-        beam.height_error_m = height_error[k];
+      by_fan.trace_fan(fan_map, beams.fan());
+      beams.each([&](const VisibilityBeam& beam) {
         by_beam.trace(beam_map, beam);
         full.trace(full_map, beam);
-      }
-      expect_same_maps(fan_map, beam_map);
+      });
+      expect_fan_as_beams(by_fan, fan_map, by_beam, beam_map, beams);
       expect_same_maps(fan_map, full_map);
       EXPECT_EQ(by_fan.stats().beams_traced, full.stats().beams_traced);
       EXPECT_EQ(by_fan.stats().cells_contradicted, full.stats().cells_contradicted);
       EXPECT_EQ(by_fan.stats().cells_cleared, full.stats().cells_cleared);
-      test::expect_same_account(by_fan, by_beam);
-      EXPECT_EQ(by_fan.stats().cells_crossed, by_beam.stats().cells_crossed);
-      // The thinning goes on from the same last hit.
-      EXPECT_EQ(by_fan.thinned(x[0], y[0]), by_beam.thinned(x[0], y[0]));
       traced += by_fan.stats().beams_traced;
       contradicted += by_fan.stats().cells_contradicted;
     }
@@ -131,7 +155,10 @@ TEST(VisibilityFan, ScreenedBeamsAgreeWithBeamByBeam) {
       const double away = seed % 7 == 0 ? 3.0 * n * cell : 0.0;  // an origin outside the window
       const Eigen::Vector3d origin(lo.x() + away + n * cell * u(rng), lo.y() + n * cell * u(rng), height);
       const std::size_t count = 120 + 3 * seed + static_cast<std::size_t>(scan) * 61;
-      std::vector<double> x, y, z, range_error, height_error;
+      FanBeams beams;
+      beams.origin = origin;
+      auto &x = beams.x, &y = beams.y, &z = beams.z, &range_error = beams.range_error,
+           &height_error = beams.height_error;
       for (std::size_t k = 0; k < count; ++k) {
         const double angle = 2.0 * M_PI * static_cast<double>(k) / static_cast<double>(count);
         const double reach = n * cell * (0.05 + 1.2 * u(rng));
@@ -146,20 +173,9 @@ TEST(VisibilityFan, ScreenedBeamsAgreeWithBeamByBeam) {
       }
       by_fan.begin_scan(fan_map);
       by_beam.begin_scan(beam_map);
-      by_fan.trace_fan(fan_map,
-                       {origin, x.size(), x.data(), y.data(), z.data(), height_error.data(), range_error.data()});
-      for (std::size_t k = 0; k < x.size(); ++k) {
-        VisibilityBeam beam;
-        beam.origin_m = origin;
-        beam.hit_m = {x[k], y[k], z[k]};
-        beam.range_error_m = range_error[k];
-        beam.height_error_m = height_error[k];
-        by_beam.trace(beam_map, beam);
-      }
-      expect_same_maps(fan_map, beam_map);
-      test::expect_same_account(by_fan, by_beam);
-      EXPECT_EQ(by_fan.stats().cells_crossed, by_beam.stats().cells_crossed);
-      EXPECT_EQ(by_fan.thinned(x[0], y[0]), by_beam.thinned(x[0], y[0]));
+      by_fan.trace_fan(fan_map, beams.fan());
+      beams.each([&](const VisibilityBeam& beam) { by_beam.trace(beam_map, beam); });
+      expect_fan_as_beams(by_fan, fan_map, by_beam, beam_map, beams);
       traced += by_fan.stats().beams_traced;
       contradicted += by_fan.stats().cells_contradicted;
     }
