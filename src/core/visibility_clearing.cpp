@@ -477,6 +477,24 @@ template <typename Bound, typename Clearance>
 
 }  // namespace
 
+namespace {
+
+// A beam is traced when its range is positive and finite (its square tells
+// as the range would) and both its errors are finite; any other leaves no
+// trace, not even for the thinning.
+inline bool traceable(double range2, double range_error_m, double height_error_m) {
+  return range2 > 0.0 && range2 < std::numeric_limits<double>::infinity() && std::isfinite(range_error_m) &&
+         std::isfinite(height_error_m);
+}
+
+// A rising beam's walk ends with the last cell ending before t_last: the
+// one ending at or before the double just below it, and never past the stop.
+inline double rising_walk_end(double t_stop, double t_last) {
+  return std::min(t_stop, std::nextafter(t_last, -std::numeric_limits<double>::infinity()));
+}
+
+}  // namespace
+
 // Inlined into both callers: for a fan, the loop over its beams then keeps
 // the scan's constants in registers.
 [[gnu::always_inline]] inline void VisibilityClearing::trace_from(ElevationMap& map, const Eigen::Vector3d& origin_m,
@@ -488,10 +506,7 @@ template <typename Bound, typename Clearance>
   // is needed. The origin was found finite by the caller.
   const Eigen::Vector3d d = hit_m - origin_m;
   const double range2 = d.squaredNorm();
-  if (!(range2 > 0.0 && range2 < std::numeric_limits<double>::infinity()) || !std::isfinite(range_error_m) ||
-      !std::isfinite(height_error_m)) {
-    return;
-  }
+  if (!traceable(range2, range_error_m, height_error_m)) return;
   have_last_hit_ = true;
   last_hit_ = hit_m.head<2>();
   ++stats_.beams_traced;
@@ -553,8 +568,7 @@ template <typename Bound, typename Clearance>
   double t_last = std::numeric_limits<double>::infinity();  // nor cells ending at or after it
   if (!narrow_walk(dz, t_stop, top, bound, clearance, t_skip, t_last)) return;
   if (dz > 0.0) {
-    // The last cell ending before t_last: the one ending at or before the double just below it.
-    const double t_end = std::min(t_stop, std::nextafter(t_last, -std::numeric_limits<double>::infinity()));
+    const double t_end = rising_walk_end(t_stop, t_last);
     walk<true>(map, {ox, oy, floor_index(ox), floor_index(oy), dx, dy, 1.0 / dx, 1.0 / dy, z0, dz, margin, t_skip,
                      t_end});
   } else {
@@ -683,10 +697,7 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
       const Eigen::Vector3d d = Eigen::Vector3d(x, y, z_m[at]) - origin_m;
       const double range2 = d.squaredNorm();
       const double range_error = range_error_m[at], height_error = height_error_m[at];
-      if (!(range2 > 0.0 && range2 < std::numeric_limits<double>::infinity()) || !std::isfinite(range_error) ||
-          !std::isfinite(height_error)) {
-        continue;
-      }
+      if (!traceable(range2, range_error, height_error)) continue;
       last_x = x;
       last_y = y;
       batch.dx_m[m] = d.x();
@@ -720,8 +731,7 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
           trace_valid(map, origin_m, {batch.dx_m[p], batch.dy_m[p], dz}, batch.range2[p], batch.range_error_m[p],
                       batch.height_error_m[p]);
         } else if (dz > 0.0) {
-          const double t_end =
-              std::min(batch.t_stop[p], std::nextafter(batch.t_last[p], -std::numeric_limits<double>::infinity()));
+          const double t_end = rising_walk_end(batch.t_stop[p], batch.t_last[p]);
           walk<true>(map, {scan.ox, scan.oy, ix, iy, batch.dx_cells[p], batch.dy_cells[p], batch.inverse_dx[p],
                            batch.inverse_dy[p], scan.z0, dz, batch.margin_m[p], batch.t_skip[p], t_end});
         } else {
