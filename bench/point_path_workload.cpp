@@ -8,7 +8,7 @@
 // compared bit for bit.
 //
 //   point_path_workload [packed|packed-walk|planar|pipeline|pipeline-paper|pipeline-walk|pipeline-foothold|
-//                        pipeline-foothold-every10|walk-every10] [scans]
+//                        pipeline-foothold-every10|walk-every10|pipeline-visibility|walk-visibility] [scans]
 //     packed: UrgModel::to_beams + TerrainMapper::integrate(PlanarBeams) (default)
 //     planar: UrgModel::to_planar_scan + TerrainMapper::integrate(PlanarScan)
 //     pipeline: ScanIntegrator::push, no scan filters (its packed route)
@@ -24,6 +24,11 @@
 //     packed-walk, walk-every10: packed and pipeline-foothold-every10 on the
 //       walk's scans, the two sides of make bench-compare's "map read every
 //       10th scan" ratio
+//     pipeline-visibility: MappingPipeline::add with its defaults and the
+//       visibility clean-up on; the floor's tilted scans give it cells to
+//       contradict, and the digest covers what it traced, contradicted and
+//       cleared; walk-visibility: the same on the walk's scans (true poses:
+//       nothing to contradict, so the clean-up's cost on a clean map)
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -65,17 +70,21 @@ UrgRawScan floor_scan(const UrgParameters& urg, const SensorMount& mount, std::m
 int main(int argc, char** argv) {
   const int scans = argc > 2 ? std::atoi(argv[2]) : 750;
   const std::string mode_arg = argc > 1 ? argv[1] : "packed";
-  const bool walk = mode_arg == "pipeline-walk" || mode_arg == "packed-walk" || mode_arg == "walk-every10";
+  const bool walk = mode_arg == "pipeline-walk" || mode_arg == "packed-walk" || mode_arg == "walk-every10" ||
+                    mode_arg == "walk-visibility";
   // The walk's variants run as their floor counterparts on the walk's scans.
   const std::string mode = mode_arg == "packed-walk"    ? "packed"
                            : mode_arg == "walk-every10" ? "pipeline-foothold-every10"
+                           : mode_arg == "walk-visibility" ? "pipeline-visibility"
                                                         : mode_arg;
   if ((mode != "packed" && mode != "planar" && mode != "pipeline" && mode != "pipeline-paper" &&
-       mode != "pipeline-walk" && mode != "pipeline-foothold" && mode != "pipeline-foothold-every10") ||
+       mode != "pipeline-walk" && mode != "pipeline-foothold" && mode != "pipeline-foothold-every10" &&
+       mode != "pipeline-visibility") ||
       scans < 1) {
     std::fprintf(stderr,
                  "usage: point_path_workload [packed|packed-walk|planar|pipeline|pipeline-paper|pipeline-walk|"
-                 "pipeline-foothold|pipeline-foothold-every10|walk-every10] [scans >= 1]\n");
+                 "pipeline-foothold|pipeline-foothold-every10|walk-every10|pipeline-visibility|walk-visibility] "
+                 "[scans >= 1]\n");
     return 2;
   }
   const UrgParameters urg;
@@ -91,11 +100,15 @@ int main(int argc, char** argv) {
     pipeline_options.filters = parse_scan_filter_list(std::string_view("paper"));
   }
   const bool every10 = mode == "pipeline-foothold-every10";
-  pipeline_options.foothold.update_every_scan = !every10;
+  const bool visibility = mode == "pipeline-visibility";
+  pipeline_options.foothold.update_every_scan = !every10 && !visibility;
+  pipeline_options.visibility.enabled = visibility;
+  // The modes whose scans go through MappingPipeline::add, which clears its own changed rows.
+  const bool whole_pipeline = mode == "pipeline-foothold" || every10 || visibility;
   ScanIntegrator integrator(pipeline_options);
   MappingPipeline pipeline(pipeline_options);
   TerrainMapper own_mapper(options, mount);
-  TerrainMapper& mapper = mode == "pipeline-foothold" || every10 ? pipeline.mapper() : own_mapper;
+  TerrainMapper& mapper = whole_pipeline ? pipeline.mapper() : own_mapper;
   std::mt19937_64 rng(1);
   std::normal_distribution<double> tilt(0.0, 0.02);
   // A handful of different scans, made before the measured loop.
@@ -118,6 +131,7 @@ int main(int argc, char** argv) {
   PlanarBeams beams;
   TrunkPose pose;
   std::size_t valid = 0;
+  std::size_t contradicted = 0;
   std::uint64_t digest = 1469598103934665603ull;  // FNV-1a, 64 bits
   const auto mix = [&digest](const void* bytes, std::size_t size) {
     const auto* b = static_cast<const unsigned char*>(bytes);
@@ -138,7 +152,7 @@ int main(int argc, char** argv) {
     } else if (mode == "planar") {
       model.to_planar_scan(raw, planar);
       stats = mapper.integrate(planar, pose);
-    } else if (mode == "pipeline-foothold") {
+    } else if (mode == "pipeline-foothold" || visibility) {
       stats = pipeline.add(raw, pose).stats;
     } else if (every10) {
       stats = pipeline.add(raw, pose).stats;
@@ -157,10 +171,17 @@ int main(int argc, char** argv) {
     const std::size_t counts[] = {stats.integrated, stats.outside_map, stats.first, stats.plausible,
                                   stats.implausible, stats.replaced};
     mix(counts, sizeof counts);
-    if (mode != "pipeline-foothold" && !every10) mapper.clear_changed_cells();  // MappingPipeline clears its own
+    if (const VisibilityClearing* v = pipeline.integrator().visibility(); visibility && v != nullptr) {
+      // What the clean-up did, not how: a faster walk over the same cells keeps the digest.
+      const VisibilityStats& done = v->stats();
+      const std::size_t seen[] = {done.beams_traced, done.cells_contradicted, done.cells_cleared};
+      mix(seen, sizeof seen);
+      contradicted += done.cells_contradicted;
+    }
+    if (!whole_pipeline) mapper.clear_changed_cells();
   }
   // The layers as a reader sees them (every10: refreshed for the last scans).
-  const ElevationMap& map = every10 ? pipeline.map() : mapper.map();
+  const ElevationMap& map = every10 || visibility ? pipeline.map() : mapper.map();
   const std::size_t cells = static_cast<std::size_t>(map.cells_per_side()) * map.cells_per_side();
   for (std::size_t layer = 0; layer < map.layer_count(); ++layer) {
     mix(map.layer_bytes(layer), cells * layer_type_bytes(map.layer_spec(layer).type));
@@ -174,5 +195,6 @@ int main(int argc, char** argv) {
                 return sum;
               }(),
               static_cast<unsigned long long>(digest));
+  if (visibility) std::printf("cells_contradicted %zu\n", contradicted);
   return 0;
 }
