@@ -50,8 +50,9 @@
 // checked once. Where the CPU has AVX2 it first picks out the beams to
 // trace (the thinning and validity), then screens them four at a time
 // with the very tests and bound rounds above, operation for operation
-// (the bounds cannot change during the scan), and walks those left in the
-// fan's order, since a walk reads what the walks before it cleared.
+// (the bounds cannot change during the scan), finds where each walk left
+// starts (its first cell past the skip) in the same lanes, and walks them
+// in the fan's order, since a walk reads what the walks before it cleared.
 // Every crossing parameter of the walk is computed from its cell boundary,
 // not summed step by step, so a walk started part-way reaches the very
 // cells and values the whole walk would: the pruning changes nothing. (Against
@@ -201,6 +202,10 @@ class VisibilityClearing {
     double ox, oy;
     std::int64_t ix, iy;
     double dx, dy, inverse_dx, inverse_dy, z0, dz, margin, t_skip, t_end;
+    // Started: ix, iy are the cell the walk starts in (past t_skip), with
+    // each axis's next crossing and the first cell's entry, found already.
+    bool started = false;
+    double next_x = 0.0, next_y = 0.0, t_in = 0.0;
   };
   /// Walks the window's cells the beam crosses from the one holding t_skip
   /// to the last ending at or before t_end.
