@@ -161,9 +161,8 @@ STRIDEMAP_AVX2_INLINE void screen_round(const ScreenScan& c, ScreenLanes& l) {
   l.settled = settled;
 }
 
+// The walk's arguments of a vector with a lane to walk.
 STRIDEMAP_AVX2_INLINE void screen_store(const ScreenLanes& l, ScreenBatch& b, std::size_t k) {
-  b.settled[k / 4] = static_cast<std::uint8_t>(_mm256_movemask_pd(l.settled));
-  b.left[k / 4] = static_cast<std::uint8_t>(_mm256_movemask_pd(l.left));
   _mm256_store_pd(b.dx_cells + k, l.dx);
   _mm256_store_pd(b.dy_cells + k, l.dy);
   // The walk's divisions, four at a time here rather than one by one on its way in.
@@ -239,9 +238,14 @@ __attribute__((target("avx2"))) void screen_avx2(const ScreenScan& c, ScreenBatc
     ScreenLanes l;
     screen_start(c, b, k, l);
     for (int round = 0; round < 4 && screen_active(l); ++round) screen_round(c, l);
-    screen_store(l, b, k);
-    // Only vectors with a walk to start.
-    if ((b.settled[k / 4] | b.left[k / 4]) != 15) screen_walk_start(c, b, k);
+    const int settled = _mm256_movemask_pd(l.settled), left = _mm256_movemask_pd(l.left);
+    b.settled[k / 4] = static_cast<std::uint8_t>(settled);
+    b.left[k / 4] = static_cast<std::uint8_t>(left);
+    // Most vectors are settled whole: nothing of theirs is read again.
+    if ((settled | left) != 15) {
+      screen_store(l, b, k);
+      screen_walk_start(c, b, k);
+    }
   }
 }
 
