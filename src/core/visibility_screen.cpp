@@ -178,7 +178,7 @@ STRIDEMAP_AVX2_INLINE void screen_store(const ScreenLanes& l, ScreenBatch& b, st
 // skip_to(t) where t > 0, with the search taken as settled by its first
 // guess. `exact` is cleared in lanes where a correction step would follow.
 struct AxisStart {
-  __m256d index, next, before;
+  __m256d index, boundary, next, before;
 };
 
 STRIDEMAP_AVX2_INLINE AxisStart axis_start4(__m256d o, __m256d origin_index, __m256d d, __m256d inverse_d,
@@ -208,9 +208,20 @@ STRIDEMAP_AVX2_INLINE AxisStart axis_start4(__m256d o, __m256d origin_index, __m
   exact = _mm256_andnot_pd(_mm256_andnot_pd(settled, skipping), exact);
   AxisStart a;
   a.index = _mm256_blendv_pd(origin_index, _mm256_add_pd(origin_index, _mm256_sub_pd(target, boundary)), skipping);
+  a.boundary = _mm256_blendv_pd(boundary, target, skipping);
   a.next = _mm256_blendv_pd(next, after, skipping);
   a.before = _mm256_blendv_pd(_mm256_set1_pd(-std::numeric_limits<double>::infinity()), before, skipping);
   return a;
+}
+
+// The slot of a window index counted from the corner's slot, x (a whole
+// number) in 0..2n-1: x - n past n-1. Other lanes are cleared in `exact`
+// (the walk takes the remainder for them).
+STRIDEMAP_AVX2_INLINE __m256d slot4(__m256d x, __m256d n, __m256d& exact) {
+  const __m256d in_range = _mm256_and_pd(_mm256_cmp_pd(x, _mm256_setzero_pd(), _CMP_GE_OQ),
+                                         lt4(x, _mm256_add_pd(n, n)));
+  exact = _mm256_and_pd(exact, in_range);
+  return _mm256_blendv_pd(x, _mm256_sub_pd(x, n), _mm256_cmp_pd(x, n, _CMP_GE_OQ));
 }
 
 // The start of the walks of one vector's lanes, from the values just
@@ -225,8 +236,17 @@ STRIDEMAP_AVX2_INLINE void screen_walk_start(const ScreenScan& c, ScreenBatch& b
                                   _mm256_load_pd(b.inverse_dy + k), t, skip, exact);
   // std::max(0.0, std::max(before_x, before_y)) where skipping, else 0.
   const __m256d t_in = _mm256_and_pd(_mm256_max_pd(_mm256_max_pd(y.before, x.before), _mm256_setzero_pd()), skip);
-  _mm256_store_pd(b.start_x + k, x.index);
-  _mm256_store_pd(b.start_y + k, y.index);
+  const __m256d n = _mm256_set1_pd(static_cast<double>(c.n));
+  const __m256d i = _mm256_sub_pd(x.index, _mm256_set1_pd(c.corner_x));
+  const __m256d j = _mm256_sub_pd(y.index, _mm256_set1_pd(c.corner_y));
+  const __m256d row = slot4(_mm256_add_pd(_mm256_set1_pd(c.slot_x0), i), n, exact);
+  const __m256d column = slot4(_mm256_add_pd(_mm256_set1_pd(c.slot_y0), j), n, exact);
+  _mm256_store_pd(b.start_i + k, i);
+  _mm256_store_pd(b.start_j + k, j);
+  _mm256_store_pd(b.start_row + k, _mm256_mul_pd(row, n));
+  _mm256_store_pd(b.start_column + k, column);
+  _mm256_store_pd(b.boundary_x + k, x.boundary);
+  _mm256_store_pd(b.boundary_y + k, y.boundary);
   _mm256_store_pd(b.next_x + k, x.next);
   _mm256_store_pd(b.next_y + k, y.next);
   _mm256_store_pd(b.t_in + k, t_in);

@@ -202,10 +202,12 @@ class VisibilityClearing {
     double ox, oy;
     std::int64_t ix, iy;
     double dx, dy, inverse_dx, inverse_dy, z0, dz, margin, t_skip, t_end;
-    // Started: ix, iy are the cell the walk starts in (past t_skip), with
-    // each axis's next crossing and the first cell's entry, found already.
+    // Started: where the walk starts (past t_skip) found already: the
+    // cell, window-local (i, j), its slot row (times n) and column, each
+    // axis's next boundary and its crossing, and the first cell's entry.
     bool started = false;
-    double next_x = 0.0, next_y = 0.0, t_in = 0.0;
+    std::int64_t i = 0, j = 0, row = 0, column = 0;
+    double boundary_x = 0.0, boundary_y = 0.0, next_x = 0.0, next_y = 0.0, t_in = 0.0;
   };
   /// Walks the window's cells the beam crosses from the one holding t_skip
   /// to the last ending at or before t_end.
