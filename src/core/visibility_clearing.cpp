@@ -383,12 +383,21 @@ struct Axis {
   /// o_index: floor(o_cells); inverse_d_cells: 1 / d_cells, any value for a 0.
   Axis(double o_cells, std::int64_t o_index, double d_cells, double inverse_d_cells)
       : index(o_index), o(o_cells), inverse_d(inverse_d_cells) {
+    set_direction(d_cells);
+    boundary = static_cast<double>(index + (d_cells > 0 ? 1 : 0));
+    next = moves ? crossing(boundary, o, inverse_d) : std::numeric_limits<double>::infinity();
+  }
+  /// An axis already started, its next boundary and crossing known (its
+  /// index not kept: the walk keeps its own).
+  Axis(double o_cells, double d_cells, double inverse_d_cells, double next_boundary, double next_crossing)
+      : o(o_cells), inverse_d(inverse_d_cells), boundary(next_boundary), next(next_crossing) {
+    set_direction(d_cells);
+  }
+  void set_direction(double d_cells) {
     step = d_cells > 0 ? 1 : -1;
     s = d_cells > 0 ? 1.0 : -1.0;
     // A direction too small to invert never reaches a boundary in the beam.
     moves = d_cells != 0.0 && std::isfinite(inverse_d);
-    boundary = static_cast<double>(index + (d_cells > 0 ? 1 : 0));
-    next = moves ? crossing(boundary, o, inverse_d) : std::numeric_limits<double>::infinity();
   }
   /// Whether the window-local index `local` (0..n-1 inside) lies beyond the
   /// window on the side this axis moves to, or outside an axis it never
@@ -580,9 +589,10 @@ inline double rising_walk_end(double t_stop, double t_last) {
 template <bool kRising>
 inline void VisibilityClearing::walk(ElevationMap& map, const WalkBeam& beam) {
   const double z0 = beam.z0, dz = beam.dz, margin = beam.margin, t_skip = beam.t_skip, t_end = beam.t_end;
-  Axis ax(beam.ox, beam.ix, beam.dx, beam.inverse_dx), ay(beam.oy, beam.iy, beam.dy, beam.inverse_dy);
-  double t_in = 0.0;
-  if (t_skip > 0.0) t_in = std::max(0.0, std::max(ax.skip_to(t_skip, beam.dx), ay.skip_to(t_skip, beam.dy)));
+  Axis ax = beam.started ? Axis(beam.ox, beam.dx, beam.inverse_dx, beam.boundary_x, beam.next_x)
+                          : Axis(beam.ox, beam.ix, beam.dx, beam.inverse_dx);
+  Axis ay = beam.started ? Axis(beam.oy, beam.dy, beam.inverse_dy, beam.boundary_y, beam.next_y)
+                          : Axis(beam.oy, beam.iy, beam.dy, beam.inverse_dy);
 
   const std::int64_t n = n_;
   const CellIndex corner = corner_;
@@ -590,14 +600,21 @@ inline void VisibilityClearing::walk(ElevationMap& map, const WalkBeam& beam) {
   std::size_t crossed = 0;
   // The window-local indices, and the slot row (times n) and column they
   // fall in whether inside or not, moved along with the walk.
-  std::int64_t i = ax.index - corner.x, j = ay.index - corner.y;
-  // A walk nearly always starts inside the window: no division then.
-  const auto slot_of = [n](std::int64_t x) {
-    return static_cast<std::uint64_t>(x) < static_cast<std::uint64_t>(2 * n) ? x - (x >= n ? n : 0)
-                                                                              : static_cast<std::int64_t>(wrap_index(x, n));
-  };
-  std::int64_t row = slot_of(slot_x0_ + i) * n;
-  std::int64_t column = slot_of(slot_y0_ + j);
+  double t_in = beam.t_in;
+  std::int64_t i = beam.i, j = beam.j, row = beam.row, column = beam.column;
+  if (!beam.started) {
+    if (t_skip > 0.0) t_in = std::max(0.0, std::max(ax.skip_to(t_skip, beam.dx), ay.skip_to(t_skip, beam.dy)));
+    i = ax.index - corner.x;
+    j = ay.index - corner.y;
+    // A walk nearly always starts inside the window: no division then.
+    const auto slot_of = [n](std::int64_t x) {
+      return static_cast<std::uint64_t>(x) < static_cast<std::uint64_t>(2 * n)
+                 ? x - (x >= n ? n : 0)
+                 : static_cast<std::int64_t>(wrap_index(x, n));
+    };
+    row = slot_of(slot_x0_ + i) * n;
+    column = slot_of(slot_y0_ + j);
+  }
   // Past the window's last slot row (column) the walk goes on from its
   // first, and the other way round: one comparison for the way it moves.
   const std::int64_t row_step = ax.step * n, rows_end = n * n;
@@ -678,6 +695,10 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
   const bool origin_far = !(std::abs(scan.ox) < kMaxIndex && std::abs(scan.oy) < kMaxIndex);
   // The origin's cell, for every walk of the fan.
   const std::int64_t ix = origin_far ? 0 : floor_index(scan.ox), iy = origin_far ? 0 : floor_index(scan.oy);
+  scan.origin_cell_x = static_cast<double>(ix);
+  scan.origin_cell_y = static_cast<double>(iy);
+  scan.slot_x0 = static_cast<double>(slot_x0_);
+  scan.slot_y0 = static_cast<double>(slot_y0_);
   // On the stack (about 14 kB): nothing allocated per scan.
   visibility::ScreenBatch batch;
   // No last hit as NaN, to which no distance is below the spacing.
@@ -720,6 +741,24 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
       batch.height_error_m[p] = batch.height_error_m[m - 1];
     }
     visibility::screen(scan, batch, m);
+    // A walk's arguments, its start from the screen where it found it.
+    const auto walk_beam = [&](std::size_t p, double t_end) {
+      WalkBeam beam{scan.ox, scan.oy, ix, iy, batch.dx_cells[p], batch.dy_cells[p], batch.inverse_dx[p],
+                    batch.inverse_dy[p], scan.z0, batch.dz_m[p], batch.margin_m[p], batch.t_skip[p], t_end};
+      if (batch.started[p / 4] >> (p % 4) & 1u) {
+        beam.started = true;
+        beam.i = static_cast<std::int64_t>(batch.start_i[p]);
+        beam.j = static_cast<std::int64_t>(batch.start_j[p]);
+        beam.row = static_cast<std::int64_t>(batch.start_row[p]);
+        beam.column = static_cast<std::int64_t>(batch.start_column[p]);
+        beam.boundary_x = batch.boundary_x[p];
+        beam.boundary_y = batch.boundary_y[p];
+        beam.next_x = batch.next_x[p];
+        beam.next_y = batch.next_y[p];
+        beam.t_in = batch.t_in[p];
+      }
+      return beam;
+    };
     // The rest walk in the fan's order: a walk reads the cells the walks
     // before it may have cleared.
     for (std::size_t v = 0; v < m; v += 4) {
@@ -732,11 +771,9 @@ void VisibilityClearing::trace_fan(ElevationMap& map, const VisibilityFan& fan) 
                       batch.height_error_m[p]);
         } else if (dz > 0.0) {
           const double t_end = rising_walk_end(batch.t_stop[p], batch.t_last[p]);
-          walk<true>(map, {scan.ox, scan.oy, ix, iy, batch.dx_cells[p], batch.dy_cells[p], batch.inverse_dx[p],
-                           batch.inverse_dy[p], scan.z0, dz, batch.margin_m[p], batch.t_skip[p], t_end});
+          walk<true>(map, walk_beam(p, t_end));
         } else {
-          walk<false>(map, {scan.ox, scan.oy, ix, iy, batch.dx_cells[p], batch.dy_cells[p], batch.inverse_dx[p],
-                            batch.inverse_dy[p], scan.z0, dz, batch.margin_m[p], batch.t_skip[p], batch.t_stop[p]});
+          walk<false>(map, walk_beam(p, batch.t_stop[p]));
         }
       }
     }

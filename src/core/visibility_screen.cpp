@@ -161,9 +161,8 @@ STRIDEMAP_AVX2_INLINE void screen_round(const ScreenScan& c, ScreenLanes& l) {
   l.settled = settled;
 }
 
+// The walk's arguments of a vector with a lane to walk.
 STRIDEMAP_AVX2_INLINE void screen_store(const ScreenLanes& l, ScreenBatch& b, std::size_t k) {
-  b.settled[k / 4] = static_cast<std::uint8_t>(_mm256_movemask_pd(l.settled));
-  b.left[k / 4] = static_cast<std::uint8_t>(_mm256_movemask_pd(l.left));
   _mm256_store_pd(b.dx_cells + k, l.dx);
   _mm256_store_pd(b.dy_cells + k, l.dy);
   // The walk's divisions, four at a time here rather than one by one on its way in.
@@ -175,12 +174,98 @@ STRIDEMAP_AVX2_INLINE void screen_store(const ScreenLanes& l, ScreenBatch& b, st
   _mm256_store_pd(b.t_last + k, l.t_last);
 }
 
+// One axis of a walk's start, lane by lane: Axis's constructor and then
+// skip_to(t) where t > 0, with the search taken as settled by its first
+// guess. `exact` is cleared in lanes where a correction step would follow.
+struct AxisStart {
+  __m256d index, boundary, next, before;
+};
+
+STRIDEMAP_AVX2_INLINE AxisStart axis_start4(__m256d o, __m256d origin_index, __m256d d, __m256d inverse_d,
+                                            __m256d t, __m256d skip, __m256d& exact) {
+  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+  const __m256d infinity = _mm256_set1_pd(std::numeric_limits<double>::infinity());
+  const __m256d forward = _mm256_cmp_pd(d, zero, _CMP_GT_OQ);
+  const __m256d s = _mm256_blendv_pd(_mm256_set1_pd(-1.0), one, forward);
+  const __m256d moves =
+      _mm256_and_pd(_mm256_cmp_pd(d, zero, _CMP_NEQ_UQ), lt4(abs4(inverse_d), infinity));
+  const __m256d boundary = _mm256_add_pd(origin_index, _mm256_and_pd(forward, one));
+  const __m256d next = _mm256_blendv_pd(infinity, _mm256_mul_pd(_mm256_sub_pd(boundary, o), inverse_d), moves);
+  // skip_to(): only where the axis moves and its next crossing is <= t.
+  const __m256d skipping = _mm256_and_pd(_mm256_and_pd(skip, moves), _mm256_cmp_pd(next, t, _CMP_LE_OQ));
+  const __m256d at = _mm256_add_pd(o, _mm256_mul_pd(t, d));
+  const __m256d nearest = _mm256_add_pd(boundary, s);
+  const __m256d up = _mm256_add_pd(_mm256_floor_pd(at), one);
+  const __m256d down = _mm256_sub_pd(_mm256_xor_pd(_mm256_floor_pd(_mm256_xor_pd(at, _mm256_set1_pd(-0.0))),
+                                                   _mm256_set1_pd(-0.0)),
+                                     one);
+  __m256d target = _mm256_blendv_pd(down, up, forward);
+  target = _mm256_blendv_pd(target, nearest, lt4(_mm256_mul_pd(_mm256_sub_pd(target, nearest), s), zero));
+  const __m256d before = _mm256_mul_pd(_mm256_sub_pd(_mm256_sub_pd(target, s), o), inverse_d);
+  const __m256d after = _mm256_mul_pd(_mm256_sub_pd(target, o), inverse_d);
+  // The search would step back while before > t, on while after <= t.
+  const __m256d settled = _mm256_and_pd(_mm256_cmp_pd(before, t, _CMP_NGT_UQ), _mm256_cmp_pd(after, t, _CMP_NLE_UQ));
+  exact = _mm256_andnot_pd(_mm256_andnot_pd(settled, skipping), exact);
+  AxisStart a;
+  a.index = _mm256_blendv_pd(origin_index, _mm256_add_pd(origin_index, _mm256_sub_pd(target, boundary)), skipping);
+  a.boundary = _mm256_blendv_pd(boundary, target, skipping);
+  a.next = _mm256_blendv_pd(next, after, skipping);
+  a.before = _mm256_blendv_pd(_mm256_set1_pd(-std::numeric_limits<double>::infinity()), before, skipping);
+  return a;
+}
+
+// The slot of a window index counted from the corner's slot, x (a whole
+// number) in 0..2n-1: x - n past n-1. Other lanes are cleared in `exact`
+// (the walk takes the remainder for them).
+STRIDEMAP_AVX2_INLINE __m256d slot4(__m256d x, __m256d n, __m256d& exact) {
+  const __m256d in_range = _mm256_and_pd(_mm256_cmp_pd(x, _mm256_setzero_pd(), _CMP_GE_OQ),
+                                         lt4(x, _mm256_add_pd(n, n)));
+  exact = _mm256_and_pd(exact, in_range);
+  return _mm256_blendv_pd(x, _mm256_sub_pd(x, n), _mm256_cmp_pd(x, n, _CMP_GE_OQ));
+}
+
+// The start of the walks of one vector's lanes, from the values just
+// stored for them.
+STRIDEMAP_AVX2_INLINE void screen_walk_start(const ScreenScan& c, ScreenBatch& b, std::size_t k) {
+  const __m256d t = _mm256_load_pd(b.t_skip + k);
+  const __m256d skip = _mm256_cmp_pd(t, _mm256_setzero_pd(), _CMP_GT_OQ);
+  __m256d exact = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+  const AxisStart x = axis_start4(_mm256_set1_pd(c.ox), _mm256_set1_pd(c.origin_cell_x), _mm256_load_pd(b.dx_cells + k),
+                                  _mm256_load_pd(b.inverse_dx + k), t, skip, exact);
+  const AxisStart y = axis_start4(_mm256_set1_pd(c.oy), _mm256_set1_pd(c.origin_cell_y), _mm256_load_pd(b.dy_cells + k),
+                                  _mm256_load_pd(b.inverse_dy + k), t, skip, exact);
+  // std::max(0.0, std::max(before_x, before_y)) where skipping, else 0.
+  const __m256d t_in = _mm256_and_pd(_mm256_max_pd(_mm256_max_pd(y.before, x.before), _mm256_setzero_pd()), skip);
+  const __m256d n = _mm256_set1_pd(static_cast<double>(c.n));
+  const __m256d i = _mm256_sub_pd(x.index, _mm256_set1_pd(c.corner_x));
+  const __m256d j = _mm256_sub_pd(y.index, _mm256_set1_pd(c.corner_y));
+  const __m256d row = slot4(_mm256_add_pd(_mm256_set1_pd(c.slot_x0), i), n, exact);
+  const __m256d column = slot4(_mm256_add_pd(_mm256_set1_pd(c.slot_y0), j), n, exact);
+  _mm256_store_pd(b.start_i + k, i);
+  _mm256_store_pd(b.start_j + k, j);
+  _mm256_store_pd(b.start_row + k, _mm256_mul_pd(row, n));
+  _mm256_store_pd(b.start_column + k, column);
+  _mm256_store_pd(b.boundary_x + k, x.boundary);
+  _mm256_store_pd(b.boundary_y + k, y.boundary);
+  _mm256_store_pd(b.next_x + k, x.next);
+  _mm256_store_pd(b.next_y + k, y.next);
+  _mm256_store_pd(b.t_in + k, t_in);
+  b.started[k / 4] = static_cast<std::uint8_t>(_mm256_movemask_pd(exact));
+}
+
 __attribute__((target("avx2"))) void screen_avx2(const ScreenScan& c, ScreenBatch& b, std::size_t count) {
   for (std::size_t k = 0; k < count; k += 4) {
     ScreenLanes l;
     screen_start(c, b, k, l);
     for (int round = 0; round < 4 && screen_active(l); ++round) screen_round(c, l);
-    screen_store(l, b, k);
+    const int settled = _mm256_movemask_pd(l.settled), left = _mm256_movemask_pd(l.left);
+    b.settled[k / 4] = static_cast<std::uint8_t>(settled);
+    b.left[k / 4] = static_cast<std::uint8_t>(left);
+    // Most vectors are settled whole: nothing of theirs is read again.
+    if ((settled | left) != 15) {
+      screen_store(l, b, k);
+      screen_walk_start(c, b, k);
+    }
   }
 }
 
@@ -199,6 +284,7 @@ void screen(const ScreenScan&, ScreenBatch& batch, std::size_t count) {
   for (std::size_t v = 0; v < count; v += 4) {
     batch.settled[v / 4] = 0;
     batch.left[v / 4] = 15;
+    batch.started[v / 4] = 0;
   }
 }
 

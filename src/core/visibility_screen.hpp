@@ -35,6 +35,23 @@ struct ScreenBatch {
   alignas(32) double t_stop[kScreenBeams];
   alignas(32) double t_skip[kScreenBeams];
   alignas(32) double t_last[kScreenBeams];
+  // Where each walk of a vector with bit b of `started` set begins, found
+  // here four at a time: its cell, window-local, and the cell's slot row
+  // (times n) and column (whole numbers as doubles), each axis's next
+  // boundary and crossing, and the walk's first t_in, what the walk's own
+  // start (Axis, skip_to() and the slots) would find. A lane whose skip
+  // would need the search's correction steps, or whose cell lies too far
+  // outside the window for one wrap of the slots, is left to the walk.
+  std::uint8_t started[kScreenBeams / 4];
+  alignas(32) double start_i[kScreenBeams];
+  alignas(32) double start_j[kScreenBeams];
+  alignas(32) double start_row[kScreenBeams];
+  alignas(32) double start_column[kScreenBeams];
+  alignas(32) double boundary_x[kScreenBeams];
+  alignas(32) double boundary_y[kScreenBeams];
+  alignas(32) double next_x[kScreenBeams];
+  alignas(32) double next_y[kScreenBeams];
+  alignas(32) double t_in[kScreenBeams];
 };
 
 // What the screen needs of the scan and the fan's origin.
@@ -42,6 +59,8 @@ struct ScreenScan {
   double z0 = 0.0, ox = 0.0, oy = 0.0, inverse_cell = 1.0;
   double uncertainty_factor = 0.0, relief_m = 0.0, one_abs_z0 = 0.0, top = 0.0;
   double corner_x = 0.0, corner_y = 0.0, last_index = 0.0;
+  double origin_cell_x = 0.0, origin_cell_y = 0.0;  // floor(ox), floor(oy)
+  double slot_x0 = 0.0, slot_y0 = 0.0;              // the corner's slot row and column
   int n = 0;
   const float* row_max = nullptr;
   const float* column_max = nullptr;

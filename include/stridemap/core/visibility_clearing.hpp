@@ -50,8 +50,9 @@
 // checked once. Where the CPU has AVX2 it first picks out the beams to
 // trace (the thinning and validity), then screens them four at a time
 // with the very tests and bound rounds above, operation for operation
-// (the bounds cannot change during the scan), and walks those left in the
-// fan's order, since a walk reads what the walks before it cleared.
+// (the bounds cannot change during the scan), finds where each walk left
+// starts (its first cell past the skip) in the same lanes, and walks them
+// in the fan's order, since a walk reads what the walks before it cleared.
 // Every crossing parameter of the walk is computed from its cell boundary,
 // not summed step by step, so a walk started part-way reaches the very
 // cells and values the whole walk would: the pruning changes nothing. (Against
@@ -201,6 +202,12 @@ class VisibilityClearing {
     double ox, oy;
     std::int64_t ix, iy;
     double dx, dy, inverse_dx, inverse_dy, z0, dz, margin, t_skip, t_end;
+    // Started: where the walk starts (past t_skip) found already: the
+    // cell, window-local (i, j), its slot row (times n) and column, each
+    // axis's next boundary and its crossing, and the first cell's entry.
+    bool started = false;
+    std::int64_t i = 0, j = 0, row = 0, column = 0;
+    double boundary_x = 0.0, boundary_y = 0.0, next_x = 0.0, next_y = 0.0, t_in = 0.0;
   };
   /// Walks the window's cells the beam crosses from the one holding t_skip
   /// to the last ending at or before t_end.
