@@ -210,7 +210,10 @@ void FootholdLayers::compute(ElevationMap& map) {
   std::fill(edges_.edge_rows.begin(), edges_.edge_rows.end(), RowSpan{0, n_ - 1});
   last_edge_cells_ =
       search_edge_distances(edges_, c, stencil_, map.data(step_), static_cast<float>(options_.max_step_m), true);
-  std::fill(c.score_mark.begin(), c.score_mark.end(), std::uint8_t{1});
+  for (int i = 0; i < n_; ++i) {
+    FootholdChanges::set_bits(c.score_mark.data() + static_cast<std::size_t>(i) * c.mark_words, 0,
+                              static_cast<std::size_t>(n_ - 1));
+  }
   std::fill(c.score_rows.begin(), c.score_rows.end(), RowSpan{0, n_ - 1});
   score_rows(map);
 }
@@ -235,7 +238,7 @@ bool FootholdLayers::compute_without_known_cells(ElevationMap& map) {
     std::fill_n(map.data(layer), cells, kNaN);
   }
   std::fill(c.geometry_mark.begin(), c.geometry_mark.end(), std::uint64_t{0});
-  std::fill(c.score_mark.begin(), c.score_mark.end(), std::uint8_t{0});
+  std::fill(c.score_mark.begin(), c.score_mark.end(), std::uint64_t{0});
   std::fill(c.geometry_rows.begin(), c.geometry_rows.end(), RowSpan{n_, -1});
   std::fill(c.score_rows.begin(), c.score_rows.end(), RowSpan{n_, -1});
   c.raised.clear();
@@ -373,29 +376,32 @@ void FootholdLayers::score_rows(ElevationMap& map) {
   for (int x = 0; x < n_; ++x) {
     RowSpan& e = changes_.score_rows[static_cast<std::size_t>(x)];
     if (e.lo > e.hi) continue;
-    std::uint8_t* mark = changes_.score_mark.data() + static_cast<std::size_t>(x) * static_cast<std::size_t>(n_);
+    std::uint64_t* words = changes_.score_mark.data() + static_cast<std::size_t>(x) * changes_.mark_words;
     const std::size_t row = changes_.row_slot[static_cast<std::size_t>(x)];
-    for (int y = e.lo; y <= e.hi; ++y) {
-      if (!mark[y]) continue;
-      mark[y] = 0;
-      ++cells;
-      const std::size_t s = row + changes_.col_slot[static_cast<std::size_t>(y)];
-      if (std::isnan(changes_.seen_elevation[s])) {
-        edge_distance[s] = score[s] = kNaN;
-        continue;
+    const auto last = static_cast<std::size_t>(e.hi) / 64;
+    for (auto w = static_cast<std::size_t>(e.lo) / 64; w <= last; ++w) {
+      for (std::uint64_t marked = std::exchange(words[w], 0); marked != 0; marked &= marked - 1) {
+        const std::size_t y = w * 64 + static_cast<std::size_t>(std::countr_zero(marked));
+        ++cells;
+        const std::size_t s = row + changes_.col_slot[y];
+        if (std::isnan(changes_.seen_elevation[s])) {
+          edge_distance[s] = score[s] = kNaN;
+          continue;
+        }
+        const std::int64_t b = changes_.seen_edge2[s];
+        const bool tabled = b < static_cast<std::int64_t>(edge_distance_of_.size());
+        const double distance_m =
+            tabled ? edge_distance_of_[static_cast<std::size_t>(b)] : edge_distance_m_of(b, none2);
+        edge_distance[s] = static_cast<float>(distance_m);
+        if (std::isnan(slope[s]) || std::isnan(step[s]) || std::isnan(roughness[s])) {
+          score[s] = kNaN;
+          continue;
+        }
+        score_slots_[scored] = s;
+        score_edge_factors_[scored++] =
+            tabled ? edge_factor_of_[static_cast<std::size_t>(b)] : edge_factor_of_distance(distance_m);
+        if (scored == kScoreBatch) score_batch();
       }
-      const std::int64_t b = changes_.seen_edge2[s];
-      const bool tabled = b < static_cast<std::int64_t>(edge_distance_of_.size());
-      const double distance_m = tabled ? edge_distance_of_[static_cast<std::size_t>(b)] : edge_distance_m_of(b, none2);
-      edge_distance[s] = static_cast<float>(distance_m);
-      if (std::isnan(slope[s]) || std::isnan(step[s]) || std::isnan(roughness[s])) {
-        score[s] = kNaN;
-        continue;
-      }
-      score_slots_[scored] = s;
-      score_edge_factors_[scored++] =
-          tabled ? edge_factor_of_[static_cast<std::size_t>(b)] : edge_factor_of_distance(distance_m);
-      if (scored == kScoreBatch) score_batch();
     }
     e = RowSpan{n_, -1};
   }

@@ -18,7 +18,7 @@ FootholdChanges::FootholdChanges(int cells_per_side, std::int32_t none2, double 
   col_slot.assign(cells, 0);
   mark_words = (cells + 63) / 64;
   geometry_mark.assign(cells * mark_words, 0);
-  score_mark.assign(cells * cells, 0);
+  score_mark.assign(cells * mark_words, 0);
   for (std::vector<RowSpan>* rows : {&geometry_rows, &score_rows, &flips, &unseen_edge_rows}) {
     rows->assign(cells, RowSpan{n, -1});
   }

@@ -43,8 +43,11 @@ struct FootholdChanges {
   /// Marks every window cell whose footprint holds a cell of window-local
   /// row i, columns j0..j1 (which may lie outside the window).
   void mark_geometry(const FootholdStencil& stencil, std::int64_t i, std::int64_t j0, std::int64_t j1);
-  void mark_score(int i, int j) {  // inline: called per cell by every pass
-    score_mark[static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)] = 1;
+  // Always inline: called per cell by every pass, and too large for GCC's
+  // own choice once a mark is a bit.
+  [[gnu::always_inline]] void mark_score(int i, int j) {
+    const auto column = static_cast<std::size_t>(j);
+    score_mark[static_cast<std::size_t>(i) * mark_words + column / 64] |= std::uint64_t{1} << (column % 64);
     RowSpan& r = score_rows[static_cast<std::size_t>(i)];
     r.lo = r.lo < j ? r.lo : j;
     r.hi = r.hi > j ? r.hi : j;
@@ -81,13 +84,13 @@ struct FootholdChanges {
   // Storage slot = row_slot[local row] + col_slot[local column], for the
   // window of the refresh under way.
   std::vector<std::size_t> row_slot, col_slot;
-  // Per window-local cell: its geometry is to be redone (bit j % 64 of word
-  // i * mark_words + j / 64: a run of marked cells is set a word at a time,
-  // and the fits find the next marked cell by counting zeros), or its edge
-  // distance and score (byte i * n + j); cleared as they are.
-  std::vector<std::uint64_t> geometry_mark;
-  std::size_t mark_words = 0;  ///< words of geometry_mark per row
-  std::vector<std::uint8_t> score_mark;
+  // Per window-local cell: its geometry is to be redone, or its edge
+  // distance and score (bit j % 64 of word i * mark_words + j / 64 of
+  // either: a run of marked cells is set a word at a time, and the passes
+  // find the next marked cell by counting zeros, not by reading every
+  // cell of a row's hull); cleared as they are.
+  std::vector<std::uint64_t> geometry_mark, score_mark;
+  std::size_t mark_words = 0;  ///< words of a row of marks
   /// Marks the geometry of window-local row i, columns lo..hi (0 <= lo <= hi < n).
   void mark_geometry_span(std::int64_t i, int lo, int hi) {
     set_bits(geometry_mark.data() + static_cast<std::size_t>(i) * mark_words, static_cast<std::size_t>(lo),
