@@ -1,11 +1,50 @@
 #include "stridemap/core/foothold_changes.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
 
 #include "foothold_cells.hpp"
 
 namespace stridemap {
+namespace {
+
+// The maximal runs of set bits along a row given in chunks of up to 64
+// columns: the passes below first gather a chunk's cells as bits (a loop
+// without branches), then mark each run once, however many chunks it spans.
+struct RowRuns {
+  bool in_run = false;
+  std::int64_t run = 0;  ///< the open run's first column
+
+  /// `bits` (bit k: column y + k; none at or past `count`); mark(first,
+  /// last) for each run that ends within the chunk.
+  template <class Mark>
+  void add(std::uint64_t bits, int count, std::int64_t y, Mark&& mark) {
+    for (int k = 0; k < count;) {
+      const std::uint64_t ahead = bits >> k;
+      if (in_run) {
+        const int ones = std::countr_one(ahead);
+        if (k + ones >= count) return;  // it runs on into the next chunk
+        mark(run, y + k + ones - 1);
+        in_run = false;
+        k += ones;
+      } else {
+        if (ahead == 0) return;
+        k += std::countr_zero(ahead);
+        run = y + k;
+        in_run = true;
+      }
+    }
+  }
+  /// The row ends after column `last`.
+  template <class Mark>
+  void end(std::int64_t last, Mark&& mark) {
+    if (in_run) mark(run, last);
+    in_run = false;
+  }
+};
+
+}  // namespace
 
 FootholdChanges::FootholdChanges(int cells_per_side, std::int32_t none2, double full_certainty_in)
     : n(cells_per_side), full_certainty(full_certainty_in) {
@@ -64,37 +103,41 @@ void FootholdChanges::mark_geometry(const FootholdStencil& stencil, std::int64_t
 void FootholdChanges::see_left(const FootholdStencil& stencil, const ElevationMap& map, const CellBox& b,
                                CellIndex corner) {
   const std::int64_t foot_cells = stencil.foot_cells, edge_cells = stencil.edge_cells;
+  const auto side = static_cast<std::size_t>(n);
   const auto clamp = [&](std::int64_t v) { return static_cast<int>(std::clamp<std::int64_t>(v, 0, n - 1)); };
   for (std::int64_t x = b.min.x; x <= b.max.x; ++x) {
     const std::int64_t i = x - corner.x;
     if (i < -foot_cells - edge_cells || i > n - 1 + foot_cells + edge_cells) continue;  // reaches no window cell
-    bool in_run = false;
-    std::int64_t run = 0;
+    const auto mark_run = [&](std::int64_t first, std::int64_t last) {
+      mark_geometry(stencil, i, first - corner.y, last - corner.y);
+    };
+    RowRuns known_runs;
+    RowSpan& flip = flips[static_cast<std::size_t>(clamp(i))];
     // Slots along the row step by one and wrap: map.slot()'s two modulos
     // once a row, not once a cell.
     const std::size_t first = map.slot({x, b.min.y});
-    const std::size_t row = first - first % static_cast<std::size_t>(n);
+    const std::size_t row = first - first % side;
     std::size_t col = first - row;
-    for (std::int64_t y = b.min.y; y <= b.max.y + 1; ++y) {
-      bool was_known = false;
-      if (y <= b.max.y) {
-        const std::size_t s = row + col;
-        col = col + 1 == static_cast<std::size_t>(n) ? 0 : col + 1;
-        was_known = !std::isnan(seen_elevation[s]);
-        if (seen_edge2[s] == 0) {  // it was an edge
-          RowSpan& f = flips[static_cast<std::size_t>(clamp(i))];
-          f.lo = std::min(f.lo, clamp(y - corner.y));
-          f.hi = std::max(f.hi, clamp(y - corner.y));
-        }
+    for (std::int64_t y = b.min.y; y <= b.max.y;) {
+      const auto count = static_cast<int>(
+          std::min<std::int64_t>({b.max.y - y + 1, static_cast<std::int64_t>(side - col), std::int64_t{64}}));
+      const float* elevation = seen_elevation.data() + row + col;
+      const std::int32_t* edge2 = seen_edge2.data() + row + col;
+      std::uint64_t known_bits = 0, edge_bits = 0;
+      for (int k = 0; k < count; ++k) {
+        known_bits |= static_cast<std::uint64_t>(!std::isnan(elevation[k])) << k;
+        edge_bits |= static_cast<std::uint64_t>(edge2[k] == 0) << k;  // it was an edge
       }
-      if (was_known && !in_run) {
-        run = y;
-        in_run = true;
-      } else if (!was_known && in_run) {
-        mark_geometry(stencil, i, run - corner.y, y - 1 - corner.y);
-        in_run = false;
+      if (edge_bits != 0) {
+        flip.lo = std::min(flip.lo, clamp(y + std::countr_zero(edge_bits) - corner.y));
+        flip.hi = std::max(flip.hi, clamp(y + 63 - std::countl_zero(edge_bits) - corner.y));
       }
+      known_runs.add(known_bits, count, y, mark_run);
+      y += count;
+      col += static_cast<std::size_t>(count);
+      if (col == side) col = 0;
     }
+    known_runs.end(b.max.y, mark_run);
   }
 }
 
@@ -162,29 +205,52 @@ void FootholdChanges::see_all(const FootholdStencil& stencil, const ElevationMap
   const float* elevation = map.elevation_data();
   const std::uint8_t* state = map.state_data();
   const float* certainty = map.certainty_data();
+  const auto side = static_cast<std::int64_t>(n);
   for (std::int64_t i = b.i0; i <= b.i1; ++i) {
     const std::size_t row = row_slot[static_cast<std::size_t>(i)];
-    // Runs of consecutive known cells are marked as one box.
-    std::int64_t run = 0;
-    bool in_run = false;
-    for (std::int64_t j = b.j0; j <= b.j1; ++j) {
-      const std::size_t s = row + col_slot[static_cast<std::size_t>(j)];
-      seen_elevation[s] = foothold::known_elevation(elevation, state, s);
-      seen_certainty[s] = certainty[s];
-      if (!mark) continue;
-      // Its edge distance is searched for when it is known (then or later).
-      seen_edge2[s] = kEdgeUnknown;
-      const bool known = !std::isnan(seen_elevation[s]);
-      if (known) {
-        mark_score(static_cast<int>(i), static_cast<int>(j));
-        mark_edge(static_cast<int>(i), static_cast<int>(j));
-        if (!in_run) run = j;
-      } else if (in_run) {
-        mark_geometry(stencil, i, run, j - 1);
+    const auto mark_run = [&](std::int64_t first, std::int64_t last) { mark_geometry(stencil, i, first, last); };
+    RowRuns known_runs;
+    RowSpan& scored = score_rows[static_cast<std::size_t>(i)];
+    RowSpan& unseen = unseen_edge_rows[static_cast<std::size_t>(i)];
+    std::uint64_t* marks = score_mark.data() + static_cast<std::size_t>(i) * mark_words;
+    // Chunks contiguous in storage and within one word of marks.
+    for (std::int64_t j = b.j0; j <= b.j1;) {
+      const std::size_t first = col_slot[static_cast<std::size_t>(j)];
+      const auto count = static_cast<int>(
+          std::min<std::int64_t>({b.j1 - j + 1, side - static_cast<std::int64_t>(first), 64 - j % 64}));
+      const std::size_t s0 = row + first;
+      if (!mark) {
+        for (std::size_t s = s0; s < s0 + static_cast<std::size_t>(count); ++s) {
+          seen_elevation[s] = foothold::known_elevation(elevation, state, s);
+          seen_certainty[s] = certainty[s];
+        }
+        j += count;
+        continue;
       }
-      in_run = known;
+      std::uint64_t known_bits = 0;
+      for (int k = 0; k < count; ++k) {
+        const std::size_t s = s0 + static_cast<std::size_t>(k);
+        const float elevation_now = foothold::known_elevation(elevation, state, s);
+        seen_elevation[s] = elevation_now;
+        seen_certainty[s] = certainty[s];
+        // Its edge distance is searched for when it is known (then or later).
+        seen_edge2[s] = kEdgeUnknown;
+        known_bits |= static_cast<std::uint64_t>(!std::isnan(elevation_now)) << k;
+      }
+      if (known_bits != 0) {
+        // Known cells: their scores, and their edge distances searched for.
+        marks[j / 64] |= known_bits << (j % 64);
+        const auto lo = static_cast<int>(j + std::countr_zero(known_bits));
+        const auto hi = static_cast<int>(j + 63 - std::countl_zero(known_bits));
+        scored.lo = std::min(scored.lo, lo);
+        scored.hi = std::max(scored.hi, hi);
+        unseen.lo = std::min(unseen.lo, lo);
+        unseen.hi = std::max(unseen.hi, hi);
+      }
+      known_runs.add(known_bits, count, j, mark_run);
+      j += count;
     }
-    if (in_run) mark_geometry(stencil, i, run, b.j1);
+    known_runs.end(b.j1, mark_run);
   }
 }
 
