@@ -143,59 +143,79 @@ void FootholdChanges::see_left(const FootholdStencil& stencil, const ElevationMa
 
 // Compared with what the last refresh saw: a changed elevation or
 // known-ness redoes the plane fits around the cell; a changed certainty
-// factor, its score only.
+// factor, its score only. A chunk of a row's cells (contiguous in storage,
+// within one word of marks) is compared first, into bits, then marked.
 void FootholdChanges::see_changes(const FootholdStencil& stencil, const ElevationMap& map, const CellBox& now) {
   if (pending.empty()) return;
   const float* elevation = map.elevation_data();
   const std::uint8_t* state = map.state_data();
   const float* certainty = map.certainty_data();
   const CellIndex corner = now.min;
+  const auto side = static_cast<std::int64_t>(n);
   const CellBox rows = pending.bounds().intersected(stable);
   std::int64_t lo = 0, hi = 0;
   for (std::int64_t x = rows.min.x; !rows.empty() && x <= rows.max.x; ++x) {
     if (!pending.span(x, lo, hi)) continue;
     lo = std::max(lo, stable.min.y);
     hi = std::min(hi, stable.max.y);
-    const auto i = static_cast<int>(x - corner.x);
-    const std::size_t row = row_slot[static_cast<std::size_t>(i)];
-    // Runs of consecutive changed cells are marked as one box.
-    std::int64_t run = 0;
-    bool in_run = false;
-    for (std::int64_t y = lo; y <= hi + 1; ++y) {
-      bool changed = false;
-      if (y <= hi) {
-        const auto j = static_cast<int>(y - corner.y);
-        const std::size_t s = row + col_slot[static_cast<std::size_t>(j)];
+    const auto i = static_cast<std::size_t>(x - corner.x);
+    const std::size_t row = row_slot[i];
+    const auto mark_run = [&](std::int64_t first, std::int64_t last) {
+      mark_geometry(stencil, static_cast<std::int64_t>(i), first, last);
+    };
+    RowRuns changed_runs;
+    RowSpan& scored = score_rows[i];
+    RowSpan& unseen = unseen_edge_rows[i];
+    std::uint64_t* marks = score_mark.data() + i * mark_words;
+    const std::int64_t j_end = hi - corner.y;
+    for (std::int64_t j = lo - corner.y; j <= j_end;) {
+      const std::size_t first = col_slot[static_cast<std::size_t>(j)];
+      const auto count = static_cast<int>(
+          std::min<std::int64_t>({j_end - j + 1, side - static_cast<std::int64_t>(first), 64 - j % 64}));
+      const std::size_t s0 = row + first;
+      // Per cell k of the chunk: its elevation or known-ness changed; its
+      // known-ness did (the edge distance is NaN exactly where the cell is
+      // unknown); it entered the window unknown and is known now (no edge
+      // distance to show yet); its certainty changed.
+      std::uint64_t changed = 0, flipped = 0, unseen_known = 0, certainty_changed = 0;
+      for (int k = 0; k < count; ++k) {
+        const std::size_t s = s0 + static_cast<std::size_t>(k);
         const float elevation_now = foothold::known_elevation(elevation, state, s);
         const float before = seen_elevation[s];
-        if (!foothold::same_bits(elevation_now, before)) {
-          changed = true;
-          seen_elevation[s] = elevation_now;
-          // The edge distance is NaN exactly where the cell is unknown; a
-          // cell that entered the window unknown has none to show yet.
-          if (std::isnan(elevation_now) != std::isnan(before)) mark_score(i, j);
-          if (seen_edge2[s] == kEdgeUnknown && !std::isnan(elevation_now)) mark_edge(i, j);
-        }
-        // The same certainty, the same factor: most noted cells skip both
-        // divisions.
-        if (!foothold::same_bits(certainty[s], seen_certainty[s])) {
-          // Both at or past full certainty: the same factor, 1, without dividing.
-          const bool both_full = certainty[s] >= full_certainty && seen_certainty[s] >= full_certainty;
-          if (!both_full && !foothold::same_bits(foothold::certainty_factor(certainty[s], full_certainty),
-                                   foothold::certainty_factor(seen_certainty[s], full_certainty))) {
-            mark_score(i, j);
-          }
-          seen_certainty[s] = certainty[s];
-        }
+        seen_elevation[s] = elevation_now;
+        const bool differs = !foothold::same_bits(elevation_now, before);
+        const bool known_now = !std::isnan(elevation_now);
+        changed |= static_cast<std::uint64_t>(differs) << k;
+        flipped |= static_cast<std::uint64_t>(known_now == std::isnan(before)) << k;
+        unseen_known |= static_cast<std::uint64_t>(differs && known_now && seen_edge2[s] == kEdgeUnknown) << k;
+        certainty_changed |= static_cast<std::uint64_t>(!foothold::same_bits(certainty[s], seen_certainty[s])) << k;
       }
-      if (changed && !in_run) {
-        run = y;
-        in_run = true;
-      } else if (!changed && in_run) {
-        mark_geometry(stencil, i, run - corner.y, y - 1 - corner.y);
-        in_run = false;
+      // The same certainty, the same factor: most cells skip both divisions.
+      std::uint64_t scores = flipped;
+      for (std::uint64_t rest = certainty_changed; rest != 0; rest &= rest - 1) {
+        const int k = std::countr_zero(rest);
+        const std::size_t s = s0 + static_cast<std::size_t>(k);
+        // Both at or past full certainty: the same factor, 1, without dividing.
+        const bool both_full = certainty[s] >= full_certainty && seen_certainty[s] >= full_certainty;
+        if (!both_full && !foothold::same_bits(foothold::certainty_factor(certainty[s], full_certainty),
+                                               foothold::certainty_factor(seen_certainty[s], full_certainty))) {
+          scores |= std::uint64_t{1} << k;
+        }
+        seen_certainty[s] = certainty[s];
       }
+      if (scores != 0) {
+        marks[j / 64] |= scores << (j % 64);
+        scored.lo = std::min(scored.lo, static_cast<int>(j + std::countr_zero(scores)));
+        scored.hi = std::max(scored.hi, static_cast<int>(j + 63 - std::countl_zero(scores)));
+      }
+      if (unseen_known != 0) {
+        unseen.lo = std::min(unseen.lo, static_cast<int>(j + std::countr_zero(unseen_known)));
+        unseen.hi = std::max(unseen.hi, static_cast<int>(j + 63 - std::countl_zero(unseen_known)));
+      }
+      changed_runs.add(changed, count, j, mark_run);
+      j += count;
     }
+    changed_runs.end(j_end, mark_run);
   }
 }
 
