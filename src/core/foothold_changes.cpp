@@ -98,6 +98,46 @@ void FootholdChanges::mark_geometry(const FootholdStencil& stencil, std::int64_t
   }
 }
 
+void FootholdChanges::mark_geometry_word(const FootholdStencil& stencil, std::int64_t i, std::size_t word,
+                                         std::uint64_t bits) {
+  if (bits == 0) return;
+  const std::int64_t f = stencil.foot_cells, side = n;
+  const int* widths = stencil.foot_widths.data() + f;  // by row offset, -f..f
+  // The bits widened by w columns either way: within the word, and what
+  // spills into the words below and above it.
+  std::uint64_t within[64], below[64], above[64];
+  within[0] = bits;
+  below[0] = above[0] = 0;
+  for (std::int64_t w = 1; w <= f; ++w) {
+    within[w] = within[w - 1] | bits << w | bits >> w;
+    below[w] = below[w - 1] | bits << (64 - w);
+    above[w] = above[w - 1] | bits >> (64 - w);
+  }
+  // Columns at or past n are not cells: the last word keeps only those below.
+  const auto last_word = static_cast<std::size_t>(side - 1) / 64;
+  const std::uint64_t last_mask = ~std::uint64_t{0} >> (63 - (side - 1) % 64);
+  const auto in_window = [&](std::size_t w, std::uint64_t m) { return w == last_word ? m & last_mask : m; };
+  const auto first_column = static_cast<int>(word * 64);
+  const std::int64_t first = std::max(-f, -i), last = std::min(f, side - 1 - i);
+  for (std::int64_t d = first; d <= last; ++d) {
+    const int w = widths[d < 0 ? -d : d];
+    if (w < 0) continue;
+    std::uint64_t* row = geometry_mark.data() + static_cast<std::size_t>(i + d) * mark_words;
+    // The cells' own columns lie in the window: `here` is never empty.
+    const std::uint64_t here = in_window(word, within[w]);
+    const std::uint64_t low = word > 0 ? below[w] : 0;
+    const std::uint64_t high = word < last_word ? in_window(word + 1, above[w]) : 0;
+    row[word] |= here;
+    if (low != 0) row[word - 1] |= low;
+    if (high != 0) row[word + 1] |= high;
+    RowSpan& r = geometry_rows[static_cast<std::size_t>(i + d)];
+    const int lo = low != 0 ? first_column - 64 + std::countr_zero(low) : first_column + std::countr_zero(here);
+    const int hi = high != 0 ? first_column + 127 - std::countl_zero(high) : first_column + 63 - std::countl_zero(here);
+    r.lo = std::min(r.lo, lo);
+    r.hi = std::max(r.hi, hi);
+  }
+}
+
 // A neighbour's footprint lost the known ones among them, and the edge
 // distances within the search radius of one that was an edge may grow.
 void FootholdChanges::see_left(const FootholdStencil& stencil, const ElevationMap& map, const CellBox& b,
@@ -153,6 +193,7 @@ void FootholdChanges::see_changes(const FootholdStencil& stencil, const Elevatio
   const CellIndex corner = now.min;
   const auto side = static_cast<std::int64_t>(n);
   const CellBox rows = pending.bounds().intersected(stable);
+  const bool by_words = stencil.foot_cells < 64;
   std::int64_t lo = 0, hi = 0;
   for (std::int64_t x = rows.min.x; !rows.empty() && x <= rows.max.x; ++x) {
     if (!pending.span(x, lo, hi)) continue;
@@ -212,7 +253,11 @@ void FootholdChanges::see_changes(const FootholdStencil& stencil, const Elevatio
         unseen.lo = std::min(unseen.lo, static_cast<int>(j + std::countr_zero(unseen_known)));
         unseen.hi = std::max(unseen.hi, static_cast<int>(j + 63 - std::countl_zero(unseen_known)));
       }
-      changed_runs.add(changed, count, j, mark_run);
+      if (by_words) {
+        mark_geometry_word(stencil, static_cast<std::int64_t>(i), static_cast<std::size_t>(j / 64), changed << (j % 64));
+      } else {
+        changed_runs.add(changed, count, j, mark_run);
+      }
       j += count;
     }
     changed_runs.end(j_end, mark_run);
@@ -226,6 +271,7 @@ void FootholdChanges::see_all(const FootholdStencil& stencil, const ElevationMap
   const std::uint8_t* state = map.state_data();
   const float* certainty = map.certainty_data();
   const auto side = static_cast<std::int64_t>(n);
+  const bool by_words = stencil.foot_cells < 64;
   for (std::int64_t i = b.i0; i <= b.i1; ++i) {
     const std::size_t row = row_slot[static_cast<std::size_t>(i)];
     const auto mark_run = [&](std::int64_t first, std::int64_t last) { mark_geometry(stencil, i, first, last); };
@@ -267,7 +313,11 @@ void FootholdChanges::see_all(const FootholdStencil& stencil, const ElevationMap
         unseen.lo = std::min(unseen.lo, lo);
         unseen.hi = std::max(unseen.hi, hi);
       }
-      known_runs.add(known_bits, count, j, mark_run);
+      if (by_words) {
+        mark_geometry_word(stencil, i, static_cast<std::size_t>(j / 64), known_bits << (j % 64));
+      } else {
+        known_runs.add(known_bits, count, j, mark_run);
+      }
       j += count;
     }
     known_runs.end(b.j1, mark_run);

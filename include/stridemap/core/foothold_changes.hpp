@@ -43,6 +43,12 @@ struct FootholdChanges {
   /// Marks every window cell whose footprint holds a cell of window-local
   /// row i, columns j0..j1 (which may lie outside the window).
   void mark_geometry(const FootholdStencil& stencil, std::int64_t i, std::int64_t j0, std::int64_t j1);
+  /// mark_geometry() of every run of `bits` (bit b: column 64 * word + b)
+  /// of window-local row i (0 <= i < n), for a footprint narrower than a
+  /// word (stencil.foot_cells < 64): the disc's rows are the bits widened
+  /// by shifts, a word and its two neighbours at a time, rather than a pass
+  /// over the disc's rows per run.
+  void mark_geometry_word(const FootholdStencil& stencil, std::int64_t i, std::size_t word, std::uint64_t bits);
   // Always inline: called per cell by every pass, and too large for GCC's
   // own choice once a mark is a bit.
   [[gnu::always_inline]] void mark_score(int i, int j) {
