@@ -295,7 +295,9 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
   // neighbours or not, rows included; a cell of unknown elevation has no fit.
   CellIndex group[foothold::kLanes];
   int filled = 0;
-  const auto fit_group = [&] {
+  // Always inline (GCC's own choice varies with the code around it): out
+  // of line, every captured variable is read through the closure.
+  const auto fit_group = [&]() __attribute__((always_inline)) {
     const unsigned wanted = (1u << filled) - 1u;
     const CellIndex& first = group[0];
     if (filled == foothold::kLanes && group[filled - 1].x == first.x && group[filled - 1].y - first.y == filled - 1) {
@@ -340,6 +342,8 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
   for (int i = 0; i < n_; ++i) {
     RowSpan& s = c.geometry_rows[static_cast<std::size_t>(i)];
     if (s.lo > s.hi) continue;
+    // A score this row's fits mark lies within the row's hull too.
+    c.widen_scores(i, s.lo, s.hi);
     // The row's marks lie within its hull: only the hull's words are read,
     // each cleared as it is.
     std::uint64_t* words = c.geometry_mark.data() + static_cast<std::size_t>(i) * c.mark_words;

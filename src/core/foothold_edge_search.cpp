@@ -223,7 +223,9 @@ void raise_edges(FootholdChanges& changes, const FootholdStencil& stencil) {
     for (int dx = std::max(-r, -ei); dx <= std::min(r, n - 1 - ei); ++dx) {
       const int w = stencil.edge_widths[static_cast<std::size_t>(dx + r)];
       const std::size_t row = changes.row_slot[static_cast<std::size_t>(ei + dx)];
-      for (int dy = std::max(-w, -ej); dy <= std::min(w, n - 1 - ej); ++dy) {
+      const int dy0 = std::max(-w, -ej), dy1 = std::min(w, n - 1 - ej);
+      changes.widen_scores(ei + dx, ej + dy0, ej + dy1);
+      for (int dy = dy0; dy <= dy1; ++dy) {
         const std::int32_t d2 = dx * dx + dy * dy;
         std::int32_t& seen = changes.seen_edge2[row + changes.col_slot[static_cast<std::size_t>(ej + dy)]];
         if (d2 < seen) {

@@ -49,14 +49,18 @@ struct FootholdChanges {
   /// by shifts, a word and its two neighbours at a time, rather than a pass
   /// over the disc's rows per run.
   void mark_geometry_word(const FootholdStencil& stencil, std::int64_t i, std::size_t word, std::uint64_t bits);
-  // Always inline: called per cell by every pass, and too large for GCC's
-  // own choice once a mark is a bit.
-  [[gnu::always_inline]] void mark_score(int i, int j) {
+  /// Marks the score of window-local cell (i, j), whose row's hull must
+  /// already cover j (widen_scores()): the passes that mark cell by cell
+  /// widen a row's hull once for all the cells they may mark in it.
+  void mark_score(int i, int j) {
     const auto column = static_cast<std::size_t>(j);
     score_mark[static_cast<std::size_t>(i) * mark_words + column / 64] |= std::uint64_t{1} << (column % 64);
+  }
+  /// Widens the hull of row i's score marks to columns lo..hi.
+  void widen_scores(int i, int lo, int hi) {
     RowSpan& r = score_rows[static_cast<std::size_t>(i)];
-    r.lo = r.lo < j ? r.lo : j;
-    r.hi = r.hi > j ? r.hi : j;
+    r.lo = r.lo < lo ? r.lo : lo;
+    r.hi = r.hi > hi ? r.hi : hi;
   }
   void mark_edge(int i, int j) {  // inline: called per changed cell
     RowSpan& r = unseen_edge_rows[static_cast<std::size_t>(i)];
