@@ -92,23 +92,36 @@ class ChangedRows {
     const std::int64_t first = std::max(b.min.x, b.max.x - static_cast<std::int64_t>(other.rows_.size()) + 1);
     const std::size_t n_other = other.rows_.size(), n = rows_.size();
     std::size_t from = other.place(first), to = place(first);
+    const Row* theirs = other.rows_.data();
+    Row* ours = rows_.data();
     // The box of the rows added, grown once at the end by its two corners.
     std::int64_t first_x = 0, last_x = 0;
     std::int64_t lo_y = std::numeric_limits<std::int64_t>::max(), hi_y = std::numeric_limits<std::int64_t>::min();
-    for (std::int64_t x = first; x <= b.max.x; ++x) {
-      const Row& o = other.rows_[from];
-      if (o.x == x && o.lo <= o.hi) {
-        Row& r = rows_[to];
-        if (r.x != x) r = Row{x, std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::min()};
-        r.lo = std::min(r.lo, o.lo);
-        r.hi = std::max(r.hi, o.hi);
-        if (lo_y > hi_y) first_x = x;
-        last_x = x;
-        lo_y = std::min(lo_y, o.lo);
-        hi_y = std::max(hi_y, o.hi);
+    // Stretches of rows along which neither ring wraps.
+    for (std::int64_t x = first; x <= b.max.x;) {
+      const auto stretch = static_cast<std::size_t>(std::min<std::int64_t>(
+          b.max.x - x + 1, static_cast<std::int64_t>(std::min(n_other - from, n - to))));
+      for (std::size_t k = 0; k < stretch; ++k) {
+        const Row& o = theirs[from + k];
+        const std::int64_t row_x = x + static_cast<std::int64_t>(k);
+        if (o.x == row_x && o.lo <= o.hi) {
+          Row& r = ours[to + k];
+          if (r.x != row_x) {
+            r = Row{row_x, std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::min()};
+          }
+          r.lo = std::min(r.lo, o.lo);
+          r.hi = std::max(r.hi, o.hi);
+          if (lo_y > hi_y) first_x = row_x;
+          last_x = row_x;
+          lo_y = std::min(lo_y, o.lo);
+          hi_y = std::max(hi_y, o.hi);
+        }
       }
-      if (++from == n_other) from = 0;
-      if (++to == n) to = 0;
+      x += static_cast<std::int64_t>(stretch);
+      from += stretch;
+      to += stretch;
+      if (from == n_other) from = 0;
+      if (to == n) to = 0;
     }
     if (lo_y > hi_y) return;
     bounds_.add(CellIndex{first_x, lo_y});
