@@ -282,60 +282,63 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
     }
   };
   const auto slot_of = [&](int i, int j) { return c.row_slot[static_cast<std::size_t>(i)] + cols[j]; };
-  const auto store = [&](int i, int j, float new_slope, float new_roughness, float new_step) {
+  // A marked cell with its storage slot and its entry in padded_, both
+  // found once, when it is marked.
+  struct Member {
+    int i, j;
+    std::size_t slot;
+    const float* entry;
+  };
+  const auto store = [&](const Member& m, float new_slope, float new_roughness, float new_step) {
     ++cells;
-    const std::size_t t = slot_of(i, j);
+    const std::size_t t = m.slot;
     const float old_slope = slope[t], old_roughness = roughness[t], old_step = step[t];
     slope[t] = new_slope;
     roughness[t] = new_roughness;
     step[t] = new_step;
-    fitted(i, j, t, old_slope, old_roughness, old_step);
+    fitted(m.i, m.j, t, old_slope, old_roughness, old_step);
   };
   // The marked cells of known elevation, kLanes at a time whether
   // neighbours or not, rows included; a cell of unknown elevation has no fit.
-  CellIndex group[foothold::kLanes];
+  Member group[foothold::kLanes];
   int filled = 0;
   // Always inline (GCC's own choice varies with the code around it): out
   // of line, every captured variable is read through the closure.
   const auto fit_group = [&]() __attribute__((always_inline)) {
     const unsigned wanted = (1u << filled) - 1u;
-    const CellIndex& first = group[0];
-    if (filled == foothold::kLanes && group[filled - 1].x == first.x && group[filled - 1].y - first.y == filled - 1) {
-      const auto i = static_cast<int>(first.x), j = static_cast<int>(first.y);
-      foothold::fit_footprint_lanes(stencil_, inverses_, padded_.at(i, j), padded_.stride, wanted, lanes);
+    const Member& first = group[0];
+    const Member& last = group[foothold::kLanes - 1];
+    if (filled == foothold::kLanes && last.i == first.i && last.j - first.j == foothold::kLanes - 1) {
+      foothold::fit_footprint_lanes(stencil_, inverses_, first.entry, padded_.stride, wanted, lanes);
     } else {
       foothold::LaneCentres centres;
-      for (int l = 0; l < foothold::kLanes; ++l) {
-        const CellIndex& g = group[l < filled ? l : 0];
-        centres.entry[l] = padded_.at(static_cast<int>(g.x), static_cast<int>(g.y));
-      }
+      for (int l = 0; l < foothold::kLanes; ++l) centres.entry[l] = group[l < filled ? l : 0].entry;
       foothold::fit_footprint_cells(stencil_, inverses_, centres, padded_.stride, wanted, lanes);
     }
-    for (int l = 0; l < filled; ++l) {
-      store(static_cast<int>(group[l].x), static_cast<int>(group[l].y), lanes.slope_deg[l], lanes.roughness_m[l],
-            lanes.step_height_m[l]);
-    }
+    for (int l = 0; l < filled; ++l) store(group[l], lanes.slope_deg[l], lanes.roughness_m[l], lanes.step_height_m[l]);
     filled = 0;
   };
   // One marked cell: fitted in a lane group, stored NaN, or (a footprint
   // too large for the lanes) fitted alone.
   const auto redo = [&](int i, int j) {
+    const std::size_t t = slot_of(i, j);
     if (!fast) {
-      const std::size_t t = slot_of(i, j);
       const float old_slope = slope[t], old_roughness = roughness[t], old_step = step[t];
       ++cells;
       foothold::fit_footprint(stencil_, slots, elevation, state, {slots.corner.x + i, slots.corner.y + j}, out);
       fitted(i, j, t, old_slope, old_roughness, old_step);
-    } else if (std::isnan(*padded_.at(i, j))) {
+      return;
+    }
+    const float* entry = padded_.at(i, j);
+    if (std::isnan(*entry)) {
       // Most such cells were unknown at the last refresh too: nothing to store.
-      const std::size_t t = slot_of(i, j);
       if (same_bits(slope[t], kNaN) && same_bits(roughness[t], kNaN) && same_bits(step[t], kNaN)) {
         ++cells;
       } else {
-        store(i, j, kNaN, kNaN, kNaN);
+        store(Member{i, j, t, entry}, kNaN, kNaN, kNaN);
       }
     } else {
-      group[filled++] = CellIndex{i, j};
+      group[filled++] = Member{i, j, t, entry};
       if (filled == foothold::kLanes) fit_group();
     }
   };
