@@ -222,15 +222,22 @@ void raise_edges(FootholdChanges& changes, const FootholdStencil& stencil) {
     const int ei = cell / n, ej = cell % n;
     for (int dx = std::max(-r, -ei); dx <= std::min(r, n - 1 - ei); ++dx) {
       const int w = stencil.edge_widths[static_cast<std::size_t>(dx + r)];
-      const std::size_t row = changes.row_slot[static_cast<std::size_t>(ei + dx)];
+      std::int32_t* row = changes.seen_edge2.data() + changes.row_slot[static_cast<std::size_t>(ei + dx)];
       const int dy0 = std::max(-w, -ej), dy1 = std::min(w, n - 1 - ej);
       changes.widen_scores(ei + dx, ej + dy0, ej + dy1);
-      for (int dy = dy0; dy <= dy1; ++dy) {
-        const std::int32_t d2 = dx * dx + dy * dy;
-        std::int32_t& seen = changes.seen_edge2[row + changes.col_slot[static_cast<std::size_t>(ej + dy)]];
-        if (d2 < seen) {
-          seen = d2;
-          changes.mark_score(ei + dx, ej + dy);
+      // The disc row's columns are at most two runs of the storage row (the
+      // ring wraps once).
+      for (int dy = dy0; dy <= dy1;) {
+        const std::size_t first = changes.col_slot[static_cast<std::size_t>(ej + dy)];
+        const int run_end = std::min(dy1, dy + static_cast<int>(static_cast<std::size_t>(n) - first) - 1);
+        std::int32_t* seen = row + first;
+        for (const int run_start = dy; dy <= run_end; ++dy) {
+          const std::int32_t d2 = dx * dx + dy * dy;
+          std::int32_t& seen_d2 = seen[dy - run_start];
+          if (d2 < seen_d2) {
+            seen_d2 = d2;
+            changes.mark_score(ei + dx, ej + dy);
+          }
         }
       }
     }
