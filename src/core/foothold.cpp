@@ -320,8 +320,7 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
   };
   // One marked cell: fitted in a lane group, stored NaN, or (a footprint
   // too large for the lanes) fitted alone.
-  const auto redo = [&](int i, int j) {
-    const std::size_t t = slot_of(i, j);
+  const auto redo = [&](int i, int j, std::size_t t) {
     if (!fast) {
       const float old_slope = slope[t], old_roughness = roughness[t], old_step = step[t];
       ++cells;
@@ -352,8 +351,20 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
     std::uint64_t* words = c.geometry_mark.data() + static_cast<std::size_t>(i) * c.mark_words;
     const auto last = static_cast<std::size_t>(s.hi) / 64;
     for (auto w = static_cast<std::size_t>(s.lo) / 64; w <= last; ++w) {
-      for (std::uint64_t marked = std::exchange(words[w], 0); marked != 0; marked &= marked - 1) {
-        redo(i, static_cast<int>(w * 64) + std::countr_zero(marked));
+      std::uint64_t marked = std::exchange(words[w], 0);
+      if (marked == 0) continue;
+      const auto word_start = static_cast<int>(w * 64);
+      const std::size_t start = slot_of(i, word_start);
+      if (c.word_in_one_run(start)) {
+        for (; marked != 0; marked &= marked - 1) {
+          const int b = std::countr_zero(marked);
+          redo(i, word_start + b, start + static_cast<std::size_t>(b));
+        }
+      } else {
+        for (; marked != 0; marked &= marked - 1) {
+          const int j = word_start + std::countr_zero(marked);
+          redo(i, j, slot_of(i, j));
+        }
       }
     }
     s = RowSpan{n_, -1};
@@ -385,29 +396,38 @@ void FootholdLayers::score_rows(ElevationMap& map) {
     if (e.lo > e.hi) continue;
     std::uint64_t* words = changes_.score_mark.data() + static_cast<std::size_t>(x) * changes_.mark_words;
     const std::size_t row = changes_.row_slot[static_cast<std::size_t>(x)];
+    // One marked cell, at storage slot s.
+    const auto score_cell = [&](std::size_t s) {
+      ++cells;
+      if (std::isnan(changes_.seen_elevation[s])) {
+        edge_distance[s] = score[s] = kNaN;
+        return;
+      }
+      const std::int64_t b = changes_.seen_edge2[s];
+      const bool tabled = b < static_cast<std::int64_t>(edge_distance_of_.size());
+      const double distance_m =
+          tabled ? edge_distance_of_[static_cast<std::size_t>(b)] : edge_distance_m_of(b, none2);
+      edge_distance[s] = static_cast<float>(distance_m);
+      if (std::isnan(slope[s]) || std::isnan(step[s]) || std::isnan(roughness[s])) {
+        score[s] = kNaN;
+        return;
+      }
+      score_slots_[scored] = s;
+      score_edge_factors_[scored++] =
+          tabled ? edge_factor_of_[static_cast<std::size_t>(b)] : edge_factor_of_distance(distance_m);
+      if (scored == kScoreBatch) score_batch();
+    };
     const auto last = static_cast<std::size_t>(e.hi) / 64;
     for (auto w = static_cast<std::size_t>(e.lo) / 64; w <= last; ++w) {
-      for (std::uint64_t marked = std::exchange(words[w], 0); marked != 0; marked &= marked - 1) {
-        const std::size_t y = w * 64 + static_cast<std::size_t>(std::countr_zero(marked));
-        ++cells;
-        const std::size_t s = row + changes_.col_slot[y];
-        if (std::isnan(changes_.seen_elevation[s])) {
-          edge_distance[s] = score[s] = kNaN;
-          continue;
+      std::uint64_t marked = std::exchange(words[w], 0);
+      if (marked == 0) continue;
+      const std::size_t start = row + changes_.col_slot[w * 64];
+      if (changes_.word_in_one_run(start)) {
+        for (; marked != 0; marked &= marked - 1) score_cell(start + static_cast<std::size_t>(std::countr_zero(marked)));
+      } else {
+        for (; marked != 0; marked &= marked - 1) {
+          score_cell(row + changes_.col_slot[w * 64 + static_cast<std::size_t>(std::countr_zero(marked))]);
         }
-        const std::int64_t b = changes_.seen_edge2[s];
-        const bool tabled = b < static_cast<std::int64_t>(edge_distance_of_.size());
-        const double distance_m =
-            tabled ? edge_distance_of_[static_cast<std::size_t>(b)] : edge_distance_m_of(b, none2);
-        edge_distance[s] = static_cast<float>(distance_m);
-        if (std::isnan(slope[s]) || std::isnan(step[s]) || std::isnan(roughness[s])) {
-          score[s] = kNaN;
-          continue;
-        }
-        score_slots_[scored] = s;
-        score_edge_factors_[scored++] =
-            tabled ? edge_factor_of_[static_cast<std::size_t>(b)] : edge_factor_of_distance(distance_m);
-        if (scored == kScoreBatch) score_batch();
       }
     }
     e = RowSpan{n_, -1};

@@ -106,6 +106,11 @@ struct FootholdChanges {
     set_bits(geometry_mark.data() + static_cast<std::size_t>(i) * mark_words, static_cast<std::size_t>(lo),
              static_cast<std::size_t>(hi));
   }
+  /// Whether the 64 columns of a word of marks whose first column is at
+  /// storage slot `start` follow it in storage, the ring not wrapping
+  /// within them: then column 64 * word + b is at start + b, without a
+  /// column slot looked up per cell.
+  bool word_in_one_run(std::size_t start) const { return start % static_cast<std::size_t>(n) + 63 < static_cast<std::size_t>(n); }
   /// Sets bits lo..hi (lo <= hi) of a row of words.
   static void set_bits(std::uint64_t* row, std::size_t lo, std::size_t hi) {
     const std::size_t first = lo / 64, last = hi / 64;
