@@ -272,7 +272,10 @@ void FootholdChanges::see_changes(const FootholdStencil& stencil, const Elevatio
         unseen.hi = std::max(unseen.hi, static_cast<int>(j + 63 - std::countl_zero(unseen_known)));
       }
       if (by_words) {
-        mark_geometry_word(stencil, static_cast<std::int64_t>(i), static_cast<std::size_t>(j / 64), changed << (j % 64));
+        if (changed != 0) {
+          mark_geometry_word(stencil, static_cast<std::int64_t>(i), static_cast<std::size_t>(j / 64),
+                             changed << (j % 64));
+        }
       } else {
         changed_runs.add(changed, count, j, mark_run);
       }
@@ -332,7 +335,7 @@ void FootholdChanges::see_all(const FootholdStencil& stencil, const ElevationMap
         unseen.hi = std::max(unseen.hi, hi);
       }
       if (by_words) {
-        mark_geometry_word(stencil, i, static_cast<std::size_t>(j / 64), known_bits << (j % 64));
+        if (known_bits != 0) mark_geometry_word(stencil, i, static_cast<std::size_t>(j / 64), known_bits << (j % 64));
       } else {
         known_runs.add(known_bits, count, j, mark_run);
       }
