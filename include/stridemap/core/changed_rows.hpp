@@ -146,7 +146,12 @@ class ChangedRows {
     if (bounds_.max.x - bounds_.min.x + 1 >= n) {
       std::fill(rows_.begin(), rows_.end(), Row{});
     } else {
-      for (std::int64_t x = bounds_.min.x; x <= bounds_.max.x; ++x) rows_[place(x)] = Row{};
+      // At most two stretches of the ring, one modulo for both.
+      const auto first = static_cast<std::ptrdiff_t>(place(bounds_.min.x));
+      const std::int64_t count = bounds_.max.x - bounds_.min.x + 1;
+      const std::int64_t before_end = std::min<std::int64_t>(count, n - first);
+      std::fill(rows_.begin() + first, rows_.begin() + first + before_end, Row{});
+      std::fill(rows_.begin(), rows_.begin() + (count - before_end), Row{});
     }
     bounds_.clear();
   }
