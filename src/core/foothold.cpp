@@ -210,7 +210,10 @@ void FootholdLayers::compute(ElevationMap& map) {
   std::fill(edges_.edge_rows.begin(), edges_.edge_rows.end(), RowSpan{0, n_ - 1});
   last_edge_cells_ =
       search_edge_distances(edges_, c, stencil_, map.data(step_), static_cast<float>(options_.max_step_m), true);
-  std::fill(c.score_mark.begin(), c.score_mark.end(), std::uint8_t{1});
+  for (int i = 0; i < n_; ++i) {
+    FootholdChanges::set_bits(c.score_mark.data() + static_cast<std::size_t>(i) * c.mark_words, 0,
+                              static_cast<std::size_t>(n_ - 1));
+  }
   std::fill(c.score_rows.begin(), c.score_rows.end(), RowSpan{0, n_ - 1});
   score_rows(map);
 }
@@ -235,7 +238,7 @@ bool FootholdLayers::compute_without_known_cells(ElevationMap& map) {
     std::fill_n(map.data(layer), cells, kNaN);
   }
   std::fill(c.geometry_mark.begin(), c.geometry_mark.end(), std::uint64_t{0});
-  std::fill(c.score_mark.begin(), c.score_mark.end(), std::uint8_t{0});
+  std::fill(c.score_mark.begin(), c.score_mark.end(), std::uint64_t{0});
   std::fill(c.geometry_rows.begin(), c.geometry_rows.end(), RowSpan{n_, -1});
   std::fill(c.score_rows.begin(), c.score_rows.end(), RowSpan{n_, -1});
   c.raised.clear();
@@ -279,71 +282,89 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
     }
   };
   const auto slot_of = [&](int i, int j) { return c.row_slot[static_cast<std::size_t>(i)] + cols[j]; };
-  const auto store = [&](int i, int j, float new_slope, float new_roughness, float new_step) {
+  // A marked cell with its storage slot and its entry in padded_, both
+  // found once, when it is marked.
+  struct Member {
+    int i, j;
+    std::size_t slot;
+    const float* entry;
+  };
+  const auto store = [&](const Member& m, float new_slope, float new_roughness, float new_step) {
     ++cells;
-    const std::size_t t = slot_of(i, j);
+    const std::size_t t = m.slot;
     const float old_slope = slope[t], old_roughness = roughness[t], old_step = step[t];
     slope[t] = new_slope;
     roughness[t] = new_roughness;
     step[t] = new_step;
-    fitted(i, j, t, old_slope, old_roughness, old_step);
+    fitted(m.i, m.j, t, old_slope, old_roughness, old_step);
   };
   // The marked cells of known elevation, kLanes at a time whether
   // neighbours or not, rows included; a cell of unknown elevation has no fit.
-  CellIndex group[foothold::kLanes];
+  Member group[foothold::kLanes];
   int filled = 0;
-  const auto fit_group = [&] {
+  // Always inline (GCC's own choice varies with the code around it): out
+  // of line, every captured variable is read through the closure.
+  const auto fit_group = [&]() __attribute__((always_inline)) {
     const unsigned wanted = (1u << filled) - 1u;
-    const CellIndex& first = group[0];
-    if (filled == foothold::kLanes && group[filled - 1].x == first.x && group[filled - 1].y - first.y == filled - 1) {
-      const auto i = static_cast<int>(first.x), j = static_cast<int>(first.y);
-      foothold::fit_footprint_lanes(stencil_, inverses_, padded_.at(i, j), padded_.stride, wanted, lanes);
+    const Member& first = group[0];
+    const Member& last = group[foothold::kLanes - 1];
+    if (filled == foothold::kLanes && last.i == first.i && last.j - first.j == foothold::kLanes - 1) {
+      foothold::fit_footprint_lanes(stencil_, inverses_, first.entry, padded_.stride, wanted, lanes);
     } else {
       foothold::LaneCentres centres;
-      for (int l = 0; l < foothold::kLanes; ++l) {
-        const CellIndex& g = group[l < filled ? l : 0];
-        centres.entry[l] = padded_.at(static_cast<int>(g.x), static_cast<int>(g.y));
-      }
+      for (int l = 0; l < foothold::kLanes; ++l) centres.entry[l] = group[l < filled ? l : 0].entry;
       foothold::fit_footprint_cells(stencil_, inverses_, centres, padded_.stride, wanted, lanes);
     }
-    for (int l = 0; l < filled; ++l) {
-      store(static_cast<int>(group[l].x), static_cast<int>(group[l].y), lanes.slope_deg[l], lanes.roughness_m[l],
-            lanes.step_height_m[l]);
-    }
+    for (int l = 0; l < filled; ++l) store(group[l], lanes.slope_deg[l], lanes.roughness_m[l], lanes.step_height_m[l]);
     filled = 0;
   };
   // One marked cell: fitted in a lane group, stored NaN, or (a footprint
   // too large for the lanes) fitted alone.
-  const auto redo = [&](int i, int j) {
+  const auto redo = [&](int i, int j, std::size_t t) {
     if (!fast) {
-      const std::size_t t = slot_of(i, j);
       const float old_slope = slope[t], old_roughness = roughness[t], old_step = step[t];
       ++cells;
       foothold::fit_footprint(stencil_, slots, elevation, state, {slots.corner.x + i, slots.corner.y + j}, out);
       fitted(i, j, t, old_slope, old_roughness, old_step);
-    } else if (std::isnan(*padded_.at(i, j))) {
+      return;
+    }
+    const float* entry = padded_.at(i, j);
+    if (std::isnan(*entry)) {
       // Most such cells were unknown at the last refresh too: nothing to store.
-      const std::size_t t = slot_of(i, j);
       if (same_bits(slope[t], kNaN) && same_bits(roughness[t], kNaN) && same_bits(step[t], kNaN)) {
         ++cells;
       } else {
-        store(i, j, kNaN, kNaN, kNaN);
+        store(Member{i, j, t, entry}, kNaN, kNaN, kNaN);
       }
     } else {
-      group[filled++] = CellIndex{i, j};
+      group[filled++] = Member{i, j, t, entry};
       if (filled == foothold::kLanes) fit_group();
     }
   };
   for (int i = 0; i < n_; ++i) {
     RowSpan& s = c.geometry_rows[static_cast<std::size_t>(i)];
     if (s.lo > s.hi) continue;
+    // A score this row's fits mark lies within the row's hull too.
+    c.widen_scores(i, s.lo, s.hi);
     // The row's marks lie within its hull: only the hull's words are read,
     // each cleared as it is.
     std::uint64_t* words = c.geometry_mark.data() + static_cast<std::size_t>(i) * c.mark_words;
     const auto last = static_cast<std::size_t>(s.hi) / 64;
     for (auto w = static_cast<std::size_t>(s.lo) / 64; w <= last; ++w) {
-      for (std::uint64_t marked = std::exchange(words[w], 0); marked != 0; marked &= marked - 1) {
-        redo(i, static_cast<int>(w * 64) + std::countr_zero(marked));
+      std::uint64_t marked = std::exchange(words[w], 0);
+      if (marked == 0) continue;
+      const auto word_start = static_cast<int>(w * 64);
+      const std::size_t start = slot_of(i, word_start);
+      if (c.word_in_one_run(start)) {
+        for (; marked != 0; marked &= marked - 1) {
+          const int b = std::countr_zero(marked);
+          redo(i, word_start + b, start + static_cast<std::size_t>(b));
+        }
+      } else {
+        for (; marked != 0; marked &= marked - 1) {
+          const int j = word_start + std::countr_zero(marked);
+          redo(i, j, slot_of(i, j));
+        }
       }
     }
     s = RowSpan{n_, -1};
@@ -373,29 +394,41 @@ void FootholdLayers::score_rows(ElevationMap& map) {
   for (int x = 0; x < n_; ++x) {
     RowSpan& e = changes_.score_rows[static_cast<std::size_t>(x)];
     if (e.lo > e.hi) continue;
-    std::uint8_t* mark = changes_.score_mark.data() + static_cast<std::size_t>(x) * static_cast<std::size_t>(n_);
+    std::uint64_t* words = changes_.score_mark.data() + static_cast<std::size_t>(x) * changes_.mark_words;
     const std::size_t row = changes_.row_slot[static_cast<std::size_t>(x)];
-    for (int y = e.lo; y <= e.hi; ++y) {
-      if (!mark[y]) continue;
-      mark[y] = 0;
+    // One marked cell, at storage slot s.
+    const auto score_cell = [&](std::size_t s) {
       ++cells;
-      const std::size_t s = row + changes_.col_slot[static_cast<std::size_t>(y)];
       if (std::isnan(changes_.seen_elevation[s])) {
         edge_distance[s] = score[s] = kNaN;
-        continue;
+        return;
       }
       const std::int64_t b = changes_.seen_edge2[s];
       const bool tabled = b < static_cast<std::int64_t>(edge_distance_of_.size());
-      const double distance_m = tabled ? edge_distance_of_[static_cast<std::size_t>(b)] : edge_distance_m_of(b, none2);
+      const double distance_m =
+          tabled ? edge_distance_of_[static_cast<std::size_t>(b)] : edge_distance_m_of(b, none2);
       edge_distance[s] = static_cast<float>(distance_m);
       if (std::isnan(slope[s]) || std::isnan(step[s]) || std::isnan(roughness[s])) {
         score[s] = kNaN;
-        continue;
+        return;
       }
       score_slots_[scored] = s;
       score_edge_factors_[scored++] =
           tabled ? edge_factor_of_[static_cast<std::size_t>(b)] : edge_factor_of_distance(distance_m);
       if (scored == kScoreBatch) score_batch();
+    };
+    const auto last = static_cast<std::size_t>(e.hi) / 64;
+    for (auto w = static_cast<std::size_t>(e.lo) / 64; w <= last; ++w) {
+      std::uint64_t marked = std::exchange(words[w], 0);
+      if (marked == 0) continue;
+      const std::size_t start = row + changes_.col_slot[w * 64];
+      if (changes_.word_in_one_run(start)) {
+        for (; marked != 0; marked &= marked - 1) score_cell(start + static_cast<std::size_t>(std::countr_zero(marked)));
+      } else {
+        for (; marked != 0; marked &= marked - 1) {
+          score_cell(row + changes_.col_slot[w * 64 + static_cast<std::size_t>(std::countr_zero(marked))]);
+        }
+      }
     }
     e = RowSpan{n_, -1};
   }

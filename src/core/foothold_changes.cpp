@@ -1,11 +1,67 @@
 #include "stridemap/core/foothold_changes.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cmath>
+#include <cstring>
 
 #include "foothold_cells.hpp"
 
 namespace stridemap {
+namespace {
+
+// The maximal runs of set bits along a row given in chunks of up to 64
+// columns: the passes below first gather a chunk's cells as bits (a loop
+// without branches), then mark each run once, however many chunks it spans.
+// A chunk's cells flagged one byte each (0 or 1, up to 64 of them, with
+// room for 8 more) as bits: a byte loop vectorises where a shift and an OR
+// per cell would not, and eight bytes become eight bits by one multiply
+// (byte b lands in bit 56 + b; the other products fall below bit 56 at
+// distinct places, or past bit 63, so none carries into those eight).
+std::uint64_t bits_of_flags(std::uint8_t* flags, int count) {
+  std::memset(flags + count, 0, 8);
+  std::uint64_t bits = 0;
+  for (int k = 0; k < count; k += 8) {
+    std::uint64_t eight;
+    std::memcpy(&eight, flags + k, sizeof eight);
+    bits |= (eight * 0x0102040810204080ull) >> 56 << k;
+  }
+  return bits;
+}
+
+struct RowRuns {
+  bool in_run = false;
+  std::int64_t run = 0;  ///< the open run's first column
+
+  /// `bits` (bit k: column y + k; none at or past `count`); mark(first,
+  /// last) for each run that ends within the chunk.
+  template <class Mark>
+  void add(std::uint64_t bits, int count, std::int64_t y, Mark&& mark) {
+    for (int k = 0; k < count;) {
+      const std::uint64_t ahead = bits >> k;
+      if (in_run) {
+        const int ones = std::countr_one(ahead);
+        if (k + ones >= count) return;  // it runs on into the next chunk
+        mark(run, y + k + ones - 1);
+        in_run = false;
+        k += ones;
+      } else {
+        if (ahead == 0) return;
+        k += std::countr_zero(ahead);
+        run = y + k;
+        in_run = true;
+      }
+    }
+  }
+  /// The row ends after column `last`.
+  template <class Mark>
+  void end(std::int64_t last, Mark&& mark) {
+    if (in_run) mark(run, last);
+    in_run = false;
+  }
+};
+
+}  // namespace
 
 FootholdChanges::FootholdChanges(int cells_per_side, std::int32_t none2, double full_certainty_in)
     : n(cells_per_side), full_certainty(full_certainty_in) {
@@ -18,7 +74,7 @@ FootholdChanges::FootholdChanges(int cells_per_side, std::int32_t none2, double 
   col_slot.assign(cells, 0);
   mark_words = (cells + 63) / 64;
   geometry_mark.assign(cells * mark_words, 0);
-  score_mark.assign(cells * cells, 0);
+  score_mark.assign(cells * mark_words, 0);
   for (std::vector<RowSpan>* rows : {&geometry_rows, &score_rows, &flips, &unseen_edge_rows}) {
     rows->assign(cells, RowSpan{n, -1});
   }
@@ -59,100 +115,173 @@ void FootholdChanges::mark_geometry(const FootholdStencil& stencil, std::int64_t
   }
 }
 
+void FootholdChanges::mark_geometry_word(const FootholdStencil& stencil, std::int64_t i, std::size_t word,
+                                         std::uint64_t bits) {
+  if (bits == 0) return;
+  const std::int64_t f = stencil.foot_cells, side = n;
+  const int* widths = stencil.foot_widths.data() + f;  // by row offset, -f..f
+  // The bits widened by w columns either way: within the word, and what
+  // spills into the words below and above it.
+  std::uint64_t within[64], below[64], above[64];
+  within[0] = bits;
+  below[0] = above[0] = 0;
+  for (std::int64_t w = 1; w <= f; ++w) {
+    within[w] = within[w - 1] | bits << w | bits >> w;
+    below[w] = below[w - 1] | bits << (64 - w);
+    above[w] = above[w - 1] | bits >> (64 - w);
+  }
+  // Columns at or past n are not cells: the last word keeps only those below.
+  const auto last_word = static_cast<std::size_t>(side - 1) / 64;
+  const std::uint64_t last_mask = ~std::uint64_t{0} >> (63 - (side - 1) % 64);
+  const auto in_window = [&](std::size_t w, std::uint64_t m) { return w == last_word ? m & last_mask : m; };
+  const auto first_column = static_cast<int>(word * 64);
+  const std::int64_t first = std::max(-f, -i), last = std::min(f, side - 1 - i);
+  for (std::int64_t d = first; d <= last; ++d) {
+    const int w = widths[d < 0 ? -d : d];
+    if (w < 0) continue;
+    std::uint64_t* row = geometry_mark.data() + static_cast<std::size_t>(i + d) * mark_words;
+    // The cells' own columns lie in the window: `here` is never empty.
+    const std::uint64_t here = in_window(word, within[w]);
+    const std::uint64_t low = word > 0 ? below[w] : 0;
+    const std::uint64_t high = word < last_word ? in_window(word + 1, above[w]) : 0;
+    row[word] |= here;
+    if (low != 0) row[word - 1] |= low;
+    if (high != 0) row[word + 1] |= high;
+    RowSpan& r = geometry_rows[static_cast<std::size_t>(i + d)];
+    const int lo = low != 0 ? first_column - 64 + std::countr_zero(low) : first_column + std::countr_zero(here);
+    const int hi = high != 0 ? first_column + 127 - std::countl_zero(high) : first_column + 63 - std::countl_zero(here);
+    r.lo = std::min(r.lo, lo);
+    r.hi = std::max(r.hi, hi);
+  }
+}
+
 // A neighbour's footprint lost the known ones among them, and the edge
 // distances within the search radius of one that was an edge may grow.
 void FootholdChanges::see_left(const FootholdStencil& stencil, const ElevationMap& map, const CellBox& b,
                                CellIndex corner) {
   const std::int64_t foot_cells = stencil.foot_cells, edge_cells = stencil.edge_cells;
+  const auto side = static_cast<std::size_t>(n);
   const auto clamp = [&](std::int64_t v) { return static_cast<int>(std::clamp<std::int64_t>(v, 0, n - 1)); };
   for (std::int64_t x = b.min.x; x <= b.max.x; ++x) {
     const std::int64_t i = x - corner.x;
     if (i < -foot_cells - edge_cells || i > n - 1 + foot_cells + edge_cells) continue;  // reaches no window cell
-    bool in_run = false;
-    std::int64_t run = 0;
+    const auto mark_run = [&](std::int64_t first, std::int64_t last) {
+      mark_geometry(stencil, i, first - corner.y, last - corner.y);
+    };
+    RowRuns known_runs;
+    RowSpan& flip = flips[static_cast<std::size_t>(clamp(i))];
     // Slots along the row step by one and wrap: map.slot()'s two modulos
     // once a row, not once a cell.
     const std::size_t first = map.slot({x, b.min.y});
-    const std::size_t row = first - first % static_cast<std::size_t>(n);
+    const std::size_t row = first - first % side;
     std::size_t col = first - row;
-    for (std::int64_t y = b.min.y; y <= b.max.y + 1; ++y) {
-      bool was_known = false;
-      if (y <= b.max.y) {
-        const std::size_t s = row + col;
-        col = col + 1 == static_cast<std::size_t>(n) ? 0 : col + 1;
-        was_known = !std::isnan(seen_elevation[s]);
-        if (seen_edge2[s] == 0) {  // it was an edge
-          RowSpan& f = flips[static_cast<std::size_t>(clamp(i))];
-          f.lo = std::min(f.lo, clamp(y - corner.y));
-          f.hi = std::max(f.hi, clamp(y - corner.y));
-        }
+    for (std::int64_t y = b.min.y; y <= b.max.y;) {
+      const auto count = static_cast<int>(
+          std::min<std::int64_t>({b.max.y - y + 1, static_cast<std::int64_t>(side - col), std::int64_t{64}}));
+      const float* elevation = seen_elevation.data() + row + col;
+      const std::int32_t* edge2 = seen_edge2.data() + row + col;
+      std::uint8_t known[64 + 8], edge[64 + 8];
+      for (int k = 0; k < count; ++k) {
+        known[k] = !std::isnan(elevation[k]);
+        edge[k] = edge2[k] == 0;  // it was an edge
       }
-      if (was_known && !in_run) {
-        run = y;
-        in_run = true;
-      } else if (!was_known && in_run) {
-        mark_geometry(stencil, i, run - corner.y, y - 1 - corner.y);
-        in_run = false;
+      const std::uint64_t known_bits = bits_of_flags(known, count), edge_bits = bits_of_flags(edge, count);
+      if (edge_bits != 0) {
+        flip.lo = std::min(flip.lo, clamp(y + std::countr_zero(edge_bits) - corner.y));
+        flip.hi = std::max(flip.hi, clamp(y + 63 - std::countl_zero(edge_bits) - corner.y));
       }
+      known_runs.add(known_bits, count, y, mark_run);
+      y += count;
+      col += static_cast<std::size_t>(count);
+      if (col == side) col = 0;
     }
+    known_runs.end(b.max.y, mark_run);
   }
 }
 
 // Compared with what the last refresh saw: a changed elevation or
 // known-ness redoes the plane fits around the cell; a changed certainty
-// factor, its score only.
+// factor, its score only. A chunk of a row's cells (contiguous in storage,
+// within one word of marks) is compared first, into bits, then marked.
 void FootholdChanges::see_changes(const FootholdStencil& stencil, const ElevationMap& map, const CellBox& now) {
   if (pending.empty()) return;
   const float* elevation = map.elevation_data();
   const std::uint8_t* state = map.state_data();
   const float* certainty = map.certainty_data();
   const CellIndex corner = now.min;
+  const auto side = static_cast<std::int64_t>(n);
   const CellBox rows = pending.bounds().intersected(stable);
+  const bool by_words = stencil.foot_cells < 64;
   std::int64_t lo = 0, hi = 0;
   for (std::int64_t x = rows.min.x; !rows.empty() && x <= rows.max.x; ++x) {
     if (!pending.span(x, lo, hi)) continue;
     lo = std::max(lo, stable.min.y);
     hi = std::min(hi, stable.max.y);
-    const auto i = static_cast<int>(x - corner.x);
-    const std::size_t row = row_slot[static_cast<std::size_t>(i)];
-    // Runs of consecutive changed cells are marked as one box.
-    std::int64_t run = 0;
-    bool in_run = false;
-    for (std::int64_t y = lo; y <= hi + 1; ++y) {
-      bool changed = false;
-      if (y <= hi) {
-        const auto j = static_cast<int>(y - corner.y);
-        const std::size_t s = row + col_slot[static_cast<std::size_t>(j)];
+    const auto i = static_cast<std::size_t>(x - corner.x);
+    const std::size_t row = row_slot[i];
+    const auto mark_run = [&](std::int64_t first, std::int64_t last) {
+      mark_geometry(stencil, static_cast<std::int64_t>(i), first, last);
+    };
+    RowRuns changed_runs;
+    RowSpan& scored = score_rows[i];
+    RowSpan& unseen = unseen_edge_rows[i];
+    std::uint64_t* marks = score_mark.data() + i * mark_words;
+    const std::int64_t j_end = hi - corner.y;
+    for (std::int64_t j = lo - corner.y; j <= j_end;) {
+      const std::size_t first = col_slot[static_cast<std::size_t>(j)];
+      const auto count = static_cast<int>(
+          std::min<std::int64_t>({j_end - j + 1, side - static_cast<std::int64_t>(first), 64 - j % 64}));
+      const std::size_t s0 = row + first;
+      // Per cell k of the chunk: its elevation or known-ness changed; its
+      // known-ness did (the edge distance is NaN exactly where the cell is
+      // unknown); it entered the window unknown and is known now (no edge
+      // distance to show yet); its certainty changed.
+      std::uint64_t changed = 0, flipped = 0, unseen_known = 0, certainty_changed = 0;
+      for (int k = 0; k < count; ++k) {
+        const std::size_t s = s0 + static_cast<std::size_t>(k);
         const float elevation_now = foothold::known_elevation(elevation, state, s);
         const float before = seen_elevation[s];
-        if (!foothold::same_bits(elevation_now, before)) {
-          changed = true;
-          seen_elevation[s] = elevation_now;
-          // The edge distance is NaN exactly where the cell is unknown; a
-          // cell that entered the window unknown has none to show yet.
-          if (std::isnan(elevation_now) != std::isnan(before)) mark_score(i, j);
-          if (seen_edge2[s] == kEdgeUnknown && !std::isnan(elevation_now)) mark_edge(i, j);
-        }
-        // The same certainty, the same factor: most noted cells skip both
-        // divisions.
-        if (!foothold::same_bits(certainty[s], seen_certainty[s])) {
-          // Both at or past full certainty: the same factor, 1, without dividing.
-          const bool both_full = certainty[s] >= full_certainty && seen_certainty[s] >= full_certainty;
-          if (!both_full && !foothold::same_bits(foothold::certainty_factor(certainty[s], full_certainty),
-                                   foothold::certainty_factor(seen_certainty[s], full_certainty))) {
-            mark_score(i, j);
-          }
-          seen_certainty[s] = certainty[s];
-        }
+        seen_elevation[s] = elevation_now;
+        const bool differs = !foothold::same_bits(elevation_now, before);
+        const bool known_now = !std::isnan(elevation_now);
+        changed |= static_cast<std::uint64_t>(differs) << k;
+        flipped |= static_cast<std::uint64_t>(known_now == std::isnan(before)) << k;
+        unseen_known |= static_cast<std::uint64_t>(differs && known_now && seen_edge2[s] == kEdgeUnknown) << k;
+        certainty_changed |= static_cast<std::uint64_t>(!foothold::same_bits(certainty[s], seen_certainty[s])) << k;
       }
-      if (changed && !in_run) {
-        run = y;
-        in_run = true;
-      } else if (!changed && in_run) {
-        mark_geometry(stencil, i, run - corner.y, y - 1 - corner.y);
-        in_run = false;
+      // The same certainty, the same factor: most cells skip both divisions.
+      std::uint64_t scores = flipped;
+      for (std::uint64_t rest = certainty_changed; rest != 0; rest &= rest - 1) {
+        const int k = std::countr_zero(rest);
+        const std::size_t s = s0 + static_cast<std::size_t>(k);
+        // Both at or past full certainty: the same factor, 1, without dividing.
+        const bool both_full = certainty[s] >= full_certainty && seen_certainty[s] >= full_certainty;
+        if (!both_full && !foothold::same_bits(foothold::certainty_factor(certainty[s], full_certainty),
+                                               foothold::certainty_factor(seen_certainty[s], full_certainty))) {
+          scores |= std::uint64_t{1} << k;
+        }
+        seen_certainty[s] = certainty[s];
       }
+      if (scores != 0) {
+        marks[j / 64] |= scores << (j % 64);
+        scored.lo = std::min(scored.lo, static_cast<int>(j + std::countr_zero(scores)));
+        scored.hi = std::max(scored.hi, static_cast<int>(j + 63 - std::countl_zero(scores)));
+      }
+      if (unseen_known != 0) {
+        unseen.lo = std::min(unseen.lo, static_cast<int>(j + std::countr_zero(unseen_known)));
+        unseen.hi = std::max(unseen.hi, static_cast<int>(j + 63 - std::countl_zero(unseen_known)));
+      }
+      if (by_words) {
+        if (changed != 0) {
+          mark_geometry_word(stencil, static_cast<std::int64_t>(i), static_cast<std::size_t>(j / 64),
+                             changed << (j % 64));
+        }
+      } else {
+        changed_runs.add(changed, count, j, mark_run);
+      }
+      j += count;
     }
+    changed_runs.end(j_end, mark_run);
   }
 }
 
@@ -162,29 +291,57 @@ void FootholdChanges::see_all(const FootholdStencil& stencil, const ElevationMap
   const float* elevation = map.elevation_data();
   const std::uint8_t* state = map.state_data();
   const float* certainty = map.certainty_data();
+  const auto side = static_cast<std::int64_t>(n);
+  const bool by_words = stencil.foot_cells < 64;
   for (std::int64_t i = b.i0; i <= b.i1; ++i) {
     const std::size_t row = row_slot[static_cast<std::size_t>(i)];
-    // Runs of consecutive known cells are marked as one box.
-    std::int64_t run = 0;
-    bool in_run = false;
-    for (std::int64_t j = b.j0; j <= b.j1; ++j) {
-      const std::size_t s = row + col_slot[static_cast<std::size_t>(j)];
-      seen_elevation[s] = foothold::known_elevation(elevation, state, s);
-      seen_certainty[s] = certainty[s];
-      if (!mark) continue;
-      // Its edge distance is searched for when it is known (then or later).
-      seen_edge2[s] = kEdgeUnknown;
-      const bool known = !std::isnan(seen_elevation[s]);
-      if (known) {
-        mark_score(static_cast<int>(i), static_cast<int>(j));
-        mark_edge(static_cast<int>(i), static_cast<int>(j));
-        if (!in_run) run = j;
-      } else if (in_run) {
-        mark_geometry(stencil, i, run, j - 1);
+    const auto mark_run = [&](std::int64_t first, std::int64_t last) { mark_geometry(stencil, i, first, last); };
+    RowRuns known_runs;
+    RowSpan& scored = score_rows[static_cast<std::size_t>(i)];
+    RowSpan& unseen = unseen_edge_rows[static_cast<std::size_t>(i)];
+    std::uint64_t* marks = score_mark.data() + static_cast<std::size_t>(i) * mark_words;
+    // Chunks contiguous in storage and within one word of marks.
+    for (std::int64_t j = b.j0; j <= b.j1;) {
+      const std::size_t first = col_slot[static_cast<std::size_t>(j)];
+      const auto count = static_cast<int>(
+          std::min<std::int64_t>({b.j1 - j + 1, side - static_cast<std::int64_t>(first), 64 - j % 64}));
+      const std::size_t s0 = row + first;
+      if (!mark) {
+        for (std::size_t s = s0; s < s0 + static_cast<std::size_t>(count); ++s) {
+          seen_elevation[s] = foothold::known_elevation(elevation, state, s);
+          seen_certainty[s] = certainty[s];
+        }
+        j += count;
+        continue;
       }
-      in_run = known;
+      std::uint64_t known_bits = 0;
+      for (int k = 0; k < count; ++k) {
+        const std::size_t s = s0 + static_cast<std::size_t>(k);
+        const float elevation_now = foothold::known_elevation(elevation, state, s);
+        seen_elevation[s] = elevation_now;
+        seen_certainty[s] = certainty[s];
+        // Its edge distance is searched for when it is known (then or later).
+        seen_edge2[s] = kEdgeUnknown;
+        known_bits |= static_cast<std::uint64_t>(!std::isnan(elevation_now)) << k;
+      }
+      if (known_bits != 0) {
+        // Known cells: their scores, and their edge distances searched for.
+        marks[j / 64] |= known_bits << (j % 64);
+        const auto lo = static_cast<int>(j + std::countr_zero(known_bits));
+        const auto hi = static_cast<int>(j + 63 - std::countl_zero(known_bits));
+        scored.lo = std::min(scored.lo, lo);
+        scored.hi = std::max(scored.hi, hi);
+        unseen.lo = std::min(unseen.lo, lo);
+        unseen.hi = std::max(unseen.hi, hi);
+      }
+      if (by_words) {
+        if (known_bits != 0) mark_geometry_word(stencil, i, static_cast<std::size_t>(j / 64), known_bits << (j % 64));
+      } else {
+        known_runs.add(known_bits, count, j, mark_run);
+      }
+      j += count;
     }
-    if (in_run) mark_geometry(stencil, i, run, b.j1);
+    known_runs.end(b.j1, mark_run);
   }
 }
 

@@ -1,6 +1,7 @@
 #include "stridemap/core/foothold_edge_search.hpp"
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
 
 #include "foothold_cells.hpp"
@@ -115,30 +116,34 @@ STRIDEMAP_FOOTHOLD_CLONES std::size_t search_edge_distances(FootholdEdgeSearch& 
   }
   // The cells of row x's span e take their distances from `best` (by
   // column), marking the score of each whose distance changed (`all`: of
-  // each); returns the cells. The change goes into the marks and the hull as
-  // a value, not an if around them: a third of the cells change, at random.
+  // each); returns the cells. A run of columns contiguous in storage and
+  // within one word of marks gathers its changes as bits, set with one OR
+  // and widening the hull once: a third of the cells change, at random, so
+  // a branch per cell would mispredict.
   const auto settle = [&](int x, RowSpan e, const std::int32_t* best) -> std::size_t {
     if (e.lo > e.hi) return 0;
     std::int32_t* seen_row = changes.seen_edge2.data() + changes.row_slot[static_cast<std::size_t>(x)];
-    std::uint8_t* marks = changes.score_mark.data() + static_cast<std::size_t>(x) * n;
+    std::uint64_t* marks = changes.score_mark.data() + static_cast<std::size_t>(x) * changes.mark_words;
     RowSpan& marked = changes.score_rows[static_cast<std::size_t>(x)];
-    int lo = marked.lo, hi = marked.hi;
     for (int y = e.lo; y <= e.hi;) {
       const std::size_t first = changes.col_slot[static_cast<std::size_t>(y)];
-      const int count = std::min(e.hi - y + 1, static_cast<int>(n - first));
+      const int count = std::min({e.hi - y + 1, static_cast<int>(n - first), 64 - y % 64});
       std::int32_t* seen = seen_row + first;
       const std::int32_t* found = best + y;
+      std::uint64_t changed_bits = 0;
       for (int k = 0; k < count; ++k) {
         const std::int32_t b = std::min(found[k], none2);
         const bool changed = b != seen[k] || all;
         seen[k] = b;
-        marks[y + k] |= static_cast<std::uint8_t>(changed);
-        lo = changed && y + k < lo ? y + k : lo;
-        hi = changed && y + k > hi ? y + k : hi;
+        changed_bits |= static_cast<std::uint64_t>(changed) << k;
+      }
+      if (changed_bits != 0) {
+        marks[y / 64] |= changed_bits << (y % 64);
+        marked.lo = std::min(marked.lo, y + std::countr_zero(changed_bits));
+        marked.hi = std::max(marked.hi, y + 63 - std::countl_zero(changed_bits));
       }
       y += count;
     }
-    marked = RowSpan{lo, hi};
     return static_cast<std::size_t>(e.hi - e.lo + 1);
   };
   // min over the rows within r of dx^2 + (along-row distance)^2: exact
@@ -217,13 +222,22 @@ void raise_edges(FootholdChanges& changes, const FootholdStencil& stencil) {
     const int ei = cell / n, ej = cell % n;
     for (int dx = std::max(-r, -ei); dx <= std::min(r, n - 1 - ei); ++dx) {
       const int w = stencil.edge_widths[static_cast<std::size_t>(dx + r)];
-      const std::size_t row = changes.row_slot[static_cast<std::size_t>(ei + dx)];
-      for (int dy = std::max(-w, -ej); dy <= std::min(w, n - 1 - ej); ++dy) {
-        const std::int32_t d2 = dx * dx + dy * dy;
-        std::int32_t& seen = changes.seen_edge2[row + changes.col_slot[static_cast<std::size_t>(ej + dy)]];
-        if (d2 < seen) {
-          seen = d2;
-          changes.mark_score(ei + dx, ej + dy);
+      std::int32_t* row = changes.seen_edge2.data() + changes.row_slot[static_cast<std::size_t>(ei + dx)];
+      const int dy0 = std::max(-w, -ej), dy1 = std::min(w, n - 1 - ej);
+      changes.widen_scores(ei + dx, ej + dy0, ej + dy1);
+      // The disc row's columns are at most two runs of the storage row (the
+      // ring wraps once).
+      for (int dy = dy0; dy <= dy1;) {
+        const std::size_t first = changes.col_slot[static_cast<std::size_t>(ej + dy)];
+        const int run_end = std::min(dy1, dy + static_cast<int>(static_cast<std::size_t>(n) - first) - 1);
+        std::int32_t* seen = row + first;
+        for (const int run_start = dy; dy <= run_end; ++dy) {
+          const std::int32_t d2 = dx * dx + dy * dy;
+          std::int32_t& seen_d2 = seen[dy - run_start];
+          if (d2 < seen_d2) {
+            seen_d2 = d2;
+            changes.mark_score(ei + dx, ej + dy);
+          }
         }
       }
     }

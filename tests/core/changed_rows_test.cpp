@@ -136,5 +136,34 @@ TEST(ChangedRows, AnotherRecordAddedAtOnceMatchesItsSpansAddedRowByRow) {
   }
 }
 
+TEST(ChangedRows, AnotherRecordThatReplacedNoRowAddsItsOwnBounds) {
+  // Fewer rows than the other ring holds: its bounds are its spans' box,
+  // taken whole; into a ring larger or smaller than the other's.
+  for (const int rows_here : {5, 7, 16}) {
+    for (const std::int64_t first : {-13, -1, 0, 7, 98}) {
+      ChangedRows other(12), at_once(rows_here), one_by_one(rows_here);
+      for (std::int64_t k = 0; k < 9; ++k) {
+        if (k != 4) other.add_span(first + k, -k, 2 * k - 3);  // a gap among the rows
+      }
+      at_once.add(other);
+      std::int64_t lo = 0, hi = 0;
+      for (std::int64_t x = other.bounds().min.x; x <= other.bounds().max.x; ++x) {
+        if (other.span(x, lo, hi)) one_by_one.add_span(x, lo, hi);
+      }
+      EXPECT_EQ(at_once.bounds().min, one_by_one.bounds().min) << first;
+      EXPECT_EQ(at_once.bounds().max, one_by_one.bounds().max) << first;
+      for (std::int64_t x = first - 12; x < first + 24; ++x) {
+        std::int64_t lo_a = 0, hi_a = 0, lo_b = 0, hi_b = 0;
+        const bool a = at_once.span(x, lo_a, hi_a), b = one_by_one.span(x, lo_b, hi_b);
+        ASSERT_EQ(a, b) << "row " << x << ", first " << first << ", rows here " << rows_here;
+        if (a) {
+          EXPECT_EQ(lo_a, lo_b) << "row " << x << ", first " << first;
+          EXPECT_EQ(hi_a, hi_b) << "row " << x << ", first " << first;
+        }
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace stridemap

@@ -255,9 +255,10 @@ void expect_same_layers(const ElevationMap& a, const ElevationMap& b, const Foot
 // How a walk hands its changes to the layers.
 enum class Feed { box_every_scan, rows_every_scan, rows_read_now_and_then };
 
-void random_walk_equals_recomputation(Feed feed) {
+// `cells`: the window's side; past 64 a row's marks take several words.
+void random_walk_equals_recomputation(Feed feed, int cells = 50) {
   MapperOptions options;
-  options.grid = GridOptions{50, kCell};
+  options.grid = GridOptions{cells, kCell};
   options.reject_stale_scans = false;
   TerrainMapper mapper(options, SensorMount{});
   FootholdOptions foothold_options;
@@ -333,6 +334,10 @@ TEST(Foothold, PerRowUpdatesEqualARecomputationAfterRandomScansAndWindowMoves) {
 
 TEST(Foothold, LazyRefreshAfterSeveralScansEqualsARecomputation) {
   random_walk_equals_recomputation(Feed::rows_read_now_and_then);
+}
+
+TEST(Foothold, LazyRefreshOnAWindowOfSeveralMarkWordsEqualsARecomputation) {
+  random_walk_equals_recomputation(Feed::rows_read_now_and_then, 150);
 }
 
 TEST(Foothold, ADiagonalScanLineRedoesOnlyTheCellsAroundItByRowsOrByBox) {

@@ -89,30 +89,14 @@ class ChangedRows {
   void add(const ChangedRows& other) {
     if (other.empty() || rows_.empty()) return;
     const CellBox& b = other.bounds_;
-    const std::int64_t first = std::max(b.min.x, b.max.x - static_cast<std::int64_t>(other.rows_.size()) + 1);
-    const std::size_t n_other = other.rows_.size(), n = rows_.size();
-    std::size_t from = other.place(first), to = place(first);
-    // The box of the rows added, grown once at the end by its two corners.
-    std::int64_t first_x = 0, last_x = 0;
-    std::int64_t lo_y = std::numeric_limits<std::int64_t>::max(), hi_y = std::numeric_limits<std::int64_t>::min();
-    for (std::int64_t x = first; x <= b.max.x; ++x) {
-      const Row& o = other.rows_[from];
-      if (o.x == x && o.lo <= o.hi) {
-        Row& r = rows_[to];
-        if (r.x != x) r = Row{x, std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::min()};
-        r.lo = std::min(r.lo, o.lo);
-        r.hi = std::max(r.hi, o.hi);
-        if (lo_y > hi_y) first_x = x;
-        last_x = x;
-        lo_y = std::min(lo_y, o.lo);
-        hi_y = std::max(hi_y, o.hi);
-      }
-      if (++from == n_other) from = 0;
-      if (++to == n) to = 0;
+    if (b.max.x - b.min.x < static_cast<std::int64_t>(other.rows_.size())) {
+      // No row of other was replaced: its bounds are its spans' box, no
+      // need to find that box row by row.
+      if (merge_rows<false>(other, b.min.x, b.max.x)) bounds_.add(b);
+      return;
     }
-    if (lo_y > hi_y) return;
-    bounds_.add(CellIndex{first_x, lo_y});
-    bounds_.add(CellIndex{last_x, hi_y});
+    const std::int64_t first = b.max.x - static_cast<std::int64_t>(other.rows_.size()) + 1;
+    merge_rows<true>(other, first, b.max.x);
   }
 
   bool empty() const { return bounds_.empty(); }
@@ -133,7 +117,12 @@ class ChangedRows {
     if (bounds_.max.x - bounds_.min.x + 1 >= n) {
       std::fill(rows_.begin(), rows_.end(), Row{});
     } else {
-      for (std::int64_t x = bounds_.min.x; x <= bounds_.max.x; ++x) rows_[place(x)] = Row{};
+      // At most two stretches of the ring, one modulo for both.
+      const auto first = static_cast<std::ptrdiff_t>(place(bounds_.min.x));
+      const std::int64_t count = bounds_.max.x - bounds_.min.x + 1;
+      const std::int64_t before_end = std::min<std::int64_t>(count, n - first);
+      std::fill(rows_.begin() + first, rows_.begin() + first + before_end, Row{});
+      std::fill(rows_.begin(), rows_.begin() + (count - before_end), Row{});
     }
     bounds_.clear();
   }
@@ -148,6 +137,53 @@ class ChangedRows {
     const auto n = static_cast<std::int64_t>(rows_.size());
     const std::int64_t m = x % n;
     return static_cast<std::size_t>(m < 0 ? m + n : m);
+  }
+  // other's spans of rows first..last into this record's; false when none
+  // was there. kBoxRows: the bounds grow by the box of the rows merged.
+  template <bool kBoxRows>
+  bool merge_rows(const ChangedRows& other, std::int64_t first, std::int64_t last) {
+    const std::size_t n_other = other.rows_.size(), n = rows_.size();
+    std::size_t from = other.place(first), to = place(first);
+    const Row* theirs = other.rows_.data();
+    Row* ours = rows_.data();
+    bool merged = false;
+    // The box of the rows merged, grown once at the end by its two corners.
+    std::int64_t first_x = 0, last_x = 0;
+    std::int64_t lo_y = std::numeric_limits<std::int64_t>::max(), hi_y = std::numeric_limits<std::int64_t>::min();
+    // Stretches of rows along which neither ring wraps.
+    for (std::int64_t x = first; x <= last;) {
+      const auto stretch = static_cast<std::size_t>(
+          std::min<std::int64_t>(last - x + 1, static_cast<std::int64_t>(std::min(n_other - from, n - to))));
+      for (std::size_t k = 0; k < stretch; ++k) {
+        const Row& o = theirs[from + k];
+        const std::int64_t row_x = x + static_cast<std::int64_t>(k);
+        if (o.x == row_x && o.lo <= o.hi) {
+          Row& r = ours[to + k];
+          if (r.x != row_x) {
+            r = Row{row_x, std::numeric_limits<std::int64_t>::max(), std::numeric_limits<std::int64_t>::min()};
+          }
+          r.lo = std::min(r.lo, o.lo);
+          r.hi = std::max(r.hi, o.hi);
+          merged = true;
+          if constexpr (kBoxRows) {
+            if (lo_y > hi_y) first_x = row_x;
+            last_x = row_x;
+            lo_y = std::min(lo_y, o.lo);
+            hi_y = std::max(hi_y, o.hi);
+          }
+        }
+      }
+      x += static_cast<std::int64_t>(stretch);
+      from += stretch;
+      to += stretch;
+      if (from == n_other) from = 0;
+      if (to == n) to = 0;
+    }
+    if (kBoxRows && merged) {
+      bounds_.add(CellIndex{first_x, lo_y});
+      bounds_.add(CellIndex{last_x, hi_y});
+    }
+    return merged;
   }
   Row& row_for(std::int64_t x) {
     Row& r = rows_[place(x)];

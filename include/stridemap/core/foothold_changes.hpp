@@ -43,11 +43,24 @@ struct FootholdChanges {
   /// Marks every window cell whose footprint holds a cell of window-local
   /// row i, columns j0..j1 (which may lie outside the window).
   void mark_geometry(const FootholdStencil& stencil, std::int64_t i, std::int64_t j0, std::int64_t j1);
-  void mark_score(int i, int j) {  // inline: called per cell by every pass
-    score_mark[static_cast<std::size_t>(i) * static_cast<std::size_t>(n) + static_cast<std::size_t>(j)] = 1;
+  /// mark_geometry() of every run of `bits` (bit b: column 64 * word + b)
+  /// of window-local row i (0 <= i < n), for a footprint narrower than a
+  /// word (stencil.foot_cells < 64): the disc's rows are the bits widened
+  /// by shifts, a word and its two neighbours at a time, rather than a pass
+  /// over the disc's rows per run.
+  void mark_geometry_word(const FootholdStencil& stencil, std::int64_t i, std::size_t word, std::uint64_t bits);
+  /// Marks the score of window-local cell (i, j), whose row's hull must
+  /// already cover j (widen_scores()): the passes that mark cell by cell
+  /// widen a row's hull once for all the cells they may mark in it.
+  void mark_score(int i, int j) {
+    const auto column = static_cast<std::size_t>(j);
+    score_mark[static_cast<std::size_t>(i) * mark_words + column / 64] |= std::uint64_t{1} << (column % 64);
+  }
+  /// Widens the hull of row i's score marks to columns lo..hi.
+  void widen_scores(int i, int lo, int hi) {
     RowSpan& r = score_rows[static_cast<std::size_t>(i)];
-    r.lo = r.lo < j ? r.lo : j;
-    r.hi = r.hi > j ? r.hi : j;
+    r.lo = r.lo < lo ? r.lo : lo;
+    r.hi = r.hi > hi ? r.hi : hi;
   }
   void mark_edge(int i, int j) {  // inline: called per changed cell
     RowSpan& r = unseen_edge_rows[static_cast<std::size_t>(i)];
@@ -81,18 +94,23 @@ struct FootholdChanges {
   // Storage slot = row_slot[local row] + col_slot[local column], for the
   // window of the refresh under way.
   std::vector<std::size_t> row_slot, col_slot;
-  // Per window-local cell: its geometry is to be redone (bit j % 64 of word
-  // i * mark_words + j / 64: a run of marked cells is set a word at a time,
-  // and the fits find the next marked cell by counting zeros), or its edge
-  // distance and score (byte i * n + j); cleared as they are.
-  std::vector<std::uint64_t> geometry_mark;
-  std::size_t mark_words = 0;  ///< words of geometry_mark per row
-  std::vector<std::uint8_t> score_mark;
+  // Per window-local cell: its geometry is to be redone, or its edge
+  // distance and score (bit j % 64 of word i * mark_words + j / 64 of
+  // either: a run of marked cells is set a word at a time, and the passes
+  // find the next marked cell by counting zeros, not by reading every
+  // cell of a row's hull); cleared as they are.
+  std::vector<std::uint64_t> geometry_mark, score_mark;
+  std::size_t mark_words = 0;  ///< words of a row of marks
   /// Marks the geometry of window-local row i, columns lo..hi (0 <= lo <= hi < n).
   void mark_geometry_span(std::int64_t i, int lo, int hi) {
     set_bits(geometry_mark.data() + static_cast<std::size_t>(i) * mark_words, static_cast<std::size_t>(lo),
              static_cast<std::size_t>(hi));
   }
+  /// Whether the 64 columns of a word of marks whose first column is at
+  /// storage slot `start` follow it in storage, the ring not wrapping
+  /// within them: then column 64 * word + b is at start + b, without a
+  /// column slot looked up per cell.
+  bool word_in_one_run(std::size_t start) const { return start % static_cast<std::size_t>(n) + 63 < static_cast<std::size_t>(n); }
   /// Sets bits lo..hi (lo <= hi) of a row of words.
   static void set_bits(std::uint64_t* row, std::size_t lo, std::size_t hi) {
     const std::size_t first = lo / 64, last = hi / 64;
