@@ -488,12 +488,19 @@ template <typename Bound, typename Clearance>
 
 namespace {
 
+// A stop this many ranges past the hit (a range error below -1000 ranges)
+// is no sensor's, and the walk's places along such a beam could leave what
+// its cell indices hold.
+constexpr double kMaxStopPastHit = 1000.0;
+
 // A beam is traced when its range is positive and finite (its square tells
-// as the range would) and both its errors are finite; any other leaves no
-// trace, not even for the thinning.
+// as the range would), both its errors are finite and its stop lies at most
+// kMaxStopPastHit ranges past its hit; any other leaves no trace, not even
+// for the thinning.
 inline bool traceable(double range2, double range_error_m, double height_error_m) {
   return range2 > 0.0 && range2 < std::numeric_limits<double>::infinity() && std::isfinite(range_error_m) &&
-         std::isfinite(height_error_m);
+         std::isfinite(height_error_m) &&
+         (range_error_m >= 0.0 || range_error_m * range_error_m <= kMaxStopPastHit * kMaxStopPastHit * range2);
 }
 
 // A rising beam's walk ends with the last cell ending before t_last: the

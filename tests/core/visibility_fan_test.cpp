@@ -184,6 +184,27 @@ TEST(VisibilityFan, ScreenedBeamsAgreeWithBeamByBeam) {
   EXPECT_GT(contradicted, 100u);
 }
 
+// A range error of any finite size is a number a caller may pass; one that
+// puts the stop more than a thousand ranges past the hit is no sensor's,
+// and such a beam is left out by both ways of tracing.
+TEST(VisibilityFan, AStopFarPastTheHitIsNotTraced) {
+  ElevationMap map(GridOptions{20, 0.01});
+  VisibilityClearing clearing(map, VisibilityOptions{});
+  const Eigen::Vector3d origin(0.02, 0.1, 0.3);
+  const double x = 0.15, y = 0.1, z = 0.0, height_error = 0.005;
+  const double range = (Eigen::Vector3d(x, y, z) - origin).norm();
+  for (const double range_error : {-1001.0 * range, -1e300}) {
+    clearing.begin_scan(map);
+    clearing.trace_fan(map, {origin, 1, &x, &y, &z, &height_error, &range_error});
+    clearing.trace(map, {origin, {x, y, z}, range_error, height_error});
+    EXPECT_EQ(clearing.stats().beams_traced, 0u) << range_error;
+  }
+  clearing.begin_scan(map);
+  const double near_limit = -999.0 * range;
+  clearing.trace_fan(map, {origin, 1, &x, &y, &z, &height_error, &near_limit});
+  EXPECT_EQ(clearing.stats().beams_traced, 1u);
+}
+
 TEST(VisibilityFan, AnOriginNotFiniteTracesNothing) {
   ElevationMap map(GridOptions{20, 0.01});
   VisibilityClearing clearing(map, VisibilityOptions{});

@@ -99,7 +99,7 @@ void validate_visibility_options(const VisibilityOptions& options);
 struct VisibilityBeam {
   Eigen::Vector3d origin_m = Eigen::Vector3d::Zero();
   Eigen::Vector3d hit_m = Eigen::Vector3d::Zero();
-  double range_error_m = 0.0;   ///< Dr: the hit may lie this much nearer [m]
+  double range_error_m = 0.0;   ///< Dr: the hit may lie this much nearer [m]; below -1000 ranges the beam is not traced
   double height_error_m = 0.0;  ///< e: the sensor's height-error bound at the hit [m]
 };
 
