@@ -66,6 +66,7 @@ VisibilityClearing::VisibilityClearing(const ElevationMap& map, const Visibility
   tables_columns_.assign(n, 0.0f);
   retake_row_.assign(n, 0);
   retake_column_.assign(n, 0);
+  column_holder_.assign(n, 0);
 }
 
 void VisibilityClearing::begin_scan(const ElevationMap& map) {
@@ -129,19 +130,31 @@ constexpr float kNoElevation = -std::numeric_limits<float>::infinity();
 // `v > m ? v : m` never takes a NaN (unknown) as the maximum.
 inline float known_max(float m, float v) { return v > m ? v : m; }
 
-// Raises columns[j] to row[j] for j < n and returns the row's highest
-// known value (-inf when none is known): the pass over the window, once a
-// scan, one vector maximum per four cells and per row and column each.
-// MAXPS(v, m) is `v > m ? v : m`, so a NaN (unknown) v is never taken.
-float take_row(const float* __restrict row, float* __restrict columns, std::size_t n) {
+// Raises columns[j] to row[j] for j < n, naming slot row `row_slot` in
+// holder[j] where it raised a column, and returns the row's highest known
+// value (-inf when none is known): the pass over the window, once a scan,
+// one vector maximum per four cells and per row and column each.
+// MAXPS(v, m) is `v > m ? v : m`, so a NaN (unknown) v is never taken, and
+// CMPGTPS(v, m) tells the lanes it took.
+float take_row(const float* __restrict row, float* __restrict columns, std::int32_t* __restrict holder,
+               std::int32_t row_slot, std::size_t n) {
   std::size_t j = 0;
   float m = kNoElevation;
 #if defined(__SSE__)
   __m128 a = _mm_set1_ps(kNoElevation), b = a;
+  const auto raise = [&](const __m128 v, std::size_t at) {
+    const __m128 c = _mm_loadu_ps(columns + at);
+    _mm_storeu_ps(columns + at, _mm_max_ps(v, c));
+    // Most cells written are no higher than their column's bound.
+    for (unsigned higher = static_cast<unsigned>(_mm_movemask_ps(_mm_cmpgt_ps(v, c))); higher != 0;
+         higher &= higher - 1) {
+      holder[at + static_cast<std::size_t>(std::countr_zero(higher))] = row_slot;
+    }
+  };
   for (; j + 8 <= n; j += 8) {
     const __m128 u = _mm_loadu_ps(row + j), v = _mm_loadu_ps(row + j + 4);
-    _mm_storeu_ps(columns + j, _mm_max_ps(u, _mm_loadu_ps(columns + j)));
-    _mm_storeu_ps(columns + j + 4, _mm_max_ps(v, _mm_loadu_ps(columns + j + 4)));
+    raise(u, j);
+    raise(v, j + 4);
     a = _mm_max_ps(u, a);
     b = _mm_max_ps(v, b);
   }
@@ -150,7 +163,10 @@ float take_row(const float* __restrict row, float* __restrict columns, std::size
   for (const float v : lanes) m = known_max(m, v);
 #endif
   for (; j < n; ++j) {
-    columns[j] = known_max(columns[j], row[j]);
+    if (row[j] > columns[j]) {
+      columns[j] = row[j];
+      holder[j] = row_slot;
+    }
     m = known_max(m, row[j]);
   }
   return m;
@@ -158,12 +174,18 @@ float take_row(const float* __restrict row, float* __restrict columns, std::size
 
 #if defined(STRIDEMAP_AVX_PASS)
 __attribute__((target("avx"))) float take_row_avx(const float* __restrict row, float* __restrict columns,
+                                                  std::int32_t* __restrict holder, std::int32_t row_slot,
                                                   std::size_t n) {
   std::size_t j = 0;
   __m256 a = _mm256_set1_ps(kNoElevation);
   for (; j + 8 <= n; j += 8) {
-    const __m256 u = _mm256_loadu_ps(row + j);
-    _mm256_storeu_ps(columns + j, _mm256_max_ps(u, _mm256_loadu_ps(columns + j)));
+    const __m256 u = _mm256_loadu_ps(row + j), c = _mm256_loadu_ps(columns + j);
+    _mm256_storeu_ps(columns + j, _mm256_max_ps(u, c));
+    // Most cells written are no higher than their column's bound.
+    for (unsigned higher = static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(u, c, _CMP_GT_OQ))); higher != 0;
+         higher &= higher - 1) {
+      holder[j + static_cast<std::size_t>(std::countr_zero(higher))] = row_slot;
+    }
     a = _mm256_max_ps(u, a);
   }
   alignas(32) float lanes[8];
@@ -171,7 +193,10 @@ __attribute__((target("avx"))) float take_row_avx(const float* __restrict row, f
   float m = kNoElevation;
   for (const float v : lanes) m = known_max(m, v);
   for (; j < n; ++j) {
-    columns[j] = known_max(columns[j], row[j]);
+    if (row[j] > columns[j]) {
+      columns[j] = row[j];
+      holder[j] = row_slot;
+    }
     m = known_max(m, row[j]);
   }
   return m;
@@ -206,7 +231,10 @@ void VisibilityClearing::take_maxima(const ElevationMap& map) {
 #if defined(STRIDEMAP_AVX_PASS)
   if (cpu_has_avx()) pass = take_row_avx;
 #endif
-  for (std::size_t i = 0; i < n; ++i) slot_row_max_[i] = pass(elevation + i * n, columns, n);
+  std::int32_t* holder = column_holder_.data();
+  for (std::size_t i = 0; i < n; ++i) {
+    slot_row_max_[i] = pass(elevation + i * n, columns, holder, static_cast<std::int32_t>(i), n);
+  }
   maxima_corner_ = map.min_cell();
 }
 
@@ -247,6 +275,7 @@ bool VisibilityClearing::update_maxima(const TerrainMapper& mapper) {
   float* column_max = slot_column_max_.data();
   std::uint8_t* retake_row = retake_row_.data();
   std::uint8_t* retake_column = retake_column_.data();
+  std::int32_t* column_holder = column_holder_.data();
   std::fill(retake_row, retake_row + nn, 0);
   std::fill(retake_column, retake_column + nn, 0);
   std::size_t retaken_rows = 0, retaken_columns = 0;
@@ -281,7 +310,21 @@ bool VisibilityClearing::update_maxima(const TerrainMapper& mapper) {
       if (other[s] > kNoElevation && !(other[s] > highest)) mark(retake[s], count);
     }
   };
-  leave(was.x, dx, row_max, column_max, retake_column, retaken_columns);
+  // Rows that left: only a column whose highest cell lay in one of them
+  // (its holder) may have lost it; a column taken from rows that stayed
+  // holds its bound still. (A column held by a row that left and by one
+  // that stayed at the same height is taken again all the same.)
+  if (dx != 0) {
+    const std::int64_t cells = dx > 0 ? dx : -dx;
+    const std::int64_t first_left = dx > 0 ? was.x : was.x + n + dx;  // global index of the first that left
+    const auto first_slot = static_cast<std::int64_t>(wrap_index(first_left, n));
+    for (std::int64_t k = 0; k < cells; ++k) row_max[wrap_index(first_left + k, n)] = kNoElevation;
+    for (std::size_t s = 0; s < nn; ++s) {
+      if (!(column_max[s] > kNoElevation)) continue;
+      const std::int64_t from_first = column_holder[s] - first_slot;
+      if ((from_first < 0 ? from_first + n : from_first) < cells) mark(retake_column[s], retaken_columns);
+    }
+  }
   leave(was.y, dy, column_max, row_max, retake_row, retaken_rows);
   // A column is taken again cell by cell across the rows: past a quarter of
   // them the whole pass is cheaper.
@@ -304,23 +347,34 @@ bool VisibilityClearing::update_maxima(const TerrainMapper& mapper) {
       const auto count = static_cast<std::size_t>(hi - lo + 1);
       const std::size_t part = std::min(count, nn - s0);  // up to the slots' wrap, then from slot 0
       const float* row = elevation + sx * nn;
-      float m = pass(row + s0, column_max + s0, part);
-      if (part < count) m = known_max(m, pass(row, column_max, count - part));
+      const auto named = static_cast<std::int32_t>(sx);
+      float m = pass(row + s0, column_max + s0, column_holder + s0, named, part);
+      if (part < count) m = known_max(m, pass(row, column_max, column_holder, named, count - part));
       row_max[sx] = known_max(row_max[sx], m);
     }
   }
   // Rows and columns that may have lost their highest cell, from the map.
   if (retaken_rows > 0) {
     for (std::size_t sx = 0; sx < nn; ++sx) {
-      if (retake_row[sx]) row_max[sx] = pass(elevation + sx * nn, column_max, nn);
+      if (retake_row[sx]) {
+        row_max[sx] = pass(elevation + sx * nn, column_max, column_holder, static_cast<std::int32_t>(sx), nn);
+      }
     }
   }
   if (retaken_columns > 0) {
     for (std::size_t sy = 0; sy < nn; ++sy) {
       if (!retake_column[sy]) continue;
       float m = kNoElevation;
-      for (std::size_t sx = 0; sx < nn; ++sx) m = known_max(m, elevation[sx * nn + sy]);
+      std::int32_t held_by = 0;
+      for (std::size_t sx = 0; sx < nn; ++sx) {
+        const float v = elevation[sx * nn + sy];
+        if (v > m) {
+          m = v;
+          held_by = static_cast<std::int32_t>(sx);
+        }
+      }
       column_max[sy] = m;
+      column_holder[sy] = held_by;
     }
   }
   maxima_corner_ = now;

@@ -36,7 +36,11 @@
 // only lowers cells). begin_scan(map) takes them from the whole map;
 // begin_scan(mapper) keeps them up to date from the mapper's changed rows
 // (raised by the cells written since; a row or column that lost its highest
-// cell, to the clean-up or to a window move, taken again) and falls back to
+// cell, to the clean-up or to a window move, taken again: each column keeps
+// the slot row of the cell that set its maximum, so that a window move takes
+// again only the columns whose highest cell left, not every column no
+// higher than the rows that left, which on a long walk were often over a
+// quarter of them and sent the scan to the whole map) and falls back to
 // the whole map when the mapper counted a change its rows do not show
 // (TerrainMapper::changes()). A bound may stay above its row's highest cell
 // (a reading that lowered a cell), never below it. A walk also
@@ -249,6 +253,9 @@ class VisibilityClearing {
   // slot row and column (x, y mod n), kept from scan to scan.
   std::vector<float> row_max_, column_max_, slot_row_max_, slot_column_max_;
   std::vector<std::uint8_t> retake_row_, retake_column_;  // per slot: take it again from the map
+  // Per slot column: the slot row of a cell that set its maximum, so that
+  // a window move retakes only the columns whose highest cell left.
+  std::vector<std::int32_t> column_holder_;
   // What begin_scan(mapper) saw of the mapper (mapper 0: none), and the
   // corner the slot maxima were last brought up to date for.
   std::uint64_t seen_mapper_ = 0, seen_unrecorded_ = 0, seen_scans_ = 0;
