@@ -7,6 +7,12 @@
 
 #include "foothold_cells.hpp"
 
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__) && \
+    !defined(STRIDEMAP_NO_AVX2_COPIES)
+#define STRIDEMAP_CHANGES_AVX2 1
+#include <immintrin.h>
+#endif
+
 namespace stridemap {
 namespace {
 
@@ -60,6 +66,119 @@ struct RowRuns {
     in_run = false;
   }
 };
+
+/// What see_changes() compares a chunk of a row's cells by (contiguous in
+/// storage, from slot s0).
+struct CellCompare {
+  const float* elevation;
+  const std::uint8_t* state;
+  const float* certainty;
+  float* seen_elevation;
+  const float* seen_certainty;
+  const std::int32_t* seen_edge2;
+};
+
+/// Per cell k of a chunk: its elevation or known-ness changed; its
+/// known-ness did (the edge distance is NaN exactly where the cell is
+/// unknown); it entered the window unknown and is known now (no edge
+/// distance to show yet); its certainty changed.
+struct ChunkChanges {
+  std::uint64_t changed = 0, flipped = 0, unseen_known = 0, certainty_changed = 0;
+};
+
+// Cells k..count-1 of the chunk; the seen elevations become the current ones.
+void compare_chunk(const CellCompare& c, std::size_t s0, int k, int count, ChunkChanges& out) {
+  for (; k < count; ++k) {
+    const std::size_t s = s0 + static_cast<std::size_t>(k);
+    const float elevation_now = foothold::known_elevation(c.elevation, c.state, s);
+    const float before = c.seen_elevation[s];
+    c.seen_elevation[s] = elevation_now;
+    const bool differs = !foothold::same_bits(elevation_now, before);
+    const bool known_now = !std::isnan(elevation_now);
+    out.changed |= static_cast<std::uint64_t>(differs) << k;
+    out.flipped |= static_cast<std::uint64_t>(known_now == std::isnan(before)) << k;
+    out.unseen_known |=
+        static_cast<std::uint64_t>(differs && known_now && c.seen_edge2[s] == FootholdChanges::kEdgeUnknown) << k;
+    out.certainty_changed |= static_cast<std::uint64_t>(!foothold::same_bits(c.certainty[s], c.seen_certainty[s])) << k;
+  }
+}
+
+#ifdef STRIDEMAP_CHANGES_AVX2
+// Eight 32-bit lanes from p; with Partial, only those in the chunk (the
+// others read as 0 and never fault).
+template <bool Partial>
+__attribute__((target("avx2"), always_inline)) inline __m256i chunk_lanes(const void* p, __m256i in_chunk) {
+  const auto* at = static_cast<const int*>(p);
+  if constexpr (Partial) return _mm256_maskload_epi32(at, in_chunk);
+  return _mm256_loadu_si256(reinterpret_cast<const __m256i*>(at));
+}
+// Bit k: lane k's mask set.
+__attribute__((target("avx2"), always_inline)) inline std::uint64_t lane_bits(__m256i m) {
+  return static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(m)));
+}
+
+// compare_chunk() eight cells a lane each, where the CPU has AVX2 (chosen
+// at run time): the scalar loop's compares, branch-free, are ~80
+// instructions a cell. Every test is on bits (a float compare would make
+// NaN unequal to itself and -0 equal to 0), so the masks match the scalar
+// loop's exactly. The cells past the last eight take masked loads and
+// stores rather than the scalar loop: chunks are short, their tails a
+// large share of the cells.
+template <bool Partial>
+__attribute__((target("avx2"), always_inline)) inline void compare_eight(const CellCompare& c, std::size_t s, int k,
+                                                                         int lanes, ChunkChanges& out) {
+  const __m256i exponent = _mm256_set1_epi32(0x7f800000);
+  const __m256i magnitude = _mm256_set1_epi32(0x7fffffff);
+  const __m256i nan = _mm256_set1_epi32(std::bit_cast<std::int32_t>(foothold::kNaN));
+  const __m256i edge_unknown = _mm256_set1_epi32(FootholdChanges::kEdgeUnknown);
+  const __m256i unknown_state = _mm256_set1_epi32(static_cast<int>(CellState::unknown));
+  const __m256i in_chunk = _mm256_cmpgt_epi32(_mm256_set1_epi32(lanes), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+  std::uint64_t states = 0;
+  if (!Partial) {
+    std::memcpy(&states, c.state + s, sizeof states);
+  } else if (s + static_cast<std::size_t>(lanes) >= 8) {
+    // The eight bytes that end with the chunk's last: none past the layer.
+    std::memcpy(&states, c.state + s + static_cast<std::size_t>(lanes) - 8, sizeof states);
+    states >>= 8 * (8 - lanes);
+  } else {
+    for (int b = 0; b < lanes; ++b) states |= std::uint64_t{c.state[s + static_cast<std::size_t>(b)]} << (8 * b);
+  }
+  const __m256i state = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(states)));
+  const __m256i elevation = chunk_lanes<Partial>(c.elevation + s, in_chunk);
+  // Unknown: the unknown state, or an elevation with every exponent bit set
+  // (not finite).
+  const __m256i unknown = _mm256_or_si256(_mm256_cmpeq_epi32(state, unknown_state),
+                                          _mm256_cmpeq_epi32(_mm256_and_si256(elevation, exponent), exponent));
+  const __m256i now = _mm256_blendv_epi8(elevation, nan, unknown);
+  const __m256i before = chunk_lanes<Partial>(c.seen_elevation + s, in_chunk);
+  if (Partial) {
+    _mm256_maskstore_epi32(reinterpret_cast<int*>(c.seen_elevation + s), in_chunk, now);
+  } else {
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(c.seen_elevation + s), now);
+  }
+  const __m256i same = _mm256_cmpeq_epi32(now, before);
+  const __m256i before_nan = _mm256_cmpgt_epi32(_mm256_and_si256(before, magnitude), exponent);
+  const __m256i unseen =
+      _mm256_andnot_si256(_mm256_or_si256(same, unknown),
+                          _mm256_cmpeq_epi32(chunk_lanes<Partial>(c.seen_edge2 + s, in_chunk), edge_unknown));
+  const __m256i certainty_same = _mm256_cmpeq_epi32(chunk_lanes<Partial>(c.certainty + s, in_chunk),
+                                                    chunk_lanes<Partial>(c.seen_certainty + s, in_chunk));
+  const std::uint64_t valid = Partial ? (std::uint64_t{1} << lanes) - 1 : 0xff;
+  out.changed |= (~lane_bits(same) & valid) << k;
+  // Known now where it was NaN, or unknown now where it was not.
+  out.flipped |= (lane_bits(_mm256_xor_si256(unknown, before_nan)) & valid) << k;
+  out.unseen_known |= (lane_bits(unseen) & valid) << k;
+  out.certainty_changed |= (~lane_bits(certainty_same) & valid) << k;
+}
+
+__attribute__((target("avx2"))) ChunkChanges compare_chunk_avx2(const CellCompare& c, std::size_t s0, int count) {
+  ChunkChanges out;
+  int k = 0;
+  for (; k + 8 <= count; k += 8) compare_eight<false>(c, s0 + static_cast<std::size_t>(k), k, 8, out);
+  if (k < count) compare_eight<true>(c, s0 + static_cast<std::size_t>(k), k, count - k, out);
+  return out;
+}
+#endif
 
 }  // namespace
 
@@ -212,6 +331,12 @@ void FootholdChanges::see_changes(const FootholdStencil& stencil, const Elevatio
   const auto side = static_cast<std::int64_t>(n);
   const CellBox rows = pending.bounds().intersected(stable);
   const bool by_words = stencil.foot_cells < 64;
+  const CellCompare compare{elevation,        state, certainty, seen_elevation.data(), seen_certainty.data(),
+                            seen_edge2.data()};
+#ifdef STRIDEMAP_CHANGES_AVX2
+  static const bool has_avx2 = __builtin_cpu_supports("avx2");
+  const bool avx2 = has_avx2;
+#endif
   std::int64_t lo = 0, hi = 0;
   for (std::int64_t x = rows.min.x; !rows.empty() && x <= rows.max.x; ++x) {
     if (!pending.span(x, lo, hi)) continue;
@@ -232,26 +357,20 @@ void FootholdChanges::see_changes(const FootholdStencil& stencil, const Elevatio
       const auto count = static_cast<int>(
           std::min<std::int64_t>({j_end - j + 1, side - static_cast<std::int64_t>(first), 64 - j % 64}));
       const std::size_t s0 = row + first;
-      // Per cell k of the chunk: its elevation or known-ness changed; its
-      // known-ness did (the edge distance is NaN exactly where the cell is
-      // unknown); it entered the window unknown and is known now (no edge
-      // distance to show yet); its certainty changed.
-      std::uint64_t changed = 0, flipped = 0, unseen_known = 0, certainty_changed = 0;
-      for (int k = 0; k < count; ++k) {
-        const std::size_t s = s0 + static_cast<std::size_t>(k);
-        const float elevation_now = foothold::known_elevation(elevation, state, s);
-        const float before = seen_elevation[s];
-        seen_elevation[s] = elevation_now;
-        const bool differs = !foothold::same_bits(elevation_now, before);
-        const bool known_now = !std::isnan(elevation_now);
-        changed |= static_cast<std::uint64_t>(differs) << k;
-        flipped |= static_cast<std::uint64_t>(known_now == std::isnan(before)) << k;
-        unseen_known |= static_cast<std::uint64_t>(differs && known_now && seen_edge2[s] == kEdgeUnknown) << k;
-        certainty_changed |= static_cast<std::uint64_t>(!foothold::same_bits(certainty[s], seen_certainty[s])) << k;
+      ChunkChanges bits;
+#ifdef STRIDEMAP_CHANGES_AVX2
+      if (avx2) {
+        bits = compare_chunk_avx2(compare, s0, count);
+      } else {
+        compare_chunk(compare, s0, 0, count, bits);
       }
+#else
+      compare_chunk(compare, s0, 0, count, bits);
+#endif
+      const std::uint64_t changed = bits.changed, unseen_known = bits.unseen_known;
       // The same certainty, the same factor: most cells skip both divisions.
-      std::uint64_t scores = flipped;
-      for (std::uint64_t rest = certainty_changed; rest != 0; rest &= rest - 1) {
+      std::uint64_t scores = bits.flipped;
+      for (std::uint64_t rest = bits.certainty_changed; rest != 0; rest &= rest - 1) {
         const int k = std::countr_zero(rest);
         const std::size_t s = s0 + static_cast<std::size_t>(k);
         // Both at or past full certainty: the same factor, 1, without dividing.
