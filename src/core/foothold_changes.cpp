@@ -74,21 +74,24 @@ struct CellCompare {
   const std::uint8_t* state;
   const float* certainty;
   float* seen_elevation;
-  const float* seen_certainty;
+  float* seen_certainty;
   const std::int32_t* seen_edge2;
+  double full_certainty;
 };
 
 /// Per cell k of a chunk: its elevation or known-ness changed; its
 /// known-ness did (the edge distance is NaN exactly where the cell is
 /// unknown); it entered the window unknown and is known now (no edge
-/// distance to show yet); its certainty changed.
+/// distance to show yet); its score is to be redone (its known-ness or its
+/// certainty factor changed).
 struct ChunkChanges {
-  std::uint64_t changed = 0, flipped = 0, unseen_known = 0, certainty_changed = 0;
+  std::uint64_t changed = 0, flipped = 0, unseen_known = 0, scores = 0;
 };
 
-// Cells k..count-1 of the chunk; the seen elevations become the current ones.
-void compare_chunk(const CellCompare& c, std::size_t s0, int k, int count, ChunkChanges& out) {
-  for (; k < count; ++k) {
+// The seen elevations and certainties become the current ones.
+void compare_chunk(const CellCompare& c, std::size_t s0, int count, ChunkChanges& out) {
+  std::uint64_t certainty_changed = 0;
+  for (int k = 0; k < count; ++k) {
     const std::size_t s = s0 + static_cast<std::size_t>(k);
     const float elevation_now = foothold::known_elevation(c.elevation, c.state, s);
     const float before = c.seen_elevation[s];
@@ -99,7 +102,21 @@ void compare_chunk(const CellCompare& c, std::size_t s0, int k, int count, Chunk
     out.flipped |= static_cast<std::uint64_t>(known_now == std::isnan(before)) << k;
     out.unseen_known |=
         static_cast<std::uint64_t>(differs && known_now && c.seen_edge2[s] == FootholdChanges::kEdgeUnknown) << k;
-    out.certainty_changed |= static_cast<std::uint64_t>(!foothold::same_bits(c.certainty[s], c.seen_certainty[s])) << k;
+    certainty_changed |= static_cast<std::uint64_t>(!foothold::same_bits(c.certainty[s], c.seen_certainty[s])) << k;
+  }
+  // The same certainty, the same factor: most cells skip both divisions.
+  out.scores |= out.flipped;
+  for (std::uint64_t rest = certainty_changed; rest != 0; rest &= rest - 1) {
+    const int k = std::countr_zero(rest);
+    const std::size_t s = s0 + static_cast<std::size_t>(k);
+    const float now = c.certainty[s], before = c.seen_certainty[s];
+    // Both at or past full certainty: the same factor, 1, without dividing.
+    const bool both_full = now >= c.full_certainty && before >= c.full_certainty;
+    if (!both_full && !foothold::same_bits(foothold::certainty_factor(now, c.full_certainty),
+                                           foothold::certainty_factor(before, c.full_certainty))) {
+      out.scores |= std::uint64_t{1} << k;
+    }
+    c.seen_certainty[s] = now;
   }
 }
 
@@ -115,6 +132,22 @@ __attribute__((target("avx2"), always_inline)) inline __m256i chunk_lanes(const 
 // Bit k: lane k's mask set.
 __attribute__((target("avx2"), always_inline)) inline std::uint64_t lane_bits(__m256i m) {
   return static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(m)));
+}
+
+// certainty_factor()'s clamp of a quotient, as std::clamp compares: NaN
+// and -0 pass through unchanged.
+__attribute__((target("avx2"), always_inline)) inline __m256i factor_of(__m256d quotient) {
+  const __m256d zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+  const __m256d above = _mm256_blendv_pd(quotient, one, _mm256_cmp_pd(one, quotient, _CMP_LT_OQ));
+  return _mm256_castpd_si256(_mm256_blendv_pd(above, zero, _mm256_cmp_pd(quotient, zero, _CMP_LT_OQ)));
+}
+
+// Bit k: lane k's certainty factor the same, now and before.
+__attribute__((target("avx2"), always_inline)) inline std::uint64_t factors_same(__m128 now, __m128 before,
+                                                                                 __m256d full_certainty) {
+  const __m256i a = factor_of(_mm256_div_pd(_mm256_cvtps_pd(now), full_certainty));
+  const __m256i b = factor_of(_mm256_div_pd(_mm256_cvtps_pd(before), full_certainty));
+  return static_cast<unsigned>(_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpeq_epi64(a, b))));
 }
 
 // compare_chunk() eight cells a lane each, where the CPU has AVX2 (chosen
@@ -161,14 +194,27 @@ __attribute__((target("avx2"), always_inline)) inline void compare_eight(const C
   const __m256i unseen =
       _mm256_andnot_si256(_mm256_or_si256(same, unknown),
                           _mm256_cmpeq_epi32(chunk_lanes<Partial>(c.seen_edge2 + s, in_chunk), edge_unknown));
-  const __m256i certainty_same = _mm256_cmpeq_epi32(chunk_lanes<Partial>(c.certainty + s, in_chunk),
-                                                    chunk_lanes<Partial>(c.seen_certainty + s, in_chunk));
+  // The certainty factors, four lanes of doubles at a time, divided and
+  // clamped as certainty_factor() does: the same roundings, the same bits.
+  const __m256i certainty = chunk_lanes<Partial>(c.certainty + s, in_chunk);
+  const __m256i seen_certainty = chunk_lanes<Partial>(c.seen_certainty + s, in_chunk);
+  if (Partial) {
+    _mm256_maskstore_epi32(reinterpret_cast<int*>(c.seen_certainty + s), in_chunk, certainty);
+  } else {
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(c.seen_certainty + s), certainty);
+  }
+  const __m256d full = _mm256_set1_pd(c.full_certainty);
+  const __m256 now_f = _mm256_castsi256_ps(certainty), before_f = _mm256_castsi256_ps(seen_certainty);
+  const std::uint64_t factor_changed =
+      ~(factors_same(_mm256_castps256_ps128(now_f), _mm256_castps256_ps128(before_f), full) |
+        factors_same(_mm256_extractf128_ps(now_f, 1), _mm256_extractf128_ps(before_f, 1), full) << 4);
   const std::uint64_t valid = Partial ? (std::uint64_t{1} << lanes) - 1 : 0xff;
   out.changed |= (~lane_bits(same) & valid) << k;
   // Known now where it was NaN, or unknown now where it was not.
-  out.flipped |= (lane_bits(_mm256_xor_si256(unknown, before_nan)) & valid) << k;
+  const __m256i flipped = _mm256_xor_si256(unknown, before_nan);
+  out.flipped |= (lane_bits(flipped) & valid) << k;
   out.unseen_known |= (lane_bits(unseen) & valid) << k;
-  out.certainty_changed |= (~lane_bits(certainty_same) & valid) << k;
+  out.scores |= ((lane_bits(flipped) | factor_changed) & valid) << k;
 }
 
 __attribute__((target("avx2"))) ChunkChanges compare_chunk_avx2(const CellCompare& c, std::size_t s0, int count) {
@@ -331,8 +377,8 @@ void FootholdChanges::see_changes(const FootholdStencil& stencil, const Elevatio
   const auto side = static_cast<std::int64_t>(n);
   const CellBox rows = pending.bounds().intersected(stable);
   const bool by_words = stencil.foot_cells < 64;
-  const CellCompare compare{elevation,        state, certainty, seen_elevation.data(), seen_certainty.data(),
-                            seen_edge2.data()};
+  const CellCompare compare{elevation,         state,         certainty, seen_elevation.data(), seen_certainty.data(),
+                            seen_edge2.data(), full_certainty};
 #ifdef STRIDEMAP_CHANGES_AVX2
   static const bool has_avx2 = __builtin_cpu_supports("avx2");
   const bool avx2 = has_avx2;
@@ -362,25 +408,13 @@ void FootholdChanges::see_changes(const FootholdStencil& stencil, const Elevatio
       if (avx2) {
         bits = compare_chunk_avx2(compare, s0, count);
       } else {
-        compare_chunk(compare, s0, 0, count, bits);
+        compare_chunk(compare, s0, count, bits);
       }
 #else
-      compare_chunk(compare, s0, 0, count, bits);
+      compare_chunk(compare, s0, count, bits);
 #endif
       const std::uint64_t changed = bits.changed, unseen_known = bits.unseen_known;
-      // The same certainty, the same factor: most cells skip both divisions.
-      std::uint64_t scores = bits.flipped;
-      for (std::uint64_t rest = bits.certainty_changed; rest != 0; rest &= rest - 1) {
-        const int k = std::countr_zero(rest);
-        const std::size_t s = s0 + static_cast<std::size_t>(k);
-        // Both at or past full certainty: the same factor, 1, without dividing.
-        const bool both_full = certainty[s] >= full_certainty && seen_certainty[s] >= full_certainty;
-        if (!both_full && !foothold::same_bits(foothold::certainty_factor(certainty[s], full_certainty),
-                                               foothold::certainty_factor(seen_certainty[s], full_certainty))) {
-          scores |= std::uint64_t{1} << k;
-        }
-        seen_certainty[s] = certainty[s];
-      }
+      const std::uint64_t scores = bits.scores;
       if (scores != 0) {
         marks[j / 64] |= scores << (j % 64);
         scored.lo = std::min(scored.lo, static_cast<int>(j + std::countr_zero(scores)));
