@@ -6,6 +6,12 @@
 
 #include "foothold_cells.hpp"
 
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__) && \
+    !defined(STRIDEMAP_NO_AVX2_COPIES)
+#define STRIDEMAP_SETTLE_AVX2 1
+#include <immintrin.h>
+#endif
+
 namespace stridemap {
 
 namespace {
@@ -13,6 +19,43 @@ namespace {
 // Eight cells a block: one AVX2 instruction, two SSE2 ones.
 constexpr int kBlock = FootholdEdgeSearch::kBlock;
 using Lanes = std::int32_t __attribute__((vector_size(kBlock * sizeof(std::int32_t))));
+
+#ifdef STRIDEMAP_SETTLE_AVX2
+bool settle_avx2_available() {
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+}
+
+// The settling of a run of cells, eight a lane each where the CPU has AVX2
+// (chosen at run time): the scalar loop's compare and store, ~12
+// instructions a cell, is most of what a settled cell costs. Bit k: cell k's
+// distance (the least of found[k] and none2) differs from seen[k], which
+// becomes it. found may be read up to a block past the run (the rows of
+// minima are padded by a block); seen, only within it.
+__attribute__((target("avx2"))) std::uint64_t settle_avx2(std::int32_t* seen, const std::int32_t* found, int count,
+                                                          std::int32_t none2) {
+  const __m256i cap = _mm256_set1_epi32(none2);
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  std::uint64_t changed = 0;
+  for (int k = 0; k < count; k += kBlock) {
+    const __m256i b = _mm256_min_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(found + k)), cap);
+    auto* at = reinterpret_cast<__m256i*>(seen + k);
+    __m256i before;
+    if (count - k >= kBlock) {
+      before = _mm256_loadu_si256(at);
+      _mm256_storeu_si256(at, b);
+    } else {
+      const __m256i in_run = _mm256_cmpgt_epi32(_mm256_set1_epi32(count - k), lane);
+      before = _mm256_maskload_epi32(seen + k, in_run);
+      _mm256_maskstore_epi32(seen + k, in_run, b);
+    }
+    const auto same = static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(b, before))));
+    changed |= static_cast<std::uint64_t>(~same & 0xffu) << k;
+  }
+  // The lanes past the run compared with 0s: their bits are not the run's.
+  return count == 64 ? changed : changed & ((std::uint64_t{1} << count) - 1);
+}
+#endif
 
 }  // namespace
 
@@ -120,6 +163,9 @@ STRIDEMAP_FOOTHOLD_CLONES std::size_t search_edge_distances(FootholdEdgeSearch& 
   // within one word of marks gathers its changes as bits, set with one OR
   // and widening the hull once: a third of the cells change, at random, so
   // a branch per cell would mispredict.
+#ifdef STRIDEMAP_SETTLE_AVX2
+  const bool use_avx2 = settle_avx2_available();
+#endif
   const auto settle = [&](int x, RowSpan e, const std::int32_t* best) -> std::size_t {
     if (e.lo > e.hi) return 0;
     std::int32_t* seen_row = changes.seen_edge2.data() + changes.row_slot[static_cast<std::size_t>(x)];
@@ -131,11 +177,19 @@ STRIDEMAP_FOOTHOLD_CLONES std::size_t search_edge_distances(FootholdEdgeSearch& 
       std::int32_t* seen = seen_row + first;
       const std::int32_t* found = best + y;
       std::uint64_t changed_bits = 0;
-      for (int k = 0; k < count; ++k) {
-        const std::int32_t b = std::min(found[k], none2);
-        const bool changed = b != seen[k] || all;
-        seen[k] = b;
-        changed_bits |= static_cast<std::uint64_t>(changed) << k;
+#ifdef STRIDEMAP_SETTLE_AVX2
+      if (use_avx2) {
+        changed_bits = settle_avx2(seen, found, count, none2);
+        if (all) changed_bits = count == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << count) - 1;
+      } else
+#endif
+      {
+        for (int k = 0; k < count; ++k) {
+          const std::int32_t b = std::min(found[k], none2);
+          const bool changed = b != seen[k] || all;
+          seen[k] = b;
+          changed_bits |= static_cast<std::uint64_t>(changed) << k;
+        }
       }
       if (changed_bits != 0) {
         marks[y / 64] |= changed_bits << (y % 64);
