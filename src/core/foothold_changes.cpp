@@ -75,7 +75,7 @@ struct CellCompare {
   const float* certainty;
   float* seen_elevation;
   float* seen_certainty;
-  const std::int32_t* seen_edge2;
+  std::int32_t* seen_edge2;
   double full_certainty;
 };
 
@@ -121,6 +121,11 @@ void compare_chunk(const CellCompare& c, std::size_t s0, int count, ChunkChanges
 }
 
 #ifdef STRIDEMAP_CHANGES_AVX2
+bool changes_avx2_available() {
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+}
+
 // Eight 32-bit lanes from p; with Partial, only those in the chunk (the
 // others read as 0 and never fault).
 template <bool Partial>
@@ -150,6 +155,37 @@ __attribute__((target("avx2"), always_inline)) inline std::uint64_t factors_same
   return static_cast<unsigned>(_mm256_movemask_pd(_mm256_castsi256_pd(_mm256_cmpeq_epi64(a, b))));
 }
 
+// Lanes of the cells that are not known (foothold::known()): the unknown
+// state, or an elevation with every exponent bit set (not finite).
+template <bool Partial>
+__attribute__((target("avx2"), always_inline)) inline __m256i unknown_lanes(const CellCompare& c, std::size_t s,
+                                                                            int lanes, __m256i elevation) {
+  const __m256i exponent = _mm256_set1_epi32(0x7f800000);
+  const __m256i unknown_state = _mm256_set1_epi32(static_cast<int>(CellState::unknown));
+  std::uint64_t states = 0;
+  if (!Partial) {
+    std::memcpy(&states, c.state + s, sizeof states);
+  } else if (s + static_cast<std::size_t>(lanes) >= 8) {
+    // The eight bytes that end with the chunk's last: none past the layer.
+    std::memcpy(&states, c.state + s + static_cast<std::size_t>(lanes) - 8, sizeof states);
+    states >>= 8 * (8 - lanes);
+  } else {
+    for (int b = 0; b < lanes; ++b) states |= std::uint64_t{c.state[s + static_cast<std::size_t>(b)]} << (8 * b);
+  }
+  const __m256i state = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(states)));
+  return _mm256_or_si256(_mm256_cmpeq_epi32(state, unknown_state),
+                         _mm256_cmpeq_epi32(_mm256_and_si256(elevation, exponent), exponent));
+}
+
+template <bool Partial>
+__attribute__((target("avx2"), always_inline)) inline void store_lanes(void* p, __m256i in_chunk, __m256i v) {
+  if constexpr (Partial) {
+    _mm256_maskstore_epi32(static_cast<int*>(p), in_chunk, v);
+  } else {
+    _mm256_storeu_si256(static_cast<__m256i*>(p), v);
+  }
+}
+
 // compare_chunk() eight cells a lane each, where the CPU has AVX2 (chosen
 // at run time): the scalar loop's compares, branch-free, are ~80
 // instructions a cell. Every test is on bits (a float compare would make
@@ -164,24 +200,9 @@ __attribute__((target("avx2"), always_inline)) inline void compare_eight(const C
   const __m256i magnitude = _mm256_set1_epi32(0x7fffffff);
   const __m256i nan = _mm256_set1_epi32(std::bit_cast<std::int32_t>(foothold::kNaN));
   const __m256i edge_unknown = _mm256_set1_epi32(FootholdChanges::kEdgeUnknown);
-  const __m256i unknown_state = _mm256_set1_epi32(static_cast<int>(CellState::unknown));
   const __m256i in_chunk = _mm256_cmpgt_epi32(_mm256_set1_epi32(lanes), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
-  std::uint64_t states = 0;
-  if (!Partial) {
-    std::memcpy(&states, c.state + s, sizeof states);
-  } else if (s + static_cast<std::size_t>(lanes) >= 8) {
-    // The eight bytes that end with the chunk's last: none past the layer.
-    std::memcpy(&states, c.state + s + static_cast<std::size_t>(lanes) - 8, sizeof states);
-    states >>= 8 * (8 - lanes);
-  } else {
-    for (int b = 0; b < lanes; ++b) states |= std::uint64_t{c.state[s + static_cast<std::size_t>(b)]} << (8 * b);
-  }
-  const __m256i state = _mm256_cvtepu8_epi32(_mm_cvtsi64_si128(static_cast<long long>(states)));
   const __m256i elevation = chunk_lanes<Partial>(c.elevation + s, in_chunk);
-  // Unknown: the unknown state, or an elevation with every exponent bit set
-  // (not finite).
-  const __m256i unknown = _mm256_or_si256(_mm256_cmpeq_epi32(state, unknown_state),
-                                          _mm256_cmpeq_epi32(_mm256_and_si256(elevation, exponent), exponent));
+  const __m256i unknown = unknown_lanes<Partial>(c, s, lanes, elevation);
   const __m256i now = _mm256_blendv_epi8(elevation, nan, unknown);
   const __m256i before = chunk_lanes<Partial>(c.seen_elevation + s, in_chunk);
   if (Partial) {
@@ -223,6 +244,52 @@ __attribute__((target("avx2"))) ChunkChanges compare_chunk_avx2(const CellCompar
   for (; k + 8 <= count; k += 8) compare_eight<false>(c, s0 + static_cast<std::size_t>(k), k, 8, out);
   if (k < count) compare_eight<true>(c, s0 + static_cast<std::size_t>(k), k, count - k, out);
   return out;
+}
+
+// see_all()'s pass over a chunk, eight cells a lane each where the CPU has
+// AVX2: the seen values become the current ones; with `mark`, every edge
+// distance is to be searched for. Returns the known cells' bits.
+template <bool Partial>
+__attribute__((target("avx2"), always_inline)) inline std::uint64_t see_eight(const CellCompare& c, std::size_t s,
+                                                                              int lanes, bool mark) {
+  const __m256i nan = _mm256_set1_epi32(std::bit_cast<std::int32_t>(foothold::kNaN));
+  const __m256i in_chunk = _mm256_cmpgt_epi32(_mm256_set1_epi32(lanes), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+  const __m256i elevation = chunk_lanes<Partial>(c.elevation + s, in_chunk);
+  const __m256i unknown = unknown_lanes<Partial>(c, s, lanes, elevation);
+  store_lanes<Partial>(c.seen_elevation + s, in_chunk, _mm256_blendv_epi8(elevation, nan, unknown));
+  store_lanes<Partial>(c.seen_certainty + s, in_chunk, chunk_lanes<Partial>(c.certainty + s, in_chunk));
+  if (!mark) return 0;
+  store_lanes<Partial>(c.seen_edge2 + s, in_chunk, _mm256_set1_epi32(FootholdChanges::kEdgeUnknown));
+  const std::uint64_t valid = Partial ? (std::uint64_t{1} << lanes) - 1 : 0xff;
+  return ~lane_bits(unknown) & valid;
+}
+
+__attribute__((target("avx2"))) std::uint64_t see_chunk_avx2(const CellCompare& c, std::size_t s0, int count,
+                                                             bool mark) {
+  std::uint64_t known = 0;
+  int k = 0;
+  for (; k + 8 <= count; k += 8) known |= see_eight<false>(c, s0 + static_cast<std::size_t>(k), 8, mark) << k;
+  if (k < count) known |= see_eight<true>(c, s0 + static_cast<std::size_t>(k), count - k, mark) << k;
+  return known;
+}
+
+// see_left()'s flags of a chunk as bits, eight cells a lane each where the
+// CPU has AVX2: known (a seen elevation not NaN) and an edge (a seen
+// squared edge distance of 0).
+__attribute__((target("avx2"))) void left_chunk_avx2(const float* elevation, const std::int32_t* edge2, int count,
+                                                     std::uint64_t& known, std::uint64_t& edge) {
+  const __m256i exponent = _mm256_set1_epi32(0x7f800000);
+  const __m256i magnitude = _mm256_set1_epi32(0x7fffffff);
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  known = edge = 0;
+  for (int k = 0; k < count; k += 8) {
+    const __m256i in_chunk = _mm256_cmpgt_epi32(_mm256_set1_epi32(count - k), lane);
+    const __m256i e = _mm256_maskload_epi32(reinterpret_cast<const int*>(elevation + k), in_chunk);
+    const __m256i d = _mm256_maskload_epi32(edge2 + k, in_chunk);
+    const __m256i nan = _mm256_cmpgt_epi32(_mm256_and_si256(e, magnitude), exponent);
+    known |= lane_bits(_mm256_andnot_si256(nan, in_chunk)) << k;
+    edge |= lane_bits(_mm256_and_si256(_mm256_cmpeq_epi32(d, _mm256_setzero_si256()), in_chunk)) << k;
+  }
 }
 #endif
 
@@ -327,6 +394,9 @@ void FootholdChanges::see_left(const FootholdStencil& stencil, const ElevationMa
   const std::int64_t foot_cells = stencil.foot_cells, edge_cells = stencil.edge_cells;
   const auto side = static_cast<std::size_t>(n);
   const auto clamp = [&](std::int64_t v) { return static_cast<int>(std::clamp<std::int64_t>(v, 0, n - 1)); };
+#ifdef STRIDEMAP_CHANGES_AVX2
+  const bool avx2 = changes_avx2_available();
+#endif
   for (std::int64_t x = b.min.x; x <= b.max.x; ++x) {
     const std::int64_t i = x - corner.x;
     if (i < -foot_cells - edge_cells || i > n - 1 + foot_cells + edge_cells) continue;  // reaches no window cell
@@ -345,12 +415,21 @@ void FootholdChanges::see_left(const FootholdStencil& stencil, const ElevationMa
           std::min<std::int64_t>({b.max.y - y + 1, static_cast<std::int64_t>(side - col), std::int64_t{64}}));
       const float* elevation = seen_elevation.data() + row + col;
       const std::int32_t* edge2 = seen_edge2.data() + row + col;
-      std::uint8_t known[64 + 8], edge[64 + 8];
-      for (int k = 0; k < count; ++k) {
-        known[k] = !std::isnan(elevation[k]);
-        edge[k] = edge2[k] == 0;  // it was an edge
+      std::uint64_t known_bits = 0, edge_bits = 0;
+#ifdef STRIDEMAP_CHANGES_AVX2
+      if (avx2) {
+        left_chunk_avx2(elevation, edge2, count, known_bits, edge_bits);
+      } else
+#endif
+      {
+        std::uint8_t known[64 + 8], edge[64 + 8];
+        for (int k = 0; k < count; ++k) {
+          known[k] = !std::isnan(elevation[k]);
+          edge[k] = edge2[k] == 0;  // it was an edge
+        }
+        known_bits = bits_of_flags(known, count);
+        edge_bits = bits_of_flags(edge, count);
       }
-      const std::uint64_t known_bits = bits_of_flags(known, count), edge_bits = bits_of_flags(edge, count);
       if (edge_bits != 0) {
         flip.lo = std::min(flip.lo, clamp(y + std::countr_zero(edge_bits) - corner.y));
         flip.hi = std::max(flip.hi, clamp(y + 63 - std::countl_zero(edge_bits) - corner.y));
@@ -380,8 +459,7 @@ void FootholdChanges::see_changes(const FootholdStencil& stencil, const Elevatio
   const CellCompare compare{elevation,         state,         certainty, seen_elevation.data(), seen_certainty.data(),
                             seen_edge2.data(), full_certainty};
 #ifdef STRIDEMAP_CHANGES_AVX2
-  static const bool has_avx2 = __builtin_cpu_supports("avx2");
-  const bool avx2 = has_avx2;
+  const bool avx2 = changes_avx2_available();
 #endif
   std::int64_t lo = 0, hi = 0;
   for (std::int64_t x = rows.min.x; !rows.empty() && x <= rows.max.x; ++x) {
@@ -446,6 +524,11 @@ void FootholdChanges::see_all(const FootholdStencil& stencil, const ElevationMap
   const float* certainty = map.certainty_data();
   const auto side = static_cast<std::int64_t>(n);
   const bool by_words = stencil.foot_cells < 64;
+#ifdef STRIDEMAP_CHANGES_AVX2
+  const CellCompare compare{elevation,         state,         certainty, seen_elevation.data(), seen_certainty.data(),
+                            seen_edge2.data(), full_certainty};
+  const bool avx2 = changes_avx2_available();
+#endif
   for (std::int64_t i = b.i0; i <= b.i1; ++i) {
     const std::size_t row = row_slot[static_cast<std::size_t>(i)];
     const auto mark_run = [&](std::int64_t first, std::int64_t last) { mark_geometry(stencil, i, first, last); };
@@ -459,23 +542,33 @@ void FootholdChanges::see_all(const FootholdStencil& stencil, const ElevationMap
       const auto count = static_cast<int>(
           std::min<std::int64_t>({b.j1 - j + 1, side - static_cast<std::int64_t>(first), 64 - j % 64}));
       const std::size_t s0 = row + first;
-      if (!mark) {
-        for (std::size_t s = s0; s < s0 + static_cast<std::size_t>(count); ++s) {
-          seen_elevation[s] = foothold::known_elevation(elevation, state, s);
-          seen_certainty[s] = certainty[s];
+      std::uint64_t known_bits = 0;
+#ifdef STRIDEMAP_CHANGES_AVX2
+      if (avx2) {
+        known_bits = see_chunk_avx2(compare, s0, count, mark);
+      } else
+#endif
+      {
+        if (!mark) {
+          for (std::size_t s = s0; s < s0 + static_cast<std::size_t>(count); ++s) {
+            seen_elevation[s] = foothold::known_elevation(elevation, state, s);
+            seen_certainty[s] = certainty[s];
+          }
+        } else {
+          for (int k = 0; k < count; ++k) {
+            const std::size_t s = s0 + static_cast<std::size_t>(k);
+            const float elevation_now = foothold::known_elevation(elevation, state, s);
+            seen_elevation[s] = elevation_now;
+            seen_certainty[s] = certainty[s];
+            // Its edge distance is searched for when it is known (then or later).
+            seen_edge2[s] = kEdgeUnknown;
+            known_bits |= static_cast<std::uint64_t>(!std::isnan(elevation_now)) << k;
+          }
         }
+      }
+      if (!mark) {
         j += count;
         continue;
-      }
-      std::uint64_t known_bits = 0;
-      for (int k = 0; k < count; ++k) {
-        const std::size_t s = s0 + static_cast<std::size_t>(k);
-        const float elevation_now = foothold::known_elevation(elevation, state, s);
-        seen_elevation[s] = elevation_now;
-        seen_certainty[s] = certainty[s];
-        // Its edge distance is searched for when it is known (then or later).
-        seen_edge2[s] = kEdgeUnknown;
-        known_bits |= static_cast<std::uint64_t>(!std::isnan(elevation_now)) << k;
       }
       if (known_bits != 0) {
         // Known cells: their scores, and their edge distances searched for.
