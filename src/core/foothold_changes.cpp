@@ -367,6 +367,8 @@ void FootholdChanges::mark_geometry_word(const FootholdStencil& stencil, std::in
   const std::uint64_t last_mask = ~std::uint64_t{0} >> (63 - (side - 1) % 64);
   const auto in_window = [&](std::size_t w, std::uint64_t m) { return w == last_word ? m & last_mask : m; };
   const auto first_column = static_cast<int>(word * 64);
+  const int first_bit = first_column + std::countr_zero(bits), last_bit = first_column + 63 - std::countl_zero(bits);
+  const auto last_cell = static_cast<int>(side - 1);
   const std::int64_t first = std::max(-f, -i), last = std::min(f, side - 1 - i);
   for (std::int64_t d = first; d <= last; ++d) {
     const int w = widths[d < 0 ? -d : d];
@@ -379,11 +381,11 @@ void FootholdChanges::mark_geometry_word(const FootholdStencil& stencil, std::in
     row[word] |= here;
     if (low != 0) row[word - 1] |= low;
     if (high != 0) row[word + 1] |= high;
+    // The run's columns widened by w, within the window: what the words'
+    // bits span, without finding it in them.
     RowSpan& r = geometry_rows[static_cast<std::size_t>(i + d)];
-    const int lo = low != 0 ? first_column - 64 + std::countr_zero(low) : first_column + std::countr_zero(here);
-    const int hi = high != 0 ? first_column + 127 - std::countl_zero(high) : first_column + 63 - std::countl_zero(here);
-    r.lo = std::min(r.lo, lo);
-    r.hi = std::max(r.hi, hi);
+    r.lo = std::min(r.lo, std::max(first_bit - w, 0));
+    r.hi = std::max(r.hi, std::min(last_bit + w, last_cell));
   }
 }
 
