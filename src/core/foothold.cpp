@@ -384,10 +384,16 @@ void FootholdLayers::score_rows(ElevationMap& map) {
   float* score = map.data(score_);
   const std::int64_t none2 = stencil_.edge_cells * stencil_.edge_cells + 1;
   std::size_t cells = 0, scored = 0;
+  // In locals: the layers are written through float pointers, which could
+  // alias the vectors' own pointers and sizes, reloaded a cell each otherwise.
+  const double* distance_of = edge_distance_of_.data();
+  const double* factor_of = edge_factor_of_.data();
+  const auto tabled_below = static_cast<std::int64_t>(edge_distance_of_.size());
+  std::size_t* slots = score_slots_.data();
+  double* factors = score_edge_factors_.data();
   const auto score_batch = [&] {
-    const foothold::ScoreCells batch{score_slots_.data(), score_edge_factors_.data(), scored, slope, step, roughness,
-                                     certainty, options_.max_slope_deg, options_.max_step_m, options_.max_roughness_m,
-                                     options_.full_certainty};
+    const foothold::ScoreCells batch{slots, factors, scored, slope, step, roughness, certainty, options_.max_slope_deg,
+                                     options_.max_step_m, options_.max_roughness_m, options_.full_certainty};
     foothold::score_cells(batch, score);
     scored = 0;
   };
@@ -404,17 +410,15 @@ void FootholdLayers::score_rows(ElevationMap& map) {
         return;
       }
       const std::int64_t b = changes_.seen_edge2[s];
-      const bool tabled = b < static_cast<std::int64_t>(edge_distance_of_.size());
-      const double distance_m =
-          tabled ? edge_distance_of_[static_cast<std::size_t>(b)] : edge_distance_m_of(b, none2);
+      const bool tabled = b < tabled_below;
+      const double distance_m = tabled ? distance_of[static_cast<std::size_t>(b)] : edge_distance_m_of(b, none2);
       edge_distance[s] = static_cast<float>(distance_m);
       if (std::isnan(slope[s]) || std::isnan(step[s]) || std::isnan(roughness[s])) {
         score[s] = kNaN;
         return;
       }
-      score_slots_[scored] = s;
-      score_edge_factors_[scored++] =
-          tabled ? edge_factor_of_[static_cast<std::size_t>(b)] : edge_factor_of_distance(distance_m);
+      slots[scored] = s;
+      factors[scored++] = tabled ? factor_of[static_cast<std::size_t>(b)] : edge_factor_of_distance(distance_m);
       if (scored == kScoreBatch) score_batch();
     };
     const auto last = static_cast<std::size_t>(e.hi) / 64;
