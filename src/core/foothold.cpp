@@ -266,11 +266,17 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
   foothold::LaneFits lanes;
   // Known-ness and elevation from what this refresh saw (the map's: see_changes()).
   if (fast) padded_.copy(c.geometry_rows, c.seen_elevation, c.row_slot, c.col_slot);
+  // In locals, as in score_rows(): the layers' float stores may alias these.
+  const float* padded_values = padded_.values.data();
+  const std::ptrdiff_t padded_margin = padded_.margin, padded_stride = padded_.stride;
+  std::uint64_t* score_marks = c.score_mark.data();
+  const std::size_t mark_words = c.mark_words;
   // A new fit of cell (i, j), already written to slot t: its score is
   // redone if it changed, and it may have become or stopped being an edge.
   const auto fitted = [&](int i, int j, std::size_t t, float old_slope, float old_roughness, float old_step) {
     if (!same_bits(old_slope, slope[t]) || !same_bits(old_roughness, roughness[t]) || !same_bits(old_step, step[t])) {
-      c.mark_score(i, j);
+      const auto column = static_cast<std::size_t>(j);
+      score_marks[static_cast<std::size_t>(i) * mark_words + column / 64] |= std::uint64_t{1} << (column % 64);
     }
     const bool edge = step[t] > max_step;
     if (edge && !(old_step > max_step)) {
@@ -328,7 +334,7 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
       fitted(i, j, t, old_slope, old_roughness, old_step);
       return;
     }
-    const float* entry = padded_.at(i, j);
+    const float* entry = padded_values + (i + padded_margin) * padded_stride + (j + padded_margin);
     if (std::isnan(*entry)) {
       // Most such cells were unknown at the last refresh too: nothing to store.
       if (same_bits(slope[t], kNaN) && same_bits(roughness[t], kNaN) && same_bits(step[t], kNaN)) {
