@@ -266,11 +266,17 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
   foothold::LaneFits lanes;
   // Known-ness and elevation from what this refresh saw (the map's: see_changes()).
   if (fast) padded_.copy(c.geometry_rows, c.seen_elevation, c.row_slot, c.col_slot);
+  // In locals, as in score_rows(): the layers' float stores may alias these.
+  const float* padded_values = padded_.values.data();
+  const std::ptrdiff_t padded_margin = padded_.margin, padded_stride = padded_.stride;
+  std::uint64_t* score_marks = c.score_mark.data();
+  const std::size_t mark_words = c.mark_words;
   // A new fit of cell (i, j), already written to slot t: its score is
   // redone if it changed, and it may have become or stopped being an edge.
   const auto fitted = [&](int i, int j, std::size_t t, float old_slope, float old_roughness, float old_step) {
     if (!same_bits(old_slope, slope[t]) || !same_bits(old_roughness, roughness[t]) || !same_bits(old_step, step[t])) {
-      c.mark_score(i, j);
+      const auto column = static_cast<std::size_t>(j);
+      score_marks[static_cast<std::size_t>(i) * mark_words + column / 64] |= std::uint64_t{1} << (column % 64);
     }
     const bool edge = step[t] > max_step;
     if (edge && !(old_step > max_step)) {
@@ -328,7 +334,7 @@ void FootholdLayers::geometry_rows(ElevationMap& map) {
       fitted(i, j, t, old_slope, old_roughness, old_step);
       return;
     }
-    const float* entry = padded_.at(i, j);
+    const float* entry = padded_values + (i + padded_margin) * padded_stride + (j + padded_margin);
     if (std::isnan(*entry)) {
       // Most such cells were unknown at the last refresh too: nothing to store.
       if (same_bits(slope[t], kNaN) && same_bits(roughness[t], kNaN) && same_bits(step[t], kNaN)) {
@@ -384,10 +390,16 @@ void FootholdLayers::score_rows(ElevationMap& map) {
   float* score = map.data(score_);
   const std::int64_t none2 = stencil_.edge_cells * stencil_.edge_cells + 1;
   std::size_t cells = 0, scored = 0;
+  // In locals: the layers are written through float pointers, which could
+  // alias the vectors' own pointers and sizes, reloaded a cell each otherwise.
+  const double* distance_of = edge_distance_of_.data();
+  const double* factor_of = edge_factor_of_.data();
+  const auto tabled_below = static_cast<std::int64_t>(edge_distance_of_.size());
+  std::size_t* slots = score_slots_.data();
+  double* factors = score_edge_factors_.data();
   const auto score_batch = [&] {
-    const foothold::ScoreCells batch{score_slots_.data(), score_edge_factors_.data(), scored, slope, step, roughness,
-                                     certainty, options_.max_slope_deg, options_.max_step_m, options_.max_roughness_m,
-                                     options_.full_certainty};
+    const foothold::ScoreCells batch{slots, factors, scored, slope, step, roughness, certainty, options_.max_slope_deg,
+                                     options_.max_step_m, options_.max_roughness_m, options_.full_certainty};
     foothold::score_cells(batch, score);
     scored = 0;
   };
@@ -404,17 +416,15 @@ void FootholdLayers::score_rows(ElevationMap& map) {
         return;
       }
       const std::int64_t b = changes_.seen_edge2[s];
-      const bool tabled = b < static_cast<std::int64_t>(edge_distance_of_.size());
-      const double distance_m =
-          tabled ? edge_distance_of_[static_cast<std::size_t>(b)] : edge_distance_m_of(b, none2);
+      const bool tabled = b < tabled_below;
+      const double distance_m = tabled ? distance_of[static_cast<std::size_t>(b)] : edge_distance_m_of(b, none2);
       edge_distance[s] = static_cast<float>(distance_m);
       if (std::isnan(slope[s]) || std::isnan(step[s]) || std::isnan(roughness[s])) {
         score[s] = kNaN;
         return;
       }
-      score_slots_[scored] = s;
-      score_edge_factors_[scored++] =
-          tabled ? edge_factor_of_[static_cast<std::size_t>(b)] : edge_factor_of_distance(distance_m);
+      slots[scored] = s;
+      factors[scored++] = tabled ? factor_of[static_cast<std::size_t>(b)] : edge_factor_of_distance(distance_m);
       if (scored == kScoreBatch) score_batch();
     };
     const auto last = static_cast<std::size_t>(e.hi) / 64;

@@ -6,6 +6,12 @@
 
 #include "foothold_cells.hpp"
 
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && defined(__linux__) && \
+    !defined(STRIDEMAP_NO_AVX2_COPIES)
+#define STRIDEMAP_EDGE_AVX2 1
+#include <immintrin.h>
+#endif
+
 namespace stridemap {
 
 namespace {
@@ -13,6 +19,62 @@ namespace {
 // Eight cells a block: one AVX2 instruction, two SSE2 ones.
 constexpr int kBlock = FootholdEdgeSearch::kBlock;
 using Lanes = std::int32_t __attribute__((vector_size(kBlock * sizeof(std::int32_t))));
+
+#ifdef STRIDEMAP_EDGE_AVX2
+bool edge_avx2_available() {
+  static const bool has = __builtin_cpu_supports("avx2");
+  return has;
+}
+
+// The settling of a run of cells, eight a lane each where the CPU has AVX2
+// (chosen at run time): the scalar loop's compare and store, ~12
+// instructions a cell, is most of what a settled cell costs. Bit k: cell k's
+// distance (the least of found[k] and none2) differs from seen[k], which
+// becomes it. found may be read up to a block past the run (the rows of
+// minima are padded by a block); seen, only within it.
+__attribute__((target("avx2"))) std::uint64_t settle_avx2(std::int32_t* seen, const std::int32_t* found, int count,
+                                                          std::int32_t none2) {
+  const __m256i cap = _mm256_set1_epi32(none2);
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  std::uint64_t changed = 0;
+  for (int k = 0; k < count; k += kBlock) {
+    const __m256i b = _mm256_min_epi32(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(found + k)), cap);
+    auto* at = reinterpret_cast<__m256i*>(seen + k);
+    __m256i before;
+    if (count - k >= kBlock) {
+      before = _mm256_loadu_si256(at);
+      _mm256_storeu_si256(at, b);
+    } else {
+      const __m256i in_run = _mm256_cmpgt_epi32(_mm256_set1_epi32(count - k), lane);
+      before = _mm256_maskload_epi32(seen + k, in_run);
+      _mm256_maskstore_epi32(seen + k, in_run, b);
+    }
+    const auto same = static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(b, before))));
+    changed |= static_cast<std::uint64_t>(~same & 0xffu) << k;
+  }
+  // The lanes past the run compared with 0s: their bits are not the run's.
+  return count == 64 ? changed : changed & ((std::uint64_t{1} << count) - 1);
+}
+
+// raise_edges()'s pass over a run of a disc row, eight cells a lane each
+// where the CPU has AVX2: each squared distance lowered to the new edge's
+// where that is less. Bit k: cell k (dy = dy0 + k, at seen[k]) lowered;
+// count <= 64.
+__attribute__((target("avx2"))) std::uint64_t lower_run_avx2(std::int32_t* seen, int count, std::int32_t dx2, int dy0) {
+  const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+  std::uint64_t lowered = 0;
+  for (int k = 0; k < count; k += kBlock) {
+    const __m256i dy = _mm256_add_epi32(_mm256_set1_epi32(dy0 + k), lane);
+    const __m256i d2 = _mm256_add_epi32(_mm256_set1_epi32(dx2), _mm256_mullo_epi32(dy, dy));
+    const __m256i in_run = _mm256_cmpgt_epi32(_mm256_set1_epi32(count - k), lane);
+    const __m256i before = _mm256_maskload_epi32(seen + k, in_run);
+    const __m256i lower = _mm256_and_si256(_mm256_cmpgt_epi32(before, d2), in_run);
+    _mm256_maskstore_epi32(seen + k, lower, d2);
+    lowered |= static_cast<std::uint64_t>(static_cast<unsigned>(_mm256_movemask_ps(_mm256_castsi256_ps(lower)))) << k;
+  }
+  return lowered;
+}
+#endif
 
 }  // namespace
 
@@ -120,6 +182,9 @@ STRIDEMAP_FOOTHOLD_CLONES std::size_t search_edge_distances(FootholdEdgeSearch& 
   // within one word of marks gathers its changes as bits, set with one OR
   // and widening the hull once: a third of the cells change, at random, so
   // a branch per cell would mispredict.
+#ifdef STRIDEMAP_EDGE_AVX2
+  const bool use_avx2 = edge_avx2_available();
+#endif
   const auto settle = [&](int x, RowSpan e, const std::int32_t* best) -> std::size_t {
     if (e.lo > e.hi) return 0;
     std::int32_t* seen_row = changes.seen_edge2.data() + changes.row_slot[static_cast<std::size_t>(x)];
@@ -131,11 +196,19 @@ STRIDEMAP_FOOTHOLD_CLONES std::size_t search_edge_distances(FootholdEdgeSearch& 
       std::int32_t* seen = seen_row + first;
       const std::int32_t* found = best + y;
       std::uint64_t changed_bits = 0;
-      for (int k = 0; k < count; ++k) {
-        const std::int32_t b = std::min(found[k], none2);
-        const bool changed = b != seen[k] || all;
-        seen[k] = b;
-        changed_bits |= static_cast<std::uint64_t>(changed) << k;
+#ifdef STRIDEMAP_EDGE_AVX2
+      if (use_avx2) {
+        changed_bits = settle_avx2(seen, found, count, none2);
+        if (all) changed_bits = count == 64 ? ~std::uint64_t{0} : (std::uint64_t{1} << count) - 1;
+      } else
+#endif
+      {
+        for (int k = 0; k < count; ++k) {
+          const std::int32_t b = std::min(found[k], none2);
+          const bool changed = b != seen[k] || all;
+          seen[k] = b;
+          changed_bits |= static_cast<std::uint64_t>(changed) << k;
+        }
       }
       if (changed_bits != 0) {
         marks[y / 64] |= changed_bits << (y % 64);
@@ -218,6 +291,9 @@ void search_or_raise_edges(FootholdEdgeSearch& search, FootholdChanges& changes,
 void raise_edges(FootholdChanges& changes, const FootholdStencil& stencil) {
   const int r = static_cast<int>(stencil.edge_cells);
   const int n = changes.n;
+#ifdef STRIDEMAP_EDGE_AVX2
+  const bool use_avx2 = edge_avx2_available();
+#endif
   for (const std::int32_t cell : changes.raised) {
     const int ei = cell / n, ej = cell % n;
     for (int dx = std::max(-r, -ei); dx <= std::min(r, n - 1 - ei); ++dx) {
@@ -231,6 +307,18 @@ void raise_edges(FootholdChanges& changes, const FootholdStencil& stencil) {
         const std::size_t first = changes.col_slot[static_cast<std::size_t>(ej + dy)];
         const int run_end = std::min(dy1, dy + static_cast<int>(static_cast<std::size_t>(n) - first) - 1);
         std::int32_t* seen = row + first;
+#ifdef STRIDEMAP_EDGE_AVX2
+        if (use_avx2) {
+          while (dy <= run_end) {
+            const int count = std::min(64, run_end - dy + 1);
+            const std::uint64_t lowered = lower_run_avx2(seen, count, dx * dx, dy);
+            if (lowered != 0) changes.mark_scores(ei + dx, ej + dy, lowered);
+            seen += count;
+            dy += count;
+          }
+          continue;
+        }
+#endif
         for (const int run_start = dy; dy <= run_end; ++dy) {
           const std::int32_t d2 = dx * dx + dy * dy;
           std::int32_t& seen_d2 = seen[dy - run_start];

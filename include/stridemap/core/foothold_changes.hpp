@@ -56,6 +56,14 @@ struct FootholdChanges {
     const auto column = static_cast<std::size_t>(j);
     score_mark[static_cast<std::size_t>(i) * mark_words + column / 64] |= std::uint64_t{1} << (column % 64);
   }
+  /// mark_score() of the cells (i, j + k) for each bit k of `bits`.
+  void mark_scores(int i, int j, std::uint64_t bits) {
+    const auto column = static_cast<std::size_t>(j);
+    std::uint64_t* row = score_mark.data() + static_cast<std::size_t>(i) * mark_words + column / 64;
+    row[0] |= bits << (column % 64);
+    // The bits past the word, if any, are cells' columns: the next word exists.
+    if (column % 64 != 0 && (bits >> (64 - column % 64)) != 0) row[1] |= bits >> (64 - column % 64);
+  }
   /// Widens the hull of row i's score marks to columns lo..hi.
   void widen_scores(int i, int lo, int hi) {
     RowSpan& r = score_rows[static_cast<std::size_t>(i)];
