@@ -5,11 +5,28 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <string>
 
 #include "stridemap/core/changed_rows.hpp"
 
 namespace stridemap {
 namespace {
+
+// The same bounds and the same span in every row around `first`: a record
+// merged at once against one built row by row.
+void expect_same_rows(const ChangedRows& at_once, const ChangedRows& one_by_one, std::int64_t first) {
+  EXPECT_EQ(at_once.bounds().min, one_by_one.bounds().min);
+  EXPECT_EQ(at_once.bounds().max, one_by_one.bounds().max);
+  for (std::int64_t x = first - 12; x < first + 24; ++x) {
+    std::int64_t lo_a = 0, hi_a = 0, lo_b = 0, hi_b = 0;
+    const bool a = at_once.span(x, lo_a, hi_a), b = one_by_one.span(x, lo_b, hi_b);
+    ASSERT_EQ(a, b) << "row " << x;
+    if (a) {
+      EXPECT_EQ(lo_a, lo_b) << "row " << x;
+      EXPECT_EQ(hi_a, hi_b) << "row " << x;
+    }
+  }
+}
 
 TEST(ChangedRows, KeepsEachRowsSmallestAndLargestColumn) {
   ChangedRows rows(10);
@@ -121,17 +138,8 @@ TEST(ChangedRows, AnotherRecordAddedAtOnceMatchesItsSpansAddedRowByRow) {
            x <= other.bounds().max.x; ++x) {
         if (other.span(x, lo, hi)) one_by_one.add_span(x, lo, hi);
       }
-      EXPECT_EQ(at_once.bounds().min, one_by_one.bounds().min) << first;
-      EXPECT_EQ(at_once.bounds().max, one_by_one.bounds().max) << first;
-      for (std::int64_t x = first - 12; x < first + 24; ++x) {
-        std::int64_t lo_a = 0, hi_a = 0, lo_b = 0, hi_b = 0;
-        const bool a = at_once.span(x, lo_a, hi_a), b = one_by_one.span(x, lo_b, hi_b);
-        ASSERT_EQ(a, b) << "row " << x << ", first " << first << ", other's rows " << other_rows;
-        if (a) {
-          EXPECT_EQ(lo_a, lo_b) << "row " << x << ", first " << first;
-          EXPECT_EQ(hi_a, hi_b) << "row " << x << ", first " << first;
-        }
-      }
+      SCOPED_TRACE("first " + std::to_string(first) + ", other's rows " + std::to_string(other_rows));
+      expect_same_rows(at_once, one_by_one, first);
     }
   }
 }
@@ -150,17 +158,8 @@ TEST(ChangedRows, AnotherRecordThatReplacedNoRowAddsItsOwnBounds) {
       for (std::int64_t x = other.bounds().min.x; x <= other.bounds().max.x; ++x) {
         if (other.span(x, lo, hi)) one_by_one.add_span(x, lo, hi);
       }
-      EXPECT_EQ(at_once.bounds().min, one_by_one.bounds().min) << first;
-      EXPECT_EQ(at_once.bounds().max, one_by_one.bounds().max) << first;
-      for (std::int64_t x = first - 12; x < first + 24; ++x) {
-        std::int64_t lo_a = 0, hi_a = 0, lo_b = 0, hi_b = 0;
-        const bool a = at_once.span(x, lo_a, hi_a), b = one_by_one.span(x, lo_b, hi_b);
-        ASSERT_EQ(a, b) << "row " << x << ", first " << first << ", rows here " << rows_here;
-        if (a) {
-          EXPECT_EQ(lo_a, lo_b) << "row " << x << ", first " << first;
-          EXPECT_EQ(hi_a, hi_b) << "row " << x << ", first " << first;
-        }
-      }
+      SCOPED_TRACE("first " + std::to_string(first) + ", rows here " + std::to_string(rows_here));
+      expect_same_rows(at_once, one_by_one, first);
     }
   }
 }
