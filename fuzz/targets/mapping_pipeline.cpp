@@ -7,11 +7,10 @@
 // Two pipelines take the same scans: one keeps its foothold layers current
 // after every scan, the other refreshes them only when map() is read.
 // Whatever the input, nothing may throw but InputError (and then both
-// alike) and every cell must stay valid. Without the clean-up every read
-// must find the two maps the same bit for bit in every layer: the lazy
-// refresh's marks (which cells a scan or a window move changed) must miss
-// nothing. With it, cells cleared between reads leave the edge distances of
-// both ways short of a recomputation now and then, so they are not compared.
+// alike) and every cell must stay valid. Every read must find the two maps
+// the same bit for bit in every layer, and the same as the layers
+// recomputed from scratch: the refresh's marks (which cells a scan, a
+// window move or the clean-up changed) must miss nothing.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -114,9 +113,11 @@ void check_same(const MappingPipeline& lazy, const MappingPipeline& eager, const
   const ElevationMap& map = eager.map();
   const MapIntegrity integrity = check_map_integrity(map, eager.options().mapper.update.certainty_max);
   check(integrity.ok(), std::string("a cell is invalid ") + when + ": " + integrity.first_problem);
-  const ElevationMap& lazy_map = lazy.map();
-  if (eager.options().visibility.enabled) return;
-  check(same_maps(lazy_map, map), std::string("the lazy foothold layers differ from the eager ones ") + when);
+  check(same_maps(lazy.map(), map), std::string("the lazy foothold layers differ from the eager ones ") + when);
+  if (!eager.options().foothold.enabled) return;
+  ElevationMap recomputed = map;
+  FootholdLayers(recomputed, eager.options().foothold).recompute_all(recomputed);
+  check(same_maps(recomputed, map), std::string("the foothold layers differ from a recomputation ") + when);
 }
 
 }  // namespace

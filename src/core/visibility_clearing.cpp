@@ -857,7 +857,7 @@ void VisibilityClearing::contradict(ElevationMap& map, CellIndex cell, std::size
     if (certainty > 0.0f) return;
   }
   const float was = map.elevation_data()[slot];
-  map.reset_slot(slot);
+  map.forget_measurement(slot);
   ++stats_.cells_cleared;
   if (cleared_.size() < cleared_.capacity()) cleared_.push_back({cell, was});
 }

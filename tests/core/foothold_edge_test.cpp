@@ -15,6 +15,7 @@
 #include <random>
 #include <vector>
 
+#include <Eigen/Core>
 #include <gtest/gtest.h>
 
 #include "stridemap/core/foothold.hpp"
@@ -153,6 +154,70 @@ TEST(FootholdEdges, DistancesEqualABruteForceSearchAndAFreshRefreshAtEveryRadius
       if (HasFatalFailure()) return;
     }
   }
+}
+
+// The visibility clean-up clears a cell by forgetting its measurement
+// (ElevationMap::forget_measurement()), which leaves the foothold layers'
+// last values for their keeper to compare with: edges cleared between two
+// refreshes must lengthen the distances around them, and a cell cleared
+// and measured again the same before a refresh must get its layers back.
+TEST(FootholdEdges, CellsClearedBetweenRefreshesLeaveNoStaleValue) {
+  constexpr int kCells = 40;
+  MapperOptions options;
+  options.grid = GridOptions{kCells, 0.01};
+  options.reject_stale_scans = false;
+  TerrainMapper mapper(options, SensorMount{});
+  FootholdOptions o;
+  o.max_step_m = 0.03;
+  o.edge_search_radius_m = 0.05;
+  FootholdLayers foothold(mapper.map(), o);
+  // A 6 cm step across the window, every cell read once.
+  const auto reading = [&](CellIndex c) {
+    const Eigen::Vector2d centre = mapper.map().cell_center(c);
+    return MapPoint{centre.x(), centre.y(), c.x > mapper.map().cell_at_local(kCells / 2, 0).x ? 0.06 : 0.0, 0.02};
+  };
+  std::vector<MapPoint> points;
+  for (int i = 0; i < kCells; ++i) {
+    for (int j = 0; j < kCells; ++j) points.push_back(reading(mapper.map().cell_at_local(i, j)));
+  }
+  mapper.integrate_points(points, TrunkPose{});
+  foothold.recompute_all(mapper.map());
+  ElevationMap& map = mapper.map();
+  const float* step = map.data(foothold.step_height());
+  const auto expect_fresh = [&](const char* when) {
+    ElevationMap scratch = map;
+    FootholdLayers(scratch, o).recompute_all(scratch);
+    const std::size_t bytes = std::size_t{kCells} * kCells * sizeof(float);
+    for (LayerId<float> id : {foothold.slope(), foothold.roughness(), foothold.step_height(),
+                              foothold.edge_distance(), foothold.score()}) {
+      EXPECT_EQ(std::memcmp(map.data(id), scratch.data(id), bytes), 0) << map.layer_spec(id.index).name << " " << when;
+    }
+  };
+  // Clear every cell of ten rows within a cell of the step, the edges among them.
+  CellBox cleared;
+  int edges_cleared = 0;
+  for (int i = kCells / 2 - 2; i <= kCells / 2 + 1; ++i) {
+    for (int j = 5; j < 15; ++j) {
+      const CellIndex c = map.cell_at_local(i, j);
+      edges_cleared += step[map.slot(c)] > o.max_step_m ? 1 : 0;
+      map.forget_measurement(map.slot(c));
+      cleared.add(c);
+    }
+  }
+  ASSERT_GT(edges_cleared, 10);
+  foothold.update(map, cleared);
+  expect_fresh("after clearing edges");
+  // Cleared, then read again as before, between two refreshes.
+  foothold.recompute_all(map);
+  const CellIndex again = map.cell_at_local(kCells / 2 + 5, 30);
+  map.forget_measurement(map.slot(again));
+  mapper.integrate_points(std::vector<MapPoint>{reading(again)}, TrunkPose{});
+  ASSERT_FALSE(std::isnan(map.elevation(again)));
+  foothold.note(map, mapper.changed_rows());
+  CellBox one;
+  one.add(again);
+  foothold.update(map, one);
+  expect_fresh("after a cell was cleared and read again");
 }
 
 }  // namespace

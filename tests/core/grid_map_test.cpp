@@ -210,6 +210,26 @@ TEST(ElevationMap, MoveOnEitherAxisEqualsARebuildOnEveryLayer) {
   }
 }
 
+TEST(ElevationMap, ForgettingAMeasurementResetsTheUpdateRulesLayersOnly) {
+  GridOptions options{8, 0.01};
+  options.extra_layers = {{"visits", LayerType::u16, 5.0, "", "a user's counter", true}};
+  ElevationMap map(options);
+  tag_all(map);
+  const LayerId<std::uint16_t> visits = map.layer<std::uint16_t>("visits");
+  const CellIndex c = map.cell_at_local(3, 4), other = map.cell_at_local(3, 5);
+  map.data(visits)[map.slot(c)] = 42;
+  map.mean_count_data()[map.slot(c)] = 3;
+  map.forget_measurement(map.slot(c));
+  EXPECT_EQ(map.state(c), CellState::unknown);
+  EXPECT_TRUE(std::isnan(map.elevation(c)));
+  EXPECT_EQ(map.certainty(c), 0.0f);
+  EXPECT_EQ(map.mean_count_data()[map.slot(c)], 0);
+  EXPECT_EQ(map.data(visits)[map.slot(c)], 42);  // a layer added to the map is its keeper's
+  EXPECT_EQ(map.elevation(other), tag(other));
+  map.reset_slot(map.slot(c));
+  EXPECT_EQ(map.data(visits)[map.slot(c)], 5);
+}
+
 TEST(ElevationMap, MoveToCentresTheRobotCell) {
   ElevationMap map({100, 0.01});
   map.move_to(1.234, -0.567);

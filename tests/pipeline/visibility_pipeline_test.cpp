@@ -59,10 +59,10 @@ TEST(PipelineVisibility, AnObjectTakenAwayIsClearedAfterItsCertainty) {
   pipeline.add(floor_scan(0.3), pose_at(0.0));
   EXPECT_EQ(object_cells_standing(pipeline.mapper().map()), 0u);
   EXPECT_GE(pipeline.stats().cells_cleared, 20u);
-  // The foothold layers saw the change (the cleared cells reach them).
-  ElevationMap scratch = pipeline.mapper().map();
+  // The foothold layers, read, saw the change (the cleared cells reach them).
+  const ElevationMap& map = pipeline.map();
+  ElevationMap scratch = map;
   FootholdLayers(scratch, options.foothold).recompute_all(scratch);
-  const ElevationMap& map = pipeline.mapper().map();
   const std::size_t cells = static_cast<std::size_t>(map.cells_per_side()) * static_cast<std::size_t>(map.cells_per_side());
   for (const LayerSpec& spec : foothold_layer_specs()) {
     const std::size_t k = *map.find_layer(spec.name);

@@ -194,13 +194,16 @@ class ElevationMap {
 
   /// Every layer of the slot back to its reset value.
   void reset_slot(std::size_t s) {
-    for (Layer& layer : layers_) {
-      switch (layer.spec.type) {
-        case LayerType::f32: layer.f32[s] = layer.reset_f32; break;
-        case LayerType::u16: layer.u16[s] = layer.reset_u16; break;
-        case LayerType::u8: layer.u8[s] = layer.reset_u8; break;
-      }
-    }
+    for (Layer& layer : layers_) reset(layer, s);
+  }
+  /// The update rule's own layers (the seven of layers::) of the slot back
+  /// to their reset values: the cell unknown, as if never measured. Layers
+  /// added to the map are left as they are: the foothold layers' keeper
+  /// tells what to recompute by comparing with its last values, and a
+  /// user's layer is the user's to update (the cell is among the changes
+  /// the mapper reports).
+  void forget_measurement(std::size_t s) {
+    for (std::size_t k = 0; k < kBuiltinLayerCount; ++k) reset(layers_[k], s);
   }
 
  private:
@@ -225,6 +228,13 @@ class ElevationMap {
     std::vector<std::uint16_t> u16;
     std::vector<std::uint8_t> u8;
   };
+  static void reset(Layer& layer, std::size_t s) {
+    switch (layer.spec.type) {
+      case LayerType::f32: layer.f32[s] = layer.reset_f32; break;
+      case LayerType::u16: layer.u16[s] = layer.reset_u16; break;
+      case LayerType::u8: layer.u8[s] = layer.reset_u8; break;
+    }
+  }
   template <typename T>
   static std::vector<T>& storage(Layer& layer) {
     if constexpr (std::is_same_v<T, float>) return layer.f32;
