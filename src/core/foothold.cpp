@@ -5,6 +5,7 @@
 #include <bit>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 
@@ -80,7 +81,8 @@ std::array<LayerSpec, 5> foothold_layer_specs() {
 FootholdLayers::FootholdLayers(ElevationMap& map, const FootholdOptions& options) : options_(options) {
   validate_foothold_options(options_);
   for (const LayerSpec& spec : foothold_layer_specs()) {
-    if (!map.find_layer(spec.name)) map.add_layer(spec);
+    const std::optional<std::size_t> there = map.find_layer(spec.name);
+    map.mark_derived(there ? *there : map.add_layer(spec));
   }
   slope_ = map.layer<float>("slope_deg");
   roughness_ = map.layer<float>("roughness_m");

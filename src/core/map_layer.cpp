@@ -8,11 +8,11 @@
 namespace stridemap {
 namespace {
 
-const std::array<LayerSpec, kBuiltinLayerCount>& declarations() {
+const std::array<LayerSpec, 7>& declarations() {
   constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
   // Widest first, so that a file laying them out in this order keeps every
   // layer aligned to its element size. The texts are the map file's.
-  static const std::array<LayerSpec, kBuiltinLayerCount> specs{{
+  static const std::array<LayerSpec, 7> specs{{
       {"elevation", LayerType::f32, kNaN, "m", "eq. (10): elevation of the cell; NaN when unknown", true},
       {"certainty", LayerType::f32, 0.0, "", "eq. (9): certainty of the cell; 0 when unknown or filled", true},
       {"mean_elevation", LayerType::f32, kNaN, "m", "mean of the readings eq. (9) accepted; NaN when unknown",

@@ -183,6 +183,10 @@ TEST(FootholdEdges, CellsClearedBetweenRefreshesLeaveNoStaleValue) {
   mapper.integrate_points(points, TrunkPose{});
   foothold.recompute_all(mapper.map());
   ElevationMap& map = mapper.map();
+  for (LayerId<float> id : {foothold.slope(), foothold.edge_distance(), foothold.score()}) {
+    EXPECT_TRUE(map.derived(id.index));
+  }
+  EXPECT_FALSE(map.derived(layers::elevation.index));
   const float* step = map.data(foothold.step_height());
   const auto expect_fresh = [&](const char* when) {
     ElevationMap scratch = map;
@@ -218,6 +222,18 @@ TEST(FootholdEdges, CellsClearedBetweenRefreshesLeaveNoStaleValue) {
   one.add(again);
   foothold.update(map, one);
   expect_fresh("after a cell was cleared and read again");
+}
+
+// A map whose foothold layers came from a file (declared, not marked).
+TEST(FootholdEdges, TheLayersOfALoadedMapAreMarkedDerived) {
+  GridOptions grid{16, 0.01};
+  for (const LayerSpec& spec : foothold_layer_specs()) grid.extra_layers.push_back(spec);
+  ElevationMap map(grid);
+  const std::size_t score = *map.find_layer("foothold_score");
+  EXPECT_FALSE(map.derived(score));
+  FootholdLayers foothold(map, FootholdOptions{});
+  EXPECT_TRUE(map.derived(score));
+  EXPECT_EQ(foothold.score().index, score);
 }
 
 }  // namespace

@@ -210,24 +210,32 @@ TEST(ElevationMap, MoveOnEitherAxisEqualsARebuildOnEveryLayer) {
   }
 }
 
-TEST(ElevationMap, ForgettingAMeasurementResetsTheUpdateRulesLayersOnly) {
+TEST(ElevationMap, ForgettingAMeasurementLeavesTheDerivedLayersOnly) {
   GridOptions options{8, 0.01};
-  options.extra_layers = {{"visits", LayerType::u16, 5.0, "", "a user's counter", true}};
+  options.extra_layers = {{"visits", LayerType::u16, 5.0, "", "a user's counter", true},
+                          {"derived_height", LayerType::f32, -1.0, "m", "kept by a keeper", true}};
   ElevationMap map(options);
   tag_all(map);
   const LayerId<std::uint16_t> visits = map.layer<std::uint16_t>("visits");
+  const LayerId<float> derived = map.layer<float>("derived_height");
+  map.mark_derived(derived.index);
   const CellIndex c = map.cell_at_local(3, 4), other = map.cell_at_local(3, 5);
   map.data(visits)[map.slot(c)] = 42;
+  map.data(derived)[map.slot(c)] = 0.25f;
   map.mean_count_data()[map.slot(c)] = 3;
+  ElevationMap copy = map;
+  EXPECT_TRUE(copy.derived(derived.index));
+  EXPECT_FALSE(copy.derived(visits.index));
   map.forget_measurement(map.slot(c));
   EXPECT_EQ(map.state(c), CellState::unknown);
   EXPECT_TRUE(std::isnan(map.elevation(c)));
   EXPECT_EQ(map.certainty(c), 0.0f);
   EXPECT_EQ(map.mean_count_data()[map.slot(c)], 0);
-  EXPECT_EQ(map.data(visits)[map.slot(c)], 42);  // a layer added to the map is its keeper's
+  EXPECT_EQ(map.data(visits)[map.slot(c)], 5);
+  EXPECT_EQ(map.data(derived)[map.slot(c)], 0.25f);  // its keeper's to redo
   EXPECT_EQ(map.elevation(other), tag(other));
   map.reset_slot(map.slot(c));
-  EXPECT_EQ(map.data(visits)[map.slot(c)], 5);
+  EXPECT_EQ(map.data(derived)[map.slot(c)], -1.0f);
 }
 
 TEST(ElevationMap, MoveToCentresTheRobotCell) {

@@ -196,15 +196,21 @@ class ElevationMap {
   void reset_slot(std::size_t s) {
     for (Layer& layer : layers_) reset(layer, s);
   }
-  /// The update rule's own layers (the seven of layers::) of the slot back
-  /// to their reset values: the cell unknown, as if never measured. Layers
-  /// added to the map are left as they are: the foothold layers' keeper
-  /// tells what to recompute by comparing with its last values, and a
-  /// user's layer is the user's to update (the cell is among the changes
-  /// the mapper reports).
+  /// Every layer of the slot but the derived ones back to its reset value:
+  /// the cell unknown, as if never measured (the visibility clean-up's
+  /// clearing).
   void forget_measurement(std::size_t s) {
-    for (std::size_t k = 0; k < kBuiltinLayerCount; ++k) reset(layers_[k], s);
+    for (Layer& layer : layers_) {
+      if (!layer.derived) reset(layer, s);
+    }
   }
+  /// Marks a layer as derived: recomputed from the others by a keeper that
+  /// tells what to redo by comparing with the values it last wrote (the
+  /// foothold layers), so forget_measurement() leaves it to the keeper.
+  /// Copies keep the mark; a map file does not (the keeper marks its
+  /// layers again when it takes a loaded map).
+  void mark_derived(std::size_t layer) { layers_[layer].derived = true; }
+  bool derived(std::size_t layer) const { return layers_[layer].derived; }
 
  private:
   std::int64_t wrap(std::int64_t v) const {
@@ -221,6 +227,7 @@ class ElevationMap {
   // One declared layer and its elements; only the vector of its type is used.
   struct Layer {
     LayerSpec spec;
+    bool derived = false;
     float reset_f32 = 0.0f;
     std::uint16_t reset_u16 = 0;
     std::uint8_t reset_u8 = 0;

@@ -66,9 +66,6 @@ inline constexpr LayerId<std::uint8_t> state{5};
 inline constexpr LayerId<std::uint8_t> contradictions{6};
 }  // namespace layers
 
-/// How many there are: a map's first layers are always these.
-inline constexpr std::size_t kBuiltinLayerCount = 7;
-
 /// Declarations of the layers above, in registry order (which is also the
 /// map file's order: widest elements first).
 std::span<const LayerSpec> builtin_layers();
