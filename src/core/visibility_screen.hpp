@@ -8,6 +8,12 @@
 
 namespace stridemap::visibility {
 
+/// Index mod n in 0..n-1, as the grid's slots take it.
+inline std::size_t wrap_index(std::int64_t x, std::int64_t n) {
+  const std::int64_t m = x % n;
+  return static_cast<std::size_t>(m < 0 ? m + n : m);
+}
+
 /// trace_fan() takes a fan's traced beams this many at a time: screened
 /// together, then walked in their order.
 inline constexpr std::size_t kScreenBeams = 128;
