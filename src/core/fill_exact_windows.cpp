@@ -201,7 +201,7 @@ STRIDEMAP_INLINE std::size_t admit_row(const WindowInput& in, std::size_t row_st
     const int quadrants = ((known & kQuadrant[0]) != 0) + ((known & kQuadrant[1]) != 0) +
                           ((known & kQuadrant[2]) != 0) + ((known & kQuadrant[3]) != 0);
     in.columns[admitted] = static_cast<std::uint32_t>(j) | ((rows >> kSpecialShift) != 0 ? kSpecialColumn : 0u);
-    admitted += (count >= in.min_known) & (quadrants >= in.min_quadrants) ? 1 : 0;
+    admitted += ((count >= in.min_known) & (quadrants >= in.min_quadrants)) ? 1 : 0;
   }
   return admitted;
 }
@@ -221,7 +221,7 @@ STRIDEMAP_INLINE std::size_t take_quantiles(const WindowInput& in, std::size_t i
   const std::size_t local = i * in.n + j;
   in.walk_cells[walks] = static_cast<std::uint32_t>(local);
   in.walk_totals[walks] = total;
-  walks += positive & special ? 1 : 0;
+  walks += (positive & special) ? 1 : 0;
   const float at_quarter = 0.25f * total, at_half = 0.5f * total, at_three_quarters = 0.75f * total;
   const Floats8 none = {kInf, kInf, kInf, kInf, kInf, kInf, kInf, kInf};
   Floats8 lq = none, lh = none, l3 = none;
@@ -235,7 +235,7 @@ STRIDEMAP_INLINE std::size_t take_quantiles(const WindowInput& in, std::size_t i
   const bool steep = in.test_spread & (lane_min(l3) - lane_min(lq) > in.spread);
   // result holds NaN (leave unknown) until a value is found.
   const std::size_t slot = in.slot[local];
-  in.result[slot] = positive & !special & !steep ? half : in.result[slot];
+  in.result[slot] = (positive & !special & !steep) ? half : in.result[slot];
   return walks;
 }
 
