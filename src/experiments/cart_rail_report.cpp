@@ -192,9 +192,10 @@ std::string cart_rail_table(const CartRailResult& r, const CartRailRunInfo& info
     const StripeTally& t = r.stripe;
     std::snprintf(line, sizeof line,
                   "stripe: %zu frames; %.1f %% of the %zu visible columns detected within tolerance, %zu false "
-                  "detections (%.2f %%; %.2f %% off the true row), row error RMS %.2f px; %zu map points\n",
+                  "detections (%.2f %%; %.2f %% off the true row, %.3f %% on no laser light), row error RMS %.2f px; "
+                  "%zu map points\n",
                   t.frames, 100.0 * t.detection_rate(), t.truth_visible, t.false_detections, 100.0 * t.false_rate(),
-                  100.0 * t.off_row_rate(), t.row_error_rms_px, t.map_points);
+                  100.0 * t.off_row_rate(), 100.0 * t.no_laser_light_rate(), t.row_error_rms_px, t.map_points);
   } else {
     std::snprintf(line, sizeof line,
                   "beams: %zu clean, %zu mixed, %zu error codes; filters removed %zu mixed, %zu clean\n", r.beams.clean,

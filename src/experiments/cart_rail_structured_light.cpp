@@ -29,11 +29,32 @@ bool off_every_surface(const io::StripeColumnDetection& d, const StructuredLight
   return world.z() > span.high_m + r || world.z() < std::min(span.low_m, span.high_m) - r;
 }
 
+// Whether a detection lies on laser light in the rendered frame: within the
+// row tolerance of a peak of its column's noise-free laser signal that
+// clears the noise. A peak, not any lit pixel, so that the blurred flank of
+// the true stripe a few rows off does not excuse a detection there. The
+// truth of the image, not of the sheet: it also names the laser's light
+// at an occlusion edge or on a box's edge lit by the sheet's tail.
+bool on_laser_light(const io::StripeColumnDetection& d, const StructuredLightImageRenderer& renderer,
+                    const StructuredLightRailOptions& options) {
+  const int u = static_cast<int>(std::floor(d.u_px));
+  const int first = static_cast<int>(std::ceil(d.v_px - options.row_tolerance_px - 0.5));
+  const int last = static_cast<int>(std::floor(d.v_px + options.row_tolerance_px - 0.5));
+  for (int v = first; v <= last; ++v) {
+    const double signal = renderer.laser_signal_dn(u, v);
+    if (signal >= renderer.laser_signal_dn(u, v - 1) && signal >= renderer.laser_signal_dn(u, v + 1) &&
+        renderer.laser_signal_to_noise(u, v) >= options.laser_light_min_snr) {
+      return true;
+    }
+  }
+  return false;
+}
+
 // Scores one frame's detections against the truth; returns the sum of the
 // squared row errors of the correct ones.
 double tally_frame(const io::StripeDetection& detection, const StructuredLightFrameTruth& truth,
                    const StructuredLightRailOptions& options, const StructuredLightModel& model, const TrunkPose& pose,
-                   const Scene& scene, StripeTally& tally) {
+                   const Scene& scene, const StructuredLightImageRenderer& renderer, StripeTally& tally) {
   double sum_sq = 0.0;
   for (std::size_t i = 0; i < truth.columns.size(); ++i) {
     const StripeColumnTruth& t = truth.columns[i];
@@ -51,6 +72,7 @@ double tally_frame(const io::StripeDetection& detection, const StructuredLightFr
       ++tally.false_detections;
       tally.hidden_on_true_row += t.label == StripeColumnLabel::hidden_from_camera && std::abs(error) <= options.row_tolerance_px;
       tally.off_surface += off_every_surface(d, model, pose, scene, options.off_surface_m);
+      tally.no_laser_light += !on_laser_light(d, renderer, options);
     }
   }
   return sum_sq;
@@ -98,10 +120,10 @@ void run_structured_light_rail(const Scene& scene, const CartRailOptions& option
                                const std::vector<TrunkPose>& poses, CartRailResult& result) {
   const StructuredLightRailOptions& sl = options.structured_light;
   if (!(sl.row_tolerance_px > 0.0) || !(sl.min_confidence >= 0.0 && sl.min_confidence <= 1.0) ||
-      !(sl.off_surface_m > 0.0 && sl.off_surface_m < 1.0)) {
+      !(sl.off_surface_m > 0.0 && sl.off_surface_m < 1.0) || !(sl.laser_light_min_snr > 0.0)) {
     throw InputError(
-        "cart rail: structured light: row_tolerance_px must be > 0, min_confidence in [0, 1] and off_surface_m in "
-        "(0, 1) m");
+        "cart rail: structured light: row_tolerance_px must be > 0, min_confidence in [0, 1], off_surface_m in "
+        "(0, 1) m and laser_light_min_snr > 0");
   }
   const StructuredLightModel model(sl.parameters);
   ground_stripe_report(model);  // a clear error when this mount cannot see the ground
@@ -145,7 +167,7 @@ void run_structured_light_rail(const Scene& scene, const CartRailOptions& option
       renderer->render(pose, image.rgb, &truth);
       detector.detect(image, detection);
       detection.pixels(pixels, sl.min_confidence);
-      sum_sq += tally_frame(detection, truth, sl, model, pose, scene, result.stripe);
+      sum_sq += tally_frame(detection, truth, sl, model, pose, scene, *renderer, result.stripe);
     } else {
       simulator->simulate(pose, truth);
       pixels = truth.stripe;

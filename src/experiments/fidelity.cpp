@@ -249,6 +249,7 @@ void score_structured_light(FidelitySceneResult& row, const FidelityOptions& opt
   row.structured_light_false_detections_pct = 100.0 * sl.stripe.false_rate();
   row.structured_light_off_row_detections_pct = 100.0 * sl.stripe.off_row_rate();
   row.structured_light_off_surface_detections_pct = 100.0 * sl.stripe.off_surface_rate();
+  row.structured_light_no_laser_light_detections_pct = 100.0 * sl.stripe.no_laser_light_rate();
   row.structured_light_clear_artifact_cells = static_cast<double>(sl.score.clear_artifact_cells);
   row.structured_light_clear_max_error_mm = sl.score.clear_max_error_m * 1000.0;
   row.structured_light_max_error_mm = sl.score.max_error_m * 1000.0;
@@ -271,6 +272,7 @@ void mark_structured_light_not_run(FidelitySceneResult& row) {
       row.structured_light_extent_error_trimmed_pct = row.structured_light_extent_error_untrimmed_pct = kNaN;
   row.structured_light_lux = row.structured_light_false_detections_pct =
       row.structured_light_off_row_detections_pct = row.structured_light_off_surface_detections_pct =
+      row.structured_light_no_laser_light_detections_pct =
       row.structured_light_clear_artifact_cells =
       row.structured_light_clear_max_error_mm = row.structured_light_max_error_mm =
       row.structured_light_rms_error_mm = row.structured_light_rms_level_mm =
@@ -319,6 +321,8 @@ void add_figures(FidelityResult& result, bool structured_light, const ExtentErro
     figure("structured_light_false_detections_pct", &R::structured_light_false_detections_pct, false);
     figure("structured_light_false_detections_off_row_pct", &R::structured_light_off_row_detections_pct, false);
     figure("structured_light_false_detections_off_surface_pct", &R::structured_light_off_surface_detections_pct,
+           false);
+    figure("structured_light_false_detections_no_laser_light_pct", &R::structured_light_no_laser_light_detections_pct,
            false);
     figure("structured_light_cells_off_20mm_clear_of_objects", &R::structured_light_clear_artifact_cells, false);
     figure("structured_light_max_error_clear_of_objects_mm", &R::structured_light_clear_max_error_mm, false);
@@ -474,6 +478,7 @@ std::string fidelity_summary_json(const FidelityResult& result, const FidelityOp
       entry["structured_light_false_detections_pct"] = row.structured_light_false_detections_pct;
       entry["structured_light_false_detections_off_row_pct"] = row.structured_light_off_row_detections_pct;
       entry["structured_light_false_detections_off_surface_pct"] = row.structured_light_off_surface_detections_pct;
+      entry["structured_light_false_detections_no_laser_light_pct"] = row.structured_light_no_laser_light_detections_pct;
       entry["structured_light_cells_off_20mm_clear_of_objects"] = row.structured_light_clear_artifact_cells;
       entry["structured_light_max_error_clear_of_objects_mm"] = row.structured_light_clear_max_error_mm;
       entry["structured_light_max_error_mm"] = row.structured_light_max_error_mm;

@@ -18,6 +18,8 @@ inline void add_stripe_tally(nlohmann::json& out, const StripeTally& t) {
   out["false_off_row_rate"] = t.off_row_rate();
   out["false_off_surface"] = t.off_surface;
   out["false_off_surface_rate"] = t.off_surface_rate();
+  out["false_no_laser_light"] = t.no_laser_light;
+  out["false_no_laser_light_rate"] = t.no_laser_light_rate();
   out["row_error_rms_px"] = t.row_error_rms_px;
   out["map_points"] = t.map_points;
 }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string>
 
@@ -245,6 +246,7 @@ StripeImageStats StructuredLightImageRenderer::render(const TrunkPose& pose, std
     stats.gain_dn_per_lux = camera.fixed_gain_dn_per_lux;
   }
 
+  last_gain_dn_per_lux_ = stats.gain_dn_per_lux;
   rgb.resize(3 * pixels);
   std::normal_distribution<double> gaussian(0.0, 1.0);
   const double leaks[3] = {1.0, laser.green_leak, laser.blue_leak};
@@ -265,6 +267,26 @@ StripeImageStats StructuredLightImageRenderer::render(const TrunkPose& pose, std
     stats.saturated_pixels += saturated;
   }
   return stats;
+}
+
+double StructuredLightImageRenderer::laser_signal_dn(int u_px, int v_px) const {
+  const StructuredLightParameters& p = geometry_.model().parameters();
+  if (u_px < 0 || v_px < 0 || u_px >= p.image_width_px || v_px >= p.image_height_px) return 0.0;
+  const std::size_t at = static_cast<std::size_t>(v_px) * p.image_width_px + u_px;
+  return at < blurred_.size() ? last_gain_dn_per_lux_ * blurred_[at] : 0.0;
+}
+
+double StructuredLightImageRenderer::laser_signal_to_noise(int u_px, int v_px) const {
+  const StructuredLightParameters& p = geometry_.model().parameters();
+  if (u_px < 0 || v_px < 0 || u_px >= p.image_width_px || v_px >= p.image_height_px) return 0.0;
+  const std::size_t at = static_cast<std::size_t>(v_px) * p.image_width_px + u_px;
+  if (at >= blurred_.size() || at >= ambient_.size()) return 0.0;
+  const CameraSensorOptions& camera = options_.camera;
+  const double laser_dn = last_gain_dn_per_lux_ * blurred_[at];
+  const double red_dn = last_gain_dn_per_lux_ * (ambient_[at] + blurred_[at]);
+  const double noise_dn = std::sqrt(red_dn / camera.electrons_per_dn + camera.read_noise_dn * camera.read_noise_dn);
+  if (!(noise_dn > 0.0)) return laser_dn > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
+  return laser_dn / noise_dn;
 }
 
 }  // namespace stridemap

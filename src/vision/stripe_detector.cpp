@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <opencv2/imgproc.hpp>
 #include <string>
 
@@ -108,6 +109,10 @@ std::size_t mark_saturated_cores(const RgbImage& image, const StripeDetectorOpti
       const int bottom = y - 1;
       const int rows = bottom - top + 1;
       if (rows < 2 || rows > o.max_saturated_core_px) continue;
+      // A run at the image's edge may go on beyond it: its height is not
+      // known, nor what lies past it, and a white object clipped at the
+      // bottom edge beside the stripe would pass the one side's tests.
+      if (top == 0 || bottom == image.height - 1) continue;
       const double above = mean_green_blue(image, x, top - kSurroundRows, top - 1);
       const double below = mean_green_blue(image, x, bottom + 1, bottom + kSurroundRows);
       if (above < 0.0 && below < 0.0) continue;
@@ -192,6 +197,66 @@ StripeDetector::StripeDetector(StripeDetector&&) noexcept = default;
 StripeDetector& StripeDetector::operator=(StripeDetector&&) noexcept = default;
 
 const StripeDetectorOptions& StripeDetector::options() const { return buffers_->options; }
+
+namespace {
+
+struct StripeCentroid {
+  double weight_sum = 0.0;
+  double weighted_row = 0.0;
+};
+
+// The row of a column's stripe run. Each row weighs the laser's red light
+// it holds, estimated by the red excess R - max(G, B) above its least value
+// around the run: on a white-balanced image the ambient light adds to the
+// three channels alike, so a change of brightness under the stripe (an
+// object's edge, a shadow) moves the excess little and the red channel a
+// lot. Where red is clipped the excess says nothing of the laser (green and
+// blue rise on, red cannot), and a stripe core that clipped is at least as
+// strong as the strongest unclipped row around it: it weighs that much
+// (rows beside the run weigh their excess only, so that a white object
+// clipped next to the stripe does not pull it). Such a
+// core on a bright surface may fall short of the excess threshold and lie
+// outside the run; the clipped rows next to the run that are still redder
+// than they are green or blue by the excess floor join it, up to
+// max_saturated_core_px of them (an ambient-lit white band clips grey and
+// does not).
+StripeCentroid stripe_centroid(const RgbImage& image, const cv::Mat& excess, int x, const Run& run,
+                               const StripeDetectorOptions& o) {
+  const int height = image.height;
+  const auto red = [&](int y) { return static_cast<int>(image.rgb[image.offset(x, y)]); };
+  const auto excess_at = [&](int y) { return static_cast<int>(excess.at<std::int16_t>(y, x)); };
+  const auto clipped_red_core = [&](int y) { return red(y) >= o.saturation_dn && excess_at(y) >= o.min_red_excess_floor_dn; };
+  int core_top = run.top, core_bottom = run.bottom;
+  for (int joined = 0; joined < o.max_saturated_core_px && core_top > 0 && clipped_red_core(core_top - 1); ++joined) {
+    --core_top;
+  }
+  for (int joined = 0; joined < o.max_saturated_core_px && core_bottom < height - 1 && clipped_red_core(core_bottom + 1);
+       ++joined) {
+    ++core_bottom;
+  }
+  const int top = std::max(0, core_top - o.centroid_margin_px);
+  const int bottom = std::min(height - 1, core_bottom + o.centroid_margin_px);
+  int strongest = 0;
+  int background = std::numeric_limits<int>::max();
+  for (int y = std::max(0, top - 2); y <= std::min(height - 1, bottom + 2); ++y) {
+    if (red(y) < o.saturation_dn) strongest = std::max(strongest, excess_at(y));
+  }
+  const auto laser = [&](int y) {
+    const bool core = y >= core_top && y <= core_bottom && red(y) >= o.saturation_dn;
+    return core ? std::max(excess_at(y), strongest) : excess_at(y);
+  };
+  for (int y = std::max(0, top - 2); y <= std::min(height - 1, bottom + 2); ++y) background = std::min(background, laser(y));
+  background = std::max(0, background);
+  StripeCentroid out;
+  for (int y = top; y <= bottom; ++y) {
+    const double w = std::max(0, laser(y) - background);
+    out.weight_sum += w;
+    out.weighted_row += w * (y + 0.5);
+  }
+  return out;
+}
+
+}  // namespace
 
 void StripeDetector::detect(const RgbImage& image, StripeDetection& out) {
   check_image(image);
@@ -280,21 +345,8 @@ void StripeDetector::detect(const RgbImage& image, StripeDetection& out) {
       ++out.rejected_tall_runs;
       continue;
     }
-    // Red above the local background, not the red excess: where the laser
-    // saturates the green channel too, the excess drops to zero in the
-    // stripe's core while the red channel stays at its plateau.
-    const int top = std::max(0, best->top - o.centroid_margin_px);
-    const int bottom = std::min(height - 1, best->bottom + o.centroid_margin_px);
-    int background = 255;
-    for (int y = std::max(0, top - 2); y <= std::min(height - 1, bottom + 2); ++y) {
-      background = std::min<int>(background, image.rgb[image.offset(x, y)]);
-    }
-    double weight_sum = 0.0, weighted_row = 0.0;
-    for (int y = top; y <= bottom; ++y) {
-      const double w = std::max(0, image.rgb[image.offset(x, y)] - background);
-      weight_sum += w;
-      weighted_row += w * (y + 0.5);
-    }
+    const StripeCentroid centroid = stripe_centroid(image, b.excess, x, *best, o);
+    const double weight_sum = centroid.weight_sum, weighted_row = centroid.weighted_row;
     if (!(weight_sum > 0.0)) continue;
     column.found = true;
     column.v_px = weighted_row / weight_sum;

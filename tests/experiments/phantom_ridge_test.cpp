@@ -46,6 +46,8 @@ TEST(PhantomRidge, TheWhiteBoxAt1000LuxLeavesTheFloorInFrontOfItFlat) {
   // What is left false is light on the box, not points in the air.
   EXPECT_LE(fixed.stripe.off_surface, fixed.stripe.false_detections);
   EXPECT_LT(fixed.stripe.off_surface_rate(), 0.001);
+  // and each of them lies on a peak of the laser's light in the image.
+  EXPECT_LT(fixed.stripe.no_laser_light_rate(), 0.0005);
   // Nothing anywhere lies beyond the heights a reading near it could hold,
   // and the level cells (floor and top away from the edges) are exact.
   EXPECT_EQ(fixed.score.beyond_span_artifact_cells, 0u);
@@ -58,6 +60,8 @@ TEST(PhantomRidge, TheWhiteBoxAt1000LuxLeavesTheFloorInFrontOfItFlat) {
   EXPECT_GT(ridge.stripe.off_row_rate(), 0.02);
   // The box top taken for the stripe maps above the floor in front of it.
   EXPECT_GT(ridge.stripe.off_surface_rate(), 0.02);
+  // ... where the image holds no laser light.
+  EXPECT_GT(ridge.stripe.no_laser_light_rate(), 0.02);
   // The span score sees the ridge too: its floor cells are level.
   EXPECT_GE(ridge.score.beyond_span_artifact_cells, ridge.score.clear_artifact_cells);
   EXPECT_GT(ridge.score.rms_error_level_m, 0.01);

@@ -82,6 +82,13 @@ struct StructuredLightRailOptions {
   /// 5 mm: one 5 mm cell, and over twice the height a 2-row error gives at
   /// the rail's ranges; a lit box face is a surface, so light on it is not.
   double off_surface_m = 0.005;
+  /// A false detection has no laser light under it when no peak of its
+  /// column's noise-free laser signal within row_tolerance_px of its row
+  /// reaches this signal-to-noise ratio
+  /// (StructuredLightImageRenderer::laser_signal_to_noise): what the
+  /// detector made of ambient light and noise alone. 3: a peak that noise
+  /// reaches on about one pixel in a thousand.
+  double laser_light_min_snr = 3.0;
 };
 
 /// The detector against the simulator's truth, over all frames.
@@ -102,6 +109,12 @@ struct StripeTally {
   /// a height no surface has. The rest are laser light on a real surface
   /// that the truth's one stripe per column does not name.
   std::size_t off_surface = 0;
+  /// Of the false detections, those on no peak of laser light in the
+  /// image (StructuredLightRailOptions::laser_light_min_snr): the
+  /// detector's own errors. The rest are the laser's light where the
+  /// truth's one stripe per column does not put it (an occlusion edge, the
+  /// sheet's tail on a box's edge). 0 on the geometric path.
+  std::size_t no_laser_light = 0;
   double row_error_rms_px = 0.0;    ///< over correct detections
   std::size_t map_points = 0;       ///< stripe pixels that became map points
 
@@ -114,6 +127,10 @@ struct StripeTally {
   /// False detections off every surface, per detection.
   double off_surface_rate() const {
     return detected ? static_cast<double>(off_surface) / static_cast<double>(detected) : 0.0;
+  }
+  /// False detections with no laser light near them, per detection.
+  double no_laser_light_rate() const {
+    return detected ? static_cast<double>(no_laser_light) / static_cast<double>(detected) : 0.0;
   }
   /// False detections off the true row, per detection.
   double off_row_rate() const {

@@ -106,6 +106,9 @@ struct FidelitySceneResult {
   double structured_light_off_row_detections_pct = 0.0;
   /// The false detections off every surface (StripeTally::off_surface_rate) [%].
   double structured_light_off_surface_detections_pct = 0.0;
+  /// The false detections with no laser light near them
+  /// (StripeTally::no_laser_light_rate) [%].
+  double structured_light_no_laser_light_detections_pct = 0.0;
   double structured_light_clear_artifact_cells = 0.0;
   double structured_light_clear_max_error_mm = 0.0;
   double structured_light_max_error_mm = 0.0;

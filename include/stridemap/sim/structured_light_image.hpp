@@ -142,6 +142,16 @@ class StructuredLightImageRenderer {
   StripeImageStats render(const TrunkPose& pose, std::vector<std::uint8_t>& rgb,
                           StructuredLightFrameTruth* truth = nullptr);
 
+  /// The last frame's laser light on pixel (u_px, v_px), column and row
+  /// from the top left: its red signal before noise [DN at the frame's
+  /// gain], and that over the standard deviation of the red channel's shot
+  /// and read noise there. A truth that needs no detector: where the laser
+  /// light is in the image, wherever the sheet's one stripe per column (the
+  /// geometric truth) puts it. 0 outside the image or before the first
+  /// frame.
+  double laser_signal_dn(int u_px, int v_px) const;
+  double laser_signal_to_noise(int u_px, int v_px) const;
+
   /// Changes the light between frames (the lighting experiment).
   void set_ambient(const AmbientLight& ambient);
   void reset(std::uint64_t seed);
@@ -165,6 +175,7 @@ class StructuredLightImageRenderer {
   StripeImageOptions options_;
   std::uint64_t seed_ = 0;
   std::uint64_t frame_index_ = 0;
+  double last_gain_dn_per_lux_ = 0.0;
   std::mt19937_64 rng_;
   // Per-frame scratch, sized once.
   std::vector<SurfaceSample> samples_;
