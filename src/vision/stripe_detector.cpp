@@ -205,21 +205,9 @@ struct StripeCentroid {
   double weighted_row = 0.0;
 };
 
-// The row of a column's stripe run. Each row weighs the laser's red light
-// it holds, estimated by the red excess R - max(G, B) above its least value
-// around the run: on a white-balanced image the ambient light adds to the
-// three channels alike, so a change of brightness under the stripe (an
-// object's edge, a shadow) moves the excess little and the red channel a
-// lot. Where red is clipped the excess says nothing of the laser (green and
-// blue rise on, red cannot), and a stripe core that clipped is at least as
-// strong as the strongest unclipped row around it: it weighs that much
-// (rows beside the run weigh their excess only, so that a white object
-// clipped next to the stripe does not pull it). Such a
-// core on a bright surface may fall short of the excess threshold and lie
-// outside the run; the clipped rows next to the run that are still redder
-// than they are green or blue by the excess floor join it, up to
-// max_saturated_core_px of them (an ambient-lit white band clips grey and
-// does not).
+// The row of a column's stripe run (step 3 of the header): the red
+// excess, not the red channel, since a brightness edge under the stripe
+// moves the red channel by far more than the laser's light.
 StripeCentroid stripe_centroid(const RgbImage& image, const cv::Mat& excess, int x, const Run& run,
                                const StripeDetectorOptions& o) {
   const int height = image.height;

@@ -175,6 +175,31 @@ TEST(StructuredLightImage, NoLaserLightWhereTheCameraSeesTheOccluder) {
   EXPECT_GT(reddest_row(rgb, 160, 120, 5).second, 50);
 }
 
+TEST(StructuredLightImage, TheLaserLightTruthPeaksOnTheStripeAndIsDarkElsewhere) {
+  StructuredLightImageRenderer renderer(floor_scene(), small_ragno());
+  EXPECT_EQ(renderer.laser_signal_dn(80, 60), 0.0);  // before the first frame
+  std::vector<std::uint8_t> rgb;
+  StructuredLightFrameTruth truth;
+  renderer.render(TrunkPose{}, rgb, &truth);
+  int visible = 0;
+  for (int column = 0; column < 160; ++column) {
+    if (truth.columns[column].label != StripeColumnLabel::visible) continue;
+    ++visible;
+    int peak = 0;
+    for (int row = 1; row < 120; ++row) {
+      if (renderer.laser_signal_dn(column, row) > renderer.laser_signal_dn(column, peak)) peak = row;
+    }
+    EXPECT_NEAR(peak + 0.5, truth.columns[column].v_px, 1.0) << column;
+    EXPECT_GT(renderer.laser_signal_to_noise(column, peak), 10.0) << column;
+    // Ten rows off the stripe there is no laser light at all.
+    EXPECT_EQ(renderer.laser_signal_dn(column, peak >= 60 ? peak - 10 : peak + 10), 0.0) << column;
+  }
+  EXPECT_GT(visible, 100);
+  EXPECT_EQ(renderer.laser_signal_dn(-1, 60), 0.0);
+  EXPECT_EQ(renderer.laser_signal_to_noise(160, 60), 0.0);
+  EXPECT_EQ(renderer.laser_signal_to_noise(80, 120), 0.0);
+}
+
 TEST(StructuredLightImage, DeterministicForASeed) {
   std::vector<std::uint8_t> a, b, c;
   StructuredLightImageRenderer first(floor_scene(), small_ragno(), {}, {}, 9);

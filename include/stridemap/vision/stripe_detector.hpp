@@ -21,7 +21,10 @@
 //    and whose flanks are red (saturation_halo_dn), is a stripe candidate
 //    too (a clipped white object is taller; a lone clipped speck is one row
 //    and dropped; a white surface lit by ambient light alone, clipped in a
-//    thin band such as a box top seen from afar, is grey beside the band);
+//    thin band such as a box top seen from afar, is grey beside the band;
+//    a run touching the image's top or bottom row is never a core: it may
+//    go on beyond the image, and a white object clipped at the edge beside
+//    the stripe would pass the one side's tests);
 // 2. morphological clean-up: an optional opening with a square (drops
 //    specks and hairlines thinner than it), closing with a vertical line
 //    (joins a stripe that noise split across rows), and an area opening
@@ -30,11 +33,17 @@
 //    erodes a steep stripe, which is why it is off by default);
 // 3. per column, the runs of candidate rows; the run with the largest summed
 //    red excess is the stripe, unless it is taller than max_stripe_height_px
-//    (a red object, not a line); its row is the centroid of the red channel
-//    above its local minimum over the run and centroid_margin_px rows either
-//    side (the red channel, not the excess: a strong stripe saturates green
-//    too and leaves a core without red excess, which the vertical closing
-//    joins and the red plateau centres).
+//    (a red object, not a line). Its row is the centroid, over the run and
+//    centroid_margin_px rows either side, of the red excess above its least
+//    value there: ambient light adds to the three channels alike, so an
+//    edge of brightness under the stripe moves the excess little and the
+//    red channel a lot. A row whose red clipped inside the run weighs as
+//    much as the strongest unclipped row around it (where the laser clips,
+//    green and blue go on rising and the excess says nothing); clipped rows
+//    next to the run that are still redder than green or blue by
+//    min_red_excess_floor_dn join it (up to max_saturated_core_px: a red
+//    core clipped on a bright surface, whose excess fell under the
+//    threshold while a flank reached it).
 //
 // Coordinates follow structured_light.hpp: the pixel (column i, row k) has
 // its centre at (i + 0.5, k + 0.5).
