@@ -102,7 +102,7 @@ bool CasFilter::is_weak_isolated_peak(std::size_t q, float hs) {
       certainty_sum += static_cast<double>(std::bit_cast<float>(std::bit_cast<std::uint32_t>(ct) & mask));
       values[kept] = ht;
       certainties[kept] = ct;
-      unordered |= is_known & static_cast<std::uint32_t>(std::isnan(ht) | !std::isfinite(ct));
+      unordered |= is_known & (static_cast<std::uint32_t>(std::isnan(ht)) | static_cast<std::uint32_t>(!std::isfinite(ct)));
       kept += is_known & static_cast<std::uint32_t>(t != q);
     }
   }

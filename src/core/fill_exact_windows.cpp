@@ -334,16 +334,14 @@ __attribute__((target("avx2,popcnt"))) std::size_t radius2_avx2(const WindowInpu
 }
 #endif
 
+#if defined(STRIDEMAP_FILL_AVX2)
 // Whether this CPU runs the AVX2 copy (asked once).
 bool use_avx2() {
-#if defined(STRIDEMAP_FILL_AVX2)
   // popcnt (the admission's count) comes with every AVX2 CPU; asked anyway.
   static const bool avx2 = __builtin_cpu_supports("avx2") && __builtin_cpu_supports("popcnt");
   return avx2;
-#else
-  return false;
-#endif
 }
+#endif
 
 }  // namespace
 
