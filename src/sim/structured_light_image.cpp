@@ -269,21 +269,24 @@ StripeImageStats StructuredLightImageRenderer::render(const TrunkPose& pose, std
   return stats;
 }
 
-double StructuredLightImageRenderer::laser_signal_dn(int u_px, int v_px) const {
+std::ptrdiff_t StructuredLightImageRenderer::last_frame_pixel(int u_px, int v_px) const {
   const StructuredLightParameters& p = geometry_.model().parameters();
-  if (u_px < 0 || v_px < 0 || u_px >= p.image_width_px || v_px >= p.image_height_px) return 0.0;
+  if (u_px < 0 || v_px < 0 || u_px >= p.image_width_px || v_px >= p.image_height_px) return -1;
   const std::size_t at = static_cast<std::size_t>(v_px) * p.image_width_px + u_px;
-  return at < blurred_.size() ? last_gain_dn_per_lux_ * blurred_[at] : 0.0;
+  return at < blurred_.size() && at < ambient_.size() ? static_cast<std::ptrdiff_t>(at) : -1;
+}
+
+double StructuredLightImageRenderer::laser_signal_dn(int u_px, int v_px) const {
+  const std::ptrdiff_t at = last_frame_pixel(u_px, v_px);
+  return at >= 0 ? last_gain_dn_per_lux_ * blurred_[static_cast<std::size_t>(at)] : 0.0;
 }
 
 double StructuredLightImageRenderer::laser_signal_to_noise(int u_px, int v_px) const {
-  const StructuredLightParameters& p = geometry_.model().parameters();
-  if (u_px < 0 || v_px < 0 || u_px >= p.image_width_px || v_px >= p.image_height_px) return 0.0;
-  const std::size_t at = static_cast<std::size_t>(v_px) * p.image_width_px + u_px;
-  if (at >= blurred_.size() || at >= ambient_.size()) return 0.0;
+  const std::ptrdiff_t at = last_frame_pixel(u_px, v_px);
+  if (at < 0) return 0.0;
   const CameraSensorOptions& camera = options_.camera;
-  const double laser_dn = last_gain_dn_per_lux_ * blurred_[at];
-  const double red_dn = last_gain_dn_per_lux_ * (ambient_[at] + blurred_[at]);
+  const double laser_dn = last_gain_dn_per_lux_ * blurred_[static_cast<std::size_t>(at)];
+  const double red_dn = last_gain_dn_per_lux_ * (ambient_[static_cast<std::size_t>(at)] + blurred_[static_cast<std::size_t>(at)]);
   const double noise_dn = std::sqrt(red_dn / camera.electrons_per_dn + camera.read_noise_dn * camera.read_noise_dn);
   if (!(noise_dn > 0.0)) return laser_dn > 0.0 ? std::numeric_limits<double>::infinity() : 0.0;
   return laser_dn / noise_dn;

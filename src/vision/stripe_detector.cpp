@@ -115,7 +115,6 @@ std::size_t mark_saturated_cores(const RgbImage& image, const StripeDetectorOpti
       if (top == 0 || bottom == image.height - 1) continue;
       const double above = mean_green_blue(image, x, top - kSurroundRows, top - 1);
       const double below = mean_green_blue(image, x, bottom + 1, bottom + kSurroundRows);
-      if (above < 0.0 && below < 0.0) continue;
       // A surround that is itself near the clip level may be a lit white
       // surface whose noise clips: no evidence of the laser there.
       const double surround = std::max(above, below);

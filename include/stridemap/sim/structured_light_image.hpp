@@ -170,6 +170,9 @@ class StructuredLightImageRenderer {
   SurfaceSample sample(const StructuredLightSensorPose& sensor, double u_px, double v_px) const;
   /// Laser irradiance on the sample's surface [W/m^2] (0 when unlit).
   double laser_irradiance(const StructuredLightSensorPose& sensor, const SurfaceSample& s) const;
+  /// The last frame's index of pixel (u_px, v_px), -1 outside the image or
+  /// before the first frame.
+  std::ptrdiff_t last_frame_pixel(int u_px, int v_px) const;
 
   StructuredLightSimulator geometry_;
   StripeImageOptions options_;
