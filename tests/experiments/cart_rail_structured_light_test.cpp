@@ -106,6 +106,19 @@ TEST(CartRailStructuredLight, OffSurfaceDistanceOutOfRangeIsAnError) {
   }
 }
 
+TEST(CartRailStructuredLight, LaserLightThresholdNotPositiveIsAnError) {
+  for (double bad : {0.0, -3.0, std::nan("")}) {
+    CartRailOptions options = structured_light(StripePipeline::image);
+    options.structured_light.laser_light_min_snr = bad;
+    try {
+      run_cart_rail(one_box_scene(), options);
+      FAIL() << "no error for " << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("laser_light_min_snr > 0"), std::string::npos) << e.what();
+    }
+  }
+}
+
 TEST(LightingExperiment, DaylightDrownsTheStripeAndLeavesTheUrgAlone) {
   const Scene scene = one_box_scene(0.11);
   LightingOptions options;
