@@ -11,6 +11,8 @@
 #include "feed/scan_feed.hpp"
 #include "stridemap/config/mapper_config.hpp"
 #include "stridemap/core/map_resume.hpp"
+#include "stridemap/core/stance_height.hpp"
+#include "stridemap/pipeline/height_fusion_observer.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
 
 namespace stridemap::python {
@@ -78,10 +80,19 @@ std::unordered_map<const ElevationMap*, const Pipeline*>& live_pipelines() {
   return pipelines;
 }
 
+// The options with the fused layers declared when asked for: declared
+// before the pipeline is made, they cost no allocation while it maps.
+PipelineOptions with_fused_layers(PipelineOptions options, bool fused_heights) {
+  if (fused_heights) declare_height_fusion_layers(options.mapper.grid);
+  return options;
+}
+
 class Pipeline {
  public:
-  Pipeline(const PipelineOptions& options, const ElevationMap* resume_from) : pipeline_(options), feed_(pipeline_) {
+  Pipeline(const PipelineOptions& options, const ElevationMap* resume_from, bool fused_heights)
+      : pipeline_(with_fused_layers(options, fused_heights)), feed_(pipeline_) {
     if (resume_from) resume_from_map(pipeline_.mapper(), *resume_from);
+    if (fused_heights) fusion_.emplace(pipeline_);
     live_pipelines()[&pipeline_.mapper().map()] = this;
   }
   ~Pipeline() { live_pipelines().erase(&pipeline_.mapper().map()); }
@@ -177,6 +188,46 @@ class Pipeline {
   MappingPipeline& pipeline() { return pipeline_; }
   const MappingPipeline& pipeline() const { return pipeline_; }
 
+  py::dict stance_height(const py::handle& feet, double sole_radius_m, double min_known_share, double gate_sigmas,
+                         double depth_sigma_m) const {
+    if (!fusion_) {
+      raise_input_error("stance_height: the pipeline keeps no fused heights; make it with fused_heights=True");
+    }
+    const auto a = as_float64(feet, "feet");
+    if (a.ndim() != 2 || a.shape(1) != 3) {
+      raise_input_error("feet: expected shape (N, 3) of (x_m, y_m, depth_m), got " + shape_text(a));
+    }
+    std::array<StanceFoot, StanceHeight::kMaxFeet> stance{};
+    const auto n = static_cast<std::size_t>(a.shape(0));
+    if (n > stance.size()) {
+      raise_input_error("feet: " + std::to_string(n) + " feet given, at most " + std::to_string(stance.size()));
+    }
+    for (std::size_t k = 0; k < n; ++k) {
+      const auto i = static_cast<py::ssize_t>(k);
+      stance[k] = {a.at(i, 0), a.at(i, 1), a.at(i, 2)};
+    }
+    StanceHeightOptions options;
+    options.sole_radius_m = sole_radius_m;
+    options.min_known_share = min_known_share;
+    options.gate_sigmas = gate_sigmas;
+    options.depth_sigma_m = depth_sigma_m;
+    const ElevationMap& map = pipeline_.mapper().map();
+    const StanceHeight h = StanceHeightReader(map, options).read(map, std::span<const StanceFoot>(stance.data(), n));
+    py::dict d;
+    d["trunk_z_m"] = h.trunk_z_m;
+    d["variance_m2"] = h.variance_m2;
+    d["feet_read"] = h.feet_read;
+    d["feet_used"] = h.feet_used;
+    py::list used, ground;
+    for (std::size_t k = 0; k < n; ++k) {
+      used.append(h.feet[k].used);
+      ground.append(h.feet[k].ground_m);
+    }
+    d["used"] = used;
+    d["ground_m"] = ground;
+    return d;
+  }
+
   py::dict stats() const {
     const PipelineStats s = pipeline_.stats();
     py::dict d;
@@ -246,6 +297,7 @@ class Pipeline {
 
   MappingPipeline pipeline_;
   ScanFeed feed_;  // every add_*'s per-scan work, after the checks only the binding can make
+  std::optional<HeightFusionObserver> fusion_;
 };
 
 }  // namespace
@@ -270,12 +322,15 @@ void register_pipeline(py::module_& m) {
   py::class_<Pipeline>(m, "Pipeline",
                        "The mapping pipeline (pipeline/mapping_pipeline.hpp): scans and poses in, an elevation map "
                        "out. Every add_* returns the mapper's account of the scan as a dict.")
-      .def(py::init([](const PipelineOptions& options, const ElevationMap* resume_from) {
-             return std::make_unique<Pipeline>(options, resume_from);
+      .def(py::init([](const PipelineOptions& options, const ElevationMap* resume_from, bool fused_heights) {
+             return std::make_unique<Pipeline>(options, resume_from, fused_heights);
            }),
-           py::arg("options") = PipelineOptions{}, py::arg("resume_from") = nullptr,
+           py::arg("options") = PipelineOptions{}, py::arg("resume_from") = nullptr, py::kw_only(),
+           py::arg("fused_heights") = false,
            "Raises InputError for invalid options. resume_from: a Map (e.g. load_map(path).map) to go on mapping "
-           "from; its grid must be the options' (InputError otherwise). The map is copied.")
+           "from; its grid must be the options' (InputError otherwise). The map is copied. fused_heights: also "
+           "keep the layers fused_elevation and fused_variance (core/height_fusion.hpp), from which "
+           "stance_height() reads the robot's own height; the paper's layers stay as they are.")
       .def("add_urg_scan", &Pipeline::add_urg_scan, py::arg("ranges"), py::arg("time_s"), py::arg("pose"),
            py::kw_only(), py::arg("units") = "mm", py::arg("first_step") = py::none(), py::arg("cluster") = 1,
            py::arg("reference_elevation_m") = 0.0, py::arg("height_change_m") = 0.0,
@@ -299,6 +354,14 @@ void register_pipeline(py::module_& m) {
       .def("add_stripe", &Pipeline::add_stripe, py::arg("pixels"), py::arg("time_s"), py::arg("pose"), py::kw_only(),
            py::arg("reference_elevation_m") = 0.0, py::arg("height_change_m") = 0.0,
            "Sensor 'structured-light': one frame's stripe pixels (N, 2) of (u_px, v_px); time_s may be None.")
+      .def("stance_height", &Pipeline::stance_height, py::arg("feet"), py::kw_only(), py::arg("sole_radius_m") = 0.02,
+           py::arg("min_known_share") = 0.5, py::arg("gate_sigmas") = 2.5, py::arg("depth_sigma_m") = 0.002,
+           "The trunk's height above the map's zero (h_ref + height_change_m of the next scan's pose) from where "
+           "the stance feet stand (core/stance_height.hpp; needs fused_heights=True). feet: (N, 3) of (x_m, y_m, "
+           "depth_m), N <= 8: each sole's centre in the map frame and its depth below the trunk's reference point, "
+           "from the robot's kinematics and pose. Returns {'trunk_z_m' (NaN when no foot stands on known cells), "
+           "'variance_m2', 'feet_read', 'feet_used', 'used' (per foot), 'ground_m' (per foot, NaN when not read)}. "
+           "h_ref = trunk_z_m - height_change_m.")
       .def("finish", [](Pipeline& p) { return outcome_dict(p.pipeline().finish()); },
            "Ends the stream: the scan the scan-sequence filter holds is integrated.")
       .def("apply_map_filter",

@@ -186,7 +186,9 @@ class MapFile:
     def version(self) -> int: ...
 
 class Pipeline:
-    def __init__(self, options: PipelineOptions = ..., resume_from: Optional[Map] = None) -> None: ...
+    def __init__(
+        self, options: PipelineOptions = ..., resume_from: Optional[Map] = None, *, fused_heights: bool = False
+    ) -> None: ...
     def add_urg_scan(
         self,
         ranges: ArrayLike,
@@ -227,6 +229,15 @@ class Pipeline:
         *,
         reference_elevation_m: float = 0.0,
         height_change_m: float = 0.0,
+    ) -> dict[str, Any]: ...
+    def stance_height(
+        self,
+        feet: ArrayLike,
+        *,
+        sole_radius_m: float = 0.02,
+        min_known_share: float = 0.5,
+        gate_sigmas: float = 2.5,
+        depth_sigma_m: float = 0.002,
     ) -> dict[str, Any]: ...
     def finish(self) -> dict[str, Any]: ...
     def apply_map_filter(self) -> dict[str, int]: ...

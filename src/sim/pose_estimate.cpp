@@ -9,6 +9,7 @@
 #include <Eigen/Geometry>
 
 #include "stridemap/core/error.hpp"
+#include "stridemap/core/stance_height.hpp"
 #include "stridemap/sim/scene_problem.hpp"
 
 namespace stridemap {
@@ -109,56 +110,6 @@ Eigen::Matrix3d trunk_rotation(const TrunkPose& p) {
 /// what the gait's bob and a 20 % slope move it in a tenth of a second.
 constexpr double kTripodSwitchSigma_m = 0.002;
 
-/// The fused layer under a sole: the median height of the known cells
-/// within `radius_m`, the median of their variances, and the variance of
-/// the heights about that median (how much the sole's place matters: large
-/// on a rock's flank, small on flat ground).
-struct SoleReading {
-  double height_m = 0.0, variance_m2 = 0.0, spread_m2 = 0.0;
-  double known_share = 0.0;  ///< of the cells under the sole, the share the layer knows
-};
-
-/// Below this share of known cells under a sole, the foot has no say.
-constexpr double kMinKnownSoleShare = 0.5;
-
-std::optional<SoleReading> read_sole(const ElevationMap& map, const float* elevation, const float* variance,
-                                     double x_m, double y_m, double radius_m, int max_reach) {
-  const CellIndex centre = map.cell_of(x_m, y_m);
-  const int reach = std::clamp(static_cast<int>(std::lround(radius_m / map.cell_size_m())), 1, max_reach);
-  constexpr int kMaxCells = 17 * 17;
-  std::array<float, kMaxCells> heights{}, variances{};
-  int count = 0, cells = 0;
-  for (int dx = -reach; dx <= reach; ++dx) {
-    for (int dy = -reach; dy <= reach; ++dy) {
-      if (dx * dx + dy * dy > reach * reach || count == kMaxCells) continue;
-      ++cells;
-      const CellIndex c{centre.x + dx, centre.y + dy};
-      if (!map.contains(c)) continue;
-      const std::size_t slot = map.slot(c);
-      const float h = elevation[slot], v = variance[slot];
-      if (!(h == h && v == v)) continue;
-      heights[static_cast<std::size_t>(count)] = h;
-      variances[static_cast<std::size_t>(count)] = v;
-      ++count;
-    }
-  }
-  if (count == 0) return std::nullopt;
-  SoleReading r;
-  r.known_share = static_cast<double>(count) / cells;
-  double spread = 0.0;
-  std::array<float, kMaxCells> sorted = heights;
-  std::nth_element(sorted.begin(), sorted.begin() + count / 2, sorted.begin() + count);
-  r.height_m = sorted[static_cast<std::size_t>(count / 2)];
-  for (int k = 0; k < count; ++k) {
-    const double d = heights[static_cast<std::size_t>(k)] - r.height_m;
-    spread += d * d;
-  }
-  r.spread_m2 = spread / count;
-  std::nth_element(variances.begin(), variances.begin() + count / 2, variances.begin() + count);
-  r.variance_m2 = variances[static_cast<std::size_t>(count / 2)];
-  return r;
-}
-
 }  // namespace
 
 Eigen::Vector3d PoseEstimator::foot_from_trunk_in_map(const TrunkState& truth,
@@ -199,19 +150,23 @@ bool PoseEstimator::trunk_on_footholds(const TrunkState& truth, const std::array
 }
 
 double PoseEstimator::trunk_height_from_footholds(const TrunkState& truth, const TrunkPose& e,
-                                                  const ElevationMap& map, const float* fused,
-                                                  const float* fused_variance) {
+                                                  const ElevationMap& map) {
   const std::pair<Eigen::Matrix3d, Eigen::Matrix3d> rotations{trunk_rotation(truth.pose), trunk_rotation(e)};
   const double sigma = options_.leg_height_noise_sigma_m;
   const double leg_variance = sigma * sigma;
   const double true_trunk_m = truth.pose.reference_elevation_m + truth.pose.height_change_m;
-  // Per stance foot: the trunk's height above the map's zero as that foot
-  // gives it (foothold height + kinematic depth), its variance, and its
-  // error against the truth by cause.
-  std::array<double, 6> z{}, v{}, depth{};
-  std::array<HeightReferenceError, 6> parts{};
-  std::array<bool, 6> use{};
-  int n = 0;
+  StanceHeightOptions stance_options;
+  stance_options.sole_radius_m = kFootRadius_m;
+  stance_options.gate_sigmas = options_.foothold_gate_sigmas;
+  stance_options.depth_sigma_m = sigma;
+  const StanceHeightReader reader(map, stance_options);
+  // The stance feet as the robot knows them: each sole placed by the
+  // kinematics and the estimated pose, averaged over its stance (the foot
+  // does not move while it stands).
+  std::array<StanceFoot, 6> stance{};
+  std::array<std::size_t, 6> foot_of{};
+  std::array<double, 6> depth{};
+  std::size_t standing = 0;
   for (std::size_t f = 0; f < 6; ++f) {
     if (!truth.feet[f].in_stance) {
       soles_[f] = {};  // lifted: it lands on a new foothold
@@ -224,54 +179,34 @@ double PoseEstimator::trunk_height_from_footholds(const TrunkState& truth, const
     sole.sum_m += Eigen::Vector2d(e.x_m + in_map.x(), e.y_m + in_map.y());
     ++sole.scans;
     const Eigen::Vector2d at = sole.sum_m / sole.scans;
-    const std::optional<SoleReading> r =
-        read_sole(map, fused, fused_variance, at.x(), at.y(), kFootRadius_m, kMaxFootReach);
-    // A sole mostly on unknown cells is likely in a shadow, and what is
-    // known there is the top of what cast it: no say, as for an unknown foot.
-    if (!r || r->known_share < kMinKnownSoleShare) continue;
-    z[f] = r->height_m + depth[f];
-    v[f] = r->variance_m2 + r->spread_m2 + leg_variance;
+    stance[standing] = {at.x(), at.y(), depth[f]};
+    foot_of[standing++] = f;
+  }
+  const StanceHeight read = reader.read(map, std::span<const StanceFoot>(stance.data(), standing));
+  // Per stance foot: the trunk's height above the map's zero as that foot
+  // gives it (foothold height + kinematic depth), its variance, and its
+  // error against the truth by cause.
+  std::array<double, 6> z{}, v{};
+  std::array<HeightReferenceError, 6> parts{};
+  std::array<bool, 6> use{};
+  int n = 0;
+  for (std::size_t k = 0; k < standing; ++k) {
+    const StanceFootHeight& foot = read.feet[k];
+    if (!foot.used) continue;
+    const std::size_t f = foot_of[k];
+    z[f] = foot.trunk_z_m;
+    v[f] = foot.variance_m2;
     use[f] = true;
     ++n;
     const Eigen::Vector3d& sole_truth = truth.feet[f].position_m;
-    const std::optional<SoleReading> at_truth =
-        read_sole(map, fused, fused_variance, sole_truth.x(), sole_truth.y(), kFootRadius_m, kMaxFootReach);
-    const double map_at_truth_m = at_truth ? at_truth->height_m : r->height_m;
-    parts[f].placement_m = r->height_m - map_at_truth_m;
+    const double read_m = foot.ground_m;
+    const std::optional<SoleGround> at_truth = reader.ground_under(map, sole_truth.x(), sole_truth.y());
+    const double map_at_truth_m = at_truth ? at_truth->height_m : read_m;
+    parts[f].placement_m = read_m - map_at_truth_m;
     parts[f].map_m = map_at_truth_m - sole_truth.z();
     parts[f].kinematics_m = depth[f] - (true_trunk_m - sole_truth.z());
   }
-  const auto weighted_mean = [&](std::size_t skip, double& mean, double& variance) {
-    double weight_sum = 0.0, sum = 0.0;
-    for (std::size_t f = 0; f < 6; ++f) {
-      if (!use[f] || f == skip) continue;
-      weight_sum += 1.0 / v[f];
-      sum += z[f] / v[f];
-    }
-    mean = sum / weight_sum;
-    variance = 1.0 / weight_sum;
-  };
-  // Leave-one-out gate, as elevation_mapping gates a reading against its
-  // cell: drop the foot that disagrees most with the rest while it is
-  // beyond the gate and two feet remain.
   const double gate2 = options_.foothold_gate_sigmas * options_.foothold_gate_sigmas;
-  while (n > 2) {
-    std::size_t worst = 6;
-    double worst_d2 = gate2;
-    for (std::size_t f = 0; f < 6; ++f) {
-      if (!use[f]) continue;
-      double mean = 0.0, variance = 0.0;
-      weighted_mean(f, mean, variance);
-      const double d2 = (z[f] - mean) * (z[f] - mean) / (v[f] + variance);
-      if (d2 > worst_d2) {
-        worst_d2 = d2;
-        worst = f;
-      }
-    }
-    if (worst == 6) break;
-    use[worst] = false;
-    --n;
-  }
 
   // The prediction: the stance feet's footholds, set as each landed, plus
   // their kinematic depths now. With none known (no double support) the
@@ -413,7 +348,7 @@ TrunkPose PoseEstimator::estimate(const TrunkState& truth, const ElevationMap& m
         throw InputError("pose estimate: h_ref from map-footholds needs the map's fused_variance layer (f32); "
                          "the map has " + map.layer_names());
       }
-      const double trunk = trunk_height_from_footholds(truth, e, map, fused, map.data(LayerId<float>{*variance}));
+      const double trunk = trunk_height_from_footholds(truth, e, map);
       // No stance foot on known cells (without odometry): the last h_ref stays.
       if (std::isfinite(trunk)) reference_m_ = trunk - e.height_change_m;
       e.reference_elevation_m = reference_m_;

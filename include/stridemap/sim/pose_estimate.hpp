@@ -210,10 +210,9 @@ class PoseEstimator {
                           double& variance_m2) const;
 
   /// The `map_footholds` reference: the trunk's height (h_ref + d_z) from
-  /// the fused layer at the stance feet's soles, or NaN when no stance foot
-  /// stands on known cells.
-  double trunk_height_from_footholds(const TrunkState& truth, const TrunkPose& estimate, const ElevationMap& map,
-                                     const float* fused, const float* fused_variance);
+  /// the fused layer at the stance feet's soles (core/stance_height.hpp),
+  /// or NaN when no stance foot stands on known cells.
+  double trunk_height_from_footholds(const TrunkState& truth, const TrunkPose& estimate, const ElevationMap& map);
 
   /// A stance foot's sole as the kinematics place it, averaged over the
   /// scans of its stance (the foot does not move while it stands).

@@ -1,0 +1,86 @@
+// A walking robot's height from its own map, as a user wires it: the
+// pipeline keeps the fused layers beside the paper's, and the stance feet
+// read them.
+#include "stridemap/pipeline/height_fusion_observer.hpp"
+
+#include <cmath>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "pipeline_test_support.hpp"
+#include "stridemap/core/error.hpp"
+#include "stridemap/core/stance_height.hpp"
+
+namespace stridemap {
+namespace {
+
+PipelineOptions floor_options(bool fused_layers) {
+  PipelineOptions options;
+  options.mapper.follow_robot = false;
+  if (fused_layers) declare_height_fusion_layers(options.mapper.grid);
+  return options;
+}
+
+void map_the_floor(MappingPipeline& pipeline) {
+  for (int k = 0; k < 20; ++k) pipeline.add(test::floor_scan(0.1 * k), test::pose_at(0.01 * k));
+}
+
+TEST(HeightFusionObserver, FusesEveryIntegratedPointAndLeavesThePapersLayersAsTheyWere) {
+  PipelineOptions options = floor_options(true);
+  declare_height_fusion_layers(options.mapper.grid);  // twice: declared once
+  MappingPipeline pipeline(options);
+  const HeightFusionObserver observer(pipeline);
+  map_the_floor(pipeline);
+  MappingPipeline plain(floor_options(false));
+  map_the_floor(plain);
+
+  const ElevationMap& map = pipeline.mapper().map();
+  const ElevationMap& reference = plain.mapper().map();
+  ASSERT_EQ(map.layer_count(), reference.layer_count() + 2);
+  const float* fused = map.data(observer.fusion().elevation_layer());
+  const std::size_t cells = static_cast<std::size_t>(map.cells_per_side()) * static_cast<std::size_t>(map.cells_per_side());
+  std::size_t fused_cells = 0;
+  for (std::size_t s = 0; s < cells; ++s) {
+    // Fused where, and only where, a reading landed; the floor is z = 0 (to
+    // the millimetre of the URG's ranges).
+    ASSERT_EQ(std::isnan(fused[s]), map.state_data()[s] == static_cast<std::uint8_t>(CellState::unknown)) << s;
+    if (std::isnan(fused[s])) continue;
+    ++fused_cells;
+    EXPECT_NEAR(fused[s], 0.0, 0.002) << s;
+    ASSERT_EQ(map.elevation_data()[s], reference.elevation_data()[s]) << s;
+    ASSERT_EQ(map.certainty_data()[s], reference.certainty_data()[s]) << s;
+  }
+  EXPECT_GT(fused_cells, 100u);
+
+  // The robot's trunk, 0.1 m above three feet on mapped floor.
+  const StanceHeightReader reader(map);
+  std::vector<StanceFoot> whole_soles;
+  for (std::size_t s = 0; s < cells; ++s) {
+    const CellIndex c = map.cell_at_local(static_cast<int>(s) / map.cells_per_side(), static_cast<int>(s) % map.cells_per_side());
+    const double x = (c.x + 0.5) * map.cell_size_m(), y = (c.y + 0.5) * map.cell_size_m();
+    const std::optional<SoleGround> ground = reader.ground_under(map, x, y);
+    if (ground && ground->known_share == 1.0) whole_soles.push_back({x, y, 0.1});
+  }
+  ASSERT_GE(whole_soles.size(), 3u);
+  const std::vector<StanceFoot> feet{whole_soles.front(), whole_soles[whole_soles.size() / 2], whole_soles.back()};
+  ASSERT_EQ(feet.size(), 3u);
+  const StanceHeight height = StanceHeightReader(map).read(map, feet);
+  EXPECT_EQ(height.feet_used, 3);
+  EXPECT_NEAR(height.trunk_z_m, 0.1, 0.002);
+}
+
+TEST(HeightFusionObserver, BadOptionsAreRefusedNamingTheField) {
+  MappingPipeline pipeline(floor_options(true));
+  HeightFusionOptions bad;
+  bad.mahalanobis_gate = 0.0;
+  try {
+    const HeightFusionObserver observer(pipeline, bad);
+    FAIL() << "a gate of 0 was taken";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("mahalanobis_gate"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace stridemap
