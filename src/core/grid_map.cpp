@@ -178,6 +178,13 @@ std::optional<std::size_t> ElevationMap::find_layer(std::string_view name) const
   return std::nullopt;
 }
 
+void declare_layer_once(GridOptions& grid, const LayerSpec& spec) {
+  for (const LayerSpec& layer : grid.extra_layers) {
+    if (layer.name == spec.name) return;
+  }
+  grid.extra_layers.push_back(spec);
+}
+
 std::string ElevationMap::layer_names() const {
   std::string names;
   for (const Layer& layer : layers_) names += (names.empty() ? "" : ", ") + layer.spec.name;

@@ -1,15 +1,9 @@
 #include "stridemap/pipeline/height_fusion_observer.hpp"
 
-#include <algorithm>
-
 namespace stridemap {
 
 void declare_height_fusion_layers(GridOptions& grid) {
-  for (const LayerSpec& spec : {fused_elevation_layer(), fused_variance_layer()}) {
-    const bool there = std::any_of(grid.extra_layers.begin(), grid.extra_layers.end(),
-                                   [&](const LayerSpec& l) { return l.name == spec.name; });
-    if (!there) grid.extra_layers.push_back(spec);
-  }
+  for (const LayerSpec& spec : {fused_elevation_layer(), fused_variance_layer()}) declare_layer_once(grid, spec);
 }
 
 HeightFusionObserver::HeightFusionObserver(MappingPipeline& pipeline, const HeightFusionOptions& options)

@@ -1,15 +1,9 @@
 #include "stridemap/pipeline/top_point_observer.hpp"
 
-#include <algorithm>
-
 namespace stridemap {
 
 void declare_top_point_layers(GridOptions& grid) {
-  for (const LayerSpec& spec : {top_point_x_layer(), top_point_y_layer()}) {
-    const bool there = std::any_of(grid.extra_layers.begin(), grid.extra_layers.end(),
-                                   [&](const LayerSpec& l) { return l.name == spec.name; });
-    if (!there) grid.extra_layers.push_back(spec);
-  }
+  for (const LayerSpec& spec : {top_point_x_layer(), top_point_y_layer()}) declare_layer_once(grid, spec);
 }
 
 TopPointObserver::TopPointObserver(MappingPipeline& pipeline)

@@ -42,6 +42,10 @@ struct GridOptions {
   std::vector<LayerSpec> extra_layers = {};
 };
 
+/// Appends `spec` to grid.extra_layers unless a layer of its name is there:
+/// a helper that declares its layers may be called more than once.
+void declare_layer_once(GridOptions& grid, const LayerSpec& spec);
+
 /// The grids a map accepts. The map is held several times over (snapshots for
 /// a planner, the fill-in's copy, a test bed's truth layers), so its own
 /// layers are kept to a few hundred MB: at most kMaxGridCellsPerSide cells a
