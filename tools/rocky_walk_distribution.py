@@ -66,6 +66,7 @@ def main():
         scene_text = f.read()
     os.makedirs(args.out, exist_ok=True)
     rows = []
+    under_soles = []
     for k in range(args.first - 1, args.first - 1 + args.terrains):
         scene = os.path.join(args.out, "terrain_%02d.yaml" % k)
         if not os.path.exists(scene):
@@ -86,6 +87,8 @@ def main():
             s = json.load(f)
         rows.append((s["map"]["rms_error_m"], s["map"]["rms_error_offset_free_m"], s["pose_rms"]["sensor_height_m"],
                      s["map"]["mean_error_m"]))
+        if "fused_under_soles" in s:
+            under_soles.append(s["fused_under_soles"]["mean_error_m"])
         print("%s terrain %02d: RMS %.1f mm, offset-free %.1f mm, mean %+.1f mm, sensor height %.1f mm"
               % (args.label, k, rows[-1][0] * 1e3, rows[-1][1] * 1e3, rows[-1][3] * 1e3, rows[-1][2] * 1e3), flush=True)
     result = {"label": args.label, "terrains": len(rows), "options": extra, "source": "simulation"}
@@ -94,6 +97,14 @@ def main():
         result[name] = {"median": percentile(values, 0.5), "p90": percentile(values, 0.9), "worst": max(values)}
         print("%s %s: median %.1f mm, 90th pct %.1f mm, worst %.1f mm" % (
             args.label, name, result[name]["median"] * 1e3, result[name]["p90"] * 1e3, result[name]["worst"] * 1e3))
+    if under_soles:
+        # Signed: the bias an h_ref read under the feet inherits from the map alone.
+        mean = sum(under_soles) / len(under_soles)
+        sd = (sum((v - mean) ** 2 for v in under_soles) / max(1, len(under_soles) - 1)) ** 0.5
+        result["fused_under_soles_m"] = {"median": percentile(under_soles, 0.5), "mean": mean, "sd": sd,
+                                         "walks": len(under_soles)}
+        print("%s fused layer under the true soles, per walk (signed): median %+.2f mm, mean %+.2f mm, sd %.2f mm"
+              % (args.label, percentile(under_soles, 0.5) * 1e3, mean * 1e3, sd * 1e3))
     with open(os.path.join(args.out, args.label + ".json"), "w") as f:
         json.dump(result, f, indent=2)
     return 0

@@ -224,6 +224,11 @@ std::string rocky_walk_summary_json(const RockyWalkResult& r, const RockyWalkOpt
       {"pose_error_sweep", sweep}};
   summary["local_map"].erase("unknown_swept_cells");
   if (!w.height_errors.empty()) summary["h_ref_error"] = height_error_json(w.height_errors);
+  if (w.fused_under_soles_scans > 0) {
+    summary["fused_under_soles"] = {
+        {"mean_error_m", w.fused_under_soles_error_sum_m / static_cast<double>(w.fused_under_soles_scans)},
+        {"scans", w.fused_under_soles_scans}};
+  }
   if (reads_fused_layer(e.reference)) {
     const HeightFusionOptions& f = options.walk.height_fusion;
     summary["height_fusion"] = {{"mahalanobis_gate", f.mahalanobis_gate},
@@ -292,6 +297,14 @@ std::string rocky_walk_table(const RockyWalkResult& r) {
                   h["mean_from_odometry_m"].get<double>() * 1000, h["mean_from_map_m"].get<double>() * 1000,
                   h["mean_from_placement_m"].get<double>() * 1000, h["mean_from_kinematics_m"].get<double>() * 1000,
                   h["scans_without_reading"].get<std::size_t>(), w.height_errors.size());
+    out += line;
+  }
+  if (w.fused_under_soles_scans > 0) {
+    std::snprintf(line, sizeof line,
+                  "fused layer under the true stance soles: mean error %+.2f mm over %zu scans (what the map alone "
+                  "gives an h_ref read there)\n",
+                  1000 * w.fused_under_soles_error_sum_m / static_cast<double>(w.fused_under_soles_scans),
+                  w.fused_under_soles_scans);
     out += line;
   }
   if (r.calibration) {

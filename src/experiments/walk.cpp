@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "stridemap/core/error.hpp"
+#include "stridemap/core/stance_height.hpp"
 #include "stridemap/core/sensor_transform.hpp"
 
 namespace stridemap {
@@ -87,7 +88,11 @@ WalkRun::WalkRun(const Scene& scene, const WalkPath& path, WalkSensor& sensor, c
     mapper_ = TerrainMapper(fixed, sensor_.mount());
     mapper_.map().move_corner_to(whole.min_cell());
   }
-  if (reads_fused_layer(options_.pose_errors.reference)) {
+  // A walk with the true h_ref keeps the layers too, to say what the map
+  // alone would give a robot reading its height there; they never touch
+  // the elevation.
+  if (reads_fused_layer(options_.pose_errors.reference) ||
+      options_.pose_errors.reference == ReferenceElevationSource::truth) {
     fusion_.emplace(mapper_.map(), options_.height_fusion);
     sensor_.set_collect_points(true);
   }
@@ -96,6 +101,23 @@ WalkRun::WalkRun(const Scene& scene, const WalkPath& path, WalkSensor& sensor, c
     mosaic_ = mosaic_for(terrain, options_.mapper.grid.cell_size_m);
     swept_ = CellMask::Zero(mosaic_->cells_per_side(), mosaic_->cells_per_side());
   }
+}
+
+void WalkRun::read_fused_under_soles() {
+  const ElevationMap& map = std::as_const(mapper_).map();
+  const StanceHeightReader reader(map);
+  double sum = 0.0;
+  int feet = 0;
+  for (const FootState& foot : truth_.feet) {
+    if (!foot.in_stance) continue;
+    const std::optional<SoleGround> ground = reader.ground_under(map, foot.position_m.x(), foot.position_m.y());
+    if (!ground || ground->known_share < reader.options().min_known_share) continue;
+    sum += ground->height_m - foot.position_m.z();
+    ++feet;
+  }
+  if (feet == 0) return;
+  fused_under_soles_error_sum_m_ += sum / feet;
+  ++fused_under_soles_scans_;
 }
 
 void WalkRun::trace_swept(const TrunkPose& truth) {
@@ -149,6 +171,7 @@ void WalkRun::step() {
   const double time_s = static_cast<double>(next_scan_) * sensor_.frame_period_s();
   truth_ = motion_.at(time_s);
   estimate_ = estimator_.estimate(truth_, std::as_const(mapper_).map());  // a read: not counted (TerrainMapper::changes())
+  if (fusion_) read_fused_under_soles();
   if (std::abs(mapper_.motion_to(estimate_).yaw_change_rad) > kYawChangeCounted_rad) ++yaw_change_scans_;
   last_stats_ = sensor_.measure(truth_.pose, estimate_, time_s, mapper_);
   count_visibility();
@@ -226,6 +249,8 @@ WalkResult WalkRun::finish() {
   r.visibility_whole_map_scans = visibility_whole_map_;
   r.trajectory = trajectory_;
   r.height_errors = height_errors_;
+  r.fused_under_soles_error_sum_m = fused_under_soles_error_sum_m_;
+  r.fused_under_soles_scans = fused_under_soles_scans_;
   if (next_scan_ > 0) {
     const double n = static_cast<double>(next_scan_);
     PoseErrorStats& p = r.pose_errors;

@@ -122,6 +122,30 @@ TEST(Walk, PoseErrorsReachTheMapAndItsScore) {
   EXPECT_EQ(count_invalid_cells(*std::make_unique<ElevationMap>(), 100.0), 0u);
 }
 
+// With the true h_ref the walk still keeps the fused layers and says how
+// far they lie from the ground under the true soles: with no pose error, on
+// the rail's floor, within the URG's own range error (about a millimetre
+// up, docs/experiments.md); the IMU's pitch bias, which lifts the points
+// ahead, lifts it by millimetres more. A walk reading eq. (10)'s layer
+// keeps none.
+TEST(Walk, TheFusedLayerUnderTheSolesIsMeasuredWithTheTrueHref) {
+  const Scene scene = rail_scene();
+  WalkOptions options;
+  options.build_mosaic = false;
+  options.pose_errors = PoseErrorOptions::none();
+  const auto mean_under_soles = [](const WalkResult& r) {
+    return r.fused_under_soles_error_sum_m / static_cast<double>(r.fused_under_soles_scans);
+  };
+  const WalkResult exact = walk(scene, along_the_rail(), options);
+  ASSERT_GT(exact.fused_under_soles_scans, exact.scans / 2);
+  EXPECT_LT(std::abs(mean_under_soles(exact)), 0.002);
+  options.pose_errors.imu_pitch_bias_rad = -0.3 * kPi / 180;
+  const WalkResult biased = walk(scene, along_the_rail(), options);
+  EXPECT_GT(mean_under_soles(biased), mean_under_soles(exact) + 0.0015);
+  options.pose_errors.reference = ReferenceElevationSource::map;
+  EXPECT_EQ(walk(scene, along_the_rail(), options).fused_under_soles_scans, 0u);
+}
+
 // Eq. (10)'s highest reading lies above the floor by the range noise; a
 // robot reading its h_ref from it climbs by that at every look-ahead it
 // walks, even with a perfect pose. The fused layer has no such bias.

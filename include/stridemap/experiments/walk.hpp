@@ -130,6 +130,14 @@ struct WalkResult {
   /// Per scan, the trunk-height error by cause (h_ref from `map_footholds`;
   /// empty otherwise).
   std::vector<HeightReferenceError> height_errors;
+  /// The fused layer against the truth under the true stance soles
+  /// (core/stance_height.hpp's reading, soles at least half known), summed
+  /// over the scans with such a sole: what an h_ref read there inherits from
+  /// the map alone. Kept by the walks that keep the fused layers, and by
+  /// those with the true h_ref (the map's own error under the feet). 0
+  /// scans otherwise.
+  double fused_under_soles_error_sum_m = 0.0;
+  std::size_t fused_under_soles_scans = 0;
 };
 
 /// Cells of a map holding a value the layers must never hold: a measured
@@ -188,6 +196,9 @@ class WalkRun {
   std::size_t visibility_scans_counted_ = 0, visibility_whole_map_ = 0;
   std::vector<Eigen::Vector2d> trajectory_;
   std::vector<HeightReferenceError> height_errors_;
+  void read_fused_under_soles();
+  double fused_under_soles_error_sum_m_ = 0.0;
+  std::size_t fused_under_soles_scans_ = 0;
 };
 
 /// The whole walk.
