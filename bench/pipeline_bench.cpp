@@ -9,6 +9,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include "stridemap/core/stance_height.hpp"
+#include "stridemap/pipeline/height_fusion_observer.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
 
 namespace {
@@ -84,6 +86,31 @@ void BM_PipelineUrgScanNoFoothold(benchmark::State& state) {
   pipeline_scans(state, options);
 }
 BENCHMARK(BM_PipelineUrgScanNoFoothold);
+
+// A walking robot's loop (docs/walking.md): the fused height layers fed
+// from every scan (HeightFusionObserver) and, before each scan, the trunk's
+// height read under six stance feet a little ahead of the sensor's origin.
+void BM_PipelineUrgScanFusedHeights(benchmark::State& state) {
+  PipelineOptions options = bench_options();
+  declare_height_fusion_layers(options.mapper.grid);
+  MappingPipeline pipeline(options);
+  const HeightFusionObserver fusion(pipeline);
+  const ElevationMap& map = pipeline.mapper().map();
+  const StanceHeightReader reader(map);
+  UrgRawScan raw = urg_like_raw_scan(options.urg, options.mount);
+  TrunkPose pose;
+  std::array<StanceFoot, 6> feet{};
+  for (auto _ : state) {
+    for (std::size_t f = 0; f < feet.size(); ++f) {
+      feet[f] = {pose.x_m + 0.3 + 0.05 * static_cast<double>(f % 3), 0.08 * (f < 3 ? 1.0 : -1.0), 0.2};
+    }
+    benchmark::DoNotOptimize(reader.read(map, feet));
+    pose.x_m += 0.003;
+    raw.time_s += 0.1;
+    benchmark::DoNotOptimize(pipeline.add(raw, pose));
+  }
+}
+BENCHMARK(BM_PipelineUrgScanFusedHeights);
 
 // With scan filters by their CLI name ("paper" or "urg"), layers as default.
 void pipeline_filtered(benchmark::State& state, const char* filters, bool foothold) {

@@ -11,6 +11,8 @@
 #include <vector>
 
 #include "pipeline_test_support.hpp"
+#include "stridemap/core/stance_height.hpp"
+#include "stridemap/pipeline/height_fusion_observer.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
 
 STRIDEMAP_REPLACE_OPERATOR_NEW()
@@ -105,6 +107,38 @@ TEST(PipelineAllocation, FootholdLayersNotedPerScanAndRefreshedAllocateNothing) 
     EXPECT_EQ(allocations, 0u) << (every_scan ? "every scan" : "lazy");
     EXPECT_GT(pipeline.foothold()->last_geometry_cells() + (every_scan ? 1u : 0u), 0u);
   }
+}
+
+// A walking robot's loop: the fused layers fed from each scan and the
+// stance feet read before the next.
+TEST(PipelineAllocation, FusedHeightsAndTheStanceReadingAllocateNothing) {
+  STRIDEMAP_SKIP_UNLESS_COUNTING_ALLOCATIONS();
+  PipelineOptions options;
+  declare_height_fusion_layers(options.mapper.grid);
+  MappingPipeline pipeline(options);
+  const HeightFusionObserver fusion(pipeline);
+  UrgRawScan raw = floor_scan(0.0);
+  for (int k = 0; k < 5; ++k) {
+    raw.time_s = 0.1 * k;
+    pipeline.add(raw, pose_at(0.002 * k));
+  }
+  const ElevationMap& map = pipeline.mapper().map();
+  const StanceHeightReader reader(map);
+  const std::array<StanceFoot, 3> feet{{{0.3, 0.05, 0.2}, {0.35, -0.05, 0.2}, {0.4, 0.0, 0.2}}};
+  std::size_t allocations = 0;
+  int feet_used = 0;
+  {
+    Counting counting;
+    for (int k = 5; k < 50; ++k) {
+      feet_used += reader.read(map, feet).feet_used;
+      raw.time_s = 0.1 * k;
+      pipeline.add(raw, pose_at(0.002 * k));
+    }
+    allocations = counting.allocations();
+  }
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_EQ(pipeline.stats().integrated, 50u);
+  EXPECT_GT(feet_used, 0);  // the feet stood on mapped floor
 }
 
 TEST(PipelineAllocation, StripeAndPointFramesAllocateNothing) {
