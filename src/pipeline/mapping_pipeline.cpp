@@ -52,10 +52,7 @@ ScanOutcome MappingPipeline::updated(ScanOutcome outcome) {
 
 ScanStats MappingPipeline::add_planar(const PlanarScan& scan, const TrunkPose& pose) {
   ++stream_.scans;
-  ScanOutcome outcome;
-  outcome.stats = mapper_.integrate(scan, pose);
-  if (!outcome.stats.pose_rejected && !outcome.stats.time_rejected) integrator_.clear_visible(scan, pose, mapper_);
-  return updated(outcome).stats;
+  return updated(integrator_.push_planar(scan, pose, mapper_)).stats;
 }
 
 void MappingPipeline::refresh_foothold() { refresh_layers(); }

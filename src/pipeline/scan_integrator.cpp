@@ -170,6 +170,21 @@ ScanOutcome ScanIntegrator::integrate_planar(TerrainMapper& mapper) {
   return outcome;
 }
 
+ScanOutcome ScanIntegrator::push_planar(const PlanarScan& scan, const TrunkPose& pose, TerrainMapper& mapper) {
+  points_.clear();
+  batch_payload_.pose = pose;
+  batch_payload_.sequence = pushed_++;
+  ScanOutcome outcome;
+  outcome.integrated = true;
+  outcome.stats = collect_ ? mapper.integrate(scan, pose, CollectingSink{points_}) : mapper.integrate(scan, pose);
+  ++stats_.integrated;
+  if (!outcome.stats.pose_rejected && !outcome.stats.time_rejected) clear_visible(scan, pose, mapper);
+  // No filter ran: observers get one flag a beam, none set (grown once).
+  if (no_removals_.size() != scan.range_m.size()) no_removals_.assign(scan.range_m.size(), 0);
+  report(batch_payload_, scan.time_s, outcome.stats, no_removals_);
+  return outcome;
+}
+
 ScanOutcome ScanIntegrator::push(std::span<const StripePixel> pixels, std::optional<double> time_s,
                                  const TrunkPose& pose, TerrainMapper& mapper) {
   require(SensorKind::structured_light);

@@ -70,6 +70,35 @@ TEST(HeightFusionObserver, FusesEveryIntegratedPointAndLeavesThePapersLayersAsTh
   EXPECT_NEAR(height.trunk_z_m, 0.1, 0.002);
 }
 
+// A scan already in its plane (a ROS LaserScan) reaches the observers too.
+TEST(HeightFusionObserver, PlanarScansAreFusedAsEveryOtherScan) {
+  MappingPipeline pipeline(floor_options(true));
+  const HeightFusionObserver observer(pipeline);
+  struct Count final : PipelineObserver {
+    int scans = 0;
+    void on_scan(const ScanReport&) override { ++scans; }
+  } count;
+  pipeline.integrator().add_observer(count);
+  const UrgModel urg(UrgParameters{});
+  PlanarScan scan;
+  for (int k = 0; k < 5; ++k) {
+    urg.to_planar_scan(test::floor_scan(0.1 * k), scan);
+    pipeline.add_planar(scan, test::pose_at(0.01 * k));
+  }
+  EXPECT_EQ(count.scans, 5);
+  EXPECT_EQ(pipeline.stats().integrated, 5u);
+  const ElevationMap& map = pipeline.mapper().map();
+  const float* fused = map.data(observer.fusion().elevation_layer());
+  const std::size_t cells = static_cast<std::size_t>(map.cells_per_side()) * static_cast<std::size_t>(map.cells_per_side());
+  std::size_t fused_cells = 0;
+  for (std::size_t s = 0; s < cells; ++s) {
+    if (std::isnan(fused[s])) continue;
+    ++fused_cells;
+    EXPECT_NEAR(fused[s], 0.0, 0.002) << s;
+  }
+  EXPECT_GT(fused_cells, 50u);
+}
+
 TEST(HeightFusionObserver, BadOptionsAreRefusedNamingTheField) {
   MappingPipeline pipeline(floor_options(true));
   HeightFusionOptions bad;

@@ -97,12 +97,16 @@ class ScanIntegrator {
                    std::optional<double> time_s, const TrunkPose& pose, TerrainMapper& mapper);
   /// Any sensor model holding its next scan (the extension point).
   ScanOutcome push(SensorModel& model, std::optional<double> time_s, const TrunkPose& pose, TerrainMapper& mapper);
+  /// A scan already in its scan plane (MappingPipeline::add_planar): the
+  /// mapper's planar path, no scan filters; the clean-up, the collected
+  /// points and the observers as for every other scan.
+  ScanOutcome push_planar(const PlanarScan& scan, const TrunkPose& pose, TerrainMapper& mapper);
   /// Ends the stream: the scan the filters hold, if any, at its own pose.
   ScanOutcome flush(TerrainMapper& mapper);
 
-  /// The visibility clean-up on a planar scan integrated at `pose` (the
-  /// URG's way does it itself; MappingPipeline::add_planar calls this).
-  /// Does nothing when options().visibility.enabled is off.
+  /// The visibility clean-up on a planar scan integrated at `pose` (every
+  /// push does it itself; for a caller integrating into the mapper on its
+  /// own). Does nothing when options().visibility.enabled is off.
   void clear_visible(const PlanarScan& scan, const TrunkPose& pose, TerrainMapper& mapper);
   /// The last scan's clean-up (nullptr before the first or when off).
   const VisibilityClearing* visibility() const { return visibility_ ? &*visibility_ : nullptr; }
