@@ -90,8 +90,16 @@ MessageMapper::MessageMapper(const MessageMapperOptions& options, PoseSource& po
     : options_(options), poses_(poses), impl_(std::make_unique<Impl>()) {
   options_.validate();
   if (!options_.config_path.empty()) impl_->config = load_mapper_config(options_.config_path);
-  impl_->pipeline = std::make_unique<MappingPipeline>(message_pipeline_options(impl_->config));
+  make_pipeline();
   sensor_frame_ = options_.sensor_frame;
+}
+
+void MessageMapper::make_pipeline() {
+  PipelineOptions options = message_pipeline_options(impl_->config);
+  if (options_.fused_heights) declare_height_fusion_layers(options.mapper.grid);
+  impl_->fusion.reset();  // it observes the pipeline about to go
+  impl_->pipeline = std::make_unique<MappingPipeline>(options);
+  if (options_.fused_heights) impl_->fusion = std::make_unique<HeightFusionObserver>(*impl_->pipeline);
 }
 
 MessageMapper::~MessageMapper() = default;
@@ -340,7 +348,7 @@ std::size_t MessageMapper::process(double now_s, bool end_of_stream) {
 }
 
 void MessageMapper::clear() {
-  impl_->pipeline = std::make_unique<MappingPipeline>(message_pipeline_options(impl_->config));
+  make_pipeline();
   for (; !impl_->waiting.empty(); impl_->waiting.pop_front()) impl_->spare.push_back(std::move(impl_->waiting.front()));
   last_stamp_.reset();
   last_mapped_stamp_.reset();

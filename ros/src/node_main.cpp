@@ -69,7 +69,11 @@ NodeSettings read_node_settings(ParameterReader& read) {
   s.scan_topic = read.text("scan_topic", s.cloud_topic.empty() ? "scan" : "",
                            "LaserScan topic; empty by default when ~cloud_topic is given");
   s.pose_topic = read.text("pose_topic", "", "PoseStamped or Odometry in ~map_frame; empty: TF");
-  s.layers = read.text("layers", "elevation,certainty,mean_elevation,state", "layers published as images, cloud and GridMap");
+  s.layers = read.text("layers", "elevation,certainty,mean_elevation,state",
+                       "layers published as images, cloud and GridMap; fused_elevation or fused_variance keeps both");
+  for (const std::string& name : split_names(s.layers)) {
+    m.fused_heights = m.fused_heights || name == "fused_elevation" || name == "fused_variance";
+  }
   s.occupancy_layer =
       read.text("occupancy_layer", "foothold_score", "the score in [0, 1] behind ~traversability; empty: no OccupancyGrid");
   s.publish_every_s = read.number("publish_every_s", s.publish_every_s, 1e-3, 3600.0, "how often the map is published [s]");

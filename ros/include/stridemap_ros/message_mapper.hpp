@@ -76,6 +76,11 @@ struct MessageMapperOptions {
   double max_pose_gap_s = 1.0;
   /// Scans kept waiting for a pose at most (older ones are dropped as queue_full).
   std::size_t max_waiting = 200;
+  /// Keep the fused height layers fused_elevation and fused_variance
+  /// (core/height_fusion.hpp): a walking robot's own height read where its
+  /// feet stand (core/stance_height.hpp). The node keeps them when ~layers
+  /// names either.
+  bool fused_heights = false;
 
   /// Throws InputError naming the field.
   void validate() const;
@@ -211,6 +216,9 @@ class MessageMapper {
   void drop(std::size_t& counter, const std::string& why);
   double range_error(double range_m) const;
   void make_room();
+  /// A new pipeline from the config (and the fused layers' observer when
+  /// asked for): at construction and at clear().
+  void make_pipeline();
 
   MessageMapperOptions options_;
   PoseSource& poses_;

@@ -171,6 +171,34 @@ TEST(MessageMapper, ClearEmptiesTheMapAndAcceptsAnyStampAfter) {
   EXPECT_EQ(mapper.stats().mapped, 2u);
 }
 
+// Asked for, the fused height layers follow the scans (a LaserScan takes
+// the planar route) and survive ~clear_map; not asked for, they are not
+// there to publish.
+TEST(MessageMapper, FusedHeightsFollowTheScansWhenAskedFor) {
+  FixedPose poses;
+  MessageMapperOptions options;
+  options.fused_heights = true;
+  MessageMapper mapper(options, poses);
+  Scan good;
+  mapper.add(good.data(1.0), 0.0);
+  mapper.process(0.0, false);
+  const MapLayers layers = mapper.layers({"elevation", "fused_elevation"});
+  std::size_t fused = 0;
+  for (std::size_t k = 0; k < layers.values[0].size(); ++k) {
+    const float elevation = layers.values[0][k], height = layers.values[1][k];
+    ASSERT_EQ(std::isnan(elevation), std::isnan(height)) << k;
+    if (std::isnan(height)) continue;
+    ++fused;
+    EXPECT_NEAR(height, elevation, 0.03) << k;  // one scan: the cells' readings, fused or highest
+  }
+  EXPECT_GT(fused, 0u);
+  mapper.clear();
+  EXPECT_NO_THROW(mapper.layers({"fused_elevation"}));
+
+  MessageMapper plain({}, poses);
+  EXPECT_THROW(plain.layers({"fused_elevation"}), InputError);
+}
+
 // Any scanner: the beams' angles, limits and intensities come from the
 // message, each beam judged on its own.
 TEST(MessageMapper, TakesEachBeamAsTheMessageDescribesIt) {
