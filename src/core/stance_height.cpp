@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
+#include <utility>
 
 #include "stridemap/core/error.hpp"
 
@@ -96,10 +98,9 @@ StanceHeight StanceHeightReader::read(const ElevationMap& map, std::span<const S
   }
   for (std::size_t k = 0; k < feet.size(); ++k) {
     const StanceFoot& f = feet[k];
-    const char* bad = !std::isfinite(f.x_m) ? "x_m" : !std::isfinite(f.y_m) ? "y_m" : !std::isfinite(f.depth_m) ? "depth_m" : nullptr;
-    if (bad) {
-      const double value = bad[0] == 'x' ? f.x_m : bad[0] == 'y' ? f.y_m : f.depth_m;
-      throw InputError("stance height: foot " + std::to_string(k) + ": " + bad + ": expected a finite number, got " +
+    for (const auto& [field, value] : {std::pair{"x_m", f.x_m}, std::pair{"y_m", f.y_m}, std::pair{"depth_m", f.depth_m}}) {
+      if (std::isfinite(value)) continue;
+      throw InputError("stance height: foot " + std::to_string(k) + ": " + field + ": expected a finite number, got " +
                        number(value));
     }
   }

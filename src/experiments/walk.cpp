@@ -6,7 +6,6 @@
 #include <utility>
 
 #include "stridemap/core/error.hpp"
-#include "stridemap/core/stance_height.hpp"
 #include "stridemap/core/sensor_transform.hpp"
 
 namespace stridemap {
@@ -94,6 +93,7 @@ WalkRun::WalkRun(const Scene& scene, const WalkPath& path, WalkSensor& sensor, c
   if (reads_fused_layer(options_.pose_errors.reference) ||
       options_.pose_errors.reference == ReferenceElevationSource::truth) {
     fusion_.emplace(mapper_.map(), options_.height_fusion);
+    soles_reader_.emplace(std::as_const(mapper_).map());
     sensor_.set_collect_points(true);
   }
   estimator_.set_attitude_correction(options_.imu_pitch_correction_rad, options_.imu_roll_correction_rad);
@@ -105,7 +105,7 @@ WalkRun::WalkRun(const Scene& scene, const WalkPath& path, WalkSensor& sensor, c
 
 void WalkRun::read_fused_under_soles() {
   const ElevationMap& map = std::as_const(mapper_).map();
-  const StanceHeightReader reader(map);
+  const StanceHeightReader& reader = *soles_reader_;
   double sum = 0.0;
   int feet = 0;
   for (const FootState& foot : truth_.feet) {

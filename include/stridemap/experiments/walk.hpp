@@ -17,6 +17,7 @@
 #include "stridemap/config/mapper_config.hpp"
 #include "stridemap/core/cas_filter.hpp"
 #include "stridemap/core/height_fusion.hpp"
+#include "stridemap/core/stance_height.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/core/weighted_median_fill.hpp"
 #include "stridemap/experiments/cart_rail.hpp"
@@ -179,6 +180,7 @@ class WalkRun {
   PoseEstimator estimator_;
   TerrainMapper mapper_;
   std::optional<HeightFusion> fusion_;
+  std::optional<StanceHeightReader> soles_reader_;  ///< over fusion_'s layers
   std::optional<ElevationMap> mosaic_;
   CellMask swept_;  ///< over the mosaic's window
   std::size_t total_scans_ = 0, next_scan_ = 0;
