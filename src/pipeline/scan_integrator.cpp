@@ -110,9 +110,9 @@ ScanOutcome ScanIntegrator::push(const UrgRawScan& raw, const TrunkPose& pose, T
 }
 
 // The planar route is kept where something reads the PlanarScan: a filter,
-// the reference runs' dropped beams, the collected points' beam indices.
+// the reference runs' dropped beams.
 bool ScanIntegrator::packed_route(std::span<const std::uint8_t> beam_tags) const {
-  return filters_.chain().stage_count() == 0 && !collect_ && !(options_.drop_beams_tagged && !beam_tags.empty());
+  return filters_.chain().stage_count() == 0 && !(options_.drop_beams_tagged && !beam_tags.empty());
 }
 
 ScanOutcome ScanIntegrator::push_packed(const UrgRawScan& raw, const TrunkPose& pose, TerrainMapper& mapper,
@@ -134,11 +134,38 @@ ScanOutcome ScanIntegrator::push_packed(const UrgRawScan& raw, const TrunkPose& 
   if (no_removals_.size() != raw.values_mm.size()) no_removals_.assign(raw.values_mm.size(), 0);
   ScanOutcome outcome;
   outcome.integrated = true;
+  if (collect_) mapper.keep_beam_hits(true);
   outcome.stats = mapper.integrate(beams_, pose);
   ++stats_.integrated;
-  if (!outcome.stats.pose_rejected && !outcome.stats.time_rejected) clear_visible(beams_, pose, mapper);
+  if (!outcome.stats.pose_rejected && !outcome.stats.time_rejected) {
+    if (collect_) collect_packed(pose, mapper);
+    clear_visible(beams_, pose, mapper);
+  }
   report(filters_.output(), raw.time_s, outcome.stats, no_removals_);
   return outcome;
+}
+
+// The packed pass's points as the planar route's sink would have them: the
+// mapper's kept hits are the same doubles (one pass, not two), formed here
+// only where it took its per-point way (a window beyond 2^30 cells).
+void ScanIntegrator::collect_packed(const TrunkPose& pose, const TerrainMapper& mapper) {
+  const std::size_t count = beams_.count;
+  const TerrainMapper::BeamHits* hits = mapper.last_beam_hits();
+  if (hits != nullptr && hits->count == count && hits->range_error_m == beams_.range_error_m.data()) {
+    for (std::size_t k = 0; k < count; ++k) {
+      points_.push_back({Eigen::Vector3d(hits->x_m[k], hits->y_m[k], hits->z_m[k]), beams_.range_m[k],
+                         hits->height_error_m[k]});
+    }
+    return;
+  }
+  const PlanarBeamGeometry geometry(pose, mapper.mount());
+  const UpdateOptions& update = mapper.options().update;
+  const Eigen::Vector3d origin = sensor_origin_in_map(pose, mapper.mount());
+  for (std::size_t k = 0; k < count; ++k) {
+    const double r = beams_.range_m[k], c = beams_.cos_angle[k], s = beams_.sin_angle[k];
+    points_.push_back({origin + geometry.offset(r, c, s), r,
+                       geometry.height_error(r, beams_.range_error_m[k], c, s, update)});
+  }
 }
 
 const PlanarScan& ScanIntegrator::last_scan() const {

@@ -83,6 +83,18 @@ void expect_same_stats(const ScanStats& a, const ScanStats& b, int scan) {
   EXPECT_EQ(a.cells_reset_by_move, b.cells_reset_by_move) << scan;
 }
 
+// The same points in the same order: positions and ranges bit for bit; the
+// error bounds equal (the packed pass's may be +0 where the planar one's is
+// -0, which no consumer tells apart).
+void expect_same_points(const std::vector<IntegratedPoint>& a, const std::vector<IntegratedPoint>& b, int scan) {
+  ASSERT_EQ(a.size(), b.size()) << scan;
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    ASSERT_EQ(std::memcmp(a[i].map_m.data(), b[i].map_m.data(), 3 * sizeof(double)), 0) << scan << " point " << i;
+    ASSERT_EQ(std::memcmp(&a[i].range_m, &b[i].range_m, sizeof(double)), 0) << scan << " point " << i;
+    ASSERT_EQ(a[i].height_uncertainty_m, b[i].height_uncertainty_m) << scan << " point " << i;
+  }
+}
+
 struct Seen {
   std::size_t sequence = 0;
   TrunkPose pose{};
@@ -109,6 +121,7 @@ struct Case {
   bool calibrated = false;
   bool visibility = false;
   int cluster = 1;
+  bool collect = false;  // the integrated points handed back (the fused heights' and top points' observers)
 };
 
 // The planar route, step by step, as ScanIntegrator::push took it.
@@ -147,6 +160,7 @@ class PlanarReference {
   }
 
   const MappingPipeline& pipeline() const { return pipeline_; }
+  MappingPipeline& pipeline() { return pipeline_; }
   const PlanarScan& filtered() const { return filtered_; }
   const ScanFilterChain& chain() const { return filters_.chain(); }
   const ScanPayload& payload() const { return filters_.output(); }
@@ -169,7 +183,8 @@ class PlanarReference {
 
 void run_case(const Case& c, std::uint64_t seed) {
   SCOPED_TRACE("filters " + c.filters + (c.calibrated ? ", calibrated" : "") +
-               (c.visibility ? ", visibility" : "") + ", cluster " + std::to_string(c.cluster));
+               (c.visibility ? ", visibility" : "") + ", cluster " + std::to_string(c.cluster) +
+               (c.collect ? ", points collected" : ""));
   PipelineOptions options;
   options.filters = parse_scan_filter_list(std::string_view(c.filters));
   options.mapper.window_ahead_m = 0.3;
@@ -179,6 +194,8 @@ void run_case(const Case& c, std::uint64_t seed) {
   Recorder recorder;
   pipeline.integrator().add_observer(recorder);
   PlanarReference reference(options);
+  pipeline.integrator().set_collect_points(c.collect);
+  reference.pipeline().integrator().set_collect_points(c.collect);
 
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> unit(0.0, 1.0);
@@ -226,6 +243,7 @@ void run_case(const Case& c, std::uint64_t seed) {
       std::size_t removed = 0;
       for (const std::uint8_t r : reference.chain().removed_by_any()) removed += r;
       EXPECT_EQ(seen.removed, removed) << k;
+      expect_same_points(pipeline.integrator().last_points(), reference.pipeline().integrator().last_points(), k);
       ++compared;
     }
     ASSERT_TRUE(same_maps(map_of(pipeline), map_of(reference.pipeline()))) << "after scan " << k;
@@ -259,6 +277,31 @@ TEST(PackedRoute, MapsEqualThePlanarRouteBitForBit) {
   }
   run_case({"none", false, true, 2}, seed++);
   run_case({"none", true, false, 3}, seed++);
+  // Collecting the points keeps the packed route (without filters) and
+  // hands back what the planar route's points were.
+  for (const std::string filters : {"none", "paper"}) {
+    for (const bool visibility : {false, true}) run_case({filters, false, visibility, 1, true}, seed++);
+  }
+  run_case({"none", true, false, 2, true}, seed++);
+}
+
+TEST(PackedRoute, PointsAreCollectedWhereTheMapperTakesItsPerPointWay) {
+  // A window beyond 2^30 cells from the origin: the packed pass keeps no
+  // hits there, so the points are formed from the beams, the same ones.
+  PipelineOptions options;
+  MappingPipeline packed(options);
+  PlanarReference reference(options);
+  packed.integrator().set_collect_points(true);
+  reference.pipeline().integrator().set_collect_points(true);
+  for (int k = 0; k < 5; ++k) {
+    const UrgRawScan raw = test::floor_scan(0.1 * (k + 1));
+    const TrunkPose pose = pose_at(1.2e7 + 0.01 * k);
+    ASSERT_TRUE(packed.add(raw, pose).integrated);
+    ScanStats stats;
+    ASSERT_TRUE(reference.push(raw, pose, {}, stats));
+    ASSERT_GT(packed.integrator().last_points().size(), 100u);
+    expect_same_points(packed.integrator().last_points(), reference.pipeline().integrator().last_points(), k);
+  }
 }
 
 TEST(PackedRoute, AScanOfTheWrongShapeIsRejectedAndCounted) {

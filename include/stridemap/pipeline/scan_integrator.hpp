@@ -112,7 +112,8 @@ class ScanIntegrator {
   const VisibilityClearing* visibility() const { return visibility_ ? &*visibility_ : nullptr; }
 
   /// Hand back the points of each integrated scan in last_points() (off by
-  /// default: it costs a copy per point).
+  /// default: it costs a copy per point). A URG scan without filters keeps
+  /// the packed route: the points are the mapper's hits of its one pass.
   void set_collect_points(bool collect) { collect_ = collect; }
   /// The points integrated by the last push / flush, when collecting.
   const std::vector<IntegratedPoint>& last_points() const { return points_; }
@@ -135,6 +136,7 @@ class ScanIntegrator {
   bool packed_route(std::span<const std::uint8_t> beam_tags) const;
   ScanOutcome push_packed(const UrgRawScan& raw, const TrunkPose& pose, TerrainMapper& mapper,
                           std::span<const std::uint8_t> beam_tags);
+  void collect_packed(const TrunkPose& pose, const TerrainMapper& mapper);
   void clear_visible(const PlanarBeams& beams, const TrunkPose& pose, TerrainMapper& mapper);
   bool clear_formed(double time_s, std::size_t beams, const TrunkPose& pose, TerrainMapper& mapper);
   ScanOutcome integrate_batch(std::optional<double> time_s, const TrunkPose& pose, TerrainMapper& mapper);
