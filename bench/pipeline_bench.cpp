@@ -2,8 +2,10 @@
 // sensor model, no filters, map update), beside core_bench's
 // BM_IntegrateScan, which starts from the converted scan
 // (docs/performance.md).
+#include <array>
 #include <cmath>
 #include <cstdint>
+#include <optional>
 #include <random>
 #include <string_view>
 
@@ -111,6 +113,38 @@ void BM_PipelineUrgScanFusedHeights(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_PipelineUrgScanFusedHeights);
+
+// The same loop on planar scans, as the ROS node hands a LaserScan to the
+// pipeline (MappingPipeline::add_planar), with and without the fused layers.
+void planar_scans(benchmark::State& state, bool fused) {
+  PipelineOptions options = bench_options();
+  if (fused) declare_height_fusion_layers(options.mapper.grid);
+  MappingPipeline pipeline(options);
+  std::optional<HeightFusionObserver> fusion;
+  std::optional<StanceHeightReader> reader;
+  const ElevationMap& map = pipeline.mapper().map();
+  if (fused) {
+    fusion.emplace(pipeline);
+    reader.emplace(map);
+  }
+  PlanarScan scan;
+  UrgModel(options.urg).to_planar_scan(urg_like_raw_scan(options.urg, options.mount), scan);
+  TrunkPose pose;
+  std::array<StanceFoot, 6> feet{};
+  for (auto _ : state) {
+    if (fused) {
+      for (std::size_t f = 0; f < feet.size(); ++f) {
+        feet[f] = {pose.x_m + 0.3 + 0.05 * static_cast<double>(f % 3), 0.08 * (f < 3 ? 1.0 : -1.0), 0.2};
+      }
+      benchmark::DoNotOptimize(reader->read(map, feet));
+    }
+    pose.x_m += 0.003;
+    scan.time_s += 0.1;
+    benchmark::DoNotOptimize(pipeline.add_planar(scan, pose));
+  }
+}
+BENCHMARK_CAPTURE(planar_scans, plain, false)->Name("BM_PipelinePlanarScan");
+BENCHMARK_CAPTURE(planar_scans, fused, true)->Name("BM_PipelinePlanarScanFusedHeights");
 
 // With scan filters by their CLI name ("paper" or "urg"), layers as default.
 void pipeline_filtered(benchmark::State& state, const char* filters, bool foothold) {

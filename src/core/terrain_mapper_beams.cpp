@@ -331,7 +331,8 @@ ScanStats TerrainMapper::integrate(const PlanarBeams& beams, const TrunkPose& po
     if (keep_hits_) {
       locate_beams_for<true>(turning, check_xy, beams, geometry, bound, origin);
       hits_ = {beams.beams, beams.count, beams.time_s, pose.yaw_rad, pose.pitch_rad, pose.roll_rad, origin,
-               hit_x_m_.data(), hit_y_m_.data(), hit_z_m_.data(), hit_error_m_.data(), beams.range_error_m.data()};
+               hit_x_m_.data(), hit_y_m_.data(), hit_z_m_.data(), hit_error_m_.data(), beams.range_error_m.data(),
+               beams.range_m.data()};
       hits_valid_ = true;
     } else {
       locate_beams_for<false>(turning, check_xy, beams, geometry, bound, origin);

@@ -138,34 +138,67 @@ ScanOutcome ScanIntegrator::push_packed(const UrgRawScan& raw, const TrunkPose& 
   outcome.stats = mapper.integrate(beams_, pose);
   ++stats_.integrated;
   if (!outcome.stats.pose_rejected && !outcome.stats.time_rejected) {
-    if (collect_) collect_packed(pose, mapper);
+    if (collect_ && !collect_hits(mapper)) collect_beams(pose, mapper);
     clear_visible(beams_, pose, mapper);
   }
   report(filters_.output(), raw.time_s, outcome.stats, no_removals_);
   return outcome;
 }
 
-// The packed pass's points as the planar route's sink would have them: the
-// mapper's kept hits are the same doubles (one pass, not two), formed here
-// only where it took its per-point way (a window beyond 2^30 cells).
-void ScanIntegrator::collect_packed(const TrunkPose& pose, const TerrainMapper& mapper) {
-  const std::size_t count = beams_.count;
+// The points of the mapper's packed pass, which keeps each valid beam's
+// hit (keep_beam_hits): the doubles the per-point way's sink would be
+// handed, formed once. False where it took its per-point way (a window
+// beyond 2^30 cells) and kept none.
+bool ScanIntegrator::collect_hits(const TerrainMapper& mapper) {
   const TerrainMapper::BeamHits* hits = mapper.last_beam_hits();
-  if (hits != nullptr && hits->count == count && hits->range_error_m == beams_.range_error_m.data()) {
-    for (std::size_t k = 0; k < count; ++k) {
-      points_.push_back({Eigen::Vector3d(hits->x_m[k], hits->y_m[k], hits->z_m[k]), beams_.range_m[k],
-                         hits->height_error_m[k]});
-    }
-    return;
+  if (hits == nullptr) return false;
+  for (std::size_t k = 0; k < hits->count; ++k) {
+    points_.push_back({Eigen::Vector3d(hits->x_m[k], hits->y_m[k], hits->z_m[k]), hits->range_m[k],
+                       hits->height_error_m[k]});
   }
+  return true;
+}
+
+void ScanIntegrator::collect_beams(const TrunkPose& pose, const TerrainMapper& mapper) {
   const PlanarBeamGeometry geometry(pose, mapper.mount());
   const UpdateOptions& update = mapper.options().update;
   const Eigen::Vector3d origin = sensor_origin_in_map(pose, mapper.mount());
-  for (std::size_t k = 0; k < count; ++k) {
+  for (std::size_t k = 0; k < beams_.count; ++k) {
     const double r = beams_.range_m[k], c = beams_.cos_angle[k], s = beams_.sin_angle[k];
     points_.push_back({origin + geometry.offset(r, c, s), r,
                        geometry.height_error(r, beams_.range_error_m[k], c, s, update)});
   }
+}
+
+// A planar scan's points where the mapper kept no hits: its sink's, from
+// the same source.
+void ScanIntegrator::collect_scan(const PlanarScan& scan, const TrunkPose& pose, const TerrainMapper& mapper) {
+  const std::size_t n = scan.size();
+  if (scan_cos_.size() < n) {
+    scan_cos_.resize(n);
+    scan_sin_.resize(n);
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    scan_cos_[i] = std::cos(scan.angle_rad[i]);
+    scan_sin_[i] = std::sin(scan.angle_rad[i]);
+  }
+  const PlanarScanPoints source(scan, scan_cos_.data(), scan_sin_.data(), pose, mapper.mount(),
+                                mapper.options().update);
+  const Eigen::Vector3d origin = sensor_origin_in_map(pose, mapper.mount());
+  SensorPoint p;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (source.point(i, p) == PointStatus::ok) points_.push_back({origin + p.offset_m, p.range_m, p.height_error_m});
+  }
+}
+
+// The mapper's packed pass for a planar scan, its points collected when asked.
+ScanStats ScanIntegrator::integrate_collecting(const PlanarScan& scan, const TrunkPose& pose, TerrainMapper& mapper) {
+  if (collect_) mapper.keep_beam_hits(true);
+  const ScanStats stats = mapper.integrate(scan, pose);
+  if (collect_ && !stats.pose_rejected && !stats.time_rejected && !collect_hits(mapper)) {
+    collect_scan(scan, pose, mapper);
+  }
+  return stats;
 }
 
 const PlanarScan& ScanIntegrator::last_scan() const {
@@ -189,8 +222,7 @@ ScanOutcome ScanIntegrator::integrate_planar(TerrainMapper& mapper) {
   last_packed_ = false;
   ScanOutcome outcome;
   outcome.integrated = true;
-  outcome.stats = collect_ ? mapper.integrate(filtered_, payload.pose, CollectingSink{points_})
-                           : mapper.integrate(filtered_, payload.pose);
+  outcome.stats = integrate_collecting(filtered_, payload.pose, mapper);
   ++stats_.integrated;
   if (!outcome.stats.pose_rejected && !outcome.stats.time_rejected) clear_visible(filtered_, payload.pose, mapper);
   report(payload, filtered_.time_s, outcome.stats, filters_.chain().removed_by_any());
@@ -203,7 +235,7 @@ ScanOutcome ScanIntegrator::push_planar(const PlanarScan& scan, const TrunkPose&
   batch_payload_.sequence = pushed_++;
   ScanOutcome outcome;
   outcome.integrated = true;
-  outcome.stats = collect_ ? mapper.integrate(scan, pose, CollectingSink{points_}) : mapper.integrate(scan, pose);
+  outcome.stats = integrate_collecting(scan, pose, mapper);
   ++stats_.integrated;
   if (!outcome.stats.pose_rejected && !outcome.stats.time_rejected) clear_visible(scan, pose, mapper);
   // No filter ran: observers get one flag a beam, none set (grown once).

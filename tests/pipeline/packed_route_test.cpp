@@ -150,14 +150,17 @@ class PlanarReference {
       ++rejected_;
       return false;
     }
-    stats = pipeline_.add_planar(filtered_, filters_.output().pose);
+    integrate(stats);
     return true;
   }
   bool flush(ScanStats& stats) {
     if (!filters_.flush(filtered_)) return false;
-    stats = pipeline_.add_planar(filtered_, filters_.output().pose);
+    integrate(stats);
     return true;
   }
+  // The points the mapper's per-point way hands its sink for the scan
+  // integrated last: what a pipeline collecting points must give back.
+  const std::vector<IntegratedPoint>& sink_points() const { return sink_points_; }
 
   const MappingPipeline& pipeline() const { return pipeline_; }
   MappingPipeline& pipeline() { return pipeline_; }
@@ -168,6 +171,14 @@ class PlanarReference {
   const UrgConversionStats& beams() const { return beams_; }
 
  private:
+  void integrate(ScanStats& stats) {
+    stats = pipeline_.add_planar(filtered_, filters_.output().pose);
+    sink_points_.clear();
+    per_point_.integrate(filtered_, filters_.output().pose,
+                         [&](std::size_t, const Eigen::Vector3d& map_m, const SensorPoint& p) {
+                           sink_points_.push_back({map_m, p.range_m, p.height_error_m});
+                         });
+  }
   static PipelineOptions without_filters(PipelineOptions options) {
     options.filters.clear();
     return options;
@@ -176,6 +187,8 @@ class PlanarReference {
   UrgModel model_;
   TaggedScanFilter filters_;
   MappingPipeline pipeline_;
+  TerrainMapper per_point_{options_.mapper, options_.mount};
+  std::vector<IntegratedPoint> sink_points_;
   PlanarScan scan_, filtered_;
   UrgConversionStats beams_;
   std::size_t rejected_ = 0;
@@ -244,6 +257,7 @@ void run_case(const Case& c, std::uint64_t seed) {
       for (const std::uint8_t r : reference.chain().removed_by_any()) removed += r;
       EXPECT_EQ(seen.removed, removed) << k;
       expect_same_points(pipeline.integrator().last_points(), reference.pipeline().integrator().last_points(), k);
+      if (c.collect) expect_same_points(pipeline.integrator().last_points(), reference.sink_points(), k);
       ++compared;
     }
     ASSERT_TRUE(same_maps(map_of(pipeline), map_of(reference.pipeline()))) << "after scan " << k;
@@ -301,6 +315,7 @@ TEST(PackedRoute, PointsAreCollectedWhereTheMapperTakesItsPerPointWay) {
     ASSERT_TRUE(reference.push(raw, pose, {}, stats));
     ASSERT_GT(packed.integrator().last_points().size(), 100u);
     expect_same_points(packed.integrator().last_points(), reference.pipeline().integrator().last_points(), k);
+    expect_same_points(packed.integrator().last_points(), reference.sink_points(), k);
   }
 }
 

@@ -161,8 +161,8 @@ class TerrainMapper {
   /// in its vector pass (eq. 5 and 6): what the visibility clean-up would
   /// form again, the same doubles. Null when the last scan (accepted or
   /// not) took another route or they were not kept (keep_beam_hits()). The
-  /// pointers are good until the next scan; range_error_m points into the
-  /// beams integrated.
+  /// pointers are good until the next scan; range_error_m and range_m
+  /// point into the beams integrated.
   struct BeamHits {
     std::size_t beams = 0, count = 0;  ///< as PlanarBeams
     double time_s = 0.0;
@@ -173,6 +173,7 @@ class TerrainMapper {
     const double* z_m = nullptr;
     const double* height_error_m = nullptr;  ///< the sensor's bound, without the motion terms
     const double* range_error_m = nullptr;
+    const double* range_m = nullptr;
   };
   const BeamHits* last_beam_hits() const { return hits_valid_ ? &hits_ : nullptr; }
   /// Whether integrate(PlanarBeams) keeps them: off by default, since the

@@ -136,7 +136,10 @@ class ScanIntegrator {
   bool packed_route(std::span<const std::uint8_t> beam_tags) const;
   ScanOutcome push_packed(const UrgRawScan& raw, const TrunkPose& pose, TerrainMapper& mapper,
                           std::span<const std::uint8_t> beam_tags);
-  void collect_packed(const TrunkPose& pose, const TerrainMapper& mapper);
+  bool collect_hits(const TerrainMapper& mapper);
+  void collect_beams(const TrunkPose& pose, const TerrainMapper& mapper);
+  void collect_scan(const PlanarScan& scan, const TrunkPose& pose, const TerrainMapper& mapper);
+  ScanStats integrate_collecting(const PlanarScan& scan, const TrunkPose& pose, TerrainMapper& mapper);
   void clear_visible(const PlanarBeams& beams, const TrunkPose& pose, TerrainMapper& mapper);
   bool clear_formed(double time_s, std::size_t beams, const TrunkPose& pose, TerrainMapper& mapper);
   ScanOutcome integrate_batch(std::optional<double> time_s, const TrunkPose& pose, TerrainMapper& mapper);
@@ -167,6 +170,7 @@ class ScanIntegrator {
   std::size_t pushed_ = 0;
   bool collect_ = false;
   std::vector<IntegratedPoint> points_;
+  std::vector<double> scan_cos_, scan_sin_;  // a planar scan's directions, where its points are formed here
   std::vector<PipelineObserver*> observers_;
   std::optional<VisibilityClearing> visibility_;  // made at the first scan, for its mapper's window
   std::vector<double> visibility_angles_, visibility_cos_, visibility_sin_;  // the scan's beam directions
