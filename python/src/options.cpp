@@ -79,6 +79,7 @@ PipelineOptions options_from_config(const FilePath& path, const std::string& sen
   options.mapper = config.mapper;
   options.map_filter.fill = config.fill;
   options.calibration = config.calibration;
+  options.height_fusion = config.height_fusion;
   return options;
 }
 
@@ -89,7 +90,7 @@ void register_pipeline_options(py::module_& m) {
                               "cells following the robot, the paper's update rule, the fill-in (eq. 11).");
   options.def_static("from_config", &options_from_config, py::arg("path"), py::arg("sensor") = "urg",
                   "Options from a mapper configuration file (YAML, docs/config.md), as the CLI's --config reads "
-                  "it: mount, map, update rule, fill-in, range calibration. Raises InputError "
+                  "it: mount, map, update rule, fill-in, range calibration, height_fusion. Raises InputError "
                   "'<file>:<line>: <field>: <what is wrong>'.")
       .def_property(
           "sensor", [](const PipelineOptions& o) { return std::string(sensor_kind_name(o.sensor)); },

@@ -12,7 +12,6 @@
 #include "stridemap/config/mapper_config.hpp"
 #include "stridemap/core/map_resume.hpp"
 #include "stridemap/core/stance_height.hpp"
-#include "stridemap/pipeline/height_fusion_observer.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
 
 namespace stridemap::python {
@@ -51,6 +50,7 @@ MapperConfig mapper_config_of(const PipelineOptions& options) {
   config.calibration = options.calibration;
   config.foothold = options.foothold;
   config.visibility = options.visibility;
+  config.height_fusion = options.height_fusion;
   return config;
 }
 
@@ -80,19 +80,17 @@ std::unordered_map<const ElevationMap*, const Pipeline*>& live_pipelines() {
   return pipelines;
 }
 
-// The options with the fused layers declared when asked for: declared
-// before the pipeline is made, they cost no allocation while it maps.
-PipelineOptions with_fused_layers(PipelineOptions options, bool fused_heights) {
-  if (fused_heights) declare_height_fusion_layers(options.mapper.grid);
+// fused_heights=True is the options' height_fusion.enabled.
+PipelineOptions with_fused_heights(PipelineOptions options, bool fused_heights) {
+  options.height_fusion.enabled = options.height_fusion.enabled || fused_heights;
   return options;
 }
 
 class Pipeline {
  public:
   Pipeline(const PipelineOptions& options, const ElevationMap* resume_from, bool fused_heights)
-      : pipeline_(with_fused_layers(options, fused_heights)), feed_(pipeline_) {
+      : pipeline_(with_fused_heights(options, fused_heights)), feed_(pipeline_) {
     if (resume_from) resume_from_map(pipeline_.mapper(), *resume_from);
-    if (fused_heights) fusion_.emplace(pipeline_);
     live_pipelines()[&pipeline_.mapper().map()] = this;
   }
   ~Pipeline() { live_pipelines().erase(&pipeline_.mapper().map()); }
@@ -190,7 +188,7 @@ class Pipeline {
 
   py::dict stance_height(const py::handle& feet, double sole_radius_m, double min_known_share, double gate_sigmas,
                          double depth_sigma_m) const {
-    if (!fusion_) {
+    if (pipeline_.height_fusion() == nullptr) {
       raise_input_error("stance_height: the pipeline keeps no fused heights; make it with fused_heights=True");
     }
     const auto a = as_float64(feet, "feet");
@@ -297,7 +295,6 @@ class Pipeline {
 
   MappingPipeline pipeline_;
   ScanFeed feed_;  // every add_*'s per-scan work, after the checks only the binding can make
-  std::optional<HeightFusionObserver> fusion_;
 };
 
 }  // namespace
@@ -330,7 +327,8 @@ void register_pipeline(py::module_& m) {
            "Raises InputError for invalid options. resume_from: a Map (e.g. load_map(path).map) to go on mapping "
            "from; its grid must be the options' (InputError otherwise). The map is copied. fused_heights: also "
            "keep the layers fused_elevation and fused_variance (core/height_fusion.hpp), from which "
-           "stance_height() reads the robot's own height; the paper's layers stay as they are.")
+           "stance_height() reads the robot's own height; the paper's layers stay as they are (the same as a "
+           "config's height_fusion.enabled, read by PipelineOptions.from_config).")
       .def("add_urg_scan", &Pipeline::add_urg_scan, py::arg("ranges"), py::arg("time_s"), py::arg("pose"),
            py::kw_only(), py::arg("units") = "mm", py::arg("first_step") = py::none(), py::arg("cluster") = 1,
            py::arg("reference_elevation_m") = 0.0, py::arg("height_change_m") = 0.0,

@@ -141,7 +141,7 @@ def test_a_pipelines_map_records_what_the_cli_records(tmp_path, flat_walk, mappe
     assert metadata["mount"].height_m == options.mount.height_m
     assert metadata["mount"].pitch_rad == options.mount.pitch_rad
     config = json.loads(metadata["config_text"])
-    assert set(config) == {"mount", "map", "update", "fill", "range_calibration", "foothold"}
+    assert set(config) == {"mount", "map", "update", "fill", "range_calibration", "foothold", "height_fusion"}
     assert config["map"]["cells_per_side"] == options.cells_per_side
     assert config["map"]["cell_size_m"] == options.cell_size_m
     assert config["update"]["elevation_rule"] == options.update.elevation_rule

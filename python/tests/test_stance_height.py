@@ -50,3 +50,20 @@ def test_stance_height_needs_the_fused_layers_and_well_formed_feet(flat_walk):
         pipeline.stance_height(np.zeros((9, 3)))
     with pytest.raises(stridemap.InputError, match="sole_radius_m"):
         pipeline.stance_height(np.zeros((1, 3)), sole_radius_m=0.0)
+
+
+def test_a_configs_height_fusion_section_keeps_the_same_layers(flat_walk, tmp_path):
+    config = tmp_path / "robot.yaml"
+    config.write_text("height_fusion:\n  enabled: true\n")
+    options = stridemap.PipelineOptions.from_config(str(config))
+    from_config = stridemap.Pipeline(options)
+    from_config.add_urg_scans(flat_walk["ranges_mm"], flat_walk["times_s"], flat_walk["poses"],
+                              reference_elevation_m=flat_walk["reference_elevation_m"],
+                              height_change_m=flat_walk["height_change_m"])
+    by_keyword = fused_pipeline(flat_walk)
+    assert np.array_equal(from_config.map.layer("fused_elevation"), by_keyword.map.layer("fused_elevation"),
+                          equal_nan=True)
+    assert "trunk_z_m" in from_config.stance_height(np.zeros((1, 3)))
+    config.write_text("height_fusion:\n  mahalanobis_gate: 0\n")
+    with pytest.raises(stridemap.InputError, match="height_fusion.mahalanobis_gate"):
+        stridemap.PipelineOptions.from_config(str(config))

@@ -83,6 +83,7 @@ PipelineOptions message_pipeline_options(const MapperConfig& config) {
   p.mapper = config.mapper;
   p.map_filter = {MapFilter::fill, config.fill, {}};
   p.mount = config.mount;
+  p.height_fusion = config.height_fusion;
   return p;
 }
 
@@ -96,10 +97,8 @@ MessageMapper::MessageMapper(const MessageMapperOptions& options, PoseSource& po
 
 void MessageMapper::make_pipeline() {
   PipelineOptions options = message_pipeline_options(impl_->config);
-  if (options_.fused_heights) declare_height_fusion_layers(options.mapper.grid);
-  impl_->fusion.reset();  // it observes the pipeline about to go
+  options.height_fusion.enabled = options.height_fusion.enabled || options_.fused_heights;
   impl_->pipeline = std::make_unique<MappingPipeline>(options);
-  if (options_.fused_heights) impl_->fusion = std::make_unique<HeightFusionObserver>(*impl_->pipeline);
 }
 
 MessageMapper::~MessageMapper() = default;

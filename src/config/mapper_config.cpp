@@ -20,7 +20,7 @@ class MapperConfigReader : public StrictYamlReader {
     MapperConfig config;
     if (!root.IsDefined() || root.IsNull()) return config;  // an empty file: all defaults
     const Fields top = read_map(root, "", {"mount", "map", "update", "fill", "range_calibration", "foothold",
-                                            "visibility", "global_map"});
+                                            "visibility", "global_map", "height_fusion"});
     if (const Field* f = find(top, "mount")) read_mount(f->value, config.mount);
     if (const Field* f = find(top, "map")) read_map_section(f->value, config.mapper);
     if (const Field* f = find(top, "update")) read_update(f->value, config.mapper.update);
@@ -29,6 +29,7 @@ class MapperConfigReader : public StrictYamlReader {
     if (const Field* f = find(top, "foothold")) read_foothold(f->value, config.foothold);
     if (const Field* f = find(top, "visibility")) read_visibility(f->value, config.visibility);
     if (const Field* f = find(top, "global_map")) read_global_map(f->value, config.global_map);
+    if (const Field* f = find(top, "height_fusion")) read_height_fusion(f->value, config.height_fusion);
     return config;
   }
 
@@ -196,6 +197,20 @@ class MapperConfigReader : public StrictYamlReader {
         checked(f, node, p, "certainty_decrement", o.certainty_decrement, positive, "a certainty > 0");
     o.beam_spacing_cells = checked(f, node, p, "beam_spacing_cells", o.beam_spacing_cells,
                                    [](double v) { return v >= 0.0 && v <= 1000.0; }, "a spacing from 0 to 1000 cells");
+  }
+
+  void read_height_fusion(const YAML::Node& node, HeightFusionOptions& o) {
+    const std::string p = "height_fusion";
+    const Fields f = read_map(node, p,
+                              {"enabled", "mahalanobis_gate", "outlier_variance_m2", "min_variance_m2",
+                               "sigma_per_uncertainty"});
+    o.enabled = boolean(f, node, p, "enabled", o.enabled);
+    o.mahalanobis_gate = checked(f, node, p, "mahalanobis_gate", o.mahalanobis_gate, positive, "a number of sigmas > 0");
+    o.outlier_variance_m2 =
+        checked(f, node, p, "outlier_variance_m2", o.outlier_variance_m2, positive, "a variance > 0 [m^2]");
+    o.min_variance_m2 = checked(f, node, p, "min_variance_m2", o.min_variance_m2, positive, "a variance > 0 [m^2]");
+    o.sigma_per_uncertainty =
+        checked(f, node, p, "sigma_per_uncertainty", o.sigma_per_uncertainty, positive, "a factor > 0");
   }
 
   void read_calibration(const YAML::Node& node, RangeCalibration& c) {

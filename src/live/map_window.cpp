@@ -124,6 +124,7 @@ PipelineOptions pass_options(const ScanMapperOptions& options, const UrgParamete
   // from holding a second full-size grid.
   p.mapper.grid.cells_per_side = 1;
   p.mapper.grid.extra_layers.clear();
+  p.height_fusion.enabled = false;  // no layers to fuse into
   return p;
 }
 }  // namespace

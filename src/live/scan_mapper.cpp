@@ -20,6 +20,7 @@ PipelineOptions ScanMapper::pipeline_options(const ScanMapperOptions& options, c
   p.mount = options.config.mount;
   p.foothold = options.config.foothold;
   p.visibility = options.config.visibility;
+  p.height_fusion = options.config.height_fusion;
   return p;
 }
 

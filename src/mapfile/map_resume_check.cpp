@@ -44,9 +44,21 @@ std::vector<std::string> map_config_differences(const MapFile& saved, const Mapp
   }
   // Parsed from the text a map file records, so that the comparison sees
   // this run's settings exactly as its own map would keep them.
-  const json given = json::parse(mapper_config_json(config));
-  const json recorded = json::parse(saved.metadata.config_text, nullptr, false);
+  json given = json::parse(mapper_config_json(config));
+  json recorded = json::parse(saved.metadata.config_text, nullptr, false);
   if (recorded.is_object()) {
+    // The fused layers may start on a map without them (they start
+    // unknown) and go on with other gate or variance settings; but a run
+    // that stops keeping them would carry the map's along unchanged, stale
+    // under a robot that reads them.
+    const auto kept = recorded.find("height_fusion");
+    const bool map_kept_them = kept != recorded.end() && kept->is_object() && kept->contains("enabled") &&
+                               (*kept)["enabled"] == json(true);
+    if (map_kept_them && !config.height_fusion.enabled) {
+      differences.emplace_back("height_fusion.enabled: the map has true (its fused layers), this run false");
+    }
+    recorded.erase("height_fusion");
+    given.erase("height_fusion");
     std::vector<std::string> settings;
     compare(recorded, given, "", settings);
     for (std::string& line : settings) {

@@ -49,6 +49,12 @@ json mapper_settings_json(const MapperConfig& c) {
         {"full_certainty", c.foothold.full_certainty},
         {"min_known_fraction", c.foothold.min_known_fraction},
         {"safe_score", c.foothold.safe_score}}},
+      {"height_fusion",
+       {{"enabled", c.height_fusion.enabled},
+        {"mahalanobis_gate", c.height_fusion.mahalanobis_gate},
+        {"outlier_variance_m2", c.height_fusion.outlier_variance_m2},
+        {"min_variance_m2", c.height_fusion.min_variance_m2},
+        {"sigma_per_uncertainty", c.height_fusion.sigma_per_uncertainty}}},
   };
 }
 

@@ -4,6 +4,7 @@
 
 #include "stridemap/core/cas_filter.hpp"
 #include "stridemap/core/weighted_median_fill.hpp"
+#include "stridemap/pipeline/height_fusion_observer.hpp"
 
 namespace stridemap {
 namespace {
@@ -23,10 +24,17 @@ void assign(Variant& slot, const T& value) {
   }
 }
 
+// The fused layers declared in the map options, so that the map is made
+// with them and mapping allocates nothing for them.
+PipelineOptions with_fused_layers(PipelineOptions options) {
+  if (options.height_fusion.enabled) declare_height_fusion_layers(options.mapper.grid);
+  return options;
+}
+
 }  // namespace
 
 MappingPipeline::MappingPipeline(const PipelineOptions& options)
-    : options_(options), mapper_(options.mapper, options.mount), integrator_(options) {
+    : options_(with_fused_layers(options)), mapper_(options_.mapper, options_.mount), integrator_(options_) {
   // Invalid map-filter options fail now, not at the first save.
   switch (options_.map_filter.filter) {
     case MapFilter::none: break;
@@ -37,7 +45,12 @@ MappingPipeline::MappingPipeline(const PipelineOptions& options)
     foothold_.emplace(mapper_.map(), options_.foothold);
     foothold_->recompute_all(mapper_.map());
   }
+  if (options_.height_fusion.enabled) fusion_ = std::make_unique<HeightFusionObserver>(*this, options_.height_fusion);
 }
+
+MappingPipeline::~MappingPipeline() = default;
+
+const HeightFusion* MappingPipeline::height_fusion() const { return fusion_ ? &fusion_->fusion() : nullptr; }
 
 ScanOutcome MappingPipeline::updated(ScanOutcome outcome) {
   if (foothold_) {

@@ -6,8 +6,10 @@
 // from is never an output.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <sstream>
 #include <string>
 
@@ -96,6 +98,42 @@ TEST(MapResumeCli, TwoHalvesWithResumeGiveTheWholeLogsMapBitForBit) {
   // the comparison above can fail.
   run_map(dir, "second.log", "alone");
   EXPECT_FALSE(dir.read("whole/elevation.csv") == dir.read("alone/elevation.csv"));
+}
+
+// The config's height_fusion section keeps the fused layers in the map
+// file; they go on across a resume as every other layer does.
+TEST(MapResumeCli, FusedHeightLayersAreKeptAndResumedBitForBit) {
+  test::TestFolder dir;
+  record_log(dir, 80);
+  split_log(dir, 30);
+  dir.write("fused.yaml", "height_fusion:\n  enabled: true\n");
+  const std::string config = " --config " + shell_quoted(dir / "fused.yaml");
+  run_map(dir, "whole.log", "whole", config);
+  run_map(dir, "first.log", "first", config);
+  run_map(dir, "second.log", "second", config + " --resume " + shell_quoted(dir / "first/map.smap"));
+
+  const io::MapFile whole = io::load_map_file(dir / "whole/map.smap");
+  const std::optional<std::size_t> fused = whole.map.find_layer("fused_elevation");
+  ASSERT_TRUE(fused.has_value());
+  ASSERT_TRUE(whole.map.find_layer("fused_variance").has_value());
+  const float* heights = reinterpret_cast<const float*>(whole.map.layer_bytes(*fused));
+  std::size_t known = 0;
+  const auto cells = static_cast<std::size_t>(whole.map.cells_per_side() * whole.map.cells_per_side());
+  for (std::size_t s = 0; s < cells; ++s) known += std::isfinite(heights[s]) ? 1 : 0;
+  EXPECT_GT(known, 500u);
+  const io::MapFile resumed = io::load_map_file(dir / "second/map.smap");
+  EXPECT_EQ(io::encode_map_file(whole.map, {}), io::encode_map_file(resumed.map, {}));
+
+  // Without the section the map's fused layers would be left behind, stale.
+  const auto dropped = run_cli("map --log " + shell_quoted(dir / "second.log") + " --poses " +
+                               shell_quoted(dir / "poses.txt") + " --clock sensor --resume " +
+                               shell_quoted(dir / "first/map.smap") + " --out " + shell_quoted(dir / "third"));
+  EXPECT_EQ(dropped.exit_code, 2) << dropped.output;
+  EXPECT_NE(dropped.output.find("height_fusion.enabled: the map has true"), std::string::npos) << dropped.output;
+  EXPECT_FALSE(std::filesystem::exists(dir / "third"));
+  // A plain map has none.
+  run_map(dir, "whole.log", "plain");
+  EXPECT_FALSE(io::load_map_file(dir / "plain/map.smap").map.find_layer("fused_elevation").has_value());
 }
 
 TEST(MapResumeCli, MapMadeWithOtherSettingsIsRefusedNamingWhatDiffers) {

@@ -35,6 +35,11 @@ TEST(MapperConfig, ShippedMessorConfigIsTheDefaults) {
   EXPECT_EQ(c.mapper.update.elevation_rule, ElevationRule::paper_highest);
   EXPECT_EQ(c.fill.min_known_neighbours, 8);
   EXPECT_EQ(c.calibration.coefficients[3], 0.0);
+  EXPECT_EQ(c.height_fusion.enabled, d.height_fusion.enabled);
+  EXPECT_EQ(c.height_fusion.mahalanobis_gate, d.height_fusion.mahalanobis_gate);
+  EXPECT_EQ(c.height_fusion.outlier_variance_m2, d.height_fusion.outlier_variance_m2);
+  EXPECT_EQ(c.height_fusion.min_variance_m2, d.height_fusion.min_variance_m2);
+  EXPECT_EQ(c.height_fusion.sigma_per_uncertainty, d.height_fusion.sigma_per_uncertainty);
 }
 
 TEST(MapperConfig, FieldsOverrideDefaultsAndDegreesBecomeRadians) {

@@ -5,6 +5,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "stridemap/core/error.hpp"
 #include "stridemap/mapfile/map_file.hpp"
@@ -70,6 +71,31 @@ TEST(MapResumeCheck, TheToolsOwnMetadataResumesAndDifferencesStillCount) {
   config.mount.height_m += 0.1;
   const std::string message = refusal(saved, config);
   EXPECT_NE(message.find("it was made with other settings (mount.height_m"), std::string::npos) << message;
+}
+
+TEST(MapResumeCheck, FusedLayersMayStartOrGoOnButNotBeLeftBehind) {
+  MapperConfig without;
+  MapperConfig with;
+  with.height_fusion.enabled = true;
+  // A map without them: a run may start keeping them (they start unknown).
+  const io::MapFile plain = saved_with(without, io::map_file_metadata(without, "map"));
+  EXPECT_EQ(refusal(plain, with), "");
+  // A map file from before the section existed: the same.
+  io::MapFileMetadata older = io::map_file_metadata(without, "map");
+  nlohmann::json settings = nlohmann::json::parse(older.config_text);
+  ASSERT_EQ(settings.erase("height_fusion"), 1u) << older.config_text;
+  older.config_text = settings.dump();
+  EXPECT_EQ(refusal(saved_with(without, older), with), "");
+  EXPECT_EQ(refusal(saved_with(without, older), without), "");
+  // A map that kept them: other gate settings go on, dropping them does not.
+  const io::MapFile fused = saved_with(with, io::map_file_metadata(with, "map"));
+  MapperConfig wider = with;
+  wider.height_fusion.mahalanobis_gate = 4.0;
+  EXPECT_EQ(refusal(fused, wider), "");
+  const std::string message = refusal(fused, without);
+  EXPECT_NE(message.find("height_fusion.enabled: the map has true (its fused layers), this run false"),
+            std::string::npos)
+      << message;
 }
 
 }  // namespace

@@ -111,5 +111,47 @@ TEST(HeightFusionObserver, BadOptionsAreRefusedNamingTheField) {
   }
 }
 
+// The switch every front end sets (the config's height_fusion.enabled,
+// Python's fused_heights, the ROS node's ~layers): the pipeline keeps the
+// layers itself, as an observer a user attaches would.
+TEST(HeightFusionObserver, ThePipelinesOwnSwitchKeepsTheSameLayers) {
+  PipelineOptions options = floor_options(false);
+  EXPECT_EQ(MappingPipeline(options).height_fusion(), nullptr);
+  options.height_fusion.enabled = true;
+  MappingPipeline owned(options);
+  ASSERT_NE(owned.height_fusion(), nullptr);
+  MappingPipeline attached(floor_options(true));
+  const HeightFusionObserver observer(attached);
+  map_the_floor(owned);
+  map_the_floor(attached);
+  const ElevationMap& a = owned.map();
+  const ElevationMap& b = attached.map();
+  ASSERT_EQ(a.layer_count(), b.layer_count());
+  const std::size_t cells = static_cast<std::size_t>(a.cells_per_side()) * static_cast<std::size_t>(a.cells_per_side());
+  const float* fused_a = a.data(owned.height_fusion()->elevation_layer());
+  const float* fused_b = b.data(observer.fusion().elevation_layer());
+  const float* variance_a = a.data(owned.height_fusion()->variance_layer());
+  const float* variance_b = b.data(observer.fusion().variance_layer());
+  std::size_t fused_cells = 0;
+  for (std::size_t s = 0; s < cells; ++s) {
+    ASSERT_EQ(std::isnan(fused_a[s]), std::isnan(fused_b[s])) << s;
+    if (std::isnan(fused_a[s])) continue;
+    ++fused_cells;
+    ASSERT_EQ(fused_a[s], fused_b[s]) << s;
+    ASSERT_EQ(variance_a[s], variance_b[s]) << s;
+  }
+  EXPECT_GT(fused_cells, 100u);
+
+  options.height_fusion.min_variance_m2 = -1.0;
+  try {
+    const MappingPipeline refused(options);
+    FAIL() << "a negative variance floor was taken";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("min_variance_m2"), std::string::npos) << e.what();
+  }
+  options.height_fusion.enabled = false;  // not kept: not checked
+  EXPECT_NO_THROW(MappingPipeline{options});
+}
+
 }  // namespace
 }  // namespace stridemap

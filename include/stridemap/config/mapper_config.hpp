@@ -6,6 +6,7 @@
 
 #include "stridemap/config/global_map_options.hpp"
 #include "stridemap/core/foothold.hpp"
+#include "stridemap/core/height_fusion.hpp"
 #include "stridemap/core/pose.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
 #include "stridemap/core/visibility_clearing.hpp"
@@ -25,6 +26,8 @@ struct MapperConfig {
   /// resumed map may use another folder.
   GlobalMapOptions global_map{};
   VisibilityOptions visibility{};
+  /// The fused height layers (off by default): `height_fusion.enabled`.
+  HeightFusionOptions height_fusion{};
 };
 
 /// Every section and field is optional (the structs' defaults apply);

@@ -22,6 +22,11 @@
 namespace stridemap {
 
 struct HeightFusionOptions {
+  /// Keep the fused layers in a MappingPipeline (and so in `map`, `live`,
+  /// Python and the ROS node): off by default, since fusing a scan's points
+  /// costs about as much as the update (docs/performance.md). The rocky
+  /// walk keeps them whenever its h_ref reads them, whatever this says.
+  bool enabled = false;
   /// A reading further than this many standard deviations (of cell and
   /// reading together) from the cell is not fused. 2.5, as elevation_mapping.
   double mahalanobis_gate = 2.5;

@@ -17,7 +17,10 @@
 // map is read: map() (the one accessor every reader of the map goes
 // through), and before the window's cells leave it for a window listener
 // (the tile store). foothold.update_every_scan: after every scan instead.
+// With height_fusion.enabled the fused height layers are fed every
+// integrated point (pipeline/height_fusion_observer.hpp).
 #include <cstddef>
+#include <memory>
 #include <optional>
 #include <span>
 #include <variant>
@@ -34,11 +37,15 @@
 
 namespace stridemap {
 
+class HeightFusion;
+class HeightFusionObserver;
+
 class MappingPipeline {
  public:
   /// Throws InputError for invalid options (sensor, filters, map, update
   /// rule, map filter, mount), before any scan.
   explicit MappingPipeline(const PipelineOptions& options);
+  ~MappingPipeline();
   // Neither copied nor moved: the mapper may point at window_relay_, which
   // points back at its pipeline.
   MappingPipeline(const MappingPipeline&) = delete;
@@ -105,6 +112,10 @@ class MappingPipeline {
   /// other than by scans (mapper().map() edited, resume_from_map()).
   void recompute_foothold();
 
+  /// The fused height layers' keeper (its layer handles and options);
+  /// nullptr when options().height_fusion.enabled is off.
+  const HeightFusion* height_fusion() const;
+
   /// Told of every move of the window (TerrainMapper::set_window_listener),
   /// the foothold layers brought up to date before the cells leaving it
   /// are handed over, so that a tile store keeps the values map() gives.
@@ -148,6 +159,7 @@ class MappingPipeline {
   PipelineOptions options_;
   TerrainMapper mapper_;
   ScanIntegrator integrator_;
+  std::unique_ptr<HeightFusionObserver> fusion_;
   // Mutable: map() const brings the layers (a cache of the elevation) up to date.
   mutable std::optional<FootholdLayers> foothold_;
   LayersBeforeLeaving window_relay_{*this};

@@ -3,13 +3,14 @@
 // and its model, the scan filters, the map and update rule, the map filter
 // and the mount. Defaults: a URG-04LX on the paper's Messor mount, no scan
 // filters, the paper's local map and update rule, the fill-in (eq. 11),
-// the foothold layers and the visibility clean-up.
+// the foothold layers, the visibility clean-up and the fused height layers.
 #include <cstdint>
 #include <optional>
 #include <string_view>
 #include <vector>
 
 #include "stridemap/core/foothold.hpp"
+#include "stridemap/core/height_fusion.hpp"
 #include "stridemap/core/map_filter.hpp"
 #include "stridemap/core/pose.hpp"
 #include "stridemap/core/terrain_mapper.hpp"
@@ -66,6 +67,11 @@ struct PipelineOptions {
   /// passes below is cleared, after each scan's readings; `enabled = false`
   /// keeps eq. (10)'s highest reading however the scene changes.
   VisibilityOptions visibility{};
+  /// The fused height layers (core/height_fusion.hpp), from which a walking
+  /// robot reads its own height (core/stance_height.hpp): with `enabled`
+  /// the pipeline declares "fused_elevation" and "fused_variance" and feeds
+  /// them every integrated point; off by default.
+  HeightFusionOptions height_fusion{};
 };
 
 }  // namespace stridemap

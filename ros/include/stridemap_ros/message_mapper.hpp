@@ -79,7 +79,7 @@ struct MessageMapperOptions {
   /// Keep the fused height layers fused_elevation and fused_variance
   /// (core/height_fusion.hpp): a walking robot's own height read where its
   /// feet stand (core/stance_height.hpp). The node keeps them when ~layers
-  /// names either.
+  /// names either; the config's height_fusion.enabled keeps them too.
   bool fused_heights = false;
 
   /// Throws InputError naming the field.

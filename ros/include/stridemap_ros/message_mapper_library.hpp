@@ -9,7 +9,6 @@
 #include "stridemap/core/planar_scan.hpp"
 #include "stridemap/core/pose.hpp"
 #include "stridemap/core/ring_queue.hpp"
-#include "stridemap/pipeline/height_fusion_observer.hpp"
 #include "stridemap/pipeline/mapping_pipeline.hpp"
 #include "stridemap_ros/message_mapper.hpp"
 
@@ -39,7 +38,6 @@ struct MessageMapper::Impl {
   };
   MapperConfig config;
   std::unique_ptr<MappingPipeline> pipeline;
-  std::unique_ptr<HeightFusionObserver> fusion;  ///< with MessageMapperOptions::fused_heights; observes `pipeline`
   // Frames reused, so a steady stream does not allocate: a std::deque
   // freed and allocated a block every other scan.
   RingQueue<Waiting> waiting;
