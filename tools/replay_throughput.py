@@ -10,6 +10,7 @@ same for both, drop out. The peak memory of both runs shows whether it
 grows with the recording's length.
 
     tools/replay_throughput.py --tool build/bin/stridemap --scans 2000,20000
+    tools/replay_throughput.py --tool build/bin/stridemap --config fused.yaml   # map's --config
 """
 import argparse
 import os
@@ -66,10 +67,10 @@ def bag_available(tool):
     return True, ""
 
 
-def measure(tool, source, make_input, lengths, work):
+def measure(tool, source, make_input, lengths, work, config):
     runs = []
     for scans in lengths:
-        arguments = make_input(scans, work)
+        arguments = make_input(scans, work) + (["--config", config] if config else [])
         out = os.path.join(work, "%s_out_%d" % (source, scans))
         cpu_s, peak_mb = run_measured([tool, "map", *arguments, "--out", out, "--quiet"],
                                       "map --%s of %d scans" % (source, scans))
@@ -97,11 +98,14 @@ def main():
     parser.add_argument("--bag", choices=["auto", "on", "off"], default="auto",
                         help="time map --bag too: auto (when rosbag and a ROS build are there), on (fail without), off")
     parser.add_argument("--work", help="folder for the recordings and maps (default: a temporary one, removed)")
+    parser.add_argument("--config", help="a mapper configuration for every map run (docs/config.md)")
     args = parser.parse_args()
     try:
         lengths = parse_lengths(args.scans)
         if not (os.path.isfile(args.tool) and os.access(args.tool, os.X_OK)):
             raise ReplayError("--tool %s: not an executable file" % args.tool)
+        if args.config is not None and not os.path.isfile(args.config):
+            raise ReplayError("--config %s: not a file" % args.config)
         sources = [("log", make_log)]
         bag_note = ""
         if args.bag != "off":
@@ -119,7 +123,7 @@ def main():
             print("| replay | scans | CPU [s] | peak RSS [MB] | scans/s past start-up |")
             print("| --- | --- | --- | --- | --- |")
             for source, make_input in sources:
-                runs, rate = measure(args.tool, source, make_input, lengths, work)
+                runs, rate = measure(args.tool, source, make_input, lengths, work, args.config)
                 for index, (scans, cpu_s, peak_mb) in enumerate(runs):
                     shown_rate = "%.0f" % rate if index == len(runs) - 1 else ""
                     print("| map --%s | %d | %.2f | %.1f | %s |" % (source, scans, cpu_s, peak_mb, shown_rate))

@@ -15,8 +15,9 @@ HeightFusionObserver::HeightFusionObserver(MappingPipeline& pipeline, const Heig
 void HeightFusionObserver::on_scan(const ScanReport&) {
   // The fused layers only: not a change of the elevation the mapper counts.
   ElevationMap& map = pipeline_.mapper().map_without_raising();
+  const HeightFusion::Layers cells = fusion_.layers(map);
   for (const IntegratedPoint& p : pipeline_.integrator().last_points()) {
-    fusion_.add(map, p.map_m.x(), p.map_m.y(), p.map_m.z(), p.height_uncertainty_m);
+    fusion_.add(map, cells, p.map_m.x(), p.map_m.y(), p.map_m.z(), p.height_uncertainty_m);
   }
 }
 

@@ -152,9 +152,12 @@ ScanOutcome ScanIntegrator::push_packed(const UrgRawScan& raw, const TrunkPose& 
 bool ScanIntegrator::collect_hits(const TerrainMapper& mapper) {
   const TerrainMapper::BeamHits* hits = mapper.last_beam_hits();
   if (hits == nullptr) return false;
+  points_.resize(hits->count);  // emptied before the scan; grows once
+  IntegratedPoint* out = points_.data();
   for (std::size_t k = 0; k < hits->count; ++k) {
-    points_.push_back({Eigen::Vector3d(hits->x_m[k], hits->y_m[k], hits->z_m[k]), hits->range_m[k],
-                       hits->height_error_m[k]});
+    out[k].map_m = Eigen::Vector3d(hits->x_m[k], hits->y_m[k], hits->z_m[k]);
+    out[k].range_m = hits->range_m[k];
+    out[k].height_uncertainty_m = hits->height_error_m[k];
   }
   return true;
 }

@@ -85,10 +85,23 @@ class HeightFusion {
   /// Fuses a point at (x, y) of height h with predicted uncertainty
   /// `height_uncertainty_m`; false when outside the window or gated out.
   bool add(ElevationMap& map, double x_m, double y_m, double h_m, double height_uncertainty_m) const {
+    return add(map, layers(map), x_m, y_m, h_m, height_uncertainty_m);
+  }
+
+  /// The two layers' cells in `map`, found once for a scan's points.
+  struct Layers {
+    float* elevation;
+    float* variance;
+  };
+  Layers layers(ElevationMap& map) const { return {map.data(elevation_), map.data(variance_)}; }
+  /// add() with the layers already found (layers(map) of the same map, its
+  /// layers not added to since).
+  bool add(const ElevationMap& map, const Layers& cells, double x_m, double y_m, double h_m,
+           double height_uncertainty_m) const {
     std::size_t slot = 0;
     if (!(std::isfinite(h_m) && std::isfinite(height_uncertainty_m)) || !map.slot_at(x_m, y_m, slot)) return false;
     const double sigma = height_uncertainty_m * options_.sigma_per_uncertainty;
-    return fuse_height(map.data(elevation_)[slot], map.data(variance_)[slot], h_m, sigma * sigma, options_);
+    return fuse_height(cells.elevation[slot], cells.variance[slot], h_m, sigma * sigma, options_);
   }
 
   LayerId<float> elevation_layer() const { return elevation_; }
