@@ -162,6 +162,8 @@ bool ScanIntegrator::collect_hits(const TerrainMapper& mapper) {
   return true;
 }
 
+// The packed beams' points where the mapper kept no hits, by the formula
+// its per-point way uses.
 void ScanIntegrator::collect_beams(const TrunkPose& pose, const TerrainMapper& mapper) {
   const PlanarBeamGeometry geometry(pose, mapper.mount());
   const UpdateOptions& update = mapper.options().update;
